@@ -1,0 +1,12 @@
+//! File input and output.
+//!
+//! - [`obj`]: Wavefront OBJ with OpenSubdiv's `t` tags (creases, corners, holes, scheme
+//!   options), read with errors that name file and line, written with round-trip exact
+//!   `f64` values.
+//! - [`write_atomically`]: every output file is written to a temporary file in the same
+//!   directory and renamed into place, so a failed run never leaves a partial file.
+
+mod atomic;
+pub mod obj;
+
+pub use atomic::write_atomically;

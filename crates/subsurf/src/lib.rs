@@ -1,0 +1,42 @@
+//! # subsurf
+//!
+//! Smooth surfaces on arbitrary polygon meshes: Catmull-Clark subdivision that agrees with
+//! OpenSubdiv (Pixar's reference implementation) to 1e-12 — boundaries, semi-sharp creases,
+//! corners, holes, n-gons, non-manifold topology — and limit positions and normals.
+//!
+//! ```
+//! use subsurf::mesh::{Options, PolyMesh};
+//! use subsurf::{subdivide, SubdivideOptions};
+//!
+//! // A cube, refined twice.
+//! let p = vec![
+//!     [0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0],
+//!     [0.0, 0.0, 1.0], [1.0, 0.0, 1.0], [1.0, 1.0, 1.0], [0.0, 1.0, 1.0],
+//! ];
+//! let faces = [[0, 3, 2, 1], [4, 5, 6, 7], [0, 1, 5, 4], [1, 2, 6, 5], [2, 3, 7, 6], [3, 0, 4, 7]];
+//! let cube = PolyMesh::from_faces(p, &faces).unwrap();
+//! let out = subdivide(&cube, &SubdivideOptions { levels: 2, ..Default::default() }).unwrap();
+//! assert_eq!(out.mesh.num_faces(), 6 * 16);
+//! // Catmull-Clark shrinks the cube towards its centre but keeps its symmetry.
+//! let c = out.mesh.positions().iter().fold([0.0; 3], |a, p| [a[0] + p[0], a[1] + p[1], a[2] + p[2]]);
+//! let n = out.mesh.num_vertices() as f64;
+//! assert!((c[0] / n - 0.5).abs() < 1e-12);
+//! ```
+//!
+//! Layers, bottom-up (see `ARCHITECTURE.md`): [`mesh`] (polygon meshes and their adjacency),
+//! [`scheme`] (subdivision weights only), [`refine`] (topology refinement once, then fast
+//! application to any primvar), [`limit`] (limit masks), [`io`] (files), and the one-call
+//! facade [`subdivide`].
+#![warn(missing_docs)]
+
+pub mod io;
+pub mod limit;
+pub mod mesh;
+pub mod refine;
+pub mod scheme;
+
+mod info;
+mod subdivide;
+
+pub use info::{mesh_info, MeshInfo};
+pub use subdivide::{estimate_memory, subdivide, subdivide_with_progress, Error, SubdivideOptions, Subdivision};

@@ -1,0 +1,22 @@
+//! Polygon meshes: the exchange type [`PolyMesh`], its sharpness [`Tags`], the scheme
+//! [`Options`], and the adjacency [`Topology`] that refinement works on.
+//!
+//! Two layers live here:
+//! - [`PolyMesh`] is what a user builds or reads: positions, faces in CSR form and tags.
+//!   It is validated on construction ([`PolyMesh::new`]), so every face has at least three
+//!   distinct, in-range vertices and every coordinate is finite.
+//! - [`Topology`] is the complete, index-based adjacency of one refinement level (edges,
+//!   vertex → edges/faces in rotational order, boundary and manifold classification,
+//!   sharpness and vertex rules), built from a [`PolyMesh`] in O(n).
+
+mod error;
+mod options;
+mod polymesh;
+mod tags;
+mod topology;
+
+pub use error::{MeshError, TopologyWarning};
+pub use options::{BoundaryInterpolation, CreaseMethod, Options, TriangleSubdivision};
+pub use polymesh::PolyMesh;
+pub use tags::{Corner, Crease, Tags, SHARPNESS_INFINITE};
+pub use topology::{Rule, Topology, VertexTag, EdgeTag, INVALID};

@@ -1,0 +1,229 @@
+//! [`PolyMesh`]: positions, faces (CSR) and tags, validated on construction.
+
+use super::{MeshError, Tags};
+
+/// A polygon mesh with faces of any size ≥ 3.
+///
+/// Memory layout (compressed sparse rows): face `f` has the vertices
+/// `face_verts[face_offsets[f] .. face_offsets[f + 1]]`, in counter-clockwise order seen
+/// from outside. Indices are `u32` (half the memory of `usize`; 4·10⁹ elements are enough
+/// for any mesh that fits in memory at refinement time). Positions are `f64` triples.
+///
+/// ```
+/// use subsurf::mesh::PolyMesh;
+/// // A unit square as one quad.
+/// let m = PolyMesh::from_faces(
+///     vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]],
+///     &[vec![0, 1, 2, 3]],
+/// ).unwrap();
+/// assert_eq!(m.num_faces(), 1);
+/// assert_eq!(m.face(0), &[0, 1, 2, 3]);
+/// ```
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PolyMesh {
+    positions: Vec<[f64; 3]>,
+    face_offsets: Vec<u32>,
+    face_verts: Vec<u32>,
+    /// Creases, corners and holes.
+    pub tags: Tags,
+}
+
+impl PolyMesh {
+    /// Builds a mesh from positions and CSR faces (`face_offsets.len() == faces + 1`,
+    /// `face_offsets[0] == 0`, last offset `== face_verts.len()`).
+    ///
+    /// # Errors
+    /// [`MeshError`] naming the first bad face or vertex: faces with fewer than 3
+    /// vertices, out-of-range or repeated vertices, non-finite coordinates.
+    pub fn new(
+        positions: Vec<[f64; 3]>,
+        face_offsets: Vec<u32>,
+        face_verts: Vec<u32>,
+    ) -> Result<Self, MeshError> {
+        let m = Self::new_unchecked(positions, face_offsets, face_verts);
+        m.validate()?;
+        Ok(m)
+    }
+
+    /// Builds a mesh from one vertex list per face. See [`new`](Self::new).
+    pub fn from_faces<F: AsRef<[u32]>>(
+        positions: Vec<[f64; 3]>,
+        faces: &[F],
+    ) -> Result<Self, MeshError> {
+        let mut offsets = Vec::with_capacity(faces.len() + 1);
+        let mut verts = Vec::new();
+        offsets.push(0u32);
+        for f in faces {
+            verts.extend_from_slice(f.as_ref());
+            let n = u32::try_from(verts.len()).map_err(|_| MeshError::TooLarge {
+                what: "the face-vertex list".into(),
+            })?;
+            offsets.push(n);
+        }
+        Self::new(positions, offsets, verts)
+    }
+
+    /// Builds a mesh without validation, for callers that produce valid meshes by
+    /// construction (refinement). Debug builds still check.
+    pub(crate) fn new_unchecked(
+        positions: Vec<[f64; 3]>,
+        face_offsets: Vec<u32>,
+        face_verts: Vec<u32>,
+    ) -> Self {
+        let m = Self { positions, face_offsets, face_verts, tags: Tags::default() };
+        debug_assert!(m.face_offsets.first() == Some(&0));
+        m
+    }
+
+    /// Checks every invariant that [`new`](Self::new) promises, plus the tag indices.
+    pub fn validate(&self) -> Result<(), MeshError> {
+        let nv = self.positions.len();
+        if u32::try_from(nv).is_err() {
+            return Err(MeshError::TooLarge { what: "the vertex count".into() });
+        }
+        for (v, p) in self.positions.iter().enumerate() {
+            for &c in p {
+                if !c.is_finite() {
+                    return Err(MeshError::NonFiniteCoordinate { vertex: v, value: c });
+                }
+            }
+        }
+        let offs = &self.face_offsets;
+        if offs.first() != Some(&0) {
+            return Err(MeshError::BadFaceOffsets("the first offset must be 0".into()));
+        }
+        if *offs.last().unwrap_or(&0) as usize != self.face_verts.len() {
+            return Err(MeshError::BadFaceOffsets(
+                "the last offset must equal the number of face-vertices".into(),
+            ));
+        }
+        for f in 0..offs.len() - 1 {
+            let (a, b) = (offs[f], offs[f + 1]);
+            if b < a {
+                return Err(MeshError::BadFaceOffsets(format!("offset of face {f} decreases")));
+            }
+            let fv = &self.face_verts[a as usize..b as usize];
+            if fv.len() < 3 {
+                return Err(MeshError::FaceTooSmall { face: f, count: fv.len() });
+            }
+            for (i, &v) in fv.iter().enumerate() {
+                if v as usize >= nv {
+                    return Err(MeshError::VertexOutOfRange { face: f, index: v as u64, count: nv });
+                }
+                if fv[..i].contains(&v) {
+                    return Err(MeshError::RepeatedVertex { face: f, vertex: v });
+                }
+            }
+        }
+        self.validate_tags()
+    }
+
+    fn validate_tags(&self) -> Result<(), MeshError> {
+        let nv = self.positions.len();
+        let nf = self.num_faces();
+        for c in &self.tags.creases {
+            for v in [c.v0, c.v1] {
+                if v as usize >= nv {
+                    return Err(MeshError::TagOutOfRange {
+                        what: "a crease",
+                        kind: "vertex",
+                        index: v as u64,
+                        count: nv,
+                    });
+                }
+            }
+            if c.sharpness.is_nan() || c.sharpness < 0.0 {
+                return Err(MeshError::BadSharpness {
+                    what: format!("the crease on edge ({}, {})", c.v0, c.v1),
+                    value: c.sharpness,
+                });
+            }
+        }
+        for c in &self.tags.corners {
+            if c.vertex as usize >= nv {
+                return Err(MeshError::TagOutOfRange {
+                    what: "a corner",
+                    kind: "vertex",
+                    index: c.vertex as u64,
+                    count: nv,
+                });
+            }
+            if c.sharpness.is_nan() || c.sharpness < 0.0 {
+                return Err(MeshError::BadSharpness {
+                    what: format!("the corner at vertex {}", c.vertex),
+                    value: c.sharpness,
+                });
+            }
+        }
+        for &h in &self.tags.holes {
+            if h as usize >= nf {
+                return Err(MeshError::TagOutOfRange {
+                    what: "a hole",
+                    kind: "face",
+                    index: h as u64,
+                    count: nf,
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// Vertex positions.
+    pub fn positions(&self) -> &[[f64; 3]] {
+        &self.positions
+    }
+
+    /// Mutable vertex positions (topology stays fixed).
+    pub fn positions_mut(&mut self) -> &mut [[f64; 3]] {
+        &mut self.positions
+    }
+
+    /// Number of vertices.
+    pub fn num_vertices(&self) -> usize {
+        self.positions.len()
+    }
+
+    /// Number of faces.
+    pub fn num_faces(&self) -> usize {
+        self.face_offsets.len().saturating_sub(1)
+    }
+
+    /// The vertices of face `f`.
+    ///
+    /// # Panics
+    /// If `f >= num_faces()`.
+    pub fn face(&self, f: usize) -> &[u32] {
+        &self.face_verts[self.face_offsets[f] as usize..self.face_offsets[f + 1] as usize]
+    }
+
+    /// Iterator over all faces' vertex lists.
+    pub fn faces(&self) -> impl ExactSizeIterator<Item = &[u32]> + '_ {
+        self.face_offsets
+            .windows(2)
+            .map(move |w| &self.face_verts[w[0] as usize..w[1] as usize])
+    }
+
+    /// CSR offsets (`num_faces() + 1` entries).
+    pub fn face_offsets(&self) -> &[u32] {
+        &self.face_offsets
+    }
+
+    /// CSR face-vertex indices.
+    pub fn face_verts(&self) -> &[u32] {
+        &self.face_verts
+    }
+
+    /// Axis-aligned bounding box `(min, max)`, or `None` for a mesh without vertices.
+    pub fn bounding_box(&self) -> Option<([f64; 3], [f64; 3])> {
+        let first = *self.positions.first()?;
+        let mut lo = first;
+        let mut hi = first;
+        for p in &self.positions {
+            for k in 0..3 {
+                lo[k] = lo[k].min(p[k]);
+                hi[k] = hi[k].max(p[k]);
+            }
+        }
+        Some((lo, hi))
+    }
+}
