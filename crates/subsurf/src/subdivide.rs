@@ -1,6 +1,12 @@
 //! The one-call facade: [`subdivide`] a [`PolyMesh`] to a level, optionally to the limit.
 
-use crate::mesh::{MeshError, Options, PolyMesh, TopologyWarning};
+use crate::limit;
+use crate::mesh::{
+    BoundaryInterpolation, Corner, Crease, MeshError, Options, PolyMesh, Tags, Topology,
+    TopologyWarning,
+};
+use crate::refine::interpolate;
+use crate::refine::refine_topology;
 
 /// What [`subdivide`] should do.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -47,13 +53,43 @@ pub enum Error {
     },
 }
 
-/// Estimated peak memory in bytes of [`subdivide`] to `levels`.
-pub fn estimate_memory(mesh: &PolyMesh, levels: u32) -> u64 {
-    let _ = (mesh, levels);
-    todo!()
+/// Bytes per face of a refined level held at once by [`subdivide`]: the child topology
+/// (faces, face-edges, edges, edge-faces, vertex-faces, vertex-edges with local indices,
+/// tags and sharpness; ~190 B), a quarter of that for the parent level, and two position
+/// buffers (48 B per vertex, about one vertex per face).
+const BYTES_PER_FACE: u64 = 300;
+
+/// Number of faces after `levels` uniform steps: the face-vertex count `S` for the first
+/// step (every face of size `n` gives `n` quads), then ×4 per step. Saturates.
+fn refined_faces(mesh: &PolyMesh, levels: u32) -> u64 {
+    if levels == 0 {
+        return mesh.num_faces() as u64;
+    }
+    let s = mesh.face_verts().len() as u64;
+    let shift = 2 * (levels as u64 - 1);
+    if shift >= 64 {
+        return if s == 0 { 0 } else { u64::MAX };
+    }
+    s.saturating_mul(1u64 << shift)
 }
 
-/// Refines `mesh` uniformly with Catmull-Clark as OpenSubdiv does.
+/// Estimated peak memory in bytes of [`subdivide`] to `levels` (topology of the last two
+/// levels and two position buffers), saturating at `u64::MAX`.
+pub fn estimate_memory(mesh: &PolyMesh, levels: u32) -> u64 {
+    refined_faces(mesh, levels)
+        .saturating_mul(BYTES_PER_FACE)
+        .saturating_add(mesh.num_vertices() as u64 * 64)
+}
+
+/// Refines `mesh` uniformly `opts.levels` times with Catmull-Clark as OpenSubdiv does
+/// (same rules for boundaries, creases, corners, holes, triangles and non-manifold
+/// topology; same vertex and face order), optionally moving the result to the limit.
+///
+/// Only the last two levels are kept in memory while refining.
+///
+/// # Errors
+/// [`Error::Mesh`] for an invalid mesh or tags; [`Error::TooLarge`] when the estimated
+/// memory exceeds `opts.max_memory` or the result would exceed 32-bit indices.
 pub fn subdivide(mesh: &PolyMesh, opts: &SubdivideOptions) -> Result<Subdivision, Error> {
     subdivide_with_progress(mesh, opts, &mut |_, _| {})
 }
@@ -64,6 +100,139 @@ pub fn subdivide_with_progress(
     opts: &SubdivideOptions,
     progress: &mut dyn FnMut(u32, u32),
 ) -> Result<Subdivision, Error> {
-    let _ = (mesh, opts, progress);
-    todo!()
+    mesh.validate()?;
+    let estimate = estimate_memory(mesh, opts.levels);
+    if let Some(limit) = opts.max_memory {
+        if estimate > limit {
+            return Err(Error::TooLarge {
+                levels: opts.levels,
+                estimate,
+                limit,
+            });
+        }
+    }
+    // Vertices of the last level ≤ faces + edges + vertices ≤ ~4 × faces: keep that in u32.
+    let faces = refined_faces(mesh, opts.levels);
+    if faces
+        .saturating_mul(4)
+        .saturating_add(mesh.num_vertices() as u64)
+        >= u32::MAX as u64
+    {
+        return Err(Error::Mesh(MeshError::TooLarge {
+            what: format!("level {} ({faces} faces)", opts.levels),
+        }));
+    }
+
+    let (mut level, warnings) = Topology::from_mesh(mesh, &opts.scheme)?;
+    let mut pos = mesh.positions().to_vec();
+    for l in 1..=opts.levels {
+        let child = refine_topology(&level, &opts.scheme);
+        let mut next = vec![[0.0; 3]; child.num_vertices()];
+        interpolate(&level, &child, &opts.scheme, &pos, &mut next);
+        level = child;
+        pos = next;
+        progress(l, opts.levels);
+    }
+
+    let normals = if opts.limit {
+        Some(limit_in_place(&level, &opts.scheme, &mut pos))
+    } else {
+        None
+    };
+    let out = output_mesh(&level, &opts.scheme, pos, opts.keep_holes);
+    Ok(Subdivision {
+        mesh: out,
+        normals,
+        warnings,
+    })
+}
+
+/// Moves `pos` (values at the vertices of `level`) to their limit positions and returns
+/// unit limit normals. Limit masks need quads around each vertex; where a vertex touches
+/// an n-gon (only possible at the base level) the masks are applied one level further
+/// down, whose vertex `v` is the child of `v` and has the same limit.
+fn limit_in_place(level: &Topology, options: &Options, pos: &mut [[f64; 3]]) -> Vec<[f64; 3]> {
+    let nv = level.num_vertices();
+    let all_quads = (0..level.num_faces()).all(|f| level.face_vertices(f).len() == 4);
+    let (lim, t1, t2) = if all_quads {
+        let mut lim = vec![[0.0; 3]; nv];
+        let (mut t1, mut t2) = (vec![[0.0; 3]; nv], vec![[0.0; 3]; nv]);
+        limit::limit_points(level, pos, &mut lim, Some((&mut t1, &mut t2)));
+        (lim, t1, t2)
+    } else {
+        let child = refine_topology(level, options);
+        let mut cpos = vec![[0.0; 3]; child.num_vertices()];
+        interpolate(level, &child, options, pos, &mut cpos);
+        let n = child.num_vertices();
+        let mut lim = vec![[0.0; 3]; n];
+        let (mut t1, mut t2) = (vec![[0.0; 3]; n], vec![[0.0; 3]; n]);
+        limit::limit_points(&child, &cpos, &mut lim, Some((&mut t1, &mut t2)));
+        lim.truncate(nv);
+        t1.truncate(nv);
+        t2.truncate(nv);
+        (lim, t1, t2)
+    };
+    pos.copy_from_slice(&lim);
+    limit::normals(level, pos, &t1, &t2)
+}
+
+/// The output mesh of a refined level: all vertices (OpenSubdiv's numbering), the faces
+/// that are not holes (all of them, holes tagged, with `keep_holes`), and the sharpness
+/// still left, as tags — so that refining the output `b` more levels gives the same
+/// result as refining the input `a + b` levels. Sharpness that the next run re-derives
+/// by itself (boundary and non-manifold edges, sharpened corners and non-manifold
+/// vertices) is not written.
+fn output_mesh(
+    level: &Topology,
+    options: &Options,
+    pos: Vec<[f64; 3]>,
+    keep_holes: bool,
+) -> PolyMesh {
+    let mut offsets = Vec::with_capacity(level.num_faces() + 1);
+    let mut verts = Vec::with_capacity(level.face_verts().len());
+    let mut holes = Vec::new();
+    offsets.push(0u32);
+    for f in 0..level.num_faces() {
+        let hole = level.is_hole(f);
+        if hole && !keep_holes {
+            continue;
+        }
+        if hole {
+            holes.push((offsets.len() - 1) as u32);
+        }
+        verts.extend_from_slice(level.face_vertices(f));
+        offsets.push(verts.len() as u32);
+    }
+    let mut tags = Tags {
+        holes,
+        ..Tags::default()
+    };
+    for e in 0..level.num_edges() {
+        let t = level.edge_tag(e);
+        let s = level.edge_sharpness(e);
+        if s > 0.0 && !t.boundary && !t.non_manifold {
+            let [v0, v1] = level.edge_vertices(e);
+            tags.creases.push(Crease {
+                v0,
+                v1,
+                sharpness: s,
+            });
+        }
+    }
+    let sharpened_corners = options.boundary == BoundaryInterpolation::EdgeAndCorner;
+    for v in 0..level.num_vertices() {
+        let s = level.vertex_sharpness(v);
+        let t = level.vertex_tag(v);
+        let topological_corner =
+            level.vertex_faces(v).len() == 1 && level.vertex_edges(v).len() == 2;
+        if s > 0.0 && !t.non_manifold && !(sharpened_corners && topological_corner) {
+            tags.corners.push(Corner {
+                vertex: v as u32,
+                sharpness: s,
+            });
+        }
+    }
+    let mut m = PolyMesh::new_unchecked(pos, offsets, verts);
+    m.tags = tags;
+    m
 }

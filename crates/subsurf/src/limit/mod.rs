@@ -1,1 +1,147 @@
-//! (in progress)
+//! Limit positions, tangents and normals of the vertices of a refined level, from
+//! OpenSubdiv's limit masks ([`crate::scheme::catmark::limit_position_mask`],
+//! [`crate::scheme::catmark::limit_tangent_masks`]), as `PrimvarRefiner::Limit` does.
+//!
+//! The masks assume that every face around a vertex is a quad, which holds at every level
+//! after the first. At a semi-sharp feature the mask of the vertex's *current* rule is
+//! used (as in OpenSubdiv): the result is the limit of the surface in which the remaining
+//! sharpness is infinite. Exact evaluation anywhere on the limit surface is the job of
+//! a separate evaluator.
+
+use crate::mesh::Topology;
+use crate::scheme::catmark::{self, VertexMask};
+
+/// Output buffers for the first and second limit tangents.
+pub type Tangents<'a, const D: usize> = (&'a mut [[f64; D]], &'a mut [[f64; D]]);
+
+/// Limit positions of the vertices of `level` (values `src`), and, when `tangents` is
+/// given, the two limit tangents (see [`catmark::limit_tangent_masks`] for their
+/// directions). Isolated vertices keep their position and get zero tangents.
+pub fn limit_points<const D: usize>(
+    level: &Topology,
+    src: &[[f64; D]],
+    pos: &mut [[f64; D]],
+    mut tangents: Option<Tangents<'_, D>>,
+) {
+    let mut pm = VertexMask::default();
+    let (mut t1m, mut t2m) = (VertexMask::default(), VertexMask::default());
+    let mut sharp = Vec::new();
+    let mut opposite = Vec::new();
+    let mut ends = Vec::new();
+    for v in 0..level.num_vertices() {
+        let edges = level.vertex_edges(v);
+        if edges.is_empty() {
+            pos[v] = src[v];
+            if let Some((t1, t2)) = tangents.as_mut() {
+                t1[v] = [0.0; D];
+                t2[v] = [0.0; D];
+            }
+            continue;
+        }
+        let faces = level.vertex_faces(v);
+        let rule = level.vertex_tag(v).rule;
+        sharp.clear();
+        sharp.extend(edges.iter().map(|&e| level.edge_sharpness(e as usize)));
+        ends.clear();
+        ends.extend(level.vertex_neighbours(v));
+        opposite.clear();
+        opposite.extend(
+            faces
+                .iter()
+                .zip(level.vertex_face_locals(v))
+                .map(|(&f, &l)| {
+                    let fv = level.face_vertices(f as usize);
+                    fv[(l as usize + 2) % fv.len()]
+                }),
+        );
+        catmark::limit_position_mask(rule, &sharp, faces.len(), &mut pm);
+        pos[v] = apply(&pm, &src[v], &ends, &opposite, src);
+        if let Some((t1, t2)) = tangents.as_mut() {
+            catmark::limit_tangent_masks(rule, &sharp, faces.len(), &mut t1m, &mut t2m);
+            t1[v] = apply(&t1m, &src[v], &ends, &opposite, src);
+            t2[v] = apply(&t2m, &src[v], &ends, &opposite, src);
+        }
+    }
+}
+
+fn apply<const D: usize>(
+    m: &VertexMask,
+    centre: &[f64; D],
+    ends: &[u32],
+    opposite: &[u32],
+    src: &[[f64; D]],
+) -> [f64; D] {
+    let mut acc = [0.0; D];
+    if m.has_faces {
+        for (&x, &w) in opposite.iter().zip(&m.faces) {
+            for k in 0..D {
+                acc[k] += w * src[x as usize][k];
+            }
+        }
+    }
+    if m.has_edges {
+        for (&x, &w) in ends.iter().zip(&m.edges) {
+            for k in 0..D {
+                acc[k] += w * src[x as usize][k];
+            }
+        }
+    }
+    for k in 0..D {
+        acc[k] += m.vertex * centre[k];
+    }
+    acc
+}
+
+/// Unit normals `t₁ × t₂ / |t₁ × t₂|`. Where the tangents are degenerate (a vertex whose
+/// limit tangent plane the masks cannot give, e.g. a crease folded back on itself), the
+/// normal of the vertex's faces at this level (sum of their Newell normals) is used; an
+/// isolated vertex gets `[0, 0, 0]`.
+pub fn normals(
+    level: &Topology,
+    pos: &[[f64; 3]],
+    t1: &[[f64; 3]],
+    t2: &[[f64; 3]],
+) -> Vec<[f64; 3]> {
+    (0..level.num_vertices())
+        .map(|v| {
+            let n = cross(&t1[v], &t2[v]);
+            let scale = norm(&t1[v]) * norm(&t2[v]);
+            if scale > 0.0 && norm(&n) > 1e-12 * scale {
+                return normalize(n);
+            }
+            let mut acc = [0.0; 3];
+            for &f in level.vertex_faces(v) {
+                let fv = level.face_vertices(f as usize);
+                for i in 0..fv.len() {
+                    let a = &pos[fv[i] as usize];
+                    let b = &pos[fv[(i + 1) % fv.len()] as usize];
+                    acc[0] += (a[1] - b[1]) * (a[2] + b[2]);
+                    acc[1] += (a[2] - b[2]) * (a[0] + b[0]);
+                    acc[2] += (a[0] - b[0]) * (a[1] + b[1]);
+                }
+            }
+            if norm(&acc) > 0.0 {
+                normalize(acc)
+            } else {
+                [0.0; 3]
+            }
+        })
+        .collect()
+}
+
+fn cross(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+fn norm(a: &[f64; 3]) -> f64 {
+    (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt()
+}
+
+fn normalize(a: [f64; 3]) -> [f64; 3] {
+    let n = norm(&a);
+    [a[0] / n, a[1] / n, a[2] / n]
+}

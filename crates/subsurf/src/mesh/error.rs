@@ -77,7 +77,9 @@ pub enum MeshError {
         faces: usize,
     },
     /// A crease or corner sharpness that is NaN or negative.
-    #[error("{what} has sharpness {value}; sharpness must be a number ≥ 0 (≥ 10 is infinitely sharp)")]
+    #[error(
+        "{what} has sharpness {value}; sharpness must be a number ≥ 0 (≥ 10 is infinitely sharp)"
+    )]
     BadSharpness {
         /// Description of the tagged element.
         what: String,

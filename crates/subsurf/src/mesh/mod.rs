@@ -19,4 +19,4 @@ pub use error::{MeshError, TopologyWarning};
 pub use options::{BoundaryInterpolation, CreaseMethod, Options, TriangleSubdivision};
 pub use polymesh::PolyMesh;
 pub use tags::{Corner, Crease, Tags, SHARPNESS_INFINITE};
-pub use topology::{Rule, Topology, VertexTag, EdgeTag, INVALID};
+pub use topology::{EdgeTag, Rule, Topology, VertexTag, INVALID};

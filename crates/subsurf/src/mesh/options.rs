@@ -88,7 +88,9 @@ impl FromStr for CreaseMethod {
         match s {
             "uniform" | "normal" => Ok(Self::Uniform),
             "chaikin" => Ok(Self::Chaikin),
-            _ => Err(format!("unknown crease method '{s}' (expected uniform or chaikin)")),
+            _ => Err(format!(
+                "unknown crease method '{s}' (expected uniform or chaikin)"
+            )),
         }
     }
 }
@@ -119,7 +121,9 @@ impl FromStr for TriangleSubdivision {
         match s {
             "catmark" => Ok(Self::Catmark),
             "smooth" => Ok(Self::Smooth),
-            _ => Err(format!("unknown triangle rule '{s}' (expected catmark or smooth)")),
+            _ => Err(format!(
+                "unknown triangle rule '{s}' (expected catmark or smooth)"
+            )),
         }
     }
 }

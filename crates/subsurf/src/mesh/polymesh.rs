@@ -32,9 +32,13 @@ impl PolyMesh {
     /// Builds a mesh from positions and CSR faces (`face_offsets.len() == faces + 1`,
     /// `face_offsets[0] == 0`, last offset `== face_verts.len()`).
     ///
+    /// A face may list a vertex more than once (a degenerate face); refinement treats it as
+    /// OpenSubdiv does (its edges become non-manifold, hence infinitely sharp). Use
+    /// [`check_strict`](Self::check_strict) to reject such faces.
+    ///
     /// # Errors
     /// [`MeshError`] naming the first bad face or vertex: faces with fewer than 3
-    /// vertices, out-of-range or repeated vertices, non-finite coordinates.
+    /// vertices, out-of-range vertices, non-finite coordinates.
     pub fn new(
         positions: Vec<[f64; 3]>,
         face_offsets: Vec<u32>,
@@ -70,7 +74,12 @@ impl PolyMesh {
         face_offsets: Vec<u32>,
         face_verts: Vec<u32>,
     ) -> Self {
-        let m = Self { positions, face_offsets, face_verts, tags: Tags::default() };
+        let m = Self {
+            positions,
+            face_offsets,
+            face_verts,
+            tags: Tags::default(),
+        };
         debug_assert!(m.face_offsets.first() == Some(&0));
         m
     }
@@ -79,18 +88,25 @@ impl PolyMesh {
     pub fn validate(&self) -> Result<(), MeshError> {
         let nv = self.positions.len();
         if u32::try_from(nv).is_err() {
-            return Err(MeshError::TooLarge { what: "the vertex count".into() });
+            return Err(MeshError::TooLarge {
+                what: "the vertex count".into(),
+            });
         }
         for (v, p) in self.positions.iter().enumerate() {
             for &c in p {
                 if !c.is_finite() {
-                    return Err(MeshError::NonFiniteCoordinate { vertex: v, value: c });
+                    return Err(MeshError::NonFiniteCoordinate {
+                        vertex: v,
+                        value: c,
+                    });
                 }
             }
         }
         let offs = &self.face_offsets;
         if offs.first() != Some(&0) {
-            return Err(MeshError::BadFaceOffsets("the first offset must be 0".into()));
+            return Err(MeshError::BadFaceOffsets(
+                "the first offset must be 0".into(),
+            ));
         }
         if *offs.last().unwrap_or(&0) as usize != self.face_verts.len() {
             return Err(MeshError::BadFaceOffsets(
@@ -100,22 +116,48 @@ impl PolyMesh {
         for f in 0..offs.len() - 1 {
             let (a, b) = (offs[f], offs[f + 1]);
             if b < a {
-                return Err(MeshError::BadFaceOffsets(format!("offset of face {f} decreases")));
+                return Err(MeshError::BadFaceOffsets(format!(
+                    "offset of face {f} decreases"
+                )));
             }
             let fv = &self.face_verts[a as usize..b as usize];
             if fv.len() < 3 {
-                return Err(MeshError::FaceTooSmall { face: f, count: fv.len() });
+                return Err(MeshError::FaceTooSmall {
+                    face: f,
+                    count: fv.len(),
+                });
             }
-            for (i, &v) in fv.iter().enumerate() {
+            for &v in fv {
                 if v as usize >= nv {
-                    return Err(MeshError::VertexOutOfRange { face: f, index: v as u64, count: nv });
+                    return Err(MeshError::VertexOutOfRange {
+                        face: f,
+                        index: v as u64,
+                        count: nv,
+                    });
                 }
+            }
+        }
+        self.validate_tags()
+    }
+
+    /// The first face that lists a vertex more than once, as an error.
+    pub fn check_repeated_vertices(&self) -> Result<(), MeshError> {
+        for (f, fv) in self.faces().enumerate() {
+            for (i, &v) in fv.iter().enumerate() {
                 if fv[..i].contains(&v) {
                     return Err(MeshError::RepeatedVertex { face: f, vertex: v });
                 }
             }
         }
-        self.validate_tags()
+        Ok(())
+    }
+
+    /// Strict validation: no face repeats a vertex, and the topology is manifold and
+    /// consistently oriented (see [`crate::mesh::Topology::check_manifold`]).
+    pub fn check_strict(&self) -> Result<(), MeshError> {
+        self.check_repeated_vertices()?;
+        let (t, _) = super::Topology::from_mesh(self, &super::Options::default())?;
+        t.check_manifold()
     }
 
     fn validate_tags(&self) -> Result<(), MeshError> {

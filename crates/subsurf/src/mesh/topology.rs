@@ -1,16 +1,750 @@
-//! (in progress)
-/// Invalid index.
+//! [`Topology`]: the complete adjacency of one refinement level, with sharpness and rules.
+//!
+//! # Memory layout
+//! All relations are flat arrays of `u32` indices in compressed-sparse-row form
+//! (an `*_offsets` array of `count + 1` prefix sums and a member array):
+//!
+//! | relation | members | parallel arrays |
+//! |---|---|---|
+//! | face → vertices | `face_verts` | `face_edges` (edge `i` runs from vertex `i` to `i + 1`) |
+//! | edge → vertices | `edge_verts: [u32; 2]` | |
+//! | edge → faces | `edge_faces` | `edge_face_local`: position of the edge in the face |
+//! | vertex → faces | `vert_faces` | `vert_face_local`: position of the vertex in the face |
+//! | vertex → edges | `vert_edges` | `vert_edge_local`: 0 or 1, which end of the edge |
+//!
+//! Around a manifold vertex, faces and edges are in counter-clockwise order with face `i`
+//! between edge `i` (leaving the vertex in face `i`) and edge `i + 1` (entering it); at a
+//! boundary vertex edge 0 and the last edge are the two boundary edges. This is
+//! OpenSubdiv's ordering (`Vtr::Level::orderVertexFacesAndEdges`), and limit tangents
+//! depend on it.
+//!
+//! Per element there are tags ([`EdgeTag`], [`VertexTag`], a hole flag per face) and
+//! `f32` sharpness values (see [`crate::mesh::tags`] for why `f32`).
+//!
+//! # Construction
+//! [`Topology::from_mesh`] builds the base level in O(n) expected time, with a fixed
+//! number of allocations (none per element): edges are numbered in order of first
+//! appearance while walking the faces, found in per-vertex buckets laid out in one
+//! array; this reproduces OpenSubdiv's edge order exactly, so refined vertices come out
+//! in OpenSubdiv's order too.
+
+use super::{Corner, Crease, MeshError, Options, PolyMesh, TopologyWarning};
+use crate::mesh::options::BoundaryInterpolation;
+use crate::scheme::crease;
+
+/// An invalid index.
 pub const INVALID: u32 = u32::MAX;
-/// Vertex rule.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Rule { /// smooth
- Smooth }
-/// Vertex tag.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct VertexTag;
-/// Edge tag.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct EdgeTag;
-/// Topology.
+
+/// The subdivision rule of a vertex, from its sharpness and its number of sharp edges
+/// (OpenSubdiv's `Sdc::Crease::Rule`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Rule {
+    /// No sharp edge, not sharp: the smooth Catmull-Clark vertex rule.
+    #[default]
+    Smooth,
+    /// One sharp edge: treated as smooth.
+    Dart,
+    /// Two sharp edges: the cubic B-spline crease rule along them.
+    Crease,
+    /// A sharp vertex, or more than two sharp edges: the vertex stays put.
+    Corner,
+}
+
+/// Per-vertex tags (OpenSubdiv's `Vtr::internal::Level::VTag`, the part that affects
+/// refinement).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct VertexTag {
+    /// The subdivision rule.
+    pub rule: Rule,
+    /// On a boundary (has an edge with one face).
+    pub boundary: bool,
+    /// Non-manifold (more than one fan of faces, an incident non-manifold edge, or isolated).
+    pub non_manifold: bool,
+    /// Sharpness in (0, 10).
+    pub semi_sharp: bool,
+    /// Sharpness ≥ 10.
+    pub inf_sharp: bool,
+    /// Has an incident semi-sharp edge.
+    pub semi_sharp_edges: bool,
+    /// Has an incident infinitely sharp edge.
+    pub inf_sharp_edges: bool,
+}
+
+/// Per-edge tags.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct EdgeTag {
+    /// Exactly one incident face.
+    pub boundary: bool,
+    /// More than two faces, or two faces that run it in the same direction.
+    pub non_manifold: bool,
+    /// Sharpness in (0, 10).
+    pub semi_sharp: bool,
+    /// Sharpness ≥ 10 (boundary and non-manifold edges always are).
+    pub inf_sharp: bool,
+}
+
+/// Complete adjacency, tags and sharpness of one level. See the module docs for the layout.
 #[derive(Clone, Debug, Default)]
-pub struct Topology;
+pub struct Topology {
+    pub(crate) num_vertices: u32,
+    pub(crate) face_offsets: Vec<u32>,
+    pub(crate) face_verts: Vec<u32>,
+    pub(crate) face_edges: Vec<u32>,
+    pub(crate) face_holes: Vec<bool>,
+
+    pub(crate) edge_verts: Vec<[u32; 2]>,
+    pub(crate) edge_face_offsets: Vec<u32>,
+    pub(crate) edge_faces: Vec<u32>,
+    pub(crate) edge_face_local: Vec<u16>,
+
+    pub(crate) vert_face_offsets: Vec<u32>,
+    pub(crate) vert_faces: Vec<u32>,
+    pub(crate) vert_face_local: Vec<u16>,
+    pub(crate) vert_edge_offsets: Vec<u32>,
+    pub(crate) vert_edges: Vec<u32>,
+    pub(crate) vert_edge_local: Vec<u8>,
+
+    pub(crate) edge_sharpness: Vec<f32>,
+    pub(crate) vert_sharpness: Vec<f32>,
+    pub(crate) edge_tags: Vec<EdgeTag>,
+    pub(crate) vert_tags: Vec<VertexTag>,
+
+    pub(crate) max_valence: u32,
+    pub(crate) has_holes: bool,
+}
+
+#[inline]
+fn range(offsets: &[u32], i: usize) -> std::ops::Range<usize> {
+    offsets[i] as usize..offsets[i + 1] as usize
+}
+
+fn to_u32(n: usize, what: &str) -> Result<u32, MeshError> {
+    u32::try_from(n)
+        .ok()
+        .filter(|&v| v != INVALID)
+        .ok_or_else(|| MeshError::TooLarge { what: what.into() })
+}
+
+impl Topology {
+    /// Builds the base level of `mesh`: edges, adjacency in rotational order, manifold and
+    /// boundary classification, then the tags and sharpness that `options` and
+    /// `mesh.tags` imply (OpenSubdiv's `TopologyRefinerFactory` rules: boundary edges and
+    /// non-manifold edges infinitely sharp; corners sharpened in
+    /// [`BoundaryInterpolation::EdgeAndCorner`]; non-manifold vertices sharpened except
+    /// along an interior non-manifold crease; faces at unsharpened boundaries become holes
+    /// in [`BoundaryInterpolation::None`]).
+    ///
+    /// Non-manifold input is accepted and handled as OpenSubdiv handles it; use
+    /// [`check_manifold`](Self::check_manifold) to reject it instead.
+    ///
+    /// # Errors
+    /// [`MeshError::TooLarge`] when counts exceed the index range, or a face has more
+    /// than 65535 vertices. (A [`PolyMesh`] is otherwise valid by construction.)
+    pub fn from_mesh(
+        mesh: &PolyMesh,
+        options: &Options,
+    ) -> Result<(Self, Vec<TopologyWarning>), MeshError> {
+        let mut t = Self::from_faces(mesh.num_vertices(), mesh.face_offsets(), mesh.face_verts())?;
+        let mut warnings = Vec::new();
+        t.assign_tags(
+            &mesh.tags.creases,
+            &mesh.tags.corners,
+            &mesh.tags.holes,
+            &mut warnings,
+        );
+        t.prepare_tags_and_sharpness(options);
+        let nm_edges: Vec<usize> = (0..t.num_edges())
+            .filter(|&e| t.edge_tags[e].non_manifold)
+            .collect();
+        if let Some(&e) = nm_edges.first() {
+            let [a, b] = t.edge_verts[e];
+            warnings.push(TopologyWarning::NonManifoldEdges {
+                count: nm_edges.len(),
+                first: (a, b),
+            });
+        }
+        let nm_verts: Vec<usize> = (0..t.num_vertices())
+            .filter(|&v| t.vert_tags[v].non_manifold && !t.vertex_faces(v).is_empty())
+            .collect();
+        if let Some(&v) = nm_verts.first() {
+            warnings.push(TopologyWarning::NonManifoldVertices {
+                count: nm_verts.len(),
+                first: v as u32,
+            });
+        }
+        Ok((t, warnings))
+    }
+
+    /// Adjacency only (no tags applied yet), OpenSubdiv's
+    /// `Level::completeTopologyFromFaceVertices`.
+    fn from_faces(
+        num_vertices: usize,
+        face_offsets: &[u32],
+        face_verts: &[u32],
+    ) -> Result<Self, MeshError> {
+        let nv = num_vertices;
+        let nf = face_offsets.len().saturating_sub(1);
+        to_u32(nv, "the vertex count")?;
+        to_u32(face_verts.len(), "the face-vertex count")?;
+        for f in 0..nf {
+            if range(face_offsets, f).len() > u16::MAX as usize {
+                return Err(MeshError::TooLarge {
+                    what: format!("face {f} has more than {} vertices", u16::MAX),
+                });
+            }
+        }
+
+        // Per-vertex buckets of incident edges, sized by an upper bound (each face edge
+        // counted at both ends), filled in creation order.
+        let mut bucket_start = vec![0u32; nv + 1];
+        for f in 0..nf {
+            let fv = &face_verts[range(face_offsets, f)];
+            let n = fv.len();
+            for i in 0..n {
+                bucket_start[fv[i] as usize + 1] += 1;
+                bucket_start[fv[(i + 1) % n] as usize + 1] += 1;
+            }
+        }
+        for v in 0..nv {
+            bucket_start[v + 1] += bucket_start[v];
+        }
+        let mut bucket_len = vec![0u32; nv];
+        let mut bucket = vec![0u32; bucket_start[nv] as usize];
+
+        let mut face_edges = vec![0u32; face_verts.len()];
+        let mut edge_verts: Vec<[u32; 2]> = Vec::with_capacity(face_verts.len() / 2 + 4);
+        // Number of faces seen per edge, and whether it became non-manifold.
+        let mut edge_nfaces: Vec<u32> = Vec::with_capacity(face_verts.len() / 2 + 4);
+        let mut edge_nonman: Vec<bool> = Vec::with_capacity(face_verts.len() / 2 + 4);
+        let mut edge_last_face: Vec<u32> = Vec::with_capacity(face_verts.len() / 2 + 4);
+
+        for f in 0..nf {
+            let r = range(face_offsets, f);
+            let n = r.len();
+            for i in 0..n {
+                let v0 = face_verts[r.start + i];
+                let v1 = face_verts[r.start + (i + 1) % n];
+                let b0 = bucket_start[v0 as usize] as usize;
+                // A degenerate edge (a vertex repeated consecutively) is always new.
+                let mut found = if v0 == v1 {
+                    None
+                } else {
+                    bucket[b0..b0 + bucket_len[v0 as usize] as usize]
+                        .iter()
+                        .copied()
+                        .find(|&e| {
+                            let ev = edge_verts[e as usize];
+                            ev[0] == v1 || ev[1] == v1
+                        })
+                };
+                let mut twice_in_face = false;
+                if let Some(e) = found {
+                    let eu = e as usize;
+                    if edge_last_face[eu] == f as u32 {
+                        twice_in_face = true;
+                        // The edge occurs twice in this face: a new instance, and both
+                        // are non-manifold.
+                        edge_nonman[eu] = true;
+                        found = None;
+                    } else if edge_nfaces[eu] > 1 || edge_verts[eu][0] == v0 {
+                        // A third face, or a second face running the edge the same way.
+                        edge_nonman[eu] = true;
+                    }
+                }
+                let e = match found {
+                    Some(e) => {
+                        edge_nfaces[e as usize] += 1;
+                        edge_last_face[e as usize] = f as u32;
+                        e
+                    }
+                    None => {
+                        let e = to_u32(edge_verts.len(), "the edge count")?;
+                        edge_verts.push([v0, v1]);
+                        edge_nfaces.push(1);
+                        edge_last_face.push(f as u32);
+                        edge_nonman.push(v0 == v1 || twice_in_face);
+                        for v in [v0, v1] {
+                            let at = bucket_start[v as usize] + bucket_len[v as usize];
+                            bucket[at as usize] = e;
+                            bucket_len[v as usize] += 1;
+                        }
+                        e
+                    }
+                };
+                face_edges[r.start + i] = e;
+            }
+        }
+        let ne = edge_verts.len();
+
+        // Vertex → edges: compact the buckets.
+        let mut vert_edge_offsets = vec![0u32; nv + 1];
+        for v in 0..nv {
+            vert_edge_offsets[v + 1] = vert_edge_offsets[v] + bucket_len[v];
+        }
+        let mut vert_edges = vec![0u32; vert_edge_offsets[nv] as usize];
+        for v in 0..nv {
+            let b0 = bucket_start[v] as usize;
+            let len = bucket_len[v] as usize;
+            let o = vert_edge_offsets[v] as usize;
+            vert_edges[o..o + len].copy_from_slice(&bucket[b0..b0 + len]);
+        }
+        drop(bucket);
+
+        // Edge → faces, in face order.
+        let mut edge_face_offsets = vec![0u32; ne + 1];
+        for e in 0..ne {
+            edge_face_offsets[e + 1] = edge_face_offsets[e] + edge_nfaces[e];
+        }
+        let mut edge_faces = vec![0u32; face_verts.len()];
+        let mut edge_face_local = vec![0u16; face_verts.len()];
+        let mut fill = edge_face_offsets[..ne].to_vec();
+        for f in 0..nf {
+            let r = range(face_offsets, f);
+            for (i, &e) in face_edges[r].iter().enumerate() {
+                let at = fill[e as usize] as usize;
+                edge_faces[at] = f as u32;
+                edge_face_local[at] = i as u16;
+                fill[e as usize] += 1;
+            }
+        }
+
+        // Vertex → faces, in face order.
+        let mut vert_face_offsets = vec![0u32; nv + 1];
+        for &v in face_verts {
+            vert_face_offsets[v as usize + 1] += 1;
+        }
+        for v in 0..nv {
+            vert_face_offsets[v + 1] += vert_face_offsets[v];
+        }
+        let mut vert_faces = vec![0u32; face_verts.len()];
+        let mut vert_face_local = vec![0u16; face_verts.len()];
+        let mut fill = vert_face_offsets[..nv].to_vec();
+        for f in 0..nf {
+            let r = range(face_offsets, f);
+            for (i, &v) in face_verts[r].iter().enumerate() {
+                let at = fill[v as usize] as usize;
+                vert_faces[at] = f as u32;
+                vert_face_local[at] = i as u16;
+                fill[v as usize] += 1;
+            }
+        }
+
+        let mut t = Topology {
+            num_vertices: nv as u32,
+            face_offsets: face_offsets.to_vec(),
+            face_verts: face_verts.to_vec(),
+            face_edges,
+            face_holes: vec![false; nf],
+            edge_verts,
+            edge_face_offsets,
+            edge_faces,
+            edge_face_local,
+            vert_face_offsets,
+            vert_faces,
+            vert_face_local,
+            vert_edge_offsets,
+            vert_edges,
+            vert_edge_local: Vec::new(),
+            edge_sharpness: vec![0.0; ne],
+            vert_sharpness: vec![0.0; nv],
+            edge_tags: vec![EdgeTag::default(); ne],
+            vert_tags: vec![VertexTag::default(); nv],
+            max_valence: 0,
+            has_holes: false,
+        };
+        for e in 0..ne {
+            if edge_nonman[e] {
+                t.edge_tags[e].non_manifold = true;
+                for v in t.edge_verts[e] {
+                    t.vert_tags[v as usize].non_manifold = true;
+                }
+            }
+        }
+        t.orient_vertices();
+        t.populate_local_indices();
+        Ok(t)
+    }
+
+    /// Orders the faces and edges of every manifold vertex counter-clockwise; a vertex
+    /// that cannot be ordered (more than one fan, isolated) is non-manifold.
+    fn orient_vertices(&mut self) {
+        let mut faces_buf = Vec::new();
+        let mut edges_buf = Vec::new();
+        for v in 0..self.num_vertices as usize {
+            if self.vert_tags[v].non_manifold {
+                continue;
+            }
+            if self.order_vertex(v, &mut faces_buf, &mut edges_buf) {
+                let fr = range(&self.vert_face_offsets, v);
+                self.vert_faces[fr].copy_from_slice(&faces_buf);
+                let er = range(&self.vert_edge_offsets, v);
+                self.vert_edges[er].copy_from_slice(&edges_buf);
+            } else {
+                self.vert_tags[v].non_manifold = true;
+            }
+        }
+    }
+
+    /// Walks around `v` from a starting face (the first face if interior, the face of the
+    /// boundary edge that leaves `v` if on a boundary), crossing to the neighbour face over
+    /// the edge that enters `v`. Fails if the walk does not visit every face and edge
+    /// exactly once (OpenSubdiv's `orderVertexFacesAndEdges`).
+    fn order_vertex(&self, v: usize, faces: &mut Vec<u32>, edges: &mut Vec<u32>) -> bool {
+        let vfaces = self.vertex_faces(v);
+        let vedges = self.vertex_edges(v);
+        let (nf, ne) = (vfaces.len(), vedges.len());
+        if nf == 0 || ne < 2 || ne > nf + 1 {
+            return false;
+        }
+        faces.clear();
+        edges.clear();
+        let local_of_vertex = |f: u32| -> usize {
+            self.face_vertices(f as usize)
+                .iter()
+                .position(|&x| x as usize == v)
+                .unwrap_or(0)
+        };
+        let (mut f, mut fv, mut e);
+        if ne == nf {
+            f = vfaces[0];
+            fv = local_of_vertex(f);
+            e = self.face_edge_list(f as usize)[fv];
+        } else {
+            f = INVALID;
+            fv = 0;
+            e = INVALID;
+            for &cand in vedges {
+                let ef = self.edge_face_list(cand as usize);
+                if ef.len() == 1 {
+                    e = cand;
+                    f = ef[0];
+                    fv = local_of_vertex(f);
+                    if self.face_edge_list(f as usize)[fv] == e {
+                        break;
+                    }
+                }
+            }
+            if e == INVALID {
+                return false;
+            }
+        }
+        faces.push(f);
+        edges.push(e);
+        let first = e;
+        while edges.len() < ne {
+            let fe = self.face_edge_list(f as usize);
+            let prev = if fv == 0 { fe.len() - 1 } else { fv - 1 };
+            let next = fe[prev];
+            if next == e || next == first {
+                return false;
+            }
+            edges.push(next);
+            if faces.len() < nf {
+                let ef = self.edge_face_list(next as usize);
+                if ef.is_empty() || (ef.len() == 1 && ef[0] == f) {
+                    return false;
+                }
+                f = if ef[0] == f { ef[1] } else { ef[0] };
+                let Some(pos) = self
+                    .face_edge_list(f as usize)
+                    .iter()
+                    .position(|&x| x == next)
+                else {
+                    return false;
+                };
+                fv = pos;
+                faces.push(f);
+            }
+            e = next;
+        }
+        faces.len() == nf
+    }
+
+    fn populate_local_indices(&mut self) {
+        let nv = self.num_vertices as usize;
+        // Faces were reordered around manifold vertices only, where each face occurs once;
+        // around the others, the locals recorded in face order are still right (a face
+        // that repeats a vertex occurs once per corner there).
+        for v in 0..nv {
+            if self.vert_tags[v].non_manifold {
+                continue;
+            }
+            for i in range(&self.vert_face_offsets, v) {
+                let f = self.vert_faces[i] as usize;
+                let pos = self.face_vertices(f).iter().position(|&x| x as usize == v);
+                self.vert_face_local[i] = pos.unwrap_or(0) as u16;
+            }
+        }
+        self.vert_edge_local = vec![0u8; self.vert_edges.len()];
+        for v in 0..nv {
+            let r = range(&self.vert_edge_offsets, v);
+            for i in r.clone() {
+                let e = self.vert_edges[i] as usize;
+                let [a, b] = self.edge_verts[e];
+                self.vert_edge_local[i] = if a == b {
+                    // A degenerate edge is listed twice: first as its end 0, then as end 1.
+                    (i > r.start && self.vert_edges[i - 1] as usize == e) as u8
+                } else {
+                    (b as usize == v) as u8
+                };
+            }
+        }
+        self.max_valence = (0..nv)
+            .map(|v| self.vertex_edges(v).len().max(self.vertex_faces(v).len()) as u32)
+            .max()
+            .unwrap_or(0);
+    }
+
+    /// Applies creases, corners and holes (OpenSubdiv's `assignComponentTags`).
+    fn assign_tags(
+        &mut self,
+        creases: &[Crease],
+        corners: &[Corner],
+        holes: &[u32],
+        warnings: &mut Vec<TopologyWarning>,
+    ) {
+        for (i, c) in creases.iter().enumerate() {
+            match self.find_edge(c.v0, c.v1) {
+                Some(e) => self.edge_sharpness[e as usize] = c.sharpness,
+                None => warnings.push(TopologyWarning::CreaseEdgeMissing {
+                    crease: i,
+                    v0: c.v0,
+                    v1: c.v1,
+                }),
+            }
+        }
+        for c in corners {
+            if let Some(s) = self.vert_sharpness.get_mut(c.vertex as usize) {
+                *s = c.sharpness;
+            }
+        }
+        for &h in holes {
+            if let Some(x) = self.face_holes.get_mut(h as usize) {
+                *x = true;
+                self.has_holes = true;
+            }
+        }
+    }
+
+    /// Sharpens boundaries and non-manifold features and derives edge and vertex tags and
+    /// rules (OpenSubdiv's `prepareComponentTagsAndSharpness`).
+    fn prepare_tags_and_sharpness(&mut self, options: &Options) {
+        let nv = self.num_vertices as usize;
+        if options.boundary == BoundaryInterpolation::None {
+            for v in 0..nv {
+                let ve = self.vertex_edges(v);
+                let interior_manifold =
+                    ve.len() == self.vertex_faces(v).len() && !self.vert_tags[v].non_manifold;
+                if interior_manifold {
+                    continue;
+                }
+                let exclude = ve.iter().any(|&e| {
+                    self.edge_face_list(e as usize).len() == 1
+                        && !crease::is_infinite(self.edge_sharpness[e as usize])
+                });
+                if exclude {
+                    for i in range(&self.vert_face_offsets, v) {
+                        self.face_holes[self.vert_faces[i] as usize] = true;
+                    }
+                    self.has_holes = true;
+                }
+            }
+        }
+        for e in 0..self.num_edges() {
+            let tag = &mut self.edge_tags[e];
+            tag.boundary = self.edge_face_offsets[e + 1] - self.edge_face_offsets[e] < 2;
+            if tag.boundary || tag.non_manifold {
+                self.edge_sharpness[e] = crease::SHARPNESS_INFINITE;
+            }
+            let s = self.edge_sharpness[e];
+            tag.inf_sharp = crease::is_infinite(s);
+            tag.semi_sharp = crease::is_sharp(s) && !tag.inf_sharp;
+        }
+        let sharpen_corners = options.boundary == BoundaryInterpolation::EdgeAndCorner;
+        for v in 0..nv {
+            let (mut boundary, mut inf, mut semi, mut nonman) = (0, 0, 0, 0);
+            for &e in self.vertex_edges(v) {
+                let t = self.edge_tags[e as usize];
+                boundary += t.boundary as usize;
+                inf += t.inf_sharp as usize;
+                semi += t.semi_sharp as usize;
+                nonman += t.non_manifold as usize;
+            }
+            let nfaces = self.vertex_faces(v).len();
+            let nedges = self.vertex_edges(v).len();
+            let topological_corner = nfaces == 1 && nedges == 2;
+            let tag = &mut self.vert_tags[v];
+            if topological_corner && sharpen_corners {
+                self.vert_sharpness[v] = crease::SHARPNESS_INFINITE;
+            } else if tag.non_manifold {
+                // Not on an interior non-manifold crease (two non-manifold edges, more faces
+                // than edges, no boundary): sharpen.
+                if !(nonman == 2 && boundary == 0 && nfaces > nedges) {
+                    self.vert_sharpness[v] = crease::SHARPNESS_INFINITE;
+                }
+            }
+            let s = self.vert_sharpness[v];
+            tag.inf_sharp = crease::is_infinite(s);
+            tag.semi_sharp = crease::is_semi_sharp(s);
+            tag.semi_sharp_edges = semi > 0;
+            tag.inf_sharp_edges = inf > 0;
+            tag.boundary = boundary > 0;
+            tag.rule = crease::vertex_rule(s, inf + semi);
+        }
+    }
+
+    /// Rejects non-manifold topology with an error naming the first offending element:
+    /// an edge with more than two faces, two faces running an edge the same way, or a
+    /// vertex whose faces form more than one fan.
+    pub fn check_manifold(&self) -> Result<(), MeshError> {
+        for e in 0..self.num_edges() {
+            if !self.edge_tags[e].non_manifold {
+                continue;
+            }
+            let ef = self.edge_face_list(e);
+            let [v0, v1] = self.edge_verts[e];
+            if ef.len() > 2 {
+                return Err(MeshError::NonManifoldEdge {
+                    v0,
+                    v1,
+                    faces: ef.len(),
+                    first: ef[0],
+                    second: ef[1],
+                });
+            }
+            if ef.len() == 2 {
+                return Err(MeshError::InconsistentOrientation {
+                    f0: ef[0],
+                    f1: ef[1],
+                    v0,
+                    v1,
+                });
+            }
+        }
+        for v in 0..self.num_vertices() {
+            let nf = self.vertex_faces(v).len();
+            if self.vert_tags[v].non_manifold && nf > 0 {
+                return Err(MeshError::NonManifoldVertex {
+                    vertex: v as u32,
+                    faces: nf,
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// The edge between `v0` and `v1`, if any.
+    pub fn find_edge(&self, v0: u32, v1: u32) -> Option<u32> {
+        if v0 == v1 || v0 >= self.num_vertices || v1 >= self.num_vertices {
+            return None;
+        }
+        self.vertex_edges(v0 as usize).iter().copied().find(|&e| {
+            let ev = self.edge_verts[e as usize];
+            ev[0] == v1 || ev[1] == v1
+        })
+    }
+
+    /// Number of vertices.
+    #[inline]
+    pub fn num_vertices(&self) -> usize {
+        self.num_vertices as usize
+    }
+    /// Number of edges.
+    #[inline]
+    pub fn num_edges(&self) -> usize {
+        self.edge_verts.len()
+    }
+    /// Number of faces.
+    #[inline]
+    pub fn num_faces(&self) -> usize {
+        self.face_offsets.len() - 1
+    }
+    /// Largest number of edges or faces at a vertex.
+    pub fn max_valence(&self) -> usize {
+        self.max_valence as usize
+    }
+    /// Vertices of face `f`, counter-clockwise.
+    #[inline]
+    pub fn face_vertices(&self, f: usize) -> &[u32] {
+        &self.face_verts[range(&self.face_offsets, f)]
+    }
+    /// Edges of face `f`; edge `i` joins vertex `i` and `i + 1`.
+    #[inline]
+    pub fn face_edge_list(&self, f: usize) -> &[u32] {
+        &self.face_edges[range(&self.face_offsets, f)]
+    }
+    /// Whether face `f` is a hole.
+    #[inline]
+    pub fn is_hole(&self, f: usize) -> bool {
+        self.face_holes[f]
+    }
+    /// End vertices of edge `e`.
+    #[inline]
+    pub fn edge_vertices(&self, e: usize) -> [u32; 2] {
+        self.edge_verts[e]
+    }
+    /// Faces of edge `e`, in face order.
+    #[inline]
+    pub fn edge_face_list(&self, e: usize) -> &[u32] {
+        &self.edge_faces[range(&self.edge_face_offsets, e)]
+    }
+    /// Faces around vertex `v` (counter-clockwise if manifold).
+    #[inline]
+    pub fn vertex_faces(&self, v: usize) -> &[u32] {
+        &self.vert_faces[range(&self.vert_face_offsets, v)]
+    }
+    /// Position of `v` in each of [`vertex_faces`](Self::vertex_faces).
+    #[inline]
+    pub fn vertex_face_locals(&self, v: usize) -> &[u16] {
+        &self.vert_face_local[range(&self.vert_face_offsets, v)]
+    }
+    /// Edges around vertex `v` (counter-clockwise if manifold).
+    #[inline]
+    pub fn vertex_edges(&self, v: usize) -> &[u32] {
+        &self.vert_edges[range(&self.vert_edge_offsets, v)]
+    }
+    /// Which end (0 or 1) of each of [`vertex_edges`](Self::vertex_edges) `v` is.
+    #[inline]
+    pub fn vertex_edge_locals(&self, v: usize) -> &[u8] {
+        &self.vert_edge_local[range(&self.vert_edge_offsets, v)]
+    }
+    /// The vertex at the other end of each edge around `v`.
+    pub fn vertex_neighbours(&self, v: usize) -> impl Iterator<Item = u32> + '_ {
+        self.vertex_edges(v)
+            .iter()
+            .zip(self.vertex_edge_locals(v))
+            .map(move |(&e, &l)| self.edge_verts[e as usize][1 - l as usize])
+    }
+    /// Sharpness of edge `e` (boundary and non-manifold edges: 10, infinitely sharp).
+    #[inline]
+    pub fn edge_sharpness(&self, e: usize) -> f32 {
+        self.edge_sharpness[e]
+    }
+    /// Sharpness of vertex `v`.
+    #[inline]
+    pub fn vertex_sharpness(&self, v: usize) -> f32 {
+        self.vert_sharpness[v]
+    }
+    /// Tags of edge `e`.
+    #[inline]
+    pub fn edge_tag(&self, e: usize) -> EdgeTag {
+        self.edge_tags[e]
+    }
+    /// Tags of vertex `v`.
+    #[inline]
+    pub fn vertex_tag(&self, v: usize) -> VertexTag {
+        self.vert_tags[v]
+    }
+    /// Whether any face is a hole.
+    pub fn has_holes(&self) -> bool {
+        self.has_holes
+    }
+    /// CSR face offsets.
+    pub fn face_offsets(&self) -> &[u32] {
+        &self.face_offsets
+    }
+    /// CSR face-vertex indices.
+    pub fn face_verts(&self) -> &[u32] {
+        &self.face_verts
+    }
+}

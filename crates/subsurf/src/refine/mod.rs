@@ -1,1 +1,112 @@
-//! (in progress)
+//! Uniform refinement: topology once ([`TopologyRefiner`]), then any number of primvars
+//! through it ([`TopologyRefiner::interpolate`]).
+//!
+//! ```
+//! use subsurf::mesh::{Options, PolyMesh};
+//! use subsurf::refine::TopologyRefiner;
+//!
+//! let quad = PolyMesh::from_faces(
+//!     vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]],
+//!     &[[0u32, 1, 2, 3]],
+//! ).unwrap();
+//! let mut r = TopologyRefiner::new(&quad, Options::default()).unwrap();
+//! r.refine_uniform(2);
+//! assert_eq!(r.level(2).num_faces(), 16);
+//! // Refine positions, and a scalar (say, a temperature) on the same topology.
+//! let pos = r.interpolate_all(quad.positions());
+//! let temp = r.interpolate_all(&[[0.0], [1.0], [1.0], [0.0]]);
+//! assert_eq!(pos.len(), r.level(2).num_vertices());
+//! assert!(temp.iter().all(|t| (0.0..=1.0).contains(&t[0])));
+//! ```
+
+mod primvar;
+mod topology;
+
+pub use primvar::interpolate;
+pub(crate) use topology::refine_topology;
+
+use crate::mesh::{MeshError, Options, PolyMesh, Topology, TopologyWarning};
+
+/// A base [`Topology`] and its uniform refinements, level by level.
+#[derive(Clone, Debug)]
+pub struct TopologyRefiner {
+    levels: Vec<Topology>,
+    options: Options,
+    warnings: Vec<TopologyWarning>,
+}
+
+impl TopologyRefiner {
+    /// Builds the base level of `mesh` (see [`Topology::from_mesh`]).
+    pub fn new(mesh: &PolyMesh, options: Options) -> Result<Self, MeshError> {
+        let (base, warnings) = Topology::from_mesh(mesh, &options)?;
+        Ok(Self {
+            levels: vec![base],
+            options,
+            warnings,
+        })
+    }
+
+    /// Refines until there are `levels` levels beyond the base.
+    pub fn refine_uniform(&mut self, levels: u32) {
+        while self.levels.len() <= levels as usize {
+            self.refine_one();
+        }
+    }
+
+    /// Adds one level.
+    pub fn refine_one(&mut self) {
+        let last = self.levels.last().expect("the base level always exists");
+        let child = topology::refine_topology(last, &self.options);
+        self.levels.push(child);
+    }
+
+    /// Level `i` (0 is the base).
+    ///
+    /// # Panics
+    /// If `i > max_level()`.
+    pub fn level(&self, i: usize) -> &Topology {
+        &self.levels[i]
+    }
+
+    /// The deepest level refined so far.
+    pub fn max_level(&self) -> usize {
+        self.levels.len() - 1
+    }
+
+    /// Scheme options.
+    pub fn options(&self) -> &Options {
+        &self.options
+    }
+
+    /// Warnings about the base mesh.
+    pub fn warnings(&self) -> &[TopologyWarning] {
+        &self.warnings
+    }
+
+    /// Interpolates values from level `level - 1` to level `level`.
+    pub fn interpolate<const D: usize>(
+        &self,
+        level: usize,
+        src: &[[f64; D]],
+        dst: &mut [[f64; D]],
+    ) {
+        primvar::interpolate(
+            &self.levels[level - 1],
+            &self.levels[level],
+            &self.options,
+            src,
+            dst,
+        );
+    }
+
+    /// Interpolates base-level values to the deepest level.
+    pub fn interpolate_all<const D: usize>(&self, base: &[[f64; D]]) -> Vec<[f64; D]> {
+        let mut cur = base.to_vec();
+        for l in 1..self.levels.len() {
+            let mut next = vec![[0.0; D]; self.levels[l].num_vertices()];
+            self.interpolate(l, &cur, &mut next);
+            cur = next;
+        }
+        cur
+    }
+}

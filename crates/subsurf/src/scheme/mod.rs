@@ -1,1 +1,13 @@
-//! (in progress)
+//! Subdivision weights (masks) only: no topology, no positions.
+//!
+//! - [`crease`]: sharpness arithmetic and vertex rules (OpenSubdiv's `Sdc::Crease`),
+//!   in `f32` as OpenSubdiv computes them.
+//! - [`catmark`]: Catmull-Clark face, edge and vertex masks, with OpenSubdiv's rules for
+//!   creases, corners, transitions between them, and triangles; limit position and
+//!   tangent masks.
+//!
+//! A mask is a set of weights on the parent's vertex, the far ends of its edges, and
+//! its faces' centres (refinement) or the vertices opposite in its faces (limit masks).
+
+pub mod catmark;
+pub mod crease;

@@ -1,0 +1,195 @@
+//! Applying the Catmull-Clark masks of [`crate::scheme::catmark`] to vertex data
+//! ("primvars": positions, colours, any `[f64; D]`), one level at a time, in the order
+//! OpenSubdiv's `PrimvarRefiner::Interpolate` uses: face points, then edge points and
+//! vertex points (which read the new face points).
+//!
+//! The three passes are data-parallel; each is split across threads with rayon once a
+//! level is large enough to pay for it.
+
+use crate::mesh::{Options, Rule, Topology};
+use crate::scheme::catmark::{self, VertexContext, VertexMask, VertexMaskScratch};
+use rayon::prelude::*;
+
+/// Elements per parallel task; below `2 * CHUNK` elements a pass runs on one thread.
+const CHUNK: usize = 8192;
+
+#[inline]
+fn axpy<const D: usize>(acc: &mut [f64; D], w: f64, x: &[f64; D]) {
+    for k in 0..D {
+        acc[k] += w * x[k];
+    }
+}
+
+/// Interpolates `src` (values at the vertices of `parent`) to `dst` (values at the
+/// vertices of `child`, the refinement of `parent`).
+///
+/// # Panics
+/// If `src.len() != parent.num_vertices()` or `dst.len() != child.num_vertices()`.
+pub fn interpolate<const D: usize>(
+    parent: &Topology,
+    child: &Topology,
+    options: &Options,
+    src: &[[f64; D]],
+    dst: &mut [[f64; D]],
+) {
+    let nv = parent.num_vertices();
+    let nf = parent.num_faces();
+    assert_eq!(src.len(), nv, "source has the wrong number of values");
+    assert_eq!(
+        dst.len(),
+        child.num_vertices(),
+        "destination has the wrong number of values"
+    );
+    let (vert_pts, rest) = dst.split_at_mut(nv);
+    let (face_pts, edge_pts) = rest.split_at_mut(nf);
+
+    // Face points.
+    let face_pass = |(start, out): (usize, &mut [[f64; D]])| {
+        for (i, o) in out.iter_mut().enumerate() {
+            let fv = parent.face_vertices(start + i);
+            let mut acc = [0.0; D];
+            for &v in fv {
+                for k in 0..D {
+                    acc[k] += src[v as usize][k];
+                }
+            }
+            let w = catmark::face_point_weight(fv.len());
+            for k in 0..D {
+                acc[k] *= w;
+            }
+            *o = acc;
+        }
+    };
+    run_chunks(face_pts, face_pass);
+    let face_pts: &[[f64; D]] = face_pts;
+
+    // Edge points.
+    let tri_option = options.triangles == crate::mesh::TriangleSubdivision::Smooth;
+    let edge_pass = |(start, out): (usize, &mut [[f64; D]])| {
+        for (i, o) in out.iter_mut().enumerate() {
+            let e = start + i;
+            let [a, b] = parent.edge_verts[e];
+            let faces = parent.edge_face_list(e);
+            let sharp = parent.edge_sharpness[e];
+            let (pa, pb) = (&src[a as usize], &src[b as usize]);
+            let mut acc = [0.0; D];
+            if sharp <= 0.0 && faces.len() == 2 && !tri_option {
+                // Smooth edge between two faces: ¼ of each end and each face point.
+                let (f0, f1) = (&face_pts[faces[0] as usize], &face_pts[faces[1] as usize]);
+                for k in 0..D {
+                    acc[k] = 0.25 * (pa[k] + pb[k] + f0[k] + f1[k]);
+                }
+            } else {
+                let tri = [
+                    faces
+                        .first()
+                        .is_some_and(|&f| parent.face_vertices(f as usize).len() == 3),
+                    faces
+                        .get(1)
+                        .is_some_and(|&f| parent.face_vertices(f as usize).len() == 3),
+                ];
+                let child_rule = child.vert_tags[nv + nf + e].rule;
+                let m = catmark::edge_mask(options, sharp, child_rule, faces.len(), tri);
+                for k in 0..D {
+                    acc[k] = m.vertex * (pa[k] + pb[k]);
+                }
+                if !m.is_crease() {
+                    for (j, &f) in faces.iter().enumerate() {
+                        let w = if j < 2 { m.faces[j] } else { m.other_faces };
+                        axpy(&mut acc, w, &face_pts[f as usize]);
+                    }
+                }
+            }
+            *o = acc;
+        }
+    };
+
+    // Vertex points.
+    let vertex_pass = |(start, out): (usize, &mut [[f64; D]])| {
+        let mut mask = VertexMask::default();
+        let mut scratch = VertexMaskScratch::default();
+        let mut pe = Vec::new();
+        let mut ce = Vec::new();
+        for (i, o) in out.iter_mut().enumerate() {
+            let v = start + i;
+            let edges = parent.vertex_edges(v);
+            let faces = parent.vertex_faces(v);
+            let ptag = parent.vert_tags[v];
+            let p = &src[v];
+            let mut acc = [0.0; D];
+            if edges.is_empty() {
+                *o = *p;
+                continue;
+            }
+            if matches!(ptag.rule, Rule::Smooth | Rule::Dart) {
+                let n = edges.len() as f64;
+                let w = 1.0 / (n * n);
+                for x in parent.vertex_neighbours(v) {
+                    for k in 0..D {
+                        acc[k] += src[x as usize][k];
+                    }
+                }
+                for &f in faces {
+                    for k in 0..D {
+                        acc[k] += face_pts[f as usize][k];
+                    }
+                }
+                let vw = (n - 2.0) / n;
+                for k in 0..D {
+                    acc[k] = acc[k] * w + vw * p[k];
+                }
+                *o = acc;
+                continue;
+            }
+            pe.clear();
+            pe.extend(edges.iter().map(|&e| parent.edge_sharpness[e as usize]));
+            ce.clear();
+            ce.extend(
+                child
+                    .vertex_edges(v)
+                    .iter()
+                    .map(|&e| child.edge_sharpness[e as usize]),
+            );
+            let ctx = VertexContext {
+                parent_rule: ptag.rule,
+                child_rule: child.vert_tags[v].rule,
+                parent_sharpness: parent.vert_sharpness[v],
+                child_sharpness: child.vert_sharpness[v],
+                parent_edges: &pe,
+                child_edges: &ce,
+                num_faces: faces.len(),
+            };
+            catmark::vertex_mask(options.crease_method, &ctx, &mut mask, &mut scratch);
+            if mask.has_faces {
+                for (&f, &w) in faces.iter().zip(&mask.faces) {
+                    axpy(&mut acc, w, &face_pts[f as usize]);
+                }
+            }
+            if mask.has_edges {
+                for (x, &w) in parent.vertex_neighbours(v).zip(&mask.edges) {
+                    axpy(&mut acc, w, &src[x as usize]);
+                }
+            }
+            axpy(&mut acc, mask.vertex, p);
+            *o = acc;
+        }
+    };
+    rayon::join(
+        || run_chunks(edge_pts, edge_pass),
+        || run_chunks(vert_pts, vertex_pass),
+    );
+}
+
+/// Runs `f(start, chunk)` over `out` in chunks, in parallel when large.
+fn run_chunks<T: Send, F>(out: &mut [T], f: F)
+where
+    F: Fn((usize, &mut [T])) + Sync + Send,
+{
+    if out.len() < 2 * CHUNK {
+        f((0, out));
+    } else {
+        out.par_chunks_mut(CHUNK)
+            .enumerate()
+            .for_each(|(i, c)| f((i * CHUNK, c)));
+    }
+}
