@@ -1,1 +1,338 @@
-fn main() {}
+//! `subsurf`: Catmull-Clark subdivision of OBJ meshes from the command line.
+//!
+//! This file holds the argument definitions, the dispatch to one module per subcommand and
+//! the exit codes: 0 success, 1 bad input or any other failure, 2 usage error (clap's).
+
+mod cmd;
+mod input;
+mod json;
+mod output;
+mod progress;
+
+use std::io;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::builder::{PossibleValuesParser, TypedValueParser};
+use clap::{Args, Parser, Subcommand};
+use subsurf::io::obj::FileOptions;
+use subsurf::mesh::{BoundaryInterpolation, CreaseMethod, TriangleSubdivision};
+
+const MAIN_EXAMPLES: &str = "\
+Examples:
+  subsurf subdivide model.obj -o smooth.obj -l 3
+  subsurf info model.obj
+  subsurf demo -o subsurf-demo
+
+Run 'subsurf help <command>' for the options of each command.";
+
+const SUBDIVIDE_EXAMPLES: &str = "\
+Scheme options are read from the file's tags (t interpolateboundary, t creasemethod,
+t smoothtriangles); the flags above override them when given.
+
+Examples:
+  subsurf subdivide cube.obj -o cube-l3.obj -l 3
+  subsurf subdivide shape.obj -o shape-limit.obj --limit   (limit positions + normals)
+  subsurf subdivide grid.obj -o grid-l2.obj --boundary edge-and-corner
+  subsurf subdivide big.obj -o big-l4.obj -l 4 --max-memory 8G
+  cat cube.obj | subsurf subdivide - -o - -l 1 > cube-l1.obj";
+
+const INFO_EXAMPLES: &str = "\
+Examples:
+  subsurf info model.obj
+  subsurf info grid.obj --boundary none
+  subsurf info model.obj --json > model-info.json";
+
+const DEMO_EXAMPLES: &str = "\
+Examples:
+  subsurf demo                  (writes to ./subsurf-demo)
+  subsurf demo -o /tmp/shapes";
+
+/// Catmull-Clark subdivision surfaces, exactly as OpenSubdiv computes them.
+#[derive(Debug, Parser)]
+#[command(name = "subsurf", version, after_help = MAIN_EXAMPLES)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Refine an OBJ mesh N levels with Catmull-Clark and write it as OBJ.
+    #[command(after_help = SUBDIVIDE_EXAMPLES)]
+    Subdivide(SubdivideArgs),
+    /// Print a summary of an OBJ mesh: counts, valences, boundaries, manifoldness, tags.
+    #[command(after_help = INFO_EXAMPLES)]
+    Info(InfoArgs),
+    /// Write the bundled example meshes and their refinements to a directory.
+    #[command(after_help = DEMO_EXAMPLES)]
+    Demo(DemoArgs),
+    /// Time uniform refinement (topology + positions, no output), like `osd-oracle bench`.
+    #[command(after_help = BENCH_EXAMPLES)]
+    Bench(BenchArgs),
+}
+
+const BENCH_EXAMPLES: &str = "\
+Prints 'median_s=<seconds> min_s=<seconds>' over the repetitions, as osd-oracle bench does.
+
+Examples:
+  subsurf bench catmark_bishop.obj -l 5 --reps 7
+  subsurf bench big.obj -l 3 --threads 1";
+
+/// Arguments of `subsurf bench`.
+#[derive(Debug, Args)]
+pub struct BenchArgs {
+    /// Input OBJ file ('-' reads standard input).
+    #[arg(value_name = "IN")]
+    pub input: PathBuf,
+    /// Number of refinement levels.
+    #[arg(short, long, value_name = "N", default_value_t = 5)]
+    pub levels: u32,
+    /// Repetitions (the median and the minimum are printed).
+    #[arg(long, value_name = "R", default_value_t = 5)]
+    pub reps: usize,
+    /// Worker threads (0: one per core).
+    #[arg(long, value_name = "N", default_value_t = 0)]
+    pub threads: usize,
+    #[command(flatten)]
+    pub scheme: SchemeArgs,
+}
+
+/// Arguments of `subsurf subdivide`.
+#[derive(Debug, Args)]
+pub struct SubdivideArgs {
+    /// Input OBJ file ('-' reads standard input).
+    #[arg(value_name = "IN")]
+    pub input: PathBuf,
+    /// Output OBJ file ('-' writes to standard output); written only when everything succeeded.
+    #[arg(short, long, value_name = "OUT")]
+    pub output: PathBuf,
+    /// Number of refinement levels (0 copies the mesh).
+    #[arg(short, long, value_name = "N", default_value_t = 2)]
+    pub levels: u32,
+    #[command(flatten)]
+    pub scheme: SchemeArgs,
+    /// Move the last level's vertices to the limit surface and write limit normals.
+    #[arg(long)]
+    pub limit: bool,
+    /// Keep hole faces in the output (tagged as holes) instead of leaving them out.
+    #[arg(long)]
+    pub keep_holes: bool,
+    /// Refuse to refine when the estimated memory exceeds this (suffixes K, M, G, T: powers of 1024).
+    #[arg(long, value_name = "BYTES", value_parser = parse_bytes)]
+    pub max_memory: Option<u64>,
+    /// Reject faces that repeat a vertex and non-manifold or inconsistently oriented
+    /// topology (by default they are refined as OpenSubdiv refines them, with a warning).
+    #[arg(long)]
+    pub strict: bool,
+    /// Print no warnings and no progress bar.
+    #[arg(short, long)]
+    pub quiet: bool,
+}
+
+/// Scheme flags; each overrides the file's tag only when given.
+#[derive(Debug, Args)]
+pub struct SchemeArgs {
+    /// Boundary interpolation [default: the file's tag, else edge-only].
+    #[arg(long, value_name = "MODE", value_parser = boundary_parser())]
+    pub boundary: Option<BoundaryInterpolation>,
+    /// How semi-sharp creases decay [default: the file's tag, else uniform].
+    #[arg(long, value_name = "METHOD", value_parser = crease_method_parser())]
+    pub crease_method: Option<CreaseMethod>,
+    /// Use the smooth rule for edges next to triangles (OpenSubdiv's TRI_SUB_SMOOTH).
+    #[arg(long)]
+    pub smooth_triangles: bool,
+}
+
+impl SchemeArgs {
+    /// The file's options with the flags that were given on top.
+    pub fn over(&self, file: FileOptions) -> FileOptions {
+        FileOptions {
+            boundary: self.boundary.or(file.boundary),
+            crease_method: self.crease_method.or(file.crease_method),
+            triangles: self
+                .smooth_triangles
+                .then_some(TriangleSubdivision::Smooth)
+                .or(file.triangles),
+        }
+    }
+}
+
+/// Arguments of `subsurf info`.
+#[derive(Debug, Args)]
+pub struct InfoArgs {
+    /// Input OBJ file ('-' reads standard input).
+    #[arg(value_name = "IN")]
+    pub input: PathBuf,
+    /// Boundary interpolation used to classify the topology [default: the file's tag, else edge-only].
+    #[arg(long, value_name = "MODE", value_parser = boundary_parser())]
+    pub boundary: Option<BoundaryInterpolation>,
+    /// Print a JSON object instead of text.
+    #[arg(long)]
+    pub json: bool,
+    /// Fail (exit 1) on faces that repeat a vertex and on non-manifold or inconsistently
+    /// oriented topology.
+    #[arg(long)]
+    pub strict: bool,
+}
+
+/// Arguments of `subsurf demo`.
+#[derive(Debug, Args)]
+pub struct DemoArgs {
+    /// Directory to write into (created if missing).
+    #[arg(short, long, value_name = "DIR", default_value = "subsurf-demo")]
+    pub output: PathBuf,
+}
+
+fn boundary_parser() -> impl TypedValueParser<Value = BoundaryInterpolation> {
+    PossibleValuesParser::new(["edge-only", "edge-and-corner", "none"])
+        .try_map(|s| s.parse::<BoundaryInterpolation>())
+}
+
+fn crease_method_parser() -> impl TypedValueParser<Value = CreaseMethod> {
+    PossibleValuesParser::new(["uniform", "chaikin"]).try_map(|s| s.parse::<CreaseMethod>())
+}
+
+/// Parses a byte count such as `1000000`, `512K`, `1.5G` or `2GiB` (binary multiples).
+fn parse_bytes(s: &str) -> Result<u64, String> {
+    let t = s.trim();
+    let digits_end = t
+        .find(|c: char| !(c.is_ascii_digit() || c == '.'))
+        .unwrap_or(t.len());
+    let (number, unit) = t.split_at(digits_end);
+    let shift = match unit.trim().to_ascii_uppercase().as_str() {
+        "" | "B" => 0,
+        "K" | "KB" | "KIB" => 10,
+        "M" | "MB" | "MIB" => 20,
+        "G" | "GB" | "GIB" => 30,
+        "T" | "TB" | "TIB" => 40,
+        _ => {
+            return Err(format!(
+                "'{s}' is not a size (expected e.g. 500M, 8G or 1073741824)"
+            ))
+        }
+    };
+    let value: f64 = number
+        .parse()
+        .map_err(|_| format!("'{s}' is not a size (expected e.g. 500M, 8G or 1073741824)"))?;
+    let bytes = (value * (1u64 << shift) as f64).round();
+    if !bytes.is_finite() || bytes >= u64::MAX as f64 {
+        return Err(format!("'{s}' is too large"));
+    }
+    Ok(bytes as u64)
+}
+
+fn main() -> ExitCode {
+    // Usage errors exit with 2 here; --help and --version with 0.
+    let cli = Cli::parse();
+    let result = match &cli.command {
+        Command::Subdivide(args) => cmd::subdivide::run(args),
+        Command::Info(args) => cmd::info::run(args),
+        Command::Demo(args) => cmd::demo::run(args),
+        Command::Bench(args) => cmd::bench::run(args),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        // `subsurf ... -o - | head`: the reader went away; that is not our failure.
+        Err(e) if is_broken_pipe(&e) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn is_broken_pipe(e: &anyhow::Error) -> bool {
+    e.chain().any(|c| {
+        c.downcast_ref::<io::Error>()
+            .is_some_and(|e| e.kind() == io::ErrorKind::BrokenPipe)
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::CommandFactory;
+
+    #[test]
+    fn cli_definition_is_consistent() {
+        Cli::command().debug_assert();
+    }
+
+    #[test]
+    fn byte_sizes() {
+        assert_eq!(parse_bytes("1000"), Ok(1000));
+        assert_eq!(parse_bytes("512K"), Ok(512 << 10));
+        assert_eq!(parse_bytes("8g"), Ok(8 << 30));
+        assert_eq!(parse_bytes("1.5G"), Ok(3 << 29));
+        assert_eq!(parse_bytes("2GiB"), Ok(2 << 30));
+        assert_eq!(parse_bytes("3 M"), Ok(3 << 20));
+        assert!(parse_bytes("").is_err());
+        assert!(parse_bytes("G").is_err());
+        assert!(parse_bytes("12X").is_err());
+        assert!(parse_bytes("-1").is_err());
+        assert!(parse_bytes("1.2.3").is_err());
+        assert!(parse_bytes("99999999999T").is_err());
+    }
+
+    #[test]
+    fn flags_override_file_tags_only_when_given() {
+        let file = FileOptions {
+            boundary: Some(BoundaryInterpolation::None),
+            crease_method: Some(CreaseMethod::Chaikin),
+            triangles: Some(TriangleSubdivision::Smooth),
+        };
+        let none = SchemeArgs {
+            boundary: None,
+            crease_method: None,
+            smooth_triangles: false,
+        };
+        assert_eq!(none.over(file), file);
+        let all = SchemeArgs {
+            boundary: Some(BoundaryInterpolation::EdgeOnly),
+            crease_method: Some(CreaseMethod::Uniform),
+            smooth_triangles: true,
+        };
+        let got = all.over(FileOptions::default());
+        assert_eq!(got.boundary, Some(BoundaryInterpolation::EdgeOnly));
+        assert_eq!(got.crease_method, Some(CreaseMethod::Uniform));
+        assert_eq!(got.triangles, Some(TriangleSubdivision::Smooth));
+    }
+
+    #[test]
+    fn parses_subdivide_flags() {
+        let cli = Cli::try_parse_from([
+            "subsurf",
+            "subdivide",
+            "-",
+            "-o",
+            "-",
+            "-l",
+            "3",
+            "--boundary",
+            "none",
+            "--crease-method",
+            "chaikin",
+            "--max-memory",
+            "1G",
+            "--limit",
+            "-q",
+        ])
+        .expect("valid command line");
+        let Command::Subdivide(a) = cli.command else {
+            panic!("not subdivide")
+        };
+        assert_eq!(a.levels, 3);
+        assert_eq!(a.scheme.boundary, Some(BoundaryInterpolation::None));
+        assert_eq!(a.scheme.crease_method, Some(CreaseMethod::Chaikin));
+        assert_eq!(a.max_memory, Some(1 << 30));
+        assert!(a.limit && a.quiet && !a.keep_holes && !a.scheme.smooth_triangles);
+        let cli = Cli::try_parse_from(["subsurf", "subdivide", "a.obj", "-o", "b.obj"])
+            .expect("valid command line");
+        let Command::Subdivide(a) = cli.command else {
+            panic!("not subdivide")
+        };
+        assert_eq!(a.levels, 2);
+        assert_eq!(a.scheme.boundary, None);
+    }
+}

@@ -1,10 +1,7 @@
 //! The one-call facade: [`subdivide`] a [`PolyMesh`] to a level, optionally to the limit.
 
 use crate::limit;
-use crate::mesh::{
-    BoundaryInterpolation, Corner, Crease, MeshError, Options, PolyMesh, Tags, Topology,
-    TopologyWarning,
-};
+use crate::mesh::{Corner, Crease, MeshError, Options, PolyMesh, Tags, Topology, TopologyWarning};
 use crate::refine::interpolate;
 use crate::refine::refine_topology;
 
@@ -126,7 +123,9 @@ pub fn subdivide_with_progress(
     let (mut level, warnings) = Topology::from_mesh(mesh, &opts.scheme)?;
     let mut pos = mesh.positions().to_vec();
     for l in 1..=opts.levels {
-        let child = refine_topology(&level, &opts.scheme);
+        // The last level needs its full adjacency only for limit masks.
+        let full = l < opts.levels || opts.limit;
+        let child = refine_topology(&level, &opts.scheme, full);
         let mut next = vec![[0.0; 3]; child.num_vertices()];
         interpolate(&level, &child, &opts.scheme, &pos, &mut next);
         level = child;
@@ -139,7 +138,7 @@ pub fn subdivide_with_progress(
     } else {
         None
     };
-    let out = output_mesh(&level, &opts.scheme, pos, opts.keep_holes);
+    let out = output_mesh(&level, pos, opts.keep_holes);
     Ok(Subdivision {
         mesh: out,
         normals,
@@ -160,7 +159,7 @@ fn limit_in_place(level: &Topology, options: &Options, pos: &mut [[f64; 3]]) -> 
         limit::limit_points(level, pos, &mut lim, Some((&mut t1, &mut t2)));
         (lim, t1, t2)
     } else {
-        let child = refine_topology(level, options);
+        let child = refine_topology(level, options, true);
         let mut cpos = vec![[0.0; 3]; child.num_vertices()];
         interpolate(level, &child, options, pos, &mut cpos);
         let n = child.num_vertices();
@@ -182,12 +181,7 @@ fn limit_in_place(level: &Topology, options: &Options, pos: &mut [[f64; 3]]) -> 
 /// result as refining the input `a + b` levels. Sharpness that the next run re-derives
 /// by itself (boundary and non-manifold edges, sharpened corners and non-manifold
 /// vertices) is not written.
-fn output_mesh(
-    level: &Topology,
-    options: &Options,
-    pos: Vec<[f64; 3]>,
-    keep_holes: bool,
-) -> PolyMesh {
+fn output_mesh(level: &Topology, pos: Vec<[f64; 3]>, keep_holes: bool) -> PolyMesh {
     let mut offsets = Vec::with_capacity(level.num_faces() + 1);
     let mut verts = Vec::with_capacity(level.face_verts().len());
     let mut holes = Vec::new();
@@ -219,13 +213,10 @@ fn output_mesh(
             });
         }
     }
-    let sharpened_corners = options.boundary == BoundaryInterpolation::EdgeAndCorner;
     for v in 0..level.num_vertices() {
         let s = level.vertex_sharpness(v);
         let t = level.vertex_tag(v);
-        let topological_corner =
-            level.vertex_faces(v).len() == 1 && level.vertex_edges(v).len() == 2;
-        if s > 0.0 && !t.non_manifold && !(sharpened_corners && topological_corner) {
+        if s > 0.0 && !t.non_manifold && !t.sharpened_corner {
             tags.corners.push(Corner {
                 vertex: v as u32,
                 sharpness: s,

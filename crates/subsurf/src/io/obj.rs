@@ -1,6 +1,43 @@
-//! Placeholder: replaced by the OBJ reader/writer.
+//! Wavefront OBJ with OpenSubdiv's `t` tags.
+//!
+//! Reading ([`parse_obj`], [`read_obj`]) accepts polygons (`f`, with every index form:
+//! `v`, `v/vt`, `v//vn`, `v/vt/vn`, positive or negative), vertices (`v`, an optional `w`
+//! or vertex colour is ignored), texture coordinates (`vt`) and normals (`vn`), CRLF line
+//! ends, `\` line continuations and `#` comments. Grouping, material, smoothing-group,
+//! polyline, point and free-form statements are ignored, as are unknown statements; but a
+//! line must start with something that looks like a keyword (a letter, then letters, digits
+//! or `_`), and must be UTF-8 without control characters, so that a binary or non-OBJ file
+//! fails on its first line instead of being read as an empty mesh.
+//!
+//! OpenSubdiv's tags (`t NAME ni/nf/ns ints... floats... strings...`, indices 0-based):
+//!
+//! | tag | meaning |
+//! |-----|---------|
+//! | `t crease 2/1/0 a b s` | edge `a`–`b` has sharpness `s`; `N/1/0` (one sharpness) or `N/(N-1)/0` (one per edge) tags the chain `v0 v1 ... vN-1`; `N/0/0` is infinitely sharp |
+//! | `t corner N/1/0 v... s` | vertex sharpness (`N/N/0`: one each, `N/0/0`: infinitely sharp) |
+//! | `t hole N/0/0 f...` | faces that are holes |
+//! | `t interpolateboundary 1/0/0 k` | 0 none, 1 edge-and-corner, 2 edge-only |
+//! | `t creasemethod 0/0/1 chaikin` | `chaikin` or `uniform` (`normal`) |
+//! | `t smoothtriangles 0/0/1 smooth` | `smooth` or `catmark` |
+//!
+//! Any other tag is recorded in [`ObjFile::unsupported_tags`], never dropped silently.
+//!
+//! Every problem is an [`ObjError`] that names the file and the 1-based line
+//! (`model.obj:12: f: vertex index 0 is invalid: OBJ indices start at 1`). Out-of-range vertex indices are checked
+//! once the whole file is read (OBJ allows faces to refer to vertices defined further down)
+//! and reported at the line of the face, with the number of vertices in the file.
+//!
+//! Writing ([`write_obj`]) prints every `f64` with Rust's shortest round-trip
+//! representation (never in exponent form), so reading a written file gives bit-identical
+//! positions, and sharpness values as round-trip exact `f32`.
+
 use crate::mesh::{BoundaryInterpolation, CreaseMethod, Options, PolyMesh, TriangleSubdivision};
-use std::path::Path;
+
+mod read;
+mod write;
+
+pub use read::{parse_obj, read_obj};
+pub use write::write_obj;
 
 /// A parsed OBJ file.
 #[derive(Clone, Debug, Default)]
@@ -66,18 +103,6 @@ pub struct ObjError {
     pub message: String,
 }
 
-/// Reads an OBJ file.
-pub fn read_obj(path: &Path) -> Result<ObjFile, ObjError> {
-    let _ = path;
-    todo!()
-}
-
-/// Parses OBJ bytes; `source_name` is used in errors.
-pub fn parse_obj(bytes: &[u8], source_name: &str) -> Result<ObjFile, ObjError> {
-    let _ = (bytes, source_name);
-    todo!()
-}
-
 /// What to write besides positions and faces.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct WriteOptions<'a> {
@@ -87,10 +112,4 @@ pub struct WriteOptions<'a> {
     pub scheme: Option<Options>,
     /// A comment line for the header.
     pub comment: Option<&'a str>,
-}
-
-/// Writes `mesh` (with its tags) as OBJ.
-pub fn write_obj<W: std::io::Write>(w: &mut W, mesh: &PolyMesh, opts: &WriteOptions) -> std::io::Result<()> {
-    let _ = (w, mesh, opts);
-    todo!()
 }

@@ -118,6 +118,14 @@ pub enum TopologyWarning {
         /// End vertex.
         v1: u32,
     },
+    /// Faces that list a vertex more than once; their edges are non-manifold (sharp), as
+    /// in OpenSubdiv.
+    DegenerateFaces {
+        /// How many.
+        count: usize,
+        /// The first one.
+        first: u32,
+    },
     /// Non-manifold edges were found; they are treated as infinitely sharp.
     NonManifoldEdges {
         /// How many.
@@ -141,6 +149,10 @@ impl std::fmt::Display for TopologyWarning {
             Self::CreaseEdgeMissing { crease, v0, v1 } => write!(
                 f,
                 "crease {crease}: vertices {v0} and {v1} share no edge; the crease is ignored"
+            ),
+            Self::DegenerateFaces { count, first } => write!(
+                f,
+                "{count} face(s) (first: face {first}) list a vertex more than once; treated as degenerate faces, as OpenSubdiv does"
             ),
             Self::NonManifoldEdges { count, first } => write!(
                 f,

@@ -143,10 +143,8 @@ impl PolyMesh {
     /// The first face that lists a vertex more than once, as an error.
     pub fn check_repeated_vertices(&self) -> Result<(), MeshError> {
         for (f, fv) in self.faces().enumerate() {
-            for (i, &v) in fv.iter().enumerate() {
-                if fv[..i].contains(&v) {
-                    return Err(MeshError::RepeatedVertex { face: f, vertex: v });
-                }
+            if let Some(v) = repeated_vertex(fv) {
+                return Err(MeshError::RepeatedVertex { face: f, vertex: v });
             }
         }
         Ok(())
@@ -267,5 +265,20 @@ impl PolyMesh {
             }
         }
         Some((lo, hi))
+    }
+}
+
+/// A vertex that `face` lists more than once, if any (quadratic for small faces, sorting
+/// for large ones).
+pub(crate) fn repeated_vertex(face: &[u32]) -> Option<u32> {
+    if face.len() <= 32 {
+        face.iter()
+            .enumerate()
+            .find(|&(i, v)| face[..i].contains(v))
+            .map(|(_, &v)| v)
+    } else {
+        let mut sorted = face.to_vec();
+        sorted.sort_unstable();
+        sorted.windows(2).find(|w| w[0] == w[1]).map(|w| w[0])
     }
 }

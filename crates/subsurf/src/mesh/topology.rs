@@ -60,6 +60,9 @@ pub struct VertexTag {
     pub boundary: bool,
     /// Non-manifold (more than one fan of faces, an incident non-manifold edge, or isolated).
     pub non_manifold: bool,
+    /// A boundary vertex with a single face, made infinitely sharp by
+    /// [`BoundaryInterpolation::EdgeAndCorner`].
+    pub sharpened_corner: bool,
     /// Sharpness in (0, 10).
     pub semi_sharp: bool,
     /// Sharpness ≥ 10.
@@ -111,6 +114,9 @@ pub struct Topology {
 
     pub(crate) max_valence: u32,
     pub(crate) has_holes: bool,
+    /// Whether the edge → faces and vertex → faces/edges relations (and face → edges) are
+    /// present. The last level of a refinement that is only written out lacks them.
+    pub(crate) complete: bool,
 }
 
 #[inline]
@@ -153,6 +159,15 @@ impl Topology {
             &mut warnings,
         );
         t.prepare_tags_and_sharpness(options);
+        let degenerate: Vec<usize> = (0..t.num_faces())
+            .filter(|&f| super::polymesh::repeated_vertex(t.face_vertices(f)).is_some())
+            .collect();
+        if let Some(&f) = degenerate.first() {
+            warnings.push(TopologyWarning::DegenerateFaces {
+                count: degenerate.len(),
+                first: f as u32,
+            });
+        }
         let nm_edges: Vec<usize> = (0..t.num_edges())
             .filter(|&e| t.edge_tags[e].non_manifold)
             .collect();
@@ -351,6 +366,7 @@ impl Topology {
             vert_tags: vec![VertexTag::default(); nv],
             max_valence: 0,
             has_holes: false,
+            complete: true,
         };
         for e in 0..ne {
             if edge_nonman[e] {
@@ -576,6 +592,7 @@ impl Topology {
             let tag = &mut self.vert_tags[v];
             if topological_corner && sharpen_corners {
                 self.vert_sharpness[v] = crease::SHARPNESS_INFINITE;
+                tag.sharpened_corner = true;
             } else if tag.non_manifold {
                 // Not on an interior non-manifold crease (two non-manifold edges, more faces
                 // than edges, no boundary): sharpen.
@@ -734,6 +751,11 @@ impl Topology {
     #[inline]
     pub fn vertex_tag(&self, v: usize) -> VertexTag {
         self.vert_tags[v]
+    }
+    /// Whether the adjacency beyond faces and edge vertices is present (see
+    /// [`crate::refine::TopologyRefiner`]; always true for levels it returns).
+    pub fn is_complete(&self) -> bool {
+        self.complete
     }
     /// Whether any face is a hole.
     pub fn has_holes(&self) -> bool {

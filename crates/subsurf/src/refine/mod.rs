@@ -56,7 +56,7 @@ impl TopologyRefiner {
     /// Adds one level.
     pub fn refine_one(&mut self) {
         let last = self.levels.last().expect("the base level always exists");
-        let child = topology::refine_topology(last, &self.options);
+        let child = topology::refine_topology(last, &self.options, true);
         self.levels.push(child);
     }
 

@@ -34,6 +34,8 @@ pub fn interpolate<const D: usize>(
 ) {
     let nv = parent.num_vertices();
     let nf = parent.num_faces();
+    // Child edge `s + 2e + k` is the half of parent edge `e` at its end `k`.
+    let s = parent.face_verts.len();
     assert_eq!(src.len(), nv, "source has the wrong number of values");
     assert_eq!(
         dst.len(),
@@ -145,10 +147,10 @@ pub fn interpolate<const D: usize>(
             pe.extend(edges.iter().map(|&e| parent.edge_sharpness[e as usize]));
             ce.clear();
             ce.extend(
-                child
-                    .vertex_edges(v)
+                edges
                     .iter()
-                    .map(|&e| child.edge_sharpness[e as usize]),
+                    .zip(parent.vertex_edge_locals(v))
+                    .map(|(&e, &l)| child.edge_sharpness[s + 2 * e as usize + l as usize]),
             );
             let ctx = VertexContext {
                 parent_rule: ptag.rule,

@@ -38,8 +38,12 @@ fn edge_child_at(p: &Topology, s: u32, e: u32, v: u32, leaving: bool) -> u32 {
     s + 2 * e + k as u32
 }
 
-/// Refines `p` one level: the child's complete topology, tags and sharpness.
-pub(crate) fn refine_topology(p: &Topology, options: &Options) -> Topology {
+/// Refines `p` one level: the child's topology, tags and sharpness. With `full == false`
+/// only what is needed to interpolate into the child and to write it out is built (faces,
+/// edges' vertices, tags and sharpness), not the relations needed to refine it further or
+/// to evaluate limit masks on it (face → edges, edge → faces, vertex → faces and edges);
+/// OpenSubdiv skips the same work for the last level.
+pub(crate) fn refine_topology(p: &Topology, options: &Options, full: bool) -> Topology {
     let nv = p.num_vertices();
     let nf = p.num_faces();
     let ne = p.num_edges();
@@ -52,7 +56,11 @@ pub(crate) fn refine_topology(p: &Topology, options: &Options) -> Topology {
     // Faces: every child is a quad.
     let face_offsets: Vec<u32> = (0..=cnf as u32).map(|i| 4 * i).collect();
     let mut face_verts = vec![0u32; 4 * cnf];
-    let mut face_edges = vec![0u32; 4 * cnf];
+    let mut face_edges = if full {
+        vec![0u32; 4 * cnf]
+    } else {
+        Vec::new()
+    };
     let mut face_holes = vec![false; cnf];
     for f in 0..nf {
         let o = p.face_offsets[f] as usize;
@@ -74,14 +82,63 @@ pub(crate) fn refine_topology(p: &Topology, options: &Options) -> Topology {
             let r = rot(n, j);
             for k in 0..4 {
                 face_verts[4 * cf + (k + r) % 4] = verts[k];
-                face_edges[4 * cf + (k + r) % 4] = edges[k];
+            }
+            if full {
+                for k in 0..4 {
+                    face_edges[4 * cf + (k + r) % 4] = edges[k];
+                }
             }
             face_holes[cf] = hole;
         }
     }
 
-    // Edges: vertices and faces.
+    // Edges: vertices.
     let mut edge_verts = vec![[0u32; 2]; cne];
+    for f in 0..nf {
+        let o = p.face_offsets[f] as usize;
+        for (j, &e) in p.face_edge_list(f).iter().enumerate() {
+            edge_verts[o + j] = [fc0 + f as u32, ec0 + e];
+        }
+    }
+    for e in 0..ne {
+        for k in 0..2 {
+            edge_verts[s as usize + 2 * e + k] = [ec0 + e as u32, p.edge_verts[e][k]];
+        }
+    }
+
+    let mut child = Topology {
+        num_vertices: cnv as u32,
+        face_offsets,
+        face_verts,
+        face_edges,
+        face_holes,
+        edge_verts,
+        edge_sharpness: vec![0.0; cne],
+        vert_sharpness: vec![0.0; cnv],
+        edge_tags: vec![EdgeTag::default(); cne],
+        vert_tags: vec![VertexTag::default(); cnv],
+        has_holes: p.has_holes,
+        complete: full,
+        ..Topology::default()
+    };
+    propagate_tags_and_sharpness(p, &mut child, options.crease_method);
+    if full {
+        build_relations(p, &mut child);
+    }
+    child
+}
+
+/// The child's edge → faces and vertex → faces/edges relations, in rotational order.
+fn build_relations(p: &Topology, c: &mut Topology) {
+    let nv = p.num_vertices();
+    let nf = p.num_faces();
+    let ne = p.num_edges();
+    let s = p.face_verts.len() as u32;
+    let cnv = nv + nf + ne;
+    let cnf = s as usize;
+    let cne = s as usize + 2 * ne;
+
+    // Edges: faces.
     let mut edge_face_offsets = vec![0u32; cne + 1];
     for i in 0..cnf {
         edge_face_offsets[i + 1] = edge_face_offsets[i] + 2;
@@ -101,7 +158,6 @@ pub(crate) fn refine_topology(p: &Topology, options: &Options) -> Topology {
         let n = fe.len();
         for j in 0..n {
             let ce = o + j;
-            edge_verts[ce] = [fc0 + f as u32, ec0 + fe[j]];
             let jn = if j + 1 == n { 0 } else { j + 1 };
             let at = edge_face_offsets[ce] as usize;
             edge_faces[at] = ce as u32;
@@ -116,7 +172,6 @@ pub(crate) fn refine_topology(p: &Topology, options: &Options) -> Topology {
         let plocal = &p.edge_face_local[p.edge_face_offsets[e] as usize..];
         for k in 0..2 {
             let ce = s as usize + 2 * e + k;
-            edge_verts[ce] = [ec0 + e as u32, ev[k]];
             let first = edge_face_offsets[ce] as usize;
             for (at, (pf, &i)) in (first..).zip(pfaces.iter().zip(plocal)) {
                 let pf = *pf as usize;
@@ -244,35 +299,27 @@ pub(crate) fn refine_topology(p: &Topology, options: &Options) -> Topology {
         }
     }
 
-    let mut child = Topology {
-        num_vertices: cnv as u32,
-        face_offsets,
-        face_verts,
-        face_edges,
-        face_holes,
-        edge_verts,
-        edge_face_offsets,
-        edge_faces,
-        edge_face_local,
-        vert_face_offsets,
-        vert_faces,
-        vert_face_local,
-        vert_edge_offsets,
-        vert_edges,
-        vert_edge_local,
-        edge_sharpness: vec![0.0; cne],
-        vert_sharpness: vec![0.0; cnv],
-        edge_tags: vec![EdgeTag::default(); cne],
-        vert_tags: vec![VertexTag::default(); cnv],
-        max_valence: 0,
-        has_holes: p.has_holes,
-    };
-    child.max_valence = (0..cnv)
-        .map(|v| child.vertex_edges(v).len().max(child.vertex_faces(v).len()) as u32)
+    c.edge_face_offsets = edge_face_offsets;
+    c.edge_faces = edge_faces;
+    c.edge_face_local = edge_face_local;
+    c.vert_face_offsets = vert_face_offsets;
+    c.vert_faces = vert_faces;
+    c.vert_face_local = vert_face_local;
+    c.vert_edge_offsets = vert_edge_offsets;
+    c.vert_edges = vert_edges;
+    c.vert_edge_local = vert_edge_local;
+    // Valence never shrinks: vertex children keep theirs, face children have the face
+    // size, edge children 2 + the edge's face count.
+    let max_face = (0..nf).map(|f| p.face_vertices(f).len()).max().unwrap_or(0);
+    let max_edge_faces = (0..ne)
+        .map(|e| p.edge_face_list(e).len())
         .max()
         .unwrap_or(0);
-    propagate_tags_and_sharpness(p, &mut child, options.crease_method);
-    child
+    let max_edge_valence = max_edge_faces + max_edge_faces.max(2);
+    c.max_valence = p
+        .max_valence
+        .max(max_face as u32)
+        .max(max_edge_valence as u32);
 }
 
 /// Tags and sharpness of the child level (OpenSubdiv's `propagateComponentTags`,
@@ -370,8 +417,8 @@ fn propagate_tags_and_sharpness(p: &Topology, c: &mut Topology, method: CreaseMe
         let decayed = pt.semi_sharp && !ct.semi_sharp;
         if pt.semi_sharp_edges || decayed {
             let (mut inf, mut semi) = (0, 0);
-            for &ce in c.vertex_edges(v) {
-                let t = c.edge_tags[ce as usize];
+            for (&pe, &l) in p.vertex_edges(v).iter().zip(p.vertex_edge_locals(v)) {
+                let t = c.edge_tags[s + 2 * pe as usize + l as usize];
                 inf += t.inf_sharp as usize;
                 semi += t.semi_sharp as usize;
             }

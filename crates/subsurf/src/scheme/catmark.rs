@@ -468,15 +468,17 @@ mod tests {
     }
 
     #[test]
-    fn vertex_masks_sum_to_one_for_every_rule_pair() {
+    fn vertex_masks_sum_to_one_for_every_possible_rule_change() {
         let rules = [Rule::Smooth, Rule::Dart, Rule::Crease, Rule::Corner];
         let mut m = VertexMask::default();
         let mut s = VertexMaskScratch::default();
         let pe = [0.5f32, 0.0, 0.8, 0.0, 0.0];
         // Child edges: the same two edges stay sharp, so crease masks find their ends.
         let ce = [0.25f32, 0.0, 0.5, 0.0, 0.0];
-        for &p in &rules {
-            for &c in &rules {
+        // Sharpness only decays, so a child's rule is never sharper than its parent's
+        // (OpenSubdiv's mask blending relies on that too).
+        for (i, &p) in rules.iter().enumerate() {
+            for &c in &rules[..=i] {
                 let ctx = VertexContext {
                     parent_rule: p,
                     child_rule: c,

@@ -1,0 +1,6 @@
+//! One module per subcommand; each turns its arguments into one library call.
+
+pub mod bench;
+pub mod demo;
+pub mod info;
+pub mod subdivide;

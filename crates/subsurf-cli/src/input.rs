@@ -1,0 +1,68 @@
+//! Reading the input mesh from a file or standard input.
+
+use std::io::Read;
+use std::path::Path;
+
+use anyhow::{bail, Context, Result};
+use subsurf::io::obj::{parse_obj, ObjFile};
+use subsurf::mesh::MeshError;
+
+/// A parsed input and the name used for it in messages.
+pub struct Input {
+    /// The file name as given, or `<stdin>`.
+    pub name: String,
+    /// The parsed file.
+    pub obj: ObjFile,
+}
+
+impl Input {
+    /// Reads and parses `arg` (`-` for standard input). Errors name the file; parse errors
+    /// also name the line.
+    pub fn read(arg: &Path) -> Result<Self> {
+        let (name, bytes) = if arg == Path::new("-") {
+            let mut bytes = Vec::new();
+            std::io::stdin()
+                .lock()
+                .read_to_end(&mut bytes)
+                .context("cannot read standard input")?;
+            ("<stdin>".to_owned(), bytes)
+        } else {
+            let name = arg.display().to_string();
+            let bytes = std::fs::read(arg).with_context(|| format!("cannot read {name}"))?;
+            (name, bytes)
+        };
+        // `ObjError` already reads `file:line: message`; no context needed.
+        let obj = parse_obj(&bytes, &name)?;
+        Ok(Self { name, obj })
+    }
+
+    /// Rejects what OpenSubdiv would accept but a strict pipeline should not: faces that
+    /// repeat a vertex, non-manifold edges and vertices, inconsistently oriented faces.
+    /// The error names the file and, where it concerns a face, its line.
+    pub fn check_strict(&self) -> Result<()> {
+        let Err(e) = self.obj.mesh.check_strict() else {
+            return Ok(());
+        };
+        let face = match &e {
+            MeshError::RepeatedVertex { face, .. } => Some(*face),
+            MeshError::NonManifoldEdge { second, .. } => Some(*second as usize),
+            MeshError::InconsistentOrientation { f1, .. } => Some(*f1 as usize),
+            _ => None,
+        };
+        let line = face.and_then(|f| self.obj.face_lines.get(f));
+        match line {
+            Some(l) => bail!("{}:{l}: {e} (--strict)", self.name),
+            None => bail!("{}: {e} (--strict)", self.name),
+        }
+    }
+
+    /// One warning per tag that was read but is not honoured.
+    pub fn unsupported_tag_warnings(&self) -> impl Iterator<Item = String> + '_ {
+        self.obj.unsupported_tags.iter().map(|t| {
+            format!(
+                "{}:{}: tag '{}' is not supported and was ignored",
+                self.name, t.line, t.name
+            )
+        })
+    }
+}

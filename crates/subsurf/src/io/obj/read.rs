@@ -1,0 +1,770 @@
+//! The OBJ reader: one pass over the lines, with the checks that need the whole file
+//! (forward references to vertices, tag indices) done at the end.
+
+use super::{FileOptions, ObjError, ObjFile, UnsupportedTag};
+use crate::mesh::{
+    BoundaryInterpolation, Corner, Crease, CreaseMethod, MeshError, PolyMesh, Tags,
+    TriangleSubdivision, SHARPNESS_INFINITE,
+};
+use std::path::Path;
+use std::str::SplitAsciiWhitespace;
+
+/// Reads an OBJ file.
+///
+/// The whole file is read into memory and parsed with [`parse_obj`]; the path as displayed
+/// is the source name in errors.
+///
+/// # Errors
+/// An [`ObjError`] without a line when the file cannot be read
+/// (`cannot read FILE: <OS message>`), else the errors of [`parse_obj`].
+pub fn read_obj(path: &Path) -> Result<ObjFile, ObjError> {
+    let name = path.display().to_string();
+    let bytes = std::fs::read(path).map_err(|e| ObjError {
+        source_name: name.clone(),
+        line: None,
+        message: format!("cannot read {name}: {e}"),
+    })?;
+    parse_obj(&bytes, &name)
+}
+
+/// Parses OBJ bytes; `source_name` is used in errors.
+///
+/// See the [module documentation](super) for what is read. Never panics; allocations grow
+/// only with what the input contains, never with numbers written in it.
+///
+/// # Errors
+/// The first problem found, as an [`ObjError`] naming `source_name` and the 1-based line:
+/// lines that are not UTF-8 text, malformed or non-finite numbers, missing coordinates,
+/// malformed, zero or out-of-range indices, faces with fewer than 3 vertices, and
+/// malformed or out-of-range tags. A face that lists a vertex twice is kept (a degenerate
+/// face, as OpenSubdiv accepts it; the mesh layer reports it as a warning).
+pub fn parse_obj(bytes: &[u8], source_name: &str) -> Result<ObjFile, ObjError> {
+    let err = |line: usize, message: String| ObjError {
+        source_name: source_name.to_owned(),
+        line: Some(line),
+        message,
+    };
+    let mut parser = Parser::default();
+    let mut lines = PhysicalLines {
+        rest: bytes,
+        line: 0,
+    };
+    let mut joined = String::new();
+    while let Some((first, raw)) = lines.next() {
+        let (data, continues) = line_data(raw, first).map_err(|m| err(first, m))?;
+        match continues {
+            false => parser.statement(data, first).map_err(|m| err(first, m))?,
+            true => {
+                // A logical line made of several physical lines: join them with spaces.
+                joined.clear();
+                joined.push_str(data);
+                joined.push(' ');
+                while let Some((no, raw)) = lines.next() {
+                    let (data, continues) = line_data(raw, no).map_err(|m| err(no, m))?;
+                    joined.push_str(data);
+                    if !continues {
+                        break;
+                    }
+                    joined.push(' ');
+                }
+                parser
+                    .statement(&joined, first)
+                    .map_err(|m| err(first, m))?;
+            }
+        }
+    }
+    parser.finish(source_name)
+}
+
+/// Splits input into physical lines (without `\n` and a trailing `\r`), numbered from 1.
+struct PhysicalLines<'a> {
+    rest: &'a [u8],
+    line: usize,
+}
+
+impl<'a> PhysicalLines<'a> {
+    fn next(&mut self) -> Option<(usize, &'a [u8])> {
+        if self.rest.is_empty() {
+            return None;
+        }
+        let (mut line, rest) = match self.rest.iter().position(|&b| b == b'\n') {
+            Some(i) => self.rest.split_at(i),
+            None => (self.rest, &[][..]),
+        };
+        self.rest = rest.get(1..).unwrap_or(&[]);
+        if let Some((b'\r', head)) = line.split_last() {
+            line = head;
+        }
+        self.line += 1;
+        if self.line == 1 {
+            line = line.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(line);
+        }
+        Some((self.line, line))
+    }
+}
+
+/// The text of one physical line before any `#` comment, and whether the line continues:
+/// whether that text ends in a backslash (which is dropped). So `v 1 2 \ # comment`
+/// continues, but a comment ending in a backslash does not.
+///
+/// Lines must be UTF-8 without control characters (tab, form feed and carriage return
+/// are whitespace); anything else is taken as a sign of a binary file.
+fn line_data(raw: &[u8], no: usize) -> Result<(&str, bool), String> {
+    let text = std::str::from_utf8(raw).map_err(|_| format!("line {no} is not valid UTF-8"))?;
+    if let Some(&b) = raw
+        .iter()
+        .find(|&&b| (b < 0x20 && !matches!(b, b'\t' | b'\x0c' | b'\r')) || b == 0x7f)
+    {
+        return Err(format!(
+            "line {no} contains the control character 0x{b:02x} (is this a binary file?)"
+        ));
+    }
+    let data = match text.find('#') {
+        Some(i) => text.get(..i).unwrap_or(""),
+        None => text,
+    };
+    match data
+        .trim_end_matches(|c: char| c.is_ascii_whitespace())
+        .strip_suffix('\\')
+    {
+        Some(head) => Ok((head, true)),
+        None => Ok((data, false)),
+    }
+}
+
+/// Longest statement keyword taken for one.
+const MAX_KEYWORD: usize = 32;
+
+/// Whether `kw` looks like an OBJ statement keyword (`usemtl`, `c_interp`, ...): a letter,
+/// then letters, digits or `_`, at most [`MAX_KEYWORD`] bytes.
+fn is_keyword(kw: &str) -> bool {
+    let b = kw.as_bytes();
+    b.len() <= MAX_KEYWORD
+        && b.first().is_some_and(u8::is_ascii_alphabetic)
+        && b.iter().all(|&c| c.is_ascii_alphanumeric() || c == b'_')
+}
+
+/// An OBJ face index as written: 1-based positive or relative negative. `None` inside
+/// means the digits overflow `u64`.
+#[derive(Clone, Copy)]
+enum RawIndex {
+    Pos(Option<u64>),
+    Neg(Option<u64>),
+}
+
+/// Decimal digits to `u64`: `None` if `s` is not all digits (or empty), `Some(None)` on
+/// overflow.
+fn parse_digits(s: &[u8]) -> Option<Option<u64>> {
+    if s.is_empty() || !s.iter().all(u8::is_ascii_digit) {
+        return None;
+    }
+    let mut n: Option<u64> = Some(0);
+    for &d in s {
+        n = n
+            .and_then(|n| n.checked_mul(10))
+            .and_then(|n| n.checked_add(u64::from(d - b'0')));
+    }
+    Some(n)
+}
+
+/// `[+-]digits`.
+fn parse_index(s: &str) -> Option<RawIndex> {
+    match s.as_bytes().split_first() {
+        Some((b'-', digits)) => parse_digits(digits).map(RawIndex::Neg),
+        Some((b'+', digits)) => parse_digits(digits).map(RawIndex::Pos),
+        _ => parse_digits(s.as_bytes()).map(RawIndex::Pos),
+    }
+}
+
+/// Stored in place of an index that cannot be valid (it does not fit in `u32`); the check
+/// at the end of the file reports it.
+const INVALID: u32 = u32::MAX;
+
+/// References to elements that did not exist yet when they were read (forward references
+/// of faces, tag indices), checked when the whole file is known.
+///
+/// Only references greater than all earlier ones are kept: the first reference that turns
+/// out to be out of range is always one of them, so the list stays short (usually empty).
+#[derive(Default)]
+struct Deferred {
+    /// (0-based index, or `u64::MAX` when it overflows; line; statement).
+    refs: Vec<(u64, usize, &'static str)>,
+    /// The text of the first overflowing index, for the message.
+    overflow_text: Option<String>,
+}
+
+impl Deferred {
+    fn note(&mut self, index: Option<u64>, text: &str, line: usize, what: &'static str) {
+        let index = index.unwrap_or(u64::MAX);
+        if index == u64::MAX && self.overflow_text.is_none() {
+            self.overflow_text = Some(text.to_owned());
+        }
+        let greater = match self.refs.last() {
+            Some(&(last, _, _)) => index > last,
+            None => true,
+        };
+        if greater {
+            self.refs.push((index, line, what));
+        }
+    }
+
+    /// The first reference (in file order) that is out of range for `count` elements:
+    /// (index as written, with `base` added; line; statement).
+    fn first_out_of_range(&self, count: usize, base: u64) -> Option<(String, usize, &'static str)> {
+        let &(index, line, what) = self.refs.iter().find(|r| r.0 >= count as u64)?;
+        let shown = match (index, &self.overflow_text) {
+            (u64::MAX, Some(text)) => text.clone(),
+            _ => index.saturating_add(base).to_string(),
+        };
+        Some((shown, line, what))
+    }
+}
+
+/// Per-corner `vt` or `vn` indices, kept only while every corner has one.
+struct CornerIndices {
+    all: bool,
+    indices: Vec<u32>,
+}
+
+impl Default for CornerIndices {
+    fn default() -> Self {
+        Self {
+            all: true,
+            indices: Vec::new(),
+        }
+    }
+}
+
+impl CornerIndices {
+    fn push(&mut self, index: Option<u32>) {
+        if self.all {
+            match index {
+                Some(i) => self.indices.push(i),
+                None => {
+                    self.all = false;
+                    self.indices = Vec::new();
+                }
+            }
+        }
+    }
+
+    fn finish(self, corners: usize) -> Option<Vec<u32>> {
+        (self.all && corners > 0).then_some(self.indices)
+    }
+}
+
+/// Everything read so far.
+struct Parser {
+    positions: Vec<[f64; 3]>,
+    texcoords: Vec<[f64; 3]>,
+    normals: Vec<[f64; 3]>,
+    face_offsets: Vec<u32>,
+    face_verts: Vec<u32>,
+    face_lines: Vec<u32>,
+    face_texcoords: CornerIndices,
+    face_normals: CornerIndices,
+    forward_vertices: Deferred,
+    forward_texcoords: Deferred,
+    forward_normals: Deferred,
+    tag_vertices: Deferred,
+    tag_faces: Deferred,
+    tags: Tags,
+    options: FileOptions,
+    unsupported_tags: Vec<UnsupportedTag>,
+}
+
+impl Default for Parser {
+    fn default() -> Self {
+        Self {
+            positions: Vec::new(),
+            texcoords: Vec::new(),
+            normals: Vec::new(),
+            face_offsets: vec![0],
+            face_verts: Vec::new(),
+            face_lines: Vec::new(),
+            face_texcoords: CornerIndices::default(),
+            face_normals: CornerIndices::default(),
+            forward_vertices: Deferred::default(),
+            forward_texcoords: Deferred::default(),
+            forward_normals: Deferred::default(),
+            tag_vertices: Deferred::default(),
+            tag_faces: Deferred::default(),
+            tags: Tags::default(),
+            options: FileOptions::default(),
+            unsupported_tags: Vec::new(),
+        }
+    }
+}
+
+/// Up to `N` numbers (checked finite) followed by `extra` more that are parsed and
+/// ignored; returns the values and how many numbers there were.
+fn parse_numbers<const N: usize>(
+    toks: SplitAsciiWhitespace<'_>,
+    kw: &str,
+    what: &str,
+) -> Result<([f64; N], usize), String> {
+    let mut out = [0.0; N];
+    let mut n = 0usize;
+    for tok in toks {
+        let x: f64 = tok
+            .parse()
+            .map_err(|_| format!("{kw}: '{tok}' is not a number"))?;
+        if let Some(slot) = out.get_mut(n) {
+            if !x.is_finite() {
+                return Err(format!("{kw}: non-finite {what} '{tok}'"));
+            }
+            *slot = x;
+        }
+        n += 1;
+    }
+    Ok((out, n))
+}
+
+/// Appends to an element list whose indices must fit in `u32`.
+fn push_element(list: &mut Vec<[f64; 3]>, x: [f64; 3], what: &str) -> Result<(), String> {
+    if list.len() >= INVALID as usize {
+        return Err(format!("too many {what} for 32-bit indices"));
+    }
+    list.push(x);
+    Ok(())
+}
+
+/// Resolves one face index against the `count` elements defined so far; positive indices
+/// beyond them are noted in `deferred` for the end-of-file check.
+fn resolve(
+    raw: RawIndex,
+    text: &str,
+    count: usize,
+    line: usize,
+    deferred: &mut Deferred,
+    noun: &str,
+    plural: &str,
+) -> Result<u32, String> {
+    match raw {
+        RawIndex::Pos(Some(0)) | RawIndex::Neg(Some(0)) => Err(format!(
+            "f: {noun} index {text} is invalid: OBJ indices start at 1"
+        )),
+        RawIndex::Pos(Some(n)) => {
+            let i = n - 1;
+            if i >= count as u64 {
+                deferred.note(Some(i), text, line, "f");
+            }
+            Ok(u32::try_from(i).unwrap_or(INVALID))
+        }
+        RawIndex::Pos(None) => {
+            deferred.note(None, text, line, "f");
+            Ok(INVALID)
+        }
+        RawIndex::Neg(Some(k)) if k <= count as u64 => {
+            // `count` fits in u32 (see `push_element`), so this does too.
+            Ok(u32::try_from(count as u64 - k).unwrap_or(INVALID))
+        }
+        RawIndex::Neg(_) => Err(format!(
+            "f: relative {noun} index {text} is out of range: only {count} {plural} are \
+             defined above this line"
+        )),
+    }
+}
+
+/// Parses a non-negative 0-based tag index; indices not (yet) in range are deferred.
+fn tag_index(
+    tok: &str,
+    name: &'static str,
+    count: usize,
+    line: usize,
+    deferred: &mut Deferred,
+) -> Result<u32, String> {
+    match parse_index(tok) {
+        Some(RawIndex::Neg(_)) => Err(format!("t {name}: negative index {tok}")),
+        Some(RawIndex::Pos(Some(i))) => {
+            if i >= count as u64 {
+                deferred.note(Some(i), tok, line, name);
+            }
+            Ok(u32::try_from(i).unwrap_or(INVALID))
+        }
+        Some(RawIndex::Pos(None)) => {
+            deferred.note(None, tok, line, name);
+            Ok(INVALID)
+        }
+        None => Err(format!("t {name}: '{tok}' is not an integer index")),
+    }
+}
+
+/// A crease or corner sharpness: an `f32` ≥ 0 (infinity allowed: infinitely sharp).
+fn sharpness(tok: &str, name: &str) -> Result<f32, String> {
+    let s: f32 = tok
+        .parse()
+        .map_err(|_| format!("t {name}: sharpness '{tok}' is not a number"))?;
+    if s.is_nan() || s < 0.0 {
+        return Err(format!(
+            "t {name}: sharpness must be a number ≥ 0 (≥ 10 is infinitely sharp), found '{tok}'"
+        ));
+    }
+    Ok(s)
+}
+
+/// `ni/nf/ns`.
+fn parse_counts(tok: &str) -> Option<(usize, usize, usize)> {
+    let mut it = tok.split('/');
+    let mut next = || -> Option<usize> {
+        let s = it.next()?;
+        // Counts too large for memory are kept as usize::MAX: the line cannot hold that many
+        // values, which the caller reports.
+        let n = parse_digits(s.as_bytes())?.unwrap_or(u64::MAX);
+        Some(usize::try_from(n).unwrap_or(usize::MAX))
+    };
+    let counts = (next()?, next()?, next()?);
+    if it.next().is_some() {
+        return None;
+    }
+    Some(counts)
+}
+
+impl Parser {
+    /// One logical line without its comment.
+    fn statement(&mut self, data: &str, line: usize) -> Result<(), String> {
+        let mut toks = data.split_ascii_whitespace();
+        let Some(kw) = toks.next() else { return Ok(()) };
+        match kw {
+            "v" => self.vertex(toks),
+            "vt" => self.texcoord(toks),
+            "vn" => self.normal(toks),
+            "f" | "fo" => self.face(toks, line),
+            "t" => self.tag(toks, line),
+            // Everything else (o, g, s, usemtl, mtllib, l, p, vp, cstype, deg, curv, surf,
+            // parm, end, ... and unknown statements) carries nothing we use; but a line that
+            // does not even start with a keyword means this is not an OBJ file.
+            _ if is_keyword(kw) => Ok(()),
+            _ => {
+                let shown: String = kw.chars().take(MAX_KEYWORD).collect();
+                let more = if shown.len() < kw.len() { "..." } else { "" };
+                Err(format!(
+                    "'{shown}{more}' is not an OBJ statement (is this an OBJ file?)"
+                ))
+            }
+        }
+    }
+
+    fn vertex(&mut self, toks: SplitAsciiWhitespace<'_>) -> Result<(), String> {
+        let (p, n) = parse_numbers::<3>(toks, "v", "coordinate")?;
+        match n {
+            // x y z, x y z w, x y z r g b, x y z r g b a
+            3 | 4 | 6 | 7 => push_element(&mut self.positions, p, "vertices"),
+            0..=2 => Err(format!("v: a vertex needs 3 coordinates (x y z), found {n}")),
+            _ => Err(format!(
+                "v: expected x y z, optionally followed by w or a colour r g b [a]; found {n} numbers"
+            )),
+        }
+    }
+
+    fn texcoord(&mut self, toks: SplitAsciiWhitespace<'_>) -> Result<(), String> {
+        let (t, n) = parse_numbers::<3>(toks, "vt", "texture coordinate")?;
+        match n {
+            1..=3 => push_element(&mut self.texcoords, t, "texture coordinates"),
+            0 => Err("vt: a texture coordinate needs at least 1 number (u [v [w]])".into()),
+            _ => Err(format!("vt: expected u [v [w]], found {n} numbers")),
+        }
+    }
+
+    fn normal(&mut self, toks: SplitAsciiWhitespace<'_>) -> Result<(), String> {
+        let (v, n) = parse_numbers::<3>(toks, "vn", "normal component")?;
+        match n {
+            3 => push_element(&mut self.normals, v, "normals"),
+            _ => Err(format!("vn: a normal needs 3 numbers (x y z), found {n}")),
+        }
+    }
+
+    fn face(&mut self, toks: SplitAsciiWhitespace<'_>, line: usize) -> Result<(), String> {
+        let start = self.face_verts.len();
+        let (nv, nt, nn) = (
+            self.positions.len(),
+            self.texcoords.len(),
+            self.normals.len(),
+        );
+        for tok in toks {
+            let malformed = || {
+                format!(
+                    "f: malformed vertex reference '{tok}' (expected v, v/vt, v//vn or v/vt/vn)"
+                )
+            };
+            let mut parts = tok.split('/');
+            let v = parts.next().unwrap_or("");
+            let t = parts.next();
+            let n = parts.next();
+            if parts.next().is_some() {
+                return Err(malformed());
+            }
+            let t = match (t, n) {
+                (Some(""), Some(_)) | (None, _) => None, // v//vn, v
+                (Some(t), _) => Some(t),
+            };
+            let vi = parse_index(v).ok_or_else(malformed)?;
+            let vi = resolve(
+                vi,
+                v,
+                nv,
+                line,
+                &mut self.forward_vertices,
+                "vertex",
+                "vertices",
+            )?;
+            self.face_verts.push(vi);
+            let ti = match t {
+                None => None,
+                Some(t) => {
+                    let raw = parse_index(t).ok_or_else(malformed)?;
+                    let noun = "texture coordinate";
+                    let plural = "texture coordinates";
+                    Some(resolve(
+                        raw,
+                        t,
+                        nt,
+                        line,
+                        &mut self.forward_texcoords,
+                        noun,
+                        plural,
+                    )?)
+                }
+            };
+            self.face_texcoords.push(ti);
+            let ni = match n {
+                None => None,
+                Some(n) => {
+                    let raw = parse_index(n).ok_or_else(malformed)?;
+                    let fwd = &mut self.forward_normals;
+                    Some(resolve(raw, n, nn, line, fwd, "normal", "normals")?)
+                }
+            };
+            self.face_normals.push(ni);
+        }
+        let face = self.face_verts.get(start..).unwrap_or(&[]);
+        if face.len() < 3 {
+            return Err(format!(
+                "f: face has {} vertices; a face needs at least 3",
+                face.len()
+            ));
+        }
+        // A face may repeat a vertex (a degenerate face); the mesh layer accepts it as
+        // OpenSubdiv does and reports it as a warning.
+        let end = u32::try_from(self.face_verts.len())
+            .map_err(|_| "too many face corners for 32-bit indices".to_string())?;
+        self.face_offsets.push(end);
+        self.face_lines
+            .push(u32::try_from(line).unwrap_or(u32::MAX));
+        Ok(())
+    }
+
+    fn tag(&mut self, mut toks: SplitAsciiWhitespace<'_>, line: usize) -> Result<(), String> {
+        let Some(name) = toks.next() else {
+            return Err("t: missing tag name".into());
+        };
+        let name: &'static str = match name {
+            "crease" => "crease",
+            "corner" => "corner",
+            "hole" => "hole",
+            "interpolateboundary" => "interpolateboundary",
+            "creasemethod" => "creasemethod",
+            "smoothtriangles" => "smoothtriangles",
+            _ => {
+                self.unsupported_tags.push(UnsupportedTag {
+                    line,
+                    name: name.to_owned(),
+                });
+                return Ok(());
+            }
+        };
+        let counts = toks
+            .next()
+            .ok_or_else(|| format!("t {name}: missing counts ni/nf/ns"))?;
+        let (ni, nf, ns) = parse_counts(counts).ok_or_else(|| {
+            format!("t {name}: malformed counts '{counts}' (expected ni/nf/ns, three integers ≥ 0)")
+        })?;
+        let found = toks.clone().count();
+        let needed = ni.checked_add(nf).and_then(|n| n.checked_add(ns));
+        if needed != Some(found) {
+            let needed = needed.map_or_else(|| "too many".to_string(), |n| n.to_string());
+            return Err(format!(
+                "t {name}: counts {counts} call for {needed} values, but the line has {found}"
+            ));
+        }
+        let bad_counts =
+            |expected: &str| format!("t {name}: unexpected counts {counts} (expected {expected})");
+        match name {
+            "crease" => {
+                if ni < 2 || ns != 0 || !(nf == 0 || nf == 1 || nf == ni - 1) {
+                    return Err(bad_counts(
+                        "2/1/0 for one edge, or N/1/0, N/(N-1)/0 or N/0/0 for a chain of N vertices",
+                    ));
+                }
+                let nv = self.positions.len();
+                let verts = (&mut toks)
+                    .take(ni)
+                    .map(|t| tag_index(t, name, nv, line, &mut self.tag_vertices))
+                    .collect::<Result<Vec<u32>, String>>()?;
+                let weights = (&mut toks)
+                    .take(nf)
+                    .map(|t| sharpness(t, name))
+                    .collect::<Result<Vec<f32>, String>>()?;
+                for (i, pair) in verts.windows(2).enumerate() {
+                    let s = match nf {
+                        0 => SHARPNESS_INFINITE,
+                        1 => weights.first().copied().unwrap_or(SHARPNESS_INFINITE),
+                        _ => weights.get(i).copied().unwrap_or(SHARPNESS_INFINITE),
+                    };
+                    if let [v0, v1] = *pair {
+                        self.tags.creases.push(Crease {
+                            v0,
+                            v1,
+                            sharpness: s,
+                        });
+                    }
+                }
+            }
+            "corner" => {
+                if ni < 1 || ns != 0 || !(nf == 0 || nf == 1 || nf == ni) {
+                    return Err(bad_counts("1/1/0, or N/1/0, N/N/0 or N/0/0 for N vertices"));
+                }
+                let nv = self.positions.len();
+                let verts = (&mut toks)
+                    .take(ni)
+                    .map(|t| tag_index(t, name, nv, line, &mut self.tag_vertices))
+                    .collect::<Result<Vec<u32>, String>>()?;
+                let weights = (&mut toks)
+                    .take(nf)
+                    .map(|t| sharpness(t, name))
+                    .collect::<Result<Vec<f32>, String>>()?;
+                for (i, &vertex) in verts.iter().enumerate() {
+                    let s = match nf {
+                        0 => SHARPNESS_INFINITE,
+                        1 => weights.first().copied().unwrap_or(SHARPNESS_INFINITE),
+                        _ => weights.get(i).copied().unwrap_or(SHARPNESS_INFINITE),
+                    };
+                    self.tags.corners.push(Corner {
+                        vertex,
+                        sharpness: s,
+                    });
+                }
+            }
+            "hole" => {
+                if nf != 0 || ns != 0 {
+                    return Err(bad_counts("N/0/0 for N faces"));
+                }
+                let nfaces = self.face_lines.len();
+                for t in toks {
+                    let f = tag_index(t, name, nfaces, line, &mut self.tag_faces)?;
+                    self.tags.holes.push(f);
+                }
+            }
+            "interpolateboundary" => {
+                if (ni, nf, ns) != (1, 0, 0) {
+                    return Err(bad_counts("1/0/0"));
+                }
+                let tok = toks.next().unwrap_or("");
+                let value: i64 = tok
+                    .parse()
+                    .map_err(|_| format!("t {name}: '{tok}' is not an integer"))?;
+                let mode = BoundaryInterpolation::from_tag_value(value).ok_or_else(|| {
+                    format!(
+                        "t {name}: unknown value {value} (expected 0 none, 1 edge-and-corner \
+                         or 2 edge-only)"
+                    )
+                })?;
+                self.options.boundary = Some(mode);
+            }
+            "creasemethod" => {
+                if (ni, nf, ns) != (0, 0, 1) {
+                    return Err(bad_counts("0/0/1"));
+                }
+                let tok = toks.next().unwrap_or("");
+                let method: CreaseMethod = tok.parse().map_err(|e| format!("t {name}: {e}"))?;
+                self.options.crease_method = Some(method);
+            }
+            _ => {
+                // smoothtriangles
+                if (ni, nf, ns) != (0, 0, 1) {
+                    return Err(bad_counts("0/0/1"));
+                }
+                let tok = toks.next().unwrap_or("");
+                let rule: TriangleSubdivision =
+                    tok.parse().map_err(|e| format!("t {name}: {e}"))?;
+                self.options.triangles = Some(rule);
+            }
+        }
+        Ok(())
+    }
+
+    /// The checks that need the whole file, then the mesh.
+    fn finish(self, source_name: &str) -> Result<ObjFile, ObjError> {
+        let err = |line: Option<usize>, message: String| ObjError {
+            source_name: source_name.to_owned(),
+            line,
+            message,
+        };
+        let (nv, nt, nn) = (
+            self.positions.len(),
+            self.texcoords.len(),
+            self.normals.len(),
+        );
+        let nf = self.face_lines.len();
+        let mut problems: Vec<(usize, String)> = Vec::new();
+        if let Some((i, line, _)) = self.forward_vertices.first_out_of_range(nv, 1) {
+            problems.push((
+                line,
+                format!("f: vertex index {i} is out of range: the file has {nv} vertices"),
+            ));
+        }
+        if let Some((i, line, _)) = self.forward_texcoords.first_out_of_range(nt, 1) {
+            problems.push((
+                line,
+                format!("f: texture coordinate index {i} is out of range: the file has {nt} texture coordinates (vt)"),
+            ));
+        }
+        if let Some((i, line, _)) = self.forward_normals.first_out_of_range(nn, 1) {
+            problems.push((
+                line,
+                format!("f: normal index {i} is out of range: the file has {nn} normals (vn)"),
+            ));
+        }
+        if let Some((i, line, what)) = self.tag_vertices.first_out_of_range(nv, 0) {
+            problems.push((
+                line,
+                format!("t {what}: vertex index {i} is out of range: the file has {nv} vertices (tag indices are 0-based)"),
+            ));
+        }
+        if let Some((i, line, what)) = self.tag_faces.first_out_of_range(nf, 0) {
+            problems.push((
+                line,
+                format!("t {what}: face index {i} is out of range: the file has {nf} faces (tag indices are 0-based)"),
+            ));
+        }
+        if let Some((line, message)) = problems.into_iter().min_by_key(|p| p.0) {
+            return Err(err(Some(line), message));
+        }
+
+        let corners = self.face_verts.len();
+        let face_lines = self.face_lines;
+        let mut mesh =
+            PolyMesh::new(self.positions, self.face_offsets, self.face_verts).map_err(|e| {
+                let line = match e {
+                    MeshError::FaceTooSmall { face, .. }
+                    | MeshError::VertexOutOfRange { face, .. }
+                    | MeshError::RepeatedVertex { face, .. } => {
+                        face_lines.get(face).map(|&l| l as usize)
+                    }
+                    _ => None,
+                };
+                err(line, e.to_string())
+            })?;
+        mesh.tags = self.tags;
+        Ok(ObjFile {
+            mesh,
+            texcoords: self.texcoords,
+            normals: self.normals,
+            face_texcoords: self.face_texcoords.finish(corners),
+            face_normals: self.face_normals.finish(corners),
+            face_lines,
+            options: self.options,
+            unsupported_tags: self.unsupported_tags,
+        })
+    }
+}
