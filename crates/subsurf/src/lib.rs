@@ -40,6 +40,11 @@ pub mod scheme;
 mod info;
 mod subdivide;
 
+/// The README's examples, compiled and run as doc tests.
+#[cfg(doctest)]
+#[doc = include_str!("../../../README.md")]
+struct ReadmeDoctests;
+
 pub use info::{mesh_info, MeshInfo};
 pub use subdivide::{
     estimate_memory, subdivide, subdivide_with_progress, Error, SubdivideOptions, Subdivision,

@@ -23,9 +23,11 @@
 //! Any other tag is recorded in [`ObjFile::unsupported_tags`], never dropped silently.
 //!
 //! Every problem is an [`ObjError`] that names the file and the 1-based line
-//! (`model.obj:12: f: vertex index 0 is invalid: OBJ indices start at 1`). Out-of-range vertex indices are checked
-//! once the whole file is read (OBJ allows faces to refer to vertices defined further down)
-//! and reported at the line of the face, with the number of vertices in the file.
+//! (`model.obj:12: f: vertex index 0 is invalid: OBJ indices start at 1`). Out-of-range
+//! vertex indices are checked once the whole file is read (OBJ allows faces to refer to
+//! vertices defined further down) and reported at the line of the face, with the number of
+//! vertices in the file. A face that lists a vertex twice is kept as written (a degenerate
+//! face, which OpenSubdiv accepts).
 //!
 //! Writing ([`write_obj`]) prints every `f64` with Rust's shortest round-trip
 //! representation (never in exponent form), so reading a written file gives bit-identical
