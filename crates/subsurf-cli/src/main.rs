@@ -115,6 +115,25 @@ pub struct SubdivideArgs {
     /// Move the last level's vertices to the limit surface and write limit normals.
     #[arg(long)]
     pub limit: bool,
+    /// Crease every interior edge whose faces' normals differ by more than DEG degrees
+    /// (0..=180; 90 on a cube's edges). The file's own crease tags win on the same edge.
+    #[arg(
+        long,
+        value_name = "DEG",
+        allow_negative_numbers = true,
+        value_parser = cmd::subdivide::parse_crease_angle
+    )]
+    pub crease_angle: Option<f64>,
+    /// Sharpness of the --crease-angle creases (10 or more: infinitely sharp).
+    #[arg(
+        long,
+        value_name = "S",
+        default_value_t = subsurf::mesh::SHARPNESS_INFINITE,
+        requires = "crease_angle",
+        allow_negative_numbers = true,
+        value_parser = cmd::subdivide::parse_sharpness
+    )]
+    pub sharpness: f32,
     /// Keep hole faces in the output (tagged as holes) instead of leaving them out.
     #[arg(long)]
     pub keep_holes: bool,

@@ -2,7 +2,7 @@
 
 use anyhow::{Context, Result};
 use subsurf::io::obj::{write_obj, WriteOptions};
-use subsurf::mesh::{Options, TriangleSubdivision};
+use subsurf::mesh::{crease_by_angle, Options, TriangleSubdivision};
 use subsurf::{subdivide_with_progress, SubdivideOptions, Subdivision};
 
 use crate::input::Input;
@@ -16,7 +16,7 @@ pub fn run(args: &SubdivideArgs) -> Result<()> {
     out.check()?;
     let progress = Progress::new(args.levels, args.quiet);
     progress.set_message(format!("reading {}", args.input.display()));
-    let input = Input::read(&args.input)?;
+    let mut input = Input::read(&args.input)?;
     if args.strict {
         input.check_strict()?;
     }
@@ -35,9 +35,50 @@ pub fn run(args: &SubdivideArgs) -> Result<()> {
         keep_holes: args.keep_holes,
         max_memory: args.max_memory,
     };
+    let mut flags = String::new();
+    if let Some(angle) = args.crease_angle {
+        add_angle_creases(&mut input, &opts.scheme, angle, args.sharpness)?;
+        flags = format!("--crease-angle {angle} --sharpness {}", args.sharpness);
+    }
     let sub = refine(&input, &opts, &progress, args.quiet)?;
-    let comment = command_line(&opts, &args.input.display().to_string());
+    let comment = command_line_with(&opts, &flags, &args.input.display().to_string());
     write(&out, &sub, &opts, &comment, &progress)
+}
+
+/// Puts a crease of `sharpness` on every edge of `input` whose dihedral angle exceeds
+/// `angle` degrees, *before* the file's own creases so that those win on the same edge.
+fn add_angle_creases(
+    input: &mut Input,
+    scheme: &Options,
+    angle: f64,
+    sharpness: f32,
+) -> Result<()> {
+    let mesh = &mut input.obj.mesh;
+    let mut creases = crease_by_angle(mesh, scheme, angle, sharpness)
+        .with_context(|| format!("{}: --crease-angle", input.name))?;
+    creases.append(&mut mesh.tags.creases);
+    mesh.tags.creases = creases;
+    Ok(())
+}
+
+/// Parses `--crease-angle`: degrees, a finite number in [0, 180].
+pub fn parse_crease_angle(s: &str) -> Result<f64, String> {
+    match s.trim().parse::<f64>() {
+        Ok(a) if (0.0..=180.0).contains(&a) => Ok(a),
+        _ => Err(format!(
+            "'{s}' is not an angle in degrees between 0 and 180 (e.g. 30; a cube's edges are at 90)"
+        )),
+    }
+}
+
+/// Parses `--sharpness`: a finite number ≥ 0 (10 or more is infinitely sharp).
+pub fn parse_sharpness(s: &str) -> Result<f32, String> {
+    match s.trim().parse::<f32>() {
+        Ok(v) if v.is_finite() && v >= 0.0 => Ok(v),
+        _ => Err(format!(
+            "'{s}' is not a sharpness: expected a number ≥ 0 (10 or more is infinitely sharp)"
+        )),
+    }
 }
 
 /// Refines `input` with `opts`, reporting levels to `progress` and the library's warnings
@@ -80,6 +121,11 @@ pub fn write(
 
 /// The command line that reproduces `opts` on `input`, for the output's header comment.
 pub fn command_line(opts: &SubdivideOptions, input: &str) -> String {
+    command_line_with(opts, "", input)
+}
+
+/// [`command_line`] with `flags` (if not empty) before the input.
+fn command_line_with(opts: &SubdivideOptions, flags: &str, input: &str) -> String {
     let s = &opts.scheme;
     let mut line = format!(
         "subsurf subdivide -l {} --boundary {} --crease-method {}",
@@ -93,6 +139,10 @@ pub fn command_line(opts: &SubdivideOptions, input: &str) -> String {
     }
     if opts.keep_holes {
         line.push_str(" --keep-holes");
+    }
+    if !flags.is_empty() {
+        line.push(' ');
+        line.push_str(flags);
     }
     line.push(' ');
     line.push_str(input);
@@ -122,5 +172,25 @@ mod tests {
             "subsurf subdivide -l 3 --boundary edge-and-corner --crease-method chaikin \
              --smooth-triangles --limit in.obj"
         );
+        assert_eq!(
+            command_line_with(&opts, "--crease-angle 30 --sharpness 10", "in.obj"),
+            "subsurf subdivide -l 3 --boundary edge-and-corner --crease-method chaikin \
+             --smooth-triangles --limit --crease-angle 30 --sharpness 10 in.obj"
+        );
+    }
+
+    #[test]
+    fn crease_angle_and_sharpness_values() {
+        assert_eq!(parse_crease_angle("30"), Ok(30.0));
+        assert_eq!(parse_crease_angle("0"), Ok(0.0));
+        assert_eq!(parse_crease_angle("180"), Ok(180.0));
+        for bad in ["-1", "180.01", "200", "nan", "inf", "", "x"] {
+            assert!(parse_crease_angle(bad).is_err(), "{bad}");
+        }
+        assert_eq!(parse_sharpness("2.5"), Ok(2.5));
+        assert_eq!(parse_sharpness("0"), Ok(0.0));
+        for bad in ["-0.5", "nan", "inf", "", "x"] {
+            assert!(parse_sharpness(bad).is_err(), "{bad}");
+        }
     }
 }

@@ -9,12 +9,14 @@
 //!   vertex → edges/faces in rotational order, boundary and manifold classification,
 //!   sharpness and vertex rules), built from a [`PolyMesh`] in O(n).
 
+mod crease_angle;
 mod error;
 mod options;
 mod polymesh;
 mod tags;
 mod topology;
 
+pub use crease_angle::{crease_by_angle, CreaseAngleError};
 pub use error::{MeshError, TopologyWarning};
 pub use options::{BoundaryInterpolation, CreaseMethod, Options, TriangleSubdivision};
 pub use polymesh::PolyMesh;
