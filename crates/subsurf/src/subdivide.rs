@@ -138,7 +138,12 @@ pub fn subdivide_with_progress(
     } else {
         None
     };
-    let out = output_mesh(&level, pos, opts.keep_holes);
+    let out = output_mesh(
+        &level,
+        opts.scheme.boundary == crate::mesh::BoundaryInterpolation::None,
+        pos,
+        opts.keep_holes,
+    );
     Ok(Subdivision {
         mesh: out,
         normals,
@@ -181,7 +186,12 @@ fn limit_in_place(level: &Topology, options: &Options, pos: &mut [[f64; 3]]) -> 
 /// result as refining the input `a + b` levels. Sharpness that the next run re-derives
 /// by itself (boundary and non-manifold edges, sharpened corners and non-manifold
 /// vertices) is not written.
-fn output_mesh(level: &Topology, pos: Vec<[f64; 3]>, keep_holes: bool) -> PolyMesh {
+fn output_mesh(
+    level: &Topology,
+    explicit_boundary: bool,
+    pos: Vec<[f64; 3]>,
+    keep_holes: bool,
+) -> PolyMesh {
     let mut offsets = Vec::with_capacity(level.num_faces() + 1);
     let mut verts = Vec::with_capacity(level.face_verts().len());
     let mut holes = Vec::new();
@@ -204,7 +214,11 @@ fn output_mesh(level: &Topology, pos: Vec<[f64; 3]>, keep_holes: bool) -> PolyMe
     for e in 0..level.num_edges() {
         let t = level.edge_tag(e);
         let s = level.edge_sharpness(e);
-        if s > 0.0 && !t.boundary && !t.non_manifold {
+        // Boundary edges are sharpened again when the output is read back, except that with
+        // `BoundaryInterpolation::None` their explicit sharpness decides which faces are
+        // holes: there, write them all (the holes themselves are tagged).
+        let keep = !t.non_manifold && (!t.boundary || explicit_boundary);
+        if s > 0.0 && keep {
             let [v0, v1] = level.edge_vertices(e);
             tags.creases.push(Crease {
                 v0,

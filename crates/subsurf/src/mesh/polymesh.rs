@@ -68,20 +68,18 @@ impl PolyMesh {
     }
 
     /// Builds a mesh without validation, for callers that produce valid meshes by
-    /// construction (refinement). Debug builds still check.
+    /// construction (refinement); [`validate`](Self::validate) checks them later if needed.
     pub(crate) fn new_unchecked(
         positions: Vec<[f64; 3]>,
         face_offsets: Vec<u32>,
         face_verts: Vec<u32>,
     ) -> Self {
-        let m = Self {
+        Self {
             positions,
             face_offsets,
             face_verts,
             tags: Tags::default(),
-        };
-        debug_assert!(m.face_offsets.first() == Some(&0));
-        m
+        }
     }
 
     /// Checks every invariant that [`new`](Self::new) promises, plus the tag indices.
