@@ -67,9 +67,38 @@ enum Command {
     /// Write the bundled example meshes and their refinements to a directory.
     #[command(after_help = DEMO_EXAMPLES)]
     Demo(DemoArgs),
+    /// Sample the exact limit surface on an N×N grid per quad face (osd-oracle limit layout).
+    #[command(after_help = LIMIT_EXAMPLES)]
+    Limit(LimitArgs),
     /// Time uniform refinement (topology + positions, no output), like `osd-oracle bench`.
     #[command(after_help = BENCH_EXAMPLES)]
     Bench(BenchArgs),
+}
+
+const LIMIT_EXAMPLES: &str = "\
+One line per sample: 'face u v px py pz dux duy duz dvx dvy dvz', faces in order, u = i/(N-1)
+outer, v = j/(N-1) inner (u = v = 0.5 when N = 1); n-gons and holes are skipped, as in
+osd-oracle limit. At an extraordinary vertex the derivatives are tangent directions (see the
+library docs of LimitSurface).
+
+Examples:
+  subsurf limit model.obj --grid 5 -o samples.tsv
+  subsurf limit model.obj --grid 3 -o - | head";
+
+/// Arguments of `subsurf limit`.
+#[derive(Debug, Args)]
+pub struct LimitArgs {
+    /// Input OBJ file ('-' reads standard input).
+    #[arg(value_name = "IN")]
+    pub input: PathBuf,
+    /// Samples per side of each face.
+    #[arg(long, value_name = "N", default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..=4096))]
+    pub grid: u32,
+    /// Output file ('-' for standard output).
+    #[arg(short, long, value_name = "OUT")]
+    pub output: PathBuf,
+    #[command(flatten)]
+    pub scheme: SchemeArgs,
 }
 
 const BENCH_EXAMPLES: &str = "\
@@ -249,6 +278,7 @@ fn main() -> ExitCode {
         Command::Info(args) => cmd::info::run(args),
         Command::Demo(args) => cmd::demo::run(args),
         Command::Bench(args) => cmd::bench::run(args),
+        Command::Limit(args) => cmd::limit::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -5,8 +5,16 @@
 //! The masks assume that every face around a vertex is a quad, which holds at every level
 //! after the first. At a semi-sharp feature the mask of the vertex's *current* rule is
 //! used (as in OpenSubdiv): the result is the limit of the surface in which the remaining
-//! sharpness is infinite. Exact evaluation anywhere on the limit surface is the job of
-//! a separate evaluator.
+//! sharpness is infinite. Exact evaluation anywhere on the limit surface, with
+//! derivatives, is [`LimitSurface`].
+
+pub mod bspline;
+mod local;
+mod patch;
+mod surface;
+
+pub use bspline::Derivatives;
+pub use surface::{EvalError, LimitSurface, SurfacePoint, CACHE_DEPTH, MAX_DEPTH};
 
 use crate::mesh::Topology;
 use crate::scheme::catmark::{self, VertexMask};

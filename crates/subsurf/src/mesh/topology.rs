@@ -770,3 +770,102 @@ impl Topology {
         &self.face_verts
     }
 }
+
+impl Topology {
+    /// The part of this level made of `faces` (each listed once), with every relation,
+    /// tag and sharpness copied rather than re-derived: edges keep their identity (two
+    /// edges between the same vertices stay two, as around degenerate faces), rules and
+    /// sharpness stay those of the whole level, and faces and edges around each vertex keep
+    /// their order, restricted to the subset. Elements on the subset's rim have incomplete
+    /// neighbourhoods (refining them gives meaningless values, which callers must not use).
+    ///
+    /// Returns the subset and, for each of its vertices, the vertex of `self`.
+    pub(crate) fn subset(&self, faces: &[u32]) -> (Topology, Vec<u32>) {
+        let mut vmap = std::collections::HashMap::new();
+        let mut emap = std::collections::HashMap::new();
+        let mut fmap = std::collections::HashMap::new();
+        let mut verts = Vec::new();
+        let mut edges = Vec::new();
+        let mut face_offsets = vec![0u32];
+        let mut face_verts = Vec::new();
+        let mut face_edges = Vec::new();
+        for (i, &f) in faces.iter().enumerate() {
+            fmap.insert(f, i as u32);
+            for (&v, &e) in self
+                .face_vertices(f as usize)
+                .iter()
+                .zip(self.face_edge_list(f as usize))
+            {
+                let lv = *vmap.entry(v).or_insert_with(|| {
+                    verts.push(v);
+                    (verts.len() - 1) as u32
+                });
+                let le = *emap.entry(e).or_insert_with(|| {
+                    edges.push(e);
+                    (edges.len() - 1) as u32
+                });
+                face_verts.push(lv);
+                face_edges.push(le);
+            }
+            face_offsets.push(face_verts.len() as u32);
+        }
+        let mut t = Topology {
+            num_vertices: verts.len() as u32,
+            face_offsets,
+            face_verts,
+            face_edges,
+            face_holes: faces.iter().map(|&f| self.face_holes[f as usize]).collect(),
+            has_holes: self.has_holes,
+            complete: true,
+            ..Topology::default()
+        };
+        t.edge_verts = edges
+            .iter()
+            .map(|&e| self.edge_verts[e as usize].map(|v| vmap[&v]))
+            .collect();
+        t.edge_sharpness = edges
+            .iter()
+            .map(|&e| self.edge_sharpness[e as usize])
+            .collect();
+        t.edge_tags = edges.iter().map(|&e| self.edge_tags[e as usize]).collect();
+        t.edge_face_offsets.push(0);
+        for &e in &edges {
+            let r = range(&self.edge_face_offsets, e as usize);
+            for i in r {
+                if let Some(&lf) = fmap.get(&self.edge_faces[i]) {
+                    t.edge_faces.push(lf);
+                    t.edge_face_local.push(self.edge_face_local[i]);
+                }
+            }
+            t.edge_face_offsets.push(t.edge_faces.len() as u32);
+        }
+        t.vert_sharpness = verts
+            .iter()
+            .map(|&v| self.vert_sharpness[v as usize])
+            .collect();
+        t.vert_tags = verts.iter().map(|&v| self.vert_tags[v as usize]).collect();
+        t.vert_face_offsets.push(0);
+        t.vert_edge_offsets.push(0);
+        for &v in &verts {
+            for i in range(&self.vert_face_offsets, v as usize) {
+                if let Some(&lf) = fmap.get(&self.vert_faces[i]) {
+                    t.vert_faces.push(lf);
+                    t.vert_face_local.push(self.vert_face_local[i]);
+                }
+            }
+            t.vert_face_offsets.push(t.vert_faces.len() as u32);
+            for i in range(&self.vert_edge_offsets, v as usize) {
+                if let Some(&le) = emap.get(&self.vert_edges[i]) {
+                    t.vert_edges.push(le);
+                    t.vert_edge_local.push(self.vert_edge_local[i]);
+                }
+            }
+            t.vert_edge_offsets.push(t.vert_edges.len() as u32);
+        }
+        t.max_valence = (0..t.num_vertices())
+            .map(|v| t.vertex_edges(v).len().max(t.vertex_faces(v).len()) as u32)
+            .max()
+            .unwrap_or(0);
+        (t, verts)
+    }
+}

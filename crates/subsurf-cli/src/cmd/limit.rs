@@ -1,0 +1,68 @@
+//! `subsurf limit`: sample the exact limit surface on an N×N grid per quad face, in the
+//! column layout and order of `osd-oracle limit`.
+
+use anyhow::{Context, Result};
+use subsurf::limit::LimitSurface;
+use subsurf::mesh::Options;
+
+use crate::input::Input;
+use crate::output::Output;
+use crate::LimitArgs;
+
+/// Runs `subsurf limit`.
+pub fn run(args: &LimitArgs) -> Result<()> {
+    let out = Output::new(&args.output);
+    out.check()?;
+    let input = Input::read(&args.input)?;
+    let options = args
+        .scheme
+        .over(input.obj.options)
+        .resolve(Options::default());
+    let surface =
+        LimitSurface::new(&input.obj.mesh, options).with_context(|| input.name.clone())?;
+    let n = args.grid as usize;
+    let param = |i: usize| {
+        if n == 1 {
+            0.5
+        } else {
+            i as f64 / (n - 1) as f64
+        }
+    };
+    // One face's rows at a time, in parallel over faces, written in face order.
+    let faces: Vec<usize> = (0..surface.num_faces())
+        .filter(|&f| surface.num_subfaces(f) == 1 && surface.has_surface(f))
+        .collect();
+    let rows: Vec<Result<String>> = {
+        use rayon::prelude::*;
+        faces
+            .par_iter()
+            .map(|&f| {
+                let mut s = String::new();
+                for i in 0..n {
+                    for j in 0..n {
+                        let (u, v) = (param(i), param(j));
+                        let d = surface
+                            .eval(f as u32, u, v)
+                            .with_context(|| format!("{}: face {f}", input.name))?;
+                        use std::fmt::Write as _;
+                        let _ = write!(s, "{f} {u} {v}");
+                        for x in d.p.iter().chain(&d.du).chain(&d.dv) {
+                            let _ = write!(s, " {x}");
+                        }
+                        s.push('\n');
+                    }
+                }
+                Ok(s)
+            })
+            .collect()
+    };
+    out.write(|w| {
+        for r in &rows {
+            match r {
+                Ok(s) => w.write_all(s.as_bytes())?,
+                Err(e) => return Err(std::io::Error::other(format!("{e:#}"))),
+            }
+        }
+        Ok(())
+    })
+}

@@ -1,0 +1,54 @@
+//! Local neighbourhoods: the part of a level that determines the limit surface over one
+//! face, cut out as a small mesh of its own so that it can be refined on its own.
+//!
+//! The limit surface over a face `f` depends on the faces around `f`'s vertices (its
+//! 1-ring); the rules and sharpness of those faces' elements depend on one ring more.
+//! The *2-ring* (faces sharing a vertex with a face that shares a vertex with `f`) is
+//! therefore enough to refine `f` exactly any number of levels: every element whose
+//! position matters has all its neighbours. The cut-out is a [`Topology::subset`]: edges,
+//! tags, sharpness and rules are copied from the level, not re-derived, so it refines
+//! exactly as the whole level would around `f`. Elements on the cut-out's rim have
+//! incomplete neighbourhoods, but they never influence `f`'s children.
+
+use crate::mesh::Topology;
+
+/// A face of a small mesh cut out around it, with positions.
+#[derive(Clone, Debug)]
+pub struct Local {
+    /// The cut-out topology (tags and rules derived as for a base mesh).
+    pub topo: Topology,
+    /// Positions of its vertices.
+    pub pos: Vec<[f64; 3]>,
+    /// The face of interest in `topo` (its vertex order is the original face's).
+    pub face: usize,
+}
+
+/// Cuts the 2-ring of face `f` out of level `t` (positions `pos`).
+pub fn extract(t: &Topology, pos: &[[f64; 3]], f: usize) -> Local {
+    // Faces: f first, then the rest of its 2-ring, each once.
+    let mut faces = vec![f as u32];
+    let mut seen_face = std::collections::HashSet::new();
+    seen_face.insert(f as u32);
+    let mut ring1_verts = Vec::new();
+    for &v in t.face_vertices(f) {
+        for &g in t.vertex_faces(v as usize) {
+            if seen_face.insert(g) {
+                faces.push(g);
+            }
+        }
+    }
+    for &g in &faces {
+        ring1_verts.extend_from_slice(t.face_vertices(g as usize));
+    }
+    for &v in &ring1_verts {
+        for &g in t.vertex_faces(v as usize) {
+            if seen_face.insert(g) {
+                faces.push(g);
+            }
+        }
+    }
+
+    let (topo, verts) = t.subset(&faces);
+    let pos = verts.iter().map(|&v| pos[v as usize]).collect();
+    Local { topo, pos, face: 0 }
+}

@@ -1,0 +1,178 @@
+//! Regular patches: when the limit surface over a quad is one bicubic B-spline patch, and
+//! its 16 control points (with phantom points across boundaries and infinitely sharp
+//! creases).
+//!
+//! A quad `f` is *regular* when, for each of its four corners `c`, looking only at the
+//! *sector* of faces around `c` that contains `f` and is bounded by infinitely sharp edges
+//! (boundary and non-manifold edges are infinitely sharp):
+//! - smooth: no sharp edge at `c`, `c` not sharp, four quads around it; or
+//! - crease: `c` has the crease rule from exactly two infinitely sharp edges, and the
+//!   sector is two quads; or
+//! - corner: `c` has the corner rule, is not semi-sharp, and the sector is `f` alone;
+//!
+//! and no edge at a corner is semi-sharp. Then the Catmull-Clark rules that shape `f`'s
+//! limit surface at every later level are the uniform B-spline rules, with the boundary
+//! and crease rules reproduced by *phantom* points: across a sharp side the missing row is
+//! `P₋₁ = 2 P₀ − P₁` (so the B-spline rules give `⅛, ¾, ⅛` along the side and the side
+//! curve is the cubic B-spline of its points), and a corner cell is extrapolated in both
+//! directions, `4 P₀₀ − 2 P₁₀ − 2 P₀₁ + P₁₁`, which keeps the corner fixed. The two sides of an
+//! infinitely sharp crease do not influence each other, so each side is such a patch.
+//! This is the construction of OpenSubdiv's regular boundary and corner patches.
+
+use crate::mesh::{Rule, Topology};
+use crate::scheme::crease;
+
+/// The control points `cp[i][j]` (`i` along `u`, `j` along `v`) of quad `f` if it is
+/// regular (see the module docs), else `None`.
+pub fn regular_patch(t: &Topology, pos: &[[f64; 3]], f: usize) -> Option<[[[f64; 3]; 4]; 4]> {
+    let fv = t.face_vertices(f);
+    if fv.len() != 4 || t.is_hole(f) {
+        return None;
+    }
+    let mut cp = [[[0.0; 3]; 4]; 4];
+    // Corner k of the face sits at grid cell CORNER[k]; its frame is the corner-0 frame
+    // turned k quarter turns counter-clockwise (u → v).
+    const CORNER: [(i32, i32); 4] = [(1, 1), (2, 1), (2, 2), (1, 2)];
+    let rot = |k: usize, (x, y): (i32, i32)| -> (i32, i32) {
+        let (mut x, mut y) = (x, y);
+        for _ in 0..k {
+            (x, y) = (-y, x);
+        }
+        (x, y)
+    };
+    let mut put = |k: usize, off: (i32, i32), v: u32| {
+        let (dx, dy) = rot(k, off);
+        let (i, j) = ((CORNER[k].0 + dx) as usize, (CORNER[k].1 + dy) as usize);
+        cp[i][j] = pos[v as usize];
+    };
+    for k in 0..4 {
+        put(k, (0, 0), fv[k]);
+    }
+    for k in 0..4 {
+        let c = fv[k] as usize;
+        let tag = t.vertex_tag(c);
+        if tag.non_manifold || tag.semi_sharp || crease::is_semi_sharp(t.vertex_sharpness(c)) {
+            return None;
+        }
+        if t.vertex_edges(c)
+            .iter()
+            .any(|&e| t.edge_tag(e as usize).semi_sharp)
+        {
+            return None;
+        }
+        // Walk the sector: counter-clockwise across the edge entering `c` in each face,
+        // clockwise across the edge leaving it, stopping at infinitely sharp edges.
+        let (ccw, closed) = walk(t, f, c, true);
+        let inf_edges = t
+            .vertex_edges(c)
+            .iter()
+            .filter(|&&e| t.edge_tag(e as usize).inf_sharp)
+            .count();
+        if closed {
+            // A smooth interior vertex of valence 4: faces 1, 2 counter-clockwise from f
+            // and face 3 (clockwise neighbour), all quads.
+            if tag.rule != Rule::Smooth || inf_edges != 0 || ccw.len() != 3 {
+                return None;
+            }
+            if ccw.iter().any(|&(g, _)| t.face_vertices(g).len() != 4) {
+                return None;
+            }
+            let q = |(g, m): (usize, usize), d: usize| t.face_vertices(g)[(m + d) % 4];
+            put(k, (-1, 1), q(ccw[0], 2));
+            put(k, (-1, 0), q(ccw[0], 3));
+            put(k, (-1, -1), q(ccw[1], 2));
+            put(k, (0, -1), q(ccw[1], 3));
+            put(k, (1, -1), q(ccw[2], 2));
+            continue;
+        }
+        let (cw, _) = walk(t, f, c, false);
+        let sector = 1 + ccw.len() + cw.len();
+        let ok = match tag.rule {
+            Rule::Crease => inf_edges == 2 && sector == 2,
+            Rule::Corner => sector == 1 && (tag.inf_sharp || inf_edges > 2),
+            Rule::Smooth | Rule::Dart => false,
+        };
+        if !ok
+            || ccw
+                .iter()
+                .chain(&cw)
+                .any(|&(g, _)| t.face_vertices(g).len() != 4)
+        {
+            return None;
+        }
+        for &(g, m) in &ccw {
+            let q = |d: usize| t.face_vertices(g)[(m + d) % 4];
+            put(k, (-1, 1), q(2));
+            put(k, (-1, 0), q(3));
+        }
+        for &(g, m) in &cw {
+            let q = |d: usize| t.face_vertices(g)[(m + d) % 4];
+            put(k, (0, -1), q(1));
+            put(k, (1, -1), q(2));
+        }
+    }
+    let fe = t.face_edge_list(f);
+    let sharp = [0, 1, 2, 3].map(|k| t.edge_tag(fe[k] as usize).inf_sharp);
+    fill_phantoms(&mut cp, sharp);
+    Some(cp)
+}
+
+/// Faces around vertex `c` reached from face `f` by crossing, repeatedly, the edge that
+/// enters `c` (`ccw`) or leaves it (`!ccw`), as long as that edge is not infinitely sharp
+/// and has two faces; at most four steps. Each item is `(face, position of c in it)`;
+/// `f` itself is not listed. The flag tells whether the walk came back to `f` (a closed
+/// fan).
+fn walk(t: &Topology, f: usize, c: usize, ccw: bool) -> (Vec<(usize, usize)>, bool) {
+    let mut out = Vec::with_capacity(4);
+    let mut g = f;
+    for _ in 0..5 {
+        let gv = t.face_vertices(g);
+        let n = gv.len();
+        let Some(m) = gv.iter().position(|&x| x as usize == c) else {
+            break;
+        };
+        let e = t.face_edge_list(g)[if ccw { (m + n - 1) % n } else { m }] as usize;
+        let ef = t.edge_face_list(e);
+        if t.edge_tag(e).inf_sharp || ef.len() != 2 {
+            break;
+        }
+        let next = if ef[0] as usize == g { ef[1] } else { ef[0] } as usize;
+        if next == f {
+            return (out, true);
+        }
+        let Some(mn) = t.face_vertices(next).iter().position(|&x| x as usize == c) else {
+            break;
+        };
+        out.push((next, mn));
+        g = next;
+    }
+    (out, false)
+}
+
+/// Fills the phantom rows and columns across `f`'s infinitely sharp sides: side 0
+/// (`v0 → v1`) is row `j = 0`, side 1 column `i = 3`, side 2 row `j = 3`, side 3 column
+/// `i = 0`. A phantom column is `P₋₁ = 2 P₀ − P₁` along `u` on every real row; then a
+/// phantom row is extrapolated along `v` on every column, which makes a cell in two
+/// phantom sides the tensor-product extrapolation `4 P₀₀ − 2 P₁₀ − 2 P₀₁ + P₁₁`.
+fn fill_phantoms(cp: &mut [[[f64; 3]; 4]; 4], sharp: [bool; 4]) {
+    let ext = |a: [f64; 3], b: [f64; 3]| [2.0 * a[0] - b[0], 2.0 * a[1] - b[1], 2.0 * a[2] - b[2]];
+    for j in 0..4 {
+        if (j == 0 && sharp[0]) || (j == 3 && sharp[2]) {
+            continue;
+        }
+        if sharp[3] {
+            cp[0][j] = ext(cp[1][j], cp[2][j]);
+        }
+        if sharp[1] {
+            cp[3][j] = ext(cp[2][j], cp[1][j]);
+        }
+    }
+    for i in 0..4 {
+        if sharp[0] {
+            cp[i][0] = ext(cp[i][1], cp[i][2]);
+        }
+        if sharp[2] {
+            cp[i][3] = ext(cp[i][2], cp[i][1]);
+        }
+    }
+}

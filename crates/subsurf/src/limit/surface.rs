@@ -1,0 +1,727 @@
+//! [`LimitSurface`]: exact evaluation of the Catmull-Clark limit surface at any
+//! `(face, u, v)`, with first and second derivatives.
+//!
+//! # Method
+//! The limit surface over a *regular* quad is one bicubic B-spline patch
+//! ([`super::patch`]), evaluated in closed form. Any other face (next to an extraordinary
+//! vertex, a dart, a semi-sharp feature, an n-gon, a non-manifold or irregular boundary
+//! vertex) is refined locally: its 2-ring is cut out ([`super::local`]) and refined one
+//! level with the full OpenSubdiv rules; each of its four children is again either regular
+//! (a patch) or refined further. Irregularities stay at the corners of sub-faces, so each
+//! level leaves at most one irregular child per irregular corner, and a point at distance
+//! `d` from an irregular corner is reached after about `log₂(1/d)` levels. The first
+//! [`CACHE_DEPTH`] levels are built when the surface is built; deeper levels are refined
+//! on demand for the points that need them. A point exactly at an irregular corner (or
+//! closer than `2^-MAX_DEPTH`) takes its position and normal from OpenSubdiv's limit masks
+//! at that corner.
+//!
+//! This is exact, not an approximation: the only truncation is at `2^-MAX_DEPTH ≈ 4e-15`
+//! of a face, far below `f64` resolution of typical coordinates.
+//!
+//! # Parametrisation
+//! A quad `[v0 v1 v2 v3]` has `(0, 0)` at `v0`, `u` toward `v1`, `v` toward `v3` (as
+//! OpenSubdiv's `Bfr`). An `n`-gon (`n ≠ 4`) is split into `n` quad sub-faces, the children
+//! of one Catmull-Clark step: sub-face `j` has `(0, 0)` at the face's vertex `j`, `u` toward
+//! the midpoint of edge `j` (toward vertex `j + 1`), `v` toward the midpoint of edge `j - 1`,
+//! and `(1, 1)` at the face's centre.
+//!
+//! # At an irregular corner
+//! The parametric derivatives of the limit surface are degenerate (zero or unbounded) at
+//! an extraordinary vertex. There, [`LimitSurface::eval`] returns the exact limit
+//! position, and as `du`, `dv` the limit *tangent vectors* of OpenSubdiv's tangent masks
+//! oriented along the face's `u` and `v` edges: they span the exact tangent plane (their
+//! cross product is the exact limit normal) but their lengths are not parametric
+//! derivatives; second derivatives are zero.
+
+use super::bspline::{self, Derivatives};
+use super::local::{extract, Local};
+use super::patch::regular_patch;
+use crate::mesh::{MeshError, Options, PolyMesh, Topology};
+use crate::refine::{interpolate, refine_topology};
+use crate::scheme::catmark::{self, VertexMask};
+use rayon::prelude::*;
+
+/// Levels of local refinement built with the surface.
+pub const CACHE_DEPTH: u32 = 5;
+/// Deepest local refinement; a sub-face is then `2^-48` of its face.
+pub const MAX_DEPTH: u32 = 48;
+
+/// Where to evaluate: a face (and, for a non-quad, a sub-face) and a parameter.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SurfacePoint {
+    /// Base face.
+    pub face: u32,
+    /// Sub-face of an `n`-gon (0 for quads).
+    pub subface: u32,
+    /// Parameter along `u`, in `[0, 1]`.
+    pub u: f64,
+    /// Parameter along `v`, in `[0, 1]`.
+    pub v: f64,
+}
+
+/// Errors of [`LimitSurface`] evaluation.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum EvalError {
+    /// The face index is out of range.
+    #[error("face {face} does not exist (the mesh has {count} faces)")]
+    NoSuchFace {
+        /// Requested face.
+        face: u32,
+        /// Number of faces.
+        count: usize,
+    },
+    /// The sub-face index is out of range for the face's size.
+    #[error("face {face} has {size} sub-faces; sub-face {subface} does not exist")]
+    NoSuchSubface {
+        /// Face.
+        face: u32,
+        /// Requested sub-face.
+        subface: u32,
+        /// Face size (number of sub-faces; 1 for quads).
+        size: usize,
+    },
+    /// The face is a hole (or excluded by `BoundaryInterpolation::None`): no surface.
+    #[error("face {face} is a hole: it has no limit surface")]
+    Hole {
+        /// Face.
+        face: u32,
+    },
+    /// A parameter outside `[0, 1]` or not finite.
+    #[error("parameter ({u}, {v}) is outside [0, 1]²")]
+    BadParameter {
+        /// `u`.
+        u: f64,
+        /// `v`.
+        v: f64,
+    },
+}
+
+/// The limit surface of one face (or sub-face).
+#[derive(Clone, Debug)]
+enum Node {
+    Hole,
+    Regular(Box<[[[f64; 3]; 4]; 4]>),
+    /// Children at the corners 0, 1, 2, 3 (quadrants `[0,½]×[0,½]`, `[½,1]×[0,½]`,
+    /// `[½,1]²`, `[0,½]×[½,1]`).
+    Split(Box<[Node; 4]>),
+    /// Not refined further yet: the cut-out to refine on demand.
+    Deep(Box<Local>),
+}
+
+/// The exact Catmull-Clark limit surface of a mesh, evaluable anywhere. See the module
+/// docs for the method and parametrisation.
+///
+/// ```
+/// use subsurf::limit::LimitSurface;
+/// use subsurf::mesh::{Options, PolyMesh};
+/// // A cube: every vertex is extraordinary (valence 3).
+/// let p = vec![
+///     [0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0],
+///     [0.0, 0.0, 1.0], [1.0, 0.0, 1.0], [1.0, 1.0, 1.0], [0.0, 1.0, 1.0],
+/// ];
+/// let f = [[0, 3, 2, 1], [4, 5, 6, 7], [0, 1, 5, 4], [1, 2, 6, 5], [2, 3, 7, 6], [3, 0, 4, 7]];
+/// let cube = PolyMesh::from_faces(p, &f).unwrap();
+/// let s = LimitSurface::new(&cube, Options::default()).unwrap();
+/// // By symmetry the centre of the top face lies above the cube's centre.
+/// let d = s.eval(1, 0.5, 0.5).unwrap();
+/// assert!((d.p[0] - 0.5).abs() < 1e-12 && (d.p[1] - 0.5).abs() < 1e-12);
+/// // Its normal points up, out of the cube.
+/// assert!(d.normal()[2] > 0.999_999);
+/// ```
+#[derive(Clone, Debug)]
+pub struct LimitSurface {
+    options: Options,
+    /// Per base face, its nodes (one per sub-face; one for quads).
+    nodes: Vec<Vec<Node>>,
+}
+
+impl LimitSurface {
+    /// Builds the surface of `mesh` with scheme `options`.
+    ///
+    /// # Errors
+    /// [`MeshError`] if the mesh is invalid.
+    pub fn new(mesh: &PolyMesh, options: Options) -> Result<Self, MeshError> {
+        mesh.validate()?;
+        let (base, _) = Topology::from_mesh(mesh, &options)?;
+        let pos = mesh.positions();
+        let nodes = (0..base.num_faces())
+            .into_par_iter()
+            .map(|f| build_face(&base, pos, f, &options))
+            .collect();
+        Ok(Self { options, nodes })
+    }
+
+    /// Number of base faces.
+    pub fn num_faces(&self) -> usize {
+        self.nodes.len()
+    }
+
+    /// Number of sub-faces of face `f` (1 for a quad, `n` for an `n`-gon).
+    pub fn num_subfaces(&self, f: usize) -> usize {
+        self.nodes.get(f).map_or(0, Vec::len)
+    }
+
+    /// Whether face `f` has a surface (it is not a hole).
+    pub fn has_surface(&self, f: usize) -> bool {
+        self.nodes
+            .get(f)
+            .is_some_and(|n| !matches!(n.first(), Some(Node::Hole) | None))
+    }
+
+    /// Position and first and second derivatives at `(u, v)` of quad `face` (sub-face 0
+    /// of a non-quad).
+    pub fn eval(&self, face: u32, u: f64, v: f64) -> Result<Derivatives, EvalError> {
+        self.eval_point(SurfacePoint {
+            face,
+            subface: 0,
+            u,
+            v,
+        })
+    }
+
+    /// Evaluates at a [`SurfacePoint`].
+    pub fn eval_point(&self, p: SurfacePoint) -> Result<Derivatives, EvalError> {
+        let nodes = self
+            .nodes
+            .get(p.face as usize)
+            .ok_or(EvalError::NoSuchFace {
+                face: p.face,
+                count: self.nodes.len(),
+            })?;
+        let node = nodes
+            .get(p.subface as usize)
+            .ok_or(EvalError::NoSuchSubface {
+                face: p.face,
+                subface: p.subface,
+                size: nodes.len(),
+            })?;
+        if !(0.0..=1.0).contains(&p.u) || !(0.0..=1.0).contains(&p.v) {
+            return Err(EvalError::BadParameter { u: p.u, v: p.v });
+        }
+        eval_node(node, p.u, p.v, 0, &self.options).ok_or(EvalError::Hole { face: p.face })
+    }
+
+    /// Evaluates many points in parallel; results in the same order.
+    pub fn eval_many(&self, points: &[SurfacePoint]) -> Vec<Result<Derivatives, EvalError>> {
+        points.par_iter().map(|&p| self.eval_point(p)).collect()
+    }
+}
+
+fn build_face(base: &Topology, pos: &[[f64; 3]], f: usize, options: &Options) -> Vec<Node> {
+    let n = base.face_vertices(f).len();
+    if base.is_hole(f) {
+        return vec![Node::Hole; if n == 4 { 1 } else { n }];
+    }
+    if n == 4 {
+        if let Some(cp) = regular_patch(base, pos, f) {
+            return vec![Node::Regular(Box::new(cp))];
+        }
+        return vec![build_node(extract(base, pos, f), 0, options)];
+    }
+    // Sub-faces: the children of the face after one step, unrotated for n ≠ 4.
+    let local = extract(base, pos, f);
+    let (child, cpos) = refine_local(&local, options);
+    let first = child_face(&local, 0);
+    (0..n)
+        .map(|j| node_for(&child, &cpos, first + j, 1, options))
+        .collect()
+}
+
+/// Refines a cut-out one level (full topology).
+fn refine_local(l: &Local, options: &Options) -> (Topology, Vec<[f64; 3]>) {
+    let child = refine_topology(&l.topo, options, true);
+    let mut cpos = vec![[0.0; 3]; child.num_vertices()];
+    interpolate(&l.topo, &child, options, &l.pos, &mut cpos);
+    (child, cpos)
+}
+
+/// Index of the child of `l.face` at its corner `j`.
+fn child_face(l: &Local, j: usize) -> usize {
+    l.topo.face_offsets()[l.face] as usize + j
+}
+
+/// The node of face `f` of a refined cut-out, at `depth` levels below its base face.
+fn node_for(t: &Topology, pos: &[[f64; 3]], f: usize, depth: u32, options: &Options) -> Node {
+    if t.is_hole(f) {
+        return Node::Hole;
+    }
+    match regular_patch(t, pos, f) {
+        Some(cp) => Node::Regular(Box::new(cp)),
+        None => build_node(extract(t, pos, f), depth, options),
+    }
+}
+
+fn build_node(l: Local, depth: u32, options: &Options) -> Node {
+    if depth >= CACHE_DEPTH {
+        return Node::Deep(Box::new(l));
+    }
+    let (child, cpos) = refine_local(&l, options);
+    let first = child_face(&l, 0);
+    let kids = [0, 1, 2, 3].map(|j| node_for(&child, &cpos, first + j, depth + 1, options));
+    Node::Split(Box::new(kids))
+}
+
+/// Quadrant of `(u, v)` and the parameter within it.
+#[inline]
+fn quadrant(u: f64, v: f64) -> (usize, f64, f64) {
+    match (u >= 0.5, v >= 0.5) {
+        (false, false) => (0, 2.0 * u, 2.0 * v),
+        (true, false) => (1, 2.0 * u - 1.0, 2.0 * v),
+        (true, true) => (2, 2.0 * u - 1.0, 2.0 * v - 1.0),
+        (false, true) => (3, 2.0 * u, 2.0 * v - 1.0),
+    }
+}
+
+fn eval_node(node: &Node, u: f64, v: f64, depth: u32, options: &Options) -> Option<Derivatives> {
+    let (mut node, mut u, mut v, mut depth) = (node, u, v, depth);
+    loop {
+        match node {
+            Node::Hole => return None,
+            Node::Regular(cp) => {
+                return Some(bspline::eval(cp, u, v).scaled(2f64.powi(depth as i32)))
+            }
+            Node::Split(kids) => {
+                let (q, s, t) = quadrant(u, v);
+                node = &kids[q];
+                (u, v) = (s, t);
+                depth += 1;
+            }
+            Node::Deep(l) => return eval_deep(l, u, v, depth, options),
+        }
+    }
+}
+
+/// Refines a cut-out on demand until the point is in a regular child or at a corner.
+fn eval_deep(l: &Local, u: f64, v: f64, depth: u32, options: &Options) -> Option<Derivatives> {
+    let mut owned: Option<Local> = None;
+    let (mut u, mut v, mut depth) = (u, v, depth);
+    loop {
+        let cur = owned.as_ref().unwrap_or(l);
+        if cur.topo.is_hole(cur.face) {
+            return None;
+        }
+        let corner = match (u, v) {
+            (0.0, 0.0) => Some(0),
+            (1.0, 0.0) => Some(1),
+            (1.0, 1.0) => Some(2),
+            (0.0, 1.0) => Some(3),
+            _ if depth >= MAX_DEPTH => Some(quadrant(u, v).0),
+            _ => None,
+        };
+        // Limit masks give the limit only once no semi-sharp feature is left at the
+        // corner (sharpness still to decay changes the rules of later levels).
+        if let Some(k) = corner.filter(|&k| depth >= MAX_DEPTH || settled(cur, k)) {
+            return Some(corner_limit(cur, k, options));
+        }
+        let (child, cpos) = refine_local(cur, options);
+        let (q, s, t) = quadrant(u, v);
+        let cf = child_face(cur, q);
+        depth += 1;
+        if child.is_hole(cf) {
+            return None;
+        }
+        if let Some(cp) = regular_patch(&child, &cpos, cf) {
+            return Some(bspline::eval(&cp, s, t).scaled(2f64.powi(depth as i32)));
+        }
+        owned = Some(extract(&child, &cpos, cf));
+        (u, v) = (s, t);
+    }
+}
+
+/// Whether corner `k` of the cut-out's face has no semi-sharp vertex or edge sharpness
+/// left, so that its rule no longer changes under refinement.
+fn settled(l: &Local, k: usize) -> bool {
+    let t = &l.topo;
+    let c = t.face_vertices(l.face)[k] as usize;
+    !t.vertex_tag(c).semi_sharp
+        && t.vertex_edges(c)
+            .iter()
+            .all(|&e| !t.edge_tag(e as usize).semi_sharp)
+}
+
+/// Limit position and tangents at corner `k` of the cut-out's face (see the module docs).
+///
+/// A smooth interior vertex whose faces are quads has exact limit masks (Halstead et al.
+/// 1993), used as they are. Any other vertex (crease, corner, dart, valence 2,
+/// non-manifold) is analysed numerically: with `R` the control points of the vertex's
+/// sector (the faces around it between infinitely sharp edges, containing the face), one
+/// step maps `R` to the same configuration one level down, `R' = S R`. The limit position
+/// is `l₀ · R` with `l₀` the left eigenvector of `S` for eigenvalue 1 (`l₀ · 1 = 1`); the
+/// tangent plane is spanned by `L · R` for `L` the invariant subspace of the two
+/// subdominant left eigenvectors, found by subspace iteration on sum-free vectors (where
+/// `Sᵀ` leaves out eigenvalue 1). The tangents are returned along the face's edges
+/// projected onto that plane.
+fn corner_limit(l: &Local, k: usize, options: &Options) -> Derivatives {
+    let t = &l.topo;
+    let c = t.face_vertices(l.face)[k] as usize;
+    let tag = t.vertex_tag(c);
+    let all_quads = t
+        .vertex_faces(c)
+        .iter()
+        .all(|&g| t.face_vertices(g as usize).len() == 4);
+    let n_e = t.vertex_edges(c).len();
+    let smooth = tag.rule == crate::mesh::Rule::Smooth
+        && !tag.non_manifold
+        && !tag.boundary
+        && all_quads
+        && n_e == t.vertex_faces(c).len()
+        && n_e >= 3;
+    if smooth {
+        return smooth_corner(l, k);
+    }
+    if !all_quads {
+        // One step makes every face a quad; the corner's child has the same limit.
+        let (child, cpos) = refine_local(l, options);
+        let n = t.face_vertices(l.face).len();
+        let cf = child_face(l, k);
+        let next = Local {
+            topo: child,
+            pos: cpos,
+            face: cf,
+        };
+        return corner_limit(&next, if n == 4 { k } else { 0 }, options);
+    }
+    let sub = |a: usize, b: usize| {
+        let (p, q) = (l.pos[a], l.pos[b]);
+        [p[0] - q[0], p[1] - q[1], p[2] - q[2]]
+    };
+    let fv = t.face_vertices(l.face);
+    let n = fv.len();
+    let along = (
+        sub(fv[(k + 1) % n] as usize, c),
+        sub(fv[(k + n - 1) % n] as usize, c),
+    );
+    match tag.rule {
+        crate::mesh::Rule::Corner => {
+            // The vertex stays put; the limit curves along the face's sides leave it toward
+            // the neighbouring vertices (cubic B-spline end condition).
+            let (du, dv) = uv_from_corner_frame(k, along.0, along.1);
+            Derivatives {
+                p: l.pos[c],
+                du,
+                dv,
+                ..Derivatives::default()
+            }
+        }
+        crate::mesh::Rule::Crease => {
+            // The crease curve is the cubic B-spline of the crease polygon: its limit point is
+            // ⅔ c + ⅙ (a + b) whatever lies around it. The tangent plane of the face's side
+            // comes from the sector's eigen-analysis.
+            let ends = crease_neighbours(t, c);
+            let p = match ends {
+                Some((a, b)) => {
+                    let (pa, pb, pc) = (l.pos[a], l.pos[b], l.pos[c]);
+                    [0, 1, 2].map(|i| (4.0 * pc[i] + pa[i] + pb[i]) / 6.0)
+                }
+                None => l.pos[c],
+            };
+            let mut d = eigen_corner(l, k, options).unwrap_or_else(|| {
+                let (du, dv) = uv_from_corner_frame(k, along.0, along.1);
+                Derivatives {
+                    du,
+                    dv,
+                    ..Derivatives::default()
+                }
+            });
+            d.p = p;
+            d
+        }
+        _ => eigen_corner(l, k, options).unwrap_or_else(|| smooth_corner(l, k)),
+    }
+}
+
+/// The far ends of the two sharp edges of a crease vertex.
+fn crease_neighbours(t: &Topology, c: usize) -> Option<(usize, usize)> {
+    let sharp: Vec<f32> = t
+        .vertex_edges(c)
+        .iter()
+        .map(|&e| t.edge_sharpness(e as usize))
+        .collect();
+    if sharp.iter().filter(|&&x| x > 0.0).count() != 2 {
+        return None;
+    }
+    let (i, j) = crate::scheme::crease::crease_ends(&sharp);
+    let ends: Vec<u32> = t.vertex_neighbours(c).collect();
+    Some((ends[i] as usize, ends[j] as usize))
+}
+
+/// The control points of the sector of face `l.face` at its corner `k`: the corner, then
+/// for each sector face (walking from one bounding edge to the other) its three other
+/// vertices, without repeats. Children of these points, listed the same way one level
+/// down, correspond one to one.
+fn sector_ring(t: &Topology, face: usize, k: usize) -> Option<Vec<u32>> {
+    let c = t.face_vertices(face)[k];
+    // Walk clockwise to the sector's first face, then counter-clockwise across it.
+    let step = |g: usize, ccw: bool| -> Option<usize> {
+        let gv = t.face_vertices(g);
+        let m = gv.iter().position(|&x| x == c)?;
+        let n = gv.len();
+        let e = t.face_edge_list(g)[if ccw { (m + n - 1) % n } else { m }] as usize;
+        let ef = t.edge_face_list(e);
+        if t.edge_tag(e).inf_sharp || ef.len() != 2 {
+            return None;
+        }
+        Some(if ef[0] as usize == g { ef[1] } else { ef[0] } as usize)
+    };
+    let max = t.vertex_faces(c as usize).len();
+    let mut start = face;
+    for _ in 0..max {
+        match step(start, false) {
+            Some(g) if g != face => start = g,
+            _ => break,
+        }
+    }
+    let mut ring = vec![c];
+    let mut g = start;
+    for _ in 0..max {
+        let gv = t.face_vertices(g);
+        let m = gv.iter().position(|&x| x == c)?;
+        for d in 1..4 {
+            let x = gv[(m + d) % 4];
+            if !ring.contains(&x) {
+                ring.push(x);
+            }
+        }
+        match step(g, true) {
+            Some(next) if next != start => g = next,
+            _ => break,
+        }
+    }
+    Some(ring)
+}
+
+fn eigen_corner(l: &Local, k: usize, options: &Options) -> Option<Derivatives> {
+    let t = &l.topo;
+    let ring = sector_ring(t, l.face, k)?;
+    let (child, _) = refine_local(l, options);
+    let cf = child_face(l, k);
+    let child_ring = sector_ring(&child, cf, k)?;
+    let m = ring.len();
+    if child_ring.len() != m {
+        return None;
+    }
+    // S[a][b]: value at child_ring[a] when ring[b] is 1 and every other vertex 0.
+    let mut s = vec![vec![0.0; m]; m];
+    let mut unit = vec![[0.0]; t.num_vertices()];
+    let mut out = vec![[0.0]; child.num_vertices()];
+    for (b, &x) in ring.iter().enumerate() {
+        unit[x as usize] = [1.0];
+        interpolate(t, &child, options, &unit, &mut out);
+        unit[x as usize] = [0.0];
+        for (a, &y) in child_ring.iter().enumerate() {
+            s[a][b] = out[y as usize][0];
+        }
+    }
+    let pts: Vec<[f64; 3]> = ring.iter().map(|&x| l.pos[x as usize]).collect();
+    let l0 = dominant_left_eigenvector(&s)?;
+    let combine = |w: &[f64]| {
+        let mut acc = [0.0; 3];
+        for (wi, p) in w.iter().zip(&pts) {
+            (0..3).for_each(|i| acc[i] += wi * p[i]);
+        }
+        acc
+    };
+    let p = combine(&l0);
+    let (w1, w2) = subdominant_left_subspace(&s);
+    let (t1, t2) = (combine(&w1), combine(&w2));
+    let (du, dv) = face_tangents(t, l, k, t1, t2);
+    Some(Derivatives {
+        p,
+        du,
+        dv,
+        ..Derivatives::default()
+    })
+}
+
+/// `l` with `l S = l`, `Σ l = 1`: solves `(Sᵀ − I) l = 0` with the last equation replaced
+/// by the normalisation (Gaussian elimination, partial pivoting).
+fn dominant_left_eigenvector(s: &[Vec<f64>]) -> Option<Vec<f64>> {
+    let m = s.len();
+    let mut a: Vec<Vec<f64>> = (0..m)
+        .map(|i| {
+            let mut row: Vec<f64> = (0..m)
+                .map(|j| s[j][i] - if i == j { 1.0 } else { 0.0 })
+                .collect();
+            row.push(0.0);
+            row
+        })
+        .collect();
+    a[m - 1] = vec![1.0; m + 1];
+    for col in 0..m {
+        let piv = (col..m).max_by(|&x, &y| a[x][col].abs().total_cmp(&a[y][col].abs()))?;
+        if a[piv][col].abs() < 1e-14 {
+            return None;
+        }
+        a.swap(col, piv);
+        for r in 0..m {
+            if r != col {
+                let f = a[r][col] / a[col][col];
+                if f != 0.0 {
+                    for c in col..=m {
+                        a[r][c] -= f * a[col][c];
+                    }
+                }
+            }
+        }
+    }
+    Some((0..m).map(|i| a[i][m] / a[i][i]).collect())
+}
+
+/// Two vectors spanning the left invariant subspace of `S` for its two largest
+/// eigenvalues after 1: subspace iteration on sum-free vectors (which `Sᵀ` maps to
+/// sum-free vectors, since `S 1 = 1`), orthonormalised each step.
+fn subdominant_left_subspace(s: &[Vec<f64>]) -> (Vec<f64>, Vec<f64>) {
+    let m = s.len();
+    let center = |v: &mut Vec<f64>| {
+        let mean = v.iter().sum::<f64>() / m as f64;
+        v.iter_mut().for_each(|x| *x -= mean);
+    };
+    let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
+    let normalize = |v: &mut Vec<f64>| {
+        let n = dot(v, v).sqrt();
+        if n > 0.0 {
+            v.iter_mut().for_each(|x| *x /= n);
+        }
+    };
+    let mut w1: Vec<f64> = (0..m).map(|i| (i as f64 * 1.3).cos()).collect();
+    let mut w2: Vec<f64> = (0..m).map(|i| (i as f64 * 0.7 + 0.4).sin()).collect();
+    let apply = |w: &[f64]| -> Vec<f64> {
+        (0..m)
+            .map(|j| (0..m).map(|i| s[i][j] * w[i]).sum())
+            .collect()
+    };
+    for _ in 0..200 {
+        w1 = apply(&w1);
+        w2 = apply(&w2);
+        center(&mut w1);
+        center(&mut w2);
+        normalize(&mut w1);
+        let d = dot(&w2, &w1);
+        w2.iter_mut().zip(&w1).for_each(|(x, y)| *x -= d * y);
+        normalize(&mut w2);
+    }
+    (w1, w2)
+}
+
+/// The face's edge directions at corner `k` (along edge `k`, toward corner `k - 1`),
+/// projected onto the plane spanned by `t1`, `t2`, mapped to `(du, dv)`.
+fn face_tangents(
+    t: &Topology,
+    l: &Local,
+    k: usize,
+    t1: [f64; 3],
+    t2: [f64; 3],
+) -> ([f64; 3], [f64; 3]) {
+    let (a, b) = boundary_tangents(t, l, t.face_vertices(l.face)[k] as usize, k, t1, t2);
+    uv_from_corner_frame(k, a, b)
+}
+
+/// Tangents along edge `k` of a face and toward its corner `k - 1`, as `(du, dv)`.
+fn uv_from_corner_frame(k: usize, a: [f64; 3], b: [f64; 3]) -> ([f64; 3], [f64; 3]) {
+    let neg = |x: [f64; 3]| [-x[0], -x[1], -x[2]];
+    match k {
+        0 => (a, b),
+        1 => (neg(b), a),
+        2 => (neg(a), neg(b)),
+        _ => (b, neg(a)),
+    }
+}
+
+/// The exact limit position and tangents of a smooth interior vertex with quads around it,
+/// from the limit masks, rotated so that the face comes first.
+fn smooth_corner(l: &Local, k: usize) -> Derivatives {
+    let t = &l.topo;
+    let c = t.face_vertices(l.face)[k] as usize;
+    let faces = t.vertex_faces(c);
+    let edges = t.vertex_edges(c);
+    let nf = faces.len();
+    let start = faces
+        .iter()
+        .position(|&g| g as usize == l.face)
+        .unwrap_or(0);
+    let rot = |i: usize, n: usize| (i + start) % n.max(1);
+    let ends: Vec<u32> = t.vertex_neighbours(c).collect();
+    let ends: Vec<u32> = (0..edges.len())
+        .map(|i| ends[rot(i, edges.len())])
+        .collect();
+    let locals = t.vertex_face_locals(c);
+    let opposite: Vec<u32> = (0..nf)
+        .map(|i| {
+            let g = faces[rot(i, nf)] as usize;
+            let fv = t.face_vertices(g);
+            fv[(locals[rot(i, nf)] as usize + 2) % fv.len()]
+        })
+        .collect();
+    let sharp = vec![0.0f32; edges.len()];
+    let rule = t.vertex_tag(c).rule;
+    let (mut pm, mut t1, mut t2) = (
+        VertexMask::default(),
+        VertexMask::default(),
+        VertexMask::default(),
+    );
+    catmark::limit_position_mask(rule, &sharp, nf, &mut pm);
+    catmark::limit_tangent_masks(rule, &sharp, nf, &mut t1, &mut t2);
+    let apply = |m: &VertexMask| {
+        let mut acc = [0.0; 3];
+        let mut add = |w: f64, p: &[f64; 3]| (0..3).for_each(|i| acc[i] += w * p[i]);
+        add(m.vertex, &l.pos[c]);
+        if m.has_edges {
+            ends.iter()
+                .zip(&m.edges)
+                .for_each(|(&x, &w)| add(w, &l.pos[x as usize]));
+        }
+        if m.has_faces {
+            opposite
+                .iter()
+                .zip(&m.faces)
+                .for_each(|(&x, &w)| add(w, &l.pos[x as usize]));
+        }
+        acc
+    };
+    let (du, dv) = uv_from_corner_frame(k, apply(&t1), apply(&t2));
+    Derivatives {
+        p: apply(&pm),
+        du,
+        dv,
+        ..Derivatives::default()
+    }
+}
+/// At a boundary (non-cyclic) corner the masks' first tangent runs along the boundary and
+/// the second into the surface; return them as (along edge `k` of the face, toward corner
+/// `k - 1`) by projecting onto the face's edge directions.
+fn boundary_tangents(
+    t: &Topology,
+    l: &Local,
+    c: usize,
+    k: usize,
+    t1: [f64; 3],
+    t2: [f64; 3],
+) -> ([f64; 3], [f64; 3]) {
+    let fv = t.face_vertices(l.face);
+    let n = fv.len();
+    let sub = |a: usize, b: usize| {
+        let (p, q) = (l.pos[a], l.pos[b]);
+        [p[0] - q[0], p[1] - q[1], p[2] - q[2]]
+    };
+    let e_next = sub(fv[(k + 1) % n] as usize, c);
+    let e_prev = sub(fv[(k + n - 1) % n] as usize, c);
+    // Express the face's edge directions in the tangent basis (t1, t2) by least squares,
+    // then map back: the result lies in the exact tangent plane, oriented like the edges.
+    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    let (g11, g12, g22) = (dot(t1, t1), dot(t1, t2), dot(t2, t2));
+    let det = g11 * g22 - g12 * g12;
+    let project = |e: [f64; 3]| {
+        if det.abs() <= f64::MIN_POSITIVE {
+            return e;
+        }
+        let (r1, r2) = (dot(e, t1), dot(e, t2));
+        let x = (g22 * r1 - g12 * r2) / det;
+        let y = (g11 * r2 - g12 * r1) / det;
+        [
+            x * t1[0] + y * t2[0],
+            x * t1[1] + y * t2[1],
+            x * t1[2] + y * t2[2],
+        ]
+    };
+    (project(e_next), project(e_prev))
+}
