@@ -1,0 +1,173 @@
+#!/usr/bin/env bash
+# Times uniform Catmull-Clark refinement (topology + double-precision positions, no output)
+# of subsurf against OpenSubdiv 3.5 (through osd-oracle) side by side, and measures the
+# peak memory of one run of each. Prints markdown tables (see BENCHMARKS.md).
+#
+# Usage: scripts/bench-vs-osd.sh [EXTRA.obj ...]
+#
+# Meshes: catmark_bishop and catmark_pawn from crates/subsurf/tests/shapes/osd at LEVELS,
+# a "large" input (catmark_bishop refined twice by `subsurf subdivide -l 2`) at
+# LARGE_LEVELS, and every EXTRA.obj at LEVELS.
+#
+# Environment:
+#   REPS=7              repetitions per process (each tool prints its median)
+#   ROUNDS=3            rounds of the interleaved OSD / 1-thread / 2-thread processes per
+#                       mesh and level; the table shows the median over the rounds of the
+#                       per-process medians, which damps bursts of load from other processes
+#   LEVELS="5 6"        levels for the small meshes and the extra ones
+#   LARGE_LEVELS="3 4"  levels for the large input
+#   SCALING_LEVELS="3 4 5 6"  levels of the time-per-output-vertex table (catmark_bishop;
+#                       empty: skip that table)
+#   OSD_ORACLE=PATH     use this osd-oracle binary instead of building one
+#   OSD_ORACLE_SRC=DIR  osd-oracle sources (default: ../shared/tools/osd-oracle next to the
+#                       repository); its build.sh installs Debian's libosd-dev if missing
+#
+# Exit status: 0 on success, 1 when the two tools disagree on a vertex count (or on any
+# other error), 2 when the oracle is neither given nor buildable.
+set -euo pipefail
+shopt -s inherit_errexit
+
+here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
+root="$(cd "$here/.." && pwd)"
+shapes="$root/crates/subsurf/tests/shapes/osd"
+
+REPS="${REPS:-7}"
+ROUNDS="${ROUNDS:-3}"
+LEVELS="${LEVELS:-5 6}"
+LARGE_LEVELS="${LARGE_LEVELS:-3 4}"
+SCALING_LEVELS="${SCALING_LEVELS-3 4 5 6}"
+
+case "${1:-}" in
+  -h|--help) sed -n '2,26p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+esac
+for extra in "$@"; do
+  [ -r "$extra" ] || { echo "bench-vs-osd: cannot read $extra" >&2; exit 1; }
+done
+
+log() { echo "bench-vs-osd: $*" >&2; }
+
+work="$(mktemp -d "${TMPDIR:-/tmp}/bench-vs-osd.XXXXXX")"
+trap 'rm -rf "$work"' EXIT
+
+# --- tools -----------------------------------------------------------------------------
+as_root() {
+  if [ "$(id -u)" -eq 0 ]; then "$@"; elif command -v sudo >/dev/null; then sudo "$@"; else
+    log "need root to run: $*"; return 1; fi
+}
+
+if [ -n "${OSD_ORACLE:-}" ]; then
+  oracle="$OSD_ORACLE"
+  [ -x "$oracle" ] || { log "OSD_ORACLE=$oracle is not an executable"; exit 2; }
+else
+  src="${OSD_ORACLE_SRC:-$root/../shared/tools/osd-oracle}"
+  if [ ! -x "$src/build.sh" ]; then
+    log "the OpenSubdiv oracle source is not available at $src (expected build.sh there)."
+    log "Set OSD_ORACLE_SRC=DIR to its sources, or OSD_ORACLE=PATH to a built osd-oracle."
+    exit 2
+  fi
+  oracle="$work/osd-oracle"
+  log "building osd-oracle from $src"
+  "$src/build.sh" "$oracle" >&2 || { log "building osd-oracle failed"; exit 2; }
+fi
+
+if [ ! -x /usr/bin/time ]; then
+  log "installing Debian's 'time' for /usr/bin/time -v"
+  (as_root apt-get update -qq && DEBIAN_FRONTEND=noninteractive as_root apt-get install -y -qq time) >/dev/null
+fi
+
+log "building subsurf (release)"
+(cd "$root" && cargo build --release --quiet -p subsurf-cli)
+target_dir="${CARGO_TARGET_DIR:-$root/target}"
+case "$target_dir" in /*) ;; *) target_dir="$root/$target_dir" ;; esac
+subsurf="$target_dir/release/subsurf"
+[ -x "$subsurf" ] || { log "no subsurf binary at $subsurf"; exit 1; }
+
+# --- inputs ----------------------------------------------------------------------------
+large="$work/catmark_bishop_l2.obj"
+log "writing the large input (catmark_bishop refined to level 2)"
+"$subsurf" subdivide --quiet -l 2 "$shapes/catmark_bishop.obj" -o "$large"
+
+# "path|label|levels" per row group.
+runs=(
+  "$shapes/catmark_bishop.obj|catmark_bishop|$LEVELS"
+  "$shapes/catmark_pawn.obj|catmark_pawn|$LEVELS"
+  "$large|catmark_bishop_l2 (large)|$LARGE_LEVELS"
+)
+for extra in "$@"; do
+  runs+=("$extra|$(basename "$extra" .obj)|$LEVELS")
+done
+
+# --- measurement helpers ---------------------------------------------------------------
+# field NAME LINE: the value of NAME=value in LINE.
+field() { sed -n "s/.*[[:space:]]$1=\([^[:space:]]*\).*/\1/p" <<<"$2"; }
+# median X...: the median of the numbers X (the upper one of the middle two for an even count).
+median() { printf '%s\n' "$@" | sort -g | awk '{ v[NR] = $1 } END { print v[int(NR / 2) + 1] }'; }
+# ratio A B: A / B with two decimals.
+ratio() { awk -v a="$1" -v b="$2" 'BEGIN { if (b > 0) printf "%.2f", a / b; else print "n/a" }'; }
+# maxrss_mib CMD...: peak resident set size of one run of CMD, in MiB.
+maxrss_mib() {
+  /usr/bin/time -v -o "$work/time.txt" "$@" >/dev/null
+  awk -F: '/Maximum resident set size/ { printf "%.0f", $2 / 1024 }' "$work/time.txt"
+}
+
+printf '\nTimes: median over %s interleaved rounds of the median of %s repetitions per process.\n' "$ROUNDS" "$REPS"
+printf 'ratio = subsurf time / OSD time (< 1: subsurf faster).\n'
+printf 'Max RSS: one run (1 repetition) of `osd-oracle bench IN L 1` and `subsurf bench IN -l L --reps 1 --threads 1`.\n\n'
+printf '| mesh | level | output verts | OSD median s | subsurf 1T median s | 1T/OSD | subsurf 2T median s | 2T/OSD | OSD max RSS MiB | subsurf max RSS MiB |\n'
+printf '|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n'
+
+status=0
+for run in "${runs[@]}"; do
+  IFS='|' read -r path label levels <<<"$run"
+  for level in $levels; do
+    log "$label level $level"
+    # Interleaved: OSD, subsurf 1 thread, subsurf 2 threads, one after the other, ROUNDS times.
+    osd_t=() t1_t=() t2_t=()
+    for _ in $(seq "$ROUNDS"); do
+      osd_line="$("$oracle" bench "$path" "$level" "$REPS")"
+      t1_line="$("$subsurf" bench "$path" -l "$level" --reps "$REPS" --threads 1)"
+      t2_line="$("$subsurf" bench "$path" -l "$level" --reps "$REPS" --threads 2)"
+      osd_t+=("$(field median_s "$osd_line")")
+      t1_t+=("$(field median_s "$t1_line")")
+      t2_t+=("$(field median_s "$t2_line")")
+    done
+    osd_s="$(median "${osd_t[@]}")"
+    t1_s="$(median "${t1_t[@]}")"
+    t2_s="$(median "${t2_t[@]}")"
+    verts="$(field verts "$t1_line")"
+    osd_verts="$(field verts "$osd_line")"
+    if [ "$verts" != "$osd_verts" ]; then
+      log "WARNING: $label level $level: subsurf has $verts vertices, OSD $osd_verts"
+      verts="$verts (OSD: $osd_verts)"
+      status=1
+    fi
+    osd_rss="$(maxrss_mib "$oracle" bench "$path" "$level" 1)"
+    sub_rss="$(maxrss_mib "$subsurf" bench "$path" -l "$level" --reps 1 --threads 1)"
+    printf '| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |\n' \
+      "$label" "$level" "$verts" "$osd_s" "$t1_s" "$(ratio "$t1_s" "$osd_s")" \
+      "$t2_s" "$(ratio "$t2_s" "$osd_s")" "$osd_rss" "$sub_rss"
+  done
+done
+
+if [ -n "$SCALING_LEVELS" ]; then
+  printf '\nTime per output vertex, catmark_bishop (1 thread, measured as above):\n\n'
+  printf '| level | output verts | subsurf 1T median s | subsurf ns/vertex | OSD median s | OSD ns/vertex |\n'
+  printf '|---:|---:|---:|---:|---:|---:|\n'
+  for level in $SCALING_LEVELS; do
+    log "catmark_bishop level $level (time per vertex)"
+    t1_t=() osd_t=()
+    for _ in $(seq "$ROUNDS"); do
+      t1_line="$("$subsurf" bench "$shapes/catmark_bishop.obj" -l "$level" --reps "$REPS" --threads 1)"
+      osd_line="$("$oracle" bench "$shapes/catmark_bishop.obj" "$level" "$REPS")"
+      t1_t+=("$(field median_s "$t1_line")")
+      osd_t+=("$(field median_s "$osd_line")")
+    done
+    verts="$(field verts "$t1_line")"
+    t1_s="$(median "${t1_t[@]}")"
+    osd_s="$(median "${osd_t[@]}")"
+    printf '| %s | %s | %s | %s | %s | %s |\n' "$level" "$verts" \
+      "$t1_s" "$(awk -v t="$t1_s" -v n="$verts" 'BEGIN { printf "%.1f", t * 1e9 / n }')" \
+      "$osd_s" "$(awk -v t="$osd_s" -v n="$verts" 'BEGIN { printf "%.1f", t * 1e9 / n }')"
+  done
+fi
+exit "$status"
