@@ -123,6 +123,10 @@ pub struct BenchArgs {
     /// Worker threads (0: one per core).
     #[arg(long, value_name = "N", default_value_t = 0)]
     pub threads: usize,
+    /// Time limit evaluation instead: build the exact limit surface and evaluate an N×N
+    /// grid on every quad face (as `osd-oracle benchlimit IN N REPS`).
+    #[arg(long, value_name = "N")]
+    pub limit_grid: Option<u32>,
     #[command(flatten)]
     pub scheme: SchemeArgs,
 }

@@ -26,6 +26,9 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         .build()
         .context("cannot start the thread pool")?;
     let reps = args.reps.max(1);
+    if let Some(n) = args.limit_grid {
+        return bench_limit(&input, opts.scheme, n as usize, reps, &pool);
+    }
     let mut times = Vec::with_capacity(reps);
     let mut verts = 0;
     for _ in 0..reps {
@@ -41,6 +44,60 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         "subsurf refine level={} verts={} threads={} median_s={:.6} min_s={:.6}",
         args.levels,
         verts,
+        pool.current_num_threads(),
+        times[times.len() / 2],
+        times[0]
+    );
+    Ok(())
+}
+
+/// Times building the limit surface and evaluating an `n`×`n` grid on every quad face.
+fn bench_limit(
+    input: &Input,
+    options: Options,
+    n: usize,
+    reps: usize,
+    pool: &rayon::ThreadPool,
+) -> Result<()> {
+    use subsurf::limit::{LimitSurface, SurfacePoint};
+    let param = |i: usize| {
+        if n == 1 {
+            0.5
+        } else {
+            i as f64 / (n - 1) as f64
+        }
+    };
+    let mut times = Vec::with_capacity(reps);
+    let mut count = 0;
+    let mut sink = 0.0;
+    for _ in 0..reps {
+        let t0 = Instant::now();
+        let surface = pool
+            .install(|| LimitSurface::new(&input.obj.mesh, options))
+            .with_context(|| input.name.clone())?;
+        let points: Vec<SurfacePoint> = (0..surface.num_faces())
+            .filter(|&f| surface.num_subfaces(f) == 1 && surface.has_surface(f))
+            .flat_map(|f| {
+                (0..n * n).map(move |k| SurfacePoint {
+                    face: f as u32,
+                    subface: 0,
+                    u: param(k / n),
+                    v: param(k % n),
+                })
+            })
+            .collect();
+        let results = pool.install(|| surface.eval_many(&points));
+        times.push(t0.elapsed().as_secs_f64());
+        count = results.len();
+        sink += results
+            .iter()
+            .filter_map(|r| r.as_ref().ok())
+            .map(|d| d.p[0])
+            .sum::<f64>();
+    }
+    times.sort_by(f64::total_cmp);
+    println!(
+        "subsurf limit points={count} threads={} median_s={:.6} min_s={:.6} (sink {sink:.3})",
         pool.current_num_threads(),
         times[times.len() / 2],
         times[0]

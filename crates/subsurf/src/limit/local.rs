@@ -25,29 +25,25 @@ pub struct Local {
 
 /// Cuts the 2-ring of face `f` out of level `t` (positions `pos`).
 pub fn extract(t: &Topology, pos: &[[f64; 3]], f: usize) -> Local {
-    // Faces: f first, then the rest of its 2-ring, each once.
+    // Faces: f first, then the rest of its 2-ring, each once (a few dozen: linear search).
     let mut faces = vec![f as u32];
-    let mut seen_face = std::collections::HashSet::new();
-    seen_face.insert(f as u32);
-    let mut ring1_verts = Vec::new();
     for &v in t.face_vertices(f) {
         for &g in t.vertex_faces(v as usize) {
-            if seen_face.insert(g) {
+            if !faces.contains(&g) {
                 faces.push(g);
             }
         }
     }
-    for &g in &faces {
-        ring1_verts.extend_from_slice(t.face_vertices(g as usize));
-    }
-    for &v in &ring1_verts {
-        for &g in t.vertex_faces(v as usize) {
-            if seen_face.insert(g) {
-                faces.push(g);
+    let ring1 = faces.len();
+    for i in 0..ring1 {
+        for &v in t.face_vertices(faces[i] as usize) {
+            for &g in t.vertex_faces(v as usize) {
+                if !faces.contains(&g) {
+                    faces.push(g);
+                }
             }
         }
     }
-
     let (topo, verts) = t.subset(&faces);
     let pos = verts.iter().map(|&v| pos[v as usize]).collect();
     Local { topo, pos, face: 0 }

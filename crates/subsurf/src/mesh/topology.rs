@@ -781,31 +781,59 @@ impl Topology {
     ///
     /// Returns the subset and, for each of its vertices, the vertex of `self`.
     pub(crate) fn subset(&self, faces: &[u32]) -> (Topology, Vec<u32>) {
-        let mut vmap = std::collections::HashMap::new();
-        let mut emap = std::collections::HashMap::new();
-        let mut fmap = std::collections::HashMap::new();
-        let mut verts = Vec::new();
-        let mut edges = Vec::new();
-        let mut face_offsets = vec![0u32];
-        let mut face_verts = Vec::new();
-        let mut face_edges = Vec::new();
-        for (i, &f) in faces.iter().enumerate() {
-            fmap.insert(f, i as u32);
+        // Subsets are small: maps from this level's indices are sorted (index, local) pairs.
+        fn lookup(map: &[(u32, u32)], x: u32) -> Option<u32> {
+            map.binary_search_by_key(&x, |&(k, _)| k)
+                .ok()
+                .map(|i| map[i].1)
+        }
+        fn sorted_map(items: &[u32]) -> Vec<(u32, u32)> {
+            let mut m: Vec<(u32, u32)> = items
+                .iter()
+                .enumerate()
+                .map(|(i, &x)| (x, i as u32))
+                .collect();
+            m.sort_unstable();
+            m
+        }
+        let mut verts: Vec<u32> = Vec::new();
+        let mut edges: Vec<u32> = Vec::new();
+        for &f in faces {
             for (&v, &e) in self
                 .face_vertices(f as usize)
                 .iter()
                 .zip(self.face_edge_list(f as usize))
             {
-                let lv = *vmap.entry(v).or_insert_with(|| {
-                    verts.push(v);
-                    (verts.len() - 1) as u32
-                });
-                let le = *emap.entry(e).or_insert_with(|| {
-                    edges.push(e);
-                    (edges.len() - 1) as u32
-                });
-                face_verts.push(lv);
-                face_edges.push(le);
+                verts.push(v);
+                edges.push(e);
+            }
+        }
+        // First appearance order, without repeats.
+        let first_appearance = |items: &mut Vec<u32>| {
+            let mut seen: Vec<(u32, usize)> =
+                items.iter().enumerate().map(|(i, &x)| (x, i)).collect();
+            seen.sort_unstable();
+            seen.dedup_by_key(|p| p.0);
+            seen.sort_unstable_by_key(|p| p.1);
+            *items = seen.into_iter().map(|p| p.0).collect();
+        };
+        first_appearance(&mut verts);
+        first_appearance(&mut edges);
+        let vmap = sorted_map(&verts);
+        let emap = sorted_map(&edges);
+        let fmap = sorted_map(faces);
+        let mut face_offsets = Vec::with_capacity(faces.len() + 1);
+        face_offsets.push(0u32);
+        let mut face_verts = Vec::new();
+        let mut face_edges = Vec::new();
+        for &f in faces {
+            for (&v, &e) in self
+                .face_vertices(f as usize)
+                .iter()
+                .zip(self.face_edge_list(f as usize))
+            {
+                face_verts.push(lookup(&vmap, v).unwrap_or(0));
+                face_edges.push(lookup(&emap, e).unwrap_or(0));
             }
             face_offsets.push(face_verts.len() as u32);
         }
@@ -821,7 +849,7 @@ impl Topology {
         };
         t.edge_verts = edges
             .iter()
-            .map(|&e| self.edge_verts[e as usize].map(|v| vmap[&v]))
+            .map(|&e| self.edge_verts[e as usize].map(|v| lookup(&vmap, v).unwrap_or(0)))
             .collect();
         t.edge_sharpness = edges
             .iter()
@@ -832,7 +860,7 @@ impl Topology {
         for &e in &edges {
             let r = range(&self.edge_face_offsets, e as usize);
             for i in r {
-                if let Some(&lf) = fmap.get(&self.edge_faces[i]) {
+                if let Some(lf) = lookup(&fmap, self.edge_faces[i]) {
                     t.edge_faces.push(lf);
                     t.edge_face_local.push(self.edge_face_local[i]);
                 }
@@ -848,14 +876,14 @@ impl Topology {
         t.vert_edge_offsets.push(0);
         for &v in &verts {
             for i in range(&self.vert_face_offsets, v as usize) {
-                if let Some(&lf) = fmap.get(&self.vert_faces[i]) {
+                if let Some(lf) = lookup(&fmap, self.vert_faces[i]) {
                     t.vert_faces.push(lf);
                     t.vert_face_local.push(self.vert_face_local[i]);
                 }
             }
             t.vert_face_offsets.push(t.vert_faces.len() as u32);
             for i in range(&self.vert_edge_offsets, v as usize) {
-                if let Some(&le) = emap.get(&self.vert_edges[i]) {
+                if let Some(le) = lookup(&emap, self.vert_edges[i]) {
                     t.vert_edges.push(le);
                     t.vert_edge_local.push(self.vert_edge_local[i]);
                 }
