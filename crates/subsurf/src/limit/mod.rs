@@ -11,9 +11,11 @@
 pub mod bspline;
 mod local;
 mod patch;
+mod stencil;
 mod surface;
 
 pub use bspline::Derivatives;
+pub use stencil::{LimitStencils, StencilError};
 pub use surface::{EvalError, LimitSurface, SurfacePoint, CACHE_DEPTH, MAX_DEPTH};
 
 use crate::mesh::Topology;

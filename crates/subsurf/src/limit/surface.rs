@@ -98,7 +98,7 @@ pub enum EvalError {
 
 /// The limit surface of one face (or sub-face).
 #[derive(Clone, Debug)]
-enum Node {
+pub(super) enum Node {
     Hole,
     Regular(Box<[[[f64; 3]; 4]; 4]>),
     /// Children at the corners 0, 1, 2, 3 (quadrants `[0,½]×[0,½]`, `[½,1]×[0,½]`,
@@ -207,7 +207,12 @@ impl LimitSurface {
     }
 }
 
-fn build_face(base: &Topology, pos: &[[f64; 3]], f: usize, options: &Options) -> Vec<Node> {
+pub(super) fn build_face(
+    base: &Topology,
+    pos: &[[f64; 3]],
+    f: usize,
+    options: &Options,
+) -> Vec<Node> {
     let n = base.face_vertices(f).len();
     if base.is_hole(f) {
         return vec![Node::Hole; if n == 4 { 1 } else { n }];
@@ -272,7 +277,13 @@ fn quadrant(u: f64, v: f64) -> (usize, f64, f64) {
     }
 }
 
-fn eval_node(node: &Node, u: f64, v: f64, depth: u32, options: &Options) -> Option<Derivatives> {
+pub(super) fn eval_node(
+    node: &Node,
+    u: f64,
+    v: f64,
+    depth: u32,
+    options: &Options,
+) -> Option<Derivatives> {
     let (mut node, mut u, mut v, mut depth) = (node, u, v, depth);
     loop {
         match node {
