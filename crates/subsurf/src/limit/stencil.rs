@@ -18,6 +18,11 @@ use super::surface::{build_face, eval_node, EvalError, SurfacePoint};
 use crate::mesh::{MeshError, Options, PolyMesh, Topology};
 use rayon::prelude::*;
 
+/// One sample's stencil: `(control vertex, [w_position, w_du, w_dv])` entries.
+type Row = Vec<(u32, [f64; 3])>;
+/// Stencils of one face's samples, by sample index.
+type FaceRows = Vec<(usize, Row)>;
+
 /// Errors of [`LimitStencils::new`].
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum StencilError {
@@ -70,14 +75,14 @@ impl LimitStencils {
             }
         }
         let nv = mesh.num_vertices();
-        let per_group: Vec<Result<Vec<(usize, Vec<(u32, [f64; 3])>)>, StencilError>> = groups
+        let per_group: Vec<Result<FaceRows, StencilError>> = groups
             .par_iter()
             .map_init(
                 || vec![[0.0; 3]; nv],
                 |unit, group| face_stencils(&base, unit, group, points, &options),
             )
             .collect();
-        let mut rows: Vec<Vec<(u32, [f64; 3])>> = vec![Vec::new(); points.len()];
+        let mut rows: Vec<Row> = vec![Vec::new(); points.len()];
         for g in per_group {
             for (i, row) in g? {
                 rows[i] = row;
@@ -161,7 +166,7 @@ fn face_stencils(
     group: &[usize],
     points: &[SurfacePoint],
     options: &Options,
-) -> Result<Vec<(usize, Vec<(u32, [f64; 3])>)>, StencilError> {
+) -> Result<FaceRows, StencilError> {
     let f = points[group[0]].face as usize;
     let err = |index: usize, error: EvalError| StencilError::Point { index, error };
     if f >= base.num_faces() {
