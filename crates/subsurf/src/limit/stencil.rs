@@ -203,8 +203,7 @@ fn face_stencils(
             }
         }
     }
-    let mut rows: Vec<(usize, Vec<(u32, [f64; 3])>)> =
-        group.iter().map(|&i| (i, Vec::new())).collect();
+    let mut rows: FaceRows = group.iter().map(|&i| (i, Vec::new())).collect();
     for chunk in ring.chunks(3) {
         for (k, &v) in chunk.iter().enumerate() {
             unit[v as usize][k] = 1.0;
