@@ -91,15 +91,12 @@ fn position_weights_sum_to_one() {
     let surface = LimitSurface::new(&mesh, options).expect("surface");
     let pts: Vec<SurfacePoint> = samples(&surface).into_iter().step_by(7).collect();
     let table = LimitStencils::new(&mesh, options, &pts).expect("stencils");
-    for s in 0..table.len() {
+    for (s, p) in pts.iter().enumerate() {
         let (sp, sd): (f64, f64) = table
             .stencil(s)
             .fold((0.0, 0.0), |a, (_, w)| (a.0 + w[0], a.1 + w[1]));
         assert!((sp - 1.0).abs() < 1e-12, "sample {s}: {sp}");
-        let corner = {
-            let p = pts[s];
-            (p.u == 0.0 || p.u == 1.0) && (p.v == 0.0 || p.v == 1.0)
-        };
+        let corner = (p.u == 0.0 || p.u == 1.0) && (p.v == 0.0 || p.v == 1.0);
         if !corner {
             assert!(sd.abs() < 1e-9, "sample {s}: du weights sum to {sd}");
         }
