@@ -70,6 +70,9 @@ enum Command {
     /// Sample the exact limit surface on an N×N grid per quad face (osd-oracle limit layout).
     #[command(after_help = LIMIT_EXAMPLES)]
     Limit(LimitArgs),
+    /// Sample the exact limit surface on a watertight grid; write OBJ, PLY or STL.
+    #[command(after_help = TESSELLATE_EXAMPLES)]
+    Tessellate(TessellateArgs),
     /// Time uniform refinement (topology + positions, no output), like `osd-oracle bench`.
     #[command(after_help = BENCH_EXAMPLES)]
     Bench(BenchArgs),
@@ -99,6 +102,43 @@ pub struct LimitArgs {
     pub output: PathBuf,
     #[command(flatten)]
     pub scheme: SchemeArgs,
+}
+
+const TESSELLATE_EXAMPLES: &str = "\
+Each quad face becomes N x N quads sampled at u = i/N, v = j/N on the exact limit surface;
+samples on shared edges and vertices are evaluated once and shared, so the output is
+watertight. A non-quad face is sampled through its quad sub-faces at N/2 x N/2 (an odd N is
+rounded up when the mesh has non-quad faces). Holes produce no faces. The format follows
+OUT's extension: .obj (positions and vn normals, full precision), .ply (binary, f64
+positions and normals), .stl (binary, f32, triangles). '-o -' writes OBJ to standard output.
+
+Examples:
+  subsurf tessellate model.obj -o model-smooth.obj --rate 8
+  subsurf tessellate model.obj -o model.ply --rate 16
+  subsurf tessellate model.obj -o print.stl --rate 12 --triangles
+  subsurf tessellate grid.obj -o - --rate 4 --boundary edge-and-corner > grid-limit.obj";
+
+/// Arguments of `subsurf tessellate`.
+#[derive(Debug, Args)]
+pub struct TessellateArgs {
+    /// Input OBJ file ('-' reads standard input).
+    #[arg(value_name = "IN")]
+    pub input: PathBuf,
+    /// Output file, .obj, .ply or .stl ('-' writes OBJ to standard output); written only
+    /// when everything succeeded.
+    #[arg(short, long, value_name = "OUT")]
+    pub output: PathBuf,
+    /// Segments per base edge: each quad becomes N x N quads.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
+    pub rate: u32,
+    /// Split every quad into two triangles (along its shorter diagonal).
+    #[arg(long)]
+    pub triangles: bool,
+    #[command(flatten)]
+    pub scheme: SchemeArgs,
+    /// Print no warnings or notes.
+    #[arg(short, long)]
+    pub quiet: bool,
 }
 
 const BENCH_EXAMPLES: &str = "\
@@ -283,6 +323,7 @@ fn main() -> ExitCode {
         Command::Demo(args) => cmd::demo::run(args),
         Command::Bench(args) => cmd::bench::run(args),
         Command::Limit(args) => cmd::limit::run(args),
+        Command::Tessellate(args) => cmd::tessellate::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

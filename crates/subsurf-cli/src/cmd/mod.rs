@@ -5,3 +5,4 @@ pub mod demo;
 pub mod info;
 pub mod limit;
 pub mod subdivide;
+pub mod tessellate;

@@ -8,5 +8,7 @@
 
 mod atomic;
 pub mod obj;
+pub mod ply;
+pub mod stl;
 
 pub use atomic::write_atomically;

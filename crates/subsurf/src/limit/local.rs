@@ -25,22 +25,36 @@ pub struct Local {
 
 /// Cuts the 2-ring of face `f` out of level `t` (positions `pos`).
 pub fn extract(t: &Topology, pos: &[[f64; 3]], f: usize) -> Local {
-    // Faces: f first, then the rest of its 2-ring, each once (a few dozen: linear search).
+    // Faces: f first, then the rest of its 2-ring, each once. Cut-outs of cut-outs are
+    // small, so a mark per face is cheap there; on a large level, search the short list.
+    let mut marks = if t.num_faces() <= 1 << 14 {
+        vec![false; t.num_faces()]
+    } else {
+        Vec::new()
+    };
+    if let Some(m) = marks.get_mut(f) {
+        *m = true;
+    }
     let mut faces = vec![f as u32];
+    let mut add = |g: u32, faces: &mut Vec<u32>| {
+        let seen = match marks.get_mut(g as usize) {
+            Some(m) => std::mem::replace(m, true),
+            None => faces.contains(&g),
+        };
+        if !seen && g as usize != f {
+            faces.push(g);
+        }
+    };
     for &v in t.face_vertices(f) {
         for &g in t.vertex_faces(v as usize) {
-            if !faces.contains(&g) {
-                faces.push(g);
-            }
+            add(g, &mut faces);
         }
     }
     let ring1 = faces.len();
     for i in 0..ring1 {
         for &v in t.face_vertices(faces[i] as usize) {
             for &g in t.vertex_faces(v as usize) {
-                if !faces.contains(&g) {
-                    faces.push(g);
-                }
+                add(g, &mut faces);
             }
         }
     }

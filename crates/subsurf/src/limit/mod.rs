@@ -13,10 +13,14 @@ mod local;
 mod patch;
 mod stencil;
 mod surface;
+mod tessellate;
 
 pub use bspline::Derivatives;
 pub use stencil::{LimitStencils, StencilError};
-pub use surface::{EvalError, LimitSurface, SurfacePoint, CACHE_DEPTH, MAX_DEPTH};
+pub use surface::{EvalError, LimitSurface, SurfacePoint, MAX_DEPTH};
+pub use tessellate::{
+    tessellate, tessellate_mesh, TessellateError, Tessellation, MAX_TESSELLATION_VERTICES,
+};
 
 use crate::mesh::Topology;
 use crate::scheme::catmark::{self, VertexMask};

@@ -49,72 +49,86 @@ pub fn regular_patch(t: &Topology, pos: &[[f64; 3]], f: usize) -> Option<[[[f64;
         put(k, (0, 0), fv[k]);
     }
     for k in 0..4 {
-        let c = fv[k] as usize;
-        let tag = t.vertex_tag(c);
-        if tag.non_manifold || tag.semi_sharp || crease::is_semi_sharp(t.vertex_sharpness(c)) {
-            return None;
-        }
-        if t.vertex_edges(c)
-            .iter()
-            .any(|&e| t.edge_tag(e as usize).semi_sharp)
-        {
-            return None;
-        }
-        // Walk the sector: counter-clockwise across the edge entering `c` in each face,
-        // clockwise across the edge leaving it, stopping at infinitely sharp edges.
-        let (ccw, closed) = walk(t, f, c, true);
-        let inf_edges = t
-            .vertex_edges(c)
-            .iter()
-            .filter(|&&e| t.edge_tag(e as usize).inf_sharp)
-            .count();
-        if closed {
-            // A smooth interior vertex of valence 4: faces 1, 2 counter-clockwise from f
-            // and face 3 (clockwise neighbour), all quads.
-            if tag.rule != Rule::Smooth || inf_edges != 0 || ccw.len() != 3 {
-                return None;
+        match regular_corner(t, f, k)? {
+            Corner::Closed(ring) => {
+                let q = |(g, m): (usize, usize), d: usize| t.face_vertices(g)[(m + d) % 4];
+                put(k, (-1, 1), q(ring[0], 2));
+                put(k, (-1, 0), q(ring[0], 3));
+                put(k, (-1, -1), q(ring[1], 2));
+                put(k, (0, -1), q(ring[1], 3));
+                put(k, (1, -1), q(ring[2], 2));
             }
-            if ccw.iter().any(|&(g, _)| t.face_vertices(g).len() != 4) {
-                return None;
+            Corner::Sector { ccw, cw } => {
+                for &(g, m) in &ccw {
+                    let q = |d: usize| t.face_vertices(g)[(m + d) % 4];
+                    put(k, (-1, 1), q(2));
+                    put(k, (-1, 0), q(3));
+                }
+                for &(g, m) in &cw {
+                    let q = |d: usize| t.face_vertices(g)[(m + d) % 4];
+                    put(k, (0, -1), q(1));
+                    put(k, (1, -1), q(2));
+                }
             }
-            let q = |(g, m): (usize, usize), d: usize| t.face_vertices(g)[(m + d) % 4];
-            put(k, (-1, 1), q(ccw[0], 2));
-            put(k, (-1, 0), q(ccw[0], 3));
-            put(k, (-1, -1), q(ccw[1], 2));
-            put(k, (0, -1), q(ccw[1], 3));
-            put(k, (1, -1), q(ccw[2], 2));
-            continue;
-        }
-        let (cw, _) = walk(t, f, c, false);
-        let sector = 1 + ccw.len() + cw.len();
-        let ok = match tag.rule {
-            Rule::Crease => inf_edges == 2 && sector == 2,
-            Rule::Corner => sector == 1 && (tag.inf_sharp || inf_edges > 2),
-            Rule::Smooth | Rule::Dart => false,
-        };
-        if !ok
-            || ccw
-                .iter()
-                .chain(&cw)
-                .any(|&(g, _)| t.face_vertices(g).len() != 4)
-        {
-            return None;
-        }
-        for &(g, m) in &ccw {
-            let q = |d: usize| t.face_vertices(g)[(m + d) % 4];
-            put(k, (-1, 1), q(2));
-            put(k, (-1, 0), q(3));
-        }
-        for &(g, m) in &cw {
-            let q = |d: usize| t.face_vertices(g)[(m + d) % 4];
-            put(k, (0, -1), q(1));
-            put(k, (1, -1), q(2));
         }
     }
     let fe = t.face_edge_list(f);
     let sharp = [0, 1, 2, 3].map(|k| t.edge_tag(fe[k] as usize).inf_sharp);
     fill_phantoms(&mut cp, sharp);
     Some(cp)
+}
+
+/// The faces around a regular corner, as [`regular_corner`] finds them: each item is
+/// `(face, position of the corner in it)`.
+pub(super) enum Corner {
+    /// A smooth interior vertex of valence 4: the three other faces, counter-clockwise
+    /// from the face.
+    Closed([(usize, usize); 3]),
+    /// A sector bounded by infinitely sharp edges: the faces counter-clockwise and
+    /// clockwise from the face (one of them for a crease, none for a corner).
+    Sector {
+        /// Counter-clockwise neighbours.
+        ccw: Vec<(usize, usize)>,
+        /// Clockwise neighbours.
+        cw: Vec<(usize, usize)>,
+    },
+}
+
+/// Whether corner `k` of quad `f` is regular (see the module docs), and its neighbours.
+pub(super) fn regular_corner(t: &Topology, f: usize, k: usize) -> Option<Corner> {
+    let c = t.face_vertices(f)[k] as usize;
+    let tag = t.vertex_tag(c);
+    if tag.non_manifold || tag.semi_sharp || crease::is_semi_sharp(t.vertex_sharpness(c)) {
+        return None;
+    }
+    if t.vertex_edges(c)
+        .iter()
+        .any(|&e| t.edge_tag(e as usize).semi_sharp)
+    {
+        return None;
+    }
+    // Walk the sector: counter-clockwise across the edge entering `c` in each face,
+    // clockwise across the edge leaving it, stopping at infinitely sharp edges.
+    let (ccw, closed) = walk(t, f, c, true);
+    let inf_edges = t
+        .vertex_edges(c)
+        .iter()
+        .filter(|&&e| t.edge_tag(e as usize).inf_sharp)
+        .count();
+    let quads =
+        |faces: &[(usize, usize)]| faces.iter().all(|&(g, _)| t.face_vertices(g).len() == 4);
+    if closed {
+        let ok = tag.rule == Rule::Smooth && inf_edges == 0 && ccw.len() == 3 && quads(&ccw);
+        return ok.then(|| Corner::Closed([ccw[0], ccw[1], ccw[2]]));
+    }
+    let (cw, _) = walk(t, f, c, false);
+    let sector = 1 + ccw.len() + cw.len();
+    let ok = match tag.rule {
+        Rule::Crease => inf_edges == 2 && sector == 2,
+        Rule::Corner => sector == 1 && (tag.inf_sharp || inf_edges > 2),
+        Rule::Smooth | Rule::Dart => false,
+    };
+    (ok && quads(&ccw) && quads(&cw)).then_some(Corner::Sector { ccw, cw })
 }
 
 /// Faces around vertex `c` reached from face `f` by crossing, repeatedly, the edge that

@@ -9,9 +9,10 @@
 //! level with the full OpenSubdiv rules; each of its four children is again either regular
 //! (a patch) or refined further. Irregularities stay at the corners of sub-faces, so each
 //! level leaves at most one irregular child per irregular corner, and a point at distance
-//! `d` from an irregular corner is reached after about `log₂(1/d)` levels. The first
-//! [`CACHE_DEPTH`] levels are built when the surface is built; deeper levels are refined
-//! on demand for the points that need them. A point exactly at an irregular corner (or
+//! `d` from an irregular corner is reached after about `log₂(1/d)` levels. Levels are
+//! refined on demand, the first time a point needs them, and kept for later points
+//! (thread-safely, so batched parallel evaluation shares them). A point exactly at an
+//! irregular corner (or
 //! closer than `2^-MAX_DEPTH`) takes its position and normal from OpenSubdiv's limit masks
 //! at that corner.
 //!
@@ -35,14 +36,13 @@
 
 use super::bspline::{self, Derivatives};
 use super::local::{extract, Local};
-use super::patch::regular_patch;
+use super::patch::{regular_corner, regular_patch};
 use crate::mesh::{MeshError, Options, PolyMesh, Topology};
 use crate::refine::{interpolate, refine_topology};
 use crate::scheme::catmark::{self, VertexMask};
 use rayon::prelude::*;
+use std::sync::OnceLock;
 
-/// Levels of local refinement built with the surface.
-pub const CACHE_DEPTH: u32 = 5;
 /// Deepest local refinement; a sub-face is then `2^-48` of its face.
 pub const MAX_DEPTH: u32 = 48;
 
@@ -101,11 +101,26 @@ pub enum EvalError {
 pub(super) enum Node {
     Hole,
     Regular(Box<[[[f64; 3]; 4]; 4]>),
-    /// Children at the corners 0, 1, 2, 3 (quadrants `[0,½]×[0,½]`, `[½,1]×[0,½]`,
-    /// `[½,1]²`, `[0,½]×[½,1]`).
-    Split(Box<[Node; 4]>),
-    /// Not refined further yet: the cut-out to refine on demand.
-    Deep(Box<Local>),
+    /// An irregular (sub-)face: its cut-out, refined into four children the first time a
+    /// point needs them.
+    Lazy(Box<Lazy>),
+}
+
+/// An irregular node: the cut-out around it and, once built, its children at the corners
+/// 0, 1, 2, 3 (quadrants `[0,½]×[0,½]`, `[½,1]×[0,½]`, `[½,1]²`, `[0,½]×[½,1]`).
+#[derive(Clone, Debug)]
+pub(super) struct Lazy {
+    local: Local,
+    kids: OnceLock<Box<[Node; 4]>>,
+}
+
+impl Node {
+    fn lazy(local: Local) -> Node {
+        Node::Lazy(Box::new(Lazy {
+            local,
+            kids: OnceLock::new(),
+        }))
+    }
 }
 
 /// The exact Catmull-Clark limit surface of a mesh, evaluable anywhere. See the module
@@ -218,18 +233,13 @@ pub(super) fn build_face(
         return vec![Node::Hole; if n == 4 { 1 } else { n }];
     }
     if n == 4 {
-        if let Some(cp) = regular_patch(base, pos, f) {
-            return vec![Node::Regular(Box::new(cp))];
-        }
-        return vec![build_node(extract(base, pos, f), 0, options)];
+        return vec![node_for(base, pos, f)];
     }
     // Sub-faces: the children of the face after one step, unrotated for n ≠ 4.
     let local = extract(base, pos, f);
     let (child, cpos) = refine_local(&local, options);
     let first = child_face(&local, 0);
-    (0..n)
-        .map(|j| node_for(&child, &cpos, first + j, 1, options))
-        .collect()
+    (0..n).map(|j| node_for(&child, &cpos, first + j)).collect()
 }
 
 /// Refines a cut-out one level (full topology).
@@ -245,25 +255,22 @@ fn child_face(l: &Local, j: usize) -> usize {
     l.topo.face_offsets()[l.face] as usize + j
 }
 
-/// The node of face `f` of a refined cut-out, at `depth` levels below its base face.
-fn node_for(t: &Topology, pos: &[[f64; 3]], f: usize, depth: u32, options: &Options) -> Node {
+/// The node of face `f` of a level or refined cut-out.
+fn node_for(t: &Topology, pos: &[[f64; 3]], f: usize) -> Node {
     if t.is_hole(f) {
         return Node::Hole;
     }
     match regular_patch(t, pos, f) {
         Some(cp) => Node::Regular(Box::new(cp)),
-        None => build_node(extract(t, pos, f), depth, options),
+        None => Node::lazy(extract(t, pos, f)),
     }
 }
 
-fn build_node(l: Local, depth: u32, options: &Options) -> Node {
-    if depth >= CACHE_DEPTH {
-        return Node::Deep(Box::new(l));
-    }
-    let (child, cpos) = refine_local(&l, options);
-    let first = child_face(&l, 0);
-    let kids = [0, 1, 2, 3].map(|j| node_for(&child, &cpos, first + j, depth + 1, options));
-    Node::Split(Box::new(kids))
+/// The four children of an irregular node.
+fn split(l: &Local, options: &Options) -> Box<[Node; 4]> {
+    let (child, cpos) = refine_local(l, options);
+    let first = child_face(l, 0);
+    Box::new([0, 1, 2, 3].map(|j| node_for(&child, &cpos, first + j)))
 }
 
 /// Quadrant of `(u, v)` and the parameter within it.
@@ -291,51 +298,34 @@ pub(super) fn eval_node(
             Node::Regular(cp) => {
                 return Some(bspline::eval(cp, u, v).scaled(2f64.powi(depth as i32)))
             }
-            Node::Split(kids) => {
+            Node::Lazy(lz) => {
+                let corner = match (u, v) {
+                    (0.0, 0.0) => Some(0),
+                    (1.0, 0.0) => Some(1),
+                    (1.0, 1.0) => Some(2),
+                    (0.0, 1.0) => Some(3),
+                    _ if depth >= MAX_DEPTH => Some(quadrant(u, v).0),
+                    _ => None,
+                };
+                // Limit masks give the limit only once no semi-sharp feature is left at
+                // the corner (sharpness still to decay changes the rules of later levels).
+                // A regular corner (one that only an irregularity elsewhere on the face keeps
+                // from being a patch corner) is reached by refining further, where the
+                // patch gives exact parametric derivatives.
+                let irregular = |k: usize| {
+                    settled(&lz.local, k)
+                        && regular_corner(&lz.local.topo, lz.local.face, k).is_none()
+                };
+                if let Some(k) = corner.filter(|&k| depth >= MAX_DEPTH || irregular(k)) {
+                    return Some(corner_limit(&lz.local, k, options));
+                }
+                let kids = lz.kids.get_or_init(|| split(&lz.local, options));
                 let (q, s, t) = quadrant(u, v);
                 node = &kids[q];
                 (u, v) = (s, t);
                 depth += 1;
             }
-            Node::Deep(l) => return eval_deep(l, u, v, depth, options),
         }
-    }
-}
-
-/// Refines a cut-out on demand until the point is in a regular child or at a corner.
-fn eval_deep(l: &Local, u: f64, v: f64, depth: u32, options: &Options) -> Option<Derivatives> {
-    let mut owned: Option<Local> = None;
-    let (mut u, mut v, mut depth) = (u, v, depth);
-    loop {
-        let cur = owned.as_ref().unwrap_or(l);
-        if cur.topo.is_hole(cur.face) {
-            return None;
-        }
-        let corner = match (u, v) {
-            (0.0, 0.0) => Some(0),
-            (1.0, 0.0) => Some(1),
-            (1.0, 1.0) => Some(2),
-            (0.0, 1.0) => Some(3),
-            _ if depth >= MAX_DEPTH => Some(quadrant(u, v).0),
-            _ => None,
-        };
-        // Limit masks give the limit only once no semi-sharp feature is left at the
-        // corner (sharpness still to decay changes the rules of later levels).
-        if let Some(k) = corner.filter(|&k| depth >= MAX_DEPTH || settled(cur, k)) {
-            return Some(corner_limit(cur, k, options));
-        }
-        let (child, cpos) = refine_local(cur, options);
-        let (q, s, t) = quadrant(u, v);
-        let cf = child_face(cur, q);
-        depth += 1;
-        if child.is_hole(cf) {
-            return None;
-        }
-        if let Some(cp) = regular_patch(&child, &cpos, cf) {
-            return Some(bspline::eval(&cp, s, t).scaled(2f64.powi(depth as i32)));
-        }
-        owned = Some(extract(&child, &cpos, cf));
-        (u, v) = (s, t);
     }
 }
 
@@ -426,7 +416,7 @@ fn corner_limit(l: &Local, k: usize, options: &Options) -> Derivatives {
                 }
                 None => l.pos[c],
             };
-            let mut d = eigen_corner(l, k, options).unwrap_or_else(|| {
+            let mut d = eigen_corner_settled(l, k, options).unwrap_or_else(|| {
                 let (du, dv) = uv_from_corner_frame(k, along.0, along.1);
                 Derivatives {
                     du,
@@ -437,8 +427,29 @@ fn corner_limit(l: &Local, k: usize, options: &Options) -> Derivatives {
             d.p = p;
             d
         }
-        _ => eigen_corner(l, k, options).unwrap_or_else(|| smooth_corner(l, k)),
+        _ => eigen_corner_settled(l, k, options).unwrap_or_else(|| smooth_corner(l, k)),
     }
+}
+
+/// [`eigen_corner`] at corner `k`, refining up to three levels first if the corner's
+/// neighbourhood only becomes self-similar further down (faces that share several
+/// vertices, as around valence-2 vertices, separate after a step).
+fn eigen_corner_settled(l: &Local, k: usize, options: &Options) -> Option<Derivatives> {
+    let mut owned: Option<Local> = None;
+    for _ in 0..4 {
+        let cur = owned.as_ref().unwrap_or(l);
+        if let Some(d) = eigen_corner(cur, k, options) {
+            return Some(d);
+        }
+        let (child, cpos) = refine_local(cur, options);
+        let cf = child_face(cur, k);
+        owned = Some(Local {
+            topo: child,
+            pos: cpos,
+            face: cf,
+        });
+    }
+    None
 }
 
 /// The far ends of the two sharp edges of a crease vertex.

@@ -1,0 +1,158 @@
+//! `subsurf tessellate`: sample the exact limit surface on a watertight grid and write it
+//! as OBJ (with normals), binary PLY (with normals) or binary STL.
+
+use std::path::Path;
+
+use anyhow::{bail, Context, Result};
+use subsurf::io::obj::{write_obj, WriteOptions};
+use subsurf::io::ply::write_ply;
+use subsurf::io::stl::write_stl;
+use subsurf::limit::{tessellate, LimitSurface, Tessellation};
+use subsurf::mesh::{Options, TriangleSubdivision};
+
+use crate::input::Input;
+use crate::output::Output;
+use crate::TessellateArgs;
+
+/// Output file formats.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Format {
+    /// Wavefront OBJ with `vn` normals.
+    Obj,
+    /// Binary little-endian PLY with `f64` positions and normals.
+    Ply,
+    /// Binary STL (`f32`, triangles).
+    Stl,
+}
+
+impl Format {
+    /// The format for `path` from its extension (any case); `-` is OBJ.
+    pub fn from_path(path: &Path) -> Result<Self> {
+        if path == Path::new("-") {
+            return Ok(Self::Obj);
+        }
+        let ext = path
+            .extension()
+            .map(|e| e.to_string_lossy().to_ascii_lowercase());
+        match ext.as_deref() {
+            Some("obj") => Ok(Self::Obj),
+            Some("ply") => Ok(Self::Ply),
+            Some("stl") => Ok(Self::Stl),
+            Some(other) => bail!(
+                "cannot write {}: unknown output format '.{other}' (expected .obj, .ply or .stl)",
+                path.display()
+            ),
+            None => bail!(
+                "cannot write {}: the output needs an extension .obj, .ply or .stl \
+                 (or '-' for OBJ on standard output)",
+                path.display()
+            ),
+        }
+    }
+}
+
+/// Runs `subsurf tessellate`.
+pub fn run(args: &TessellateArgs) -> Result<()> {
+    let format = Format::from_path(&args.output)?;
+    let out = Output::new(&args.output);
+    out.check()?;
+    let input = Input::read(&args.input)?;
+    if !args.quiet {
+        for w in input.unsupported_tag_warnings() {
+            eprintln!("warning: {w}");
+        }
+    }
+    let options = args
+        .scheme
+        .over(input.obj.options)
+        .resolve(Options::default());
+    let mesh = &input.obj.mesh;
+    let surface = LimitSurface::new(mesh, options).with_context(|| input.name.clone())?;
+    let t = tessellate(&surface, mesh, &options, args.rate, args.triangles)
+        .with_context(|| input.name.clone())?;
+    if t.rate != args.rate && !args.quiet {
+        eprintln!(
+            "note: {}: rate {} rounded up to {}, as the mesh has non-quad faces \
+             (each of their sub-faces gets {} × {} quads)",
+            input.name,
+            args.rate,
+            t.rate,
+            t.rate / 2,
+            t.rate / 2
+        );
+    }
+    let comment = command_line(args, &options, &input.name);
+    write(&out, format, &t, &comment)
+}
+
+/// Writes `t` to `out` in `format`.
+fn write(out: &Output, format: Format, t: &Tessellation, comment: &str) -> Result<()> {
+    match format {
+        Format::Obj => {
+            let mesh = t
+                .to_polymesh()
+                .context("the tessellation is not a valid mesh")?;
+            let opts = WriteOptions {
+                normals: Some(&t.normals),
+                scheme: None,
+                comment: Some(comment),
+            };
+            out.write(|mut w| write_obj(&mut w, &mesh, &opts))
+        }
+        Format::Ply => out.write(|mut w| {
+            write_ply(
+                &mut w,
+                &t.positions,
+                Some(&t.normals),
+                &t.face_offsets,
+                &t.face_verts,
+            )
+        }),
+        Format::Stl => out.write(|mut w| {
+            write_stl(
+                &mut w,
+                &t.positions,
+                &t.face_offsets,
+                &t.face_verts,
+                comment,
+            )
+        }),
+    }
+}
+
+/// The command line that reproduces the output, for its header.
+fn command_line(args: &TessellateArgs, s: &Options, input: &str) -> String {
+    let mut line = format!(
+        "subsurf tessellate --rate {} --boundary {} --crease-method {}",
+        args.rate, s.boundary, s.crease_method
+    );
+    if s.triangles == TriangleSubdivision::Smooth {
+        line.push_str(" --smooth-triangles");
+    }
+    if args.triangles {
+        line.push_str(" --triangles");
+    }
+    line.push(' ');
+    line.push_str(input);
+    line
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn formats_from_extensions() {
+        let f = |p: &str| Format::from_path(Path::new(p));
+        assert_eq!(f("a.obj").unwrap(), Format::Obj);
+        assert_eq!(f("dir/a.PLY").unwrap(), Format::Ply);
+        assert_eq!(f("a.b.Stl").unwrap(), Format::Stl);
+        assert_eq!(f("-").unwrap(), Format::Obj);
+        let e = f("a.xyz").unwrap_err().to_string();
+        assert!(
+            e.contains("'.xyz'") && e.contains(".obj, .ply or .stl"),
+            "{e}"
+        );
+        assert!(f("noext").is_err());
+    }
+}
