@@ -37,6 +37,7 @@ pub mod mesh;
 pub mod refine;
 pub mod scheme;
 
+mod geom;
 mod info;
 mod subdivide;
 

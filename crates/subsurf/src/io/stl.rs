@@ -9,6 +9,7 @@
 //! full precision. STL has no shared vertices and no per-vertex normals either; the
 //! normal of each triangle is computed from its (`f64`) geometry.
 
+use crate::geom;
 use std::io::{self, Write};
 
 use super::ply::check_faces;
@@ -113,19 +114,7 @@ fn header(name: &str) -> [u8; 80] {
 
 /// The unit normal of triangle `a b c` (counter-clockwise), or zero.
 fn normal(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]) -> [f64; 3] {
-    let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
-    let v = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
-    let n = [
-        u[1] * v[2] - u[2] * v[1],
-        u[2] * v[0] - u[0] * v[2],
-        u[0] * v[1] - u[1] * v[0],
-    ];
-    let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
-    if len > 0.0 && len.is_finite() {
-        n.map(|x| x / len)
-    } else {
-        [0.0; 3]
-    }
+    geom::normalize_or_zero(geom::cross(&geom::sub(b, a), &geom::sub(c, a)))
 }
 
 /// One triangle of a binary STL file.

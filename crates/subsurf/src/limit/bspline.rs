@@ -58,18 +58,7 @@ pub struct Derivatives {
 impl Derivatives {
     /// The unit normal `Su × Sv / |Su × Sv|` (zero where the derivatives are parallel).
     pub fn normal(&self) -> [f64; 3] {
-        let (a, b) = (self.du, self.dv);
-        let n = [
-            a[1] * b[2] - a[2] * b[1],
-            a[2] * b[0] - a[0] * b[2],
-            a[0] * b[1] - a[1] * b[0],
-        ];
-        let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
-        if len > 0.0 {
-            [n[0] / len, n[1] / len, n[2] / len]
-        } else {
-            [0.0; 3]
-        }
+        crate::geom::normalize_or_zero(crate::geom::cross(&self.du, &self.dv))
     }
 
     /// The derivatives of `S(a·u + b, a·v + c)`: first derivatives times `a`, second

@@ -22,6 +22,7 @@ pub use tessellate::{
     tessellate, tessellate_mesh, TessellateError, Tessellation, MAX_TESSELLATION_VERTICES,
 };
 
+use crate::geom;
 use crate::mesh::Topology;
 use crate::scheme::catmark::{self, VertexMask};
 
@@ -118,44 +119,17 @@ pub fn normals(
 ) -> Vec<[f64; 3]> {
     (0..level.num_vertices())
         .map(|v| {
-            let n = cross(&t1[v], &t2[v]);
-            let scale = norm(&t1[v]) * norm(&t2[v]);
-            if scale > 0.0 && norm(&n) > 1e-12 * scale {
-                return normalize(n);
+            let n = geom::cross(&t1[v], &t2[v]);
+            let scale = geom::norm(&t1[v]) * geom::norm(&t2[v]);
+            if scale > 0.0 && geom::norm(&n) > 1e-12 * scale {
+                return geom::normalize_or_zero(n);
             }
             let mut acc = [0.0; 3];
             for &f in level.vertex_faces(v) {
-                let fv = level.face_vertices(f as usize);
-                for i in 0..fv.len() {
-                    let a = &pos[fv[i] as usize];
-                    let b = &pos[fv[(i + 1) % fv.len()] as usize];
-                    acc[0] += (a[1] - b[1]) * (a[2] + b[2]);
-                    acc[1] += (a[2] - b[2]) * (a[0] + b[0]);
-                    acc[2] += (a[0] - b[0]) * (a[1] + b[1]);
-                }
+                let n = geom::newell_normal(pos, level.face_vertices(f as usize));
+                (0..3).for_each(|k| acc[k] += n[k]);
             }
-            if norm(&acc) > 0.0 {
-                normalize(acc)
-            } else {
-                [0.0; 3]
-            }
+            geom::normalize_or_zero(acc)
         })
         .collect()
-}
-
-fn cross(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
-fn norm(a: &[f64; 3]) -> f64 {
-    (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt()
-}
-
-fn normalize(a: [f64; 3]) -> [f64; 3] {
-    let n = norm(&a);
-    [a[0] / n, a[1] / n, a[2] / n]
 }

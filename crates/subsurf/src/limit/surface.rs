@@ -37,6 +37,7 @@
 use super::bspline::{self, Derivatives};
 use super::local::{extract, Local};
 use super::patch::{regular_corner, regular_patch};
+use crate::geom::{self, V3};
 use crate::mesh::{MeshError, Options, PolyMesh, Topology};
 use crate::refine::{interpolate, refine_topology};
 use crate::scheme::catmark::{self, VertexMask};
@@ -382,16 +383,7 @@ fn corner_limit(l: &Local, k: usize, options: &Options) -> Derivatives {
         };
         return corner_limit(&next, if n == 4 { k } else { 0 }, options);
     }
-    let sub = |a: usize, b: usize| {
-        let (p, q) = (l.pos[a], l.pos[b]);
-        [p[0] - q[0], p[1] - q[1], p[2] - q[2]]
-    };
-    let fv = t.face_vertices(l.face);
-    let n = fv.len();
-    let along = (
-        sub(fv[(k + 1) % n] as usize, c),
-        sub(fv[(k + n - 1) % n] as usize, c),
-    );
+    let along = face_edge_dirs(l, k);
     match tag.rule {
         crate::mesh::Rule::Corner => {
             // The vertex stays put; the limit curves along the face's sides leave it toward
@@ -546,7 +538,7 @@ fn eigen_corner(l: &Local, k: usize, options: &Options) -> Option<Derivatives> {
     let p = combine(&l0);
     let (w1, w2) = subdominant_left_subspace(&s);
     let (t1, t2) = (combine(&w1), combine(&w2));
-    let (du, dv) = face_tangents(t, l, k, t1, t2);
+    let (du, dv) = face_tangents(l, k, t1, t2);
     Some(Derivatives {
         p,
         du,
@@ -627,15 +619,9 @@ fn subdominant_left_subspace(s: &[Vec<f64>]) -> (Vec<f64>, Vec<f64>) {
 
 /// The face's edge directions at corner `k` (along edge `k`, toward corner `k - 1`),
 /// projected onto the plane spanned by `t1`, `t2`, mapped to `(du, dv)`.
-fn face_tangents(
-    t: &Topology,
-    l: &Local,
-    k: usize,
-    t1: [f64; 3],
-    t2: [f64; 3],
-) -> ([f64; 3], [f64; 3]) {
-    let (a, b) = boundary_tangents(t, l, t.face_vertices(l.face)[k] as usize, k, t1, t2);
-    uv_from_corner_frame(k, a, b)
+fn face_tangents(l: &Local, k: usize, t1: V3, t2: V3) -> (V3, V3) {
+    let (a, b) = face_edge_dirs(l, k);
+    uv_from_corner_frame(k, project(a, t1, t2), project(b, t1, t2))
 }
 
 /// Tangents along edge `k` of a face and toward its corner `k - 1`, as `(du, dv)`.
@@ -708,42 +694,31 @@ fn smooth_corner(l: &Local, k: usize) -> Derivatives {
         ..Derivatives::default()
     }
 }
-/// At a boundary (non-cyclic) corner the masks' first tangent runs along the boundary and
-/// the second into the surface; return them as (along edge `k` of the face, toward corner
-/// `k - 1`) by projecting onto the face's edge directions.
-fn boundary_tangents(
-    t: &Topology,
-    l: &Local,
-    c: usize,
-    k: usize,
-    t1: [f64; 3],
-    t2: [f64; 3],
-) -> ([f64; 3], [f64; 3]) {
-    let fv = t.face_vertices(l.face);
+/// Directions from corner `k` of the cut-out's face to its neighbours `k + 1` and `k - 1`.
+fn face_edge_dirs(l: &Local, k: usize) -> (V3, V3) {
+    let fv = l.topo.face_vertices(l.face);
     let n = fv.len();
-    let sub = |a: usize, b: usize| {
-        let (p, q) = (l.pos[a], l.pos[b]);
-        [p[0] - q[0], p[1] - q[1], p[2] - q[2]]
-    };
-    let e_next = sub(fv[(k + 1) % n] as usize, c);
-    let e_prev = sub(fv[(k + n - 1) % n] as usize, c);
-    // Express the face's edge directions in the tangent basis (t1, t2) by least squares,
-    // then map back: the result lies in the exact tangent plane, oriented like the edges.
-    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-    let (g11, g12, g22) = (dot(t1, t1), dot(t1, t2), dot(t2, t2));
+    let c = &l.pos[fv[k] as usize];
+    (
+        geom::sub(&l.pos[fv[(k + 1) % n] as usize], c),
+        geom::sub(&l.pos[fv[(k + n - 1) % n] as usize], c),
+    )
+}
+
+/// The least-squares projection of `e` onto the plane spanned by `t1`, `t2` (or `e` when
+/// they are parallel).
+fn project(e: V3, t1: V3, t2: V3) -> V3 {
+    let (g11, g12, g22) = (
+        geom::dot(&t1, &t1),
+        geom::dot(&t1, &t2),
+        geom::dot(&t2, &t2),
+    );
     let det = g11 * g22 - g12 * g12;
-    let project = |e: [f64; 3]| {
-        if det.abs() <= f64::MIN_POSITIVE {
-            return e;
-        }
-        let (r1, r2) = (dot(e, t1), dot(e, t2));
-        let x = (g22 * r1 - g12 * r2) / det;
-        let y = (g11 * r2 - g12 * r1) / det;
-        [
-            x * t1[0] + y * t2[0],
-            x * t1[1] + y * t2[1],
-            x * t1[2] + y * t2[2],
-        ]
-    };
-    (project(e_next), project(e_prev))
+    if det.abs() <= f64::MIN_POSITIVE {
+        return e;
+    }
+    let (r1, r2) = (geom::dot(&e, &t1), geom::dot(&e, &t2));
+    let x = (g22 * r1 - g12 * r2) / det;
+    let y = (g11 * r2 - g12 * r1) / det;
+    [0, 1, 2].map(|i| x * t1[i] + y * t2[i])
 }

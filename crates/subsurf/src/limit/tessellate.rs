@@ -625,14 +625,7 @@ fn fix_normals(normals: &mut [[f64; 3]], pos: &[[f64; 3]], offsets: &[u32], vert
             continue;
         }
         // Newell's normal: twice the area vector of the (possibly non-planar) polygon.
-        let mut nrm = [0.0; 3];
-        for i in 0..fv.len() {
-            let a = &pos[fv[i] as usize];
-            let b = &pos[fv[(i + 1) % fv.len()] as usize];
-            nrm[0] += (a[1] - b[1]) * (a[2] + b[2]);
-            nrm[1] += (a[2] - b[2]) * (a[0] + b[0]);
-            nrm[2] += (a[0] - b[0]) * (a[1] + b[1]);
-        }
+        let nrm = crate::geom::newell_normal(pos, fv);
         for &v in fv {
             if fix[v as usize] {
                 (0..3).for_each(|k| acc[v as usize][k] += nrm[k]);
@@ -641,13 +634,7 @@ fn fix_normals(normals: &mut [[f64; 3]], pos: &[[f64; 3]], offsets: &[u32], vert
     }
     for (v, n) in normals.iter_mut().enumerate() {
         if fix[v] {
-            let a = acc[v];
-            let len = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
-            *n = if len > 0.0 && len.is_finite() {
-                [a[0] / len, a[1] / len, a[2] / len]
-            } else {
-                [0.0; 3]
-            };
+            *n = crate::geom::normalize_or_zero(acc[v]);
         }
     }
 }

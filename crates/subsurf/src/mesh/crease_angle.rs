@@ -2,6 +2,7 @@
 //! a threshold (a long-standing request to OpenSubdiv, which only takes explicit tags).
 
 use super::{Crease, MeshError, Options, PolyMesh, Topology};
+use crate::geom;
 
 /// Relative size below which a face normal counts as zero: a face is degenerate when
 /// `|n| ≤ DEGENERATE_RELATIVE · Σ |p_{i+1} − p_i|²`, i.e. its area is zero up to rounding.
@@ -133,39 +134,24 @@ pub fn crease_by_angle(
 /// rounding. Coordinates are taken relative to the first vertex (the formula is
 /// translation-invariant; this keeps the products small).
 fn newell_normal(positions: &[[f64; 3]], face: &[u32]) -> Option<[f64; 3]> {
-    let origin = positions[face[0] as usize];
-    let rel = |v: u32| {
-        let p = positions[v as usize];
-        [p[0] - origin[0], p[1] - origin[1], p[2] - origin[2]]
-    };
-    let mut n = [0.0f64; 3];
-    let mut scale = 0.0f64;
-    for (i, &v) in face.iter().enumerate() {
-        let a = rel(v);
-        let b = rel(face[(i + 1) % face.len()]);
-        n[0] += (a[1] - b[1]) * (a[2] + b[2]);
-        n[1] += (a[2] - b[2]) * (a[0] + b[0]);
-        n[2] += (a[0] - b[0]) * (a[1] + b[1]);
-        scale += (b[0] - a[0]).powi(2) + (b[1] - a[1]).powi(2) + (b[2] - a[2]).powi(2);
-    }
+    let n = geom::newell_normal(positions, face);
+    let scale: f64 = (0..face.len())
+        .map(|i| {
+            let a = &positions[face[i] as usize];
+            let d = geom::sub(&positions[face[(i + 1) % face.len()] as usize], a);
+            geom::dot(&d, &d)
+        })
+        .sum();
     // False for NaN too (coordinates so large that the products overflow).
-    (norm(n) > DEGENERATE_RELATIVE * scale).then_some(n)
+    (geom::norm(&n) > DEGENERATE_RELATIVE * scale).then_some(n)
 }
 
 /// The angle between two non-zero vectors, in degrees, in [0, 180] (accurate near 0 and
 /// 180, unlike `acos` of the normalised dot product).
 fn angle_between_deg(a: [f64; 3], b: [f64; 3]) -> f64 {
-    let cross = [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ];
-    let dot = a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-    norm(cross).atan2(dot).to_degrees()
-}
-
-fn norm(v: [f64; 3]) -> f64 {
-    (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()
+    geom::norm(&geom::cross(&a, &b))
+        .atan2(geom::dot(&a, &b))
+        .to_degrees()
 }
 
 #[cfg(test)]
