@@ -1,10 +1,9 @@
 //! End-to-end tests of `subsurf subdivide --crease-angle DEG [--sharpness S]`.
 
-use std::fs;
-use std::path::Path;
-use std::process::{Command, Output, Stdio};
+mod common;
+use common::*;
 
-const CUBE: &str = include_str!("../../../examples/meshes/cube.obj");
+use std::fs;
 
 /// The cube's corners, as in `examples/meshes/cube.obj` (vertices 0..8).
 const CORNERS: [[f64; 3]; 8] = [
@@ -17,33 +16,6 @@ const CORNERS: [[f64; 3]; 8] = [
     [1.0, 1.0, 1.0],
     [-1.0, 1.0, 1.0],
 ];
-
-fn run_in(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_subsurf"))
-        .current_dir(dir)
-        .args(args)
-        .stdin(Stdio::null())
-        .output()
-        .expect("cannot run subsurf")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
-/// Asserts the exit code, showing stderr when it differs.
-fn assert_code(o: &Output, code: i32) {
-    assert_eq!(o.status.code(), Some(code), "stderr:\n{}", stderr(o));
-}
-
-/// A temporary directory holding `files`.
-fn dir_with(files: &[(&str, &str)]) -> tempfile::TempDir {
-    let dir = tempfile::tempdir().expect("temp dir");
-    for (name, text) in files {
-        fs::write(dir.path().join(name), text).expect("write test file");
-    }
-    dir
-}
 
 /// The `v` positions of an OBJ text.
 fn positions(obj: &str) -> Vec<[f64; 3]> {

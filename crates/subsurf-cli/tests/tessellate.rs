@@ -1,47 +1,13 @@
 //! End-to-end tests of `subsurf tessellate`, each in its own temporary directory.
 
-use std::fs;
-use std::path::Path;
-use std::process::{Command, Output, Stdio};
+mod common;
+use common::*;
 
-const CUBE: &str = include_str!("../../../examples/meshes/cube.obj");
+use std::fs;
+
 const HUT: &str = include_str!("../../../examples/meshes/hut.obj");
 
-fn run_in(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_subsurf"))
-        .current_dir(dir)
-        .args(args)
-        .stdin(Stdio::null())
-        .output()
-        .expect("cannot run subsurf")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
 #[track_caller]
-fn assert_code(o: &Output, code: i32) {
-    assert_eq!(o.status.code(), Some(code), "stderr:\n{}", stderr(o));
-}
-
-fn dir_with(files: &[(&str, &str)]) -> tempfile::TempDir {
-    let dir = tempfile::tempdir().expect("temp dir");
-    for (name, text) in files {
-        fs::write(dir.path().join(name), text).expect("write test file");
-    }
-    dir
-}
-
-fn listing(dir: &Path) -> Vec<String> {
-    let mut names: Vec<String> = fs::read_dir(dir)
-        .expect("read dir")
-        .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
-        .collect();
-    names.sort();
-    names
-}
-
 fn count_records(obj: &str, prefix: &str) -> usize {
     obj.lines()
         .filter(|l| l.split_whitespace().next() == Some(prefix))
