@@ -6,6 +6,7 @@
 mod cmd;
 mod input;
 mod json;
+mod memory;
 mod output;
 mod progress;
 
@@ -167,6 +168,10 @@ pub struct BenchArgs {
     /// grid on every quad face (as `osd-oracle benchlimit IN N REPS`).
     #[arg(long, value_name = "N")]
     pub limit_grid: Option<u32>,
+    /// Time re-posing instead: build a refinement plan once (its build time is printed,
+    /// not timed) and time applying it to the base positions.
+    #[arg(long, conflicts_with = "limit_grid")]
+    pub replay: bool,
     #[command(flatten)]
     pub scheme: SchemeArgs,
 }
@@ -210,7 +215,8 @@ pub struct SubdivideArgs {
     /// Keep hole faces in the output (tagged as holes) instead of leaving them out.
     #[arg(long)]
     pub keep_holes: bool,
-    /// Refuse to refine when the estimated memory exceeds this (suffixes K, M, G, T: powers of 1024).
+    /// Refuse to refine when the estimated memory exceeds this (suffixes K, M, G, T: powers
+    /// of 1024) [default: the memory the system reports as available].
     #[arg(long, value_name = "BYTES", value_parser = parse_bytes)]
     pub max_memory: Option<u64>,
     /// Reject faces that repeat a vertex and non-manifold or inconsistently oriented

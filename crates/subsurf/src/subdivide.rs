@@ -39,7 +39,7 @@ pub enum Error {
     #[error(transparent)]
     Mesh(#[from] MeshError),
     /// The requested level would need more memory than allowed.
-    #[error("refining to level {levels} needs about {} MiB, more than the {} MiB allowed; use a lower level", estimate / (1 << 20), limit / (1 << 20))]
+    #[error("refining to level {levels} needs about {} MiB, more than the limit of {} MiB; use a lower level", estimate / (1 << 20), limit / (1 << 20))]
     TooLarge {
         /// Requested level.
         levels: u32,
@@ -50,11 +50,14 @@ pub enum Error {
     },
 }
 
-/// Bytes per face of a refined level held at once by [`subdivide`]: the child topology
-/// (faces, face-edges, edges, edge-faces, vertex-faces, vertex-edges with local indices,
-/// tags and sharpness; ~190 B), a quarter of that for the parent level, and two position
-/// buffers (48 B per vertex, about one vertex per face).
-const BYTES_PER_FACE: u64 = 300;
+/// Bytes per face of the last level held at once by [`subdivide`]: the child's faces, edge
+/// vertices, tags and sharpness (~60 B), a quarter of a complete parent level (~50 B), two
+/// position buffers (~30 B) and the output copy of the faces (16 B). Measured peaks are
+/// ~130 B per output face (`BENCHMARKS.md`); the estimate errs high.
+const BYTES_PER_FACE: u64 = 160;
+/// Extra bytes per face when limit positions are requested: the last level's full
+/// adjacency and three more position-sized buffers.
+const LIMIT_BYTES_PER_FACE: u64 = 200;
 
 /// Number of faces after `levels` uniform steps: the face-vertex count `S` for the first
 /// step (every face of size `n` gives `n` quads), then ×4 per step. Saturates.
@@ -70,11 +73,12 @@ fn refined_faces(mesh: &PolyMesh, levels: u32) -> u64 {
     s.saturating_mul(1u64 << shift)
 }
 
-/// Estimated peak memory in bytes of [`subdivide`] to `levels` (topology of the last two
-/// levels and two position buffers), saturating at `u64::MAX`.
-pub fn estimate_memory(mesh: &PolyMesh, levels: u32) -> u64 {
-    refined_faces(mesh, levels)
-        .saturating_mul(BYTES_PER_FACE)
+/// Estimated peak memory in bytes of [`subdivide`] with `opts` (the levels, and whether
+/// limit positions are computed), saturating at `u64::MAX`.
+pub fn estimate_memory(mesh: &PolyMesh, opts: &SubdivideOptions) -> u64 {
+    let per_face = BYTES_PER_FACE + if opts.limit { LIMIT_BYTES_PER_FACE } else { 0 };
+    refined_faces(mesh, opts.levels)
+        .saturating_mul(per_face)
         .saturating_add(mesh.num_vertices() as u64 * 64)
 }
 
@@ -98,7 +102,7 @@ pub fn subdivide_with_progress(
     progress: &mut dyn FnMut(u32, u32),
 ) -> Result<Subdivision, Error> {
     mesh.validate()?;
-    let estimate = estimate_memory(mesh, opts.levels);
+    let estimate = estimate_memory(mesh, opts);
     if let Some(limit) = opts.max_memory {
         if estimate > limit {
             return Err(Error::TooLarge {

@@ -33,7 +33,7 @@ pub fn run(args: &SubdivideArgs) -> Result<()> {
             .resolve(Options::default()),
         limit: args.limit,
         keep_holes: args.keep_holes,
-        max_memory: args.max_memory,
+        max_memory: args.max_memory.or_else(crate::memory::available),
     };
     let mut flags = String::new();
     if let Some(angle) = args.crease_angle {
