@@ -98,7 +98,9 @@ pub(super) enum Corner {
 pub(super) fn regular_corner(t: &Topology, f: usize, k: usize) -> Option<Corner> {
     let c = t.face_vertices(f)[k] as usize;
     let tag = t.vertex_tag(c);
-    if tag.non_manifold || tag.semi_sharp || crease::is_semi_sharp(t.vertex_sharpness(c)) {
+    // A non-manifold vertex can still bound a regular sector: the walk below only crosses
+    // edges with exactly two faces, and non-manifold edges are infinitely sharp.
+    if tag.semi_sharp || crease::is_semi_sharp(t.vertex_sharpness(c)) {
         return None;
     }
     if t.vertex_edges(c)
