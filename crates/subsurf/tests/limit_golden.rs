@@ -18,10 +18,7 @@
 //!    OpenSubdiv's must not.
 //! 3. **First derivatives**, off the face corners: for `du` and `dv`,
 //!    `|d_ours − d_osd| ≤ 1e-9 × max(|d_osd|, 1e-3 × d)` (relative, with an absolute floor
-//!    for vanishing derivatives, e.g. along the collapsed side of a degenerate face) — except
-//!    at the known library defect described at [`NONMANIFOLD_EDGE_DERIVATIVE_DEFECT`] (samples
-//!    on non-manifold or degenerate edges, where `Bfr`'s derivatives are checked against finite
-//!    differences of our positions instead).
+//!    for vanishing derivatives, e.g. along the collapsed side of a degenerate face).
 //! 4. **Normals**, off the corners: the angle between `du × dv` here and in `Bfr` is at most
 //!    1e-6 rad wherever both are non-degenerate (`|du × dv| > 1e-8 × max(|du|, |dv|, 1e-3 × d)²`);
 //!    if exactly one side is degenerate, that is a failure.
@@ -33,6 +30,11 @@
 //!
 //! `limit_surface_matches_opensubdiv_bfr` gathers every failure of every shape into one report
 //! and fails once; with `--nocapture` it prints a per-shape table of the largest errors.
+//!
+//! `derivatives_match_finite_differences_on_nonmanifold_edges` cross-checks the derivatives
+//! independently of `Bfr` where they are hardest to get right: at the golden samples on
+//! non-manifold or degenerate edges of [`FD_SHAPES`], our `du`, `dv` must equal finite
+//! differences of our own positions ([`fd_derivatives`]).
 
 use flate2::read::GzDecoder;
 use std::collections::{BTreeMap, BTreeSet, HashMap};
@@ -133,34 +135,6 @@ const BFR_APPROXIMATE: &[Approx] = &[
     approx("catmark_inf_crease1", 4, 0.0, 0.0, DART),
     approx("catmark_inf_crease1", 5, 0.0, 0.0, DART),
 ];
-
-/// **Known library defect** (not an OpenSubdiv difference): at a sample that lies on a side of
-/// its face (not at a corner) whose base edge is *non-manifold* — shared by more than two
-/// faces, or by two faces that run along it in the same direction — or *degenerate* (both
-/// ends the same vertex), `LimitSurface::eval` returns the right position and tangent plane
-/// but `du`, `dv` of the wrong length (up to 4× too short, or zero).
-///
-/// Evidence: central differences of our own positions (h = 1e-6) agree with `Bfr`'s
-/// derivatives there, not with ours (e.g. `catmark_fan` face 1 at (¼, 1): ours `du` =
-/// (−0.125, 0, −0.078), `Bfr` and our finite differences (−0.5, 0, −0.219); face 2 at (½, 1):
-/// ours (−0.25, 0, −0.25), theirs (−0.5, 0, −0.5)). Every non-corner sample on such an edge
-/// in the shapes below is affected (except on the fully collapsed face 67 of
-/// `catmark_nonman_edges`, where everything is zero); no sample anywhere else is. Cause:
-/// such a point is a corner of a sub-face after a few levels, at the child vertex of the
-/// non-manifold edge, which is tagged non-manifold, so `regular_corner` rejects it and
-/// `corner_limit` returns tangent vectors (meant for extraordinary corners) instead of
-/// refining on to a patch. Yet that vertex's sector in the face is a regular crease (its two
-/// bounding edges, halves of the non-manifold edge, are infinitely sharp), which is how `Bfr`
-/// treats it.
-///
-/// For these samples the test still requires the position (≤ 1e-12) and the normal (≤ 1e-6
-/// rad), and it requires that `Bfr`'s `du`, `dv` equal finite differences of *our* positions
-/// ([`fd_derivatives`]: Richardson-extrapolated second-order differences, steps 1/16 and 1/32;
-/// relative error ≤ 1e-9, observed ≤ 2.6e-12), which proves that the parametrisations agree
-/// and the derivatives returned here are what is wrong. It counts the mismatches in the table
-/// and fails if a listed shape no longer shows any (then the defect is fixed: remove the shape
-/// from this list).
-const NONMANIFOLD_EDGE_DERIVATIVE_DEFECT: &[&str] = &[];
 
 // ---------------------------------------------------------------------------------------------
 // Golden data
@@ -530,17 +504,12 @@ struct ShapeReport {
     max_pos: f64,
     /// Points of `BFR_APPROXIMATE` and their largest error / diagonal.
     approx: (usize, f64),
-    /// Largest relative derivative errors (off corners, known defect left out).
+    /// Largest relative derivative errors (off corners).
     max_du: f64,
     max_dv: f64,
     /// Largest normal angle (off corners, both non-degenerate) and how many were compared.
     max_angle: f64,
     normals: usize,
-    /// Samples with the known derivative defect, and their largest relative error.
-    defect: (usize, f64),
-    /// At those samples, the largest relative difference between `Bfr`'s derivatives and
-    /// finite differences of our positions.
-    defect_fd: f64,
     seconds: f64,
     failures: Vec<String>,
     notes: Vec<String>,
@@ -644,10 +613,7 @@ fn compare_shape(name: &str, rep: &mut ShapeReport) -> Result<(), String> {
     let ours = surface.eval_many(&points);
     let exceptions: Vec<&Approx> = BFR_APPROXIMATE.iter().filter(|a| a.shape == name).collect();
     let mut seen = vec![false; exceptions.len()];
-    let defect_listed = NONMANIFOLD_EDGE_DERIVATIVE_DEFECT.contains(&name);
-    let irregular = irregular_edges(mesh);
     let mut approx_points = Vec::new();
-    let mut defect_samples = Vec::new();
     let mut pos_bad = (0usize, 0.0f64, String::new());
     let mut deriv_bad = (0usize, 0.0f64, String::new());
     let mut normal_bad = (0usize, 0.0f64, String::new());
@@ -691,31 +657,20 @@ fn compare_shape(name: &str, rep: &mut ShapeReport) -> Result<(), String> {
         let ev = dist(d.dv, s.dv) / norm(s.dv).max(DERIV_FLOOR * diag);
         let e = eu.max(ev);
         let e = if e.is_nan() { f64::INFINITY } else { e };
-        let on_irregular_edge = side_of(s.u, s.v).is_some_and(|k| {
-            let f = mesh.face(s.face as usize);
-            let (a, b) = (f[k], f[(k + 1) % f.len()]);
-            irregular.contains(&(a.min(b), a.max(b)))
-        });
-        if defect_listed && on_irregular_edge && e > DERIV_TOL {
-            rep.defect.0 += 1;
-            rep.defect.1 = rep.defect.1.max(e);
-            defect_samples.push(*s);
-        } else {
-            rep.max_du = rep.max_du.max(eu);
-            rep.max_dv = rep.max_dv.max(ev);
-            if e > DERIV_TOL {
-                deriv_bad.0 += 1;
-                if e >= deriv_bad.1 {
-                    deriv_bad.1 = e;
-                    deriv_bad.2 = format!(
-                        "{}: ours du {:?} dv {:?}, Bfr du {:?} dv {:?}",
-                        at(s),
-                        d.du,
-                        d.dv,
-                        s.du,
-                        s.dv
-                    );
-                }
+        rep.max_du = rep.max_du.max(eu);
+        rep.max_dv = rep.max_dv.max(ev);
+        if e > DERIV_TOL {
+            deriv_bad.0 += 1;
+            if e >= deriv_bad.1 {
+                deriv_bad.1 = e;
+                deriv_bad.2 = format!(
+                    "{}: ours du {:?} dv {:?}, Bfr du {:?} dv {:?}",
+                    at(s),
+                    d.du,
+                    d.dv,
+                    s.du,
+                    s.dv
+                );
             }
         }
         // Normals.
@@ -762,13 +717,6 @@ fn compare_shape(name: &str, rep: &mut ShapeReport) -> Result<(), String> {
             normal_bad.0, normal_bad.1, normal_bad.2
         ));
     }
-    check_defect(name, &surface, diag, &defect_samples, rep);
-    if defect_listed && rep.defect.0 == 0 {
-        rep.failures.push(format!(
-            "{name}: listed in NONMANIFOLD_EDGE_DERIVATIVE_DEFECT, but all derivatives on its \
-             non-manifold edges now agree with Bfr: remove it from the list"
-        ));
-    }
     for (a, seen) in exceptions.iter().zip(&seen) {
         if !seen {
             rep.failures.push(format!(
@@ -783,9 +731,22 @@ fn compare_shape(name: &str, rep: &mut ShapeReport) -> Result<(), String> {
     Ok(())
 }
 
-/// Step of the finite differences in [`check_defect`] (and half of it).
+// ---------------------------------------------------------------------------------------------
+// Finite differences of our own positions
+// ---------------------------------------------------------------------------------------------
+
+/// Shapes with non-manifold or degenerate edges whose derivatives are also checked against
+/// finite differences of our positions.
+const FD_SHAPES: &[&str] = &[
+    "catmark_fan",
+    "catmark_nonman_edge100",
+    "catmark_nonman_quadpole8",
+    "catmark_val2_nonman",
+];
+/// Step of the finite differences in [`fd_derivatives`] (and half of it).
 const FD_STEP: f64 = 1.0 / 16.0;
-/// Agreement required between `Bfr`'s derivatives and finite differences of our positions.
+/// Agreement required between our derivatives and finite differences of our positions
+/// (relative, with the floor of [`DERIV_FLOOR`]; observed ≤ 2.0e-12).
 const FD_TOL: f64 = 1e-9;
 
 /// A second-order difference for the derivative at `x ∈ [0, 1]` with step `h`: central where
@@ -844,48 +805,6 @@ fn fd_derivatives(surface: &LimitSurface, samples: &[Sample]) -> Vec<Result<(V3,
     (0..samples.len())
         .map(|n| Ok((richardson(4 * n)?, richardson(4 * n + 2)?)))
         .collect()
-}
-
-/// The samples with the known derivative defect: `Bfr`'s derivatives must be those of *our*
-/// surface (finite differences of our positions), which shows that the difference is ours
-/// and not a different parametrisation.
-fn check_defect(
-    name: &str,
-    surface: &LimitSurface,
-    diag: f64,
-    samples: &[Sample],
-    rep: &mut ShapeReport,
-) {
-    let mut worst = (0.0f64, String::new());
-    for (s, fd) in samples.iter().zip(fd_derivatives(surface, samples)) {
-        let (fu, fv) = match fd {
-            Ok(d) => d,
-            Err(e) => {
-                worst = (f64::INFINITY, e);
-                continue;
-            }
-        };
-        let eu = dist(s.du, fu) / norm(s.du).max(DERIV_FLOOR * diag);
-        let ev = dist(s.dv, fv) / norm(s.dv).max(DERIV_FLOOR * diag);
-        let e = eu.max(ev);
-        if e.is_nan() || e > worst.0 {
-            worst = (
-                if e.is_nan() { f64::INFINITY } else { e },
-                format!(
-                    "face {} at ({}, {}): Bfr du {:?} dv {:?}, finite differences of ours du {fu:?} dv {fv:?}",
-                    s.face, s.u, s.v, s.du, s.dv
-                ),
-            );
-        }
-    }
-    rep.defect_fd = worst.0;
-    if worst.0 > FD_TOL {
-        rep.failures.push(format!(
-            "{name}: at samples of NONMANIFOLD_EDGE_DERIVATIVE_DEFECT, Bfr's derivatives are not \
-             those of our surface: {:.2e} (relative) at {}",
-            worst.0, worst.1
-        ));
-    }
 }
 
 /// The points of [`BFR_APPROXIMATE`] of one shape: `(sample, our position, bound, error)`.
@@ -983,13 +902,12 @@ fn table(reports: &[ShapeReport]) -> String {
         "LimitSurface vs OpenSubdiv Bfr, 5x5 samples per quad face. pos: |ours - osd| / diagonal \
          (<= {POS_TOL:e}); approx: points of BFR_APPROXIMATE (count, max); du, dv: relative \
          derivative error off corners (<= {DERIV_TOL:e}); normal: angle in rad (<= {NORMAL_TOL:e}), \
-         count compared; defect: samples with the known non-manifold-edge derivative defect \
-         (count, max error, max |Bfr - finite differences of ours| <= {FD_TOL:e}); * = shape failed"
+         count compared; * = shape failed"
     );
     let _ = writeln!(
         t,
-        "{:<28} {:>9} {:>6} {:>8} {:>13} {:>8} {:>8} {:>14} {:>21} {:>6}",
-        "shape", "faces", "samples", "pos", "approx", "du", "dv", "normal", "defect", "secs"
+        "{:<28} {:>9} {:>6} {:>8} {:>13} {:>8} {:>8} {:>14} {:>6}",
+        "shape", "faces", "samples", "pos", "approx", "du", "dv", "normal", "secs"
     );
     for r in reports {
         let faces = if r.faces.0 == r.faces.1 {
@@ -1002,20 +920,10 @@ fn table(reports: &[ShapeReport]) -> String {
         } else {
             "-".into()
         };
-        let defect = if r.defect.0 > 0 {
-            format!(
-                "{} {} {}",
-                r.defect.0,
-                fmt_err(r.defect.1),
-                fmt_err(r.defect_fd)
-            )
-        } else {
-            "-".into()
-        };
         let mark = if r.failures.is_empty() { "" } else { "*" };
         let _ = writeln!(
             t,
-            "{:<28} {faces:>9} {:>6} {:>8} {approx:>13} {:>8} {:>8} {:>14} {defect:>21} {:>6.2}",
+            "{:<28} {faces:>9} {:>6} {:>8} {approx:>13} {:>8} {:>8} {:>14} {:>6.2}",
             format!("{}{mark}", r.name),
             r.samples,
             fmt_err(r.max_pos),
@@ -1049,11 +957,7 @@ fn limit_surface_matches_opensubdiv_bfr() {
             }
         }
     }
-    let listed = BFR_APPROXIMATE
-        .iter()
-        .map(|a| a.shape)
-        .chain(NONMANIFOLD_EDGE_DERIVATIVE_DEFECT.iter().copied());
-    for shape in listed {
+    for shape in BFR_APPROXIMATE.iter().map(|a| a.shape) {
         if !names.iter().any(|n| n == shape) {
             failures.push(format!("exception lists unknown shape {shape}"));
         }
@@ -1067,4 +971,105 @@ fn limit_surface_matches_opensubdiv_bfr() {
             failures.join("\n  ")
         );
     }
+}
+
+/// At the golden samples of [`FD_SHAPES`] that lie on a side of their face (not at a corner)
+/// whose base edge is non-manifold or degenerate ([`irregular_edges`]), our `du`, `dv` must
+/// equal finite differences of our own positions ([`fd_derivatives`]) to [`FD_TOL`] relative
+/// to `max(|d|, DERIV_FLOOR × diagonal)`. This is independent of `Bfr`: it checks that the
+/// derivatives are those of the surface we evaluate, at the points where they are hardest to
+/// get right.
+#[test]
+fn derivatives_match_finite_differences_on_nonmanifold_edges() {
+    let mut failures = Vec::new();
+    for &name in FD_SHAPES {
+        let obj = read_obj(&crate_dir().join(format!("tests/shapes/osd/{name}.obj")))
+            .unwrap_or_else(|e| panic!("{name}: read_obj failed: {e}"));
+        let mesh = &obj.mesh;
+        let surface = LimitSurface::new(mesh, obj.options.resolve(Options::default()))
+            .unwrap_or_else(|e| panic!("{name}: LimitSurface::new: {e}"));
+        let golden = load_golden(name)
+            .unwrap_or_else(|e| panic!("{e}"))
+            .unwrap_or_else(|| panic!("{name}: no golden data"));
+        let diag = diagonal(mesh);
+        let irregular = irregular_edges(mesh);
+        let samples: Vec<Sample> = golden
+            .samples
+            .iter()
+            .filter(|s| {
+                side_of(s.u, s.v).is_some_and(|k| {
+                    let f = mesh.face(s.face as usize);
+                    let (a, b) = (f[k], f[(k + 1) % f.len()]);
+                    irregular.contains(&(a.min(b), a.max(b)))
+                })
+            })
+            .copied()
+            .collect();
+        if samples.is_empty() {
+            failures.push(format!(
+                "{name}: no samples on non-manifold or degenerate edges"
+            ));
+            continue;
+        }
+        let points: Vec<SurfacePoint> = samples
+            .iter()
+            .map(|s| SurfacePoint {
+                face: s.face,
+                subface: 0,
+                u: s.u,
+                v: s.v,
+            })
+            .collect();
+        let ours = surface.eval_many(&points);
+        let mut worst = (0.0f64, String::new());
+        for ((s, d), fd) in samples
+            .iter()
+            .zip(&ours)
+            .zip(fd_derivatives(&surface, &samples))
+        {
+            let at = format!("face {} at ({}, {})", s.face, s.u, s.v);
+            let (d, (fu, fv)) = match (d, fd) {
+                (Ok(d), Ok(fd)) => (d, fd),
+                (Err(e), _) => {
+                    failures.push(format!("{name}: {at}: eval failed: {e}"));
+                    continue;
+                }
+                (_, Err(e)) => {
+                    failures.push(format!("{name}: {at}: {e}"));
+                    continue;
+                }
+            };
+            let eu = dist(d.du, fu) / norm(d.du).max(DERIV_FLOOR * diag);
+            let ev = dist(d.dv, fv) / norm(d.dv).max(DERIV_FLOOR * diag);
+            let e = eu.max(ev);
+            let e = if e.is_nan() { f64::INFINITY } else { e };
+            if e >= worst.0 {
+                worst = (
+                    e,
+                    format!(
+                        "{at}: ours du {:?} dv {:?}, finite differences du {fu:?} dv {fv:?}",
+                        d.du, d.dv
+                    ),
+                );
+            }
+        }
+        println!(
+            "{name}: {} samples on non-manifold/degenerate edges, largest relative difference \
+             from finite differences {:.1e}",
+            samples.len(),
+            worst.0
+        );
+        if worst.0 > FD_TOL {
+            failures.push(format!(
+                "{name}: du or dv differs from finite differences of our positions by {:.2e} \
+                 (relative, > {FD_TOL:e}) at {}",
+                worst.0, worst.1
+            ));
+        }
+    }
+    assert!(
+        failures.is_empty(),
+        "derivatives differ from finite differences:\n  {}",
+        failures.join("\n  ")
+    );
 }
