@@ -26,21 +26,29 @@ pub(crate) fn cross(a: &V3, b: &V3) -> V3 {
     ]
 }
 
-/// `|a|`.
+/// `|a|`, without overflow or underflow for any finite `a` (scaled by its largest
+/// component first).
 #[inline]
 pub(crate) fn norm(a: &V3) -> f64 {
-    dot(a, a).sqrt()
+    let m = a[0].abs().max(a[1].abs()).max(a[2].abs());
+    if m == 0.0 || !m.is_finite() {
+        return m;
+    }
+    let s = [a[0] / m, a[1] / m, a[2] / m];
+    m * dot(&s, &s).sqrt()
 }
 
-/// `a / |a|`, or zero when `a` is zero or not finite.
+/// `a / |a|`, or zero when `a` is zero or not finite; exact in direction for any finite
+/// magnitude (tiny and huge vectors alike).
 #[inline]
 pub(crate) fn normalize_or_zero(a: V3) -> V3 {
-    let n = norm(&a);
-    if n > 0.0 && n.is_finite() {
-        [a[0] / n, a[1] / n, a[2] / n]
-    } else {
-        [0.0; 3]
+    let m = a[0].abs().max(a[1].abs()).max(a[2].abs());
+    if m == 0.0 || !m.is_finite() {
+        return [0.0; 3];
     }
+    let s = [a[0] / m, a[1] / m, a[2] / m];
+    let n = dot(&s, &s).sqrt();
+    [s[0] / n, s[1] / n, s[2] / n]
 }
 
 /// Newell's normal of polygon `face` (not normalised; twice the vector area):
@@ -86,5 +94,10 @@ mod tests {
         assert_eq!(normalize_or_zero([0.0, 3.0, 4.0]), [0.0, 0.6, 0.8]);
         assert_eq!(normalize_or_zero([0.0; 3]), [0.0; 3]);
         assert_eq!(normalize_or_zero([f64::NAN, 0.0, 0.0]), [0.0; 3]);
+        let n = normalize_or_zero([0.0, 3e-200, 4e-200]);
+        assert!((n[1] - 0.6).abs() < 1e-15 && (n[2] - 0.8).abs() < 1e-15);
+        let n = normalize_or_zero([0.0, 3e200, 4e200]);
+        assert!((n[1] - 0.6).abs() < 1e-15 && (n[2] - 0.8).abs() < 1e-15);
+        assert!((norm(&[0.0, 3e200, 4e200]) / 5e200 - 1.0).abs() < 1e-15);
     }
 }

@@ -34,7 +34,9 @@
 pub mod io;
 pub mod limit;
 pub mod mesh;
+pub mod nurbs;
 pub mod refine;
+pub mod render;
 pub mod scheme;
 
 mod geom;

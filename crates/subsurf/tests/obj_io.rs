@@ -883,8 +883,8 @@ fn tagged_mesh() -> PolyMesh {
     let p = vec![
         [0.1, 0.2, 0.3],
         [1.0 / 3.0, -0.0, 1e-300],
-        [1e300, f64::MIN_POSITIVE, -2.5],
-        [f64::MAX, f64::EPSILON, 5e-324],
+        [1e75, f64::MIN_POSITIVE, -2.5],
+        [-9.876_543_210_987_654e74, f64::EPSILON, 5e-324],
         [std::f64::consts::PI, -1e-7, 123_456_789.123_456_79],
     ];
     let mut m = PolyMesh::from_faces(p, &[vec![0, 1, 2, 3], vec![0, 3, 4]]).unwrap();
@@ -1108,7 +1108,12 @@ fn random_positions_round_trip_bit_exactly() {
             x ^= x >> 7;
             x ^= x << 17;
             let f = f64::from_bits(x);
-            *c = if f.is_finite() { f } else { 0.5 };
+            // Every finite value up to the mesh layer's limit on coordinates.
+            *c = if f.is_finite() && f.abs() <= subsurf::mesh::MAX_COORDINATE {
+                f
+            } else {
+                0.5
+            };
         }
         p.push(v);
     }

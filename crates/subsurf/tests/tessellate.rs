@@ -122,8 +122,11 @@ fn meshes() -> Vec<(&'static str, PolyMesh, Options, bool)> {
     ]
 }
 
+/// How many times each edge (a vertex pair) occurs.
+type EdgeCounts = HashMap<(u32, u32), usize>;
+
 /// Undirected edge → number of output faces, and directed edge → count.
-fn edge_counts(t: &Tessellation) -> (HashMap<(u32, u32), usize>, HashMap<(u32, u32), usize>) {
+fn edge_counts(t: &Tessellation) -> (EdgeCounts, EdgeCounts) {
     let mut undirected = HashMap::new();
     let mut directed = HashMap::new();
     for f in 0..t.num_faces() {

@@ -1,10 +1,12 @@
 //! `subsurf bench`: time uniform refinement (topology + positions, no file output) the way
-//! `osd-oracle bench` times OpenSubdiv, so the two can be compared on any mesh.
+//! `osd-oracle bench` times OpenSubdiv, so the two can be compared on any mesh; with
+//! `--replay`, time re-posing through a precomputed [`RefinePlan`] instead.
 
 use std::time::Instant;
 
 use anyhow::{Context, Result};
 use subsurf::mesh::Options;
+use subsurf::refine::{PlanScratch, RefinePlan};
 use subsurf::{subdivide, SubdivideOptions};
 
 use crate::input::Input;
@@ -29,6 +31,9 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     if let Some(n) = args.limit_grid {
         return bench_limit(&input, opts.scheme, n as usize, reps, &pool);
     }
+    if args.replay {
+        return bench_replay(&input, opts.scheme, args.levels, reps, &pool);
+    }
     let mut times = Vec::with_capacity(reps);
     let mut verts = 0;
     for _ in 0..reps {
@@ -47,6 +52,43 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         pool.current_num_threads(),
         times[times.len() / 2],
         times[0]
+    );
+    Ok(())
+}
+
+/// Builds a [`RefinePlan`] once (timed separately) and times applying it to the base
+/// positions `reps` times, into buffers kept from one repetition to the next (as an
+/// animation would re-pose frame after frame).
+fn bench_replay(
+    input: &Input,
+    options: Options,
+    levels: u32,
+    reps: usize,
+    pool: &rayon::ThreadPool,
+) -> Result<()> {
+    let mesh = &input.obj.mesh;
+    let t0 = Instant::now();
+    let plan = pool
+        .install(|| RefinePlan::new(mesh, options, levels))
+        .with_context(|| input.name.clone())?;
+    let build = t0.elapsed().as_secs_f64();
+    let mut out = Vec::new();
+    let mut scratch = PlanScratch::default();
+    let mut times = Vec::with_capacity(reps);
+    for _ in 0..reps {
+        let t0 = Instant::now();
+        pool.install(|| plan.apply_into(mesh.positions(), &mut out, &mut scratch));
+        times.push(t0.elapsed().as_secs_f64());
+    }
+    times.sort_by(f64::total_cmp);
+    println!(
+        "subsurf replay level={levels} verts={} threads={} median_s={:.6} min_s={:.6} (plan built in {build:.6}s) weights={} plan_mib={}",
+        out.len(),
+        pool.current_num_threads(),
+        times[times.len() / 2],
+        times[0],
+        plan.num_weights(),
+        plan.memory_bytes() >> 20,
     );
     Ok(())
 }

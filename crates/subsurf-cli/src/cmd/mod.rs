@@ -4,5 +4,6 @@ pub mod bench;
 pub mod demo;
 pub mod info;
 pub mod limit;
+pub mod render;
 pub mod subdivide;
 pub mod tessellate;

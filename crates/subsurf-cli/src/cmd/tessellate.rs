@@ -1,14 +1,16 @@
 //! `subsurf tessellate`: sample the exact limit surface on a watertight grid and write it
-//! as OBJ (with normals), binary PLY (with normals) or binary STL.
+//! as OBJ (with normals), binary PLY (with normals), binary STL or binary glTF (`.glb`,
+//! triangles with normals, optionally with the control mesh's edges as lines).
 
 use std::path::Path;
 
 use anyhow::{bail, Context, Result};
+use subsurf::io::gltf::{face_edges, write_glb, GlbLines, GlbMesh};
 use subsurf::io::obj::{write_obj, WriteOptions};
 use subsurf::io::ply::write_ply;
 use subsurf::io::stl::write_stl;
 use subsurf::limit::{tessellate, LimitSurface, Tessellation};
-use subsurf::mesh::{Options, TriangleSubdivision};
+use subsurf::mesh::{Options, PolyMesh, TriangleSubdivision};
 
 use crate::input::Input;
 use crate::output::Output;
@@ -23,6 +25,8 @@ pub enum Format {
     Ply,
     /// Binary STL (`f32`, triangles).
     Stl,
+    /// Binary glTF 2.0 (`f32` positions and normals, triangles).
+    Glb,
 }
 
 impl Format {
@@ -38,12 +42,14 @@ impl Format {
             Some("obj") => Ok(Self::Obj),
             Some("ply") => Ok(Self::Ply),
             Some("stl") => Ok(Self::Stl),
+            Some("glb") => Ok(Self::Glb),
             Some(other) => bail!(
-                "cannot write {}: unknown output format '.{other}' (expected .obj, .ply or .stl)",
+                "cannot write {}: unknown output format '.{other}' \
+                 (expected .glb, .obj, .ply or .stl)",
                 path.display()
             ),
             None => bail!(
-                "cannot write {}: the output needs an extension .obj, .ply or .stl \
+                "cannot write {}: the output needs an extension .glb, .obj, .ply or .stl \
                  (or '-' for OBJ on standard output)",
                 path.display()
             ),
@@ -54,6 +60,12 @@ impl Format {
 /// Runs `subsurf tessellate`.
 pub fn run(args: &TessellateArgs) -> Result<()> {
     let format = Format::from_path(&args.output)?;
+    if args.control_mesh && format != Format::Glb {
+        bail!(
+            "--control-mesh needs a .glb output ({} is not one)",
+            args.output.display()
+        );
+    }
     let out = Output::new(&args.output);
     out.check()?;
     let input = Input::read(&args.input)?;
@@ -68,7 +80,9 @@ pub fn run(args: &TessellateArgs) -> Result<()> {
         .resolve(Options::default());
     let mesh = &input.obj.mesh;
     let surface = LimitSurface::new(mesh, options).with_context(|| input.name.clone())?;
-    let t = tessellate(&surface, mesh, &options, args.rate, args.triangles)
+    // glTF draws triangles: let the tessellation split its quads (it picks the diagonals).
+    let triangles = args.triangles || format == Format::Glb;
+    let t = tessellate(&surface, mesh, &options, args.rate, triangles)
         .with_context(|| input.name.clone())?;
     if t.rate != args.rate && !args.quiet {
         eprintln!(
@@ -82,11 +96,18 @@ pub fn run(args: &TessellateArgs) -> Result<()> {
         );
     }
     let comment = command_line(args, &options, &input.name);
-    write(&out, format, &t, &comment)
+    let control = args.control_mesh.then_some(mesh);
+    write(&out, format, &t, &comment, control)
 }
 
-/// Writes `t` to `out` in `format`.
-fn write(out: &Output, format: Format, t: &Tessellation, comment: &str) -> Result<()> {
+/// Writes `t` to `out` in `format` (with `control`'s edges as lines, for glTF).
+fn write(
+    out: &Output,
+    format: Format,
+    t: &Tessellation,
+    comment: &str,
+    control: Option<&PolyMesh>,
+) -> Result<()> {
     match format {
         Format::Obj => {
             let mesh = t
@@ -117,6 +138,22 @@ fn write(out: &Output, format: Format, t: &Tessellation, comment: &str) -> Resul
                 comment,
             )
         }),
+        Format::Glb => {
+            let edges = control.map(|m| face_edges(m.face_offsets(), m.face_verts()));
+            let glb = GlbMesh {
+                name: "limit surface",
+                positions: &t.positions,
+                normals: Some(&t.normals),
+                colors: None,
+                face_offsets: &t.face_offsets,
+                face_verts: &t.face_verts,
+                control: control.zip(edges.as_deref()).map(|(m, lines)| GlbLines {
+                    positions: m.positions(),
+                    lines,
+                }),
+            };
+            out.write(|mut w| write_glb(&mut w, &glb))
+        }
     }
 }
 
@@ -131,6 +168,9 @@ fn command_line(args: &TessellateArgs, s: &Options, input: &str) -> String {
     }
     if args.triangles {
         line.push_str(" --triangles");
+    }
+    if args.control_mesh {
+        line.push_str(" --control-mesh");
     }
     line.push(' ');
     line.push_str(input);
@@ -147,10 +187,11 @@ mod tests {
         assert_eq!(f("a.obj").unwrap(), Format::Obj);
         assert_eq!(f("dir/a.PLY").unwrap(), Format::Ply);
         assert_eq!(f("a.b.Stl").unwrap(), Format::Stl);
+        assert_eq!(f("a.GLB").unwrap(), Format::Glb);
         assert_eq!(f("-").unwrap(), Format::Obj);
         let e = f("a.xyz").unwrap_err().to_string();
         assert!(
-            e.contains("'.xyz'") && e.contains(".obj, .ply or .stl"),
+            e.contains("'.xyz'") && e.contains(".glb, .obj, .ply or .stl"),
             "{e}"
         );
         assert!(f("noext").is_err());

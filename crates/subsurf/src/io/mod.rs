@@ -7,6 +7,7 @@
 //!   directory and renamed into place, so a failed run never leaves a partial file.
 
 mod atomic;
+pub mod gltf;
 pub mod obj;
 pub mod ply;
 pub mod stl;

@@ -39,6 +39,17 @@ pub enum MeshError {
         /// The offending value.
         value: f64,
     },
+    /// A coordinate too large for the geometry that follows (normals and curvature multiply
+    /// coordinates; 1e75 keeps every product finite).
+    #[error(
+        "vertex {vertex} has the coordinate {value}; coordinates must be below 1e75 in magnitude"
+    )]
+    CoordinateTooLarge {
+        /// Vertex index.
+        vertex: usize,
+        /// The offending value.
+        value: f64,
+    },
     /// The face offsets of a CSR face list are not a valid prefix sum.
     #[error("face offsets are malformed: {0}")]
     BadFaceOffsets(String),

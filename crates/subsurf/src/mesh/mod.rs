@@ -19,6 +19,6 @@ mod topology;
 pub use crease_angle::{crease_by_angle, CreaseAngleError};
 pub use error::{MeshError, TopologyWarning};
 pub use options::{BoundaryInterpolation, CreaseMethod, Options, TriangleSubdivision};
-pub use polymesh::PolyMesh;
+pub use polymesh::{PolyMesh, MAX_COORDINATE};
 pub use tags::{Corner, Crease, Tags, SHARPNESS_INFINITE};
 pub use topology::{EdgeTag, Rule, Topology, VertexTag, INVALID};

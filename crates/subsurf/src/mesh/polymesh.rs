@@ -2,6 +2,11 @@
 
 use super::{MeshError, Tags};
 
+/// Largest accepted coordinate magnitude: refinement averages and evaluation multiplies
+/// coordinates (normals, tangent-plane projections and curvature multiply up to four of
+/// them), and below 1e75 every such product stays finite.
+pub const MAX_COORDINATE: f64 = 1e75;
+
 /// A polygon mesh with faces of any size ≥ 3.
 ///
 /// Memory layout (compressed sparse rows): face `f` has the vertices
@@ -38,7 +43,8 @@ impl PolyMesh {
     ///
     /// # Errors
     /// [`MeshError`] naming the first bad face or vertex: faces with fewer than 3
-    /// vertices, out-of-range vertices, non-finite coordinates.
+    /// vertices, out-of-range vertices, non-finite coordinates or coordinates beyond
+    /// [`MAX_COORDINATE`].
     pub fn new(
         positions: Vec<[f64; 3]>,
         face_offsets: Vec<u32>,
@@ -94,6 +100,12 @@ impl PolyMesh {
             for &c in p {
                 if !c.is_finite() {
                     return Err(MeshError::NonFiniteCoordinate {
+                        vertex: v,
+                        value: c,
+                    });
+                }
+                if c.abs() > MAX_COORDINATE {
+                    return Err(MeshError::CoordinateTooLarge {
                         vertex: v,
                         value: c,
                     });

@@ -1,5 +1,11 @@
 //! Uniform refinement: topology once ([`TopologyRefiner`]), then any number of primvars
-//! through it ([`TopologyRefiner::interpolate`]).
+//! through it ([`TopologyRefiner::interpolate`]); or, to re-pose the same mesh many times,
+//! a precomputed [`RefinePlan`] (a sparse matrix per level, applied without any topology
+//! or mask work).
+//!
+//! Topology refinement and interpolation run in parallel on the current rayon pool once a
+//! level is large enough (tens of thousands of elements); the results are identical,
+//! bit for bit, whatever the number of threads.
 //!
 //! ```
 //! use subsurf::mesh::{Options, PolyMesh};
@@ -19,9 +25,11 @@
 //! assert!(temp.iter().all(|t| (0.0..=1.0).contains(&t[0])));
 //! ```
 
+mod plan;
 mod primvar;
 mod topology;
 
+pub use plan::{PlanScratch, RefinePlan};
 pub use primvar::interpolate;
 pub(crate) use topology::refine_topology;
 

@@ -14,6 +14,10 @@
 //! - edges: `face_offsets[f] + j` joins the children of `f` and of its edge `j`;
 //!   `S + 2e + k` joins the children of edge `e` and of its end `k`.
 
+use std::ops::Range;
+
+use rayon::prelude::*;
+
 use crate::mesh::{CreaseMethod, EdgeTag, Options, Rule, Topology, VertexTag};
 use crate::scheme::crease;
 
@@ -38,23 +42,132 @@ fn edge_child_at(p: &Topology, s: u32, e: u32, v: u32, leaving: bool) -> u32 {
     s + 2 * e + k as u32
 }
 
+// ---------------------------------------------------------------------------------------------
+// Parallel passes
+// ---------------------------------------------------------------------------------------------
+//
+// Every child element is a formula of parent indices, so each pass below runs over ranges of
+// parent elements, and each range writes its own contiguous piece of every output array (the
+// pieces are cut at the offsets that the formulas give). The result does not depend on how the
+// ranges are cut or in which order they run: it is bit for bit the serial result. Small levels
+// run on the calling thread.
+
+/// Parent elements per parallel task.
+const CHUNK: usize = 4096;
+/// Below this many elements a pass runs on the calling thread: sharing it would cost more
+/// than it saves.
+const PAR_MIN: usize = 16 * 1024;
+
+/// `0..n` cut into the ranges of parent elements that the tasks of a pass handle: `0..n`
+/// itself when `n < PAR_MIN`, else ranges of `CHUNK`.
+fn chunk_ranges(n: usize) -> Vec<Range<usize>> {
+    if n < PAR_MIN {
+        std::iter::once(0..n).collect()
+    } else {
+        (0..n)
+            .step_by(CHUNK)
+            .map(|a| a..(a + CHUNK).min(n))
+            .collect()
+    }
+}
+
+/// Cuts `data` into consecutive pieces, one per range: piece `i` covers the output of
+/// `ranges[i]`, which starts at `start(ranges[i].start)`; `data` starts at
+/// `start(ranges[0].start)` and the last piece runs to its end.
+pub(super) fn split_pieces<'a, T>(
+    data: &'a mut [T],
+    ranges: &[Range<usize>],
+    start: impl Fn(usize) -> usize,
+) -> Vec<&'a mut [T]> {
+    let mut at = start(ranges[0].start);
+    let mut rest = data;
+    let mut pieces = Vec::with_capacity(ranges.len());
+    for r in &ranges[1..] {
+        let next = start(r.start);
+        let (a, b) = std::mem::take(&mut rest).split_at_mut(next - at);
+        pieces.push(a);
+        rest = b;
+        at = next;
+    }
+    pieces.push(rest);
+    pieces
+}
+
+/// `n` empty pieces (for an output array that is not built).
+fn no_pieces<'a, T>(n: usize) -> Vec<&'a mut [T]> {
+    (0..n).map(|_| <&mut [T]>::default()).collect()
+}
+
+/// Runs `f` on every item, in parallel when there is more than one.
+pub(super) fn run<I: Send>(items: Vec<I>, f: impl Fn(I) + Sync + Send) {
+    if items.len() <= 1 {
+        items.into_iter().for_each(f);
+    } else {
+        items.into_par_iter().for_each(f);
+    }
+}
+
+/// `(0..n).map(f).collect()`, in parallel when large (writing straight into the vector).
+fn collect<T: Send>(n: usize, f: impl Fn(usize) -> T + Sync + Send) -> Vec<T> {
+    if n < PAR_MIN {
+        (0..n).map(f).collect()
+    } else {
+        (0..n).into_par_iter().with_min_len(CHUNK).map(f).collect()
+    }
+}
+
+/// `vec![value; n]`, written in parallel when large.
+fn filled<T: Copy + Send + Sync>(n: usize, value: T) -> Vec<T> {
+    if n < PAR_MIN {
+        vec![value; n]
+    } else {
+        (0..n)
+            .into_par_iter()
+            .with_min_len(CHUNK)
+            .map(|_| value)
+            .collect()
+    }
+}
+
+/// `(0..n).map(f).max()` (0 when empty), in parallel when large.
+fn max_of(n: usize, f: impl Fn(usize) -> usize + Sync + Send) -> usize {
+    if n < PAR_MIN {
+        (0..n).map(f).max().unwrap_or(0)
+    } else {
+        (0..n)
+            .into_par_iter()
+            .with_min_len(CHUNK)
+            .map(f)
+            .max()
+            .unwrap_or(0)
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Refinement
+// ---------------------------------------------------------------------------------------------
+
 /// Refines `p` one level: the child's topology, tags and sharpness. With `full == false`
 /// only what is needed to interpolate into the child and to write it out is built (faces,
 /// edges' vertices, tags and sharpness), not the relations needed to refine it further or
 /// to evaluate limit masks on it (face → edges, edge → faces, vertex → faces and edges);
 /// OpenSubdiv skips the same work for the last level.
+///
+/// Large levels are refined in parallel (on the current rayon pool) over ranges of parent
+/// faces, edges and vertices; the result is identical whatever the number of threads.
 pub(crate) fn refine_topology(p: &Topology, options: &Options, full: bool) -> Topology {
     let nv = p.num_vertices();
     let nf = p.num_faces();
     let ne = p.num_edges();
-    let s = p.face_verts.len() as u32;
+    let s = p.face_verts.len();
     let (fc0, ec0) = (nv as u32, (nv + nf) as u32);
     let cnv = nv + nf + ne;
-    let cnf = s as usize;
-    let cne = s as usize + 2 * ne;
+    let cnf = s;
+    let cne = s + 2 * ne;
+    let fo = |f: usize| p.face_offsets[f] as usize;
 
-    // Faces: every child is a quad.
-    let face_offsets: Vec<u32> = (0..=cnf as u32).map(|i| 4 * i).collect();
+    // Faces (every child is a quad), and the child edges inside each parent face.
+    let face_offsets = collect(cnf + 1, |i| 4 * i as u32);
     let mut face_verts = vec![0u32; 4 * cnf];
     let mut face_edges = if full {
         vec![0u32; 4 * cnf]
@@ -62,50 +175,72 @@ pub(crate) fn refine_topology(p: &Topology, options: &Options, full: bool) -> To
         Vec::new()
     };
     let mut face_holes = vec![false; cnf];
-    for f in 0..nf {
-        let o = p.face_offsets[f] as usize;
-        let fv = p.face_vertices(f);
-        let fe = p.face_edge_list(f);
-        let n = fv.len();
-        let hole = p.face_holes[f];
-        for j in 0..n {
-            let jp = if j == 0 { n - 1 } else { j - 1 };
-            let v = fv[j];
-            let verts = [v, ec0 + fe[j], fc0 + f as u32, ec0 + fe[jp]];
-            let edges = [
-                edge_child_at(p, s, fe[j], v, true),
-                (o + j) as u32,
-                (o + jp) as u32,
-                edge_child_at(p, s, fe[jp], v, false),
-            ];
-            let cf = o + j;
-            let r = rot(n, j);
-            for k in 0..4 {
-                face_verts[4 * cf + (k + r) % 4] = verts[k];
-            }
-            if full {
-                for k in 0..4 {
-                    face_edges[4 * cf + (k + r) % 4] = edges[k];
-                }
-            }
-            face_holes[cf] = hole;
-        }
-    }
-
-    // Edges: vertices.
     let mut edge_verts = vec![[0u32; 2]; cne];
-    for f in 0..nf {
-        let o = p.face_offsets[f] as usize;
-        for (j, &e) in p.face_edge_list(f).iter().enumerate() {
-            edge_verts[o + j] = [fc0 + f as u32, ec0 + e];
+    let (ev_faces, ev_edges) = edge_verts.split_at_mut(s);
+    let ranges = chunk_ranges(nf);
+    let fv = split_pieces(&mut face_verts, &ranges, |f| 4 * fo(f));
+    let fe = if full {
+        split_pieces(&mut face_edges, &ranges, |f| 4 * fo(f))
+    } else {
+        no_pieces(ranges.len())
+    };
+    let fh = split_pieces(&mut face_holes, &ranges, fo);
+    let ev = split_pieces(ev_faces, &ranges, fo);
+    let items: Vec<_> = ranges
+        .into_iter()
+        .zip(fv)
+        .zip(fe)
+        .zip(fh)
+        .zip(ev)
+        .map(|((((r, a), b), c), d)| (r, a, b, c, d))
+        .collect();
+    run(items, |(range, fv_out, fe_out, fh_out, ev_out)| {
+        let base = fo(range.start);
+        for f in range {
+            let o = fo(f);
+            let pfv = p.face_vertices(f);
+            let pfe = p.face_edge_list(f);
+            let n = pfv.len();
+            let hole = p.face_holes[f];
+            for j in 0..n {
+                let jp = if j == 0 { n - 1 } else { j - 1 };
+                let v = pfv[j];
+                let l = o + j - base;
+                let r = rot(n, j);
+                let verts = [v, ec0 + pfe[j], fc0 + f as u32, ec0 + pfe[jp]];
+                for k in 0..4 {
+                    fv_out[4 * l + (k + r) % 4] = verts[k];
+                }
+                if full {
+                    let edges = [
+                        edge_child_at(p, s as u32, pfe[j], v, true),
+                        (o + j) as u32,
+                        (o + jp) as u32,
+                        edge_child_at(p, s as u32, pfe[jp], v, false),
+                    ];
+                    for k in 0..4 {
+                        fe_out[4 * l + (k + r) % 4] = edges[k];
+                    }
+                }
+                fh_out[l] = hole;
+                ev_out[l] = [fc0 + f as u32, ec0 + pfe[j]];
+            }
         }
-    }
-    for e in 0..ne {
-        for k in 0..2 {
-            edge_verts[s as usize + 2 * e + k] = [ec0 + e as u32, p.edge_verts[e][k]];
-        }
-    }
+    });
 
+    // The two halves of each parent edge.
+    let ranges = chunk_ranges(ne);
+    let ev = split_pieces(ev_edges, &ranges, |e| 2 * e);
+    run(ranges.into_iter().zip(ev).collect(), |(range, out)| {
+        for (e, o) in range.zip(out.chunks_exact_mut(2)) {
+            let [a, b] = p.edge_verts[e];
+            o[0] = [ec0 + e as u32, a];
+            o[1] = [ec0 + e as u32, b];
+        }
+    });
+
+    let (edge_tags, edge_sharpness) = child_edge_tags(p, options.crease_method);
+    let (vert_tags, vert_sharpness) = child_vertex_tags(p, &edge_tags);
     let mut child = Topology {
         num_vertices: cnv as u32,
         face_offsets,
@@ -113,19 +248,169 @@ pub(crate) fn refine_topology(p: &Topology, options: &Options, full: bool) -> To
         face_edges,
         face_holes,
         edge_verts,
-        edge_sharpness: vec![0.0; cne],
-        vert_sharpness: vec![0.0; cnv],
-        edge_tags: vec![EdgeTag::default(); cne],
-        vert_tags: vec![VertexTag::default(); cnv],
+        edge_sharpness,
+        vert_sharpness,
+        edge_tags,
+        vert_tags,
         has_holes: p.has_holes,
         complete: full,
         ..Topology::default()
     };
-    propagate_tags_and_sharpness(p, &mut child, options.crease_method);
     if full {
         build_relations(p, &mut child);
     }
     child
+}
+
+/// Tags and sharpness of the child edges (OpenSubdiv's `propagateComponentTags` and
+/// `subdivideEdgeSharpness`): edges inside parent faces are smooth; the halves of a parent
+/// edge inherit its tag, and semi-sharp ones decay.
+fn child_edge_tags(p: &Topology, method: CreaseMethod) -> (Vec<EdgeTag>, Vec<f32>) {
+    let s = p.face_verts.len();
+    let ne = p.num_edges();
+    let mut tags = filled(s + 2 * ne, EdgeTag::default());
+    let mut sharpness = vec![0.0f32; s + 2 * ne];
+    let ranges = chunk_ranges(ne);
+    let t = split_pieces(&mut tags[s..], &ranges, |e| 2 * e);
+    let sh = split_pieces(&mut sharpness[s..], &ranges, |e| 2 * e);
+    run(
+        ranges.into_iter().zip(t).zip(sh).collect(),
+        |((range, t), sh)| {
+            let mut incident = Vec::new();
+            let base = range.start;
+            for e in range {
+                let tag = p.edge_tags[e];
+                if tag == EdgeTag::default() {
+                    // Smooth, manifold and interior: so are both halves.
+                    continue;
+                }
+                let ps = p.edge_sharpness[e];
+                for k in 0..2 {
+                    let mut ctag = tag;
+                    let cs = if tag.inf_sharp {
+                        crease::SHARPNESS_INFINITE
+                    } else if tag.semi_sharp {
+                        let cs = if method == CreaseMethod::Uniform {
+                            crease::decrement(ps)
+                        } else {
+                            let v = p.edge_verts[e][k] as usize;
+                            incident.clear();
+                            incident.extend(
+                                p.vertex_edges(v)
+                                    .iter()
+                                    .map(|&x| p.edge_sharpness[x as usize]),
+                            );
+                            crease::subdivide_edge_sharpness(method, ps, &incident)
+                        };
+                        if !crease::is_sharp(cs) {
+                            ctag.semi_sharp = false;
+                        }
+                        cs
+                    } else {
+                        0.0
+                    };
+                    let i = 2 * (e - base) + k;
+                    t[i] = ctag;
+                    sh[i] = cs;
+                }
+            }
+        },
+    );
+    (tags, sharpness)
+}
+
+/// Tags and sharpness of the child vertices, given the child edges' tags (OpenSubdiv's
+/// `propagateComponentTags`, `subdivideVertexSharpness`, `reclassifySemisharpVertices`):
+/// vertex children inherit and decay, and are re-classified where sharp features decayed;
+/// face children are smooth; edge children are creases where the edge was sharp.
+fn child_vertex_tags(p: &Topology, edge_tags: &[EdgeTag]) -> (Vec<VertexTag>, Vec<f32>) {
+    let nv = p.num_vertices();
+    let nf = p.num_faces();
+    let ne = p.num_edges();
+    let s = p.face_verts.len();
+    let mut tags = filled(nv + nf + ne, VertexTag::default());
+    let mut sharpness = vec![0.0f32; nv + nf + ne];
+    let (of_verts, rest) = tags.split_at_mut(nv);
+    let of_edges = &mut rest[nf..];
+
+    // Children of vertices.
+    let ranges = chunk_ranges(nv);
+    let t = split_pieces(of_verts, &ranges, |v| v);
+    let sh = split_pieces(&mut sharpness[..nv], &ranges, |v| v);
+    run(
+        ranges.into_iter().zip(t).zip(sh).collect(),
+        |((range, t), sh)| {
+            let base = range.start;
+            for v in range {
+                let pt = p.vert_tags[v];
+                if pt == VertexTag::default() {
+                    continue;
+                }
+                let mut tag = pt;
+                let cs = if pt.inf_sharp {
+                    crease::SHARPNESS_INFINITE
+                } else if pt.semi_sharp {
+                    let cs = crease::decrement(p.vert_sharpness[v]);
+                    if !crease::is_sharp(cs) {
+                        tag.semi_sharp = false;
+                    }
+                    cs
+                } else {
+                    0.0
+                };
+                // Re-classify vertex children whose sharp features decayed.
+                let decayed = pt.semi_sharp && !tag.semi_sharp;
+                if pt.semi_sharp_edges || decayed {
+                    let (mut inf, mut semi) = (0, 0);
+                    for (&pe, &l) in p.vertex_edges(v).iter().zip(p.vertex_edge_locals(v)) {
+                        let t = edge_tags[s + 2 * pe as usize + l as usize];
+                        inf += t.inf_sharp as usize;
+                        semi += t.semi_sharp as usize;
+                    }
+                    tag.semi_sharp_edges = semi > 0;
+                    if !tag.semi_sharp && !tag.inf_sharp {
+                        tag.rule = crease::vertex_rule(0.0, inf + semi);
+                    }
+                }
+                t[v - base] = tag;
+                sh[v - base] = cs;
+            }
+        },
+    );
+
+    // Children of faces are smooth (the default); children of edges are creases where the
+    // edge was sharp.
+    let ranges = chunk_ranges(ne);
+    let t = split_pieces(of_edges, &ranges, |e| e);
+    run(ranges.into_iter().zip(t).collect(), |(range, t)| {
+        let base = range.start;
+        for e in range {
+            let et = p.edge_tags[e];
+            if et == EdgeTag::default() {
+                continue;
+            }
+            let mut tag = VertexTag {
+                non_manifold: et.non_manifold,
+                boundary: et.boundary,
+                semi_sharp_edges: et.semi_sharp,
+                inf_sharp_edges: et.inf_sharp,
+                rule: if et.semi_sharp || et.inf_sharp {
+                    Rule::Crease
+                } else {
+                    Rule::Smooth
+                },
+                ..VertexTag::default()
+            };
+            if tag.semi_sharp_edges {
+                let count = edge_tags[s + 2 * e].semi_sharp as usize
+                    + edge_tags[s + 2 * e + 1].semi_sharp as usize;
+                tag.semi_sharp_edges = count > 0;
+                tag.rule = crease::vertex_rule(0.0, count);
+            }
+            t[e - base] = tag;
+        }
+    });
+    (tags, sharpness)
 }
 
 /// The child's edge → faces and vertex → faces/edges relations, in rotational order.
@@ -133,171 +418,260 @@ fn build_relations(p: &Topology, c: &mut Topology) {
     let nv = p.num_vertices();
     let nf = p.num_faces();
     let ne = p.num_edges();
-    let s = p.face_verts.len() as u32;
+    let s = p.face_verts.len();
+    let su = s as u32;
     let cnv = nv + nf + ne;
-    let cnf = s as usize;
-    let cne = s as usize + 2 * ne;
+    let cne = s + 2 * ne;
+    let fo = |f: usize| p.face_offsets[f] as usize;
+    let pef = &p.edge_face_offsets;
+    debug_assert!(pef[0] == 0 && p.vert_face_offsets[0] == 0 && p.vert_edge_offsets[0] == 0);
 
-    // Edges: faces.
-    let mut edge_face_offsets = vec![0u32; cne + 1];
-    for i in 0..cnf {
-        edge_face_offsets[i + 1] = edge_face_offsets[i] + 2;
-    }
-    for e in 0..ne {
-        let m = p.edge_face_list(e).len() as u32;
-        let i = cnf + 2 * e;
-        edge_face_offsets[i + 1] = edge_face_offsets[i] + m;
-        edge_face_offsets[i + 2] = edge_face_offsets[i + 1] + m;
-    }
+    // Edges: faces. The child edge `o + j` inside parent face `f` lies in two child faces;
+    // each half `s + 2e + k` of parent edge `e` in as many as `e` has faces.
+    let efo = |ce: usize| -> u32 {
+        if ce <= s {
+            2 * ce as u32
+        } else {
+            let i = ce - s;
+            let e = i / 2;
+            if i % 2 == 0 {
+                2 * su + 2 * pef[e]
+            } else {
+                2 * su + pef[e] + pef[e + 1]
+            }
+        }
+    };
+    let edge_face_offsets = collect(cne + 1, efo);
     let nef = edge_face_offsets[cne] as usize;
     let mut edge_faces = vec![0u32; nef];
     let mut edge_face_local = vec![0u16; nef];
-    for f in 0..nf {
-        let o = p.face_offsets[f] as usize;
-        let fe = p.face_edge_list(f);
-        let n = fe.len();
-        for j in 0..n {
-            let ce = o + j;
-            let jn = if j + 1 == n { 0 } else { j + 1 };
-            let at = edge_face_offsets[ce] as usize;
-            edge_faces[at] = ce as u32;
-            edge_face_local[at] = ((1 + rot(n, j)) % 4) as u16;
-            edge_faces[at + 1] = (o + jn) as u32;
-            edge_face_local[at + 1] = ((2 + rot(n, jn)) % 4) as u16;
-        }
-    }
-    for e in 0..ne {
-        let ev = p.edge_verts[e];
-        let pfaces = p.edge_face_list(e);
-        let plocal = &p.edge_face_local[p.edge_face_offsets[e] as usize..];
-        for k in 0..2 {
-            let ce = s as usize + 2 * e + k;
-            let first = edge_face_offsets[ce] as usize;
-            for (at, (pf, &i)) in (first..).zip(pfaces.iter().zip(plocal)) {
-                let pf = *pf as usize;
-                let fv = p.face_vertices(pf);
-                let n = fv.len();
-                let i = i as usize;
-                let at_start = if ev[0] == ev[1] {
-                    k == 0
-                } else {
-                    fv[i] == ev[k]
-                };
-                let (corner, pos) = if at_start { (i, 0) } else { ((i + 1) % n, 3) };
-                edge_faces[at] = p.face_offsets[pf] + corner as u32;
-                edge_face_local[at] = ((pos + rot(n, corner)) % 4) as u16;
-            }
-        }
-    }
+    let (ef_in, ef_halves) = edge_faces.split_at_mut(2 * s);
+    let (efl_in, efl_halves) = edge_face_local.split_at_mut(2 * s);
 
-    // Vertices: faces and edges around each child vertex, in rotational order.
-    let mut vert_face_offsets = vec![0u32; cnv + 1];
-    let mut vert_edge_offsets = vec![0u32; cnv + 1];
-    for v in 0..nv {
-        vert_face_offsets[v + 1] = vert_face_offsets[v] + p.vertex_faces(v).len() as u32;
-        vert_edge_offsets[v + 1] = vert_edge_offsets[v] + p.vertex_edges(v).len() as u32;
-    }
-    for f in 0..nf {
-        let n = p.face_vertices(f).len() as u32;
-        let i = nv + f;
-        vert_face_offsets[i + 1] = vert_face_offsets[i] + n;
-        vert_edge_offsets[i + 1] = vert_edge_offsets[i] + n;
-    }
-    for e in 0..ne {
-        let m = p.edge_face_list(e).len() as u32;
-        let i = nv + nf + e;
-        vert_face_offsets[i + 1] = vert_face_offsets[i] + 2 * m;
-        vert_edge_offsets[i + 1] = vert_edge_offsets[i] + m + 2;
-    }
+    let ranges = chunk_ranges(nf);
+    let a = split_pieces(ef_in, &ranges, |f| 2 * fo(f));
+    let b = split_pieces(efl_in, &ranges, |f| 2 * fo(f));
+    run(
+        ranges.into_iter().zip(a).zip(b).collect(),
+        |((range, ef), efl)| {
+            let base = 2 * fo(range.start);
+            for f in range {
+                let o = fo(f);
+                let n = p.face_vertices(f).len();
+                for j in 0..n {
+                    let ce = o + j;
+                    let jn = if j + 1 == n { 0 } else { j + 1 };
+                    let at = 2 * ce - base;
+                    ef[at] = ce as u32;
+                    efl[at] = ((1 + rot(n, j)) % 4) as u16;
+                    ef[at + 1] = (o + jn) as u32;
+                    efl[at + 1] = ((2 + rot(n, jn)) % 4) as u16;
+                }
+            }
+        },
+    );
+
+    let ranges = chunk_ranges(ne);
+    let a = split_pieces(ef_halves, &ranges, |e| 2 * pef[e] as usize);
+    let b = split_pieces(efl_halves, &ranges, |e| 2 * pef[e] as usize);
+    run(
+        ranges.into_iter().zip(a).zip(b).collect(),
+        |((range, ef), efl)| {
+            let base = efo(s + 2 * range.start) as usize;
+            for e in range {
+                let ev = p.edge_verts[e];
+                let pfaces = p.edge_face_list(e);
+                let plocal = &p.edge_face_local[pef[e] as usize..];
+                for k in 0..2 {
+                    let first = efo(s + 2 * e + k) as usize - base;
+                    for (at, (pf, &i)) in (first..).zip(pfaces.iter().zip(plocal)) {
+                        let pf = *pf as usize;
+                        let fv = p.face_vertices(pf);
+                        let n = fv.len();
+                        let i = i as usize;
+                        let at_start = if ev[0] == ev[1] {
+                            k == 0
+                        } else {
+                            fv[i] == ev[k]
+                        };
+                        let (corner, pos) = if at_start { (i, 0) } else { ((i + 1) % n, 3) };
+                        ef[at] = p.face_offsets[pf] + corner as u32;
+                        efl[at] = ((pos + rot(n, corner)) % 4) as u16;
+                    }
+                }
+            }
+        },
+    );
+
+    // Vertices: faces and edges around each child vertex, in rotational order. Vertex
+    // children keep their parent's counts, face children have the face's size, and edge
+    // children have two faces per parent face and one edge per parent face plus two.
+    let (pvf, pve) = (&p.vert_face_offsets, &p.vert_edge_offsets);
+    let (vf_all, ve_all) = (pvf[nv], pve[nv]);
+    let vfo = |cv: usize| -> u32 {
+        if cv <= nv {
+            pvf[cv]
+        } else if cv <= nv + nf {
+            vf_all + p.face_offsets[cv - nv]
+        } else {
+            vf_all + su + 2 * pef[cv - nv - nf]
+        }
+    };
+    let veo = |cv: usize| -> u32 {
+        if cv <= nv {
+            pve[cv]
+        } else if cv <= nv + nf {
+            ve_all + p.face_offsets[cv - nv]
+        } else {
+            let e = cv - nv - nf;
+            ve_all + su + pef[e] + 2 * e as u32
+        }
+    };
+    let vert_face_offsets = collect(cnv + 1, vfo);
+    let vert_edge_offsets = collect(cnv + 1, veo);
     let mut vert_faces = vec![0u32; vert_face_offsets[cnv] as usize];
     let mut vert_face_local = vec![0u16; vert_faces.len()];
     let mut vert_edges = vec![0u32; vert_edge_offsets[cnv] as usize];
     let mut vert_edge_local = vec![0u8; vert_edges.len()];
-    for v in 0..nv {
-        let fo = vert_face_offsets[v] as usize;
-        for (k, (&pf, &j)) in p
-            .vertex_faces(v)
-            .iter()
-            .zip(p.vertex_face_locals(v))
-            .enumerate()
-        {
-            let n = p.face_vertices(pf as usize).len();
-            vert_faces[fo + k] = p.face_offsets[pf as usize] + j as u32;
-            vert_face_local[fo + k] = rot(n, j as usize) as u16;
-        }
-        let eo = vert_edge_offsets[v] as usize;
-        for (k, (&pe, &l)) in p
-            .vertex_edges(v)
-            .iter()
-            .zip(p.vertex_edge_locals(v))
-            .enumerate()
-        {
-            vert_edges[eo + k] = s + 2 * pe + l as u32;
-            vert_edge_local[eo + k] = 1;
-        }
-    }
-    for f in 0..nf {
-        let cv = nv + f;
-        let o = p.face_offsets[f] as usize;
-        let n = p.face_vertices(f).len();
-        let fo = vert_face_offsets[cv] as usize;
-        let eo = vert_edge_offsets[cv] as usize;
-        for i in 0..n {
-            vert_faces[fo + i] = (o + i) as u32;
-            vert_face_local[fo + i] = ((2 + rot(n, i)) % 4) as u16;
-            vert_edges[eo + i] = (o + (i + n - 1) % n) as u32;
-            vert_edge_local[eo + i] = 0;
-        }
-    }
-    for e in 0..ne {
-        let cv = nv + nf + e;
-        let pfaces = p.edge_face_list(e);
-        let plocal = &p.edge_face_local[p.edge_face_offsets[e] as usize..];
-        let mut fo = vert_face_offsets[cv] as usize;
-        let eo = vert_edge_offsets[cv] as usize;
-        let manifold = !p.edge_tags[e].non_manifold && pfaces.len() <= 2;
-        // The two child faces in each parent face: the one at the edge's second vertex
-        // in that face first, then the one at its first vertex.
-        for (&pf, &i) in pfaces.iter().zip(plocal) {
-            let pfu = pf as usize;
-            let n = p.face_vertices(pfu).len();
-            let (c0, c1) = (i as usize, (i as usize + 1) % n);
-            let base = p.face_offsets[pfu];
-            vert_faces[fo] = base + c1 as u32;
-            vert_face_local[fo] = ((3 + rot(n, c1)) % 4) as u16;
-            vert_faces[fo + 1] = base + c0 as u32;
-            vert_face_local[fo + 1] = ((1 + rot(n, c0)) % 4) as u16;
-            fo += 2;
-        }
-        if manifold {
-            // Counter-clockwise: [edge child toward the first face's second vertex,
-            // interior edge of face 0, edge child toward its first vertex, interior edge
-            // of face 1].
-            let pf0 = pfaces[0] as usize;
-            let i0 = plocal[0] as usize;
-            let fv = p.face_vertices(pf0);
-            let (a, b) = (fv[i0], fv[(i0 + 1) % fv.len()]);
-            vert_edges[eo] = edge_child_at(p, s, e as u32, b, false);
-            vert_edges[eo + 1] = p.face_offsets[pf0] + i0 as u32;
-            vert_edges[eo + 2] = edge_child_at(p, s, e as u32, a, true);
-            vert_edge_local[eo] = 0;
-            vert_edge_local[eo + 1] = 1;
-            vert_edge_local[eo + 2] = 0;
-            if pfaces.len() == 2 {
-                vert_edges[eo + 3] = p.face_offsets[pfaces[1] as usize] + plocal[1] as u32;
-                vert_edge_local[eo + 3] = 1;
+    let (vf_v, rest) = vert_faces.split_at_mut(vf_all as usize);
+    let (vf_f, vf_e) = rest.split_at_mut(s);
+    let (vfl_v, rest) = vert_face_local.split_at_mut(vf_all as usize);
+    let (vfl_f, vfl_e) = rest.split_at_mut(s);
+    let (ve_v, rest) = vert_edges.split_at_mut(ve_all as usize);
+    let (ve_f, ve_e) = rest.split_at_mut(s);
+    let (vel_v, rest) = vert_edge_local.split_at_mut(ve_all as usize);
+    let (vel_f, vel_e) = rest.split_at_mut(s);
+
+    // Children of vertices.
+    let ranges = chunk_ranges(nv);
+    let vf_start = |v: usize| pvf[v] as usize;
+    let ve_start = |v: usize| pve[v] as usize;
+    let items: Vec<_> = ranges
+        .iter()
+        .cloned()
+        .zip(split_pieces(vf_v, &ranges, vf_start))
+        .zip(split_pieces(vfl_v, &ranges, vf_start))
+        .zip(split_pieces(ve_v, &ranges, ve_start))
+        .zip(split_pieces(vel_v, &ranges, ve_start))
+        .map(|((((r, a), b), c), d)| (r, a, b, c, d))
+        .collect();
+    run(items, |(range, vf, vfl, ve, vel)| {
+        let (fbase, ebase) = (vf_start(range.start), ve_start(range.start));
+        for v in range {
+            let fo = vf_start(v) - fbase;
+            for (k, (&pf, &j)) in p
+                .vertex_faces(v)
+                .iter()
+                .zip(p.vertex_face_locals(v))
+                .enumerate()
+            {
+                let n = p.face_vertices(pf as usize).len();
+                vf[fo + k] = p.face_offsets[pf as usize] + j as u32;
+                vfl[fo + k] = rot(n, j as usize) as u16;
             }
-        } else {
-            vert_edges[eo] = s + 2 * e as u32;
-            vert_edges[eo + 1] = s + 2 * e as u32 + 1;
-            vert_edge_local[eo] = 0;
-            vert_edge_local[eo + 1] = 0;
-            for (k, (&pf, &i)) in pfaces.iter().zip(plocal).enumerate() {
-                vert_edges[eo + 2 + k] = p.face_offsets[pf as usize] + i as u32;
-                vert_edge_local[eo + 2 + k] = 1;
+            let eo = ve_start(v) - ebase;
+            for (k, (&pe, &l)) in p
+                .vertex_edges(v)
+                .iter()
+                .zip(p.vertex_edge_locals(v))
+                .enumerate()
+            {
+                ve[eo + k] = su + 2 * pe + l as u32;
+                vel[eo + k] = 1;
             }
         }
-    }
+    });
+
+    // Children of faces.
+    let ranges = chunk_ranges(nf);
+    let items: Vec<_> = ranges
+        .iter()
+        .cloned()
+        .zip(split_pieces(vf_f, &ranges, fo))
+        .zip(split_pieces(vfl_f, &ranges, fo))
+        .zip(split_pieces(ve_f, &ranges, fo))
+        .zip(split_pieces(vel_f, &ranges, fo))
+        .map(|((((r, a), b), c), d)| (r, a, b, c, d))
+        .collect();
+    run(items, |(range, vf, vfl, ve, vel)| {
+        let base = fo(range.start);
+        for f in range {
+            let o = fo(f);
+            let n = p.face_vertices(f).len();
+            let at = o - base;
+            for i in 0..n {
+                vf[at + i] = (o + i) as u32;
+                vfl[at + i] = ((2 + rot(n, i)) % 4) as u16;
+                ve[at + i] = (o + (i + n - 1) % n) as u32;
+                vel[at + i] = 0;
+            }
+        }
+    });
+
+    // Children of edges.
+    let ranges = chunk_ranges(ne);
+    let vf_start = |e: usize| 2 * pef[e] as usize;
+    let ve_start = |e: usize| pef[e] as usize + 2 * e;
+    let items: Vec<_> = ranges
+        .iter()
+        .cloned()
+        .zip(split_pieces(vf_e, &ranges, vf_start))
+        .zip(split_pieces(vfl_e, &ranges, vf_start))
+        .zip(split_pieces(ve_e, &ranges, ve_start))
+        .zip(split_pieces(vel_e, &ranges, ve_start))
+        .map(|((((r, a), b), c), d)| (r, a, b, c, d))
+        .collect();
+    run(items, |(range, vf, vfl, ve, vel)| {
+        let (fbase, ebase) = (vf_start(range.start), ve_start(range.start));
+        for e in range {
+            let pfaces = p.edge_face_list(e);
+            let plocal = &p.edge_face_local[pef[e] as usize..];
+            let mut fo = vf_start(e) - fbase;
+            let eo = ve_start(e) - ebase;
+            let manifold = !p.edge_tags[e].non_manifold && pfaces.len() <= 2;
+            // The two child faces in each parent face: the one at the edge's second vertex
+            // in that face first, then the one at its first vertex.
+            for (&pf, &i) in pfaces.iter().zip(plocal) {
+                let pfu = pf as usize;
+                let n = p.face_vertices(pfu).len();
+                let (c0, c1) = (i as usize, (i as usize + 1) % n);
+                let base = p.face_offsets[pfu];
+                vf[fo] = base + c1 as u32;
+                vfl[fo] = ((3 + rot(n, c1)) % 4) as u16;
+                vf[fo + 1] = base + c0 as u32;
+                vfl[fo + 1] = ((1 + rot(n, c0)) % 4) as u16;
+                fo += 2;
+            }
+            if manifold {
+                // Counter-clockwise: [edge child toward the first face's second vertex,
+                // interior edge of face 0, edge child toward its first vertex, interior edge
+                // of face 1].
+                let pf0 = pfaces[0] as usize;
+                let i0 = plocal[0] as usize;
+                let fv = p.face_vertices(pf0);
+                let (a, b) = (fv[i0], fv[(i0 + 1) % fv.len()]);
+                ve[eo] = edge_child_at(p, su, e as u32, b, false);
+                ve[eo + 1] = p.face_offsets[pf0] + i0 as u32;
+                ve[eo + 2] = edge_child_at(p, su, e as u32, a, true);
+                vel[eo] = 0;
+                vel[eo + 1] = 1;
+                vel[eo + 2] = 0;
+                if pfaces.len() == 2 {
+                    ve[eo + 3] = p.face_offsets[pfaces[1] as usize] + plocal[1] as u32;
+                    vel[eo + 3] = 1;
+                }
+            } else {
+                ve[eo] = su + 2 * e as u32;
+                ve[eo + 1] = su + 2 * e as u32 + 1;
+                vel[eo] = 0;
+                vel[eo + 1] = 0;
+                for (k, (&pf, &i)) in pfaces.iter().zip(plocal).enumerate() {
+                    ve[eo + 2 + k] = p.face_offsets[pf as usize] + i as u32;
+                    vel[eo + 2 + k] = 1;
+                }
+            }
+        }
+    });
 
     c.edge_face_offsets = edge_face_offsets;
     c.edge_faces = edge_faces;
@@ -310,123 +684,11 @@ fn build_relations(p: &Topology, c: &mut Topology) {
     c.vert_edge_local = vert_edge_local;
     // Valence never shrinks: vertex children keep theirs, face children have the face
     // size, edge children 2 + the edge's face count.
-    let max_face = (0..nf).map(|f| p.face_vertices(f).len()).max().unwrap_or(0);
-    let max_edge_faces = (0..ne)
-        .map(|e| p.edge_face_list(e).len())
-        .max()
-        .unwrap_or(0);
+    let max_face = max_of(nf, |f| p.face_vertices(f).len());
+    let max_edge_faces = max_of(ne, |e| p.edge_face_list(e).len());
     let max_edge_valence = max_edge_faces + max_edge_faces.max(2);
     c.max_valence = p
         .max_valence
         .max(max_face as u32)
         .max(max_edge_valence as u32);
-}
-
-/// Tags and sharpness of the child level (OpenSubdiv's `propagateComponentTags`,
-/// `subdivideEdgeSharpness`, `subdivideVertexSharpness`, `reclassifySemisharpVertices`).
-fn propagate_tags_and_sharpness(p: &Topology, c: &mut Topology, method: CreaseMethod) {
-    let nv = p.num_vertices();
-    let nf = p.num_faces();
-    let ne = p.num_edges();
-    let s = p.face_verts.len();
-
-    // Edges from faces stay smooth (default); edges from edges inherit and decay.
-    let mut incident = Vec::new();
-    for e in 0..ne {
-        let tag = p.edge_tags[e];
-        let ps = p.edge_sharpness[e];
-        for k in 0..2 {
-            let ce = s + 2 * e + k;
-            let mut ctag = tag;
-            let cs = if tag.inf_sharp {
-                crease::SHARPNESS_INFINITE
-            } else if tag.semi_sharp {
-                let cs = if method == CreaseMethod::Uniform {
-                    crease::decrement(ps)
-                } else {
-                    let v = p.edge_verts[e][k] as usize;
-                    incident.clear();
-                    incident.extend(
-                        p.vertex_edges(v)
-                            .iter()
-                            .map(|&x| p.edge_sharpness[x as usize]),
-                    );
-                    crease::subdivide_edge_sharpness(method, ps, &incident)
-                };
-                if !crease::is_sharp(cs) {
-                    ctag.semi_sharp = false;
-                }
-                cs
-            } else {
-                0.0
-            };
-            c.edge_tags[ce] = ctag;
-            c.edge_sharpness[ce] = cs;
-        }
-    }
-
-    // Vertices from vertices inherit and decay.
-    for v in 0..nv {
-        let mut tag = p.vert_tags[v];
-        let cs = if tag.inf_sharp {
-            crease::SHARPNESS_INFINITE
-        } else if tag.semi_sharp {
-            let cs = crease::decrement(p.vert_sharpness[v]);
-            if !crease::is_sharp(cs) {
-                tag.semi_sharp = false;
-            }
-            cs
-        } else {
-            0.0
-        };
-        c.vert_tags[v] = tag;
-        c.vert_sharpness[v] = cs;
-    }
-    // Vertices from faces: smooth (default tag).
-    // Vertices from edges: crease if the edge was sharp.
-    for e in 0..ne {
-        let et = p.edge_tags[e];
-        let cv = nv + nf + e;
-        let mut tag = VertexTag {
-            non_manifold: et.non_manifold,
-            boundary: et.boundary,
-            semi_sharp_edges: et.semi_sharp,
-            inf_sharp_edges: et.inf_sharp,
-            rule: if et.semi_sharp || et.inf_sharp {
-                Rule::Crease
-            } else {
-                Rule::Smooth
-            },
-            ..VertexTag::default()
-        };
-        if tag.semi_sharp_edges {
-            let count = c.edge_tags[s + 2 * e].semi_sharp as usize
-                + c.edge_tags[s + 2 * e + 1].semi_sharp as usize;
-            tag.semi_sharp_edges = count > 0;
-            tag.rule = crease::vertex_rule(0.0, count);
-        }
-        c.vert_tags[cv] = tag;
-    }
-    // Re-classify vertex children whose sharp features decayed.
-    for v in 0..nv {
-        let pt = p.vert_tags[v];
-        if !pt.semi_sharp && !pt.semi_sharp_edges {
-            continue;
-        }
-        let ct = c.vert_tags[v];
-        let decayed = pt.semi_sharp && !ct.semi_sharp;
-        if pt.semi_sharp_edges || decayed {
-            let (mut inf, mut semi) = (0, 0);
-            for (&pe, &l) in p.vertex_edges(v).iter().zip(p.vertex_edge_locals(v)) {
-                let t = c.edge_tags[s + 2 * pe as usize + l as usize];
-                inf += t.inf_sharp as usize;
-                semi += t.semi_sharp as usize;
-            }
-            let ct = &mut c.vert_tags[v];
-            ct.semi_sharp_edges = semi > 0;
-            if !ct.semi_sharp && !ct.inf_sharp {
-                ct.rule = crease::vertex_rule(0.0, inf + semi);
-            }
-        }
-    }
 }

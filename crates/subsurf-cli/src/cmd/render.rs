@@ -1,0 +1,220 @@
+//! `subsurf render`: draw the exact limit surface (or a refined mesh) to a PNG with the
+//! library's software rasteriser.
+
+use std::path::Path;
+
+use anyhow::{bail, Context, Result};
+use subsurf::mesh::Options;
+use subsurf::render::curvature::CurvatureKind;
+use subsurf::render::{render_detailed, write_png, Geometry, Paint, Render, Shading, Up};
+
+use crate::input::Input;
+use crate::output::Output;
+use crate::RenderArgs;
+
+/// Default samples per base edge of the limit surface.
+const DEFAULT_RATE: u32 = 16;
+/// Without --limit-rate, the default rate is lowered so that about this many polygons are
+/// drawn at most (plenty for any picture size).
+const DEFAULT_BUDGET: u64 = 4 << 20;
+
+/// Runs `subsurf render`.
+pub fn run(args: &RenderArgs) -> Result<()> {
+    check_png(&args.output)?;
+    let out = Output::new(&args.output);
+    out.check()?;
+    let input = Input::read(&args.input)?;
+    if !args.quiet {
+        for w in input.unsupported_tag_warnings() {
+            eprintln!("warning: {w}");
+        }
+    }
+    let options = args
+        .scheme
+        .over(input.obj.options)
+        .resolve(Options::default());
+    let mut opts = render_options(args);
+    if args.level.is_none() && args.limit_rate.is_none() {
+        let rate = default_rate(&input.obj.mesh);
+        if rate < DEFAULT_RATE && !args.quiet {
+            eprintln!(
+                "note: {}: the mesh is large; drawing its limit surface at rate {rate} \
+                 (--limit-rate sets it)",
+                input.name
+            );
+        }
+        opts.geometry = Geometry::Limit { rate };
+    }
+    let r =
+        render_detailed(&input.obj.mesh, &options, &opts).with_context(|| input.name.clone())?;
+    if let (Some((lo, hi)), false) = (r.curvature_range, args.quiet) {
+        eprintln!(
+            "note: {}: {} curvature colour range {lo:.6e} .. {hi:.6e}",
+            input.name,
+            args.curvature.as_deref().unwrap_or_default()
+        );
+    }
+    out.write(|w| write_png(w, &r.image))
+}
+
+/// The library's options from the command line.
+fn render_options(args: &RenderArgs) -> Render {
+    let geometry = match args.level {
+        Some(l) => Geometry::Level(l),
+        None => Geometry::Limit {
+            rate: args.limit_rate.unwrap_or(DEFAULT_RATE),
+        },
+    };
+    let paint = match (args.zebra, args.curvature.as_deref(), args.faces) {
+        (true, _, _) => Paint::Zebra,
+        (_, Some("gauss"), _) => Paint::Curvature(CurvatureKind::Gauss),
+        (_, Some("mean"), _) => Paint::Curvature(CurvatureKind::Mean),
+        (_, Some(_), _) => Paint::Curvature(CurvatureKind::Max),
+        (_, None, true) => Paint::Faces,
+        _ => Paint::Plain,
+    };
+    Render {
+        width: args.size.0,
+        height: args.size.1,
+        geometry,
+        shading: if args.shade == "flat" {
+            Shading::Flat
+        } else {
+            Shading::Smooth
+        },
+        paint,
+        control_mesh: args.control_mesh,
+        view: args.view,
+        up: if args.up == "y" { Up::Y } else { Up::Z },
+        zoom: args.zoom,
+        curvature_range: args.range,
+        ..Render::default()
+    }
+}
+
+/// [`DEFAULT_RATE`], or less (at least 1) for meshes that would draw more than
+/// [`DEFAULT_BUDGET`] polygons.
+fn default_rate(mesh: &subsurf::mesh::PolyMesh) -> u32 {
+    // Polygons per unit of rate²: 1 per quad, n/4 per n-gon (n sub-faces of (rate/2)²).
+    let per_rate2: f64 = mesh
+        .faces()
+        .map(|f| {
+            if f.len() == 4 {
+                1.0
+            } else {
+                f.len() as f64 / 4.0
+            }
+        })
+        .sum();
+    if per_rate2 <= 0.0 {
+        return DEFAULT_RATE;
+    }
+    let r = (DEFAULT_BUDGET as f64 / per_rate2).sqrt().floor();
+    (r as u32).clamp(1, DEFAULT_RATE)
+}
+
+/// Only PNG is written: `-` (standard output) or a `.png` file (any case).
+fn check_png(path: &Path) -> Result<()> {
+    if path == Path::new("-") {
+        return Ok(());
+    }
+    let ext = path
+        .extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase());
+    match ext.as_deref() {
+        Some("png") => Ok(()),
+        Some(other) => bail!(
+            "cannot write {}: unknown picture format '.{other}' (only .png is written)",
+            path.display()
+        ),
+        None => bail!(
+            "cannot write {}: the output needs the extension .png (or '-' for standard output)",
+            path.display()
+        ),
+    }
+}
+
+/// Parses `A,B` (two finite numbers), as in `--view 30,20` or `--range -1,1`.
+pub fn parse_pair(s: &str) -> Result<(f64, f64), String> {
+    let bad = || format!("'{s}' is not two numbers separated by a comma (e.g. 30,20)");
+    let (a, b) = s.split_once(',').ok_or_else(bad)?;
+    let a: f64 = a.trim().parse().map_err(|_| bad())?;
+    let b: f64 = b.trim().parse().map_err(|_| bad())?;
+    if !(a.is_finite() && b.is_finite()) {
+        return Err(format!("'{s}': the numbers must be finite"));
+    }
+    Ok((a, b))
+}
+
+/// Parses a zoom factor (0.01 to 1000).
+pub fn parse_zoom(s: &str) -> Result<f64, String> {
+    match s.trim().parse::<f64>() {
+        Ok(z) if (0.01..=1000.0).contains(&z) => Ok(z),
+        _ => Err(format!("'{s}' is not a zoom factor from 0.01 to 1000")),
+    }
+}
+
+/// Parses `WxH` (each side 16 to 8192 pixels), as in `--size 800x600`.
+pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
+    let bad = || format!("'{s}' is not a size WxH (e.g. 800x600)");
+    let (w, h) = s.split_once(['x', 'X']).ok_or_else(bad)?;
+    let w: u32 = w.trim().parse().map_err(|_| bad())?;
+    let h: u32 = h.trim().parse().map_err(|_| bad())?;
+    if !(16..=8192).contains(&w) || !(16..=8192).contains(&h) {
+        return Err(format!("'{s}': each side must be 16 to 8192 pixels"));
+    }
+    Ok((w, h))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn parses_pairs_and_sizes() {
+        assert_eq!(parse_pair("30,20"), Ok((30.0, 20.0)));
+        assert_eq!(parse_pair("-30, -5.5"), Ok((-30.0, -5.5)));
+        assert!(parse_pair("30").is_err());
+        assert!(parse_pair("a,b").is_err());
+        assert!(parse_pair("inf,0").is_err());
+        assert_eq!(parse_size("800x600"), Ok((800, 600)));
+        assert_eq!(parse_size("200X150"), Ok((200, 150)));
+        assert!(parse_size("800").is_err());
+        assert!(parse_size("8x600").is_err());
+        assert!(parse_size("0x0").is_err());
+        assert!(parse_size("-1x5").is_err());
+    }
+
+    #[test]
+    fn the_default_rate_drops_for_large_meshes() {
+        use subsurf::mesh::PolyMesh;
+        let grid = |n: u32| {
+            let p: Vec<[f64; 3]> = (0..=n)
+                .flat_map(|j| (0..=n).map(move |i| [f64::from(i), f64::from(j), 0.0]))
+                .collect();
+            let f: Vec<[u32; 4]> = (0..n)
+                .flat_map(|j| {
+                    (0..n).map(move |i| {
+                        let a = j * (n + 1) + i;
+                        [a, a + 1, a + n + 2, a + n + 1]
+                    })
+                })
+                .collect();
+            PolyMesh::from_faces(p, &f).expect("a valid grid")
+        };
+        assert_eq!(default_rate(&grid(4)), DEFAULT_RATE);
+        // 102 400 quads: 4 Mi / 102 400 = 40.96 polygons each, rate 6.
+        assert_eq!(default_rate(&grid(320)), 6);
+        assert_eq!(default_rate(&PolyMesh::default()), DEFAULT_RATE);
+    }
+
+    #[test]
+    fn only_png() {
+        assert!(check_png(Path::new("a.png")).is_ok());
+        assert!(check_png(Path::new("dir/A.PNG")).is_ok());
+        assert!(check_png(Path::new("-")).is_ok());
+        let e = check_png(Path::new("a.jpg")).unwrap_err().to_string();
+        assert!(e.contains("'.jpg'") && e.contains(".png"), "{e}");
+        assert!(check_png(Path::new("noext")).is_err());
+    }
+}

@@ -1,0 +1,80 @@
+//! Criterion benches of re-posing: applying a precomputed [`RefinePlan`] to the base
+//! positions against a full [`subdivide`] of the same mesh to the same level
+//! (`catmark_bishop`, level 5, one thread).
+//!
+//! Run with `cargo bench -p subsurf --bench replay`. Throughput is in output vertices per
+//! second. Building the plan is benched too (`replay_l5/build`), since it is paid once per
+//! topology.
+
+use std::path::PathBuf;
+use std::time::Duration;
+
+use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use subsurf::io::obj::read_obj;
+use subsurf::mesh::{Options, PolyMesh};
+use subsurf::refine::{PlanScratch, RefinePlan};
+use subsurf::{subdivide, SubdivideOptions};
+
+const SHAPE: &str = "catmark_bishop";
+const LEVELS: u32 = 5;
+
+/// Reads `tests/shapes/osd/<name>.obj` and the scheme options of its tags.
+fn load(name: &str) -> (PolyMesh, Options) {
+    let path: PathBuf = [
+        env!("CARGO_MANIFEST_DIR"),
+        "tests",
+        "shapes",
+        "osd",
+        &format!("{name}.obj"),
+    ]
+    .iter()
+    .collect();
+    let obj = read_obj(&path).unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
+    let options = obj.options.resolve(Options::default());
+    (obj.mesh, options)
+}
+
+fn replay_level5(c: &mut Criterion) {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .expect("cannot start a rayon thread pool");
+    let (mesh, scheme) = load(SHAPE);
+    let opts = SubdivideOptions {
+        levels: LEVELS,
+        scheme,
+        ..SubdivideOptions::default()
+    };
+    let plan = pool
+        .install(|| RefinePlan::new(&mesh, scheme, LEVELS))
+        .expect("plan failed");
+
+    let mut group = c.benchmark_group("replay_l5");
+    group
+        .sample_size(10)
+        .warm_up_time(Duration::from_secs(1))
+        .measurement_time(Duration::from_secs(5))
+        .throughput(Throughput::Elements(plan.num_vertices() as u64));
+
+    let mut out = Vec::new();
+    let mut scratch = PlanScratch::default();
+    group.bench_function(format!("apply/{SHAPE}"), |b| {
+        b.iter(|| pool.install(|| plan.apply_into(mesh.positions(), &mut out, &mut scratch)))
+    });
+    group.bench_function(format!("subdivide/{SHAPE}"), |b| {
+        b.iter(|| {
+            pool.install(|| subdivide(&mesh, &opts))
+                .expect("subdivide failed")
+        })
+    });
+    group.bench_function(format!("build/{SHAPE}"), |b| {
+        b.iter(|| {
+            pool.install(|| RefinePlan::new(&mesh, scheme, LEVELS))
+                .expect("plan failed")
+        })
+    });
+    group.finish();
+}
+
+criterion_group!(benches, replay_level5);
+criterion_main!(benches);

@@ -1,0 +1,758 @@
+//! Re-posing plans: the linear map from base positions to the positions of a refined level,
+//! precomputed once so that moving the control points (animation, interactive editing,
+//! fitting) costs one sparse matrix–vector product per level instead of a full refinement.
+//!
+//! Catmull-Clark refinement is linear in the vertex data: with the topology, tags and
+//! options fixed, the positions of level `l + 1` are `S_l × positions of level l`, where
+//! row `i` of `S_l` holds the weights of child vertex `i` on the parent vertices. A
+//! [`RefinePlan`] stores that chain `S_0, …, S_{L-1}`, with the face points folded in (a
+//! face point is the average of its face's vertices, so edge and vertex points depend on
+//! parent vertices only), duplicate columns merged and zero weights dropped. Applying it
+//! does no topology work and no mask computation: it only gathers parent values and
+//! multiplies them by stored weights, which makes it an order of magnitude faster than
+//! [`subdivide`](crate::subdivide) (see [`RefinePlan`] for numbers).
+//!
+//! # Storage
+//! Most rows share their weights with many others: every smooth edge point between two
+//! quads has the same six weights, every smooth valence-4 vertex point the same nine. Each
+//! distinct weight vector (a *class*) is stored once; a row is its class id and its columns:
+//!
+//! - per weight: one `u32` column (**4 bytes**);
+//! - per row (child vertex): one `u32` class id (**4 bytes**);
+//! - per block of 1024 rows: one `usize` (where the block's columns start);
+//! - per class: its runs of equal weights, 16 bytes each (an `f64` and a count). Typical
+//!   meshes have a few dozen classes per level (`catmark_bishop`: 11 to 16); there are as
+//!   many as rows only if no two rows share weights (say, with many distinct fractional
+//!   sharpness values), and then a weight costs up to 20 bytes.
+//!
+//! A level of a quad mesh has about 6.2 weights per row (face points 4, smooth edge
+//! points 6, valence-4 vertex points 9), i.e. about 29 bytes per vertex of each level; the
+//! levels before the last add a third, so a plan costs about 38 bytes per output vertex:
+//! `catmark_bishop` to level 6 has 3.8 M output vertices, 5.1 M rows over all levels,
+//! 31.8 M weights and takes 140 MiB.
+//!
+//! # Accuracy
+//! The plan computes the same linear map as [`interpolate`](super::interpolate), but sums
+//! in a different order (folded face points, merged columns), so its results agree with
+//! [`subdivide`](crate::subdivide) to rounding: within 1e-14 of the size of the mesh (its
+//! bounding-box diagonal), not bit for bit. The result does not depend on the number of
+//! threads.
+
+use std::collections::HashMap;
+use std::hash::{BuildHasherDefault, Hasher};
+use std::ops::Range;
+
+use rayon::prelude::*;
+
+use super::topology::{refine_topology, run, split_pieces};
+use crate::mesh::{
+    MeshError, Options, PolyMesh, Rule, Topology, TopologyWarning, TriangleSubdivision,
+};
+use crate::scheme::catmark::{self, VertexContext, VertexMask, VertexMaskScratch};
+
+/// Rows per block: the unit of parallel work when applying a step, and of building it.
+const BLOCK: usize = 1024;
+/// Below this many rows a step is built and applied on the calling thread.
+const PAR_MIN_ROWS: usize = 16 * 1024;
+
+/// A precomputed map from base-level values (positions, or any `[f64; D]` primvar) to the
+/// values at the vertices of uniform refinement level `levels`: a chain of sparse matrices,
+/// one per level (see the [module documentation](self) for the layout).
+///
+/// ```
+/// use subsurf::mesh::{Options, PolyMesh};
+/// use subsurf::refine::RefinePlan;
+/// use subsurf::{subdivide, SubdivideOptions};
+///
+/// let mut quad = PolyMesh::from_faces(
+///     vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]],
+///     &[[0u32, 1, 2, 3]],
+/// ).unwrap();
+/// let plan = RefinePlan::new(&quad, Options::default(), 3).unwrap();
+/// // Move a corner up: re-posing costs one sparse product per level.
+/// quad.positions_mut()[2][2] = 1.0;
+/// let moved = plan.apply(quad.positions());
+/// let full = subdivide(&quad, &SubdivideOptions { levels: 3, ..Default::default() }).unwrap();
+/// assert_eq!(moved.len(), plan.num_vertices());
+/// for (a, b) in moved.iter().zip(full.mesh.positions()) {
+///     assert!((0..3).all(|k| (a[k] - b[k]).abs() < 1e-14));
+/// }
+/// ```
+///
+/// # Cost
+/// Building a plan refines the topology once (as [`subdivide`](crate::subdivide) does)
+/// and then computes every mask once, so it takes a few times as long as one `subdivide`.
+/// Applying it reads each stored weight's column once and writes each vertex of every
+/// level once. On `catmark_bishop` refined to level 6 (3.8 M vertices, one thread) an
+/// apply takes ~0.03–0.04 s against ~0.4–0.6 s for `subdivide` of the same mesh and level
+/// (about 12–17× faster; `subsurf bench --replay`, `cargo bench -p subsurf --bench
+/// replay`). Large levels are applied in parallel on the current rayon pool.
+///
+/// The plan covers positions of every vertex of the last level, in
+/// [`subdivide`](crate::subdivide)'s order (including vertices used only by hole faces);
+/// it does not move them to the limit surface.
+#[derive(Clone, Debug)]
+pub struct RefinePlan {
+    steps: Vec<Step>,
+    num_base: usize,
+    warnings: Vec<TopologyWarning>,
+}
+
+/// One level's sparse matrix: child vertex `i` = Σ weights × parent vertices.
+#[derive(Clone, Debug)]
+struct Step {
+    /// Weight class of each row (child vertex).
+    row_class: Vec<u32>,
+    /// The parent vertex of each weight, row after row.
+    cols: Vec<u32>,
+    /// Index in `cols` of the first weight of each block of `BLOCK` rows, and the total.
+    block_starts: Vec<usize>,
+    /// The weights of class `c` are `class_groups[class_offsets[c]..class_offsets[c + 1]]`:
+    /// runs of equal weights, each as (weight, number of columns), so that equal-weight
+    /// parent values are summed first and multiplied once.
+    class_offsets: Vec<u32>,
+    class_groups: Vec<(f64, u32)>,
+}
+
+/// Scratch buffers for [`RefinePlan::apply_into`] (the intermediate levels), kept between
+/// calls so that re-posing allocates nothing once they have grown.
+#[derive(Clone, Debug, Default)]
+pub struct PlanScratch<const D: usize = 3> {
+    a: Vec<[f64; D]>,
+    b: Vec<[f64; D]>,
+}
+
+impl RefinePlan {
+    /// Builds the plan that maps the positions of `mesh` (or any values at its vertices)
+    /// to those of its uniform refinement to `levels`, with the scheme `options` and the
+    /// mesh's tags, exactly as [`subdivide`](crate::subdivide) would refine it.
+    ///
+    /// # Errors
+    /// [`MeshError`] for an invalid mesh or tags, or when the last level would exceed
+    /// 32-bit indices.
+    pub fn new(mesh: &PolyMesh, options: Options, levels: u32) -> Result<Self, MeshError> {
+        mesh.validate()?;
+        // Vertices of the last level ≤ ~4 × its faces + base vertices: keep that in u32.
+        let s = mesh.face_verts().len() as u64;
+        let faces = match levels {
+            0 => mesh.num_faces() as u64,
+            l if 2 * (l as u64 - 1) >= 64 => u64::MAX,
+            l => s.saturating_mul(1u64 << (2 * (l - 1))),
+        };
+        if faces
+            .saturating_mul(4)
+            .saturating_add(mesh.num_vertices() as u64)
+            >= u32::MAX as u64
+        {
+            return Err(MeshError::TooLarge {
+                what: format!("level {levels} ({faces} faces)"),
+            });
+        }
+        let (mut level, warnings) = Topology::from_mesh(mesh, &options)?;
+        let mut steps = Vec::with_capacity(levels as usize);
+        for l in 1..=levels {
+            let child = refine_topology(&level, &options, l < levels);
+            steps.push(Step::build(&level, &child, &options));
+            level = child;
+        }
+        Ok(Self {
+            steps,
+            num_base: mesh.num_vertices(),
+            warnings,
+        })
+    }
+
+    /// Number of base vertices the plan expects.
+    pub fn num_base_vertices(&self) -> usize {
+        self.num_base
+    }
+
+    /// Number of vertices it produces (all vertices of the last level).
+    pub fn num_vertices(&self) -> usize {
+        self.steps
+            .last()
+            .map_or(self.num_base, |s| s.row_class.len())
+    }
+
+    /// Number of refinement levels.
+    pub fn levels(&self) -> u32 {
+        self.steps.len() as u32
+    }
+
+    /// Number of stored weights (columns) over all levels.
+    pub fn num_weights(&self) -> usize {
+        self.steps.iter().map(|s| s.cols.len()).sum()
+    }
+
+    /// Bytes held by the plan's arrays.
+    pub fn memory_bytes(&self) -> usize {
+        self.steps
+            .iter()
+            .map(|s| {
+                4 * s.row_class.len()
+                    + 4 * s.cols.len()
+                    + std::mem::size_of::<usize>() * s.block_starts.len()
+                    + 4 * s.class_offsets.len()
+                    + 16 * s.class_groups.len()
+            })
+            .sum()
+    }
+
+    /// Warnings about the base mesh (ignored tags, non-manifold elements).
+    pub fn warnings(&self) -> &[TopologyWarning] {
+        &self.warnings
+    }
+
+    /// The values at the last level's vertices, given those at the base vertices.
+    ///
+    /// # Panics
+    /// If `base.len() != self.num_base_vertices()`.
+    pub fn apply<const D: usize>(&self, base: &[[f64; D]]) -> Vec<[f64; D]> {
+        let mut out = Vec::new();
+        self.apply_into(base, &mut out, &mut PlanScratch::default());
+        out
+    }
+
+    /// [`apply`](Self::apply) into `out` (resized to [`num_vertices`](Self::num_vertices)),
+    /// with the intermediate levels in `scratch`: once `out` and `scratch` have their
+    /// sizes, nothing is allocated.
+    ///
+    /// # Panics
+    /// If `base.len() != self.num_base_vertices()`.
+    pub fn apply_into<const D: usize>(
+        &self,
+        base: &[[f64; D]],
+        out: &mut Vec<[f64; D]>,
+        scratch: &mut PlanScratch<D>,
+    ) {
+        assert_eq!(
+            base.len(),
+            self.num_base,
+            "the plan expects {} base values",
+            self.num_base
+        );
+        let n = self.steps.len();
+        if n == 0 {
+            out.clear();
+            out.extend_from_slice(base);
+            return;
+        }
+        let (mut cur, mut spare) = (
+            std::mem::take(&mut scratch.a),
+            std::mem::take(&mut scratch.b),
+        );
+        for (i, step) in self.steps.iter().enumerate() {
+            let src: &[[f64; D]] = if i == 0 { base } else { &cur };
+            let dst = if i + 1 == n { &mut *out } else { &mut spare };
+            set_len(dst, step.row_class.len());
+            step.apply(src, dst);
+            if i + 1 < n {
+                std::mem::swap(&mut cur, &mut spare);
+            }
+        }
+        scratch.a = cur;
+        scratch.b = spare;
+    }
+}
+
+/// Makes `v` hold `n` values (whatever they are: they are all overwritten), without
+/// writing them when it has to grow (fresh zeroed memory is faulted in by the writers).
+fn set_len<const D: usize>(v: &mut Vec<[f64; D]>, n: usize) {
+    if v.len() != n {
+        if v.capacity() >= n {
+            v.resize(n, [0.0; D]);
+        } else {
+            *v = vec![[0.0; D]; n];
+        }
+    }
+}
+
+impl Step {
+    /// `dst = S × src`.
+    fn apply<const D: usize>(&self, src: &[[f64; D]], dst: &mut [[f64; D]]) {
+        let body = |(b, out): (usize, &mut [[f64; D]])| {
+            let mut at = self.block_starts[b];
+            let classes = &self.row_class[b * BLOCK..b * BLOCK + out.len()];
+            for (o, &c) in out.iter_mut().zip(classes) {
+                let c = c as usize;
+                let groups = &self.class_groups
+                    [self.class_offsets[c] as usize..self.class_offsets[c + 1] as usize];
+                let mut acc = [0.0; D];
+                for &(w, n) in groups {
+                    let cols = &self.cols[at..at + n as usize];
+                    at += n as usize;
+                    let mut sum = src[cols[0] as usize];
+                    for &col in &cols[1..] {
+                        let x = &src[col as usize];
+                        for k in 0..D {
+                            sum[k] += x[k];
+                        }
+                    }
+                    for k in 0..D {
+                        acc[k] += w * sum[k];
+                    }
+                }
+                *o = acc;
+            }
+        };
+        if dst.len() < PAR_MIN_ROWS {
+            dst.chunks_mut(BLOCK).enumerate().for_each(body);
+        } else {
+            dst.par_chunks_mut(BLOCK).enumerate().for_each(body);
+        }
+    }
+
+    /// The weights of every vertex of `c` (the refinement of `p`) on the vertices of `p`.
+    fn build(p: &Topology, c: &Topology, options: &Options) -> Step {
+        let rows = c.num_vertices();
+        let nblocks = rows.div_ceil(BLOCK);
+        let make = |scratch: &mut RowScratch, b: usize| {
+            let mut block = Block::new(BLOCK.min(rows - b * BLOCK));
+            for cv in b * BLOCK..((b + 1) * BLOCK).min(rows) {
+                scratch.row.clear();
+                stencil(p, c, options, cv, scratch);
+                block.push(&scratch.row, &mut scratch.sorted, &mut scratch.bits);
+            }
+            block
+        };
+        let mut blocks: Vec<Block> = if rows < PAR_MIN_ROWS {
+            let mut scratch = RowScratch::default();
+            (0..nblocks).map(|b| make(&mut scratch, b)).collect()
+        } else {
+            (0..nblocks)
+                .into_par_iter()
+                .map_init(RowScratch::default, make)
+                .collect()
+        };
+
+        // Number the classes of all blocks, in order, and renumber the rows.
+        let mut ids = ClassIds::default();
+        let mut class_offsets = vec![0u32];
+        let mut class_groups: Vec<(f64, u32)> = Vec::new();
+        let remaps: Vec<Vec<u32>> = blocks
+            .iter_mut()
+            .map(|block| {
+                std::mem::take(&mut block.classes)
+                    .into_iter()
+                    .map(|bits| {
+                        *ids.entry(bits).or_insert_with_key(|bits| {
+                            push_groups(&mut class_groups, bits);
+                            class_offsets.push(class_groups.len() as u32);
+                            (class_offsets.len() - 2) as u32
+                        })
+                    })
+                    .collect()
+            })
+            .collect();
+
+        // Concatenate the blocks.
+        let mut block_starts = Vec::with_capacity(nblocks + 1);
+        block_starts.push(0);
+        for block in &blocks {
+            block_starts.push(block_starts.last().unwrap() + block.cols.len());
+        }
+        let mut row_class = vec![0u32; rows];
+        let mut cols = vec![0u32; *block_starts.last().unwrap()];
+        let ranges: Vec<Range<usize>> = if rows < PAR_MIN_ROWS {
+            std::iter::once(0..nblocks).collect()
+        } else {
+            (0..nblocks).map(|b| b..b + 1).collect()
+        };
+        let rc = split_pieces(&mut row_class, &ranges, |b| b * BLOCK);
+        let cs = split_pieces(&mut cols, &ranges, |b| block_starts[b]);
+        let items: Vec<_> = ranges.into_iter().zip(rc).zip(cs).collect();
+        run(items, |((range, rc), cs)| {
+            let (mut r, mut k) = (0, 0);
+            for b in range {
+                let block = &blocks[b];
+                for (o, &local) in rc[r..].iter_mut().zip(&block.row_class) {
+                    *o = remaps[b][local as usize];
+                }
+                cs[k..k + block.cols.len()].copy_from_slice(&block.cols);
+                r += block.row_class.len();
+                k += block.cols.len();
+            }
+        });
+        Step {
+            row_class,
+            cols,
+            block_starts,
+            class_offsets,
+            class_groups,
+        }
+    }
+}
+
+/// Appends the runs of equal weights of `bits` (weights as bits) to `groups`.
+fn push_groups(groups: &mut Vec<(f64, u32)>, bits: &[u64]) {
+    let start = groups.len();
+    for &b in bits {
+        let len = groups.len();
+        if len > start && groups[len - 1].0.to_bits() == b {
+            groups[len - 1].1 += 1;
+        } else {
+            groups.push((f64::from_bits(b), 1));
+        }
+    }
+}
+
+/// The rows of one block, with classes numbered within the block.
+struct Block {
+    row_class: Vec<u32>,
+    cols: Vec<u32>,
+    /// Weights (as bits) of each local class.
+    classes: Vec<Vec<u64>>,
+    ids: ClassIds,
+    /// The class of the previous row (the next one often has the same).
+    last: u32,
+}
+
+impl Block {
+    fn new(rows: usize) -> Self {
+        Block {
+            row_class: Vec::with_capacity(rows),
+            cols: Vec::with_capacity(8 * rows),
+            classes: Vec::new(),
+            ids: ClassIds::default(),
+            last: 0,
+        }
+    }
+
+    /// Appends `row` (zero weights dropped, smallest weights first: the many small terms of
+    /// a high-valence vertex are summed before its own large one is added, which keeps the
+    /// rounding error of `apply` as small as that of `interpolate`).
+    fn push(&mut self, row: &Row, scratch: &mut Vec<(f64, u32)>, bits: &mut Vec<u64>) {
+        scratch.clear();
+        scratch.extend(
+            (0..row.cols.len())
+                .map(|i| (row.weight(i), row.cols[i]))
+                .filter(|&(w, _)| w != 0.0),
+        );
+        scratch.sort_by(|a, b| a.0.abs().total_cmp(&b.0.abs()));
+        bits.clear();
+        bits.extend(scratch.iter().map(|&(w, _)| w.to_bits()));
+        self.cols.extend(scratch.iter().map(|&(_, c)| c));
+        let id = match self.classes.get(self.last as usize) {
+            Some(last) if last == bits => self.last,
+            _ => match self.ids.get(bits.as_slice()) {
+                Some(&id) => id,
+                None => {
+                    let id = self.classes.len() as u32;
+                    self.classes.push(bits.clone());
+                    self.ids.insert(bits.clone(), id);
+                    id
+                }
+            },
+        };
+        self.last = id;
+        self.row_class.push(id);
+    }
+}
+
+/// Class numbers by weights (as bits).
+type ClassIds = HashMap<Vec<u64>, u32, BuildHasherDefault<WeightHasher>>;
+
+/// FxHash's multiply-and-rotate: much faster than the default SipHash on the short weight
+/// vectors hashed once per row (the keys are not adversarial).
+#[derive(Default)]
+struct WeightHasher(u64);
+
+impl WeightHasher {
+    #[inline]
+    fn add(&mut self, x: u64) {
+        self.0 = (self.0.rotate_left(5) ^ x).wrapping_mul(0x517c_c1b7_2722_0a95);
+    }
+}
+
+impl Hasher for WeightHasher {
+    fn write(&mut self, bytes: &[u8]) {
+        for chunk in bytes.chunks(8) {
+            let mut b = [0u8; 8];
+            b[..chunk.len()].copy_from_slice(chunk);
+            self.add(u64::from_le_bytes(b));
+        }
+    }
+
+    fn write_u64(&mut self, x: u64) {
+        self.add(x);
+    }
+
+    fn write_usize(&mut self, x: usize) {
+        self.add(x as u64);
+    }
+
+    fn finish(&self) -> u64 {
+        self.0
+    }
+}
+
+/// A sparse row being built: weights on parent vertices, one entry per vertex. A weight
+/// may be the sum of hundreds of contributions (the vertex itself in every face around a
+/// pole), so each is accumulated with its rounding error (Knuth's two-sum) and rounded
+/// once at the end.
+#[derive(Default)]
+struct Row {
+    cols: Vec<u32>,
+    ws: Vec<(f64, f64)>,
+}
+
+impl Row {
+    fn clear(&mut self) {
+        self.cols.clear();
+        self.ws.clear();
+    }
+
+    #[inline]
+    fn add(&mut self, col: u32, w: f64) {
+        match self.cols.iter().position(|&c| c == col) {
+            Some(i) => {
+                let (a, err) = self.ws[i];
+                let s = a + w;
+                let bb = s - a;
+                self.ws[i] = (s, err + ((a - (s - bb)) + (w - bb)));
+            }
+            None => {
+                self.cols.push(col);
+                self.ws.push((w, 0.0));
+            }
+        }
+    }
+
+    /// The weight of entry `i`.
+    #[inline]
+    fn weight(&self, i: usize) -> f64 {
+        self.ws[i].0 + self.ws[i].1
+    }
+
+    /// Adds `w ×` the face point of `f`, its vertices taken from corner `start` on (so that
+    /// rows of the same shape list their weights in the same order).
+    fn add_face(&mut self, p: &Topology, f: usize, start: usize, w: f64) {
+        let fv = p.face_vertices(f);
+        let n = fv.len();
+        let wf = w * catmark::face_point_weight(n);
+        for k in 0..n {
+            self.add(fv[(start + k) % n], wf);
+        }
+    }
+}
+
+#[derive(Default)]
+struct RowScratch {
+    row: Row,
+    sorted: Vec<(f64, u32)>,
+    bits: Vec<u64>,
+    mask: VertexMask,
+    mask_scratch: VertexMaskScratch,
+    pe: Vec<f32>,
+    ce: Vec<f32>,
+}
+
+/// The row of child vertex `cv`: the masks of [`interpolate`](super::interpolate), with
+/// face points expanded into their vertices.
+fn stencil(p: &Topology, c: &Topology, options: &Options, cv: usize, scratch: &mut RowScratch) {
+    let nv = p.num_vertices();
+    let nf = p.num_faces();
+    let row = &mut scratch.row;
+    if cv < nv {
+        vertex_stencil(p, c, options, cv, scratch);
+    } else if cv < nv + nf {
+        row.add_face(p, cv - nv, 0, 1.0);
+    } else {
+        let e = cv - nv - nf;
+        let [a, b] = p.edge_verts[e];
+        let faces = p.edge_face_list(e);
+        let locals = &p.edge_face_local[p.edge_face_offsets[e] as usize..];
+        let sharp = p.edge_sharpness[e];
+        let tri_option = options.triangles == TriangleSubdivision::Smooth;
+        if sharp <= 0.0 && faces.len() == 2 && !tri_option {
+            row.add(a, 0.25);
+            row.add(b, 0.25);
+            for (&f, &i) in faces.iter().zip(locals) {
+                row.add_face(p, f as usize, i as usize, 0.25);
+            }
+        } else {
+            let tri = [
+                faces
+                    .first()
+                    .is_some_and(|&f| p.face_vertices(f as usize).len() == 3),
+                faces
+                    .get(1)
+                    .is_some_and(|&f| p.face_vertices(f as usize).len() == 3),
+            ];
+            let child_rule = c.vert_tags[cv].rule;
+            let m = catmark::edge_mask(options, sharp, child_rule, faces.len(), tri);
+            row.add(a, m.vertex);
+            row.add(b, m.vertex);
+            if !m.is_crease() {
+                for (j, (&f, &i)) in faces.iter().zip(locals).enumerate() {
+                    let w = if j < 2 { m.faces[j] } else { m.other_faces };
+                    row.add_face(p, f as usize, i as usize, w);
+                }
+            }
+        }
+    }
+}
+
+/// The row of the child of parent vertex `v`.
+fn vertex_stencil(p: &Topology, c: &Topology, options: &Options, v: usize, s: &mut RowScratch) {
+    let edges = p.vertex_edges(v);
+    let faces = p.vertex_faces(v);
+    let corners = p.vertex_face_locals(v);
+    let ptag = p.vert_tags[v];
+    let row = &mut s.row;
+    if edges.is_empty() {
+        row.add(v as u32, 1.0);
+        return;
+    }
+    if matches!(ptag.rule, Rule::Smooth | Rule::Dart) {
+        let n = edges.len() as f64;
+        let w = 1.0 / (n * n);
+        row.add(v as u32, (n - 2.0) / n);
+        for x in p.vertex_neighbours(v) {
+            row.add(x, w);
+        }
+        for (&f, &j) in faces.iter().zip(corners) {
+            row.add_face(p, f as usize, j as usize, w);
+        }
+        return;
+    }
+    let sp = p.face_verts.len();
+    s.pe.clear();
+    s.pe.extend(edges.iter().map(|&e| p.edge_sharpness[e as usize]));
+    s.ce.clear();
+    s.ce.extend(
+        edges
+            .iter()
+            .zip(p.vertex_edge_locals(v))
+            .map(|(&e, &l)| c.edge_sharpness[sp + 2 * e as usize + l as usize]),
+    );
+    let ctx = VertexContext {
+        parent_rule: ptag.rule,
+        child_rule: c.vert_tags[v].rule,
+        parent_sharpness: p.vert_sharpness[v],
+        child_sharpness: c.vert_sharpness[v],
+        parent_edges: &s.pe,
+        child_edges: &s.ce,
+        num_faces: faces.len(),
+    };
+    catmark::vertex_mask(
+        options.crease_method,
+        &ctx,
+        &mut s.mask,
+        &mut s.mask_scratch,
+    );
+    let mask = &s.mask;
+    row.add(v as u32, mask.vertex);
+    if mask.has_edges {
+        for (x, &w) in p.vertex_neighbours(v).zip(&mask.edges) {
+            row.add(x, w);
+        }
+    }
+    if mask.has_faces {
+        for ((&f, &j), &w) in faces.iter().zip(corners).zip(&mask.faces) {
+            row.add_face(p, f as usize, j as usize, w);
+        }
+    }
+}
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `a + b` as a double-double (Knuth's two-sum).
+    fn two_sum(a: f64, b: f64) -> (f64, f64) {
+        let s = a + b;
+        let bb = s - a;
+        (s, (a - (s - bb)) + (b - bb))
+    }
+
+    fn dd_add(x: (f64, f64), y: (f64, f64)) -> (f64, f64) {
+        let (s, e) = two_sum(x.0, y.0);
+        two_sum(s, e + x.1 + y.1)
+    }
+
+    fn dd_mul(x: (f64, f64), w: f64) -> (f64, f64) {
+        let p = x.0 * w;
+        two_sum(p, x.0.mul_add(w, -p) + x.1 * w)
+    }
+
+    /// The plan applied in double-double arithmetic (its stored weights, exact sums).
+    fn apply_dd(plan: &RefinePlan, base: &[[f64; 3]]) -> Vec<[f64; 3]> {
+        let mut cur: Vec<[(f64, f64); 3]> = base.iter().map(|p| p.map(|x| (x, 0.0))).collect();
+        for st in &plan.steps {
+            let mut at = 0;
+            cur = st
+                .row_class
+                .iter()
+                .map(|&c| {
+                    let groups = &st.class_groups[st.class_offsets[c as usize] as usize
+                        ..st.class_offsets[c as usize + 1] as usize];
+                    let mut acc = [(0.0, 0.0); 3];
+                    for &(w, n) in groups {
+                        for &col in &st.cols[at..at + n as usize] {
+                            for k in 0..3 {
+                                acc[k] = dd_add(acc[k], dd_mul(cur[col as usize][k], w));
+                            }
+                        }
+                        at += n as usize;
+                    }
+                    acc
+                })
+                .collect();
+        }
+        cur.iter().map(|p| p.map(|(hi, lo)| hi + lo)).collect()
+    }
+
+    /// Around a valence-360 pole a row has hundreds of small weights and one large one:
+    /// the weights (accumulated exactly) and `apply` (small terms first) are accurate to
+    /// an ulp or two, as `subdivide` is.
+    #[test]
+    fn high_valence_rows_are_accurate() {
+        let path = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/tests/shapes/osd/catmark_pole360.obj"
+        );
+        let obj = crate::io::obj::read_obj(std::path::Path::new(path)).unwrap();
+        let options = obj.options.resolve(Options::default());
+        for levels in 1..=3 {
+            let plan = RefinePlan::new(&obj.mesh, options, levels).unwrap();
+            let exact = apply_dd(&plan, obj.mesh.positions());
+            let got = plan.apply(obj.mesh.positions());
+            let opts = crate::SubdivideOptions {
+                levels,
+                scheme: options,
+                ..Default::default()
+            };
+            let sub = crate::subdivide(&obj.mesh, &opts).unwrap();
+            for (i, ((a, b), c)) in got.iter().zip(sub.mesh.positions()).zip(&exact).enumerate() {
+                for k in 0..3 {
+                    assert!(
+                        (a[k] - c[k]).abs() <= 1e-15,
+                        "plan, level {levels}, vertex {i}"
+                    );
+                    assert!(
+                        (b[k] - c[k]).abs() <= 1e-15,
+                        "subdivide, level {levels}, vertex {i}"
+                    );
+                }
+            }
+        }
+    }
+
+    /// Every vertex of the smooth regular part shares a handful of classes.
+    #[test]
+    fn classes_are_shared() {
+        let path = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/tests/shapes/osd/catmark_torus.obj"
+        );
+        let obj = crate::io::obj::read_obj(std::path::Path::new(path)).unwrap();
+        let plan = RefinePlan::new(&obj.mesh, Options::default(), 3).unwrap();
+        let last = plan.steps.last().unwrap();
+        // Regular quads: face points, smooth edge points and valence-4 vertex points.
+        assert_eq!(last.class_offsets.len() - 1, 3);
+        assert_eq!(
+            plan.num_weights(),
+            plan.steps.iter().map(|s| s.cols.len()).sum::<usize>()
+        );
+    }
+}

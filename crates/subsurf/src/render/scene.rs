@@ -1,0 +1,521 @@
+//! What is drawn: triangles with per-vertex positions, normals and values, from the exact
+//! limit surface or a refined mesh, and the control mesh's edges.
+
+use super::camera::{Camera, Projected};
+use super::curvature::{Curvature, CurvatureKind};
+use super::{Geometry, Paint, Render, RenderError};
+use crate::geom::{self, V3};
+use crate::limit::{tessellate, LimitSurface, SurfacePoint};
+use crate::mesh::{Options, PolyMesh};
+use crate::{subdivide, SubdivideOptions};
+use rayon::prelude::*;
+
+/// Points evaluated per call of [`LimitSurface::eval_many`] (bounds the memory of the
+/// derivatives held at once).
+const CHUNK: usize = 1 << 16;
+
+/// Triangles to draw.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Scene {
+    /// Vertex positions.
+    pub positions: Vec<V3>,
+    /// Unit vertex normals (zero where none exists).
+    pub normals: Vec<V3>,
+    /// Per-vertex curvature of the requested kind (NaN where unknown), with
+    /// [`Paint::Curvature`].
+    pub values: Option<Vec<f64>>,
+    /// Triangles (counter-clockwise seen from the side the normals point to).
+    pub triangles: Vec<[u32; 3]>,
+    /// Per triangle, the unit normal of the polygon it comes from (flat shading).
+    pub flat: Vec<V3>,
+    /// Per triangle, its base face.
+    pub face: Vec<u32>,
+    /// Per base face, its colour index with [`Paint::Faces`] (see [`face_colours`]).
+    pub face_colour: Vec<u8>,
+    /// The control mesh's edges.
+    pub edges: Vec<[V3; 2]>,
+}
+
+/// The scene seen by a camera.
+pub(crate) struct Frame {
+    /// Per vertex, its projection (samples), `None` behind the eye.
+    pub screen: Vec<Option<Projected>>,
+    /// Per vertex, its view-space position.
+    pub view_pos: Vec<V3>,
+    /// Per vertex, its view-space normal.
+    pub view_normal: Vec<V3>,
+    /// Per triangle, its view-space flat normal.
+    pub view_flat: Vec<V3>,
+}
+
+impl Scene {
+    /// Builds the scene of `mesh` as `opts` asks.
+    pub fn build(mesh: &PolyMesh, options: &Options, opts: &Render) -> Result<Self, RenderError> {
+        let faces = drawn_faces(mesh, opts.geometry);
+        if faces > MAX_DRAWN_FACES as u128 {
+            return Err(RenderError::TooLarge {
+                faces,
+                limit: MAX_DRAWN_FACES,
+            });
+        }
+        let mut scene = match opts.geometry {
+            Geometry::Limit { rate } => {
+                let kind = match opts.paint {
+                    Paint::Curvature(k) => Some(k),
+                    _ => None,
+                };
+                let grid = LimitGrid::sample(mesh, options, rate, kind.is_some())?;
+                Self::from_grid(grid, kind)
+            }
+            Geometry::Level(levels) => Self::from_level(mesh, options, levels)?,
+        };
+        if opts.control_mesh {
+            scene.edges = control_edges(mesh);
+        }
+        if opts.paint == Paint::Faces {
+            scene.face_colour = face_colours(mesh, FACE_PALETTE);
+        }
+        Ok(scene)
+    }
+
+    fn from_grid(grid: LimitGrid, kind: Option<CurvatureKind>) -> Self {
+        let mut triangles = Vec::with_capacity(2 * grid.quads.len());
+        let mut flat = Vec::with_capacity(2 * grid.quads.len());
+        let mut face = Vec::with_capacity(2 * grid.quads.len());
+        for (q, &[a, b, c, d]) in grid.quads.iter().enumerate() {
+            let n = geom::normalize_or_zero(geom::newell_normal(&grid.positions, &[a, b, c, d]));
+            for t in split_quad(&grid.positions, [a, b, c, d]) {
+                triangles.push(t);
+                flat.push(n);
+                face.push(grid.quad_face[q]);
+            }
+        }
+        let values = kind.zip(grid.curvature.as_ref()).map(|(k, cs)| {
+            let mut v: Vec<f64> = cs
+                .iter()
+                .map(|c| c.map_or(f64::NAN, |c| c.get(k)))
+                .collect();
+            fill_missing(&mut v, &grid.quads);
+            v
+        });
+        Self {
+            positions: grid.positions,
+            normals: grid.normals,
+            values,
+            triangles,
+            flat,
+            face,
+            face_colour: Vec::new(),
+            edges: Vec::new(),
+        }
+    }
+
+    /// The mesh refined `levels` times (holes left out), normals averaged from its faces.
+    fn from_level(mesh: &PolyMesh, options: &Options, levels: u32) -> Result<Self, RenderError> {
+        let out = subdivide(
+            mesh,
+            &SubdivideOptions {
+                levels,
+                scheme: *options,
+                keep_holes: true,
+                ..SubdivideOptions::default()
+            },
+        )?;
+        let m = &out.mesh;
+        let mut hole = vec![false; m.num_faces()];
+        for &h in &m.tags.holes {
+            if let Some(x) = hole.get_mut(h as usize) {
+                *x = true;
+            }
+        }
+        // Refined face i comes from level-1 face i >> 2(levels - 1), which is the child of
+        // the base face owning that face-vertex slot (see ARCHITECTURE.md, numbering).
+        let mut slot_face = vec![0u32; mesh.face_verts().len()];
+        for f in 0..mesh.num_faces() {
+            let o = mesh.face_offsets();
+            slot_face[o[f] as usize..o[f + 1] as usize].fill(f as u32);
+        }
+        let base_face = |i: usize| -> u32 {
+            if levels == 0 {
+                return i as u32;
+            }
+            let slot = i.checked_shr(2 * (levels - 1)).unwrap_or(0);
+            slot_face.get(slot).copied().unwrap_or(0)
+        };
+        let mut positions = m.positions().to_vec();
+        let mut acc = vec![[0.0; 3]; positions.len()];
+        let mut polygon_normal = vec![[0.0; 3]; m.num_faces()];
+        for (f, fv) in m.faces().enumerate() {
+            if hole[f] {
+                continue;
+            }
+            let n = geom::newell_normal(&positions, fv);
+            for &v in fv {
+                (0..3).for_each(|k| acc[v as usize][k] += n[k]);
+            }
+            polygon_normal[f] = geom::normalize_or_zero(n);
+        }
+        let mut normals: Vec<V3> = acc.into_iter().map(geom::normalize_or_zero).collect();
+        let (mut triangles, mut flat, mut face) = (Vec::new(), Vec::new(), Vec::new());
+        for (f, fv) in m.faces().enumerate() {
+            if hole[f] {
+                continue;
+            }
+            let mut push = |t: [u32; 3]| {
+                triangles.push(t);
+                flat.push(polygon_normal[f]);
+                face.push(base_face(f));
+            };
+            match fv.len() {
+                3 => push([fv[0], fv[1], fv[2]]),
+                4 => split_quad(&positions, [fv[0], fv[1], fv[2], fv[3]])
+                    .into_iter()
+                    .for_each(&mut push),
+                n => {
+                    // A fan around the centroid (also fine for non-convex n-gons that are
+                    // star-shaped from it).
+                    let c = positions.len() as u32;
+                    let mut centre = [0.0; 3];
+                    let mut nrm = [0.0; 3];
+                    for &v in fv {
+                        (0..3).for_each(|k| {
+                            centre[k] += positions[v as usize][k] / n as f64;
+                            nrm[k] += normals[v as usize][k];
+                        });
+                    }
+                    positions.push(centre);
+                    normals.push(geom::normalize_or_zero(nrm));
+                    for i in 0..n {
+                        push([fv[i], fv[(i + 1) % n], c]);
+                    }
+                }
+            }
+        }
+        Ok(Self {
+            positions,
+            normals,
+            values: None,
+            triangles,
+            flat,
+            face,
+            face_colour: Vec::new(),
+            edges: Vec::new(),
+        })
+    }
+
+    /// Centre of the bounding box of the drawn vertices (and of the control mesh when
+    /// `with_edges`) and the radius of the smallest sphere around it holding them all.
+    pub fn bounding_sphere(&self, with_edges: bool) -> (V3, f64) {
+        let mut used = vec![false; self.positions.len()];
+        for t in &self.triangles {
+            t.iter().for_each(|&v| used[v as usize] = true);
+        }
+        let points = || {
+            self.positions
+                .iter()
+                .zip(&used)
+                .filter(|(_, &u)| u)
+                .map(|(p, _)| p)
+                .chain(
+                    self.edges
+                        .iter()
+                        .filter(move |_| with_edges)
+                        .flat_map(|e| e.iter()),
+                )
+        };
+        let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+        for p in points() {
+            for k in 0..3 {
+                lo[k] = lo[k].min(p[k]);
+                hi[k] = hi[k].max(p[k]);
+            }
+        }
+        if !lo[0].is_finite() {
+            return ([0.0; 3], 1.0);
+        }
+        let c = [0, 1, 2].map(|k| 0.5 * (lo[k] + hi[k]));
+        let r = points().fold(0.0f64, |r, p| r.max(geom::norm(&geom::sub(p, &c))));
+        (c, r)
+    }
+
+    /// Projects every vertex.
+    pub fn project(&self, camera: &Camera, scale: f64) -> Frame {
+        let view_pos: Vec<V3> = self
+            .positions
+            .par_iter()
+            .map(|p| camera.to_view(p))
+            .collect();
+        let screen = view_pos
+            .par_iter()
+            .map(|v| camera.project_view(v, scale))
+            .collect();
+        let view_normal = self
+            .normals
+            .par_iter()
+            .map(|n| camera.dir_to_view(n))
+            .collect();
+        let view_flat = self
+            .flat
+            .par_iter()
+            .map(|n| camera.dir_to_view(n))
+            .collect();
+        Frame {
+            screen,
+            view_pos,
+            view_normal,
+            view_flat,
+        }
+    }
+}
+
+/// The most polygons [`Scene::build`] draws (2²⁴; the scene takes about 200 bytes per
+/// vertex).
+pub(crate) const MAX_DRAWN_FACES: u64 = 1 << 24;
+
+/// How many polygons drawing `mesh` as `geometry` makes (an upper bound: holes counted).
+fn drawn_faces(mesh: &PolyMesh, geometry: Geometry) -> u128 {
+    match geometry {
+        Geometry::Limit { rate } => {
+            let r = u128::from(rate) + 1;
+            mesh.faces()
+                .map(|f| match f.len() {
+                    4 => r * r,
+                    n => n as u128 * (r / 2 + 1) * (r / 2 + 1),
+                })
+                .sum()
+        }
+        Geometry::Level(0) => mesh.num_faces() as u128,
+        Geometry::Level(l) => {
+            let shift = 2 * u128::from(l - 1);
+            let s = mesh.face_verts().len() as u128;
+            if shift >= 100 {
+                u128::MAX
+            } else {
+                s.saturating_mul(1u128 << shift)
+            }
+        }
+    }
+}
+
+/// Quad `a b c d` as two triangles, split along its shorter diagonal in space (`a c` when
+/// both are equally long).
+fn split_quad(p: &[V3], [a, b, c, d]: [u32; 4]) -> [[u32; 3]; 2] {
+    let len = |x: u32, y: u32| {
+        let e = geom::sub(&p[x as usize], &p[y as usize]);
+        geom::dot(&e, &e)
+    };
+    if len(b, d) < len(a, c) {
+        [[a, b, d], [b, c, d]]
+    } else {
+        [[a, b, c], [a, c, d]]
+    }
+}
+
+/// The distinct edges of the control mesh (of every face, holes included).
+fn control_edges(mesh: &PolyMesh) -> Vec<[V3; 2]> {
+    let mut pairs: Vec<(u32, u32)> = mesh
+        .faces()
+        .flat_map(|fv| {
+            (0..fv.len()).map(move |i| {
+                let (a, b) = (fv[i], fv[(i + 1) % fv.len()]);
+                (a.min(b), a.max(b))
+            })
+        })
+        .filter(|(a, b)| a != b)
+        .collect();
+    pairs.sort_unstable();
+    pairs.dedup();
+    let p = mesh.positions();
+    pairs
+        .into_iter()
+        .map(|(a, b)| [p[a as usize], p[b as usize]])
+        .collect()
+}
+
+/// Colours of [`Paint::Faces`].
+pub(crate) const FACE_PALETTE: usize = 6;
+
+/// A colour index per base face such that faces sharing an edge differ when possible:
+/// greedy colouring in face order, each face taking the lowest index its already coloured
+/// neighbours do not use (on a quad grid numbered by rows this is a checkerboard; on a
+/// cube, three colours). Faces with `palette` or more coloured neighbours cycle.
+pub(crate) fn face_colours(mesh: &PolyMesh, palette: usize) -> Vec<u8> {
+    let mut edges: Vec<(u32, u32, u32)> = mesh
+        .faces()
+        .enumerate()
+        .flat_map(|(f, fv)| {
+            (0..fv.len()).map(move |i| {
+                let (a, b) = (fv[i], fv[(i + 1) % fv.len()]);
+                (a.min(b), a.max(b), f as u32)
+            })
+        })
+        .collect();
+    edges.sort_unstable();
+    let mut neighbours = vec![Vec::new(); mesh.num_faces()];
+    for run in edges.chunk_by(|x, y| (x.0, x.1) == (y.0, y.1)) {
+        for x in run {
+            for y in run {
+                if x.2 != y.2 {
+                    neighbours[x.2 as usize].push(y.2);
+                }
+            }
+        }
+    }
+    let mut colour = vec![u8::MAX; mesh.num_faces()];
+    for f in 0..mesh.num_faces() {
+        let mut used = vec![false; palette];
+        for &g in &neighbours[f] {
+            if let Some(u) = used.get_mut(colour[g as usize] as usize) {
+                *u = true;
+            }
+        }
+        let c = used.iter().position(|&u| !u).unwrap_or(f % palette.max(1));
+        colour[f] = c as u8;
+    }
+    colour
+}
+
+/// Replaces NaN values by the mean of the known values of the vertices sharing a quad
+/// with them (twice, so that a missing value next to a missing value is filled too).
+fn fill_missing(values: &mut [f64], quads: &[[u32; 4]]) {
+    for _ in 0..2 {
+        if !values.iter().any(|v| v.is_nan()) {
+            return;
+        }
+        let mut sum = vec![(0.0, 0u32); values.len()];
+        for q in quads {
+            for &a in q {
+                if !values[a as usize].is_nan() {
+                    continue;
+                }
+                for &b in q {
+                    let x = values[b as usize];
+                    if !x.is_nan() {
+                        sum[a as usize].0 += x;
+                        sum[a as usize].1 += 1;
+                    }
+                }
+            }
+        }
+        for (v, (s, n)) in values.iter_mut().zip(sum) {
+            if v.is_nan() && n > 0 {
+                *v = s / f64::from(n);
+            }
+        }
+    }
+}
+
+/// The limit surface sampled on a grid per (sub-)face, each grid with its own vertices
+/// evaluated from its own face; positions from the watertight tessellation (so that
+/// neighbouring grids meet exactly).
+pub(crate) struct LimitGrid {
+    /// Positions (shared samples bit-identical across grids).
+    pub positions: Vec<V3>,
+    /// Unit normals from the exact limit derivatives of the grid's own face (the
+    /// tessellation's normal where those are degenerate).
+    pub normals: Vec<V3>,
+    /// Where each vertex was evaluated.
+    pub points: Vec<SurfacePoint>,
+    /// Exact curvature per vertex (`None` where the second derivatives are degenerate:
+    /// at irregular corners), when asked for.
+    pub curvature: Option<Vec<Option<Curvature>>>,
+    /// Grid cells, counter-clockwise like their base faces.
+    pub quads: Vec<[u32; 4]>,
+    /// Per cell, its base face.
+    pub quad_face: Vec<u32>,
+}
+
+impl LimitGrid {
+    /// Samples `mesh`'s limit surface at `rate` (see [`tessellate`]).
+    pub fn sample(
+        mesh: &PolyMesh,
+        options: &Options,
+        rate: u32,
+        with_curvature: bool,
+    ) -> Result<Self, RenderError> {
+        let surface = LimitSurface::new(mesh, *options)?;
+        let t = tessellate(&surface, mesh, options, rate, false)?;
+        let mut g = LimitGrid {
+            positions: Vec::new(),
+            normals: Vec::new(),
+            points: Vec::new(),
+            curvature: None,
+            quads: Vec::with_capacity(t.num_faces()),
+            quad_face: Vec::with_capacity(t.num_faces()),
+        };
+        let mut fallback = Vec::new();
+        let mut corner = Vec::new();
+        // Output faces come per (sub-)face, each a row-major s × s grid of cells from
+        // (u, v) = (0, 0) (see `tessellate`).
+        let mut q = 0;
+        while q < t.num_faces() {
+            let (face, sub) = t.source[q];
+            let run = t.source[q..]
+                .iter()
+                .take_while(|&&s| s == (face, sub))
+                .count();
+            let s = if surface.num_subfaces(face as usize) == 1 {
+                t.rate
+            } else {
+                t.rate / 2
+            }
+            .max(1) as usize;
+            let side = s + 1;
+            let base = g.positions.len() as u32;
+            let mut grid = vec![u32::MAX; side * side];
+            for c in 0..run.min(s * s) {
+                let fv = t.face(q + c);
+                let (a, b) = (c % s, c / s);
+                let at = [
+                    b * side + a,
+                    b * side + a + 1,
+                    (b + 1) * side + a + 1,
+                    (b + 1) * side + a,
+                ];
+                for k in 0..4 {
+                    grid[at[k]] = fv[k];
+                }
+                g.quads.push(at.map(|i| base + i as u32));
+                g.quad_face.push(face);
+            }
+            for (i, &v) in grid.iter().enumerate() {
+                let (a, b) = (i % side, i / side);
+                // Unused only if the run were short (never, per `tessellate`'s layout).
+                let v = if v == u32::MAX { 0 } else { v as usize };
+                g.positions.push(t.positions[v]);
+                fallback.push(t.normals[v]);
+                corner.push((a == 0 || a == s) && (b == 0 || b == s));
+                g.points.push(SurfacePoint {
+                    face,
+                    subface: sub,
+                    u: a as f64 / s as f64,
+                    v: b as f64 / s as f64,
+                });
+            }
+            q += run;
+        }
+        let mut curv = Vec::new();
+        for (i, chunk) in g.points.chunks(CHUNK).enumerate() {
+            for (j, d) in surface.eval_many(chunk).into_iter().enumerate() {
+                let d = d?;
+                let k = i * CHUNK + j;
+                let n = d.normal();
+                g.normals.push(if n == [0.0; 3] { fallback[k] } else { n });
+                if with_curvature {
+                    // At an irregular corner the evaluator returns tangents and zero
+                    // second derivatives: no curvature there.
+                    let flat = d.duu == [0.0; 3] && d.duv == [0.0; 3] && d.dvv == [0.0; 3];
+                    curv.push(if corner[k] && flat {
+                        None
+                    } else {
+                        Curvature::from_derivatives(&d)
+                    });
+                }
+            }
+        }
+        if with_curvature {
+            g.curvature = Some(curv);
+        }
+        Ok(g)
+    }
+}

@@ -1,0 +1,379 @@
+//! The software renderer: pictures of the limit surface are where they should be, have the
+//! expected symmetry, stripes and colours, are deterministic, and curvature has the right
+//! signs (checked on the per-vertex values, not on pixels).
+
+use subsurf::io::obj::parse_obj;
+use subsurf::mesh::{Options, PolyMesh};
+use subsurf::render::curvature::{sample_curvature, CurvatureKind};
+use subsurf::render::{
+    render, render_detailed, write_png, Geometry, Paint, Render, RenderError, RgbImage, Shading,
+};
+
+fn cube() -> PolyMesh {
+    let p = vec![
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [1.0, 1.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, 0.0, 1.0],
+        [1.0, 0.0, 1.0],
+        [1.0, 1.0, 1.0],
+        [0.0, 1.0, 1.0],
+    ];
+    let f = [
+        [0, 3, 2, 1],
+        [4, 5, 6, 7],
+        [0, 1, 5, 4],
+        [1, 2, 6, 5],
+        [2, 3, 7, 6],
+        [3, 0, 4, 7],
+    ];
+    PolyMesh::from_faces(p, &f).unwrap()
+}
+
+fn example(name: &str) -> (PolyMesh, Options) {
+    let path = format!(
+        "{}/../../examples/meshes/{name}",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let bytes = std::fs::read(&path).unwrap();
+    let obj = parse_obj(&bytes, &path).unwrap();
+    let options = obj.options.resolve(Options::default());
+    (obj.mesh, options)
+}
+
+fn small(paint: Paint) -> Render {
+    Render {
+        width: 160,
+        height: 120,
+        paint,
+        ..Render::default()
+    }
+}
+
+/// Pixels that differ from the background.
+fn mask(img: &RgbImage, background: [u8; 3]) -> Vec<bool> {
+    img.pixels().map(|p| p.0 != background).collect()
+}
+
+fn luminance(p: &image::Rgb<u8>) -> f64 {
+    0.2126 * f64::from(p.0[0]) + 0.7152 * f64::from(p.0[1]) + 0.0722 * f64::from(p.0[2])
+}
+
+#[test]
+fn the_cube_fills_the_middle_of_the_picture() {
+    let opts = small(Paint::Plain);
+    let img = render(&cube(), &Options::default(), &opts).unwrap();
+    assert_eq!((img.width(), img.height()), (160, 120));
+    let m = mask(&img, opts.background);
+    let count = m.iter().filter(|&&x| x).count();
+    // A sphere-like blob fitted to the shorter side: a good part of the picture, not all.
+    assert!(
+        count > 160 * 120 / 5 && count < 160 * 120 * 3 / 4,
+        "{count}"
+    );
+    let (mut cx, mut cy) = (0.0, 0.0);
+    for (i, _) in m.iter().enumerate().filter(|(_, &x)| x) {
+        cx += (i % 160) as f64;
+        cy += (i / 160) as f64;
+    }
+    let (cx, cy) = (cx / count as f64, cy / count as f64);
+    assert!(
+        (cx - 79.5).abs() < 4.0 && (cy - 59.5).abs() < 4.0,
+        "({cx}, {cy})"
+    );
+    // The corners of the picture are background; shading varies across the surface.
+    assert!(!m[0] && !m[159] && !m[119 * 160] && !m[120 * 160 - 1]);
+    let lum: Vec<f64> = img
+        .pixels()
+        .zip(&m)
+        .filter(|(_, &x)| x)
+        .map(|(p, _)| luminance(p))
+        .collect();
+    let (lo, hi) = lum
+        .iter()
+        .fold((f64::MAX, f64::MIN), |(a, b), &x| (a.min(x), b.max(x)));
+    assert!(hi - lo > 60.0, "{lo}..{hi}");
+}
+
+#[test]
+fn lit_from_the_upper_left() {
+    // Front view: the key light is above and to the left, so the upper-left quarter of the
+    // surface is brighter than the lower-right one (the shading is not inverted).
+    let opts = Render {
+        view: (0.0, 0.0),
+        ..small(Paint::Plain)
+    };
+    let img = render(&cube(), &Options::default(), &opts).unwrap();
+    let m = mask(&img, opts.background);
+    let mean = |x0: u32, y0: u32| {
+        let mut s = (0.0, 0);
+        for y in y0..y0 + 60 {
+            for x in x0..x0 + 80 {
+                if m[(y * 160 + x) as usize] {
+                    s.0 += luminance(img.get_pixel(x, y));
+                    s.1 += 1;
+                }
+            }
+        }
+        s.0 / f64::from(s.1)
+    };
+    assert!(mean(0, 0) > mean(80, 60) + 20.0);
+}
+
+#[test]
+fn a_symmetric_view_gives_a_symmetric_silhouette() {
+    // Looking at the middle of a face: the cube's limit surface is mirror-symmetric left to
+    // right and top to bottom in the picture.
+    let opts = Render {
+        view: (0.0, 0.0),
+        width: 161,
+        height: 121,
+        ..small(Paint::Plain)
+    };
+    let img = render(&cube(), &Options::default(), &opts).unwrap();
+    let m = mask(&img, opts.background);
+    let (w, h) = (161usize, 121usize);
+    let (mut lr, mut tb, mut total) = (0, 0, 0);
+    for y in 0..h {
+        for x in 0..w {
+            let here = m[y * w + x];
+            total += usize::from(here);
+            lr += usize::from(here != m[y * w + (w - 1 - x)]);
+            tb += usize::from(here != m[(h - 1 - y) * w + x]);
+        }
+    }
+    assert!(total > 1000);
+    // Anti-aliased edge pixels may differ by a shade, not by coverage.
+    assert!(lr * 200 < total, "{lr} of {total} differ left-right");
+    assert!(tb * 200 < total, "{tb} of {total} differ top-bottom");
+}
+
+#[test]
+fn zebra_has_dark_and_light_stripes() {
+    let opts = small(Paint::Zebra);
+    let img = render(&cube(), &Options::default(), &opts).unwrap();
+    let m = mask(&img, opts.background);
+    let lum: Vec<f64> = img
+        .pixels()
+        .zip(&m)
+        .filter(|(_, &x)| x)
+        .map(|(p, _)| luminance(p))
+        .collect();
+    let dark = lum.iter().filter(|&&l| l < 60.0).count();
+    let light = lum.iter().filter(|&&l| l > 200.0).count();
+    assert!(dark * 8 > lum.len(), "{dark} dark of {}", lum.len());
+    assert!(light * 8 > lum.len(), "{light} light of {}", lum.len());
+    // Stripes are grey-scale (edge pixels mix in the slightly bluish background).
+    assert!(img.pixels().all(|p| {
+        let [r, g, b] = p.0;
+        r.abs_diff(g) <= 1 && g.abs_diff(b) <= 2
+    }));
+}
+
+#[test]
+fn renders_are_deterministic() {
+    for paint in [
+        Paint::Plain,
+        Paint::Zebra,
+        Paint::Faces,
+        Paint::Curvature(CurvatureKind::Mean),
+    ] {
+        let opts = Render {
+            control_mesh: true,
+            ..small(paint)
+        };
+        let png = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            let img = pool
+                .install(|| render(&cube(), &Options::default(), &opts))
+                .unwrap();
+            let mut bytes = Vec::new();
+            write_png(&mut bytes, &img).unwrap();
+            bytes
+        };
+        let a = png(1);
+        assert_eq!(&a[..8], b"\x89PNG\r\n\x1a\n");
+        assert_eq!(a, png(1), "{paint:?}");
+        assert_eq!(a, png(3), "{paint:?}");
+    }
+}
+
+#[test]
+fn torus_gaussian_curvature_is_positive_outside_and_negative_inside() {
+    // Major radius 1, minor 0.4, axis z.
+    let (mesh, options) = example("torus.obj");
+    let samples = sample_curvature(&mesh, &options, 6).unwrap();
+    let (mut outside, mut inside) = (0, 0);
+    for s in &samples {
+        let c = s
+            .curvature
+            .expect("a torus of quads of valence 4 is C2 everywhere");
+        let rho = s.position[0].hypot(s.position[1]);
+        if rho > 1.15 {
+            assert!(c.gauss > 0.0, "K = {} at {:?}", c.gauss, s.position);
+            outside += 1;
+        } else if rho < 0.85 {
+            assert!(c.gauss < 0.0, "K = {} at {:?}", c.gauss, s.position);
+            inside += 1;
+        }
+        // The torus is convex along its tube: the mean curvature is positive everywhere.
+        assert!(c.mean > 0.0, "H = {} at {:?}", c.mean, s.position);
+        assert!(c.max >= c.mean.abs());
+    }
+    assert!(outside > 100 && inside > 100, "{outside} {inside}");
+}
+
+#[test]
+fn cube_limit_is_convex_and_curvature_is_missing_only_at_its_corners() {
+    let samples = sample_curvature(&cube(), &Options::default(), 4).unwrap();
+    let mut missing = 0;
+    for s in &samples {
+        match s.curvature {
+            Some(c) => {
+                assert!(c.gauss > 0.0 && c.mean > 0.0, "{c:?} at {:?}", s.position);
+                // Outward normal.
+                let d: f64 = (0..3).map(|k| s.normal[k] * (s.position[k] - 0.5)).sum();
+                assert!(d > 0.0);
+            }
+            None => {
+                missing += 1;
+                let u_end = s.point.u == 0.0 || s.point.u == 1.0;
+                let v_end = s.point.v == 0.0 || s.point.v == 1.0;
+                assert!(u_end && v_end, "{:?}", s.point);
+            }
+        }
+    }
+    // Each face's grid meets 4 extraordinary corners.
+    assert_eq!(missing, 6 * 4);
+}
+
+#[test]
+fn curvature_pictures_have_a_colour_bar() {
+    let opts = Render {
+        width: 320,
+        height: 240,
+        ..small(Paint::Curvature(CurvatureKind::Gauss))
+    };
+    let r = render_detailed(&cube(), &Options::default(), &opts).unwrap();
+    let (lo, hi) = r.curvature_range.unwrap();
+    assert!(lo < 0.0 && hi > 0.0 && (lo + hi).abs() < 1e-12);
+    // The bar's column: red at the top, blue at the bottom, somewhere in the right strip.
+    let img = &r.image;
+    let redish = |p: &image::Rgb<u8>| p.0[0] > 150 && p.0[2] < 100;
+    let blueish = |p: &image::Rgb<u8>| p.0[2] > 150 && p.0[0] < 100;
+    let column = (240..320).find(|&x| (0..240).any(|y| redish(img.get_pixel(x, y))));
+    let x = column.expect("a red bar on the right");
+    assert!((0..240).any(|y| blueish(img.get_pixel(x, y))));
+    // The surface itself (convex) is red, never blue.
+    assert!((0..200).all(|x| (0..240).all(|y| !blueish(img.get_pixel(x, y)))));
+}
+
+#[test]
+fn faces_levels_flat_shading_and_the_control_mesh_change_the_picture() {
+    let o = Options::default();
+    let base = render(&cube(), &o, &small(Paint::Plain)).unwrap();
+    let faces = render(&cube(), &o, &small(Paint::Faces)).unwrap();
+    assert_ne!(base, faces);
+    // Neighbouring faces differ: at least three hues are visible on a cube.
+    let mut hues: Vec<[u8; 3]> = faces
+        .pixels()
+        .map(|p| p.0.map(|c| c / 64))
+        .filter(|c| c[0] != c[2])
+        .collect();
+    hues.sort_unstable();
+    hues.dedup();
+    assert!(hues.len() >= 3, "{hues:?}");
+    let level = Render {
+        geometry: Geometry::Level(1),
+        shading: Shading::Flat,
+        ..small(Paint::Plain)
+    };
+    let l1 = render(&cube(), &o, &level).unwrap();
+    assert_ne!(base, l1);
+    let cage = Render {
+        control_mesh: true,
+        ..small(Paint::Plain)
+    };
+    let with_lines = render(&cube(), &o, &cage).unwrap();
+    // Dark bluish line pixels (the clay surface is warm: red above blue).
+    let lines = |img: &RgbImage| {
+        img.pixels()
+            .filter(|p| p.0[2] >= p.0[0] && luminance(p) < 120.0)
+            .count()
+    };
+    assert_eq!(lines(&base), 0);
+    assert!(lines(&with_lines) > 200, "{}", lines(&with_lines));
+}
+
+#[test]
+fn holes_are_not_drawn() {
+    let o = Options::default();
+    let opts = Render {
+        view: (0.0, 89.0),
+        ..small(Paint::Plain)
+    };
+    let closed = render(&cube(), &o, &opts).unwrap();
+    let mut open = cube();
+    open.tags.holes = vec![1]; // the top face, seen from above
+    let holed = render(&open, &o, &opts).unwrap();
+    assert_ne!(closed, holed);
+    // Inside, the back faces are lit (two-sided), not black.
+    let m = mask(&holed, opts.background);
+    let centre = holed.get_pixel(80, 60);
+    assert!(m[60 * 160 + 80] && luminance(centre) > 30.0);
+    open.tags.holes = (0..6).collect();
+    assert!(matches!(render(&open, &o, &opts), Err(RenderError::Empty)));
+}
+
+#[test]
+fn bad_options_are_errors() {
+    let o = Options::default();
+    let bad = |opts: Render| render(&cube(), &o, &opts).unwrap_err();
+    assert!(matches!(
+        bad(Render {
+            width: 4,
+            ..Render::default()
+        }),
+        RenderError::BadSize { .. }
+    ));
+    assert!(matches!(
+        bad(Render {
+            geometry: Geometry::Level(1),
+            paint: Paint::Curvature(CurvatureKind::Mean),
+            ..Render::default()
+        }),
+        RenderError::CurvatureNeedsLimit
+    ));
+    assert!(matches!(
+        bad(Render {
+            geometry: Geometry::Limit { rate: 0 },
+            ..Render::default()
+        }),
+        RenderError::Tessellate(_)
+    ));
+    assert!(matches!(
+        bad(Render {
+            geometry: Geometry::Limit { rate: 2000 },
+            ..Render::default()
+        }),
+        RenderError::TooLarge { .. }
+    ));
+    assert!(matches!(
+        bad(Render {
+            view: (f64::NAN, 0.0),
+            ..Render::default()
+        }),
+        RenderError::BadView(..)
+    ));
+    assert!(matches!(
+        bad(Render {
+            curvature_range: Some((1.0, 1.0)),
+            ..Render::default()
+        }),
+        RenderError::BadRange(..)
+    ));
+}

@@ -1,0 +1,222 @@
+//! # Re-posing plans agree with full refinement
+//!
+//! [`RefinePlan`] precomputes the linear map from base positions to refined positions. On
+//! every OpenSubdiv regression shape (`tests/shapes/osd/*.obj`, which cover boundaries in
+//! all modes, infinite and semi-sharp creases, corners, Chaikin, holes, n-gons, triangles,
+//! non-manifold topology), with the scheme options of the shape's tags, and for levels 1 to
+//! 3, `plan.apply` must equal the positions of [`subdivide`], index for index, within
+//! `1e-14 ×` the bounding-box diagonal of the input — both on the original positions and
+//! after moving every vertex (the plan does not depend on positions).
+
+use std::path::{Path, PathBuf};
+
+use subsurf::io::obj::read_obj;
+use subsurf::mesh::{Options, PolyMesh};
+use subsurf::refine::{PlanScratch, RefinePlan};
+use subsurf::{subdivide, SubdivideOptions};
+
+/// Tolerance relative to the input's bounding-box diagonal.
+const REL_TOL: f64 = 1e-14;
+
+fn shapes_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/shapes/osd")
+}
+
+/// Every `*.obj` of the regression shapes, sorted, with its scheme options.
+fn shapes() -> Vec<(String, PolyMesh, Options)> {
+    let mut paths: Vec<PathBuf> = std::fs::read_dir(shapes_dir())
+        .expect("shapes directory")
+        .map(|e| e.expect("directory entry").path())
+        .filter(|p| p.extension().is_some_and(|e| e == "obj"))
+        .collect();
+    paths.sort();
+    assert!(paths.len() >= 80, "expected the 81 OpenSubdiv shapes");
+    paths
+        .iter()
+        .map(|path| {
+            let obj =
+                read_obj(path).unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
+            let name = path.file_stem().unwrap().to_string_lossy().into_owned();
+            let options = obj.options.resolve(Options::default());
+            (name, obj.mesh, options)
+        })
+        .collect()
+}
+
+fn diagonal(p: &[[f64; 3]]) -> f64 {
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for x in p {
+        for k in 0..3 {
+            lo[k] = lo[k].min(x[k]);
+            hi[k] = hi[k].max(x[k]);
+        }
+    }
+    (0..3)
+        .map(|k| (hi[k] - lo[k]).powi(2))
+        .sum::<f64>()
+        .sqrt()
+        .max(f64::MIN_POSITIVE)
+}
+
+/// The largest coordinate difference, and where.
+fn max_diff(a: &[[f64; 3]], b: &[[f64; 3]]) -> (f64, usize) {
+    assert_eq!(a.len(), b.len());
+    let mut worst = (0.0, 0);
+    for (i, (x, y)) in a.iter().zip(b).enumerate() {
+        for k in 0..3 {
+            let d = (x[k] - y[k]).abs();
+            if d > worst.0 || d.is_nan() {
+                worst = (d, i);
+            }
+        }
+    }
+    worst
+}
+
+/// A smooth, non-affine deformation (so that moved meshes are not just transformed ones).
+fn deform(p: &[[f64; 3]]) -> Vec<[f64; 3]> {
+    let d = diagonal(p);
+    p.iter()
+        .enumerate()
+        .map(|(i, x)| {
+            let t = i as f64 * 0.618;
+            [
+                x[0] + 0.1 * d * (x[1] / d * 3.0 + t).sin(),
+                x[1] * 1.3 + 0.05 * d * (x[2] / d * 5.0).cos(),
+                x[2] - 0.2 * x[0] + 0.07 * d * t.cos(),
+            ]
+        })
+        .collect()
+}
+
+fn subdivided(mesh: &PolyMesh, options: Options, levels: u32) -> Vec<[f64; 3]> {
+    let opts = SubdivideOptions {
+        levels,
+        scheme: options,
+        ..SubdivideOptions::default()
+    };
+    subdivide(mesh, &opts)
+        .expect("subdivide")
+        .mesh
+        .positions()
+        .to_vec()
+}
+
+#[test]
+fn plan_equals_subdivide_on_all_shapes() {
+    let mut failures = Vec::new();
+    let mut cases = 0;
+    let mut worst = (0.0, String::new());
+    for (name, mesh, options) in shapes() {
+        let mut moved = mesh.clone();
+        moved
+            .positions_mut()
+            .copy_from_slice(&deform(mesh.positions()));
+        for levels in 1..=3 {
+            let plan = RefinePlan::new(&mesh, options, levels).expect("plan");
+            for (what, m) in [("original", &mesh), ("moved", &moved)] {
+                let want = subdivided(m, options, levels);
+                let got = plan.apply(m.positions());
+                assert_eq!(plan.num_vertices(), want.len(), "{name} level {levels}");
+                assert_eq!(got.len(), want.len(), "{name} level {levels}");
+                let tol = REL_TOL * diagonal(m.positions());
+                let (d, at) = max_diff(&got, &want);
+                if d / tol > worst.0 {
+                    worst = (d / tol, format!("{name} level {levels} {what}"));
+                }
+                if d > tol || d.is_nan() {
+                    failures.push(format!(
+                        "{name} level {levels} {what}: vertex {at} differs by {d:e} (tolerance {tol:e})"
+                    ));
+                }
+                cases += 1;
+            }
+        }
+    }
+    println!(
+        "{cases} cases; largest difference {:.3e} of the diagonal ({})",
+        worst.0 * REL_TOL,
+        worst.1
+    );
+    assert!(cases >= 480);
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+fn load(name: &str) -> (PolyMesh, Options) {
+    let obj = read_obj(&shapes_dir().join(format!("{name}.obj"))).expect("read shape");
+    (obj.mesh, obj.options.resolve(Options::default()))
+}
+
+/// Large levels are built and applied in parallel: the result must not depend on the
+/// number of threads, and must still agree with `subdivide`.
+#[test]
+fn parallel_plan_is_deterministic_and_exact() {
+    let (mesh, options) = load("catmark_bishop");
+    let levels = 4;
+    let pool = |n| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .unwrap()
+    };
+    let plan1 = pool(1).install(|| RefinePlan::new(&mesh, options, levels).unwrap());
+    let plan2 = pool(2).install(|| RefinePlan::new(&mesh, options, levels).unwrap());
+    let moved = deform(mesh.positions());
+    let a = pool(1).install(|| plan1.apply(&moved));
+    let b = pool(2).install(|| plan2.apply(&moved));
+    let c = pool(2).install(|| plan1.apply(&moved));
+    assert!(a.iter().zip(&b).all(|(x, y)| x == y));
+    assert!(a.iter().zip(&c).all(|(x, y)| x == y));
+    assert_eq!(plan1.num_weights(), plan2.num_weights());
+
+    let mut m = mesh.clone();
+    m.positions_mut().copy_from_slice(&moved);
+    let want = subdivided(&m, options, levels);
+    let (d, at) = max_diff(&a, &want);
+    let tol = REL_TOL * diagonal(&moved);
+    assert!(d <= tol, "vertex {at} differs by {d:e} (tolerance {tol:e})");
+}
+
+/// `apply_into` re-uses its buffers from frame to frame and gives what `apply` gives.
+#[test]
+fn apply_into_reuses_buffers() {
+    let (mesh, options) = load("catmark_pawn");
+    let plan = RefinePlan::new(&mesh, options, 3).unwrap();
+    let mut out = Vec::new();
+    let mut scratch = PlanScratch::default();
+    let mut pos = mesh.positions().to_vec();
+    for frame in 0..4 {
+        for (i, p) in pos.iter_mut().enumerate() {
+            p[1] += 0.01 * (frame as f64 + i as f64).sin();
+        }
+        plan.apply_into(&pos, &mut out, &mut scratch);
+        let fresh = plan.apply(&pos);
+        assert_eq!(out.len(), plan.num_vertices());
+        assert!(out.iter().zip(&fresh).all(|(x, y)| x == y));
+    }
+}
+
+/// Any primvar, not only positions: constants stay constant (partition of unity), and a
+/// level-0 plan is the identity.
+#[test]
+fn primvars_and_level_zero() {
+    let (mesh, options) = load("catmark_chaikin1");
+    let plan = RefinePlan::new(&mesh, options, 2).unwrap();
+    let ones = vec![[1.0]; mesh.num_vertices()];
+    for x in plan.apply(&ones) {
+        assert!((x[0] - 1.0).abs() < 1e-14);
+    }
+    let id = RefinePlan::new(&mesh, options, 0).unwrap();
+    assert_eq!(id.num_vertices(), mesh.num_vertices());
+    assert_eq!(id.apply(mesh.positions()), mesh.positions());
+    assert_eq!(id.num_weights(), 0);
+}
+
+#[test]
+#[should_panic(expected = "base values")]
+fn wrong_base_length_panics() {
+    let (mesh, options) = load("catmark_cube");
+    let plan = RefinePlan::new(&mesh, options, 1).unwrap();
+    plan.apply(&mesh.positions()[1..]);
+}
