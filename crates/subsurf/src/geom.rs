@@ -51,6 +51,24 @@ pub(crate) fn normalize_or_zero(a: V3) -> V3 {
     [s[0] / n, s[1] / n, s[2] / n]
 }
 
+/// The unit vector along `a × b`, or zero when they are parallel (or zero, or not finite),
+/// for any finite magnitudes: each factor is scaled by its largest component first, so
+/// neither tiny nor huge vectors underflow or overflow.
+pub(crate) fn unit_cross(a: &V3, b: &V3) -> V3 {
+    let scaled = |v: &V3| {
+        let m = v[0].abs().max(v[1].abs()).max(v[2].abs());
+        if m > 0.0 && m.is_finite() {
+            Some([v[0] / m, v[1] / m, v[2] / m])
+        } else {
+            None
+        }
+    };
+    match (scaled(a), scaled(b)) {
+        (Some(a), Some(b)) => normalize_or_zero(cross(&a, &b)),
+        _ => [0.0; 3],
+    }
+}
+
 /// Newell's normal of polygon `face` (not normalised; twice the vector area):
 /// `n = Σ (yᵢ − yᵢ₊₁)(zᵢ + zᵢ₊₁), Σ (zᵢ − zᵢ₊₁)(xᵢ + xᵢ₊₁), Σ (xᵢ − xᵢ₊₁)(yᵢ + yᵢ₊₁)`,
 /// with coordinates taken relative to the first vertex (the formula is

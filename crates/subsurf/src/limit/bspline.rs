@@ -58,7 +58,7 @@ pub struct Derivatives {
 impl Derivatives {
     /// The unit normal `Su × Sv / |Su × Sv|` (zero where the derivatives are parallel).
     pub fn normal(&self) -> [f64; 3] {
-        crate::geom::normalize_or_zero(crate::geom::cross(&self.du, &self.dv))
+        crate::geom::unit_cross(&self.du, &self.dv)
     }
 
     /// The derivatives of `S(a·u + b, a·v + c)`: first derivatives times `a`, second

@@ -119,10 +119,13 @@ pub fn normals(
 ) -> Vec<[f64; 3]> {
     (0..level.num_vertices())
         .map(|v| {
-            let n = geom::cross(&t1[v], &t2[v]);
-            let scale = geom::norm(&t1[v]) * geom::norm(&t2[v]);
-            if scale > 0.0 && geom::norm(&n) > 1e-12 * scale {
-                return geom::normalize_or_zero(n);
+            // Tangents that are (nearly) parallel give no plane: fall back below.
+            let (a, b) = (
+                geom::normalize_or_zero(t1[v]),
+                geom::normalize_or_zero(t2[v]),
+            );
+            if geom::norm(&geom::cross(&a, &b)) > 1e-12 {
+                return geom::unit_cross(&a, &b);
             }
             let mut acc = [0.0; 3];
             for &f in level.vertex_faces(v) {

@@ -255,6 +255,37 @@ impl RefinePlan {
     }
 }
 
+#[inline(always)]
+fn add<const D: usize>(a: [f64; D], b: [f64; D]) -> [f64; D] {
+    std::array::from_fn(|k| a[k] + b[k])
+}
+
+#[inline(always)]
+fn scaled<const D: usize>(a: [f64; D], w: f64) -> [f64; D] {
+    a.map(|x| w * x)
+}
+
+/// The sums of `src` over the next `lens[0]`, `lens[1]`, … columns from `*at` on.
+#[inline(always)]
+fn sums<const D: usize, const G: usize>(
+    src: &[[f64; D]],
+    cols: &[u32],
+    at: &mut usize,
+    lens: [usize; G],
+) -> [[f64; D]; G] {
+    let mut out = [[0.0; D]; G];
+    for (o, n) in out.iter_mut().zip(lens) {
+        let cs = &cols[*at..*at + n];
+        *at += n;
+        let mut sum = src[cs[0] as usize];
+        for &c in &cs[1..] {
+            sum = add(sum, src[c as usize]);
+        }
+        *o = sum;
+    }
+    out
+}
+
 /// Makes `v` hold `n` values (whatever they are: they are all overwritten), without
 /// writing them when it has to grow (fresh zeroed memory is faulted in by the writers).
 fn set_len<const D: usize>(v: &mut Vec<[f64; D]>, n: usize) {
@@ -277,22 +308,35 @@ impl Step {
                 let c = c as usize;
                 let groups = &self.class_groups
                     [self.class_offsets[c] as usize..self.class_offsets[c + 1] as usize];
-                let mut acc = [0.0; D];
-                for &(w, n) in groups {
-                    let cols = &self.cols[at..at + n as usize];
-                    at += n as usize;
-                    let mut sum = src[cols[0] as usize];
-                    for &col in &cols[1..] {
-                        let x = &src[col as usize];
-                        for k in 0..D {
-                            sum[k] += x[k];
+                // The shapes of almost all rows of quad meshes, unrolled: face points,
+                // smooth edge points, regular vertex points.
+                *o = match *groups {
+                    [(w0, 4)] => {
+                        let [s0] = sums(src, &self.cols, &mut at, [4]);
+                        scaled(s0, w0)
+                    }
+                    [(w0, 4), (w1, 2)] => {
+                        let [s0, s1] = sums(src, &self.cols, &mut at, [4, 2]);
+                        add(scaled(s0, w0), scaled(s1, w1))
+                    }
+                    [(w0, 4), (w1, 4), (w2, 1)] => {
+                        let [s0, s1, s2] = sums(src, &self.cols, &mut at, [4, 4, 1]);
+                        add(add(scaled(s0, w0), scaled(s1, w1)), scaled(s2, w2))
+                    }
+                    _ => {
+                        let mut acc = [0.0; D];
+                        for &(w, n) in groups {
+                            let cols = &self.cols[at..at + n as usize];
+                            at += n as usize;
+                            let mut sum = src[cols[0] as usize];
+                            for &col in &cols[1..] {
+                                sum = add(sum, src[col as usize]);
+                            }
+                            acc = add(acc, scaled(sum, w));
                         }
+                        acc
                     }
-                    for k in 0..D {
-                        acc[k] += w * sum[k];
-                    }
-                }
-                *o = acc;
+                };
             }
         };
         if dst.len() < PAR_MIN_ROWS {
