@@ -16,10 +16,10 @@
 #   FUZZ_TIMEOUT     seconds after which one input counts as a hang (default 5)
 #   FUZZ_RSS_MB      memory limit per process in MB (default 4096)
 #
-# New inputs found while fuzzing go to fuzz/work/corpus/TARGET (ignored by git); the
+# New inputs found while fuzzing go to fuzz/runs/corpus/TARGET (ignored by git); the
 # committed seeds in fuzz/corpus/TARGET are only read. Crashes, hangs and out-of-memory
 # inputs go to fuzz/artifacts/TARGET; the script then exits with status 1. A summary is
-# printed and written to fuzz/work/summary.tsv. Record it in RELIABILITY.md.
+# printed and written to fuzz/runs/summary.tsv. Record it in RELIABILITY.md.
 set -euo pipefail
 
 secs=${1:-60}
@@ -60,16 +60,16 @@ dict_for() {
     esac
 }
 
-mkdir -p fuzz/work/logs
-summary=fuzz/work/summary.tsv
+mkdir -p fuzz/runs/logs
+summary=fuzz/runs/summary.tsv
 printf 'target\tseconds\texecutions\texec_per_sec\tnew_units\tcorpus_files\tpeak_rss_mb\tresult\n' >"$summary"
 echo "fuzz.sh: toolchain $toolchain, sanitizer $sanitizer, $secs s per target" >&2
 
 failed=0
 for t in "${targets[@]}"; do
-    work=fuzz/work/corpus/$t
+    work=fuzz/runs/corpus/$t
     mkdir -p "$work" "fuzz/artifacts/$t"
-    log=fuzz/work/logs/$t.log
+    log=fuzz/runs/logs/$t.log
     echo "fuzz.sh: building and running $t ..." >&2
     status=0
     # -a: debug assertions (overflow checks). Build time is not part of SECONDS.

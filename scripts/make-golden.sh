@@ -4,9 +4,9 @@
 #   scripts/make-golden.sh [--copy-shapes [DIR]] [SHAPE_NAME...]
 #
 # Inputs:  crates/subsurf/tests/shapes/osd/*.obj (OpenSubdiv's regression shapes, copied verbatim).
-#          --copy-shapes first refreshes that copy from DIR (default /work/shared/meshes/osd).
+#          --copy-shapes first refreshes that copy from DIR (default ../shared/meshes/osd beside the project).
 # Oracle:  $OSD_ORACLE (default /tmp/osd-oracle); built with
-#          $OSD_ORACLE_SRC/build.sh (default /work/shared/tools/osd-oracle) when missing.
+#          $OSD_ORACLE_SRC/build.sh (default ../shared/tools/osd-oracle beside the project) when missing.
 # Output:  crates/subsurf/tests/golden/osd/<shape>.txt.gz, one per shape, levels 1..4,
 #          refined and limit positions (format: crates/subsurf/tests/golden/README.md).
 #
@@ -19,11 +19,11 @@ root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 shapes="$root/crates/subsurf/tests/shapes/osd"
 out="$root/crates/subsurf/tests/golden/osd"
 oracle="${OSD_ORACLE:-/tmp/osd-oracle}"
-oracle_src="${OSD_ORACLE_SRC:-/work/shared/tools/osd-oracle}"
+oracle_src="${OSD_ORACLE_SRC:-$root/../shared/tools/osd-oracle}"
 
 if [[ "${1:-}" == "--copy-shapes" ]]; then
     shift
-    src=/work/shared/meshes/osd
+    src="$root/../shared/meshes/osd"
     if [[ $# -gt 0 && -d "$1" ]]; then src="$1"; shift; fi
     mkdir -p "$shapes"
     cp -- "$src"/*.obj "$shapes"/

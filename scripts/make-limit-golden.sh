@@ -6,7 +6,7 @@
 #
 # Inputs:  crates/subsurf/tests/shapes/osd/*.obj (OpenSubdiv's regression shapes).
 # Oracle:  $OSD_ORACLE (default /tmp/osd-oracle); built with
-#          $OSD_ORACLE_SRC/build.sh (default /work/shared/tools/osd-oracle) when missing.
+#          $OSD_ORACLE_SRC/build.sh (default ../shared/tools/osd-oracle beside the project) when missing.
 # Output:  crates/subsurf/tests/golden/limit/<shape>.txt.gz, one per shape with quad faces:
 #          the lines of `osd-oracle limit <shape>.obj 5 --boundary none|corner|edge`
 #          (at most 300 faces per shape; format: crates/subsurf/tests/golden/limit/README.md).
@@ -20,7 +20,7 @@ root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 shapes="$root/crates/subsurf/tests/shapes/osd"
 out="$root/crates/subsurf/tests/golden/limit"
 oracle="${OSD_ORACLE:-/tmp/osd-oracle}"
-oracle_src="${OSD_ORACLE_SRC:-/work/shared/tools/osd-oracle}"
+oracle_src="${OSD_ORACLE_SRC:-$root/../shared/tools/osd-oracle}"
 
 if ! ls "$shapes"/*.obj >/dev/null 2>&1; then
     echo "no shapes in $shapes" >&2
