@@ -319,6 +319,30 @@ fn dash_output_writes_obj_to_stdout() {
     assert_eq!(listing(dir.path()), ["cube.obj"], "a file was written");
 }
 
+/// Output to a device such as `/dev/null` goes into it: the atomic write (temporary file
+/// renamed into place) must not replace the device by an ordinary file, which as root
+/// would break every later process that reads or writes `/dev/null`.
+#[cfg(target_os = "linux")]
+#[test]
+fn output_to_dev_null_leaves_the_device_alone() {
+    use std::os::unix::fs::FileTypeExt;
+    let is_device = || {
+        fs::metadata("/dev/null")
+            .map(|m| m.file_type().is_char_device())
+            .unwrap_or(false)
+    };
+    if !is_device() {
+        return; // nothing to protect on this system
+    }
+    let dir = dir_with(&[("grid.obj", GRID)]);
+    let o = run_in(
+        dir.path(),
+        &["subdivide", "grid.obj", "-l", "1", "-o", "/dev/null"],
+    );
+    assert_code(&o, 0);
+    assert!(is_device(), "/dev/null is no longer a device");
+}
+
 #[test]
 fn dash_input_reads_stdin() {
     let dir = dir_with(&[]);
