@@ -58,10 +58,17 @@ const CHUNK: usize = 4096;
 /// than it saves.
 const PAR_MIN: usize = 16 * 1024;
 
+/// Whether a pass over `n` elements should be shared between threads: when it is large
+/// and the current rayon pool has more than one thread (with one, the serial loop is
+/// cheaper than going through rayon).
+fn parallel(n: usize) -> bool {
+    n >= PAR_MIN && rayon::current_num_threads() > 1
+}
+
 /// `0..n` cut into the ranges of parent elements that the tasks of a pass handle: `0..n`
-/// itself when `n < PAR_MIN`, else ranges of `CHUNK`.
+/// itself when the pass is not [`parallel`], else ranges of `CHUNK`.
 fn chunk_ranges(n: usize) -> Vec<Range<usize>> {
-    if n < PAR_MIN {
+    if !parallel(n) {
         std::iter::once(0..n).collect()
     } else {
         (0..n)
@@ -109,16 +116,25 @@ pub(super) fn run<I: Send>(items: Vec<I>, f: impl Fn(I) + Sync + Send) {
 
 /// `(0..n).map(f).collect()`, in parallel when large (writing straight into the vector).
 fn collect<T: Send>(n: usize, f: impl Fn(usize) -> T + Sync + Send) -> Vec<T> {
-    if n < PAR_MIN {
+    if !parallel(n) {
         (0..n).map(f).collect()
     } else {
         (0..n).into_par_iter().with_min_len(CHUNK).map(f).collect()
     }
 }
 
+/// `v.extend((0..n).map(f))`, in parallel when large (writing straight into the vector).
+fn extend<T: Send>(v: &mut Vec<T>, n: usize, f: impl Fn(usize) -> T + Sync + Send) {
+    if !parallel(n) {
+        v.extend((0..n).map(f));
+    } else {
+        v.par_extend((0..n).into_par_iter().with_min_len(CHUNK).map(f));
+    }
+}
+
 /// `vec![value; n]`, written in parallel when large.
 fn filled<T: Copy + Send + Sync>(n: usize, value: T) -> Vec<T> {
-    if n < PAR_MIN {
+    if !parallel(n) {
         vec![value; n]
     } else {
         (0..n)
@@ -131,7 +147,7 @@ fn filled<T: Copy + Send + Sync>(n: usize, value: T) -> Vec<T> {
 
 /// `(0..n).map(f).max()` (0 when empty), in parallel when large.
 fn max_of(n: usize, f: impl Fn(usize) -> usize + Sync + Send) -> usize {
-    if n < PAR_MIN {
+    if !parallel(n) {
         (0..n).map(f).max().unwrap_or(0)
     } else {
         (0..n)
@@ -441,7 +457,9 @@ fn build_relations(p: &Topology, c: &mut Topology) {
             }
         }
     };
-    let edge_face_offsets = collect(cne + 1, efo);
+    let mut edge_face_offsets = Vec::with_capacity(cne + 1);
+    extend(&mut edge_face_offsets, s + 1, |ce| 2 * ce as u32);
+    extend(&mut edge_face_offsets, 2 * ne, |i| efo(s + 1 + i));
     let nef = edge_face_offsets[cne] as usize;
     let mut edge_faces = vec![0u32; nef];
     let mut edge_face_local = vec![0u16; nef];
@@ -527,8 +545,23 @@ fn build_relations(p: &Topology, c: &mut Topology) {
             ve_all + su + pef[e] + 2 * e as u32
         }
     };
-    let vert_face_offsets = collect(cnv + 1, vfo);
-    let vert_edge_offsets = collect(cnv + 1, veo);
+    // The same offsets, one group of children after the other (without the branches).
+    let mut vert_face_offsets = Vec::with_capacity(cnv + 1);
+    extend(&mut vert_face_offsets, nv + 1, |v| pvf[v]);
+    extend(&mut vert_face_offsets, nf, |f| {
+        vf_all + p.face_offsets[f + 1]
+    });
+    extend(&mut vert_face_offsets, ne, |e| vf_all + su + 2 * pef[e + 1]);
+    let mut vert_edge_offsets = Vec::with_capacity(cnv + 1);
+    extend(&mut vert_edge_offsets, nv + 1, |v| pve[v]);
+    extend(&mut vert_edge_offsets, nf, |f| {
+        ve_all + p.face_offsets[f + 1]
+    });
+    extend(&mut vert_edge_offsets, ne, |e| {
+        ve_all + su + pef[e + 1] + 2 * (e + 1) as u32
+    });
+    debug_assert!((0..=cnv).all(|cv| vert_face_offsets[cv] == vfo(cv)));
+    debug_assert!((0..=cnv).all(|cv| vert_edge_offsets[cv] == veo(cv)));
     let mut vert_faces = vec![0u32; vert_face_offsets[cnv] as usize];
     let mut vert_face_local = vec![0u16; vert_faces.len()];
     let mut vert_edges = vec![0u32; vert_edge_offsets[cnv] as usize];
