@@ -80,6 +80,36 @@ enum Command {
     /// Draw the limit surface (or a refined mesh) to a PNG: shaded, zebra stripes, curvature.
     #[command(after_help = RENDER_EXAMPLES)]
     Render(RenderArgs),
+    /// Read NURBS curves and surfaces (JSON or OBJ free-form): summary, conversion, samples.
+    #[command(after_help = NURBS_EXAMPLES)]
+    Nurbs(NurbsArgs),
+}
+
+const NURBS_EXAMPLES: &str = "\
+Input is JSON (one document or an array, schema in the README) or OBJ free-form geometry
+(cstype [rat] bspline|bezier, deg, curv, surf, parm, end), told apart by the first character.
+Without -o, prints one line per curve or surface. With -o, writes them as JSON (.json, or
+'-' for standard output) or OBJ free-form (.obj); both read back exactly. --sample N writes
+OBJ polylines (curves) and quad grids (surfaces) instead, N segments per knot span.
+
+Examples:
+  subsurf nurbs curves.obj
+  subsurf nurbs curves.obj -o curves.json
+  subsurf nurbs patches.json -o patches-sampled.obj --sample 16";
+
+/// Arguments of `subsurf nurbs`.
+#[derive(Debug, Args)]
+pub struct NurbsArgs {
+    /// Input file: JSON documents or OBJ free-form elements ('-' reads standard input).
+    #[arg(value_name = "IN")]
+    pub input: PathBuf,
+    /// Output file, .json or .obj ('-' writes JSON, or OBJ with --sample, to standard
+    /// output); without it a summary is printed.
+    #[arg(short, long, value_name = "OUT")]
+    pub output: Option<PathBuf>,
+    /// Write samples instead: polylines and quad grids with N segments per knot span.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=10000))]
+    pub sample: Option<u32>,
 }
 
 const LIMIT_EXAMPLES: &str = "\
@@ -411,6 +441,7 @@ fn main() -> ExitCode {
         Command::Limit(args) => cmd::limit::run(args),
         Command::Tessellate(args) => cmd::tessellate::run(args),
         Command::Render(args) => cmd::render::run(args),
+        Command::Nurbs(args) => cmd::nurbs::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -4,6 +4,7 @@ pub mod bench;
 pub mod demo;
 pub mod info;
 pub mod limit;
+pub mod nurbs;
 pub mod render;
 pub mod subdivide;
 pub mod tessellate;

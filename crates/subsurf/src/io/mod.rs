@@ -3,10 +3,12 @@
 //! - [`obj`]: Wavefront OBJ with OpenSubdiv's `t` tags (creases, corners, holes, scheme
 //!   options), read with errors that name file and line, written with round-trip exact
 //!   `f64` values.
+//! - [`geometry`]: files of NURBS curves and surfaces, JSON or OBJ free-form.
 //! - [`write_atomically`]: every output file is written to a temporary file in the same
 //!   directory and renamed into place, so a failed run never leaves a partial file.
 
 mod atomic;
+pub mod geometry;
 pub mod gltf;
 pub mod obj;
 pub mod ply;

@@ -20,6 +20,9 @@
 //! | `t creasemethod 0/0/1 chaikin` | `chaikin` or `uniform` (`normal`) |
 //! | `t smoothtriangles 0/0/1 smooth` | `smooth` or `catmark` |
 //!
+//! Free-form curves and surfaces (`cstype`, `deg`, `curv`, `surf`, `parm`, `end`) are
+//! read separately, by [`parse_obj_freeform`].
+//!
 //! Any other tag is recorded in [`ObjFile::unsupported_tags`], never dropped silently.
 //!
 //! Every problem is an [`ObjError`] that names the file and the 1-based line
@@ -35,9 +38,11 @@
 
 use crate::mesh::{BoundaryInterpolation, CreaseMethod, Options, PolyMesh, TriangleSubdivision};
 
+mod freeform;
 mod read;
 mod write;
 
+pub use freeform::{parse_obj_freeform, read_obj_freeform, write_obj_freeform, FreeFormElement};
 pub use read::{parse_obj, read_obj};
 pub use write::write_obj;
 

@@ -153,11 +153,61 @@ pub enum Geometry {
 /// [`NurbsError::JsonSyntax`] or [`NurbsError::Json`] naming the field.
 pub fn from_json_str(text: &str) -> Result<Geometry, NurbsError> {
     let root = parse(text)?;
-    let r = Reader { text, root: &root };
-    let obj = r.object(&root, "")?;
+    geometry_from_node(&Reader { text, root: &root })
+}
+
+/// Reads a file of several documents: either one curve or surface document, or an array
+/// of them (`[{"type": "bspline-curve", ...}, {"type": "bspline-surface", ...}]`), as
+/// written by [`to_json_string_all`]. The inputs of curve interpolation and patch blending
+/// are such lists.
+///
+/// # Errors
+/// [`NurbsError::JsonSyntax`] for malformed JSON; [`NurbsError::Json`] naming the field,
+/// prefixed by the document's index in the array (for example `[2].knots[4]`).
+pub fn from_json_str_all(text: &str) -> Result<Vec<Geometry>, NurbsError> {
+    let root = parse(text)?;
+    let items: Vec<&Node> = match &root.value {
+        Value::Arr(items) => items.iter().collect(),
+        _ => return geometry_from_node(&Reader { text, root: &root }).map(|g| vec![g]),
+    };
+    items
+        .into_iter()
+        .enumerate()
+        .map(|(i, item)| {
+            geometry_from_node(&Reader { text, root: item }).map_err(|e| match e {
+                NurbsError::Json { field, message } => NurbsError::Json {
+                    field: if field.is_empty() || field.starts_with('[') {
+                        format!("[{i}]{field}")
+                    } else {
+                        format!("[{i}].{field}")
+                    },
+                    message,
+                },
+                other => other,
+            })
+        })
+        .collect()
+}
+
+/// Writes several curves and surfaces as one JSON array (read back exactly by
+/// [`from_json_str_all`]).
+pub fn to_json_string_all(items: &[Geometry]) -> String {
+    let parts: Vec<String> = items
+        .iter()
+        .map(|g| match g {
+            Geometry::Curve(c) => c.to_json_string(),
+            Geometry::Surface(s) => s.to_json_string(),
+        })
+        .collect();
+    format!("[\n{}\n]\n", parts.join(",\n"))
+}
+
+/// One document, dispatching on its `type`.
+fn geometry_from_node(r: &Reader<'_>) -> Result<Geometry, NurbsError> {
+    let obj = r.object(r.root, "")?;
     match r.string(obj, "type")?.as_str() {
-        CURVE_TYPE => Curve::from_node(&r).map(Geometry::Curve),
-        SURFACE_TYPE => Surface::from_node(&r).map(Geometry::Surface),
+        CURVE_TYPE => Curve::from_node(r).map(Geometry::Curve),
+        SURFACE_TYPE => Surface::from_node(r).map(Geometry::Surface),
         other => Err(r.error(
             "type",
             format!("expected \"{CURVE_TYPE}\" or \"{SURFACE_TYPE}\", got {other:?}"),

@@ -70,6 +70,7 @@ pub mod knots;
 pub mod mesh;
 pub mod nurbs_curve;
 pub mod nurbs_surface;
+pub mod sample;
 pub mod surface;
 mod vecn;
 
@@ -77,10 +78,12 @@ pub use basis::{basis_derivatives, basis_functions};
 pub use curve::BSplineCurve;
 pub use error::NurbsError;
 pub use json::{
-    from_json_str, Curve, CurveJson, Geometry, Surface, SurfaceJson, CURVE_TYPE, SURFACE_TYPE,
+    from_json_str, from_json_str_all, to_json_string_all, Curve, CurveJson, Geometry, Surface,
+    SurfaceJson, CURVE_TYPE, SURFACE_TYPE,
 };
 pub use knots::{KnotVector, MAX_DEGREE};
 pub use mesh::{ControlMesh, KnotEdge};
 pub use nurbs_curve::NurbsCurve;
 pub use nurbs_surface::NurbsSurface;
+pub use sample::sample_parameters;
 pub use surface::{BSplineSurface, SurfaceDerivs};

@@ -77,13 +77,13 @@ pub fn parse_obj(bytes: &[u8], source_name: &str) -> Result<ObjFile, ObjError> {
 }
 
 /// Splits input into physical lines (without `\n` and a trailing `\r`), numbered from 1.
-struct PhysicalLines<'a> {
-    rest: &'a [u8],
-    line: usize,
+pub(super) struct PhysicalLines<'a> {
+    pub(super) rest: &'a [u8],
+    pub(super) line: usize,
 }
 
 impl<'a> PhysicalLines<'a> {
-    fn next(&mut self) -> Option<(usize, &'a [u8])> {
+    pub(super) fn next(&mut self) -> Option<(usize, &'a [u8])> {
         if self.rest.is_empty() {
             return None;
         }
@@ -109,7 +109,7 @@ impl<'a> PhysicalLines<'a> {
 ///
 /// Lines must be UTF-8 without control characters (tab, form feed and carriage return
 /// are whitespace); anything else is taken as a sign of a binary file.
-fn line_data(raw: &[u8], no: usize) -> Result<(&str, bool), String> {
+pub(super) fn line_data(raw: &[u8], no: usize) -> Result<(&str, bool), String> {
     let text = std::str::from_utf8(raw).map_err(|_| format!("line {no} is not valid UTF-8"))?;
     if let Some(&b) = raw
         .iter()

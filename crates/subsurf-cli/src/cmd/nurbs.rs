@@ -1,0 +1,180 @@
+//! `subsurf nurbs`: read NURBS curves and surfaces (JSON or OBJ free-form), print a summary,
+//! convert between the two formats, or sample them as OBJ polylines and quad grids.
+
+use anyhow::{bail, Result};
+use subsurf::io::geometry::{geometry_to_string, read_geometry, GeometryFormat, SourcedGeometry};
+use subsurf::io::obj::{write_obj, WriteOptions};
+use subsurf::mesh::PolyMesh;
+use subsurf::nurbs::{Curve, Geometry, KnotVector, Surface};
+
+use crate::output::Output;
+use crate::NurbsArgs;
+
+/// Runs `subsurf nurbs`.
+pub fn run(args: &NurbsArgs) -> Result<()> {
+    let format = match &args.output {
+        Some(path) if args.sample.is_none() && path.as_os_str() != "-" => {
+            Some(GeometryFormat::from_path(path).ok_or_else(|| {
+                anyhow::anyhow!(
+                    "cannot write {}: the output needs the extension .json or .obj",
+                    path.display()
+                )
+            })?)
+        }
+        _ => None,
+    };
+    if let Some(path) = &args.output {
+        if args.sample.is_some()
+            && path.as_os_str() != "-"
+            && GeometryFormat::from_path(path) != Some(GeometryFormat::Obj)
+        {
+            bail!(
+                "cannot write {}: --sample writes OBJ (polylines and quads); use a .obj name",
+                path.display()
+            );
+        }
+        Output::new(path).check()?;
+    }
+    let items = read_geometry(&args.input)?;
+    let Some(path) = &args.output else {
+        print!("{}", summary(&items));
+        return Ok(());
+    };
+    let out = Output::new(path);
+    let text = match (args.sample, format) {
+        (Some(n), _) => sampled_obj(&items, n as usize)?,
+        (None, Some(f)) => geometry_to_string(&geometry(&items), f),
+        // `-o -` without --sample: JSON on standard output.
+        (None, None) => geometry_to_string(&geometry(&items), GeometryFormat::Json),
+    };
+    out.write(|w| w.write_all(text.as_bytes()))
+}
+
+fn geometry(items: &[SourcedGeometry]) -> Vec<Geometry> {
+    items.iter().map(|g| g.geometry.clone()).collect()
+}
+
+/// One line per curve or surface.
+fn summary(items: &[SourcedGeometry]) -> String {
+    let mut s = String::new();
+    for g in items {
+        let line = match &g.geometry {
+            Geometry::Curve(c) => {
+                let (k, n, rational) = match c {
+                    Curve::BSpline(c) => (c.knots(), c.points().len(), false),
+                    Curve::Nurbs(c) => (c.knots(), c.points().len(), true),
+                };
+                format!(
+                    "curve: {}degree {}, {n} control points, {}",
+                    if rational { "rational, " } else { "" },
+                    k.degree(),
+                    describe(k)
+                )
+            }
+            Geometry::Surface(srf) => {
+                let (ku, kv, (nu, nv), rational) = match srf {
+                    Surface::BSpline(s) => (s.knots_u(), s.knots_v(), s.size(), false),
+                    Surface::Nurbs(s) => (s.knots_u(), s.knots_v(), s.size(), true),
+                };
+                format!(
+                    "surface: {}degree {} x {}, {nu} x {nv} control points, u {}, v {}",
+                    if rational { "rational, " } else { "" },
+                    ku.degree(),
+                    kv.degree(),
+                    describe(ku),
+                    describe(kv)
+                )
+            }
+        };
+        s.push_str(&format!("{}: {line}\n", g.label()));
+    }
+    s
+}
+
+/// Domain, closedness and clamping of a knot vector.
+fn describe(k: &KnotVector) -> String {
+    let (a, b) = k.domain();
+    let kind = if k.is_periodic() {
+        "closed"
+    } else if k.is_clamped() {
+        "clamped"
+    } else {
+        "unclamped"
+    };
+    format!("domain [{a}, {b}], {kind}")
+}
+
+/// Curves as OBJ polylines (`l`) and surfaces as quad grids, `per_span` segments per knot
+/// span, each element in its own group (`g NAME`, the element's name or `elementN`).
+fn sampled_obj(items: &[SourcedGeometry], per_span: usize) -> Result<String> {
+    let mut positions = Vec::new();
+    let mut faces: Vec<Vec<u32>> = Vec::new();
+    let mut groups = Vec::new();
+    for (n, g) in items.iter().enumerate() {
+        let base = positions.len() as u32;
+        let group = match &g.name {
+            Some(name) if !name.trim().is_empty() => {
+                name.split_whitespace().collect::<Vec<_>>().join("_")
+            }
+            _ => format!("element{}", n + 1),
+        };
+        match &g.geometry {
+            Geometry::Curve(c) => {
+                let pts = c.polyline(per_span)?;
+                groups.push((group, None, (base, pts.len() as u32)));
+                positions.extend(pts);
+            }
+            Geometry::Surface(s) => {
+                let grid: PolyMesh = s.grid(per_span)?;
+                let first = faces.len();
+                positions.extend_from_slice(grid.positions());
+                for f in 0..grid.num_faces() {
+                    faces.push(grid.face(f).iter().map(|&v| v + base).collect());
+                }
+                groups.push((group, Some((first, faces.len())), (0, 0)));
+            }
+        }
+    }
+    // Faces first through the mesh writer (exact numbers), then groups and polylines.
+    let mesh = PolyMesh::from_faces(positions, &faces)?;
+    let mut bytes = Vec::new();
+    write_obj(
+        &mut bytes,
+        &mesh,
+        &WriteOptions {
+            comment: Some("subsurf nurbs --sample: curves as polylines, surfaces as quads"),
+            ..Default::default()
+        },
+    )?;
+    let text = String::from_utf8(bytes)?;
+    // Split the written faces into per-surface groups and add the curves' polylines.
+    let (head, face_lines): (Vec<&str>, Vec<&str>) = {
+        let lines: Vec<&str> = text.lines().collect();
+        let split = lines
+            .iter()
+            .position(|l| l.starts_with("f "))
+            .unwrap_or(lines.len());
+        (lines[..split].to_vec(), lines[split..].to_vec())
+    };
+    let mut out = head.join("\n");
+    out.push('\n');
+    for (label, faces, (first, count)) in groups {
+        out.push_str(&format!("g {label}\n"));
+        match faces {
+            Some((a, b)) => {
+                for l in &face_lines[a..b] {
+                    out.push_str(l);
+                    out.push('\n');
+                }
+            }
+            None => {
+                out.push('l');
+                for v in first..first + count {
+                    out.push_str(&format!(" {}", v + 1));
+                }
+                out.push('\n');
+            }
+        }
+    }
+    Ok(out)
+}
