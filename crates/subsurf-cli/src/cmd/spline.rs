@@ -1,0 +1,274 @@
+//! `subsurf spline`: the sub-basis spline surface (seed 000) of a quad mesh, tessellated and
+//! written as OBJ, PLY or STL, optionally with alternating patch colours, one basis function
+//! as a scalar, or a comparison with the Catmull-Clark limit surface.
+
+use std::path::PathBuf;
+
+use anyhow::{bail, Context, Result};
+use clap::Args;
+use rayon::prelude::*;
+use subsurf::io::obj::{write_obj, WriteOptions};
+use subsurf::io::ply::write_ply;
+use subsurf::io::stl::write_stl;
+use subsurf::spline::export::{
+    scalar_colours, split_by_face, write_obj_coloured, write_ply_attributes, PlyAttributes, PALETTE,
+};
+use subsurf::spline::{compare_with_limit, face_colours, tessellate, QuadSpline};
+
+use crate::cmd::tessellate::Format;
+use crate::input::Input;
+use crate::output::Output;
+
+/// Help text after the options of `subsurf spline`.
+pub const SPLINE_EXAMPLES: &str = "\
+The surface is a weighted sum of the control points with one non-negative basis function per
+point (a rational bicubic patch per quad); on a regular quad mesh it is the uniform bicubic
+B-spline (= the Catmull-Clark limit). A mesh with non-quad faces gets one Catmull-Clark step
+first (said on stderr); face and vertex numbers then refer to the refined mesh, whose first
+vertices are the input's. Faces with a corner on the boundary (or a non-manifold or
+valence-2 corner) have no surface and are left out. Each face becomes N x N quads; shared
+samples are evaluated once, so the output is watertight.
+
+--colour-faces colours neighbouring patches differently (as in the paper's Fig. 7): OBJ gets
+'v x y z r g b' vertex colours, each patch with its own copies of its border vertices; PLY
+keeps shared vertices and gets 'red green blue' face properties. --basis V writes the
+normalised basis function of control point V: OBJ as vertex colours (blue 0 to red max), PLY
+as a 'basis' double vertex property plus colours. --report prints the distance to the
+Catmull-Clark limit surface and the normal-angle jumps across edges.
+
+Examples:
+  subsurf spline model.obj -o model-spline.obj --rate 8
+  subsurf spline model.obj -o patches.ply --colour-faces
+  subsurf spline model.obj -o w12.ply --basis 12 --rate 16
+  subsurf spline model.obj -o model-spline.obj --report";
+
+/// Arguments of `subsurf spline`.
+#[derive(Debug, Args)]
+pub struct SplineArgs {
+    /// Input OBJ file ('-' reads standard input).
+    #[arg(value_name = "IN")]
+    pub input: PathBuf,
+    /// Output file, .obj, .ply or .stl ('-' writes OBJ to standard output); written only
+    /// when everything succeeded.
+    #[arg(short, long, value_name = "OUT")]
+    pub output: PathBuf,
+    /// Segments per control-mesh edge: each face becomes N x N quads.
+    #[arg(long, value_name = "N", default_value_t = 8, value_parser = clap::value_parser!(u32).range(1..=4096))]
+    pub rate: u32,
+    /// Colour neighbouring patches differently (OBJ or PLY output).
+    #[arg(long, visible_alias = "color-faces", conflicts_with = "basis")]
+    pub colour_faces: bool,
+    /// Export the basis function of control point V (0-based) as a scalar (OBJ or PLY).
+    #[arg(long, value_name = "V")]
+    pub basis: Option<u32>,
+    /// Print the distance to the Catmull-Clark limit surface and the normal jumps across
+    /// edges at irregular vertices.
+    #[arg(long)]
+    pub report: bool,
+    /// Print no notes.
+    #[arg(short, long)]
+    pub quiet: bool,
+}
+
+/// Runs `subsurf spline`.
+pub fn run(args: &SplineArgs) -> Result<()> {
+    let format = Format::from_path(&args.output)?;
+    if format == Format::Glb {
+        bail!(
+            "cannot write {}: subsurf spline writes .obj, .ply or .stl",
+            args.output.display()
+        );
+    }
+    if format == Format::Stl && (args.colour_faces || args.basis.is_some()) {
+        bail!(
+            "--colour-faces and --basis need an .obj or .ply output (STL has no colours); \
+             {} is STL",
+            args.output.display()
+        );
+    }
+    let out = Output::new(&args.output);
+    if args.report && matches!(out, Output::Stdout) {
+        bail!("--report prints to standard output: write the surface to a file, not '-'");
+    }
+    out.check()?;
+    let input = Input::read(&args.input)?;
+    if !input.obj.mesh.tags.is_empty() && !args.quiet {
+        eprintln!(
+            "note: {}: crease, corner and hole tags are ignored (the spline surface has no \
+             sharp features)",
+            input.name
+        );
+    }
+    let spline = QuadSpline::new(&input.obj.mesh).with_context(|| input.name.clone())?;
+    let (mesh, surface) = (&spline.control, &spline.surface);
+    if spline.subdivided && !args.quiet {
+        eprintln!(
+            "note: {}: the mesh has non-quad faces; applied one Catmull-Clark step first \
+             ({} quads, {} control points)",
+            input.name,
+            mesh.num_faces(),
+            mesh.num_vertices()
+        );
+    }
+    let missing = (0..mesh.num_faces())
+        .filter(|&f| !surface.has_surface(f))
+        .count();
+    if missing > 0 && !args.quiet {
+        eprintln!(
+            "note: {}: {missing} of {} faces have no surface (a corner on the boundary, \
+             non-manifold or of valence 2)",
+            input.name,
+            mesh.num_faces()
+        );
+    }
+    if let Some(v) = args.basis {
+        if v as usize >= mesh.num_vertices() {
+            bail!(
+                "{}: --basis {v}: there are only {} control points (0 to {})",
+                input.name,
+                mesh.num_vertices(),
+                mesh.num_vertices() - 1
+            );
+        }
+    }
+    let t = tessellate(surface, mesh, args.rate).with_context(|| input.name.clone())?;
+    let comment = format!(
+        "subsurf spline --rate {}{}{} {}",
+        args.rate,
+        if args.colour_faces {
+            " --colour-faces"
+        } else {
+            ""
+        },
+        args.basis
+            .map_or(String::new(), |v| format!(" --basis {v}")),
+        input.name
+    );
+    if args.colour_faces {
+        let colour = face_colours(mesh)?;
+        let rgb = |f: u32| PALETTE[colour[f as usize] as usize % PALETTE.len()];
+        match format {
+            Format::Obj => {
+                let (p, n, c, fo, fv) = split_by_face(&t, rgb);
+                out.write(|mut w| {
+                    write_obj_coloured(&mut w, &p, Some(&n), &c, &fo, &fv, &comment)
+                })?;
+            }
+            _ => {
+                let fc: Vec<[u8; 3]> = t.source.iter().map(|&f| rgb(f)).collect();
+                let attrs = PlyAttributes {
+                    normals: Some(&t.normals),
+                    face_colours: Some(&fc),
+                    ..Default::default()
+                };
+                out.write(|mut w| {
+                    write_ply_attributes(
+                        &mut w,
+                        &t.positions,
+                        &t.face_offsets,
+                        &t.face_verts,
+                        &attrs,
+                    )
+                })?;
+            }
+        }
+    } else if let Some(v) = args.basis {
+        let values: Vec<f64> = t
+            .params
+            .par_iter()
+            .map(|&(f, u, w)| surface.weight_of(v, f, u, w))
+            .collect::<Result<_, _>>()?;
+        let colours = scalar_colours(&values);
+        match format {
+            Format::Obj => out.write(|mut w| {
+                write_obj_coloured(
+                    &mut w,
+                    &t.positions,
+                    Some(&t.normals),
+                    &colours,
+                    &t.face_offsets,
+                    &t.face_verts,
+                    &comment,
+                )
+            })?,
+            _ => {
+                let attrs = PlyAttributes {
+                    normals: Some(&t.normals),
+                    vertex_colours: Some(&colours),
+                    vertex_scalar: Some(("basis", &values)),
+                    ..Default::default()
+                };
+                out.write(|mut w| {
+                    write_ply_attributes(
+                        &mut w,
+                        &t.positions,
+                        &t.face_offsets,
+                        &t.face_verts,
+                        &attrs,
+                    )
+                })?;
+            }
+        }
+    } else {
+        match format {
+            Format::Obj => {
+                let m = subsurf::mesh::PolyMesh::new(
+                    t.positions.clone(),
+                    t.face_offsets.clone(),
+                    t.face_verts.clone(),
+                )
+                .context("the tessellation is not a valid mesh")?;
+                let opts = WriteOptions {
+                    normals: Some(&t.normals),
+                    scheme: None,
+                    comment: Some(&comment),
+                };
+                out.write(|mut w| write_obj(&mut w, &m, &opts))?;
+            }
+            Format::Ply => out.write(|mut w| {
+                write_ply(
+                    &mut w,
+                    &t.positions,
+                    Some(&t.normals),
+                    &t.face_offsets,
+                    &t.face_verts,
+                )
+            })?,
+            _ => out.write(|mut w| {
+                write_stl(
+                    &mut w,
+                    &t.positions,
+                    &t.face_offsets,
+                    &t.face_verts,
+                    &comment,
+                )
+            })?,
+        }
+    }
+    if args.report {
+        let c = compare_with_limit(surface, mesh, args.rate.clamp(2, 16))?;
+        println!(
+            "{}: spline surface vs Catmull-Clark limit surface, {} faces, {} samples",
+            input.name, c.faces, c.samples
+        );
+        println!(
+            "distance at equal parameters: max {:.6e} ({:.3}% of the bounding-box diagonal {:.6}) \
+             on face {}, rms {:.6e}",
+            c.max_distance,
+            100.0 * c.max_distance / c.size.max(f64::MIN_POSITIVE),
+            c.size,
+            c.max_distance_face,
+            c.rms_distance
+        );
+        println!(
+            "normal jumps across edges at irregular vertices ({} edges): max {:.4} deg, mean of \
+             per-edge max {:.4} deg; at the irregular vertices themselves: max {:.2e} deg",
+            c.irregular_edges, c.max_jump_irregular, c.mean_jump_irregular, c.max_jump_at_vertices
+        );
+        println!(
+            "normal jumps across edges between regular vertices ({} edges): max {:.2e} deg",
+            c.regular_edges, c.max_jump_regular
+        );
+    }
+    Ok(())
+}
