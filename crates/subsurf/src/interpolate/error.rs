@@ -1,0 +1,81 @@
+//! Errors of curve interpolation.
+
+/// What keeps a set of curves from being interpolated by symmetric zonal meshes. Every
+/// variant names the curve (its [`label`](crate::io::geometry::SourcedGeometry::label) or
+/// `curve N`) and, where there is one, the control point.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum InterpolateError {
+    /// No curve was given.
+    #[error("no curves to interpolate")]
+    NoCurves,
+    /// The curve is not cubic (the method interpolates cubic B-spline / NURBS curves only).
+    #[error("{curve}: degree {degree}; curve interpolation by symmetric zonal meshes needs cubic curves (degree 3)")]
+    Degree {
+        /// The curve.
+        curve: String,
+        /// Its degree.
+        degree: usize,
+    },
+    /// A non-finite coordinate, or a curve too short for a zone.
+    #[error("{curve}: {reason}")]
+    BadCurve {
+        /// The curve.
+        curve: String,
+        /// What is wrong.
+        reason: String,
+    },
+    /// A bad option (width, side vector).
+    #[error("{0}")]
+    BadOption(String),
+    /// More curve branches meet at one point than a joint polygon group can take.
+    #[error("{branches} curve branches meet at ({x}, {y}, {z}) ({curves}); a joint polygon group takes at most 4 (two curves crossing), as in the paper's Corollary 1")]
+    TooManyCurves {
+        /// Number of branches (2 per curve passing through, 1 per curve ending there).
+        branches: usize,
+        /// The curves and control points.
+        curves: String,
+        /// The point.
+        x: f64,
+        /// The point.
+        y: f64,
+        /// The point.
+        z: f64,
+    },
+    /// The crossing does not have the shape a joint polygon group needs.
+    #[error("{curve}, control point {index} at ({x}, {y}, {z}): {reason}")]
+    Crossing {
+        /// The curve.
+        curve: String,
+        /// The control point.
+        index: usize,
+        /// Its position.
+        x: f64,
+        /// Its position.
+        y: f64,
+        /// Its position.
+        z: f64,
+        /// What is wrong.
+        reason: String,
+    },
+    /// The zones do not form a valid mesh (not expected for checked curves).
+    #[error("the zone mesh is invalid: {0}")]
+    Mesh(#[from] crate::mesh::MeshError),
+    /// Two control polygons cross without sharing a control point there.
+    #[error("{a} (edge {edge_a}) and {b} (edge {edge_b}) cross near ({x}, {y}, {z}) without a shared control point; curves may only cross at a control point of both (joint polygon group)")]
+    UnsharedCrossing {
+        /// One curve.
+        a: String,
+        /// Its control-polygon edge (from control point `edge_a` to `edge_a + 1`).
+        edge_a: usize,
+        /// The other curve.
+        b: String,
+        /// Its edge.
+        edge_b: usize,
+        /// Where.
+        x: f64,
+        /// Where.
+        y: f64,
+        /// Where.
+        z: f64,
+    },
+}

@@ -1,0 +1,203 @@
+//! Subdivision surfaces that interpolate cubic B-spline and NURBS curves (seed 001: "symmetric
+//! zonal meshes"; non-uniform Catmull-Clark, [`crate::nurss`], does the refinement).
+//!
+//! Around the control polygon of each curve (the *middle polygon*) a strip of quads is built,
+//! two per polygon edge, whose side points are placed symmetrically about the polygon
+//! (`P_i ± o_i`) and whose edges carry the knot intervals of Theorem 1 (see [`zone`]). NURSS
+//! then refines the middle polygon exactly as midpoint knot insertion refines the curve, so the
+//! limit surface passes through the curve: for any knot vector (non-uniform, multiple knots
+//! for C1 and C0 points, clamped or not, closed), and for rational curves (weights on the
+//! middle polygon, side points weighted like their middle point — a circle stays a circle).
+//! Two curves may cross at a shared control point, or one end on another (joint polygon
+//! groups of 4 and 3 branches, [`crossing`]): opposite branches join `G2`, adjacent ones `G0`
+//! (Corollary 1).
+//!
+//! | module | concept |
+//! |---|---|
+//! | [`curve`] | the curve's middle polygon: which interval on which edge, phantom end points |
+//! | [`frame`] | side directions: rotation-minimising frame or a given side vector |
+//! | [`crossing`] | shared control points, the checks a joint polygon group needs |
+//! | [`zone`] | the symmetric zonal mesh, its intervals and weights; why the boundary needs no skirt removal |
+//! | [`track`] | the middle polygon at any refinement level |
+//! | [`skirt`] | generic skirt removal (refine, then drop the outer ring of faces) |
+//!
+//! Source: Zheng Jianmin et al. (seed 001), "Subdivision surfaces interpolating cubic NURBS
+//! curves" (Chinese, with English abstract), §2–3, Lemma 1, Theorem 1, Corollary 1.
+//!
+//! ```
+//! use subsurf::interpolate::{interpolate_curves, CubicCurve, InterpolateOptions};
+//! use subsurf::nurbs::{BSplineCurve, Curve};
+//! use subsurf::nurss::Nurss;
+//!
+//! let pts = vec![[0.0, 0.0, 0.0], [1.0, 2.0, 0.0], [3.0, 2.0, 1.0], [4.0, 0.0, 0.0], [6.0, 1.0, 0.0]];
+//! let spline = BSplineCurve::clamped_uniform(3, pts)?;
+//! let curve = CubicCurve::new(&Curve::BSpline(spline.clone()), "profile")?;
+//! let zones = interpolate_curves(&[curve], &InterpolateOptions::default())?;
+//! // Control point P_2 sits at the knot t_4; the limit surface passes through C(t_4) there.
+//! let zone = &zones.zones[0];
+//! let limit = Nurss::new(&zones.mesh, &Default::default())?.limit_points();
+//! let on_surface = limit[zone.middle[zone.first + 2] as usize];
+//! let on_curve = spline.eval(spline.knots().as_slice()[4])?;
+//! assert!((0..3).all(|k| (on_surface[k] - on_curve[k]).abs() < 1e-12));
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+pub mod crossing;
+pub mod curve;
+mod error;
+pub mod frame;
+pub mod skirt;
+pub mod track;
+pub mod zone;
+
+pub use curve::{CubicCurve, MiddlePolygon};
+pub use error::InterpolateError;
+pub use track::refine_polyline;
+
+use crate::io::geometry::SourcedGeometry;
+use crate::mesh::{Options, PolyMesh};
+use crate::nurbs::Geometry;
+use crate::nurss::{subdivide as nurss_subdivide, NurssError, NurssOptions};
+
+/// Default zone width, relative to the size (bounding-box diagonal of the control points)
+/// of each curve.
+pub const DEFAULT_WIDTH: f64 = 0.05;
+
+/// How the zones are built.
+#[derive(Clone, Debug, PartialEq)]
+pub struct InterpolateOptions {
+    /// Distance of the side points from the middle polygon, relative to the curve's size
+    /// (the diagonal of its control points' bounding box); at crossings the other curve
+    /// decides. Must be finite and > 0. Default [`DEFAULT_WIDTH`].
+    pub width: f64,
+    /// Side direction: `None` for a rotation-minimising frame started from the polygon's
+    /// plane normal (a planar curve's zone stands perpendicular to its plane), or a vector
+    /// projected perpendicular to the curve at every control point (see [`frame`]).
+    pub side: Option<[f64; 3]>,
+}
+
+impl Default for InterpolateOptions {
+    fn default() -> Self {
+        Self {
+            width: DEFAULT_WIDTH,
+            side: None,
+        }
+    }
+}
+
+/// One curve's zone in the control mesh.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Zone {
+    /// The curve's name.
+    pub label: String,
+    /// Mesh vertices of the middle polygon (phantom end points included).
+    pub middle: Vec<u32>,
+    /// Closed middle polygon.
+    pub closed: bool,
+    /// Knot at `middle[0]` (see [`MiddlePolygon::start_knot`]).
+    pub start_knot: f64,
+    /// Index in `middle` of the curve's control point 0.
+    pub first: usize,
+    /// Number of the curve's control points.
+    pub count: usize,
+}
+
+/// The interpolating control mesh and where each curve's zone is in it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Interpolation {
+    /// Quads with knot intervals and (rational curves) weights in [`PolyMesh::knots`]: refine
+    /// with [`crate::nurss`].
+    pub mesh: PolyMesh,
+    /// One zone per curve, in input order.
+    pub zones: Vec<Zone>,
+}
+
+/// Builds the control mesh whose NURSS limit surface interpolates `curves` (see the [module
+/// documentation](self)).
+///
+/// # Errors
+/// [`InterpolateError`]: no curves, a bad option, a curve the method cannot take, or a
+/// crossing that is not a joint polygon group (naming the curve and the point).
+pub fn interpolate_curves(
+    curves: &[CubicCurve],
+    opts: &InterpolateOptions,
+) -> Result<Interpolation, InterpolateError> {
+    if curves.is_empty() {
+        return Err(InterpolateError::NoCurves);
+    }
+    if !(opts.width.is_finite() && opts.width > 0.0) {
+        return Err(InterpolateError::BadOption(format!(
+            "the zone width must be a finite number > 0, got {}",
+            opts.width
+        )));
+    }
+    if let Some(s) = opts.side {
+        if !s.iter().all(|c| c.is_finite()) || s == [0.0; 3] {
+            return Err(InterpolateError::BadOption(format!(
+                "the side vector must be finite and non-zero, got ({}, {}, {})",
+                s[0], s[1], s[2]
+            )));
+        }
+    }
+    let all: Vec<[f64; 3]> = curves
+        .iter()
+        .flat_map(|c| c.points.iter().copied())
+        .collect();
+    let tol = 1e-9 * zone::curve_size(&all);
+    let (middles, crossings) = crossing::find_crossings(curves, tol)?;
+    let (mesh, zones) = zone::build(curves, &middles, &crossings, opts.width, opts.side)?;
+    Ok(Interpolation { mesh, zones })
+}
+
+/// [`interpolate_curves`] for the curves of a file ([`crate::io::geometry::read_geometry`]);
+/// each is named by its [`SourcedGeometry::label`].
+///
+/// # Errors
+/// As [`interpolate_curves`]; a surface in the file is a [`InterpolateError::BadCurve`].
+pub fn interpolate_geometry(
+    items: &[SourcedGeometry],
+    opts: &InterpolateOptions,
+) -> Result<Interpolation, InterpolateError> {
+    let curves = items
+        .iter()
+        .map(|g| match &g.geometry {
+            Geometry::Curve(c) => CubicCurve::new(c, &g.label()),
+            Geometry::Surface(_) => Err(InterpolateError::BadCurve {
+                curve: g.label(),
+                reason: "is a surface; curve interpolation takes curves only".into(),
+            }),
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    interpolate_curves(&curves, opts)
+}
+
+impl Interpolation {
+    /// The control mesh refined `levels` times with NURSS (default scheme options), with its
+    /// knot intervals and weights; with `limit` the last level's vertices are moved to their
+    /// limit positions ([`crate::nurss::Nurss::limit_points`]), which sample the limit surface
+    /// (along each middle polygon: the curve at the knots of the refined polygon's points).
+    ///
+    /// # Errors
+    /// [`NurssError`] (too many levels for the index range).
+    pub fn refined_mesh(&self, levels: u32, limit: bool) -> Result<PolyMesh, NurssError> {
+        let out = nurss_subdivide(
+            &self.mesh,
+            &NurssOptions {
+                levels,
+                scheme: Options::default(),
+                limit,
+                keep_holes: false,
+            },
+        )?;
+        Ok(out.mesh)
+    }
+
+    /// The limit surface sampled by refining `levels` times and moving to the limit:
+    /// [`refined_mesh`](Self::refined_mesh)`(levels, true)`.
+    ///
+    /// # Errors
+    /// As [`refined_mesh`](Self::refined_mesh).
+    pub fn limit_mesh(&self, levels: u32) -> Result<PolyMesh, NurssError> {
+        self.refined_mesh(levels, true)
+    }
+}
