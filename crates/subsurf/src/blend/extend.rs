@@ -1,0 +1,182 @@
+//! The extension layer around an open quad mesh ([`add_extension_layer`]): one ring of new
+//! faces outside the boundary, so that every old boundary vertex becomes a regular interior
+//! vertex and skirt removal ([`super::skirt`]) can read the intervals beyond the boundary.
+
+use std::collections::HashMap;
+
+use super::grid::push_interval;
+use super::skirt::boundary_vertices;
+use super::BlendError;
+use crate::mesh::PolyMesh;
+
+/// Adds one ring of quads outside the boundary of `mesh` (seed 002, Algorithm 1 step 2):
+/// - each boundary edge `a → b` gets the quad `(b, a, o_a, o_b)`; its edges leaving the old
+///   boundary (`a`–`o_a`) get `interval`, the outer edge the boundary edge's own interval;
+/// - a boundary vertex with two faces gets one outward vertex `2 v − w` (`w` the mean of its
+///   interior neighbours); a corner (one face) gets one outward vertex per boundary edge
+///   and a diagonal vertex with a corner quad, so that it becomes a regular valence-4
+///   vertex.
+///
+/// The outer positions only shape the extension layer, which skirt removal drops.
+///
+/// # Errors
+/// [`BlendError::BoundaryVertex`] for a boundary vertex with three or more faces;
+/// [`BlendError::Mesh`].
+pub fn add_extension_layer(mesh: &PolyMesh, interval: f64) -> Result<PolyMesh, BlendError> {
+    let key = |a: u32, b: u32| (a.min(b), a.max(b));
+    let mut count: HashMap<(u32, u32), u32> = HashMap::new();
+    for fv in mesh.faces() {
+        for (i, &a) in fv.iter().enumerate() {
+            *count.entry(key(a, fv[(i + 1) % fv.len()])).or_insert(0) += 1;
+        }
+    }
+    let bnd = boundary_vertices(mesh);
+    let nv = mesh.num_vertices();
+    let mut faces_of = vec![0usize; nv];
+    let mut nbrs: Vec<Vec<u32>> = vec![Vec::new(); nv];
+    // Directed boundary edges a → b (as their face runs them).
+    let mut out_edge: HashMap<u32, u32> = HashMap::new();
+    let mut in_edge: HashMap<u32, u32> = HashMap::new();
+    for fv in mesh.faces() {
+        for (i, &a) in fv.iter().enumerate() {
+            faces_of[a as usize] += 1;
+            let b = fv[(i + 1) % fv.len()];
+            if count[&key(a, b)] == 1 {
+                out_edge.insert(a, b);
+                in_edge.insert(b, a);
+            } else {
+                nbrs[a as usize].push(b);
+            }
+        }
+    }
+    let mut pos = mesh.positions().to_vec();
+    let p = |v: u32| mesh.positions()[v as usize];
+    let lin = |a: [f64; 3], s: f64, b: [f64; 3], t: f64| {
+        [
+            s * a[0] + t * b[0],
+            s * a[1] + t * b[1],
+            s * a[2] + t * b[2],
+        ]
+    };
+    // Outward vertex of boundary vertex v for its incoming / outgoing boundary edge.
+    let mut o_in: HashMap<u32, u32> = HashMap::new();
+    let mut o_out: HashMap<u32, u32> = HashMap::new();
+    let mut corner_faces = Vec::new();
+    let mut new_intervals = Vec::new();
+    for v in 0..nv as u32 {
+        if !bnd[v as usize] {
+            continue;
+        }
+        let (Some(&x), Some(&y)) = (in_edge.get(&v), out_edge.get(&v)) else {
+            return Err(BlendError::BoundaryVertex {
+                vertex: v,
+                faces: faces_of[v as usize],
+            });
+        };
+        match faces_of[v as usize] {
+            2 => {
+                let inner = &nbrs[v as usize];
+                let w = if inner.is_empty() {
+                    lin(p(x), 0.5, p(y), 0.5)
+                } else {
+                    let mut s = [0.0; 3];
+                    for &n in inner {
+                        s = lin(s, 1.0, p(n), 1.0 / inner.len() as f64);
+                    }
+                    s
+                };
+                let o = pos.len() as u32;
+                pos.push(lin(p(v), 2.0, w, -1.0));
+                o_in.insert(v, o);
+                o_out.insert(v, o);
+            }
+            1 => {
+                // Corner: the face runs x → v → y; away from y for the incoming edge, away
+                // from x for the outgoing one, and the diagonal.
+                let a = pos.len() as u32;
+                pos.push(lin(p(v), 2.0, p(y), -1.0));
+                let b = pos.len() as u32;
+                pos.push(lin(p(v), 2.0, p(x), -1.0));
+                let d = pos.len() as u32;
+                pos.push([
+                    3.0 * p(v)[0] - p(x)[0] - p(y)[0],
+                    3.0 * p(v)[1] - p(x)[1] - p(y)[1],
+                    3.0 * p(v)[2] - p(x)[2] - p(y)[2],
+                ]);
+                o_in.insert(v, a);
+                o_out.insert(v, b);
+                corner_faces.push([v, a, d, b]);
+                new_intervals.push((a, d, interval));
+                new_intervals.push((d, b, interval));
+            }
+            n => {
+                return Err(BlendError::BoundaryVertex {
+                    vertex: v,
+                    faces: n,
+                })
+            }
+        }
+    }
+    let own = super::grid::intervals(mesh);
+    let mut offsets = mesh.face_offsets().to_vec();
+    let mut verts = mesh.face_verts().to_vec();
+    let push = |f: &[u32], offsets: &mut Vec<u32>, verts: &mut Vec<u32>| {
+        verts.extend_from_slice(f);
+        offsets.push(verts.len() as u32);
+    };
+    for (&a, &b) in &out_edge {
+        let (oa, ob) = (o_out[&a], o_in[&b]);
+        push(&[b, a, oa, ob], &mut offsets, &mut verts);
+        let d = own.get(&key(a, b)).copied().unwrap_or(1.0);
+        new_intervals.push((oa, ob, d));
+    }
+    for f in &corner_faces {
+        push(f, &mut offsets, &mut verts);
+    }
+    for v in 0..nv as u32 {
+        if let Some(&o) = o_in.get(&v) {
+            new_intervals.push((v, o, interval));
+        }
+        if let (Some(&a), Some(&b)) = (o_in.get(&v), o_out.get(&v)) {
+            if a != b {
+                new_intervals.push((v, b, interval));
+            }
+        }
+    }
+    let mut out = PolyMesh::new(pos, offsets, verts)?;
+    out.knots = mesh.knots.clone();
+    out.tags = mesh.tags.clone();
+    for (a, b, d) in new_intervals {
+        push_interval(&mut out, a, b, d);
+    }
+    // Outer edges with interval 1 were skipped by push_interval: nothing else to do.
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::blend::skirt::outer_ring;
+
+    #[test]
+    fn a_quad_gets_a_regular_ring_of_eight_faces() {
+        let m = PolyMesh::from_faces(
+            vec![
+                [0.0, 0.0, 0.0],
+                [1.0, 0.0, 0.0],
+                [1.0, 1.0, 0.0],
+                [0.0, 1.0, 0.0],
+            ],
+            &[[0u32, 1, 2, 3]],
+        )
+        .unwrap();
+        let e = add_extension_layer(&m, 0.0).unwrap();
+        assert_eq!(e.num_faces(), 9);
+        assert_eq!(e.num_vertices(), 16);
+        // The old face is the only real face; the old vertices are interior.
+        assert_eq!(outer_ring(&e).iter().filter(|&&r| !r).count(), 1);
+        crate::mesh::Topology::from_mesh(&e, &Default::default()).unwrap();
+        // Edges leaving the old boundary carry the extension interval.
+        assert!(e.knots.intervals.iter().any(|t| t.interval == 0.0));
+    }
+}

@@ -1,0 +1,304 @@
+//! C2 blending of N bicubic B-spline patches with NURSS and skirt removal (seed 002 §3.1).
+//!
+//! # Input
+//! N ≥ 2 open bicubic patches `P_k` (control nets `b^k_{i,j}`, `i = 0..=m_k` along `u`,
+//! `j = 0..=n_k` along `v`, at least 4×4, any non-uniform knots `U_k`, `V_k`), listed in
+//! order around the region to be blended. Each patch is blended along its first-row
+//! boundary `u = u_3` (the row `i = 0` side); going around the region, the end `j = n_k` of
+//! patch `k` faces the start `j = 0` of patch `k + 1` (and the last patch's end faces the
+//! first patch's start), so all patches run the same way around the region.
+//!
+//! # The blend control mesh
+//! A *band* of quads around the region: for each patch a strip of five rows
+//! `r = −1..=3` over its columns — rows 0, 1, 2 are the patch's first three rows (shared),
+//! row 3 its fourth row (the extension layer, only its intervals matter) and row −1 new
+//! points `2 b_{0,j} − b_{1,j}` — followed by one *gap* column of new points (the mean of
+//! the two facing end columns) joining it to the next strip. The band's inner row −1 bounds
+//! the middle, which is filled by a fan of quads around a centre point (the mean of row
+//! −1), or by one polygon when the fan does not fit (an odd count, or four points).
+//!
+//! Knot intervals, with knots indexed from 0 (`u_0 … u_{m+4}`): the control-polygon edge
+//! `b_i b_{i+1}` carries the span `[u_{i+2}, u_{i+3}]`. So the strip's edges between rows
+//! `r` and `r + 1` carry `u_{r+3} − u_{r+2}` (row −1 to 0: `u_2 − u_1`, the paper's `e_0`;
+//! row 2 to 3: `u_5 − u_4`, the extension interval), the edges between columns `j` and
+//! `j + 1` carry `v_{j+3} − v_{j+2}`, and the gap edges carry the intervals beyond the
+//! patch's end columns: `v_{n+3} − v_{n+2}` next to column `n` of patch `k`, `v_2 − v_1`
+//! next to column 0 of patch `k + 1` (the paper's `d_s` and `d_0`). The gap's own cross
+//! edges take the mean of the two strips' intervals; the fan's spokes the mean ring
+//! interval.
+//!
+//! # Why the result is C2
+//! Position, first and second `u`-derivatives of `P_k` on `u = u_3` depend only on rows
+//! 0, 1, 2 and the knots `u_1 … u_5` (the basis functions `N_0 … N_2` at `u_3`; `N_3`
+//! vanishes there to second order), and along `v ∈ [v_3, v_{n+1}]` on the knots
+//! `v_1 … v_{n+3}`. The blend mesh holds exactly those rows and intervals on a regular grid,
+//! where NURSS is knot insertion, and skirt removal makes the real part's limit end on
+//! `u = u_3` (the last span whose four rows are real is `[u_2, u_3]`). The limit next to
+//! `P_k` is therefore the B-spline with `P_k`'s knots on rows `−1 … 2`, which joins `P_k`
+//! C2. [`Blend::boundary_spline`] evaluates it exactly from the refined mesh (see
+//! [`super::grid`]); the tests compare position, first and second derivatives with `P_k`.
+
+use super::grid::{push_interval, VertexGrid};
+use super::patch::check_bicubic;
+use super::skirt::{nurss_refine_once, real_part, refine_with_skirt};
+use super::BlendError;
+use crate::mesh::PolyMesh;
+use crate::nurbs::BSplineSurface;
+
+/// Most patches [`blend_control_mesh`] takes.
+pub const MAX_PATCHES: usize = 64;
+
+/// The blend control mesh with the vertex grids next to each patch.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BlendMesh {
+    /// The control mesh with knot intervals; its outer ring (the strips' rows 2–3) is the
+    /// extension layer.
+    pub mesh: PolyMesh,
+    /// Per patch: its strip as a grid, rows `−1..=3` (5 rows) and columns: the gap before
+    /// it, its columns `0..=n`, the gap after it; origin `(u_1, v_1)`.
+    pub strips: Vec<VertexGrid>,
+}
+
+/// The vertex layout of the band: strip `k`, row `r + 1`, column `j` and gap columns.
+struct Layout {
+    strip_start: Vec<u32>,
+    gap_start: Vec<u32>,
+    cols: Vec<usize>,
+}
+
+impl Layout {
+    fn strip(&self, k: usize, r: usize, j: usize) -> u32 {
+        self.strip_start[k] + (r * self.cols[k] + j) as u32
+    }
+    fn gap(&self, k: usize, r: usize) -> u32 {
+        self.gap_start[k] + r as u32
+    }
+}
+
+/// Builds the blend control mesh of `patches` (see the [module documentation](self)).
+///
+/// # Errors
+/// [`BlendError::Count`] for fewer than 2 (or more than [`MAX_PATCHES`]) patches;
+/// [`BlendError::Degree`], [`BlendError::Unsupported`], [`BlendError::TooSmall`] naming the
+/// patch; [`BlendError::Mesh`] for non-finite points.
+pub fn blend_control_mesh(patches: &[BSplineSurface<3>]) -> Result<BlendMesh, BlendError> {
+    let n = patches.len();
+    if !(2..=MAX_PATCHES).contains(&n) {
+        return Err(BlendError::Count {
+            what: "patches to blend",
+            found: n,
+            min: 2,
+            max: MAX_PATCHES,
+        });
+    }
+    for (k, s) in patches.iter().enumerate() {
+        check_bicubic(s, k)?;
+        let (rows, columns) = s.size();
+        if rows < 4 || columns < 4 {
+            return Err(BlendError::TooSmall {
+                index: k,
+                rows,
+                columns,
+            });
+        }
+    }
+    let mut pos: Vec<[f64; 3]> = Vec::new();
+    let mut strip_start = Vec::with_capacity(n);
+    let mut cols = Vec::with_capacity(n);
+    for s in patches {
+        let (_, nv) = s.size();
+        strip_start.push(pos.len() as u32);
+        cols.push(nv);
+        let p = |i: usize, j: usize| s.points()[i * nv + j];
+        for r in 0..5 {
+            for j in 0..nv {
+                pos.push(if r == 0 {
+                    let (a, b) = (p(0, j), p(1, j));
+                    [2.0 * a[0] - b[0], 2.0 * a[1] - b[1], 2.0 * a[2] - b[2]]
+                } else {
+                    p(r - 1, j)
+                });
+            }
+        }
+    }
+    let mut gap_start = Vec::with_capacity(n);
+    for k in 0..n {
+        gap_start.push(pos.len() as u32);
+        let next = (k + 1) % n;
+        for r in 0..5 {
+            let a = pos[(strip_start[k] as usize) + r * cols[k] + cols[k] - 1];
+            let b = pos[(strip_start[next] as usize) + r * cols[next]];
+            pos.push([
+                0.5 * (a[0] + b[0]),
+                0.5 * (a[1] + b[1]),
+                0.5 * (a[2] + b[2]),
+            ]);
+        }
+    }
+    let lay = Layout {
+        strip_start,
+        gap_start,
+        cols,
+    };
+    // Band columns in order around the region, with the interval of the edge to the next
+    // band column.
+    let mut band: Vec<[u32; 5]> = Vec::new();
+    let mut next_interval: Vec<f64> = Vec::new();
+    // Per band column: the intervals of its four cross edges (rows r → r + 1).
+    let mut cross: Vec<[f64; 4]> = Vec::new();
+    let u_spans = |s: &BSplineSurface<3>| {
+        let t = s.knots_u().as_slice();
+        [t[2] - t[1], t[3] - t[2], t[4] - t[3], t[5] - t[4]]
+    };
+    for k in 0..n {
+        let s = &patches[k];
+        let nxt = &patches[(k + 1) % n];
+        let v = s.knots_v().as_slice();
+        let nv = lay.cols[k];
+        for j in 0..nv {
+            band.push(std::array::from_fn(|r| lay.strip(k, r, j)));
+            next_interval.push(if j + 1 < nv {
+                v[j + 3] - v[j + 2]
+            } else {
+                v[nv + 2] - v[nv + 1]
+            });
+            cross.push(u_spans(s));
+        }
+        band.push(std::array::from_fn(|r| lay.gap(k, r)));
+        let vn = nxt.knots_v().as_slice();
+        next_interval.push(vn[2] - vn[1]);
+        let (a, b) = (u_spans(s), u_spans(nxt));
+        cross.push(std::array::from_fn(|r| 0.5 * (a[r] + b[r])));
+    }
+    let m = band.len();
+    let mut faces: Vec<Vec<u32>> = Vec::new();
+    for c in 0..m {
+        let (a, b) = (&band[c], &band[(c + 1) % m]);
+        for r in 0..4 {
+            faces.push(vec![a[r], a[r + 1], b[r + 1], b[r]]);
+        }
+    }
+    // The middle: ring = row −1 of the band, in band order.
+    let ring: Vec<u32> = band.iter().map(|col| col[0]).collect();
+    let mut spoke = Vec::new();
+    if m % 2 == 0 && m > 4 {
+        let c = pos.len() as u32;
+        let mut centre = [0.0; 3];
+        for &w in &ring {
+            for k in 0..3 {
+                centre[k] += pos[w as usize][k] / m as f64;
+            }
+        }
+        pos.push(centre);
+        for i in (0..m).step_by(2) {
+            faces.push(vec![c, ring[i], ring[i + 1], ring[(i + 2) % m]]);
+            spoke.push((c, ring[i]));
+        }
+    } else {
+        faces.push(ring.clone());
+    }
+    let mut mesh = PolyMesh::from_faces(pos, &faces)?;
+    for c in 0..m {
+        let (a, b) = (&band[c], &band[(c + 1) % m]);
+        for r in 0..5 {
+            push_interval(&mut mesh, a[r], b[r], next_interval[c]);
+        }
+        for r in 0..4 {
+            push_interval(&mut mesh, a[r], a[r + 1], cross[c][r]);
+        }
+    }
+    let positive: Vec<f64> = next_interval.iter().copied().filter(|&d| d > 0.0).collect();
+    let spoke_interval = if positive.is_empty() {
+        1.0
+    } else {
+        positive.iter().sum::<f64>() / positive.len() as f64
+    };
+    for (a, b) in spoke {
+        push_interval(&mut mesh, a, b, spoke_interval);
+    }
+    let strips = (0..n)
+        .map(|k| {
+            let nv = lay.cols[k];
+            let before = lay.gap((k + n - 1) % n, 0);
+            let cols = nv + 2;
+            let mut ids = Vec::with_capacity(5 * cols);
+            for r in 0..5 {
+                ids.push(before + r as u32);
+                for j in 0..nv {
+                    ids.push(lay.strip(k, r, j));
+                }
+                ids.push(lay.gap(k, r));
+            }
+            VertexGrid {
+                rows: 5,
+                cols,
+                ids,
+                origin: (
+                    patches[k].knots_u().as_slice()[1],
+                    patches[k].knots_v().as_slice()[1],
+                ),
+            }
+        })
+        .collect();
+    Ok(BlendMesh { mesh, strips })
+}
+
+/// A refined blend.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Blend {
+    /// The initial blend control mesh.
+    pub control: BlendMesh,
+    /// Number of skirt-removal steps taken.
+    pub levels: u32,
+    /// The refined mesh, extension layer included.
+    pub refined: PolyMesh,
+    /// The strips' grids in the refined mesh (rows from the child of row −1 to the
+    /// extension row, columns from the gap before to the gap after).
+    pub strips: Vec<VertexGrid>,
+}
+
+impl Blend {
+    /// The blend surface: the real part of the refined mesh (its control points).
+    ///
+    /// # Errors
+    /// None in practice ([`BlendError::Holes`]).
+    pub fn surface(&self) -> Result<PolyMesh, BlendError> {
+        real_part(&self.refined)
+    }
+
+    /// The exact limit of the blend next to patch `k`, as a bicubic B-spline in the patch's
+    /// own parameters: its domain ends at `u = u_3` (the shared boundary) and covers
+    /// `v ∈ [v_3, v_{n+1}]`. It is the B-spline of the refined strip's real rows and the
+    /// columns from the child of column 0 to the child of column `n`, with the refined
+    /// intervals (see [`super::grid`]); position, `∂/∂u` and `∂²/∂u²` on `u = u_3` equal the
+    /// patch's (C2).
+    ///
+    /// # Errors
+    /// [`BlendError::Grid`] if `k` is out of range or the grid is not a tensor product.
+    pub fn boundary_spline(&self, k: usize) -> Result<BSplineSurface<3>, BlendError> {
+        let g = self
+            .strips
+            .get(k)
+            .ok_or_else(|| BlendError::Grid(format!("no patch {k}")))?;
+        let step = 1usize << self.levels;
+        let cols = step..g.cols - step;
+        g.bspline(&self.refined, 0..g.rows - 1, cols)
+    }
+}
+
+/// Blends `patches` C2: builds [`blend_control_mesh`] and refines it `levels` times with
+/// NURSS and skirt removal (the paper shows 6 levels).
+///
+/// # Errors
+/// As [`blend_control_mesh`]; NURSS errors.
+pub fn blend(patches: &[BSplineSurface<3>], levels: u32) -> Result<Blend, BlendError> {
+    let control = blend_control_mesh(patches)?;
+    let mut strips = control.strips.clone();
+    let refined = refine_with_skirt(&control.mesh, levels, &mut strips, nurss_refine_once)?;
+    Ok(Blend {
+        control,
+        levels,
+        refined,
+        strips,
+    })
+}

@@ -1,0 +1,30 @@
+//! Seed 002 (Catmull-Clark surfaces for NURBS patch blending and N-sided hole filling):
+//! skirt-removal refinement for open meshes, corner interpolation with zero knot intervals,
+//! C2 blending of bicubic B-spline patches and N-sided hole filling with non-uniform
+//! Catmull-Clark (NURSS, [`crate::nurss`]).
+//!
+//! - [`skirt`]: skirt removal for any scheme ([`skirt::skirt_step`], [`skirt::nurss_step`],
+//!   [`skirt::catmark_step`], [`skirt::refine_with_skirt`]).
+//! - [`extend`]: the extension layer around an open mesh.
+//! - [`grid`]: vertex grids carried through refinement and the exact limit (de Boor) over a
+//!   regular part.
+//! - [`patch`]: a clamped patch as a corner-interpolating control mesh.
+//! - [`join`]: C2 blending of N bicubic patches ([`blend()`]).
+//! - [`fill`]: N-sided hole filling (Algorithm 1, corner interpolating).
+//! - [`g1`]: N-sided hole filling, G1 (Algorithm 2).
+//! - [`obj`]: OBJ output of several meshes and curves as groups.
+
+mod error;
+
+pub mod extend;
+pub mod fill;
+pub mod g1;
+pub mod grid;
+pub mod join;
+pub mod obj;
+pub mod patch;
+pub mod skirt;
+
+pub use error::BlendError;
+pub use fill::{fill, Fill, FillOptions};
+pub use join::{blend, blend_control_mesh, Blend, BlendMesh};
