@@ -5,7 +5,6 @@ use std::path::Path;
 
 use anyhow::{bail, Context, Result};
 use subsurf::io::obj::{parse_obj, ObjFile};
-use subsurf::mesh::MeshError;
 
 /// A parsed input and the name used for it in messages.
 pub struct Input {
@@ -43,16 +42,11 @@ impl Input {
         let Err(e) = self.obj.mesh.check_strict() else {
             return Ok(());
         };
-        let face = match &e {
-            MeshError::RepeatedVertex { face, .. } => Some(*face),
-            MeshError::NonManifoldEdge { second, .. } => Some(*second as usize),
-            MeshError::InconsistentOrientation { f1, .. } => Some(*f1 as usize),
-            _ => None,
-        };
-        let line = face.and_then(|f| self.obj.face_lines.get(f));
+        // In the file's terms: faces and vertices numbered from 1, with the line.
+        let (line, message) = self.obj.describe_error(&e);
         match line {
-            Some(l) => bail!("{}:{l}: {e} (--strict)", self.name),
-            None => bail!("{}: {e} (--strict)", self.name),
+            Some(l) => bail!("{}:{l}: {message} (--strict)", self.name),
+            None => bail!("{}: {message} (--strict)", self.name),
         }
     }
 

@@ -5,7 +5,7 @@
 //! file, nothing on standard output).
 //!
 //! Rows of `expected.tsv` marked `bug` describe known bugs (the behaviour wanted once they
-//! are fixed); they are checked by the ignored test `known_bugs`
+//! are fixed; none at the moment); they are checked by the ignored test `known_bugs`
 //! (`cargo test -p subsurf-cli --test bad_inputs -- --ignored`).
 
 mod common;
@@ -311,11 +311,77 @@ fn corpus_files_behave_as_listed() {
     check_rows(&rows);
 }
 
+/// Rows marked `bug`: open bugs, the behaviour wanted once they are fixed (none at the
+/// moment; the test then checks nothing).
 #[test]
-#[ignore = "bug: limit, tessellate and render take > 5 s on a vertex of valence 1000 (crates/subsurf/tests/bad/README.md)"]
+#[ignore = "rows of expected.tsv marked bug describe open bugs; they fail until fixed"]
 fn known_bugs() {
     let rows: Vec<Row> = rows().into_iter().filter(|r| r.bug).collect();
     check_rows(&rows);
+}
+
+/// A closed fan of `n` triangles (or quads) around vertex 1, a vertex of valence `n`.
+fn fan(n: usize, quads: bool) -> String {
+    let mut t = String::from("v 0 0 0\n");
+    for i in 0..n {
+        let a = i as f64 / n as f64 * std::f64::consts::TAU;
+        t.push_str(&format!(
+            "v {:.6} {:.6} {:.6}\n",
+            a.cos(),
+            a.sin(),
+            0.1 * (3.0 * a).sin()
+        ));
+    }
+    if quads {
+        for i in 0..n {
+            let a = (i as f64 + 0.5) / n as f64 * std::f64::consts::TAU;
+            t.push_str(&format!("v {:.6} {:.6} 0\n", 2.0 * a.cos(), 2.0 * a.sin()));
+        }
+    }
+    for i in 0..n {
+        let (a, b) = (i + 2, (i + 1) % n + 2);
+        if quads {
+            t.push_str(&format!("f 1 {a} {} {b}\n", n + 2 + i));
+        } else {
+            t.push_str(&format!("f 1 {a} {b}\n"));
+        }
+    }
+    t
+}
+
+/// A vertex of valence 3000 (triangles and quads around it; up to 1 s per run in the test
+/// profile) and one of 70 000 (`info`, `subdivide`, `limit`): every subcommand within the
+/// time limit. The limit surface shares one local refinement per high-valence vertex among its
+/// faces and topology building searches the shorter of an edge's two vertex lists, so the
+/// cost grows linearly with the valence (it grew quadratically: 12 s at valence 1000).
+#[test]
+fn high_valence_vertices() {
+    let dir = dir_with(&[
+        ("tri.obj", &fan(3000, false)),
+        ("quad.obj", &fan(3000, true)),
+        ("huge.obj", &fan(70_000, false)),
+    ]);
+    let mut jobs: Vec<(&str, &str)> = ALL_COMMANDS
+        .iter()
+        .filter(|c| has_command(c))
+        .flat_map(|&c| [("tri.obj", c), ("quad.obj", c)])
+        .collect();
+    jobs.extend([
+        ("huge.obj", "info"),
+        ("huge.obj", "subdivide"),
+        ("huge.obj", "limit"),
+    ]);
+    for (file, command) in jobs {
+        let (args, _) = command_args(command, file, None);
+        let run = run_limited(dir.path(), &args, None);
+        assert!(
+            !run.timed_out && run.code == Some(0),
+            "{args:?}: exit {:?} after {:?}: {}",
+            run.code,
+            run.elapsed,
+            run.stderr
+        );
+    }
 }
 
 #[test]
@@ -441,7 +507,63 @@ fn memory_guard_refuses_without_writing() {
     assert_eq!(listing(dir.path()), ["cube.obj"]);
 }
 
-/// A face with 70 000 vertices exceeds the 65 535 a face may have.
+/// Without `--max-memory`, jobs that would need far more memory than any machine has
+/// (hundreds of gigabytes to terabytes; `tessellate --rate 460`: 2.1 billion vertices, just
+/// under the library's cap on the output) are refused up front against the available memory, with the
+/// estimate, by every subcommand that allocates from its arguments.
+#[test]
+fn memory_guards_without_a_cap() {
+    // A 100 × 100 grid of quads.
+    let mut grid = String::new();
+    for j in 0..=100 {
+        for i in 0..=100 {
+            grid.push_str(&format!("v {i} {j} 0\n"));
+        }
+    }
+    for j in 0..100 {
+        for i in 0..100 {
+            let a = j * 101 + i + 1;
+            grid.push_str(&format!("f {a} {} {} {}\n", a + 1, a + 102, a + 101));
+        }
+    }
+    let dir = dir_with(&[("grid.obj", &grid)]);
+    let cases: [&[&str]; 5] = [
+        &["limit", "grid.obj", "-o", "out.tsv", "--grid", "4096"],
+        &["tessellate", "grid.obj", "-o", "out.obj", "--rate", "460"],
+        &[
+            "render",
+            "grid.obj",
+            "-o",
+            "out.png",
+            "--limit-rate",
+            "1024",
+        ],
+        &["bench", "grid.obj", "-l", "4294967295"],
+        &["bench", "grid.obj", "--limit-grid", "4294967295"],
+    ];
+    for case in cases {
+        if !has_command(case[0]) {
+            continue;
+        }
+        let args: Vec<String> = case.iter().map(|s| s.to_string()).collect();
+        let run = run_limited(dir.path(), &args, None);
+        assert_eq!(run.code, Some(1), "{args:?}: {}", run.stderr);
+        assert!(
+            run.stderr.starts_with("error: grid.obj: ")
+                && run.stderr.contains("needs about")
+                && run.stderr.contains("(the memory available)"),
+            "{args:?}: {}",
+            run.stderr
+        );
+        assert!(
+            run.stdout.is_empty() && run.elapsed < TIME_LIMIT,
+            "{args:?}"
+        );
+    }
+    assert_eq!(listing(dir.path()), ["grid.obj"]);
+}
+
+/// A face with 70 000 vertices exceeds the 65 535 a face may have: refused at its line.
 #[test]
 fn face_with_too_many_vertices() {
     let n = 70_000;
@@ -461,8 +583,9 @@ fn face_with_too_many_vertices() {
         let run = run_limited(dir.path(), &args, None);
         assert_eq!(run.code, Some(1), "{args:?}: {}", run.stderr);
         assert!(
-            run.stderr.contains("big-face.obj")
-                && run.stderr.contains("face 0 has more than 65535 vertices"),
+            run.stderr.contains(
+                "big-face.obj:70001: f: face has 70000 vertices; a face may have at most 65535"
+            ),
             "{args:?}: {}",
             run.stderr
         );

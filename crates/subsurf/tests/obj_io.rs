@@ -591,6 +591,63 @@ fn a_vertex_repeated_in_a_face_is_read_and_rejected_only_when_strict() {
     assert_eq!(err.to_string(), "face 0 lists vertex 2 more than once");
 }
 
+/// Mesh errors and warnings told in the file's terms: faces and vertices counted from 1
+/// (as `f` statements count vertices), with the line of the face concerned (for a vertex,
+/// the first face that uses it).
+#[test]
+fn mesh_problems_are_described_with_obj_numbering_and_lines() {
+    use subsurf::mesh::{MeshError, TopologyWarning};
+    let obj = parse(&format!("{QUAD}f 1 2 3 4\nf 1 2 3 -2\n"));
+    let e = obj.mesh.check_strict().unwrap_err();
+    assert_eq!(
+        obj.describe_error(&e),
+        (Some(6), "face 2 lists vertex 3 more than once".to_string())
+    );
+    let w = TopologyWarning::DegenerateFaces { count: 1, first: 1 };
+    assert_eq!(
+        obj.describe_warning(&w),
+        (
+            Some(6),
+            "1 face(s) (first: face 2) list a vertex more than once; treated as degenerate \
+             faces, as OpenSubdiv does"
+                .to_string()
+        )
+    );
+    // A vertex is located at the first face that uses it; an edge at the first face with it.
+    let e = MeshError::NonManifoldVertex {
+        vertex: 3,
+        faces: 2,
+    };
+    assert_eq!(
+        obj.describe_error(&e),
+        (
+            Some(5),
+            "vertex 4 is non-manifold: its 2 faces do not form a single fan".to_string()
+        )
+    );
+    let w = TopologyWarning::NonManifoldEdges {
+        count: 1,
+        first: (2, 1),
+    };
+    assert_eq!(obj.describe_warning(&w).0, Some(5));
+    assert!(obj.describe_warning(&w).1.contains("(first: 3-2)"));
+    // Errors about no element of the file keep the library's text.
+    let e = MeshError::BadFaceOffsets("x".into());
+    assert_eq!(obj.describe_error(&e), (None, e.to_string()));
+}
+
+/// Coordinates beyond 1e75 in magnitude are refused at their `v` line, in `{:e}` form.
+#[test]
+fn coordinates_beyond_1e75_are_refused_at_their_line() {
+    assert_error(
+        "v 0 0 0\nv 0 -1e100 0\n",
+        2,
+        "v: the coordinate -1e100 is too large; coordinates must be below 1e75 in magnitude",
+    );
+    assert_error("v 1.5e308 0 0\n", 1, "the coordinate 1.5e308 is too large");
+    assert!(parse_obj(b"v 1e75 -1e75 0\n", "t.obj").is_ok());
+}
+
 #[test]
 fn malformed_index_tokens() {
     let cases = [

@@ -28,6 +28,23 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         .build()
         .context("cannot start the thread pool")?;
     let reps = args.reps.max(1);
+    let mesh = &input.obj.mesh;
+    let (what, estimate, hint) = match args.limit_grid {
+        // The surface, the points (32 bytes) and their results (about 150).
+        Some(n) => (
+            format!("evaluating a {n}×{n} grid per face"),
+            crate::memory::surface(mesh)
+                .saturating_add(crate::memory::grid_samples(mesh, n).saturating_mul(192)),
+            "use a smaller --limit-grid",
+        ),
+        // A plan holds a weight table about as large as the refined mesh.
+        None => (
+            format!("refining to level {}", args.levels),
+            subsurf::estimate_memory(mesh, &opts).saturating_mul(if args.replay { 2 } else { 1 }),
+            "use a lower level",
+        ),
+    };
+    crate::memory::check(&input.name, &what, estimate, args.max_memory, hint)?;
     if let Some(n) = args.limit_grid {
         return bench_limit(&input, opts.scheme, n as usize, reps, &pool);
     }

@@ -9,6 +9,9 @@ use crate::input::Input;
 use crate::output::Output;
 use crate::LimitArgs;
 
+/// Bytes per output row held until the file is written (measured: 214 at 6 million rows).
+const BYTES_PER_ROW: u64 = 256;
+
 /// Runs `subsurf limit`.
 pub fn run(args: &LimitArgs) -> Result<()> {
     let out = Output::new(&args.output);
@@ -18,6 +21,17 @@ pub fn run(args: &LimitArgs) -> Result<()> {
         .scheme
         .over(input.obj.options)
         .resolve(Options::default());
+    // Memory: the surface, then every row as text until all are written.
+    let estimate = crate::memory::surface(&input.obj.mesh).saturating_add(
+        crate::memory::grid_samples(&input.obj.mesh, args.grid).saturating_mul(BYTES_PER_ROW),
+    );
+    crate::memory::check(
+        &input.name,
+        &format!("sampling a {0}×{0} grid per face", args.grid),
+        estimate,
+        args.max_memory,
+        "use a smaller --grid",
+    )?;
     let surface =
         LimitSurface::new(&input.obj.mesh, options).with_context(|| input.name.clone())?;
     let n = args.grid as usize;

@@ -1,64 +1,308 @@
 //! Local neighbourhoods: the part of a level that determines the limit surface over one
 //! face, cut out as a small mesh of its own so that it can be refined on its own.
 //!
-//! The limit surface over a face `f` depends on the faces around `f`'s vertices (its
-//! 1-ring); the rules and sharpness of those faces' elements depend on one ring more.
-//! The *2-ring* (faces sharing a vertex with a face that shares a vertex with `f`) is
-//! therefore enough to refine `f` exactly any number of levels: every element whose
-//! position matters has all its neighbours. The cut-out is a [`Topology::subset`]: edges,
-//! tags, sharpness and rules are copied from the level, not re-derived, so it refines
-//! exactly as the whole level would around `f`. Elements on the cut-out's rim have
-//! incomplete neighbourhoods, but they never influence `f`'s children.
+//! The limit surface over a face `f` depends on the faces around `f`'s vertices, its
+//! *1-ring*. That is also enough to refine `f` exactly any number of levels: the 1-ring of
+//! each child of `f` is made of children (at `f`'s vertices) of 1-ring faces, and their
+//! vertices are the vertex points of `f`'s vertices, the edge points of the edges at them
+//! and the face points of the faces at them, all of whose parents' neighbourhoods lie in
+//! the 1-ring. The rules and sharpness of those elements would need one ring more to be
+//! derived, but they are not derived: the cut-out is a [`Topology::subset`], whose edges,
+//! tags, sharpness and rules are copied from the level, so it refines exactly as the whole
+//! level would around `f`. Elements on the cut-out's rim have incomplete neighbourhoods,
+//! but they never influence `f`'s children. (Checked bit for bit against cut-outs of the
+//! 2-ring on every OpenSubdiv regression shape.)
+//!
+//! # High valence: shared regions
+//! Around a vertex `w` of valence `n` every face's 1-ring holds all `n` faces of `w`, so
+//! one cut-out per face would cost `O(n²)` time and memory. When a face's 1-ring reaches a
+//! vertex of more than [`HIGH_VALENCE`] faces, the face instead uses the *region* of that
+//! vertex, shared by all faces that reach it: the faces within three rings of `w`
+//! (`F₁` = the faces of `w`, `Fₖ₊₁` = the faces sharing a vertex with a face of `Fₖ`).
+//! It holds the 1-ring of every such face `g`: `w` is a vertex of a face `h` in `g`'s
+//! 1-ring, so `g` is in `h`'s 1-ring, within `F₂`, and `g`'s 1-ring within `F₃`. A shared
+//! region is refined once (the refinement is kept and shared, and so are the regions cut
+//! from it one level down and the analyses of its corners), so the work around `w` is
+//! `O(n)` per level. [`Topology::subset`] keeps the order of faces and edges around every
+//! vertex, so a region gives the same values, bit for bit, as a face's own cut-out.
 
-use crate::mesh::Topology;
+use crate::mesh::{Options, Topology};
+use crate::refine::{interpolate, refine_topology};
+use std::collections::{HashMap, HashSet};
+use std::sync::{Arc, Mutex, OnceLock};
 
-/// A face of a small mesh cut out around it, with positions.
-#[derive(Clone, Debug)]
-pub struct Local {
-    /// The cut-out topology (tags and rules derived as for a base mesh).
+/// A vertex with more faces than this makes the faces whose 1-ring reaches it share a
+/// region (see the module docs).
+pub const HIGH_VALENCE: usize = 16;
+
+/// Value cached per corner of a shared region (see [`Region::corner_cache`]).
+pub type CornerCache<T> = Mutex<HashMap<(u32, u32), Arc<OnceLock<T>>>>;
+
+/// A cut-out (or a whole refined cut-out) with positions.
+#[derive(Debug, Default)]
+pub struct Region {
+    /// The cut-out topology.
     pub topo: Topology,
     /// Positions of its vertices.
     pub pos: Vec<[f64; 3]>,
-    /// The face of interest in `topo` (its vertex order is the original face's).
+    /// Valence above which faces share regions (normally [`HIGH_VALENCE`]).
+    high_valence: usize,
+    /// Shared by many faces: then its refinement, the regions cut from that and corner
+    /// analyses are cached; a face's own cut-out is refined afresh each time.
+    shared: bool,
+    /// For a region cut around a vertex: the faces of the level it was cut from, sorted,
+    /// with their index here.
+    faces: Vec<(u32, u32)>,
+    /// The refined region (shared regions only).
+    refined: OnceLock<Arc<Region>>,
+    /// Regions cut from this one, by vertex (see [`cut`]).
+    regions: RegionCache,
+    /// Eigen-analyses of corners, by (vertex, first face of the sector).
+    pub(super) eigen: CornerCache<Option<Arc<super::surface::Eigen>>>,
+    /// Smooth limit position and the cosine and sine tangents of high-valence vertices.
+    pub(super) smooth: CornerCache<[[f64; 3]; 3]>,
+}
+
+/// The value of `key` in `cache`, computed by `make` the first time.
+pub fn cached<T: Clone>(cache: &CornerCache<T>, key: (u32, u32), make: impl FnOnce() -> T) -> T {
+    let cell = {
+        let mut map = match cache.lock() {
+            Ok(m) => m,
+            Err(poisoned) => poisoned.into_inner(),
+        };
+        map.entry(key).or_default().clone()
+    };
+    cell.get_or_init(make).clone()
+}
+
+/// Regions cut around high-valence vertices of one level, by vertex.
+#[derive(Debug, Default)]
+pub struct RegionCache(Mutex<HashMap<u32, Arc<OnceLock<Arc<Region>>>>>);
+
+/// A face of a region.
+#[derive(Clone, Debug)]
+pub struct Local {
+    /// The region.
+    pub region: Arc<Region>,
+    /// The face of interest in it (its vertex order is the original face's).
     pub face: usize,
 }
 
-/// Cuts the 2-ring of face `f` out of level `t` (positions `pos`).
-pub fn extract(t: &Topology, pos: &[[f64; 3]], f: usize) -> Local {
-    // Faces: f first, then the rest of its 2-ring, each once. Cut-outs of cut-outs are
-    // small, so a mark per face is cheap there; on a large level, search the short list.
-    let mut marks = if t.num_faces() <= 1 << 14 {
-        vec![false; t.num_faces()]
-    } else {
-        Vec::new()
-    };
-    if let Some(m) = marks.get_mut(f) {
-        *m = true;
+/// A level to cut from: its topology, positions and the cache of its shared regions.
+#[derive(Clone, Copy)]
+pub struct LevelRef<'a> {
+    /// Topology.
+    pub topo: &'a Topology,
+    /// Positions.
+    pub pos: &'a [[f64; 3]],
+    /// Shared regions already cut from it.
+    pub cache: &'a RegionCache,
+    /// Valence above which faces share regions: [`HIGH_VALENCE`] (tests compare with
+    /// `usize::MAX`, every face on its own).
+    pub high_valence: usize,
+}
+
+impl<'a> LevelRef<'a> {
+    /// A level with the default [`HIGH_VALENCE`].
+    pub fn new(topo: &'a Topology, pos: &'a [[f64; 3]], cache: &'a RegionCache) -> Self {
+        Self {
+            topo,
+            pos,
+            cache,
+            high_valence: HIGH_VALENCE,
+        }
     }
-    let mut faces = vec![f as u32];
-    let mut add = |g: u32, faces: &mut Vec<u32>| {
-        let seen = match marks.get_mut(g as usize) {
-            Some(m) => std::mem::replace(m, true),
-            None => faces.contains(&g),
+}
+
+impl Region {
+    /// A whole level as a region (the result of refining a region).
+    pub fn whole(topo: Topology, pos: Vec<[f64; 3]>, shared: bool, high_valence: usize) -> Self {
+        Self {
+            topo,
+            pos,
+            shared,
+            high_valence,
+            ..Self::default()
+        }
+    }
+
+    /// This region as a level to cut from.
+    pub fn level(&self) -> LevelRef<'_> {
+        LevelRef {
+            topo: &self.topo,
+            pos: &self.pos,
+            cache: &self.regions,
+            high_valence: self.high_valence,
+        }
+    }
+
+    /// Whether this region is shared by many faces (and caches its work).
+    pub fn is_shared(&self) -> bool {
+        self.shared
+    }
+
+    /// The region refined one level (full topology, positions by the level's rules):
+    /// computed once for a shared region, afresh otherwise.
+    pub fn refined(&self, options: &Options) -> Arc<Region> {
+        let make = || {
+            let child = refine_topology(&self.topo, options, true);
+            let mut cpos = vec![[0.0; 3]; child.num_vertices()];
+            interpolate(&self.topo, &child, options, &self.pos, &mut cpos);
+            Arc::new(Region::whole(child, cpos, self.shared, self.high_valence))
         };
-        if !seen && g as usize != f {
+        if self.shared {
+            self.refined.get_or_init(make).clone()
+        } else {
+            make()
+        }
+    }
+}
+
+impl Local {
+    /// The region's topology.
+    pub fn topo(&self) -> &Topology {
+        &self.region.topo
+    }
+
+    /// The region's positions.
+    pub fn pos(&self) -> &[[f64; 3]] {
+        &self.region.pos
+    }
+}
+
+/// The cut-out of face `f` of `level`: its own 1-ring, or the shared region of a
+/// high-valence vertex that its 1-ring reaches (see the module docs).
+pub fn cut(level: LevelRef<'_>, f: usize) -> Local {
+    match one_ring(level.topo, f, level.high_valence) {
+        Ok(faces) => {
+            let (topo, verts) = level.topo.subset(&faces);
+            let pos = verts.iter().map(|&v| level.pos[v as usize]).collect();
+            Local {
+                region: Arc::new(Region::whole(topo, pos, false, level.high_valence)),
+                face: 0,
+            }
+        }
+        Err(w) => {
+            let cell = {
+                let mut map = match level.cache.0.lock() {
+                    Ok(m) => m,
+                    Err(poisoned) => poisoned.into_inner(),
+                };
+                map.entry(w).or_default().clone()
+            };
+            let region = cell
+                .get_or_init(|| Arc::new(vertex_region(level, w)))
+                .clone();
+            let face = region
+                .faces
+                .binary_search_by_key(&(f as u32), |&(g, _)| g)
+                .map(|i| region.faces[i].1 as usize);
+            match face {
+                Ok(face) => Local { region, face },
+                // Unreachable by the argument in the module docs; fall back to the
+                // face's own (large) cut-out rather than fail.
+                Err(_) => {
+                    let faces = one_ring_unbounded(level.topo, f);
+                    let (topo, verts) = level.topo.subset(&faces);
+                    let pos = verts.iter().map(|&v| level.pos[v as usize]).collect();
+                    Local {
+                        region: Arc::new(Region::whole(topo, pos, false, level.high_valence)),
+                        face: 0,
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// Faces of the 1-ring of `f`, `f` first, each once; `Err(w)` as soon as a vertex `w` of
+/// more than [`HIGH_VALENCE`] faces is met among the ring's vertices (any such vertex gives
+/// a region that holds the 1-ring).
+fn one_ring(t: &Topology, f: usize, high_valence: usize) -> Result<Vec<u32>, u32> {
+    let big = |v: u32| t.vertex_faces(v as usize).len() > high_valence;
+    let mut faces = vec![f as u32];
+    let add = |g: u32, faces: &mut Vec<u32>| {
+        if !faces.contains(&g) {
             faces.push(g);
         }
     };
     for &v in t.face_vertices(f) {
+        if big(v) {
+            return Err(v);
+        }
         for &g in t.vertex_faces(v as usize) {
             add(g, &mut faces);
         }
     }
-    let ring1 = faces.len();
-    for i in 0..ring1 {
-        for &v in t.face_vertices(faces[i] as usize) {
-            for &g in t.vertex_faces(v as usize) {
-                add(g, &mut faces);
+    for &g in &faces[1..] {
+        if let Some(&w) = t.face_vertices(g as usize).iter().find(|&&v| big(v)) {
+            return Err(w);
+        }
+    }
+    Ok(faces)
+}
+
+/// The 1-ring of `f` whatever the valences.
+fn one_ring_unbounded(t: &Topology, f: usize) -> Vec<u32> {
+    let mut seen = HashSet::from([f as u32]);
+    let mut faces = vec![f as u32];
+    {
+        let end = faces.len();
+        for i in 0..end {
+            for &v in t.face_vertices(faces[i] as usize) {
+                for &g in t.vertex_faces(v as usize) {
+                    if seen.insert(g) {
+                        faces.push(g);
+                    }
+                }
             }
         }
     }
+    faces
+}
+
+/// The shared region of vertex `w`: the faces within three rings of it (module docs).
+fn vertex_region(level: LevelRef<'_>, w: u32) -> Region {
+    let t = level.topo;
+    let mut seen: HashSet<u32> = HashSet::new();
+    let mut faces: Vec<u32> = Vec::new();
+    for &g in t.vertex_faces(w as usize) {
+        if seen.insert(g) {
+            faces.push(g);
+        }
+    }
+    let mut visited: HashSet<u32> = HashSet::from([w]);
+    let mut from = 0;
+    for _ in 0..2 {
+        let end = faces.len();
+        for i in from..end {
+            for &v in t.face_vertices(faces[i] as usize) {
+                if !visited.insert(v) {
+                    continue;
+                }
+                for &g in t.vertex_faces(v as usize) {
+                    if seen.insert(g) {
+                        faces.push(g);
+                    }
+                }
+            }
+        }
+        from = end;
+    }
     let (topo, verts) = t.subset(&faces);
-    let pos = verts.iter().map(|&v| pos[v as usize]).collect();
-    Local { topo, pos, face: 0 }
+    let pos = verts.iter().map(|&v| level.pos[v as usize]).collect();
+    let mut map: Vec<(u32, u32)> = faces
+        .iter()
+        .enumerate()
+        .map(|(i, &g)| (g, i as u32))
+        .collect();
+    map.sort_unstable();
+    Region {
+        topo,
+        pos,
+        shared: true,
+        high_valence: level.high_valence,
+        faces: map,
+        ..Region::default()
+    }
 }

@@ -103,15 +103,28 @@ pub(super) fn regular_corner(t: &Topology, f: usize, k: usize) -> Option<Corner>
     if tag.semi_sharp || crease::is_semi_sharp(t.vertex_sharpness(c)) {
         return None;
     }
+    // Walk the sector: counter-clockwise across the edge entering `c` in each face,
+    // clockwise across the edge leaving it, stopping at infinitely sharp edges. The walk
+    // takes at most four steps; the sector's size rules most corners out before the checks
+    // below that look at every edge of `c` (whose valence may be large).
+    let (ccw, closed) = walk(t, f, c, true);
+    if closed && ccw.len() != 3 {
+        return None;
+    }
+    let cw = if closed {
+        Vec::new()
+    } else {
+        walk(t, f, c, false).0
+    };
+    if !closed && 1 + ccw.len() + cw.len() > 2 {
+        return None;
+    }
     if t.vertex_edges(c)
         .iter()
         .any(|&e| t.edge_tag(e as usize).semi_sharp)
     {
         return None;
     }
-    // Walk the sector: counter-clockwise across the edge entering `c` in each face,
-    // clockwise across the edge leaving it, stopping at infinitely sharp edges.
-    let (ccw, closed) = walk(t, f, c, true);
     let inf_edges = t
         .vertex_edges(c)
         .iter()
@@ -123,7 +136,6 @@ pub(super) fn regular_corner(t: &Topology, f: usize, k: usize) -> Option<Corner>
         let ok = tag.rule == Rule::Smooth && inf_edges == 0 && ccw.len() == 3 && quads(&ccw);
         return ok.then(|| Corner::Closed([ccw[0], ccw[1], ccw[2]]));
     }
-    let (cw, _) = walk(t, f, c, false);
     let sector = 1 + ccw.len() + cw.len();
     let ok = match tag.rule {
         Rule::Crease => inf_edges == 2 && sector == 2,

@@ -4,7 +4,7 @@
 //!
 //! The limit surface is linear in the control points: each sample's position and first
 //! derivatives are weighted sums `Σ wᵢ Pᵢ` over the control points of the sample's face's
-//! 2-ring. The weights are found by evaluating the same exact evaluator as
+//! 1-ring. The weights are found by evaluating the same exact evaluator as
 //! [`LimitSurface`](super::LimitSurface) on unit control points (three at a time, one per
 //! coordinate), so the table reproduces `LimitSurface::eval` to rounding.
 //!
@@ -14,6 +14,7 @@
 //! weights are not meaningful (positions are exact everywhere).
 
 use super::bspline::Derivatives;
+use super::local::{LevelRef, RegionCache};
 use super::surface::{build_face, eval_node, EvalError, SurfacePoint};
 use crate::mesh::{MeshError, Options, PolyMesh, Topology};
 use rayon::prelude::*;
@@ -159,7 +160,8 @@ impl LimitStencils {
 
 /// Stencils of the samples `group` (indices into `points`, all on one face): evaluate the
 /// face's surface built on unit control points, three vertices at a time (one per
-/// coordinate), over the face's 2-ring. `unit` is all zeros on entry and on exit.
+/// coordinate), over the vertices of the face's 1-ring. `unit` is all zeros on entry and
+/// on exit.
 fn face_stencils(
     base: &Topology,
     unit: &mut [[f64; 3]],
@@ -182,7 +184,8 @@ fn face_stencils(
             return Err(err(i, EvalError::BadParameter { u: p.u, v: p.v }));
         }
     }
-    // The 2-ring's vertices: everything the face's surface can depend on.
+    // The vertices of the 1-ring (the faces around the face's vertices): everything the
+    // face's surface can depend on (see `local`).
     let mut ring: Vec<u32> = Vec::new();
     let mut faces: Vec<u32> = vec![f as u32];
     for &v in base.face_vertices(f) {
@@ -193,13 +196,9 @@ fn face_stencils(
         }
     }
     for &g in &faces {
-        for &v in base.face_vertices(g as usize) {
-            for &h in base.vertex_faces(v as usize) {
-                for &w in base.face_vertices(h as usize) {
-                    if !ring.contains(&w) {
-                        ring.push(w);
-                    }
-                }
+        for &w in base.face_vertices(g as usize) {
+            if !ring.contains(&w) {
+                ring.push(w);
             }
         }
     }
@@ -208,7 +207,9 @@ fn face_stencils(
         for (k, &v) in chunk.iter().enumerate() {
             unit[v as usize][k] = 1.0;
         }
-        let nodes = build_face(base, unit, f, options);
+        let cache = RegionCache::default();
+        let level = LevelRef::new(base, unit, &cache);
+        let nodes = build_face(level, f, options);
         for (row, &i) in rows.iter_mut().zip(group) {
             let p = points[i];
             let node = nodes.get(p.subface as usize).ok_or_else(|| {

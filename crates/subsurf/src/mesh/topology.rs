@@ -239,17 +239,25 @@ impl Topology {
             for i in 0..n {
                 let v0 = face_verts[r.start + i];
                 let v1 = face_verts[r.start + (i + 1) % n];
-                let b0 = bucket_start[v0 as usize] as usize;
+                // An edge is in the buckets of both its ends, in creation order: search
+                // the shorter one, so that a vertex of high valence costs its neighbours
+                // nothing (a fan of n faces: O(n) in all, not O(n²)).
+                let (near, far) = if bucket_len[v1 as usize] < bucket_len[v0 as usize] {
+                    (v1, v0)
+                } else {
+                    (v0, v1)
+                };
+                let b0 = bucket_start[near as usize] as usize;
                 // A degenerate edge (a vertex repeated consecutively) is always new.
                 let mut found = if v0 == v1 {
                     None
                 } else {
-                    bucket[b0..b0 + bucket_len[v0 as usize] as usize]
+                    bucket[b0..b0 + bucket_len[near as usize] as usize]
                         .iter()
                         .copied()
                         .find(|&e| {
                             let ev = edge_verts[e as usize];
-                            ev[0] == v1 || ev[1] == v1
+                            ev[0] == far || ev[1] == far
                         })
                 };
                 let mut twice_in_face = false;
