@@ -247,8 +247,47 @@ pub fn render_detailed(
     options: &Options,
     opts: &Render,
 ) -> Result<Rendered, RenderError> {
+    render_surface(mesh, options, opts, None)
+}
+
+/// A surface over the faces of a mesh that the renderer can sample instead of the
+/// Catmull-Clark limit surface (e.g. [`G2Surface`](crate::g2cap::G2Surface)): position and
+/// first and second derivatives at a point, addressed as in
+/// [`LimitSurface`](crate::limit::LimitSurface).
+pub trait SampledSurface: Sync {
+    /// Position and derivatives at `p`.
+    ///
+    /// # Errors
+    /// As [`LimitSurface::eval_point`](crate::limit::LimitSurface::eval_point).
+    fn sample(&self, p: crate::limit::SurfacePoint)
+        -> Result<crate::limit::Derivatives, EvalError>;
+}
+
+impl SampledSurface for crate::limit::LimitSurface {
+    fn sample(
+        &self,
+        p: crate::limit::SurfacePoint,
+    ) -> Result<crate::limit::Derivatives, EvalError> {
+        self.eval_point(p)
+    }
+}
+
+/// [`render_detailed`], drawing `surface` (sampled on the limit surface's grid, see
+/// [`Geometry::Limit`]) instead of the limit surface of `mesh` when given.
+///
+/// # Errors
+/// As [`render`].
+pub fn render_surface(
+    mesh: &PolyMesh,
+    options: &Options,
+    opts: &Render,
+    surface: Option<&dyn SampledSurface>,
+) -> Result<Rendered, RenderError> {
     check(opts)?;
-    let scene = Scene::build(mesh, options, opts)?;
+    let scene = match surface {
+        Some(_) => Scene::build_with(mesh, options, opts, surface)?,
+        None => Scene::build(mesh, options, opts)?,
+    };
     if scene.triangles.is_empty() {
         return Err(RenderError::Empty);
     }

@@ -3,7 +3,7 @@
 
 use super::camera::{Camera, Projected};
 use super::curvature::{Curvature, CurvatureKind};
-use super::{Geometry, Paint, Render, RenderError};
+use super::{Geometry, Paint, Render, RenderError, SampledSurface};
 use crate::geom::{self, V3};
 use crate::limit::{tessellate, LimitSurface, SurfacePoint};
 use crate::mesh::{Options, PolyMesh};
@@ -51,6 +51,17 @@ pub(crate) struct Frame {
 impl Scene {
     /// Builds the scene of `mesh` as `opts` asks.
     pub fn build(mesh: &PolyMesh, options: &Options, opts: &Render) -> Result<Self, RenderError> {
+        Self::build_with(mesh, options, opts, None)
+    }
+
+    /// [`build`](Self::build), sampling `surface` instead of the mesh's limit surface when
+    /// given (for [`Geometry::Limit`]; the grid is the limit surface's tessellation grid).
+    pub fn build_with(
+        mesh: &PolyMesh,
+        options: &Options,
+        opts: &Render,
+        surface: Option<&dyn SampledSurface>,
+    ) -> Result<Self, RenderError> {
         let faces = drawn_faces(mesh, opts.geometry);
         if faces > MAX_DRAWN_FACES as u128 {
             return Err(RenderError::TooLarge {
@@ -64,7 +75,7 @@ impl Scene {
                     Paint::Curvature(k) => Some(k),
                     _ => None,
                 };
-                let grid = LimitGrid::sample(mesh, options, rate, kind.is_some())?;
+                let grid = LimitGrid::sample_with(mesh, options, rate, kind.is_some(), surface)?;
                 Self::from_grid(grid, kind)
             }
             Geometry::Level(levels) => Self::from_level(mesh, options, levels)?,
@@ -433,6 +444,18 @@ impl LimitGrid {
         rate: u32,
         with_curvature: bool,
     ) -> Result<Self, RenderError> {
+        Self::sample_with(mesh, options, rate, with_curvature, None)
+    }
+
+    /// [`sample`](Self::sample) on the same grid, evaluating `other` (positions, normals
+    /// and curvature) instead of the limit surface when given.
+    pub fn sample_with(
+        mesh: &PolyMesh,
+        options: &Options,
+        rate: u32,
+        with_curvature: bool,
+        other: Option<&dyn SampledSurface>,
+    ) -> Result<Self, RenderError> {
         let surface = LimitSurface::new(mesh, *options)?;
         let t = tessellate(&surface, mesh, options, rate, false)?;
         let mut g = LimitGrid {
@@ -496,9 +519,16 @@ impl LimitGrid {
         }
         let mut curv = Vec::new();
         for (i, chunk) in g.points.chunks(CHUNK).enumerate() {
-            for (j, d) in surface.eval_many(chunk).into_iter().enumerate() {
+            let evaluated = match other {
+                Some(o) => chunk.par_iter().map(|&p| o.sample(p)).collect(),
+                None => surface.eval_many(chunk),
+            };
+            for (j, d) in evaluated.into_iter().enumerate() {
                 let d = d?;
                 let k = i * CHUNK + j;
+                if other.is_some() {
+                    g.positions[k] = d.p;
+                }
                 let n = d.normal();
                 g.normals.push(if n == [0.0; 3] { fallback[k] } else { n });
                 if with_curvature {

@@ -1,0 +1,377 @@
+//! Output of a [`G2Surface`]: a tessellation ([`tessellate`]) and its patches as Bézier
+//! control points ([`patches_json`]).
+
+use super::bezier::BezierPatch;
+use super::surface::{G2Surface, PatchRef};
+use super::G2Error;
+use crate::limit::{SurfacePoint, Tessellation};
+use crate::mesh::PolyMesh;
+use rayon::prelude::*;
+use std::collections::HashMap;
+
+/// A sample: position and unit normal.
+type Sample = ([f64; 3], [f64; 3]);
+
+/// The sample grid of one (sub-)face: `(face, subface, segments)`.
+fn grids(surface: &G2Surface, mesh: &PolyMesh, rate: u32) -> Vec<(u32, u32, u32)> {
+    let limit = surface.limit();
+    let mut out = Vec::new();
+    for f in 0..mesh.num_faces() {
+        if !limit.has_surface(f) {
+            continue;
+        }
+        let n = limit.num_subfaces(f);
+        let m = if mesh.face(f).len() == 4 {
+            rate
+        } else {
+            rate.div_ceil(2)
+        };
+        for s in 0..n {
+            out.push((f as u32, s as u32, m.max(1)));
+        }
+    }
+    out
+}
+
+/// Samples the G2 surface on a `rate × rate` grid per quad face (`rate/2 × rate/2` per
+/// sub-face of an `n`-gon; with `n`-gons an odd rate is rounded up to even, see
+/// [`Tessellation::rate`]), with unit normals from the exact derivatives. Samples on the boundary of
+/// a grid that coincide with a sample of a neighbouring grid (the same point of the
+/// surface reached from two faces or patches; they agree to rounding, see
+/// [`continuity_report`](super::continuity_report)) are merged into one vertex — closer than
+/// `1e-9` of the mesh's size — so the output is watertight wherever the neighbouring grids
+/// sample the same points (always on quad meshes). Faces are quads, counter-clockwise
+/// like their base faces; [`Tessellation::source`] gives the base face and sub-face.
+///
+/// # Errors
+/// [`G2Error::Eval`] if a sample cannot be evaluated (not expected); [`G2Error::Rate`] if
+/// `rate` is 0 or the output would not fit `u32` indices.
+pub fn tessellate(
+    surface: &G2Surface,
+    mesh: &PolyMesh,
+    rate: u32,
+) -> Result<Tessellation, G2Error> {
+    if rate == 0 {
+        return Err(G2Error::Rate {
+            rate,
+            reason: "the rate must be at least 1",
+        });
+    }
+    // As `limit::tessellate`: an n-gon's sub-faces cover half edges, so with n-gons the
+    // rate is rounded up to even for both sides of every edge to get the same samples.
+    let has_ngon =
+        (0..mesh.num_faces()).any(|f| mesh.face(f).len() != 4 && surface.limit().has_surface(f));
+    let rate = if has_ngon && rate % 2 == 1 {
+        rate.saturating_add(1)
+    } else {
+        rate
+    };
+    let grids = grids(surface, mesh, rate);
+    let total: u64 = grids.iter().map(|g| (g.2 as u64 + 1).pow(2)).sum();
+    if total >= u32::MAX as u64 / 2 {
+        return Err(G2Error::Rate {
+            rate,
+            reason: "too many samples for 32-bit indices",
+        });
+    }
+    let evaluated: Vec<Result<Vec<Sample>, G2Error>> = grids
+        .par_iter()
+        .map(|&(face, subface, m)| {
+            let mut v = Vec::with_capacity(((m + 1) * (m + 1)) as usize);
+            for j in 0..=m {
+                for i in 0..=m {
+                    let p = SurfacePoint {
+                        face,
+                        subface,
+                        u: i as f64 / m as f64,
+                        v: j as f64 / m as f64,
+                    };
+                    let d = surface.eval_point(p)?;
+                    v.push((d.p, d.normal()));
+                }
+            }
+            Ok(v)
+        })
+        .collect();
+    let tol = 1e-9 * surface.size();
+    let cell = |p: &[f64; 3]| -> [i64; 3] {
+        [
+            (p[0] / (4.0 * tol)).floor() as i64,
+            (p[1] / (4.0 * tol)).floor() as i64,
+            (p[2] / (4.0 * tol)).floor() as i64,
+        ]
+    };
+    let mut t = Tessellation {
+        rate,
+        ..Default::default()
+    };
+    let mut buckets: HashMap<[i64; 3], Vec<u32>> = HashMap::new();
+    t.face_offsets.push(0);
+    for (&(face, subface, m), samples) in grids.iter().zip(evaluated) {
+        let samples = samples?;
+        let mut ids = Vec::with_capacity(samples.len());
+        for (k, (p, n)) in samples.iter().enumerate() {
+            let (i, j) = (k as u32 % (m + 1), k as u32 / (m + 1));
+            let on_border = i == 0 || j == 0 || i == m || j == m;
+            let mut found = None;
+            if on_border {
+                let c = cell(p);
+                'search: for dx in -1..=1 {
+                    for dy in -1..=1 {
+                        for dz in -1..=1 {
+                            if let Some(list) = buckets.get(&[c[0] + dx, c[1] + dy, c[2] + dz]) {
+                                for &q in list {
+                                    let o = t.positions[q as usize];
+                                    let d2: f64 = (0..3).map(|a| (o[a] - p[a]).powi(2)).sum();
+                                    if d2 <= tol * tol {
+                                        found = Some(q);
+                                        break 'search;
+                                    }
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+            let id = match found {
+                Some(q) => q,
+                None => {
+                    let q = t.positions.len() as u32;
+                    t.positions.push(*p);
+                    t.normals.push(*n);
+                    if on_border {
+                        buckets.entry(cell(p)).or_default().push(q);
+                    }
+                    q
+                }
+            };
+            ids.push(id);
+        }
+        let at = |i: u32, j: u32| ids[(j * (m + 1) + i) as usize];
+        for j in 0..m {
+            for i in 0..m {
+                t.face_verts
+                    .extend([at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)]);
+                t.face_offsets.push(t.face_verts.len() as u32);
+                t.source.push((face, subface));
+            }
+        }
+    }
+    Ok(t)
+}
+
+/// One patch of [`patches_json`].
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct PatchJson {
+    /// Base face.
+    pub face: u32,
+    /// Sub-face (0 for quads).
+    pub subface: u32,
+    /// The patch's square of the (sub-)face's parameter domain: `[u0, v0, u1, v1]`.
+    pub domain: [f64; 4],
+    /// For cap patches: the corner of the (sub-)face at the extraordinary vertex (the
+    /// patch's `(0, 0)`), else `null`: then the patch's `(0, 0)` is `(u0, v0)` and `u`
+    /// runs along the face's `u`.
+    pub corner: Option<u8>,
+    /// Degree in `u` and `v` (7 for caps, 3 for bicubic patches).
+    pub degree: usize,
+    /// `(degree + 1)²` control points `[x, y, z]`, row-major with the first index along
+    /// the patch's `u`.
+    pub points: Vec<[f64; 3]>,
+}
+
+/// One cap of [`patches_json`].
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct CapJson {
+    /// The extraordinary vertex, or `null` for the centre of a face.
+    pub vertex: Option<usize>,
+    /// The face, for a face centre.
+    pub face_centre: Option<usize>,
+    /// Valence `n`.
+    pub valence: usize,
+    /// The `n` bi-septic patches in order around the vertex.
+    pub patches: Vec<PatchJson>,
+}
+
+/// The mixed-subdivision parameters of a [`SurfaceJson`].
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct MixedJson {
+    /// Shape parameter `c` of the adjustable scheme.
+    pub c: f64,
+    /// Number of adjustable steps `k` before Catmull-Clark.
+    pub adjust_steps: u32,
+}
+
+/// The document of [`patches_json`].
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct SurfaceJson {
+    /// `"subsurf-g2"`.
+    pub format: &'static str,
+    /// Schema version (1).
+    pub version: u32,
+    /// Isolation levels `L`: bicubic squares have side `2⁻ᴸ` (`2¹⁻ᴸ` on sub-faces).
+    pub levels: u32,
+    /// For the G2 surface of a mixed surface ([`G2Surface::new_mixed`]): its parameters
+    /// (absent for Catmull-Clark).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub mixed: Option<MixedJson>,
+    /// The caps.
+    pub caps: Vec<CapJson>,
+    /// The bicubic patches of the rest of the surface.
+    pub bicubic: Vec<PatchJson>,
+    /// Squares of the rest whose surface is not a single bicubic (next to boundaries,
+    /// creases or uncapped vertices): `[face, subface, i, j]` with the square
+    /// `[i, i+1] × [j, j+1]` in units of the square side.
+    pub not_polynomial: Vec<[u32; 4]>,
+    /// Extraordinary vertices (or face centres) without a cap: `[vertex or -1, face or -1,
+    /// valence]` with the reason in `uncapped_reasons`.
+    pub uncapped: Vec<[i64; 3]>,
+    /// Why each entry of `uncapped` has no cap.
+    pub uncapped_reasons: Vec<&'static str>,
+}
+
+impl SurfaceJson {
+    /// The document as compact JSON text (shortest round-trip `f64` digits).
+    pub fn to_json(&self) -> String {
+        // Serialising plain numbers, strings and vectors cannot fail.
+        serde_json::to_string(self).unwrap_or_default()
+    }
+}
+
+fn cap_patch(slot: &PatchRef, patch: &BezierPatch) -> PatchJson {
+    let (u0, v0) = slot.to_face(0.0, 0.0);
+    let (u1, v1) = slot.to_face(1.0, 1.0);
+    PatchJson {
+        face: slot.face,
+        subface: slot.subface,
+        domain: [u0.min(u1), v0.min(v1), u0.max(u1), v0.max(v1)],
+        corner: Some(slot.corner),
+        degree: patch.degree(),
+        points: patch.points().to_vec(),
+    }
+}
+
+/// The whole G2 surface as Bézier patches: the caps (degree 7) and, on the squares of
+/// side `2⁻ᴸ` of every (sub-)face outside the caps, the bicubic patches (degree 3,
+/// recovered exactly from the Catmull-Clark surface by interpolation and checked; squares
+/// that are not bicubic are listed in `not_polynomial`). Schema in the README.
+///
+/// # Errors
+/// [`G2Error::Eval`] if the Catmull-Clark surface cannot be evaluated (not expected).
+pub fn patches_json(surface: &G2Surface, mesh: &PolyMesh) -> Result<SurfaceJson, G2Error> {
+    let caps = surface
+        .caps()
+        .iter()
+        .map(|c| CapJson {
+            vertex: c.vertex,
+            face_centre: c.face_centre,
+            valence: c.slots.len(),
+            patches: c
+                .slots
+                .iter()
+                .zip(c.cap.patches())
+                .map(|(s, p)| cap_patch(s, p))
+                .collect(),
+        })
+        .collect();
+    let limit = surface.limit();
+    let levels = surface.levels();
+    let mut squares = Vec::new();
+    for f in 0..mesh.num_faces() {
+        if !limit.has_surface(f) {
+            continue;
+        }
+        let quad = mesh.face(f).len() == 4;
+        let k = 1u32 << if quad { levels } else { levels - 1 };
+        for s in 0..limit.num_subfaces(f) as u32 {
+            for j in 0..k {
+                for i in 0..k {
+                    let h = 1.0 / k as f64;
+                    let centre = SurfacePoint {
+                        face: f as u32,
+                        subface: s,
+                        u: (i as f64 + 0.5) * h,
+                        v: (j as f64 + 0.5) * h,
+                    };
+                    if surface.locate(centre).is_none() {
+                        squares.push((f as u32, s, i, j, h));
+                    }
+                }
+            }
+        }
+    }
+    let size = surface.size();
+    let fitted: Vec<Option<PatchJson>> = squares
+        .par_iter()
+        .map(|&(face, subface, i, j, h)| {
+            let at = |s: f64, t: f64| SurfacePoint {
+                face,
+                subface,
+                u: ((i as f64 + s) * h).clamp(0.0, 1.0),
+                v: ((j as f64 + t) * h).clamp(0.0, 1.0),
+            };
+            let mut ok = true;
+            let patch =
+                BezierPatch::interpolate(3, |s, t| match surface.eval_uncapped(at(s, t)) {
+                    Ok(d) => d.p,
+                    Err(_) => {
+                        ok = false;
+                        [0.0; 3]
+                    }
+                })?;
+            for &(s, t) in &[(0.13, 0.71), (0.91, 0.07), (0.0, 1.0), (0.5, 0.5)] {
+                let q = surface.eval_uncapped(at(s, t)).ok()?.p;
+                let p = patch.derivative(s, t, 0, 0);
+                if (0..3).any(|a| (p[a] - q[a]).abs() > 1e-9 * size) {
+                    ok = false;
+                }
+            }
+            ok.then(|| PatchJson {
+                face,
+                subface,
+                domain: [
+                    i as f64 * h,
+                    j as f64 * h,
+                    (i + 1) as f64 * h,
+                    (j + 1) as f64 * h,
+                ],
+                corner: None,
+                degree: 3,
+                points: patch.points().to_vec(),
+            })
+        })
+        .collect();
+    let mut bicubic = Vec::new();
+    let mut not_polynomial = Vec::new();
+    for (sq, p) in squares.iter().zip(fitted) {
+        match p {
+            Some(p) => bicubic.push(p),
+            None => not_polynomial.push([sq.0, sq.1, sq.2, sq.3]),
+        }
+    }
+    let uncapped = surface
+        .uncapped()
+        .iter()
+        .map(|u| {
+            [
+                u.vertex.map_or(-1, |v| v as i64),
+                u.face.map_or(-1, |f| f as i64),
+                u.valence as i64,
+            ]
+        })
+        .collect();
+    Ok(SurfaceJson {
+        format: "subsurf-g2",
+        version: 1,
+        levels,
+        mixed: surface.mixed().map(|m| MixedJson {
+            c: m.mixed().scheme.c(),
+            adjust_steps: m.mixed().steps,
+        }),
+        caps,
+        bicubic,
+        not_polynomial,
+        uncapped,
+        uncapped_reasons: surface.uncapped().iter().map(|u| u.reason).collect(),
+    })
+}
