@@ -36,7 +36,8 @@ Examples:
   subsurf subdivide shape.obj -o shape-limit.obj --limit   (limit positions + normals)
   subsurf subdivide grid.obj -o grid-l2.obj --boundary edge-and-corner
   subsurf subdivide big.obj -o big-l4.obj -l 4 --max-memory 8G
-  cat cube.obj | subsurf subdivide - -o - -l 1 > cube-l1.obj";
+  cat cube.obj | subsurf subdivide - -o - -l 1 > cube-l1.obj
+  subsurf subdivide knots.obj -o knots-l2.obj --scheme nurss   (knot intervals: t interval)";
 
 const INFO_EXAMPLES: &str = "\
 Examples:
@@ -83,6 +84,26 @@ enum Command {
     /// Read NURBS curves and surfaces (JSON or OBJ free-form): summary, conversion, samples.
     #[command(after_help = NURBS_EXAMPLES)]
     Nurbs(NurbsArgs),
+    /// Build a mesh whose smooth (NURSS) limit surface passes through cubic NURBS curves.
+    #[command(after_help = cmd::interpolate::INTERPOLATE_EXAMPLES)]
+    Interpolate(cmd::interpolate::InterpolateArgs),
+    /// Sample the sub-basis spline surface (seed 000) on a watertight grid; write OBJ, PLY or STL.
+    #[command(after_help = cmd::spline::SPLINE_EXAMPLES)]
+    Spline(cmd::spline::SplineArgs),
+    /// Certify that the limit surface is regular (no vanishing normal, no fold) from the
+    /// control net's difference cones (seed 004); exit 3 when not certified.
+    #[command(after_help = cmd::regularity::REGULARITY_EXAMPLES)]
+    Regularity(cmd::regularity::RegularityArgs),
+    /// Replace the surface at extraordinary vertices by G2 bi-septic caps (seed 003); write a
+    /// tessellation (OBJ) or the patches' control points (JSON), optionally a continuity report.
+    #[command(after_help = cmd::g2::G2_EXAMPLES)]
+    G2(cmd::g2::G2Args),
+    /// Blend N bicubic B-spline patches C2 with a NURSS surface (skirt removal, seed 002).
+    #[command(after_help = cmd::blend::BLEND_EXAMPLES)]
+    Blend(cmd::blend::BlendArgs),
+    /// Fill an N-sided hole bounded by cubic curves or patches (corner interpolating, seed 002).
+    #[command(after_help = cmd::fill::FILL_EXAMPLES)]
+    Fill(cmd::fill::FillArgs),
 }
 
 const NURBS_EXAMPLES: &str = "\
@@ -134,6 +155,10 @@ pub struct LimitArgs {
     /// Output file ('-' for standard output).
     #[arg(short, long, value_name = "OUT")]
     pub output: PathBuf,
+    /// Refuse to start when the estimated memory exceeds this (suffixes K, M, G, T: powers
+    /// of 1024) [default: the memory the system reports as available].
+    #[arg(long, value_name = "BYTES", value_parser = parse_bytes)]
+    pub max_memory: Option<u64>,
     #[command(flatten)]
     pub scheme: SchemeArgs,
 }
@@ -171,8 +196,19 @@ pub struct TessellateArgs {
     /// With a .glb output: add the input mesh's edges as lines (a "control mesh" node).
     #[arg(long)]
     pub control_mesh: bool,
+    /// Refuse to start when the estimated memory exceeds this (suffixes K, M, G, T: powers
+    /// of 1024) [default: the memory the system reports as available].
+    #[arg(long, value_name = "BYTES", value_parser = parse_bytes)]
+    pub max_memory: Option<u64>,
     #[command(flatten)]
     pub scheme: SchemeArgs,
+    /// Surface to sample [default: nurss when the file has knot interval or weight tags,
+    /// adjustable with --c, else catmull-clark]. NURSS is sampled through refinement: the
+    /// rate is rounded up to a power of two and normals are those of the sampled mesh.
+    #[arg(long = "scheme", id = "scheme_kind", value_name = "SCHEME", value_enum)]
+    pub scheme_kind: Option<SchemeKind>,
+    #[command(flatten)]
+    pub adjust: AdjustArgs,
     /// Print no warnings or notes.
     #[arg(short, long)]
     pub quiet: bool,
@@ -245,8 +281,14 @@ pub struct RenderArgs {
     /// Picture size in pixels.
     #[arg(long, value_name = "WxH", default_value = "800x600", value_parser = cmd::render::parse_size)]
     pub size: (u32, u32),
+    /// Refuse to start when the estimated memory exceeds this (suffixes K, M, G, T: powers
+    /// of 1024) [default: the memory the system reports as available].
+    #[arg(long, value_name = "BYTES", value_parser = parse_bytes)]
+    pub max_memory: Option<u64>,
     #[command(flatten)]
     pub scheme: SchemeArgs,
+    #[command(flatten)]
+    pub adjust: AdjustArgs,
     /// Print no warnings or notes.
     #[arg(short, long)]
     pub quiet: bool,
@@ -282,6 +324,10 @@ pub struct BenchArgs {
     /// not timed) and time applying it to the base positions.
     #[arg(long, conflicts_with = "limit_grid")]
     pub replay: bool,
+    /// Refuse to start when the estimated memory exceeds this (suffixes K, M, G, T: powers
+    /// of 1024) [default: the memory the system reports as available].
+    #[arg(long, value_name = "BYTES", value_parser = parse_bytes)]
+    pub max_memory: Option<u64>,
     #[command(flatten)]
     pub scheme: SchemeArgs,
 }
@@ -300,6 +346,12 @@ pub struct SubdivideArgs {
     pub levels: u32,
     #[command(flatten)]
     pub scheme: SchemeArgs,
+    /// Subdivision scheme [default: nurss when the file has knot interval or weight tags
+    /// (t interval, t sideinterval, t weight), else catmull-clark].
+    #[arg(long = "scheme", id = "scheme_kind", value_name = "SCHEME", value_enum)]
+    pub scheme_kind: Option<SchemeKind>,
+    #[command(flatten)]
+    pub adjust: AdjustArgs,
     /// Move the last level's vertices to the limit surface and write limit normals.
     #[arg(long)]
     pub limit: bool,
@@ -336,6 +388,33 @@ pub struct SubdivideArgs {
     /// Print no warnings and no progress bar.
     #[arg(short, long)]
     pub quiet: bool,
+}
+
+/// The subdivision scheme of `subsurf subdivide`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum SchemeKind {
+    /// Catmull-Clark, exactly as OpenSubdiv.
+    CatmullClark,
+    /// Shape-adjustable Catmull-Clark with parameter --c (0.5 is Catmull-Clark).
+    Adjustable,
+    /// Non-uniform Catmull-Clark (NURSS): knot intervals on edges and rational weights from
+    /// the file's tags (untagged edges: interval 1; all equal: Catmull-Clark).
+    Nurss,
+}
+
+/// Flags of the shape-adjustable scheme.
+#[derive(Debug, Args)]
+pub struct AdjustArgs {
+    /// Shape parameter of the adjustable scheme, in [0, 1]: 0.5 is Catmull-Clark, smaller
+    /// stays closer to the control mesh (0: the mesh itself), larger moves away from it
+    /// (subdivide: with --scheme adjustable; tessellate, render: the mixed limit surface,
+    /// and render --control-mesh then draws the c-refined mesh; g2: its G2 surface).
+    #[arg(long = "c", value_name = "C", allow_negative_numbers = true, value_parser = cmd::adjustable::parse_c)]
+    pub c: Option<f64>,
+    /// Use the adjustable scheme for the first K steps only, then Catmull-Clark (mixed
+    /// subdivision) [default: subdivide: every level; tessellate, render, g2: 1].
+    #[arg(long, value_name = "K", requires = "c")]
+    pub adjust_steps: Option<u32>,
 }
 
 /// Scheme flags; each overrides the file's tag only when given.
@@ -442,11 +521,19 @@ fn main() -> ExitCode {
         Command::Tessellate(args) => cmd::tessellate::run(args),
         Command::Render(args) => cmd::render::run(args),
         Command::Nurbs(args) => cmd::nurbs::run(args),
+        Command::Interpolate(args) => cmd::interpolate::run(args),
+        Command::Spline(args) => cmd::spline::run(args),
+        Command::Regularity(args) => cmd::regularity::run(args),
+        Command::G2(args) => cmd::g2::run(args),
+        Command::Blend(args) => cmd::blend::run(args),
+        Command::Fill(args) => cmd::fill::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
         // `subsurf ... -o - | head`: the reader went away; that is not our failure.
         Err(e) if is_broken_pipe(&e) => ExitCode::SUCCESS,
+        // The report was printed; the net is not certified.
+        Err(e) if e.is::<cmd::regularity::NotCertified>() => ExitCode::from(3),
         Err(e) => {
             eprintln!("error: {e:#}");
             ExitCode::FAILURE

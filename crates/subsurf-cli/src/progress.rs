@@ -62,6 +62,11 @@ impl Progress {
     pub fn warn(&self, msg: &str) {
         self.bar.suspend(|| eprintln!("warning: {msg}"));
     }
+
+    /// Prints `note: {msg}` on stderr (information, not a problem), clearing the bar.
+    pub fn note(&self, msg: &str) {
+        self.bar.suspend(|| eprintln!("note: {msg}"));
+    }
 }
 
 impl Drop for Progress {

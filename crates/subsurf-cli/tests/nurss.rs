@@ -237,3 +237,79 @@ fn unknown_scheme_is_a_usage_error() {
     );
     assert_code(&o, 2);
 }
+
+#[test]
+fn tessellate_samples_the_nurss_limit_through_refinement() {
+    let dir = dir_with(&[("grid.obj", GRID)]);
+    let o = run_in(
+        dir.path(),
+        &["tessellate", "grid.obj", "-o", "t.obj", "--rate", "3"],
+    );
+    assert_code(&o, 0);
+    let err = stderr(&o);
+    assert!(
+        err.contains("sampling the non-uniform (NURSS) surface"),
+        "{err}"
+    );
+    assert!(err.contains("rate 3 rounded up to 4"), "{err}");
+    // Every sample is a NURSS limit point of level 2 (what subdivide --limit -l 2 writes).
+    let o = run_in(
+        dir.path(),
+        &[
+            "subdivide",
+            "grid.obj",
+            "-o",
+            "l2.obj",
+            "-l",
+            "2",
+            "--limit",
+            "-q",
+        ],
+    );
+    assert_code(&o, 0);
+    let t = read(dir.path(), "t.obj");
+    let l2 = read(dir.path(), "l2.obj");
+    assert_eq!(t.mesh.num_vertices(), l2.mesh.num_vertices());
+    for p in t.mesh.positions() {
+        assert!(
+            l2.mesh.positions().contains(p),
+            "{p:?} is not a limit point"
+        );
+    }
+    assert_eq!(t.normals.len(), t.mesh.num_vertices());
+    // --scheme catmull-clark samples the other surface; --c with nurss is a usage error.
+    let o = run_in(
+        dir.path(),
+        &[
+            "tessellate",
+            "grid.obj",
+            "-o",
+            "cc.obj",
+            "--rate",
+            "4",
+            "--scheme",
+            "catmull-clark",
+        ],
+    );
+    assert_code(&o, 0);
+    assert_ne!(
+        read(dir.path(), "cc.obj").mesh.positions(),
+        t.mesh.positions()
+    );
+    let o = run_in(
+        dir.path(),
+        &[
+            "tessellate",
+            "grid.obj",
+            "-o",
+            "x.obj",
+            "--rate",
+            "4",
+            "--scheme",
+            "nurss",
+            "--c",
+            "0.3",
+        ],
+    );
+    assert_code(&o, 2);
+}

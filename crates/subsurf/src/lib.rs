@@ -26,21 +26,29 @@
 //! Layers, bottom-up (see `ARCHITECTURE.md`): [`mesh`] (polygon meshes and their adjacency),
 //! [`scheme`] (subdivision weights only), [`refine`] (topology refinement once, then fast
 //! application to any primvar), [`limit`] (limit masks), [`io`] (files), and the one-call
-//! facade [`subdivide`].
+//! facade [`subdivide`]. [`nurss`] is non-uniform Catmull-Clark (knot intervals on edges,
+//! rational weights), on the same topology refinement.
 #![warn(missing_docs)]
 // Geometry kernels walk several parallel arrays with one index; iterator chains would hide that.
 #![allow(clippy::needless_range_loop)]
 
+pub mod blend;
+pub mod g2cap;
+pub mod interpolate;
 pub mod io;
 pub mod limit;
 pub mod mesh;
 pub mod nurbs;
+pub mod nurss;
 pub mod refine;
+pub mod regularity;
 pub mod render;
 pub mod scheme;
+pub mod spline;
 
 mod geom;
 mod info;
+mod mixed;
 mod subdivide;
 
 /// The README's examples, compiled and run as doc tests.
@@ -52,3 +60,5 @@ pub use info::{mesh_info, MeshInfo};
 pub use subdivide::{
     estimate_memory, subdivide, subdivide_with_progress, Error, SubdivideOptions, Subdivision,
 };
+pub use mixed::{Mixed, MixedSurface};
+pub use subdivide::{subdivide_mixed, subdivide_mixed_with_progress};

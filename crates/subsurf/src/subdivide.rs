@@ -2,8 +2,9 @@
 
 use crate::limit;
 use crate::mesh::{Corner, Crease, MeshError, Options, PolyMesh, Tags, Topology, TopologyWarning};
+use crate::mixed::Mixed;
 use crate::refine::interpolate;
-use crate::refine::refine_topology;
+use crate::refine::{interpolate_adjustable, refine_topology};
 
 /// What [`subdivide`] should do.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -101,6 +102,46 @@ pub fn subdivide_with_progress(
     opts: &SubdivideOptions,
     progress: &mut dyn FnMut(u32, u32),
 ) -> Result<Subdivision, Error> {
+    subdivide_steps(mesh, opts, None, progress)
+}
+
+/// Mixed subdivision: like [`subdivide`], but the first `mixed.steps` levels use the
+/// shape-adjustable masks with parameter `mixed.scheme` ([`crate::scheme::adjustable`]),
+/// the remaining levels Catmull-Clark. Topology, numbering, tags and sharpness decay are
+/// those of [`subdivide`]; with `c = ½` the result is [`subdivide`]'s (to rounding).
+///
+/// With `opts.limit` the last level is moved to its Catmull-Clark limit: the limit of the
+/// mixed scheme with `min(mixed.steps, opts.levels)` adjustable steps (see
+/// [`MixedSurface`](crate::MixedSurface) for evaluation anywhere on it).
+///
+/// # Errors
+/// As [`subdivide`].
+pub fn subdivide_mixed(
+    mesh: &PolyMesh,
+    opts: &SubdivideOptions,
+    mixed: Mixed,
+) -> Result<Subdivision, Error> {
+    subdivide_steps(mesh, opts, Some(mixed), &mut |_, _| {})
+}
+
+/// [`subdivide_mixed`], calling `progress(level_done, levels)` after each level.
+pub fn subdivide_mixed_with_progress(
+    mesh: &PolyMesh,
+    opts: &SubdivideOptions,
+    mixed: Mixed,
+    progress: &mut dyn FnMut(u32, u32),
+) -> Result<Subdivision, Error> {
+    subdivide_steps(mesh, opts, Some(mixed), progress)
+}
+
+/// The refinement loop of [`subdivide`] and [`subdivide_mixed`]: level `l` uses the
+/// adjustable masks when `l <= mixed.steps`, Catmull-Clark otherwise.
+fn subdivide_steps(
+    mesh: &PolyMesh,
+    opts: &SubdivideOptions,
+    mixed: Option<Mixed>,
+    progress: &mut dyn FnMut(u32, u32),
+) -> Result<Subdivision, Error> {
     mesh.validate()?;
     let estimate = estimate_memory(mesh, opts);
     if let Some(limit) = opts.max_memory {
@@ -131,7 +172,12 @@ pub fn subdivide_with_progress(
         let full = l < opts.levels || opts.limit;
         let child = refine_topology(&level, &opts.scheme, full);
         let mut next = vec![[0.0; 3]; child.num_vertices()];
-        interpolate(&level, &child, &opts.scheme, &pos, &mut next);
+        match mixed {
+            Some(m) if l <= m.steps => {
+                interpolate_adjustable(&level, &child, &opts.scheme, m.scheme, &pos, &mut next)
+            }
+            _ => interpolate(&level, &child, &opts.scheme, &pos, &mut next),
+        }
         level = child;
         pos = next;
         progress(l, opts.levels);

@@ -159,6 +159,32 @@ fn to_text(input: &Input, info: &MeshInfo, options: &Options, src: &Sources) -> 
         }
         None => lines.push(("bounding box", "none (no vertices)".to_owned())),
     }
+    let knots = subsurf::nurss::knot_summary(&input.obj.mesh);
+    if !input.obj.mesh.knots.is_empty() {
+        let range = |r: Option<(f64, f64)>| {
+            r.map_or(String::new(), |(a, b)| {
+                format!(", from {} to {}", short(a), short(b))
+            })
+        };
+        lines.push((
+            "knot intervals",
+            format!(
+                "{} tagged edges{}, {} zero (untagged edges: 1)",
+                knots.tagged_edges,
+                range(knots.interval_range),
+                knots.zero_interval_edges
+            ),
+        ));
+        lines.push(("side intervals", knots.side_intervals.to_string()));
+        lines.push((
+            "rational weights",
+            format!(
+                "{} weighted vertices{}",
+                knots.weighted_vertices,
+                range(knots.weight_range)
+            ),
+        ));
+    }
     if !input.obj.unsupported_tags.is_empty() {
         let names: Vec<&str> = input
             .obj
@@ -188,6 +214,29 @@ fn histogram_json(pairs: &[(usize, usize)], key: &str) -> Json {
             .map(|&(k, n)| Json::obj([(key, Json::count(k)), ("count", Json::count(n))]))
             .collect(),
     )
+}
+
+/// The knot tag statistics as JSON (`min`/`max` null when there are none).
+fn knots_json(mesh: &subsurf::mesh::PolyMesh) -> Json {
+    let k = subsurf::nurss::knot_summary(mesh);
+    let range = |r: Option<(f64, f64)>, a: &'static str, b: &'static str| {
+        let (lo, hi) = r.map_or((Json::Null, Json::Null), |(x, y)| {
+            (Json::Num(x), Json::Num(y))
+        });
+        [(a, lo), (b, hi)]
+    };
+    let [imin, imax] = range(k.interval_range, "min_interval", "max_interval");
+    let [wmin, wmax] = range(k.weight_range, "min_weight", "max_weight");
+    Json::obj([
+        ("tagged_edges", Json::count(k.tagged_edges)),
+        imin,
+        imax,
+        ("zero_interval_edges", Json::count(k.zero_interval_edges)),
+        ("side_intervals", Json::count(k.side_intervals)),
+        ("weighted_vertices", Json::count(k.weighted_vertices)),
+        wmin,
+        wmax,
+    ])
 }
 
 fn option_json<T: ToString>(value: Option<T>) -> Json {
@@ -253,6 +302,7 @@ fn to_json(input: &Input, info: &MeshInfo, options: &Options, src: &Sources) -> 
             ]),
         ),
         ("bounding_box", bounding_box),
+        ("knots", knots_json(&input.obj.mesh)),
         (
             "unsupported_tags",
             Json::Arr(

@@ -45,8 +45,36 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         }
         opts.geometry = Geometry::Limit { rate };
     }
-    let r =
-        render_detailed(&input.obj.mesh, &options, &opts).with_context(|| input.name.clone())?;
+    // With --c: the mixed surface, drawn as the limit of the c-refined mesh.
+    let refined = match super::adjustable::for_surface(&args.adjust) {
+        Some(_) if args.level.is_some() => super::adjustable::usage_error(
+            "--c draws the mixed limit surface; it does not combine with --level",
+        ),
+        Some(m) => {
+            if let Geometry::Limit { rate } = opts.geometry {
+                let rate = super::adjustable::refined_rate(rate, m.steps);
+                opts.geometry = Geometry::Limit { rate };
+            }
+            Some(super::adjustable::refined_mesh(&input, options, m)?)
+        }
+        None => None,
+    };
+    let mesh = refined.as_ref().unwrap_or(&input.obj.mesh);
+    let (what, hint) = match opts.geometry {
+        Geometry::Level(l) => (format!("drawing level {l}"), "use a lower --level"),
+        Geometry::Limit { rate } => (
+            format!("drawing the limit surface at rate {rate}"),
+            "use a lower --limit-rate",
+        ),
+    };
+    crate::memory::check(
+        &input.name,
+        &what,
+        estimate_memory(mesh, &options, &opts),
+        args.max_memory,
+        hint,
+    )?;
+    let r = render_detailed(mesh, &options, &opts).with_context(|| input.name.clone())?;
     if let (Some((lo, hi)), false) = (r.curvature_range, args.quiet) {
         eprintln!(
             "note: {}: {} curvature colour range {lo:.6e} .. {hi:.6e}",
@@ -55,6 +83,36 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         );
     }
     out.write(|w| write_png(w, &r.image))
+}
+
+/// Peak bytes per drawn vertex (measured: 307 at 6 million, with exact limit normals).
+const BYTES_PER_VERTEX: u64 = 320;
+/// Bytes per pixel (colour, depth and the PNG encoder's buffers; measured: 7).
+const BYTES_PER_PIXEL: u64 = 16;
+
+/// Estimated peak memory of drawing `mesh` with `opts`: the picture, the drawn vertices
+/// (and the exact limit surface, or the refinement for `--level`).
+fn estimate_memory(mesh: &subsurf::mesh::PolyMesh, options: &Options, opts: &Render) -> u64 {
+    let pixels = u64::from(opts.width) * u64::from(opts.height) * BYTES_PER_PIXEL;
+    let geometry = match opts.geometry {
+        Geometry::Limit { rate } => crate::memory::surface(mesh).saturating_add(
+            crate::memory::tessellation_vertices(mesh, rate).saturating_mul(BYTES_PER_VERTEX),
+        ),
+        Geometry::Level(0) => (mesh.face_verts().len() as u64).saturating_mul(BYTES_PER_VERTEX),
+        Geometry::Level(l) => {
+            let sub = subsurf::SubdivideOptions {
+                levels: l,
+                scheme: *options,
+                ..subsurf::SubdivideOptions::default()
+            };
+            let corners = (mesh.face_verts().len() as u64)
+                .checked_shl(2 * (l - 1))
+                .unwrap_or(u64::MAX);
+            subsurf::estimate_memory(mesh, &sub)
+                .saturating_add(corners.saturating_mul(BYTES_PER_VERTEX))
+        }
+    };
+    pixels.saturating_add(geometry)
 }
 
 /// The library's options from the command line.

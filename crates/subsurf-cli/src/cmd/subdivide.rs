@@ -3,12 +3,14 @@
 use anyhow::{Context, Result};
 use subsurf::io::obj::{write_obj, WriteOptions};
 use subsurf::mesh::{crease_by_angle, Options, TriangleSubdivision};
+use subsurf::nurss::NurssOptions;
+use subsurf::{subdivide_mixed_with_progress, Mixed};
 use subsurf::{subdivide_with_progress, SubdivideOptions, Subdivision};
 
 use crate::input::Input;
 use crate::output::Output;
 use crate::progress::Progress;
-use crate::SubdivideArgs;
+use crate::{SchemeKind, SubdivideArgs};
 
 /// Runs `subsurf subdivide`.
 pub fn run(args: &SubdivideArgs) -> Result<()> {
@@ -40,9 +42,96 @@ pub fn run(args: &SubdivideArgs) -> Result<()> {
         add_angle_creases(&mut input, &opts.scheme, angle, args.sharpness)?;
         flags = format!("--crease-angle {angle} --sharpness {}", args.sharpness);
     }
-    let sub = refine(&input, &opts, &progress, args.quiet)?;
+    let kind = scheme_kind(args, &input, &progress);
+    let mixed = super::adjustable::for_subdivide(kind, &args.adjust);
+    if kind == SchemeKind::Nurss {
+        return run_nurss(args, &input, &opts, &flags, &out, &progress);
+    }
+    if let Some(m) = mixed {
+        let adjust = super::adjustable::flags(m, opts.levels);
+        flags = if flags.is_empty() {
+            adjust
+        } else {
+            format!("{adjust} {flags}")
+        };
+    }
+    let sub = refine_mixed(&input, &opts, mixed, &progress, args.quiet)?;
     let comment = command_line_with(&opts, &flags, &args.input.display().to_string());
     write(&out, &sub, &opts, &comment, &progress)
+}
+
+/// The scheme: `--scheme` when given, else NURSS for a file with knot tags (with a note on
+/// stderr unless `--quiet`), else Catmull-Clark.
+fn scheme_kind(args: &SubdivideArgs, input: &Input, progress: &Progress) -> SchemeKind {
+    match args.scheme_kind {
+        Some(kind) => kind,
+        None if subsurf::nurss::has_knots(&input.obj.mesh) => {
+            if !args.quiet {
+                progress.note(&format!(
+                    "{} has knot interval or weight tags: refining with --scheme nurss \
+                     (--scheme catmull-clark ignores them)",
+                    input.name
+                ));
+            }
+            SchemeKind::Nurss
+        }
+        None => SchemeKind::CatmullClark,
+    }
+}
+
+/// `subsurf subdivide --scheme nurss`: non-uniform Catmull-Clark with the file's knot
+/// intervals and weights; the output carries the refined intervals as `t interval` tags.
+fn run_nurss(
+    args: &SubdivideArgs,
+    input: &Input,
+    opts: &SubdivideOptions,
+    flags: &str,
+    out: &Output,
+    progress: &Progress,
+) -> Result<()> {
+    let nopts = NurssOptions {
+        levels: opts.levels,
+        scheme: opts.scheme,
+        limit: opts.limit,
+        keep_holes: opts.keep_holes,
+    };
+    if let Some(limit) = opts.max_memory {
+        // NURSS keeps every level complete and refines homogeneous points: about twice what
+        // Catmull-Clark needs.
+        let estimate = subsurf::estimate_memory(&input.obj.mesh, opts).saturating_mul(2);
+        if estimate > limit {
+            anyhow::bail!(
+                "{}: refining to level {} with --scheme nurss needs about {} MiB, more than the \
+                 limit of {} MiB; use a lower level",
+                input.name,
+                opts.levels,
+                estimate >> 20,
+                limit >> 20
+            );
+        }
+    }
+    progress.set_message(format!("refining {}", input.name));
+    let sub =
+        subsurf::nurss::subdivide(&input.obj.mesh, &nopts).with_context(|| input.name.clone())?;
+    progress.level_done(opts.levels, opts.levels);
+    if !args.quiet {
+        for w in &sub.warnings {
+            progress.warn(&format!("{}: {w}", input.name));
+        }
+    }
+    let nurss_flags = if flags.is_empty() {
+        "--scheme nurss".to_owned()
+    } else {
+        format!("--scheme nurss {flags}")
+    };
+    let comment = command_line_with(opts, &nurss_flags, &args.input.display().to_string());
+    progress.set_message(format!("writing {}", out.name()));
+    let write_opts = WriteOptions {
+        normals: None,
+        scheme: Some(opts.scheme),
+        comment: Some(&comment),
+    };
+    out.write(|mut w| write_obj(&mut w, &sub.mesh, &write_opts))
 }
 
 /// Puts a crease of `sharpness` on every edge of `input` whose dihedral angle exceeds
@@ -89,10 +178,24 @@ pub fn refine(
     progress: &Progress,
     quiet: bool,
 ) -> Result<Subdivision> {
+    refine_mixed(input, opts, None, progress, quiet)
+}
+
+/// [`refine`], with the first levels refined by the adjustable scheme when `mixed` is
+/// given (mixed subdivision).
+pub fn refine_mixed(
+    input: &Input,
+    opts: &SubdivideOptions,
+    mixed: Option<Mixed>,
+    progress: &Progress,
+    quiet: bool,
+) -> Result<Subdivision> {
     progress.set_message(format!("refining {}", input.name));
-    let sub = subdivide_with_progress(&input.obj.mesh, opts, &mut |done, levels| {
-        progress.level_done(done, levels)
-    })
+    let mut report = |done, levels| progress.level_done(done, levels);
+    let sub = match mixed {
+        Some(m) => subdivide_mixed_with_progress(&input.obj.mesh, opts, m, &mut report),
+        None => subdivide_with_progress(&input.obj.mesh, opts, &mut report),
+    }
     .with_context(|| input.name.clone())?;
     if !quiet {
         for w in &sub.warnings {

@@ -14,7 +14,7 @@ use subsurf::mesh::{Options, PolyMesh, TriangleSubdivision};
 
 use crate::input::Input;
 use crate::output::Output;
-use crate::TessellateArgs;
+use crate::{SchemeKind, TessellateArgs};
 
 /// Output file formats.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -57,8 +57,84 @@ impl Format {
     }
 }
 
+/// Peak bytes per output vertex, writing included (measured: 118 for OBJ, 99 for PLY, at
+/// 6 million vertices).
+const BYTES_PER_VERTEX: u64 = 128;
+
+/// The surface to sample: `--scheme` when given, else adjustable with `--c`, else NURSS for a file with knot tags (with a note on
+/// stderr unless `--quiet`), else Catmull-Clark ([`check_scheme_flags`] has refused the
+/// contradictory combinations).
+fn scheme_kind(args: &TessellateArgs, input: &Input) -> SchemeKind {
+    match args.scheme_kind {
+        Some(kind) => kind,
+        None if args.adjust.c.is_some() => SchemeKind::Adjustable,
+        None if subsurf::nurss::has_knots(&input.obj.mesh) => {
+            if !args.quiet {
+                eprintln!(
+                    "note: {} has knot interval or weight tags: sampling the non-uniform \
+                     (NURSS) surface (--scheme catmull-clark ignores them)",
+                    input.name
+                );
+            }
+            SchemeKind::Nurss
+        }
+        None => SchemeKind::CatmullClark,
+    }
+}
+
+/// Usage errors (exit 2) of `--scheme` with `--c`, found before any input is read.
+fn check_scheme_flags(args: &TessellateArgs) {
+    let c = args.adjust.c.is_some();
+    match args.scheme_kind {
+        Some(SchemeKind::Adjustable) if !c => {
+            super::adjustable::usage_error("--scheme adjustable needs --c C")
+        }
+        Some(SchemeKind::Nurss | SchemeKind::CatmullClark) if c => {
+            super::adjustable::usage_error("--c applies to --scheme adjustable only")
+        }
+        _ => {}
+    }
+}
+
+/// `subsurf tessellate` of the non-uniform (NURSS) limit surface, through refinement.
+fn run_nurss(
+    args: &TessellateArgs,
+    input: &Input,
+    options: &Options,
+    format: Format,
+    out: &Output,
+) -> Result<()> {
+    let mesh = &input.obj.mesh;
+    let rate = args.rate.max(1).next_power_of_two();
+    // NURSS keeps whole levels of homogeneous points and their topology: about three times
+    // what the Catmull-Clark sampling needs per output vertex.
+    let verts = crate::memory::tessellation_vertices(mesh, rate);
+    crate::memory::check(
+        &input.name,
+        &format!("sampling the NURSS surface at rate {rate}"),
+        verts.saturating_mul(3 * BYTES_PER_VERTEX),
+        args.max_memory,
+        "use a lower --rate",
+    )?;
+    let triangles = args.triangles || format == Format::Glb;
+    let t = subsurf::nurss::tessellate(mesh, options, args.rate, triangles)
+        .with_context(|| input.name.clone())?;
+    if t.rate != args.rate && !args.quiet {
+        eprintln!(
+            "note: {}: rate {} rounded up to {}: the NURSS surface is sampled through \
+             refinement (2^L samples per edge)",
+            input.name, args.rate, t.rate
+        );
+    }
+    let mut comment = command_line(args, options, &input.name);
+    comment.insert_str("subsurf tessellate".len(), " --scheme nurss");
+    let control = args.control_mesh.then_some(mesh);
+    write(out, format, &t, &comment, control)
+}
+
 /// Runs `subsurf tessellate`.
 pub fn run(args: &TessellateArgs) -> Result<()> {
+    check_scheme_flags(args);
     let format = Format::from_path(&args.output)?;
     if args.control_mesh && format != Format::Glb {
         bail!(
@@ -79,12 +155,39 @@ pub fn run(args: &TessellateArgs) -> Result<()> {
         .over(input.obj.options)
         .resolve(Options::default());
     let mesh = &input.obj.mesh;
-    let surface = LimitSurface::new(mesh, options).with_context(|| input.name.clone())?;
+    if scheme_kind(args, &input) == SchemeKind::Nurss {
+        return run_nurss(args, &input, &options, format, &out);
+    }
+    // With --c: the mixed surface, the limit of the c-refined mesh at the rate per input edge.
+    let mixed = super::adjustable::for_surface(&args.adjust);
+    let refined = match mixed {
+        Some(m) => Some(super::adjustable::refined_mesh(&input, options, m)?),
+        None => None,
+    };
+    let (surface_mesh, rate) = match (&refined, mixed) {
+        (Some(r), Some(m)) => (r, super::adjustable::refined_rate(args.rate, m.steps)),
+        _ => (mesh, args.rate),
+    };
+    // Memory: the surface, then the samples (positions, normals, numbering) and the writer.
+    // Beyond the library's cap on the output, `tessellate` refuses with the exact counts.
+    let verts = crate::memory::tessellation_vertices(surface_mesh, rate);
+    if verts <= subsurf::limit::MAX_TESSELLATION_VERTICES {
+        let estimate = crate::memory::surface(surface_mesh)
+            .saturating_add(verts.saturating_mul(BYTES_PER_VERTEX));
+        crate::memory::check(
+            &input.name,
+            &format!("tessellating at rate {rate}"),
+            estimate,
+            args.max_memory,
+            "use a lower --rate",
+        )?;
+    }
+    let surface = LimitSurface::new(surface_mesh, options).with_context(|| input.name.clone())?;
     // glTF draws triangles: let the tessellation split its quads (it picks the diagonals).
     let triangles = args.triangles || format == Format::Glb;
-    let t = tessellate(&surface, mesh, &options, args.rate, triangles)
+    let t = tessellate(&surface, surface_mesh, &options, rate, triangles)
         .with_context(|| input.name.clone())?;
-    if t.rate != args.rate && !args.quiet {
+    if t.rate != rate && !args.quiet {
         eprintln!(
             "note: {}: rate {} rounded up to {}, as the mesh has non-quad faces \
              (each of their sub-faces gets {} × {} quads)",
@@ -95,7 +198,11 @@ pub fn run(args: &TessellateArgs) -> Result<()> {
             t.rate / 2
         );
     }
-    let comment = command_line(args, &options, &input.name);
+    let mut comment = command_line(args, &options, &input.name);
+    if let Some(m) = mixed {
+        let flags = format!(" --c {} --adjust-steps {}", m.scheme.c(), m.steps);
+        comment.insert_str("subsurf tessellate".len(), &flags);
+    }
     let control = args.control_mesh.then_some(mesh);
     write(&out, format, &t, &comment, control)
 }

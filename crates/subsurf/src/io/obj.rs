@@ -19,9 +19,16 @@
 //! | `t interpolateboundary 1/0/0 k` | 0 none, 1 edge-and-corner, 2 edge-only |
 //! | `t creasemethod 0/0/1 chaikin` | `chaikin` or `uniform` (`normal`) |
 //! | `t smoothtriangles 0/0/1 smooth` | `smooth` or `catmark` |
+//! | `t interval 2/1/0 a b d` | edge `a`–`b` has knot interval `d ≥ 0` (non-uniform Catmull-Clark, [`crate::nurss`]; untagged edges: 1) |
+//! | `t sideinterval 3/1/0 f a b d` | the side of edge `a`–`b` in face `f` has auxiliary interval `d` (first step only) |
+//! | `t weight 1/1/0 v w` | vertex `v` has rational weight `w > 0` (untagged: 1) |
 //!
 //! Free-form curves and surfaces (`cstype`, `deg`, `curv`, `surf`, `parm`, `end`) are
 //! read separately, by [`parse_obj_freeform`].
+//!
+//! The knot tags are read into [`PolyMesh::knots`] and checked once the file is read: an
+//! edge that no face has, a side whose face lacks the edge, a repeated vertex, a negative or
+//! non-finite interval or a weight ≤ 0 is an error at the tag's line.
 //!
 //! Any other tag is recorded in [`ObjFile::unsupported_tags`], never dropped silently.
 //!
@@ -38,6 +45,7 @@
 
 use crate::mesh::{BoundaryInterpolation, CreaseMethod, Options, PolyMesh, TriangleSubdivision};
 
+mod describe;
 mod freeform;
 mod read;
 mod write;

@@ -20,5 +20,8 @@ pub use crease_angle::{crease_by_angle, CreaseAngleError};
 pub use error::{MeshError, TopologyWarning};
 pub use options::{BoundaryInterpolation, CreaseMethod, Options, TriangleSubdivision};
 pub use polymesh::{PolyMesh, MAX_COORDINATE};
-pub use tags::{Corner, Crease, Tags, SHARPNESS_INFINITE};
+pub use tags::{
+    Corner, Crease, EdgeInterval, KnotTagError, KnotTags, SideInterval, Tags, VertexWeight,
+    SHARPNESS_INFINITE,
+};
 pub use topology::{EdgeTag, Rule, Topology, VertexTag, INVALID};

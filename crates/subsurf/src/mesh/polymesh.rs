@@ -1,6 +1,6 @@
 //! [`PolyMesh`]: positions, faces (CSR) and tags, validated on construction.
 
-use super::{MeshError, Tags};
+use super::{KnotTags, MeshError, Tags};
 
 /// Largest accepted coordinate magnitude: refinement averages and evaluation multiplies
 /// coordinates (normals, tangent-plane projections and curvature multiply up to four of
@@ -31,6 +31,9 @@ pub struct PolyMesh {
     face_verts: Vec<u32>,
     /// Creases, corners and holes.
     pub tags: Tags,
+    /// Knot intervals and rational weights for non-uniform Catmull-Clark subdivision
+    /// ([`crate::nurss`]); Catmull-Clark ignores them. Checked by [`KnotTags::validate`].
+    pub knots: KnotTags,
 }
 
 impl PolyMesh {
@@ -85,6 +88,7 @@ impl PolyMesh {
             face_offsets,
             face_verts,
             tags: Tags::default(),
+            knots: KnotTags::default(),
         }
     }
 

@@ -27,7 +27,7 @@
 //! bicubic B-spline is the Catmull-Clark limit surface of this mesh away from its border.
 
 use super::{BSplineSurface, KnotVector, NurbsError};
-use crate::mesh::PolyMesh;
+use crate::mesh::{EdgeInterval, KnotTags, PolyMesh};
 
 /// A mesh edge with the knot interval it carries.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -144,5 +144,32 @@ fn edge_intervals(k: &KnotVector) -> Vec<f64> {
         None => (0..k.num_points() - 1)
             .map(|i| t[i + 3] - t[i + 2])
             .collect(),
+    }
+}
+
+impl ControlMesh {
+    /// The knot intervals of every edge as [`KnotTags`] (`u` edges, then `v` edges), ready
+    /// for [`crate::nurss::Nurss`].
+    pub fn knot_tags(&self) -> KnotTags {
+        KnotTags {
+            intervals: self
+                .u_edges
+                .iter()
+                .chain(&self.v_edges)
+                .map(|e| EdgeInterval {
+                    v0: e.v0,
+                    v1: e.v1,
+                    interval: e.interval,
+                })
+                .collect(),
+            ..KnotTags::default()
+        }
+    }
+
+    /// The control mesh with its knot intervals in [`PolyMesh::knots`].
+    pub fn mesh_with_knots(&self) -> PolyMesh {
+        let mut m = self.mesh.clone();
+        m.knots = self.knot_tags();
+        m
     }
 }

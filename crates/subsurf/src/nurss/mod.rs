@@ -16,6 +16,8 @@
 //!   as [`KnotTags`], so refining `a` then `b` levels equals refining `a + b`).
 //! - [`Nurss::limit_points`]: the limit position of every vertex of the current level.
 //! - [`subdivide`]: the one-call facade, like [`crate::subdivide`].
+//! - [`tessellate`]: a watertight sampling of the limit surface through refinement (limit
+//!   points of level `L` for rate `2^L`), with mesh normals.
 //!
 //! The weights are in [`crate::scheme::nurss`], the application to a level in
 //! [`crate::refine::nurss`] (which documents how intervals are read, boundaries and sharp
@@ -54,6 +56,7 @@
 //! ```
 
 pub mod limit;
+mod tessellate;
 
 use crate::mesh::{
     Corner, Crease, EdgeInterval, KnotTagError, KnotTags, MeshError, Options, PolyMesh,
@@ -62,6 +65,7 @@ use crate::mesh::{
 use crate::refine::nurss::{refine_nurss_step, NurssKnots};
 
 pub use limit::LIMIT_TOLERANCE;
+pub use tessellate::tessellate;
 
 /// Errors of NURSS refinement.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]

@@ -25,10 +25,13 @@
 //! assert!(temp.iter().all(|t| (0.0..=1.0).contains(&t[0])));
 //! ```
 
+mod adjustable;
+pub mod nurss;
 mod plan;
 mod primvar;
 mod topology;
 
+pub use adjustable::interpolate_adjustable;
 pub use plan::{PlanScratch, RefinePlan};
 pub use primvar::interpolate;
 pub(crate) use topology::refine_topology;

@@ -5,9 +5,14 @@
 //! - [`catmark`]: Catmull-Clark face, edge and vertex masks, with OpenSubdiv's rules for
 //!   creases, corners, transitions between them, and triangles; limit position and
 //!   tangent masks.
+//! - [`adjustable`]: the shape-adjustable Catmull-Clark scheme with parameter `c`
+//!   (`c = ½` is Catmull-Clark).
+//! - [`nurss`]: non-uniform Catmull-Clark (knot intervals on edges, Sederberg et al. 1998).
 //!
 //! A mask is a set of weights on the parent's vertex, the far ends of its edges, and
 //! its faces' centres (refinement) or the vertices opposite in its faces (limit masks).
 
+pub mod adjustable;
 pub mod catmark;
 pub mod crease;
+pub mod nurss;

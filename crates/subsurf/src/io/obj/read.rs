@@ -3,8 +3,8 @@
 
 use super::{FileOptions, ObjError, ObjFile, UnsupportedTag};
 use crate::mesh::{
-    BoundaryInterpolation, Corner, Crease, CreaseMethod, MeshError, PolyMesh, Tags,
-    TriangleSubdivision, SHARPNESS_INFINITE,
+    BoundaryInterpolation, Corner, Crease, CreaseMethod, EdgeInterval, KnotTagError, KnotTags,
+    MeshError, PolyMesh, SideInterval, Tags, TriangleSubdivision, VertexWeight, SHARPNESS_INFINITE,
 };
 use std::path::Path;
 use std::str::SplitAsciiWhitespace;
@@ -271,6 +271,17 @@ struct Parser {
     tags: Tags,
     options: FileOptions,
     unsupported_tags: Vec<UnsupportedTag>,
+    /// `t interval`, `t sideinterval`, `t weight`, and the line of each entry.
+    knots: KnotTags,
+    knot_lines: KnotLines,
+}
+
+/// Source lines of the [`KnotTags`] entries, list by list.
+#[derive(Default)]
+struct KnotLines {
+    intervals: Vec<usize>,
+    side_intervals: Vec<usize>,
+    weights: Vec<usize>,
 }
 
 impl Default for Parser {
@@ -292,7 +303,33 @@ impl Default for Parser {
             tags: Tags::default(),
             options: FileOptions::default(),
             unsupported_tags: Vec::new(),
+            knots: KnotTags::default(),
+            knot_lines: KnotLines::default(),
         }
+    }
+}
+
+/// A knot interval: a finite `f64` ≥ 0.
+fn knot_interval(tok: &str, name: &str) -> Result<f64, String> {
+    match tok.parse::<f64>() {
+        Ok(d) if d.is_finite() && d >= 0.0 => Ok(d),
+        _ => Err(format!(
+            "t {name}: knot interval '{tok}' must be a finite number ≥ 0"
+        )),
+    }
+}
+
+/// The message of a knot tag that does not fit the mesh, for its line.
+fn knot_message(e: &KnotTagError) -> String {
+    match e {
+        KnotTagError::UnknownEdge { what, v0, v1, .. } => format!(
+            "t {}: the mesh has no edge between vertices {v0} and {v1}",
+            what.replace(' ', "")
+        ),
+        KnotTagError::EdgeNotInFace { face, v0, v1, .. } => {
+            format!("t sideinterval: face {face} has no edge between vertices {v0} and {v1}")
+        }
+        other => format!("t {}: {other}", other.entry().0.replace(' ', "")),
     }
 }
 
@@ -447,6 +484,11 @@ impl Parser {
 
     fn vertex(&mut self, toks: SplitAsciiWhitespace<'_>) -> Result<(), String> {
         let (p, n) = parse_numbers::<3>(toks, "v", "coordinate")?;
+        if let Some(c) = p.iter().find(|c| c.abs() > crate::mesh::MAX_COORDINATE) {
+            return Err(format!(
+                "v: the coordinate {c:e} is too large; coordinates must be below 1e75 in magnitude"
+            ));
+        }
         match n {
             // x y z, x y z w, x y z r g b, x y z r g b a
             3 | 4 | 6 | 7 => push_element(&mut self.positions, p, "vertices"),
@@ -544,6 +586,13 @@ impl Parser {
                 face.len()
             ));
         }
+        if face.len() > usize::from(u16::MAX) {
+            return Err(format!(
+                "f: face has {} vertices; a face may have at most {}",
+                face.len(),
+                u16::MAX
+            ));
+        }
         // A face may repeat a vertex (a degenerate face); the mesh layer accepts it as
         // OpenSubdiv does and reports it as a warning.
         let end = u32::try_from(self.face_verts.len())
@@ -565,6 +614,9 @@ impl Parser {
             "interpolateboundary" => "interpolateboundary",
             "creasemethod" => "creasemethod",
             "smoothtriangles" => "smoothtriangles",
+            "interval" => "interval",
+            "sideinterval" => "sideinterval",
+            "weight" => "weight",
             _ => {
                 self.unsupported_tags.push(UnsupportedTag {
                     line,
@@ -654,6 +706,70 @@ impl Parser {
                     let f = tag_index(t, name, nfaces, line, &mut self.tag_faces)?;
                     self.tags.holes.push(f);
                 }
+            }
+            "interval" | "sideinterval" => {
+                let side = name == "sideinterval";
+                let ni_expected = if side { 3 } else { 2 };
+                if (ni, nf, ns) != (ni_expected, 1, 0) {
+                    return Err(bad_counts(if side {
+                        "3/1/0: face, two vertices, interval"
+                    } else {
+                        "2/1/0: two vertices, interval"
+                    }));
+                }
+                let face = if side {
+                    let nfaces = self.face_lines.len();
+                    let tok = toks.next().unwrap_or("");
+                    Some(tag_index(tok, name, nfaces, line, &mut self.tag_faces)?)
+                } else {
+                    None
+                };
+                let nv = self.positions.len();
+                let mut vert = || {
+                    let tok = toks.next().unwrap_or("");
+                    tag_index(tok, name, nv, line, &mut self.tag_vertices)
+                };
+                let (v0, v1) = (vert()?, vert()?);
+                if v0 == v1 {
+                    return Err(format!(
+                        "t {name}: an edge needs two different vertices, found {v0} twice"
+                    ));
+                }
+                let interval = knot_interval(toks.next().unwrap_or(""), name)?;
+                match face {
+                    Some(face) => {
+                        self.knots.side_intervals.push(SideInterval {
+                            face,
+                            v0,
+                            v1,
+                            interval,
+                        });
+                        self.knot_lines.side_intervals.push(line);
+                    }
+                    None => {
+                        self.knots.intervals.push(EdgeInterval { v0, v1, interval });
+                        self.knot_lines.intervals.push(line);
+                    }
+                }
+            }
+            "weight" => {
+                if (ni, nf, ns) != (1, 1, 0) {
+                    return Err(bad_counts("1/1/0: vertex, weight"));
+                }
+                let nv = self.positions.len();
+                let tok = toks.next().unwrap_or("");
+                let vertex = tag_index(tok, name, nv, line, &mut self.tag_vertices)?;
+                let tok = toks.next().unwrap_or("");
+                let weight = match tok.parse::<f64>() {
+                    Ok(w) if w.is_finite() && w > 0.0 => w,
+                    _ => {
+                        return Err(format!(
+                            "t weight: rational weight '{tok}' must be a finite number > 0"
+                        ))
+                    }
+                };
+                self.knots.weights.push(VertexWeight { vertex, weight });
+                self.knot_lines.weights.push(line);
             }
             "interpolateboundary" => {
                 if (ni, nf, ns) != (1, 0, 0) {
@@ -756,6 +872,16 @@ impl Parser {
                 err(line, e.to_string())
             })?;
         mesh.tags = self.tags;
+        mesh.knots = self.knots;
+        if let Err(e) = mesh.knots.validate(&mesh) {
+            let (list, index) = e.entry();
+            let lines = match list {
+                "interval" => &self.knot_lines.intervals,
+                "side interval" => &self.knot_lines.side_intervals,
+                _ => &self.knot_lines.weights,
+            };
+            return Err(err(lines.get(index).copied(), knot_message(&e)));
+        }
         Ok(ObjFile {
             mesh,
             texcoords: self.texcoords,

@@ -17,7 +17,8 @@ const HOLES_PER_LINE: usize = 1000;
 /// face (1-based, `f a//a b//b ...` with normals), then the tags: `t interpolateboundary`
 /// (and `t creasemethod 0/0/1 chaikin`, `t smoothtriangles 0/0/1 smooth` when they differ
 /// from the defaults) when `opts.scheme` is given, one `t crease 2/1/0` per crease, one
-/// `t corner 1/1/0` per corner and `t hole N/0/0` lines of up to 1000 faces.
+/// `t corner 1/1/0` per corner, `t hole N/0/0` lines of up to 1000 faces, and the knot tags
+/// of [`PolyMesh::knots`] (`t interval`, `t sideinterval`, `t weight`; see [`super`]).
 ///
 /// Coordinates are printed with Rust's shortest round-trip representation of `f64` (never
 /// in exponent form), sharpness with that of `f32`: reading the file back gives
@@ -134,7 +135,55 @@ pub fn write_obj<W: std::io::Write>(
         buf.push(b'\n');
         flush(&mut buf, w, false)?;
     }
+    write_knots(&mut buf, w, mesh)?;
     flush(&mut buf, w, true)
+}
+
+/// The knot tags of [`PolyMesh::knots`]: `t interval 2/1/0 a b d`, `t sideinterval 3/1/0 f a
+/// b d`, `t weight 1/1/0 v w`, values as shortest round-trip `f64`.
+fn write_knots<W: Write>(buf: &mut Vec<u8>, w: &mut W, mesh: &PolyMesh) -> io::Result<()> {
+    let check = |value: f64, positive: bool, what: &dyn Fn() -> String| {
+        let ok = value.is_finite() && if positive { value > 0.0 } else { value >= 0.0 };
+        if ok {
+            Ok(())
+        } else {
+            Err(invalid_data(format!(
+                "{} is {value}; it must be a finite number {}",
+                what(),
+                if positive { "> 0" } else { "≥ 0" }
+            )))
+        }
+    };
+    let k = &mesh.knots;
+    for t in &k.intervals {
+        check(t.interval, false, &|| {
+            format!("the knot interval of edge ({}, {})", t.v0, t.v1)
+        })?;
+        writeln!(buf, "t interval 2/1/0 {} {} {}", t.v0, t.v1, t.interval)?;
+        flush(buf, w, false)?;
+    }
+    for t in &k.side_intervals {
+        check(t.interval, false, &|| {
+            format!(
+                "the side interval of edge ({}, {}) in face {}",
+                t.v0, t.v1, t.face
+            )
+        })?;
+        writeln!(
+            buf,
+            "t sideinterval 3/1/0 {} {} {} {}",
+            t.face, t.v0, t.v1, t.interval
+        )?;
+        flush(buf, w, false)?;
+    }
+    for t in &k.weights {
+        check(t.weight, true, &|| {
+            format!("the weight of vertex {}", t.vertex)
+        })?;
+        writeln!(buf, "t weight 1/1/0 {} {}", t.vertex, t.weight)?;
+        flush(buf, w, false)?;
+    }
+    Ok(())
 }
 
 fn invalid_data(message: String) -> io::Error {
