@@ -10,7 +10,7 @@
 
 pub mod bspline;
 mod local;
-mod patch;
+pub(crate) mod patch;
 mod stencil;
 mod surface;
 mod tessellate;

@@ -149,8 +149,8 @@ pub(super) fn regular_corner(t: &Topology, f: usize, k: usize) -> Option<Corner>
 /// enters `c` (`ccw`) or leaves it (`!ccw`), as long as that edge is not infinitely sharp
 /// and has two faces; at most four steps. Each item is `(face, position of c in it)`;
 /// `f` itself is not listed. The flag tells whether the walk came back to `f` (a closed
-/// fan).
-fn walk(t: &Topology, f: usize, c: usize, ccw: bool) -> (Vec<(usize, usize)>, bool) {
+/// fan). (Also used by the regularity certificate, which reads the same neighbourhoods.)
+pub(crate) fn walk(t: &Topology, f: usize, c: usize, ccw: bool) -> (Vec<(usize, usize)>, bool) {
     let mut out = Vec::with_capacity(4);
     let mut g = f;
     for _ in 0..5 {

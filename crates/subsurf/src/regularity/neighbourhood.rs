@@ -12,6 +12,8 @@
 //! `P₋₁ = 2 P₀ − P₁`; those cells are `None` here (see [`super`] for why their differences
 //! need not be listed).
 
+// The fan walk of the limit surface's regular-patch test: both read the same neighbourhoods.
+use crate::limit::patch::walk;
 use crate::mesh::{Rule, Topology};
 use crate::scheme::crease;
 
@@ -224,35 +226,4 @@ fn corner(t: &Topology, f: usize, k: usize) -> Result<Corner, Inapplicable> {
         });
     }
     Err(feature)
-}
-
-/// Faces around vertex `c` reached from face `f` across the edge entering `c` (`ccw`) or
-/// leaving it, as long as that edge is not infinitely sharp and has two faces; at most
-/// five steps. Items are `(face, position of c in it)`; the flag tells whether the walk
-/// came back to `f`.
-fn walk(t: &Topology, f: usize, c: usize, ccw: bool) -> (Vec<(usize, usize)>, bool) {
-    let mut out = Vec::with_capacity(4);
-    let mut g = f;
-    for _ in 0..5 {
-        let gv = t.face_vertices(g);
-        let n = gv.len();
-        let Some(m) = gv.iter().position(|&x| x as usize == c) else {
-            break;
-        };
-        let e = t.face_edge_list(g)[if ccw { (m + n - 1) % n } else { m }] as usize;
-        let ef = t.edge_face_list(e);
-        if t.edge_tag(e).inf_sharp || ef.len() != 2 {
-            break;
-        }
-        let next = if ef[0] as usize == g { ef[1] } else { ef[0] } as usize;
-        if next == f {
-            return (out, true);
-        }
-        let Some(mn) = t.face_vertices(next).iter().position(|&x| x as usize == c) else {
-            break;
-        };
-        out.push((next, mn));
-        g = next;
-    }
-    (out, false)
 }
