@@ -188,7 +188,9 @@ pub struct Uncapped {
 
 /// The G2 surface of a mesh: Catmull-Clark (bicubic B-spline after isolation) with a G2
 /// cap at every interior smooth extraordinary vertex of valence 3..=16 and at the centre
-/// of every interior `n`-gon. See the [module docs](self) for the layout.
+/// of every interior `n`-gon ([`new`](Self::new)); or the same for the mixed
+/// (shape-adjustable) surface ([`new_mixed`](Self::new_mixed)). See the
+/// [module docs](self) for the layout.
 #[derive(Clone, Debug)]
 pub struct G2Surface {
     limit: LimitSurface,
