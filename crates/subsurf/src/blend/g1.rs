@@ -12,7 +12,7 @@
 //!   (even count of more than 4) or one polygon.
 //!
 //! Intervals: along rings 1 and 2 the curves' spans, 0 across from ring 1 to ring 2 and on
-//! the extension layer (corner interpolation, as in [`super::fill`]), 1 across from ring 2 to
+//! the extension layer (corner interpolation, as in [`super::fill`](mod@super::fill)), 1 across from ring 2 to
 //! ring 3 (the same for every ring-2 vertex, which is what keeps the refined outer rows
 //! exact), the mean span along ring 3 and on the spokes.
 //!

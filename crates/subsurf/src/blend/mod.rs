@@ -10,7 +10,7 @@
 //!   regular part.
 //! - [`patch`]: a clamped patch as a corner-interpolating control mesh.
 //! - [`join`]: C2 blending of N bicubic patches ([`blend()`]).
-//! - [`fill`]: N-sided hole filling (Algorithm 1, corner interpolating).
+//! - [`fill`](mod@fill): N-sided hole filling (Algorithm 1, corner interpolating).
 //! - [`g1`]: N-sided hole filling, G1 (Algorithm 2).
 //! - [`obj`]: OBJ output of several meshes and curves as groups.
 

@@ -95,7 +95,7 @@ mod error;
 pub mod export;
 mod report;
 mod solver;
-mod surface;
+pub mod surface;
 pub mod transition;
 
 pub use bezier::BezierPatch;

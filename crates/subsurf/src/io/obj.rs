@@ -46,7 +46,7 @@
 use crate::mesh::{BoundaryInterpolation, CreaseMethod, Options, PolyMesh, TriangleSubdivision};
 
 mod describe;
-mod freeform;
+pub mod freeform;
 mod read;
 mod write;
 

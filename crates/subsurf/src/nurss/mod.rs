@@ -16,7 +16,7 @@
 //!   as [`KnotTags`], so refining `a` then `b` levels equals refining `a + b`).
 //! - [`Nurss::limit_points`]: the limit position of every vertex of the current level.
 //! - [`subdivide`]: the one-call facade, like [`crate::subdivide`].
-//! - [`tessellate`]: a watertight sampling of the limit surface through refinement (limit
+//! - [`tessellate`](fn@tessellate): a watertight sampling of the limit surface through refinement (limit
 //!   points of level `L` for rate `2^L`), with mesh normals.
 //!
 //! The weights are in [`crate::scheme::nurss`], the application to a level in
@@ -56,7 +56,7 @@
 //! ```
 
 pub mod limit;
-mod tessellate;
+pub mod tessellate;
 
 use crate::mesh::{
     Corner, Crease, EdgeInterval, KnotTagError, KnotTags, MeshError, Options, PolyMesh,

@@ -27,7 +27,7 @@
 
 mod adjustable;
 pub mod nurss;
-mod plan;
+pub mod plan;
 mod primvar;
 mod topology;
 
