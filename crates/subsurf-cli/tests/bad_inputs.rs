@@ -32,6 +32,11 @@ const ALL_COMMANDS: [&str; 6] = [
     "render",
 ];
 
+/// The commands of the papers' methods that read an OBJ mesh, run over the corpus by
+/// [`paper_commands_refuse_broken_files_like_the_others`] and
+/// [`paper_commands_never_crash_on_the_corpus`].
+const PAPER_COMMANDS: [&str; 3] = ["spline", "regularity", "g2"];
+
 fn corpus_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../subsurf/tests/bad")
 }
@@ -131,6 +136,9 @@ fn command_args(command: &str, input: &str, out: Option<&str>) -> (Vec<String>, 
         "tessellate" => (vec!["tessellate", input, "--rate", "2"], Some("out.obj")),
         "bench" => (vec!["bench", input, "-l", "1", "--reps", "1"], None),
         "render" => (vec!["render", input, "--size", "80x60"], Some("out.png")),
+        "spline" => (vec!["spline", input, "--rate", "2"], Some("out.obj")),
+        "regularity" => (vec!["regularity", input, "--sample", "3"], None),
+        "g2" => (vec!["g2", input, "--rate", "2"], Some("out.obj")),
         other => panic!("unknown subcommand {other} in expected.tsv"),
     };
     let mut args: Vec<String> = args.into_iter().map(String::from).collect();
@@ -697,4 +705,65 @@ fn limit_output_is_finite_or_an_error() {
             other => panic!("{file}: exit {other:?}: {}", run.stderr),
         }
     }
+}
+
+/// Every row that all the mesh commands refuse (exit 1, a message with file and line,
+/// nothing written) is refused the same way by the papers' commands.
+#[test]
+fn paper_commands_refuse_broken_files_like_the_others() {
+    let rows: Vec<Row> = rows()
+        .into_iter()
+        .filter(|r| !r.bug && r.exit == 1 && r.flags.is_empty())
+        .filter(|r| r.commands.len() == ALL_COMMANDS.len())
+        .map(|mut r| {
+            r.commands = PAPER_COMMANDS.iter().map(|c| c.to_string()).collect();
+            r
+        })
+        .collect();
+    assert!(rows.len() > 30, "only {} rows", rows.len());
+    check_rows(&rows);
+}
+
+/// On the files every mesh command accepts (odd but valid meshes: CRLF, non-manifold,
+/// tiny scales, a vertex of valence 1000, ...) the papers' commands finish in time without
+/// a panic: exit 0, 1 with an `error:` message and no output file (for example a spline
+/// surface of an open mesh whose faces all touch the boundary), or 3 (regularity: not
+/// certified).
+#[test]
+fn paper_commands_never_crash_on_the_corpus() {
+    let rows: Vec<Row> = rows()
+        .into_iter()
+        .filter(|r| !r.bug && r.exit == 0 && r.flags.is_empty())
+        .collect();
+    let mut files: Vec<String> = rows.iter().map(|r| r.file.clone()).collect();
+    files.sort();
+    files.dedup();
+    let mut problems = Vec::new();
+    for file in &files {
+        for command in PAPER_COMMANDS {
+            let dir = tempfile::tempdir().expect("temp dir");
+            fs::copy(corpus_dir().join(file), dir.path().join(file)).expect("copy corpus file");
+            let (args, out) = command_args(command, file, None);
+            let run = run_limited(dir.path(), &args, None);
+            let what = format!("`subsurf {}`", args.join(" "));
+            let wrote = out
+                .as_ref()
+                .is_some_and(|o| listing(dir.path()).contains(o));
+            if run.timed_out {
+                problems.push(format!("{what}: still running after {TIME_LIMIT:?}"));
+            } else if run.stderr.contains("panicked") {
+                problems.push(format!("{what}: panicked: {}", run.stderr));
+            } else {
+                match run.code {
+                    Some(0) | Some(3) => {}
+                    Some(1) if run.stderr.lines().any(|l| l.starts_with("error: ")) && !wrote => {}
+                    code => problems.push(format!(
+                        "{what}: exit {code:?} (wrote output: {wrote}): {}",
+                        run.stderr.trim_end()
+                    )),
+                }
+            }
+        }
+    }
+    assert!(problems.is_empty(), "{}", problems.join("\n"));
 }
