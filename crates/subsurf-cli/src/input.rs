@@ -50,6 +50,15 @@ impl Input {
         }
     }
 
+    /// A warning of the mesh layer in the file's terms: faces and vertices numbered from 1,
+    /// with the line where one is known (`FILE:LINE: message`).
+    pub fn warning(&self, w: &subsurf::mesh::TopologyWarning) -> String {
+        match self.obj.describe_warning(w) {
+            (Some(l), message) => format!("{}:{l}: {message}", self.name),
+            (None, message) => format!("{}: {message}", self.name),
+        }
+    }
+
     /// One warning per tag that was read but is not honoured.
     pub fn unsupported_tag_warnings(&self) -> impl Iterator<Item = String> + '_ {
         self.obj.unsupported_tags.iter().map(|t| {

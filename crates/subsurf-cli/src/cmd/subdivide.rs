@@ -116,7 +116,7 @@ fn run_nurss(
     progress.level_done(opts.levels, opts.levels);
     if !args.quiet {
         for w in &sub.warnings {
-            progress.warn(&format!("{}: {w}", input.name));
+            progress.warn(&input.warning(w));
         }
     }
     let nurss_flags = if flags.is_empty() {
@@ -199,7 +199,7 @@ pub fn refine_mixed(
     .with_context(|| input.name.clone())?;
     if !quiet {
         for w in &sub.warnings {
-            progress.warn(&format!("{}: {w}", input.name));
+            progress.warn(&input.warning(w));
         }
     }
     Ok(sub)
