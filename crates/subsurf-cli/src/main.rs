@@ -161,6 +161,9 @@ pub struct LimitArgs {
     pub max_memory: Option<u64>,
     #[command(flatten)]
     pub scheme: SchemeArgs,
+    /// Print no warnings.
+    #[arg(short, long)]
+    pub quiet: bool,
 }
 
 const TESSELLATE_EXAMPLES: &str = "\
@@ -330,6 +333,9 @@ pub struct BenchArgs {
     pub max_memory: Option<u64>,
     #[command(flatten)]
     pub scheme: SchemeArgs,
+    /// Print no warnings.
+    #[arg(short, long)]
+    pub quiet: bool,
 }
 
 /// Arguments of `subsurf subdivide`.

@@ -15,6 +15,11 @@ use crate::BenchArgs;
 /// Runs `subsurf bench`.
 pub fn run(args: &BenchArgs) -> Result<()> {
     let input = Input::read(&args.input)?;
+    if !args.quiet {
+        for w in input.unsupported_tag_warnings() {
+            eprintln!("warning: {w}");
+        }
+    }
     let opts = SubdivideOptions {
         levels: args.levels,
         scheme: args

@@ -17,6 +17,11 @@ pub fn run(args: &LimitArgs) -> Result<()> {
     let out = Output::new(&args.output);
     out.check()?;
     let input = Input::read(&args.input)?;
+    if !args.quiet {
+        for w in input.unsupported_tag_warnings() {
+            eprintln!("warning: {w}");
+        }
+    }
     let options = args
         .scheme
         .over(input.obj.options)
