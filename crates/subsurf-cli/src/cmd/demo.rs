@@ -1,48 +1,422 @@
-//! `subsurf demo`: the bundled example meshes, refined, written to a directory.
+//! `subsurf demo`: a gallery of every method of the project on the bundled examples.
+//!
+//! Three kinds of input are bundled (from `examples/` at the repository root):
+//! - control meshes ([`EXAMPLES`], `examples/meshes/`): each goes through every entry of
+//!   [`METHODS`] that applies to it (Catmull-Clark, its exact limit and pictures, the
+//!   shape-adjustable scheme, non-uniform Catmull-Clark for meshes with knot intervals, G2
+//!   caps where there are interior extraordinary vertices, the sub-basis spline on closed
+//!   quad meshes, the regularity certificate on planar nets);
+//! - cubic curves ([`CURVES`], `examples/curves/`): a control mesh whose NURSS limit surface
+//!   interpolates them (seed 001);
+//! - bicubic patches ([`PATCHES`], `examples/patches/`): C2 blending and N-sided hole
+//!   filling (seed 002).
+//!
+//! Every method writes its files (OBJ, GLB or JSON models, PNG pictures) into the output
+//! directory and returns them with a one-line caption; a method that does not apply to an
+//! input returns nothing (the page leaves out empty groups). Then `index.html` shows them
+//! all, one section per input, one group per method, with relative links only (the
+//! directory can be moved or served as it is).
+//!
+//! Adding a method for meshes is one entry in [`METHODS`]. Everything goes through library
+//! calls (no subprocesses), with small sizes and rates so that the whole gallery takes
+//! seconds even in a test build.
 
+use std::fmt::Write as _;
 use std::fs;
 use std::path::Path;
 
 use anyhow::{Context, Result};
-use subsurf::io::obj::parse_obj;
+use subsurf::blend::fill::{fill, patch_boundary, FillOptions};
+use subsurf::blend::g1::fill_g1;
+use subsurf::blend::{blend, obj::write_groups_obj};
+use subsurf::g2cap::{patches_json, G2Surface, G2SurfaceOptions};
+use subsurf::interpolate::{interpolate_geometry, InterpolateOptions};
+use subsurf::io::geometry::{parse_geometry, SourcedGeometry};
+use subsurf::io::gltf::{face_edges, write_glb, GlbLines, GlbMesh};
+use subsurf::io::obj::{parse_obj, write_obj, WriteOptions};
+use subsurf::limit::{tessellate, Derivatives, EvalError, LimitSurface, SurfacePoint};
 use subsurf::mesh::{Options, PolyMesh};
-use subsurf::SubdivideOptions;
+use subsurf::nurbs::{Geometry as NurbsGeometry, Surface};
+use subsurf::nurss::NurssOptions;
+use subsurf::regularity::{check_regularity, plot, Mode, RegularityOptions};
+use subsurf::render::curvature::CurvatureKind;
+use subsurf::render::{
+    render_detailed, render_surface, write_png, Geometry, Paint, Render, RgbImage, SampledSurface,
+};
+use subsurf::scheme::adjustable::Adjustable;
+use subsurf::spline::{QuadSpline, SplineError, SubBasisSurface};
+use subsurf::{Mixed, SubdivideOptions};
 
-use super::subdivide::{command_line, refine, write};
+use super::subdivide::{command_line, refine, refine_mixed, write};
 use crate::input::Input;
 use crate::output::Output;
 use crate::progress::Progress;
 use crate::DemoArgs;
 
-/// A bundled example mesh (from `examples/meshes/` at the repository root).
+/// What a bundled mesh is for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Kind {
+    /// A surface control mesh: Catmull-Clark and every method built on it.
+    Surface,
+    /// A control mesh with knot intervals: non-uniform Catmull-Clark beside plain
+    /// Catmull-Clark of the same cage.
+    Knots,
+    /// A planar net: the regularity certificate.
+    Planar,
+}
+
+/// A bundled example mesh.
 struct Example {
     name: &'static str,
     obj: &'static str,
+    kind: Kind,
     /// Also refine to the limit surface, with normals.
     limit: bool,
+    /// Samples per base edge for limit tessellations and pictures (small for big meshes).
+    rate: u32,
+    /// Camera azimuth and elevation of the pictures.
+    view: (f64, f64),
 }
 
 macro_rules! example {
-    ($name:literal, $limit:expr) => {
+    ($name:literal, $kind:expr, $limit:expr, $rate:expr, $view:expr) => {
         Example {
             name: $name,
             obj: include_str!(concat!("../../../../examples/meshes/", $name, ".obj")),
+            kind: $kind,
             limit: $limit,
+            rate: $rate,
+            view: $view,
         }
     };
 }
 
 const EXAMPLES: &[Example] = &[
-    example!("cube", false),
-    example!("cube-crease", false),
-    example!("grid", false),
-    example!("hut", false),
-    example!("torus", true),
-    example!("catmark_pawn", false),
+    example!("cube", Kind::Surface, false, 8, (30.0, 20.0)),
+    example!("cube-crease", Kind::Surface, false, 8, (30.0, 20.0)),
+    example!("grid", Kind::Surface, false, 8, (30.0, 25.0)),
+    example!("hut", Kind::Surface, false, 8, (30.0, 20.0)),
+    example!("torus", Kind::Surface, true, 6, (30.0, 35.0)),
+    example!("pentaprism", Kind::Surface, false, 6, (20.0, 35.0)),
+    example!("catmark_pawn", Kind::Surface, false, 2, (30.0, 10.0)),
+    example!("nurss-grid", Kind::Knots, false, 8, (30.0, 25.0)),
+    example!("regularity-gear", Kind::Planar, false, 1, (0.0, 90.0)),
+    example!("regularity-dolphin", Kind::Planar, false, 1, (0.0, 90.0)),
+    example!("regularity-butterfly", Kind::Planar, false, 1, (0.0, 90.0)),
 ];
+
+/// A bundled curve file for curve interpolation.
+struct CurveExample {
+    name: &'static str,
+    json: &'static str,
+    /// Zone width (relative to each curve's size).
+    width: f64,
+    /// Side direction of the zones (`None`: rotation-minimising frames).
+    side: Option<[f64; 3]>,
+    view: (f64, f64),
+    /// Magnification of the pictures (the fitted view frames the bounding sphere).
+    zoom: f64,
+}
+
+const CURVES: &[CurveExample] = &[
+    CurveExample {
+        name: "vase",
+        json: include_str!("../../../../examples/curves/vase.json"),
+        width: 0.05,
+        side: None,
+        view: (30.0, 20.0),
+        zoom: 1.0,
+    },
+    CurveExample {
+        name: "dolphin",
+        json: include_str!("../../../../examples/curves/dolphin.json"),
+        width: 0.08,
+        side: None,
+        view: (20.0, 45.0),
+        // Long and thin: magnified to fill the picture's width.
+        zoom: 1.3,
+    },
+];
+
+/// What is done with a bundled patch file.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum PatchUse {
+    /// C2 blend of the patches.
+    Blend,
+    /// Corner-interpolating hole filling bounded by the patches' first rows.
+    Fill,
+    /// Hole filling meeting the patches G1.
+    FillG1,
+}
+
+/// A bundled patch file for blending or hole filling.
+struct PatchExample {
+    name: &'static str,
+    json: &'static str,
+    purpose: PatchUse,
+    view: (f64, f64),
+}
+
+macro_rules! patches {
+    ($name:literal, $purpose:expr, $view:expr) => {
+        PatchExample {
+            name: $name,
+            json: include_str!(concat!("../../../../examples/patches/", $name, ".json")),
+            purpose: $purpose,
+            view: $view,
+        }
+    };
+}
+
+const PATCHES: &[PatchExample] = &[
+    patches!("blend3", PatchUse::Blend, (30.0, 25.0)),
+    patches!("blend5", PatchUse::Blend, (30.0, 25.0)),
+    patches!("hole3", PatchUse::Fill, (30.0, 25.0)),
+    patches!("hole5", PatchUse::Fill, (30.0, 25.0)),
+    patches!("hole3-g1", PatchUse::FillG1, (30.0, 25.0)),
+    patches!("hole5-g1", PatchUse::FillG1, (30.0, 25.0)),
+];
+
+/// One method of the gallery for meshes.
+struct Method {
+    /// Heading of the method's files in the page.
+    name: &'static str,
+    /// Writes the method's files for one example; returns them with their captions
+    /// (nothing when the method does not apply to the example).
+    run: fn(&Ctx) -> Result<Vec<Item>>,
+}
+
+/// The methods shown for meshes, in page order. Add a method here.
+const METHODS: &[Method] = &[
+    Method {
+        name: "Catmull-Clark refinement",
+        run: catmull_clark,
+    },
+    Method {
+        name: "Exact limit surface",
+        run: limit_surface,
+    },
+    Method {
+        name: "Pictures of the limit surface",
+        run: pictures,
+    },
+    Method {
+        name: "Shape-adjustable Catmull-Clark",
+        run: adjustable,
+    },
+    Method {
+        name: NURSS,
+        run: nurss,
+    },
+    Method {
+        name: G2,
+        run: g2_caps,
+    },
+    Method {
+        name: SPLINE,
+        run: spline,
+    },
+    Method {
+        name: REGULARITY,
+        run: regularity,
+    },
+];
+
+/// Headings of the methods that are not on meshes (and of some that are, for tests).
+const NURSS: &str = "Non-uniform Catmull-Clark (NURSS)";
+const G2: &str = "G2 caps at extraordinary vertices";
+const SPLINE: &str = "Sub-basis spline surface";
+const REGULARITY: &str = "Regularity certificate";
+const INTERPOLATION: &str = "Curve interpolation";
+const BLENDING: &str = "C2 blending of patches";
+const FILLING: &str = "N-sided hole filling";
 
 /// Refinement level of the demo.
 const LEVELS: u32 = 3;
+/// Picture size.
+const SIZE: (u32, u32) = (240, 180);
+/// Shape parameters of the adjustable scheme shown (0.5 would be Catmull-Clark).
+const ADJUSTABLE_C: [f64; 3] = [0.0, 0.25, 0.8];
+/// Adjustable steps before Catmull-Clark in the mixed surfaces shown.
+const ADJUSTABLE_STEPS: u32 = 1;
+/// Level of the adjustable refinements written.
+const ADJUSTABLE_LEVELS: u32 = 2;
+/// Samples per edge of the G2 pictures (zebra stripes need a fine grid).
+const G2_RATE: u32 = 16;
+/// Size of the G2 zebra pictures: twice the gallery's, for a closer look (each links to
+/// itself); the curvature pictures keep the gallery's size, so that the colour bar stays
+/// legible in the page.
+const G2_SIZE: (u32, u32) = (480, 360);
+/// G2 caps are shown on meshes with at most this many faces (the caps of a big mesh are
+/// too small to see in the gallery's pictures, and its patch file is megabytes).
+const G2_MAX_FACES: usize = 64;
+/// Close-ups of the G2 pictures: example, camera (azimuth, elevation) looking straight at
+/// an extraordinary vertex, zoom. Other examples use their own view.
+const G2_CLOSEUPS: &[(&str, (f64, f64), f64)] = &[
+    // The corner (1, 1, 1) of the cube, valence 3.
+    ("cube", (45.0, 35.26), 1.5),
+    // The centre of the top pentagon, valence 5, from above.
+    ("pentaprism", (0.0, 90.0), 1.2),
+];
+/// NURSS levels of the curve interpolations' limit meshes.
+const CURVE_LEVELS: u32 = 4;
+/// Skirt-removal levels of blends and fills.
+const PATCH_LEVELS: u32 = 4;
+/// Segments per knot span of the tessellated base patches.
+const PATCH_SAMPLES: u32 = 6;
+/// Samples per face side of the regularity certificate's ground truth.
+const REGULARITY_SAMPLES: usize = 5;
+
+/// What a method gets: the example, its parsed mesh and scheme options, where to write.
+struct Ctx<'a> {
+    dir: &'a Path,
+    ex: &'a Example,
+    input: &'a Input,
+    options: Options,
+}
+
+/// One input's part of the page: its name and, per method, the method's files.
+type Section<'a> = (&'a str, Vec<(&'a str, Vec<Item>)>);
+
+/// A written file and its one-line caption; `counts` (vertices, faces) for OBJ files.
+struct Item {
+    file: String,
+    caption: String,
+    counts: Option<(usize, usize)>,
+}
+
+/// Picture options: the gallery's size, `geometry`, `paint` and camera `view`.
+fn picture(geometry: Geometry, paint: Paint, view: (f64, f64)) -> Render {
+    Render {
+        width: SIZE.0,
+        height: SIZE.1,
+        supersampling: 2,
+        geometry,
+        paint,
+        view,
+        ..Render::default()
+    }
+}
+
+/// Writes `image` as the PNG `file` of `dir`.
+fn png_item(dir: &Path, image: &RgbImage, file: String, caption: String) -> Result<Item> {
+    Output::File(dir.join(&file)).write(|w| write_png(w, image))?;
+    Ok(Item {
+        file,
+        caption,
+        counts: None,
+    })
+}
+
+/// Writes `mesh` (with its tags) as the OBJ `file` of `dir` with a header `comment`.
+fn obj_item(
+    dir: &Path,
+    mesh: &PolyMesh,
+    scheme: Option<Options>,
+    file: String,
+    comment: &str,
+    caption: String,
+) -> Result<Item> {
+    let opts = WriteOptions {
+        normals: None,
+        scheme,
+        comment: Some(comment),
+    };
+    Output::File(dir.join(&file)).write(|mut w| write_obj(&mut w, mesh, &opts))?;
+    Ok(Item {
+        file,
+        caption,
+        counts: Some((mesh.num_vertices(), mesh.num_faces())),
+    })
+}
+
+/// Copies a bundled input file into `dir`.
+fn source_item(
+    dir: &Path,
+    file: String,
+    text: &str,
+    counts: Option<(usize, usize)>,
+) -> Result<Item> {
+    Output::File(dir.join(&file)).write(|w| w.write_all(text.as_bytes()))?;
+    Ok(Item {
+        file,
+        caption: "input".to_owned(),
+        counts,
+    })
+}
+
+/// Pictures of a dense mesh drawn as it is (a sampled limit surface): shaded and zebra.
+fn dense_pictures(
+    dir: &Path,
+    mesh: &PolyMesh,
+    (view, zoom): ((f64, f64), f64),
+    stem: &str,
+    what: &str,
+) -> Result<Vec<Item>> {
+    let mut items = Vec::new();
+    for (paint, suffix, caption) in [
+        (Paint::Plain, "shaded", format!("{what}, shaded")),
+        (
+            Paint::Zebra,
+            "zebra",
+            format!("{what}, zebra stripes (smooth stripes: curvature continuous)"),
+        ),
+    ] {
+        let opts = Render {
+            zoom,
+            ..picture(Geometry::Level(0), paint, view)
+        };
+        let r = render_detailed(mesh, &Options::default(), &opts)
+            .with_context(|| format!("{stem}: {suffix} picture"))?;
+        items.push(png_item(
+            dir,
+            &r.image,
+            format!("{stem}-{suffix}.png"),
+            caption,
+        )?);
+    }
+    Ok(items)
+}
+
+impl Ctx<'_> {
+    fn mesh(&self) -> &PolyMesh {
+        &self.input.obj.mesh
+    }
+
+    /// `<example>-<suffix>`.
+    fn file(&self, suffix: &str) -> String {
+        format!("{}-{suffix}", self.ex.name)
+    }
+
+    /// Picture options for this example (its limit surface).
+    fn picture(&self, paint: Paint) -> Render {
+        picture(Geometry::Limit { rate: self.ex.rate }, paint, self.ex.view)
+    }
+
+    /// Renders `mesh` with `opts` to the PNG `file`.
+    fn png(&self, mesh: &PolyMesh, opts: &Render, file: &str, caption: String) -> Result<Item> {
+        let r = render_detailed(mesh, &self.options, opts)
+            .with_context(|| format!("{}: {file}", self.input.name))?;
+        png_item(self.dir, &r.image, file.to_owned(), caption)
+    }
+
+    /// Writes `mesh` as OBJ to `file` with a header `comment`.
+    fn obj(&self, mesh: &PolyMesh, file: &str, comment: &str, caption: String) -> Result<Item> {
+        obj_item(
+            self.dir,
+            mesh,
+            Some(self.options),
+            file.to_owned(),
+            comment,
+            caption,
+        )
+    }
+
+    /// Whether Catmull-Clark and the methods on its limit surface are shown.
+    fn surface(&self) -> bool {
+        matches!(self.ex.kind, Kind::Surface | Kind::Knots)
+    }
+}
 
 /// Runs `subsurf demo`.
 pub fn run(args: &DemoArgs) -> Result<()> {
@@ -50,59 +424,758 @@ pub fn run(args: &DemoArgs) -> Result<()> {
     fs::create_dir_all(dir)
         .with_context(|| format!("cannot create directory {}", dir.display()))?;
     let mut stdout = std::io::stdout().lock();
+    let mut sections: Vec<Section> = Vec::new();
+    // Reports a section's files and adds it to the page.
+    let mut show = |name: &'static str, groups: Vec<(&'static str, Vec<Item>)>| -> Result<()> {
+        for item in groups.iter().flat_map(|g| &g.1) {
+            report(&mut stdout, dir, item)?;
+        }
+        sections.push((name, groups));
+        Ok(())
+    };
     for ex in EXAMPLES {
         let name = format!("{}.obj", ex.name);
         let input = Input {
             obj: parse_obj(ex.obj.as_bytes(), &name)?,
             name,
         };
-
-        let path = dir.join(&input.name);
-        Output::File(path.clone()).write(|w| w.write_all(ex.obj.as_bytes()))?;
-        report(&mut stdout, &path, &input.obj.mesh, "input")?;
-
-        let scheme = input.obj.options.resolve(Options::default());
-        for limit in [false, true].into_iter().filter(|&l| !l || ex.limit) {
-            let opts = SubdivideOptions {
-                levels: LEVELS,
-                scheme,
-                limit,
-                ..Default::default()
-            };
-            let suffix = if limit { "-limit" } else { "" };
-            let path = dir.join(format!("{}-l{LEVELS}{suffix}.obj", ex.name));
-            let progress = Progress::new(LEVELS, false);
-            let sub = refine(&input, &opts, &progress, false)?;
-            let comment = command_line(&opts, &input.name);
-            write(
-                &Output::File(path.clone()),
-                &sub,
-                &opts,
-                &comment,
-                &progress,
-            )?;
-            drop(progress);
-            let what = if limit {
-                "level 3, limit positions and normals"
-            } else {
-                "level 3"
-            };
-            report(&mut stdout, &path, &sub.mesh, what)?;
+        let m = &input.obj.mesh;
+        let source = source_item(
+            dir,
+            input.name.clone(),
+            ex.obj,
+            Some((m.num_vertices(), m.num_faces())),
+        )?;
+        let ctx = Ctx {
+            dir,
+            ex,
+            input: &input,
+            options: input.obj.options.resolve(Options::default()),
+        };
+        let mut groups = vec![("Input", vec![source])];
+        for method in METHODS {
+            let items =
+                (method.run)(&ctx).with_context(|| format!("{}: {}", ex.name, method.name))?;
+            groups.push((method.name, items));
         }
+        show(ex.name, groups)?;
     }
-    Ok(())
+    for ex in CURVES {
+        let source = source_item(dir, format!("{}.json", ex.name), ex.json, None)?;
+        let items =
+            interpolation(dir, ex).with_context(|| format!("{}: {INTERPOLATION}", ex.name))?;
+        show(
+            ex.name,
+            vec![("Input", vec![source]), (INTERPOLATION, items)],
+        )?;
+    }
+    for ex in PATCHES {
+        let source = source_item(dir, format!("{}.json", ex.name), ex.json, None)?;
+        let heading = match ex.purpose {
+            PatchUse::Blend => BLENDING,
+            PatchUse::Fill | PatchUse::FillG1 => FILLING,
+        };
+        let items = patch_method(dir, ex).with_context(|| format!("{}: {heading}", ex.name))?;
+        show(ex.name, vec![("Input", vec![source]), (heading, items)])?;
+    }
+    let index = Item {
+        file: "index.html".to_owned(),
+        caption: "the gallery: open in a browser".to_owned(),
+        counts: None,
+    };
+    let html = gallery_html(&sections);
+    Output::File(dir.join(&index.file)).write(|w| w.write_all(html.as_bytes()))?;
+    report(&mut stdout, dir, &index)
 }
 
-/// One line per written file: path, counts, what it is.
-fn report(out: &mut impl std::io::Write, path: &Path, mesh: &PolyMesh, what: &str) -> Result<()> {
-    writeln!(
-        out,
-        "{}  {} vertices, {} faces ({what})",
-        path.display(),
-        mesh.num_vertices(),
-        mesh.num_faces()
-    )
+/// One line per written file: path, counts (OBJ), caption.
+fn report(out: &mut impl std::io::Write, dir: &Path, item: &Item) -> Result<()> {
+    let path = dir.join(&item.file);
+    match item.counts {
+        Some((v, f)) => writeln!(
+            out,
+            "{}  {v} vertices, {f} faces ({})",
+            path.display(),
+            item.caption
+        ),
+        None => writeln!(out, "{}  ({})", path.display(), item.caption),
+    }
     .context("cannot write to standard output")
+}
+
+// ---------------------------------------------------------------------------------------
+// Methods on meshes.
+
+/// Catmull-Clark refinement to level 3 (and, for some examples, to the limit with normals).
+fn catmull_clark(ctx: &Ctx) -> Result<Vec<Item>> {
+    if !ctx.surface() {
+        return Ok(Vec::new());
+    }
+    let mut items = Vec::new();
+    for limit in [false, true].into_iter().filter(|&l| !l || ctx.ex.limit) {
+        let opts = SubdivideOptions {
+            levels: LEVELS,
+            scheme: ctx.options,
+            limit,
+            ..Default::default()
+        };
+        let suffix = if limit { "-limit" } else { "" };
+        let file = ctx.file(&format!("l{LEVELS}{suffix}.obj"));
+        let progress = Progress::new(LEVELS, true);
+        let sub = refine(ctx.input, &opts, &progress, true)?;
+        let comment = command_line(&opts, &ctx.input.name);
+        write(
+            &Output::File(ctx.dir.join(&file)),
+            &sub,
+            &opts,
+            &comment,
+            &progress,
+        )?;
+        let m = &sub.mesh;
+        let uniform = if ctx.ex.kind == Kind::Knots {
+            " (uniform: knot intervals ignored)"
+        } else {
+            ""
+        };
+        items.push(Item {
+            file,
+            caption: if limit {
+                format!("level {LEVELS}, limit positions and normals{uniform}")
+            } else {
+                format!("level {LEVELS}{uniform}")
+            },
+            counts: Some((m.num_vertices(), m.num_faces())),
+        });
+    }
+    Ok(items)
+}
+
+/// The exact limit surface, tessellated watertight, as binary glTF with the control mesh.
+fn limit_surface(ctx: &Ctx) -> Result<Vec<Item>> {
+    if !ctx.surface() {
+        return Ok(Vec::new());
+    }
+    let mesh = ctx.mesh();
+    let rate = ctx.ex.rate;
+    let surface = LimitSurface::new(mesh, ctx.options)?;
+    let t = tessellate(&surface, mesh, &ctx.options, rate, true)?;
+    let lines = face_edges(mesh.face_offsets(), mesh.face_verts());
+    let glb = GlbMesh {
+        name: "limit surface",
+        positions: &t.positions,
+        normals: Some(&t.normals),
+        colors: None,
+        face_offsets: &t.face_offsets,
+        face_verts: &t.face_verts,
+        control: Some(GlbLines {
+            positions: mesh.positions(),
+            lines: &lines,
+        }),
+    };
+    let file = ctx.file("limit.glb");
+    Output::File(ctx.dir.join(&file)).write(|mut w| write_glb(&mut w, &glb))?;
+    Ok(vec![Item {
+        file,
+        caption: format!(
+            "exact limit surface, {} samples per edge, with the control mesh (glTF; the viewer in viewer/ opens it)",
+            t.rate
+        ),
+        counts: None,
+    }])
+}
+
+/// Shaded with the control mesh, zebra stripes, mean curvature.
+fn pictures(ctx: &Ctx) -> Result<Vec<Item>> {
+    if !ctx.surface() {
+        return Ok(Vec::new());
+    }
+    let shaded = Render {
+        control_mesh: true,
+        ..ctx.picture(Paint::Plain)
+    };
+    let what = if ctx.ex.kind == Kind::Knots {
+        "uniform Catmull-Clark limit surface (knot intervals ignored)"
+    } else {
+        "limit surface"
+    };
+    Ok(vec![
+        ctx.png(
+            ctx.mesh(),
+            &shaded,
+            &ctx.file("shaded.png"),
+            format!("{what}, shaded, with the control mesh"),
+        )?,
+        ctx.png(
+            ctx.mesh(),
+            &ctx.picture(Paint::Zebra),
+            &ctx.file("zebra.png"),
+            "zebra stripes (reflection lines): broken at a kink, kinked at a curvature jump"
+                .to_owned(),
+        )?,
+        ctx.png(
+            ctx.mesh(),
+            &ctx.picture(Paint::Curvature(CurvatureKind::Mean)),
+            &ctx.file("curvature.png"),
+            "mean curvature of the exact limit surface".to_owned(),
+        )?,
+    ])
+}
+
+/// The adjustable scheme for a few `c`: the level-2 refinement, and a picture of the
+/// mixed surface (one step with `c`, then Catmull-Clark to the limit).
+fn adjustable(ctx: &Ctx) -> Result<Vec<Item>> {
+    if ctx.ex.kind != Kind::Surface {
+        return Ok(Vec::new());
+    }
+    let mut items = Vec::new();
+    for c in ADJUSTABLE_C {
+        let scheme = Adjustable::new(c)?;
+        let opts = SubdivideOptions {
+            levels: ADJUSTABLE_LEVELS,
+            scheme: ctx.options,
+            ..Default::default()
+        };
+        let all = Mixed::all(scheme);
+        let progress = Progress::new(ADJUSTABLE_LEVELS, true);
+        let sub = refine_mixed(ctx.input, &opts, Some(all), &progress, true)?;
+        let comment = format!(
+            "{} {}",
+            command_line(&opts, &ctx.input.name),
+            super::adjustable::flags(all, ADJUSTABLE_LEVELS)
+        );
+        items.push(ctx.obj(
+            &sub.mesh,
+            &ctx.file(&format!("c{c}-l{ADJUSTABLE_LEVELS}.obj")),
+            &comment,
+            format!(
+                "adjustable scheme, c = {c}, level {ADJUSTABLE_LEVELS} (c = 0.5 is Catmull-Clark)"
+            ),
+        )?);
+
+        let mixed = Mixed {
+            scheme,
+            steps: ADJUSTABLE_STEPS,
+        };
+        let refined = super::adjustable::refined_mesh(ctx.input, ctx.options, mixed)?;
+        let rate = super::adjustable::refined_rate(ctx.ex.rate, ADJUSTABLE_STEPS);
+        let pic = Render {
+            geometry: Geometry::Limit { rate },
+            ..ctx.picture(Paint::Zebra)
+        };
+        items.push(ctx.png(
+            &refined,
+            &pic,
+            &ctx.file(&format!("c{c}-zebra.png")),
+            format!(
+                "mixed surface, c = {c}: {ADJUSTABLE_STEPS} step with c, then Catmull-Clark \
+                 (zebra; compare with the Catmull-Clark zebra above)"
+            ),
+        )?);
+    }
+    Ok(items)
+}
+
+/// Non-uniform Catmull-Clark with the file's knot intervals: the refined mesh (with its
+/// refined intervals), its limit positions, and pictures of the latter.
+fn nurss(ctx: &Ctx) -> Result<Vec<Item>> {
+    if ctx.ex.kind != Kind::Knots {
+        return Ok(Vec::new());
+    }
+    let mut items = Vec::new();
+    let mut limit_mesh = None;
+    for limit in [false, true] {
+        let opts = NurssOptions {
+            levels: LEVELS,
+            scheme: ctx.options,
+            limit,
+            keep_holes: false,
+        };
+        let sub = subsurf::nurss::subdivide(ctx.mesh(), &opts)?;
+        let (suffix, what) = if limit {
+            ("nurss-limit", ", moved to the limit surface")
+        } else {
+            ("nurss-l3", " with the refined knot intervals (t interval)")
+        };
+        items.push(ctx.obj(
+            &sub.mesh,
+            &ctx.file(&format!("{suffix}.obj")),
+            &format!(
+                "subsurf subdivide --scheme nurss -l {LEVELS}{} {}",
+                if limit { " --limit" } else { "" },
+                ctx.input.name
+            ),
+            format!("NURSS level {LEVELS}{what}"),
+        )?);
+        if limit {
+            limit_mesh = Some(sub.mesh);
+        }
+    }
+    let limit = limit_mesh.context("no limit mesh")?;
+    items.extend(dense_pictures(
+        ctx.dir,
+        &limit,
+        (ctx.ex.view, 1.0),
+        &ctx.file("nurss"),
+        "NURSS limit surface (compare with the uniform pictures above: the wide middle spans \
+         stay wide)",
+    )?);
+    Ok(items)
+}
+
+/// G2 caps: zebra and Gaussian curvature of the capped surface beside plain Catmull-Clark's
+/// (same camera, same curvature colour range), and the caps' Bézier patches as JSON.
+fn g2_caps(ctx: &Ctx) -> Result<Vec<Item>> {
+    if ctx.ex.kind != Kind::Surface || ctx.mesh().num_faces() > G2_MAX_FACES {
+        return Ok(Vec::new());
+    }
+    let mesh = ctx.mesh();
+    let surface = G2Surface::new(
+        mesh,
+        &G2SurfaceOptions {
+            scheme: ctx.options,
+            levels: None,
+        },
+    )?;
+    if surface.caps().is_empty() {
+        return Ok(Vec::new());
+    }
+    let caps = surface.caps().len();
+    let closeup = G2_CLOSEUPS.iter().find(|c| c.0 == ctx.ex.name);
+    let place = if closeup.is_some() {
+        "close-up of an extraordinary vertex"
+    } else {
+        "whole surface"
+    };
+    let (view, zoom) = closeup.map_or((ctx.ex.view, 1.0), |c| (c.1, c.2));
+    let g2: &dyn SampledSurface = &surface;
+    let draw = |paint: Paint, range: Option<(f64, f64)>, s: Option<&dyn SampledSurface>| {
+        let (width, height) = if paint == Paint::Zebra { G2_SIZE } else { SIZE };
+        let opts = Render {
+            curvature_range: range,
+            zoom,
+            width,
+            height,
+            ..picture(Geometry::Limit { rate: G2_RATE }, paint, view)
+        };
+        render_surface(mesh, &ctx.options, &opts, s)
+            .with_context(|| format!("{}: G2 picture", ctx.input.name))
+    };
+    let gauss = Paint::Curvature(CurvatureKind::Gauss);
+    let g2_zebra = draw(Paint::Zebra, None, Some(g2))?;
+    let cc_zebra = draw(Paint::Zebra, None, None)?;
+    let g2_curv = draw(gauss, None, Some(g2))?;
+    let cc_curv = draw(gauss, g2_curv.curvature_range, None)?;
+    let mut items = vec![
+        png_item(
+            ctx.dir,
+            &cc_zebra.image,
+            ctx.file("cc-zebra.png"),
+            format!(
+                "Catmull-Clark, {place}: the stripes kink at the extraordinary vertices (only \
+                 G1: the curvature degenerates there)"
+            ),
+        )?,
+        png_item(
+            ctx.dir,
+            &g2_zebra.image,
+            ctx.file("g2-zebra.png"),
+            format!(
+                "G2 caps ({caps}), same view: the stripes stay smooth through the extraordinary \
+                 vertices"
+            ),
+        )?,
+        png_item(
+            ctx.dir,
+            &cc_curv.image,
+            ctx.file("cc-curvature.png"),
+            "Catmull-Clark, Gaussian curvature (same colour range as the G2 picture)".to_owned(),
+        )?,
+        png_item(
+            ctx.dir,
+            &g2_curv.image,
+            ctx.file("g2-curvature.png"),
+            "G2 caps, Gaussian curvature: continuous across the caps".to_owned(),
+        )?,
+    ];
+    let doc = patches_json(&surface, mesh)?;
+    let file = ctx.file("g2.json");
+    let text = doc.to_json();
+    Output::File(ctx.dir.join(&file)).write(|w| writeln!(w, "{text}"))?;
+    items.push(Item {
+        file,
+        caption: format!(
+            "Bézier control points of every patch ({caps} caps of bi-septic patches, bicubic \
+             B-spline elsewhere; schema in the README)"
+        ),
+        counts: None,
+    });
+    Ok(items)
+}
+
+/// The sub-basis spline surface as a [`SampledSurface`], for the renderer.
+struct SplineSurface<'a>(&'a SubBasisSurface);
+
+impl SampledSurface for SplineSurface<'_> {
+    fn sample(&self, p: SurfacePoint) -> Result<Derivatives, EvalError> {
+        self.0.eval(p.face, p.u, p.v).map_err(|e| match e {
+            SplineError::NoSurface { face, .. } => EvalError::Hole { face },
+            SplineError::NoSuchFace { face, count } => EvalError::NoSuchFace { face, count },
+            _ => EvalError::BadParameter { u: p.u, v: p.v },
+        })
+    }
+}
+
+/// The sub-basis spline on closed meshes without tags: its tessellation, and pictures with
+/// the patches in alternating colours (as in the paper's Fig. 7) and as zebra stripes.
+fn spline(ctx: &Ctx) -> Result<Vec<Item>> {
+    if ctx.ex.kind != Kind::Surface || !ctx.mesh().tags.is_empty() {
+        return Ok(Vec::new());
+    }
+    let spline = QuadSpline::new(ctx.mesh())?;
+    let (mesh, surface) = (&spline.control, &spline.surface);
+    if !(0..mesh.num_faces()).all(|f| surface.has_surface(f)) {
+        // Faces at the boundary have no surface: show closed meshes only.
+        return Ok(Vec::new());
+    }
+    let rate = ctx.ex.rate;
+    let t = subsurf::spline::tessellate(surface, mesh, rate)?;
+    let tess = PolyMesh::new(
+        t.positions.clone(),
+        t.face_offsets.clone(),
+        t.face_verts.clone(),
+    )
+    .context("the tessellation is not a valid mesh")?;
+    let file = ctx.file("spline.obj");
+    let comment = format!("subsurf spline --rate {rate} {}", ctx.input.name);
+    let opts = WriteOptions {
+        normals: Some(&t.normals),
+        scheme: None,
+        comment: Some(&comment),
+    };
+    Output::File(ctx.dir.join(&file)).write(|mut w| write_obj(&mut w, &tess, &opts))?;
+    let mut items = vec![Item {
+        file,
+        caption: format!("sub-basis spline surface, {rate} x {rate} quads per patch"),
+        counts: Some((tess.num_vertices(), tess.num_faces())),
+    }];
+    let s = SplineSurface(surface);
+    for (paint, suffix, caption) in [
+        (
+            Paint::Faces,
+            "spline-patches.png",
+            "one rational bicubic patch per face, neighbours in different colours",
+        ),
+        (
+            Paint::Zebra,
+            "spline-zebra.png",
+            "sub-basis spline, zebra stripes (G1 at the irregular vertices)",
+        ),
+    ] {
+        let opts = picture(Geometry::Limit { rate }, paint, ctx.ex.view);
+        let r = render_surface(mesh, &ctx.options, &opts, Some(&s))
+            .with_context(|| format!("{}: spline picture", ctx.input.name))?;
+        items.push(png_item(
+            ctx.dir,
+            &r.image,
+            ctx.file(suffix),
+            caption.to_owned(),
+        )?);
+    }
+    Ok(items)
+}
+
+/// The regularity certificate of a planar net: its plot and the verdict.
+fn regularity(ctx: &Ctx) -> Result<Vec<Item>> {
+    if ctx.ex.kind != Kind::Planar {
+        return Ok(Vec::new());
+    }
+    let mesh = ctx.mesh();
+    let options = RegularityOptions {
+        scheme: ctx.options,
+        dimension: None,
+        samples: REGULARITY_SAMPLES,
+    };
+    let report = check_regularity(mesh, &options)?;
+    let mut items = Vec::new();
+    for mode in [Mode::Local, Mode::Global] {
+        let c = report.counts(mode);
+        let (name, what) = match mode {
+            Mode::Local => ("local", "per-face cones"),
+            Mode::Global => ("global", "one cone pair per component"),
+        };
+        let verdict = if report.certified(mode) {
+            "certified regular"
+        } else {
+            "not certified"
+        };
+        let img = plot::image(mesh, &report, mode);
+        items.push(png_item(
+            ctx.dir,
+            &img,
+            ctx.file(&format!("regularity-{name}.png")),
+            format!(
+                "{name} certificate ({what}): {verdict}; {} of {} faces certified, {} refused, \
+                 {} not applicable (u-differences blue, v red)",
+                c.certified,
+                report.faces.len(),
+                c.refused,
+                c.not_applicable
+            ),
+        )?);
+    }
+    Ok(items)
+}
+
+// ---------------------------------------------------------------------------------------
+// Curves and patches.
+
+/// Curve interpolation: the control mesh with its knot intervals, the NURSS limit mesh,
+/// and pictures of the latter.
+fn interpolation(dir: &Path, ex: &CurveExample) -> Result<Vec<Item>> {
+    let items = parse_geometry(ex.json.as_bytes(), &format!("{}.json", ex.name))?;
+    let opts = InterpolateOptions {
+        width: ex.width,
+        side: ex.side,
+    };
+    let side = ex
+        .side
+        .map_or(String::new(), |[x, y, z]| format!(" --side {x},{y},{z}"));
+    let zones = interpolate_geometry(&items, &opts)?;
+    let limit = zones.limit_mesh(CURVE_LEVELS)?;
+    let mut out = vec![
+        obj_item(
+            dir,
+            &zones.mesh,
+            None,
+            format!("{}-control.obj", ex.name),
+            &format!(
+                "subsurf interpolate --width {}{side} {}.json --curve-samples 0",
+                ex.width, ex.name
+            ),
+            format!(
+                "control mesh, {} curve zone(s) of width {}, {}",
+                zones.zones.len(),
+                ex.width,
+                if subsurf::nurss::has_knots(&zones.mesh) {
+                    "with its knot intervals (t interval tags)"
+                } else {
+                    "uniform knots"
+                }
+            ),
+        )?,
+        obj_item(
+            dir,
+            &limit,
+            None,
+            format!("{}-limit.obj", ex.name),
+            &format!(
+                "subsurf interpolate --width {}{side} {}.json --tessellate \
+                 --levels {CURVE_LEVELS} --curve-samples 0",
+                ex.width, ex.name
+            ),
+            format!("NURSS limit surface ({CURVE_LEVELS} levels): passes through the curves"),
+        )?,
+    ];
+    out.extend(dense_pictures(
+        dir,
+        &limit,
+        (ex.view, ex.zoom),
+        ex.name,
+        "limit surface interpolating the curves",
+    )?);
+    Ok(out)
+}
+
+/// The bicubic patches of a patch file.
+fn bspline_patches(items: &[SourcedGeometry]) -> Result<Vec<subsurf::nurbs::BSplineSurface<3>>> {
+    items
+        .iter()
+        .map(|g| match &g.geometry {
+            NurbsGeometry::Surface(Surface::BSpline(s)) => Ok(s.clone()),
+            _ => anyhow::bail!("{}: not a bicubic B-spline patch", g.label()),
+        })
+        .collect()
+}
+
+/// Blending or hole filling: the base patches and the new surface as one OBJ with groups,
+/// and pictures of all of them together.
+fn patch_method(dir: &Path, ex: &PatchExample) -> Result<Vec<Item>> {
+    let items = parse_geometry(ex.json.as_bytes(), &format!("{}.json", ex.name))?;
+    let patches = bspline_patches(&items)?;
+    let (surface, group, what) = match ex.purpose {
+        PatchUse::Blend => (
+            blend(&patches, PATCH_LEVELS)?.surface()?,
+            "blend",
+            format!("C2 blend of {} patches", patches.len()),
+        ),
+        PatchUse::Fill => {
+            let curves = patches
+                .iter()
+                .enumerate()
+                .map(|(k, s)| patch_boundary(s, k))
+                .collect::<Result<Vec<_>, _>>()?;
+            (
+                fill(&curves, PATCH_LEVELS, &FillOptions::default())?.surface()?,
+                "fill",
+                format!("{}-sided hole filled (corner interpolating)", patches.len()),
+            )
+        }
+        PatchUse::FillG1 => (
+            fill_g1(&patches, PATCH_LEVELS, &FillOptions::default())?.surface()?,
+            "fill",
+            format!("{}-sided hole filled G1 to the patches", patches.len()),
+        ),
+    };
+    let grids = patches
+        .iter()
+        .map(|s| Surface::BSpline(s.clone()).grid(PATCH_SAMPLES as usize))
+        .collect::<Result<Vec<PolyMesh>, _>>()?;
+    let mut groups: Vec<(String, &PolyMesh)> = grids
+        .iter()
+        .enumerate()
+        .map(|(k, m)| (format!("patch_{}", k + 1), m))
+        .collect();
+    groups.push((group.to_owned(), &surface));
+    let file = format!("{}-{group}.obj", ex.name);
+    let comment = format!(
+        "subsurf {} {}.json --levels {PATCH_LEVELS} --samples {PATCH_SAMPLES}{}",
+        if group == "blend" { "blend" } else { "fill" },
+        ex.name,
+        if ex.purpose == PatchUse::FillG1 {
+            " --g1"
+        } else {
+            ""
+        }
+    );
+    Output::File(dir.join(&file)).write(|w| write_groups_obj(w, Some(&comment), &groups, &[]))?;
+    let all = merge(groups.iter().map(|g| g.1))?;
+    let mut out = vec![Item {
+        file,
+        caption: format!(
+            "{what}: the base patches (groups patch_N) and the {group} surface after \
+             {PATCH_LEVELS} skirt-removal levels"
+        ),
+        counts: Some((all.num_vertices(), all.num_faces())),
+    }];
+    out.extend(dense_pictures(dir, &all, (ex.view, 1.0), ex.name, &what)?);
+    Ok(out)
+}
+
+/// The meshes as one (disjoint) mesh.
+fn merge<'a>(meshes: impl Iterator<Item = &'a PolyMesh>) -> Result<PolyMesh> {
+    let (mut positions, mut offsets, mut verts) = (Vec::new(), vec![0u32], Vec::new());
+    for m in meshes {
+        let base = positions.len() as u32;
+        positions.extend_from_slice(m.positions());
+        for f in 0..m.num_faces() {
+            verts.extend(m.face(f).iter().map(|&v| v + base));
+            offsets.push(verts.len() as u32);
+        }
+    }
+    PolyMesh::new(positions, offsets, verts).context("merged mesh")
+}
+
+// ---------------------------------------------------------------------------------------
+// The page.
+
+/// Escapes `&`, `<`, `>` and `"` for HTML text and attribute values.
+fn escape(s: &str) -> String {
+    let mut out = String::with_capacity(s.len());
+    for ch in s.chars() {
+        match ch {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            _ => out.push(ch),
+        }
+    }
+    out
+}
+
+/// Escapes a file name for an `href`/`src` attribute (names are ASCII letters, digits,
+/// `.`, `-` and `_`; anything else is percent-encoded).
+fn url(file: &str) -> String {
+    let mut out = String::new();
+    for b in file.bytes() {
+        if b.is_ascii_alphanumeric() || b"-._".contains(&b) {
+            out.push(b as char);
+        } else {
+            let _ = write!(out, "%{b:02X}");
+        }
+    }
+    out
+}
+
+/// The self-contained gallery page: one section per example, one group per method;
+/// pictures inline (each a link to itself), models as links; a caption for each.
+fn gallery_html(sections: &[Section]) -> String {
+    let mut h = String::new();
+    h.push_str(
+        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n\
+         <title>subsurf demo gallery</title>\n<style>\n\
+         body { font-family: sans-serif; margin: 1.5em; color: #222; background: #fafafa; }\n\
+         section { margin-bottom: 2.5em; }\n\
+         .grid { display: flex; flex-wrap: wrap; gap: 1em; }\n\
+         figure { margin: 0; width: 240px; }\n\
+         figure img { width: 240px; height: auto; border: 1px solid #ccc; background: #fff; }\n\
+         figcaption { font-size: 0.85em; }\n\
+         ul.models { font-size: 0.9em; }\n\
+         </style>\n</head>\n<body>\n<h1>subsurf demo gallery</h1>\n\
+         <p>Every method of the project on the bundled examples: control meshes, curves and \
+         patches. Pictures are rendered by subsurf's own software rasteriser; models are OBJ, \
+         binary glTF and JSON.</p>\n\
+         <nav><ul>\n",
+    );
+    for (name, _) in sections {
+        let _ = writeln!(h, "<li><a href=\"#{0}\">{0}</a></li>", escape(name));
+    }
+    h.push_str("</ul></nav>\n");
+    for (name, groups) in sections {
+        let _ = writeln!(h, "<section id=\"{0}\">\n<h2>{0}</h2>", escape(name));
+        for (method, items) in groups {
+            if items.is_empty() {
+                continue;
+            }
+            let _ = writeln!(h, "<h3>{}</h3>", escape(method));
+            let (pictures, models): (Vec<&Item>, Vec<&Item>) =
+                items.iter().partition(|i| i.file.ends_with(".png"));
+            if !pictures.is_empty() {
+                h.push_str("<div class=\"grid\">\n");
+                for p in pictures {
+                    let _ = writeln!(
+                        h,
+                        "<figure><a href=\"{u}\"><img src=\"{u}\" alt=\"{c}\"></a>\
+                         <figcaption>{c}</figcaption></figure>",
+                        u = url(&p.file),
+                        c = escape(&p.caption)
+                    );
+                }
+                h.push_str("</div>\n");
+            }
+            if !models.is_empty() {
+                h.push_str("<ul class=\"models\">\n");
+                for m in models {
+                    let counts = m
+                        .counts
+                        .map(|(v, f)| format!(" ({v} vertices, {f} faces)"))
+                        .unwrap_or_default();
+                    let _ = writeln!(
+                        h,
+                        "<li><a href=\"{}\">{}</a>: {}{}</li>",
+                        url(&m.file),
+                        escape(&m.file),
+                        escape(&m.caption),
+                        counts
+                    );
+                }
+                h.push_str("</ul>\n");
+            }
+        }
+        h.push_str("</section>\n");
+    }
+    h.push_str("</body>\n</html>\n");
+    h
 }
 
 #[cfg(test)]
@@ -115,7 +1188,98 @@ mod tests {
         assert!(total < 100_000, "bundled examples take {total} bytes");
         for e in EXAMPLES {
             assert!(e.obj.starts_with('#'), "{} has no header comment", e.name);
+            assert!(e.rate >= 1);
         }
         assert!(EXAMPLES.iter().any(|e| e.limit));
+        for kind in [Kind::Surface, Kind::Knots, Kind::Planar] {
+            assert!(EXAMPLES.iter().any(|e| e.kind == kind), "{kind:?}");
+        }
+        let names: Vec<&str> = EXAMPLES
+            .iter()
+            .map(|e| e.name)
+            .chain(CURVES.iter().map(|c| c.name))
+            .chain(PATCHES.iter().map(|p| p.name))
+            .collect();
+        let unique: std::collections::BTreeSet<&str> = names.iter().copied().collect();
+        assert_eq!(
+            unique.len(),
+            names.len(),
+            "section names must differ: {names:?}"
+        );
+    }
+
+    #[test]
+    fn merge_keeps_every_face_with_shifted_vertices() {
+        let quad = PolyMesh::from_faces(
+            vec![
+                [0.0, 0.0, 0.0],
+                [1.0, 0.0, 0.0],
+                [1.0, 1.0, 0.0],
+                [0.0, 1.0, 0.0],
+            ],
+            &[[0, 1, 2, 3]],
+        )
+        .unwrap();
+        let tri = PolyMesh::new(
+            vec![[0.0, 0.0, 1.0], [1.0, 0.0, 1.0], [0.0, 1.0, 1.0]],
+            vec![0, 3],
+            vec![0, 1, 2],
+        )
+        .unwrap();
+        let m = merge([&quad, &tri].into_iter()).unwrap();
+        assert_eq!((m.num_vertices(), m.num_faces()), (7, 2));
+        assert_eq!(m.face(0), &[0, 1, 2, 3]);
+        assert_eq!(m.face(1), &[4, 5, 6]);
+        assert_eq!(m.positions()[4], [0.0, 0.0, 1.0]);
+    }
+
+    #[test]
+    fn the_spline_is_sampled_as_it_evaluates() {
+        let cube = parse_obj(EXAMPLES[0].obj.as_bytes(), "cube.obj")
+            .unwrap()
+            .mesh;
+        let spline = QuadSpline::new(&cube).unwrap();
+        let s = SplineSurface(&spline.surface);
+        let p = SurfacePoint {
+            face: 2,
+            subface: 0,
+            u: 0.25,
+            v: 0.7,
+        };
+        let a = s.sample(p).unwrap();
+        let b = spline.surface.eval(2, 0.25, 0.7).unwrap();
+        assert_eq!(format!("{a:?}"), format!("{b:?}"));
+        let bad = SurfacePoint { face: 99, ..p };
+        assert!(matches!(
+            s.sample(bad),
+            Err(EvalError::NoSuchFace { face: 99, .. })
+        ));
+    }
+
+    #[test]
+    fn html_escapes_text_and_links() {
+        assert_eq!(escape("a<b & \"c\">"), "a&lt;b &amp; &quot;c&quot;&gt;");
+        assert_eq!(url("cube-c0.25-l3.obj"), "cube-c0.25-l3.obj");
+        assert_eq!(url("a b#.png"), "a%20b%23.png");
+        let items = vec![
+            Item {
+                file: "x.png".into(),
+                caption: "a <pic>".into(),
+                counts: None,
+            },
+            Item {
+                file: "x.obj".into(),
+                caption: "a model".into(),
+                counts: Some((3, 1)),
+            },
+        ];
+        let page = gallery_html(&[("ex", vec![("M & N", items)])]);
+        assert!(
+            page.contains("<img src=\"x.png\" alt=\"a &lt;pic&gt;\">"),
+            "{page}"
+        );
+        assert!(page.contains("<a href=\"x.obj\">x.obj</a>: a model (3 vertices, 1 faces)"));
+        assert!(page.contains("<h3>M &amp; N</h3>"));
+        assert!(page.starts_with("<!DOCTYPE html>") && page.ends_with("</html>\n"));
     }
 }
