@@ -57,8 +57,8 @@ mod subdivide;
 struct ReadmeDoctests;
 
 pub use info::{mesh_info, MeshInfo};
+pub use mixed::{Mixed, MixedSurface};
 pub use subdivide::{
     estimate_memory, subdivide, subdivide_with_progress, Error, SubdivideOptions, Subdivision,
 };
-pub use mixed::{Mixed, MixedSurface};
 pub use subdivide::{subdivide_mixed, subdivide_mixed_with_progress};

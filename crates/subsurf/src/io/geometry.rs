@@ -183,7 +183,12 @@ mod tests {
             Geometry::Curve(Curve::BSpline(
                 BSplineCurve::clamped_uniform(
                     3,
-                    vec![[0.0, 0.0, 0.0], [1.0, 1.0, 0.0], [2.0, 0.5, 0.0], [3.0, 0.0, 1.0]],
+                    vec![
+                        [0.0, 0.0, 0.0],
+                        [1.0, 1.0, 0.0],
+                        [2.0, 0.5, 0.0],
+                        [3.0, 0.0, 1.0],
+                    ],
                 )
                 .unwrap(),
             )),
@@ -214,8 +219,14 @@ mod tests {
         let e = parse_geometry(b"[{\"type\": \"bspline-curve\"}]", "x.json").unwrap_err();
         assert!(e.to_string().starts_with("x.json: JSON field `[0]"), "{e}");
         let e = parse_geometry(b"v 1 2 3\nf 1 1 1\n", "y.obj").unwrap_err();
-        assert!(e.to_string().contains("y.obj: no curves or surfaces"), "{e}");
+        assert!(
+            e.to_string().contains("y.obj: no curves or surfaces"),
+            "{e}"
+        );
         let e = parse_geometry(b"cstype taylor\n", "z.obj").unwrap_err();
-        assert_eq!(e.to_string(), "z.obj:1: cstype taylor is not supported (bspline and bezier are)");
+        assert_eq!(
+            e.to_string(),
+            "z.obj:1: cstype taylor is not supported (bspline and bezier are)"
+        );
     }
 }
