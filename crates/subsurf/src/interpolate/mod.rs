@@ -19,7 +19,6 @@
 //! | [`crossing`] | shared control points, the checks a joint polygon group needs |
 //! | [`zone`] | the symmetric zonal mesh, its intervals and weights; why the boundary needs no skirt removal |
 //! | [`track`] | the middle polygon at any refinement level |
-//! | [`skirt`] | generic skirt removal (refine, then drop the outer ring of faces) |
 //!
 //! Source: Zheng Jianmin et al. (seed 001), "Subdivision surfaces interpolating cubic NURBS
 //! curves" (Chinese, with English abstract), §2–3, Lemma 1, Theorem 1, Corollary 1.
@@ -46,7 +45,6 @@ pub mod crossing;
 pub mod curve;
 mod error;
 pub mod frame;
-pub mod skirt;
 pub mod track;
 pub mod zone;
 

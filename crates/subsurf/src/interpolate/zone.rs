@@ -21,7 +21,7 @@
 //! # Boundary: NURSS boundary rules, not skirt removal
 //! The zone's border is an ordinary NURSS boundary (sharp B-spline curve rules, intervals
 //! mirrored across it). The paper instead computes no new points on the zone's boundary
-//! (skirt removal). Both keep the middle polygon exact, for the same reason: a middle point's
+//! (skirt removal, [`crate::blend::skirt`]). Both keep the middle polygon exact, for the same reason: a middle point's
 //! new position reads only its 1-ring and the intervals two steps around its neighbours, and
 //! the boundary rules are mirror-symmetric across the middle polygon, so every refined zone is
 //! again symmetric (`T' + B' = 2 P'`: the side rows refine by the same linear curve rules with
