@@ -6,20 +6,10 @@
 //! and vertex points, which read the new face points); this is a separate function so
 //! that the Catmull-Clark path keeps its fixed-weight fast paths untouched.
 
+use super::primvar::{axpy, face_points, run_chunks};
 use crate::mesh::{Options, Rule, Topology, TriangleSubdivision};
 use crate::scheme::adjustable::Adjustable;
 use crate::scheme::catmark::{VertexContext, VertexMask};
-use rayon::prelude::*;
-
-/// Elements per parallel task; below `2 * CHUNK` elements a pass runs on one thread.
-const CHUNK: usize = 8192;
-
-#[inline]
-fn axpy<const D: usize>(acc: &mut [f64; D], w: f64, x: &[f64; D]) {
-    for k in 0..D {
-        acc[k] += w * x[k];
-    }
-}
 
 /// Interpolates `src` (values at the vertices of `parent`) to `dst` (values at the
 /// vertices of `child`, the refinement of `parent`) with the adjustable scheme `scheme`.
@@ -50,23 +40,7 @@ pub fn interpolate_adjustable<const D: usize>(
     let (face_pts, edge_pts) = rest.split_at_mut(nf);
 
     // Face points: centroids, whatever c is.
-    let face_pass = |(start, out): (usize, &mut [[f64; D]])| {
-        for (i, o) in out.iter_mut().enumerate() {
-            let fv = parent.face_vertices(start + i);
-            let mut acc = [0.0; D];
-            for &v in fv {
-                for k in 0..D {
-                    acc[k] += src[v as usize][k];
-                }
-            }
-            let w = scheme.face_point_weight(fv.len());
-            for k in 0..D {
-                acc[k] *= w;
-            }
-            *o = acc;
-        }
-    };
-    run_chunks(face_pts, face_pass);
+    face_points(parent, src, face_pts);
     let face_pts: &[[f64; D]] = face_pts;
 
     let tri_option = options.triangles == TriangleSubdivision::Smooth;
@@ -177,18 +151,4 @@ pub fn interpolate_adjustable<const D: usize>(
         || run_chunks(edge_pts, edge_pass),
         || run_chunks(vert_pts, vertex_pass),
     );
-}
-
-/// Runs `f(start, chunk)` over `out` in chunks, in parallel when large.
-fn run_chunks<T: Send, F>(out: &mut [T], f: F)
-where
-    F: Fn((usize, &mut [T])) + Sync + Send,
-{
-    if out.len() < 2 * CHUNK {
-        f((0, out));
-    } else {
-        out.par_chunks_mut(CHUNK)
-            .enumerate()
-            .for_each(|(i, c)| f((i * CHUNK, c)));
-    }
 }

@@ -11,10 +11,10 @@ use crate::scheme::catmark::{self, VertexContext, VertexMask, VertexMaskScratch}
 use rayon::prelude::*;
 
 /// Elements per parallel task; below `2 * CHUNK` elements a pass runs on one thread.
-const CHUNK: usize = 8192;
+pub(super) const CHUNK: usize = 8192;
 
 #[inline]
-fn axpy<const D: usize>(acc: &mut [f64; D], w: f64, x: &[f64; D]) {
+pub(super) fn axpy<const D: usize>(acc: &mut [f64; D], w: f64, x: &[f64; D]) {
     for k in 0..D {
         acc[k] += w * x[k];
     }
@@ -46,23 +46,7 @@ pub fn interpolate<const D: usize>(
     let (face_pts, edge_pts) = rest.split_at_mut(nf);
 
     // Face points.
-    let face_pass = |(start, out): (usize, &mut [[f64; D]])| {
-        for (i, o) in out.iter_mut().enumerate() {
-            let fv = parent.face_vertices(start + i);
-            let mut acc = [0.0; D];
-            for &v in fv {
-                for k in 0..D {
-                    acc[k] += src[v as usize][k];
-                }
-            }
-            let w = catmark::face_point_weight(fv.len());
-            for k in 0..D {
-                acc[k] *= w;
-            }
-            *o = acc;
-        }
-    };
-    run_chunks(face_pts, face_pass);
+    face_points(parent, src, face_pts);
     let face_pts: &[[f64; D]] = face_pts;
 
     // Edge points.
@@ -183,7 +167,7 @@ pub fn interpolate<const D: usize>(
 }
 
 /// Runs `f(start, chunk)` over `out` in chunks, in parallel when large.
-fn run_chunks<T: Send, F>(out: &mut [T], f: F)
+pub(super) fn run_chunks<T: Send, F>(out: &mut [T], f: F)
 where
     F: Fn((usize, &mut [T])) + Sync + Send,
 {
@@ -194,4 +178,30 @@ where
             .enumerate()
             .for_each(|(i, c)| f((i * CHUNK, c)));
     }
+}
+
+/// The face points of `parent` (centroids of the face vertices, the same in every scheme
+/// that changes only edge and vertex weights) into `face_pts`, one per face.
+pub(super) fn face_points<const D: usize>(
+    parent: &Topology,
+    src: &[[f64; D]],
+    face_pts: &mut [[f64; D]],
+) {
+    let face_pass = |(start, out): (usize, &mut [[f64; D]])| {
+        for (i, o) in out.iter_mut().enumerate() {
+            let fv = parent.face_vertices(start + i);
+            let mut acc = [0.0; D];
+            for &v in fv {
+                for k in 0..D {
+                    acc[k] += src[v as usize][k];
+                }
+            }
+            let w = catmark::face_point_weight(fv.len());
+            for k in 0..D {
+                acc[k] *= w;
+            }
+            *o = acc;
+        }
+    };
+    run_chunks(face_pts, face_pass);
 }
