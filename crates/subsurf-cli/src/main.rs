@@ -111,7 +111,8 @@ Input is JSON (one document or an array, schema in the README) or OBJ free-form 
 (cstype [rat] bspline|bezier, deg, curv, surf, parm, end), told apart by the first character.
 Without -o, prints one line per curve or surface. With -o, writes them as JSON (.json, or
 '-' for standard output) or OBJ free-form (.obj); both read back exactly. --sample N writes
-OBJ polylines (curves) and quad grids (surfaces) instead, N segments per knot span.
+OBJ quad grids (surfaces) and polylines (curves) instead, one group per element, N
+segments per knot span.
 
 Examples:
   subsurf nurbs curves.obj

@@ -50,7 +50,8 @@ fn samples_are_polylines_and_quads_on_the_geometry() {
         })
         .collect();
     let groups: Vec<&str> = text.lines().filter(|l| l.starts_with("g ")).collect();
-    assert_eq!(groups, ["g profile", "g rim", "g patch"]);
+    // Surfaces first, then curves, each group named after its element.
+    assert_eq!(groups, ["g patch", "g profile", "g rim"]);
     // The rim is a circle of radius 1.1 at height 2.8: 4 spans x 4 segments + 1 points.
     let rim = text.lines().filter(|l| l.starts_with("l ")).nth(1).unwrap();
     let ids: Vec<usize> = rim[2..].split(' ').map(|t| t.parse().unwrap()).collect();

@@ -26,13 +26,14 @@ use std::fs;
 use std::path::Path;
 
 use anyhow::{Context, Result};
+use subsurf::blend::blend;
 use subsurf::blend::fill::{fill, patch_boundary, FillOptions};
 use subsurf::blend::g1::fill_g1;
-use subsurf::blend::{blend, obj::write_groups_obj};
 use subsurf::g2cap::{patches_json, G2Surface, G2SurfaceOptions};
 use subsurf::interpolate::{interpolate_geometry, InterpolateOptions};
 use subsurf::io::geometry::{parse_geometry, SourcedGeometry};
 use subsurf::io::gltf::{face_edges, write_glb, GlbLines, GlbMesh};
+use subsurf::io::obj::write_groups_obj;
 use subsurf::io::obj::{parse_obj, write_obj, WriteOptions};
 use subsurf::limit::{tessellate, Derivatives, EvalError, LimitSurface, SurfacePoint};
 use subsurf::mesh::{Options, PolyMesh};

@@ -3,7 +3,7 @@
 
 use anyhow::{bail, Result};
 use subsurf::io::geometry::{geometry_to_string, read_geometry, GeometryFormat, SourcedGeometry};
-use subsurf::io::obj::{write_obj, WriteOptions};
+use subsurf::io::obj::write_groups_obj;
 use subsurf::mesh::PolyMesh;
 use subsurf::nurbs::{Curve, Geometry, KnotVector, Surface};
 
@@ -107,11 +107,9 @@ fn describe(k: &KnotVector) -> String {
 /// Curves as OBJ polylines (`l`) and surfaces as quad grids, `per_span` segments per knot
 /// span, each element in its own group (`g NAME`, the element's name or `elementN`).
 fn sampled_obj(items: &[SourcedGeometry], per_span: usize) -> Result<String> {
-    let mut positions = Vec::new();
-    let mut faces: Vec<Vec<u32>> = Vec::new();
-    let mut groups = Vec::new();
+    let mut grids: Vec<(String, PolyMesh)> = Vec::new();
+    let mut polylines: Vec<(String, Vec<[f64; 3]>)> = Vec::new();
     for (n, g) in items.iter().enumerate() {
-        let base = positions.len() as u32;
         let group = match &g.name {
             Some(name) if !name.trim().is_empty() => {
                 name.split_whitespace().collect::<Vec<_>>().join("_")
@@ -119,62 +117,17 @@ fn sampled_obj(items: &[SourcedGeometry], per_span: usize) -> Result<String> {
             _ => format!("element{}", n + 1),
         };
         match &g.geometry {
-            Geometry::Curve(c) => {
-                let pts = c.polyline(per_span)?;
-                groups.push((group, None, (base, pts.len() as u32)));
-                positions.extend(pts);
-            }
-            Geometry::Surface(s) => {
-                let grid: PolyMesh = s.grid(per_span)?;
-                let first = faces.len();
-                positions.extend_from_slice(grid.positions());
-                for f in 0..grid.num_faces() {
-                    faces.push(grid.face(f).iter().map(|&v| v + base).collect());
-                }
-                groups.push((group, Some((first, faces.len())), (0, 0)));
-            }
+            Geometry::Curve(c) => polylines.push((group, c.polyline(per_span)?)),
+            Geometry::Surface(s) => grids.push((group, s.grid(per_span)?)),
         }
     }
-    // Faces first through the mesh writer (exact numbers), then groups and polylines.
-    let mesh = PolyMesh::from_faces(positions, &faces)?;
+    let groups: Vec<(String, &PolyMesh)> = grids.iter().map(|(n, m)| (n.clone(), m)).collect();
     let mut bytes = Vec::new();
-    write_obj(
+    write_groups_obj(
         &mut bytes,
-        &mesh,
-        &WriteOptions {
-            comment: Some("subsurf nurbs --sample: curves as polylines, surfaces as quads"),
-            ..Default::default()
-        },
+        Some("subsurf nurbs --sample: curves as polylines, surfaces as quads"),
+        &groups,
+        &polylines,
     )?;
-    let text = String::from_utf8(bytes)?;
-    // Split the written faces into per-surface groups and add the curves' polylines.
-    let (head, face_lines): (Vec<&str>, Vec<&str>) = {
-        let lines: Vec<&str> = text.lines().collect();
-        let split = lines
-            .iter()
-            .position(|l| l.starts_with("f "))
-            .unwrap_or(lines.len());
-        (lines[..split].to_vec(), lines[split..].to_vec())
-    };
-    let mut out = head.join("\n");
-    out.push('\n');
-    for (label, faces, (first, count)) in groups {
-        out.push_str(&format!("g {label}\n"));
-        match faces {
-            Some((a, b)) => {
-                for l in &face_lines[a..b] {
-                    out.push_str(l);
-                    out.push('\n');
-                }
-            }
-            None => {
-                out.push('l');
-                for v in first..first + count {
-                    out.push_str(&format!(" {}", v + 1));
-                }
-                out.push('\n');
-            }
-        }
-    }
-    Ok(out)
+    Ok(String::from_utf8(bytes)?)
 }

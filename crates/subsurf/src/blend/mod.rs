@@ -12,7 +12,6 @@
 //! - [`join`]: C2 blending of N bicubic patches ([`blend()`]).
 //! - [`fill`](mod@fill): N-sided hole filling (Algorithm 1, corner interpolating).
 //! - [`g1`]: N-sided hole filling, G1 (Algorithm 2).
-//! - [`obj`]: OBJ output of several meshes and curves as groups.
 
 mod error;
 
@@ -21,7 +20,6 @@ pub mod fill;
 pub mod g1;
 pub mod grid;
 pub mod join;
-pub mod obj;
 pub mod patch;
 pub mod skirt;
 

@@ -47,10 +47,12 @@ use crate::mesh::{BoundaryInterpolation, CreaseMethod, Options, PolyMesh, Triang
 
 mod describe;
 pub mod freeform;
+mod groups;
 mod read;
 mod write;
 
 pub use freeform::{parse_obj_freeform, read_obj_freeform, write_obj_freeform, FreeFormElement};
+pub use groups::write_groups_obj;
 pub use read::{parse_obj, read_obj};
 pub use write::write_obj;
 

@@ -1,5 +1,6 @@
-//! OBJ output of blends and fills: several meshes as named groups (`g`) and curves as
-//! polylines (`l`) in one file, with one shared vertex list.
+//! OBJ output of several meshes as named groups (`g`) and curves as polylines (`l`) in one
+//! file, with one shared vertex list (blends and fills with their base patches, sampled
+//! curves and surfaces).
 
 use std::io::{self, Write};
 
