@@ -77,29 +77,40 @@ impl Derivatives {
 
 /// Evaluates the bicubic B-spline patch with control points `cp[i][j]` (`i` along `u`) at
 /// `(u, v)`.
+#[inline]
 pub fn eval(cp: &[[[f64; 3]; 4]; 4], u: f64, v: f64) -> Derivatives {
-    let (bu, du, ddu) = basis(u);
-    let (bv, dv, ddv) = basis(v);
+    tensor(cp, basis(u), basis(v))
+}
+
+/// `Σᵢ Σⱼ Aᵢ(u) Bⱼ(v) P[i][j]` with its first and second derivatives, for bases given as
+/// `(values, first, second derivatives)` at the point: a tensor-product surface of any
+/// two bases of four functions. Contracts `v` first (three 4×4 sums per column), then `u`.
+#[inline]
+pub fn tensor(
+    cp: &[[[f64; 3]; 4]; 4],
+    (a, da, dda): ([f64; 4], [f64; 4], [f64; 4]),
+    (b, db, ddb): ([f64; 4], [f64; 4], [f64; 4]),
+) -> Derivatives {
+    // q[i] = (Σⱼ Bⱼ P, Σⱼ B'ⱼ P, Σⱼ B''ⱼ P) for column i.
+    let mut q = [[[0.0; 3]; 3]; 4];
+    for (qi, col) in q.iter_mut().zip(cp) {
+        for (j, p) in col.iter().enumerate() {
+            for k in 0..3 {
+                qi[0][k] += b[j] * p[k];
+                qi[1][k] += db[j] * p[k];
+                qi[2][k] += ddb[j] * p[k];
+            }
+        }
+    }
     let mut r = Derivatives::default();
     for i in 0..4 {
-        for j in 0..4 {
-            let p = &cp[i][j];
-            let w = [
-                bu[i] * bv[j],
-                du[i] * bv[j],
-                bu[i] * dv[j],
-                ddu[i] * bv[j],
-                du[i] * dv[j],
-                bu[i] * ddv[j],
-            ];
-            for k in 0..3 {
-                r.p[k] += w[0] * p[k];
-                r.du[k] += w[1] * p[k];
-                r.dv[k] += w[2] * p[k];
-                r.duu[k] += w[3] * p[k];
-                r.duv[k] += w[4] * p[k];
-                r.dvv[k] += w[5] * p[k];
-            }
+        for k in 0..3 {
+            r.p[k] += a[i] * q[i][0][k];
+            r.du[k] += da[i] * q[i][0][k];
+            r.dv[k] += a[i] * q[i][1][k];
+            r.duu[k] += dda[i] * q[i][0][k];
+            r.duv[k] += da[i] * q[i][1][k];
+            r.dvv[k] += a[i] * q[i][2][k];
         }
     }
     r

@@ -33,7 +33,7 @@ use std::sync::{Arc, Mutex, OnceLock};
 
 /// A vertex with more faces than this makes the faces whose 1-ring reaches it share a
 /// region (see the module docs).
-pub const HIGH_VALENCE: usize = 16;
+pub const HIGH_VALENCE: usize = 32;
 
 /// Value cached per corner of a shared region (see [`Region::corner_cache`]).
 pub type CornerCache<T> = Mutex<HashMap<(u32, u32), Arc<OnceLock<T>>>>;
@@ -58,7 +58,7 @@ pub struct Region {
     /// Regions cut from this one, by vertex (see [`cut`]).
     regions: RegionCache,
     /// Eigen-analyses of corners, by (vertex, first face of the sector).
-    pub(super) eigen: CornerCache<Option<Arc<super::surface::Eigen>>>,
+    pub(super) eigen: CornerCache<Option<Arc<super::corner::Eigen>>>,
     /// Smooth limit position and the cosine and sine tangents of high-valence vertices.
     pub(super) smooth: CornerCache<[[f64; 3]; 3]>,
 }
@@ -168,6 +168,19 @@ impl Local {
     pub fn pos(&self) -> &[[f64; 3]] {
         &self.region.pos
     }
+
+    /// Index of the face's child at its corner `j` in the refined region.
+    pub fn child_face(&self, j: usize) -> usize {
+        self.topo().face_offsets()[self.face] as usize + j
+    }
+
+    /// The face's child at its corner `k`, in the region refined one level.
+    pub fn child(&self, k: usize, options: &Options) -> Local {
+        Local {
+            face: self.child_face(k),
+            region: self.region.refined(options),
+        }
+    }
 }
 
 /// The cut-out of face `f` of `level`: its own 1-ring, or the shared region of a
@@ -218,7 +231,7 @@ pub fn cut(level: LevelRef<'_>, f: usize) -> Local {
 /// Faces of the 1-ring of `f`, `f` first, each once; `Err(w)` as soon as a vertex `w` of
 /// more than [`HIGH_VALENCE`] faces is met among the ring's vertices (any such vertex gives
 /// a region that holds the 1-ring).
-fn one_ring(t: &Topology, f: usize, high_valence: usize) -> Result<Vec<u32>, u32> {
+pub(super) fn one_ring(t: &Topology, f: usize, high_valence: usize) -> Result<Vec<u32>, u32> {
     let big = |v: u32| t.vertex_faces(v as usize).len() > high_valence;
     let mut faces = vec![f as u32];
     let add = |g: u32, faces: &mut Vec<u32>| {
@@ -243,7 +256,7 @@ fn one_ring(t: &Topology, f: usize, high_valence: usize) -> Result<Vec<u32>, u32
 }
 
 /// The 1-ring of `f` whatever the valences.
-fn one_ring_unbounded(t: &Topology, f: usize) -> Vec<u32> {
+pub(super) fn one_ring_unbounded(t: &Topology, f: usize) -> Vec<u32> {
     let mut seen = HashSet::from([f as u32]);
     let mut faces = vec![f as u32];
     {

@@ -9,11 +9,14 @@
 //! derivatives, is [`LimitSurface`].
 
 pub mod bspline;
+mod corner;
+mod crease_patch;
 mod local;
 pub(crate) mod patch;
 mod stencil;
 mod surface;
 mod tessellate;
+mod tree;
 
 pub use bspline::Derivatives;
 pub use stencil::{LimitStencils, StencilError};

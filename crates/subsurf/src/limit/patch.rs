@@ -22,14 +22,87 @@
 use crate::mesh::{Rule, Topology};
 use crate::scheme::crease;
 
+/// One control point of a regular patch as a combination of at most four vertices of
+/// its level: a vertex itself, or a phantom point extrapolated across a sharp side
+/// (`2 P₀ − P₁`, or `4 P₀₀ − 2 P₁₀ − 2 P₀₁ + P₁₁` in a corner cell).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Cell {
+    /// Vertices (the first `len` are used).
+    pub verts: [u32; 4],
+    /// Their weights (summing to 1).
+    pub weights: [f64; 4],
+    /// Number of terms.
+    pub len: usize,
+}
+
+impl Cell {
+    fn vertex(v: u32) -> Self {
+        Cell {
+            verts: [v, 0, 0, 0],
+            weights: [1.0, 0.0, 0.0, 0.0],
+            len: 1,
+        }
+    }
+
+    /// `2 a − b`.
+    fn extrapolate(a: &Cell, b: &Cell) -> Cell {
+        let mut c = Cell::default();
+        let terms = (a.verts.iter().zip(&a.weights).take(a.len))
+            .map(|(&v, &w)| (v, 2.0 * w))
+            .chain((b.verts.iter().zip(&b.weights).take(b.len)).map(|(&v, &w)| (v, -w)));
+        for (v, w) in terms {
+            match c.verts[..c.len].iter().position(|&x| x == v) {
+                Some(i) => c.weights[i] += w,
+                // At most four distinct vertices by construction (module docs); a fifth
+                // would mean a broken walk, and is dropped rather than overflow.
+                None if c.len < 4 => {
+                    c.verts[c.len] = v;
+                    c.weights[c.len] = w;
+                    c.len += 1;
+                }
+                None => {}
+            }
+        }
+        c
+    }
+
+    /// The point `Σ wₖ pos[vₖ]`.
+    #[inline]
+    pub fn eval(&self, pos: &[[f64; 3]]) -> [f64; 3] {
+        let mut acc = [0.0; 3];
+        for (&v, &w) in self.verts.iter().zip(&self.weights).take(self.len) {
+            let p = &pos[v as usize];
+            (0..3).for_each(|k| acc[k] += w * p[k]);
+        }
+        acc
+    }
+}
+
 /// The control points `cp[i][j]` (`i` along `u`, `j` along `v`) of quad `f` if it is
 /// regular (see the module docs), else `None`.
 pub fn regular_patch(t: &Topology, pos: &[[f64; 3]], f: usize) -> Option<[[[f64; 3]; 4]; 4]> {
+    let cells = regular_patch_cells(t, f)?;
+    Some(cells.map(|col| col.map(|c| c.eval(pos))))
+}
+
+/// The control points of quad `f`, if it is regular, as combinations of vertices of `t`
+/// ([`Cell`]s, `cells[i][j]` as in [`regular_patch`]).
+pub fn regular_patch_cells(t: &Topology, f: usize) -> Option<[[Cell; 4]; 4]> {
+    patch_cells(t, f, |k| regular_corner(t, f, k))
+}
+
+/// The 4×4 control net of quad `f` with the corner analysis `corner`, with phantom points
+/// across infinitely sharp sides, if every corner passes `corner`.
+pub(super) fn patch_cells(
+    t: &Topology,
+    f: usize,
+    corner: impl Fn(usize) -> Option<Corner>,
+) -> Option<[[Cell; 4]; 4]> {
     let fv = t.face_vertices(f);
     if fv.len() != 4 || t.is_hole(f) {
         return None;
     }
-    let mut cp = [[[0.0; 3]; 4]; 4];
+    let mut cp = [[Cell::default(); 4]; 4];
     // Corner k of the face sits at grid cell CORNER[k]; its frame is the corner-0 frame
     // turned k quarter turns counter-clockwise (u → v).
     const CORNER: [(i32, i32); 4] = [(1, 1), (2, 1), (2, 2), (1, 2)];
@@ -43,13 +116,13 @@ pub fn regular_patch(t: &Topology, pos: &[[f64; 3]], f: usize) -> Option<[[[f64;
     let mut put = |k: usize, off: (i32, i32), v: u32| {
         let (dx, dy) = rot(k, off);
         let (i, j) = ((CORNER[k].0 + dx) as usize, (CORNER[k].1 + dy) as usize);
-        cp[i][j] = pos[v as usize];
+        cp[i][j] = Cell::vertex(v);
     };
     for k in 0..4 {
         put(k, (0, 0), fv[k]);
     }
     for k in 0..4 {
-        match regular_corner(t, f, k)? {
+        match corner(k)? {
             Corner::Closed(ring) => {
                 let q = |(g, m): (usize, usize), d: usize| t.face_vertices(g)[(m + d) % 4];
                 put(k, (-1, 1), q(ring[0], 2));
@@ -182,25 +255,25 @@ pub(crate) fn walk(t: &Topology, f: usize, c: usize, ccw: bool) -> (Vec<(usize, 
 /// `i = 0`. A phantom column is `P₋₁ = 2 P₀ − P₁` along `u` on every real row; then a
 /// phantom row is extrapolated along `v` on every column, which makes a cell in two
 /// phantom sides the tensor-product extrapolation `4 P₀₀ − 2 P₁₀ − 2 P₀₁ + P₁₁`.
-fn fill_phantoms(cp: &mut [[[f64; 3]; 4]; 4], sharp: [bool; 4]) {
-    let ext = |a: [f64; 3], b: [f64; 3]| [2.0 * a[0] - b[0], 2.0 * a[1] - b[1], 2.0 * a[2] - b[2]];
+fn fill_phantoms(cp: &mut [[Cell; 4]; 4], sharp: [bool; 4]) {
+    let ext = Cell::extrapolate;
     for j in 0..4 {
         if (j == 0 && sharp[0]) || (j == 3 && sharp[2]) {
             continue;
         }
         if sharp[3] {
-            cp[0][j] = ext(cp[1][j], cp[2][j]);
+            cp[0][j] = ext(&cp[1][j], &cp[2][j]);
         }
         if sharp[1] {
-            cp[3][j] = ext(cp[2][j], cp[1][j]);
+            cp[3][j] = ext(&cp[2][j], &cp[1][j]);
         }
     }
-    for i in 0..4 {
+    for col in cp.iter_mut() {
         if sharp[0] {
-            cp[i][0] = ext(cp[i][1], cp[i][2]);
+            col[0] = ext(&col[1], &col[2]);
         }
         if sharp[2] {
-            cp[i][3] = ext(cp[i][2], cp[i][1]);
+            col[3] = ext(&col[2], &col[1]);
         }
     }
 }

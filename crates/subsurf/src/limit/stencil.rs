@@ -15,7 +15,7 @@
 
 use super::bspline::Derivatives;
 use super::local::{LevelRef, RegionCache};
-use super::surface::{build_face, eval_node, EvalError, SurfacePoint};
+use super::surface::{build_face, eval_node, EvalError, Shared, SurfacePoint};
 use crate::mesh::{MeshError, Options, PolyMesh, Topology};
 use rayon::prelude::*;
 
@@ -76,11 +76,13 @@ impl LimitStencils {
             }
         }
         let nv = mesh.num_vertices();
+        // Faces with the same neighbourhood share their configuration tree.
+        let shared = Shared::default();
         let per_group: Vec<Result<FaceRows, StencilError>> = groups
             .par_iter()
             .map_init(
                 || vec![[0.0; 3]; nv],
-                |unit, group| face_stencils(&base, unit, group, points, &options),
+                |unit, group| face_stencils(&base, &shared, unit, group, points, &options),
             )
             .collect();
         let mut rows: Vec<Row> = vec![Vec::new(); points.len()];
@@ -164,6 +166,7 @@ impl LimitStencils {
 /// on exit.
 fn face_stencils(
     base: &Topology,
+    shared: &Shared,
     unit: &mut [[f64; 3]],
     group: &[usize],
     points: &[SurfacePoint],
@@ -209,7 +212,7 @@ fn face_stencils(
         }
         let cache = RegionCache::default();
         let level = LevelRef::new(base, unit, &cache);
-        let nodes = build_face(level, f, options);
+        let nodes = build_face(level, shared, f, options);
         for (row, &i) in rows.iter_mut().zip(group) {
             let p = points[i];
             let node = nodes.get(p.subface as usize).ok_or_else(|| {

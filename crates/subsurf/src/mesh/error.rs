@@ -50,6 +50,15 @@ pub enum MeshError {
         /// The offending value.
         value: f64,
     },
+    /// New positions for a mesh (or a structure built from one) do not have one point per
+    /// vertex.
+    #[error("expected {expected} positions (one per vertex), got {found}")]
+    PositionCount {
+        /// Number of vertices.
+        expected: usize,
+        /// Number of positions given.
+        found: usize,
+    },
     /// The face offsets of a CSR face list are not a valid prefix sum.
     #[error("face offsets are malformed: {0}")]
     BadFaceOffsets(String),

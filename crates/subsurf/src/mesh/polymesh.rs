@@ -100,22 +100,7 @@ impl PolyMesh {
                 what: "the vertex count".into(),
             });
         }
-        for (v, p) in self.positions.iter().enumerate() {
-            for &c in p {
-                if !c.is_finite() {
-                    return Err(MeshError::NonFiniteCoordinate {
-                        vertex: v,
-                        value: c,
-                    });
-                }
-                if c.abs() > MAX_COORDINATE {
-                    return Err(MeshError::CoordinateTooLarge {
-                        vertex: v,
-                        value: c,
-                    });
-                }
-            }
-        }
+        check_coordinates(&self.positions)?;
         let offs = &self.face_offsets;
         if offs.first() != Some(&0) {
             return Err(MeshError::BadFaceOffsets(
@@ -295,4 +280,29 @@ pub(crate) fn repeated_vertex(face: &[u32]) -> Option<u32> {
         sorted.sort_unstable();
         sorted.windows(2).find(|w| w[0] == w[1]).map(|w| w[0])
     }
+}
+
+/// Checks that every coordinate is finite and below [`MAX_COORDINATE`] in magnitude.
+///
+/// # Errors
+/// [`MeshError::NonFiniteCoordinate`] or [`MeshError::CoordinateTooLarge`], naming the
+/// first vertex at fault.
+pub(crate) fn check_coordinates(positions: &[[f64; 3]]) -> Result<(), MeshError> {
+    for (v, p) in positions.iter().enumerate() {
+        for &c in p {
+            if !c.is_finite() {
+                return Err(MeshError::NonFiniteCoordinate {
+                    vertex: v,
+                    value: c,
+                });
+            }
+            if c.abs() > MAX_COORDINATE {
+                return Err(MeshError::CoordinateTooLarge {
+                    vertex: v,
+                    value: c,
+                });
+            }
+        }
+    }
+    Ok(())
 }

@@ -780,6 +780,61 @@ impl Topology {
 }
 
 impl Topology {
+    /// Appends to `out` everything of this topology that refinement and the limit surface
+    /// read — sizes, every relation in its order, tags and sharpness — so that two
+    /// topologies with equal keys refine identically, level after level. Used to share the
+    /// local refinement of one neighbourhood between all faces that have the same one.
+    pub(crate) fn structure_key(&self, out: &mut Vec<u32>) {
+        fn list(out: &mut Vec<u32>, xs: impl ExactSizeIterator<Item = u32>) {
+            out.push(xs.len() as u32);
+            out.extend(xs);
+        }
+        out.push(self.num_vertices);
+        list(out, self.face_offsets.iter().copied());
+        list(out, self.face_verts.iter().copied());
+        list(out, self.face_edges.iter().copied());
+        list(out, self.face_holes.iter().map(|&h| h as u32));
+        list(out, self.edge_verts.as_flattened().iter().copied());
+        list(out, self.edge_face_offsets.iter().copied());
+        list(out, self.edge_faces.iter().copied());
+        list(out, self.edge_face_local.iter().map(|&x| x as u32));
+        list(out, self.vert_face_offsets.iter().copied());
+        list(out, self.vert_faces.iter().copied());
+        list(out, self.vert_face_local.iter().map(|&x| x as u32));
+        list(out, self.vert_edge_offsets.iter().copied());
+        list(out, self.vert_edges.iter().copied());
+        list(out, self.vert_edge_local.iter().map(|&x| x as u32));
+        list(out, self.edge_sharpness.iter().map(|x| x.to_bits()));
+        list(out, self.vert_sharpness.iter().map(|x| x.to_bits()));
+        list(
+            out,
+            self.edge_tags.iter().map(|t| {
+                t.boundary as u32
+                    | (t.non_manifold as u32) << 1
+                    | (t.semi_sharp as u32) << 2
+                    | (t.inf_sharp as u32) << 3
+            }),
+        );
+        list(
+            out,
+            self.vert_tags.iter().map(|t| {
+                t.rule as u32
+                    | (t.boundary as u32) << 2
+                    | (t.non_manifold as u32) << 3
+                    | (t.sharpened_corner as u32) << 4
+                    | (t.semi_sharp as u32) << 5
+                    | (t.inf_sharp as u32) << 6
+                    | (t.semi_sharp_edges as u32) << 7
+                    | (t.inf_sharp_edges as u32) << 8
+            }),
+        );
+        out.extend([
+            self.max_valence,
+            self.has_holes as u32,
+            self.complete as u32,
+        ]);
+    }
+
     /// The part of this level made of `faces` (each listed once), with every relation,
     /// tag and sharpness copied rather than re-derived: edges keep their identity (two
     /// edges between the same vertices stay two, as around degenerate faces), rules and

@@ -1,0 +1,507 @@
+//! Configuration trees: the local refinement of an irregular face, computed once for all
+//! faces with the same neighbourhood, as weights on the face's control points.
+//!
+//! The limit surface over an irregular face depends linearly on the vertices of its
+//! 1-ring (see [`super::local`]), through the local refinement that
+//! [`LimitSurface`](super::LimitSurface) descends: each level refines the cut-out,
+//! regular children become bicubic patches, irregular children are cut out again. All of
+//! that is decided by the cut-out's *topology* (adjacency, tags, sharpness) alone; the
+//! positions only flow through it. So the work is split, as OpenSubdiv's `Bfr` splits it
+//! (its `SurfaceFactoryCache` and `PatchTree`):
+//!
+//! - per **configuration** (one per distinct cut-out topology, found by
+//!   [`Topology::structure_key`]; most meshes have a few dozen), a [`Tree`] built lazily, as
+//!   deep as evaluated points need: for every node, the cut-out topology of the node and,
+//!   for each of its children, either the 16 control points of its bicubic patch or the
+//!   child's cut-out points, as sparse weights on the node's points; and at each corner
+//!   where the limit is taken from the corner analysis ([`super::corner`]), that
+//!   analysis's vectors as weights on the node's points;
+//! - per **face**, only its cut-out's positions, which flow down the tree: a batch of points
+//!   on one face computes each node's points once ([`Tree::eval`]).
+//!
+//! The weights are those of the very refinement and corner analysis that the
+//! position-based path runs, obtained by applying them to unit control points ("stencils
+//! by evaluation on a basis"; both are linear in the positions): so the tree gives the same
+//! surface, to rounding. No topology is built while evaluating, and nothing is allocated
+//! per point.
+
+use super::bspline::{self, Derivatives};
+use super::corner::{corner_limit, is_limit_corner, CornerLimit};
+use super::crease_patch::{single_crease, CreaseBasis, CreasePatch};
+use super::local::{one_ring_unbounded, Local, Region};
+use super::patch::{regular_patch_cells, Cell};
+use super::surface::{quadrant, MAX_DEPTH};
+use crate::mesh::{Options, Topology};
+use crate::refine::{interpolate, refine_topology};
+use std::collections::HashMap;
+use std::hash::{BuildHasherDefault, Hasher};
+use std::sync::{Arc, Mutex, OnceLock};
+
+/// Sparse rows of weights on a node's points (CSR).
+#[derive(Debug, Default)]
+pub(super) struct Rows {
+    offsets: Vec<u32>,
+    cols: Vec<u32>,
+    weights: Vec<f64>,
+}
+
+impl Rows {
+    fn new() -> Self {
+        Rows {
+            offsets: vec![0],
+            ..Rows::default()
+        }
+    }
+
+    /// Appends a row given densely (zero weights dropped).
+    fn push_dense(&mut self, w: &[f64]) {
+        for (c, &x) in w.iter().enumerate() {
+            if x != 0.0 {
+                self.cols.push(c as u32);
+                self.weights.push(x);
+            }
+        }
+        self.offsets.push(self.cols.len() as u32);
+    }
+
+    fn len(&self) -> usize {
+        self.offsets.len() - 1
+    }
+
+    /// Row `r` applied to `pos`.
+    #[inline]
+    fn apply_row(&self, r: usize, pos: &[[f64; 3]]) -> [f64; 3] {
+        let (a, b) = (self.offsets[r] as usize, self.offsets[r + 1] as usize);
+        let mut acc = [0.0; 3];
+        for (&c, &w) in self.cols[a..b].iter().zip(&self.weights[a..b]) {
+            let p = &pos[c as usize];
+            acc[0] += w * p[0];
+            acc[1] += w * p[1];
+            acc[2] += w * p[2];
+        }
+        acc
+    }
+
+    /// Every row applied to `pos`, into `out`.
+    fn apply(&self, pos: &[[f64; 3]], out: &mut Vec<[f64; 3]>) {
+        out.clear();
+        out.extend((0..self.len()).map(|r| self.apply_row(r, pos)));
+    }
+
+    /// The 16 rows of a patch applied to `pos`: `cp[i][j]` is row `4 i + j`.
+    fn patch(&self, pos: &[[f64; 3]]) -> [[[f64; 3]; 4]; 4] {
+        std::array::from_fn(|i| std::array::from_fn(|j| self.apply_row(4 * i + j, pos)))
+    }
+}
+
+/// A child of a tree node.
+#[derive(Debug)]
+pub(super) enum Kid {
+    /// No surface.
+    Hole,
+    /// A bicubic patch: its 16 control points as weights on the node's points.
+    Regular(Rows),
+    /// A single-crease patch ([`CreasePatch`]): its 16 control points as weights on the
+    /// node's points, its crease side and basis.
+    Crease(Rows, usize, Arc<CreaseBasis>),
+    /// Irregular: the child's cut-out points as weights on the node's points, and its node.
+    Irregular(Rows, Box<TNode>),
+}
+
+impl Kid {
+    /// The control points of a regular kid whose node's points are `pos`.
+    pub fn patch(&self, pos: &[[f64; 3]]) -> Option<[[[f64; 3]; 4]; 4]> {
+        match self {
+            Kid::Regular(rows) => Some(rows.patch(pos)),
+            _ => None,
+        }
+    }
+
+    /// The single-crease patch of a crease kid whose node's points are `pos`.
+    pub fn crease_patch(&self, pos: &[[f64; 3]]) -> Option<CreasePatch> {
+        match self {
+            Kid::Crease(rows, side, basis) => Some(CreasePatch::from_net(
+                &rows.patch(pos),
+                *side,
+                basis.clone(),
+            )),
+            _ => None,
+        }
+    }
+}
+
+/// A node: an (irregular) face of a cut-out.
+#[derive(Debug)]
+pub(super) struct TNode {
+    topo: Topology,
+    face: usize,
+    /// Whether single-crease children are [`Kid::Crease`] (else refined further).
+    crease: bool,
+    /// Corners where the limit comes from [`corner_limit`] ([`is_limit_corner`]).
+    stop: [bool; 4],
+    kids: OnceLock<Box<[Kid]>>,
+    corners: [OnceLock<CornerRows>; 4],
+}
+
+/// A corner analysis as weights: for each node point, its weights in the five linear
+/// vectors of [`CornerLimit`] (`p, a, b, t1, t2`).
+#[derive(Debug)]
+struct CornerRows {
+    limit: CornerLimit,
+    weights: Vec<[f64; 5]>,
+}
+
+impl CornerRows {
+    fn eval(&self, pos: &[[f64; 3]]) -> Derivatives {
+        let mut v = [[0.0; 3]; 5];
+        for (w, p) in self.weights.iter().zip(pos) {
+            for (vi, &wi) in v.iter_mut().zip(w) {
+                if wi != 0.0 {
+                    (0..3).for_each(|k| vi[k] += wi * p[k]);
+                }
+            }
+        }
+        self.limit.with_vectors(v).finish()
+    }
+}
+
+/// The tree of one configuration: its root is the cut-out of a base face.
+#[derive(Debug)]
+pub(super) struct Tree {
+    root: TNode,
+}
+
+/// Trees by [`Topology::structure_key`].
+type TreeMap = HashMap<Box<[u32]>, Arc<Tree>, BuildHasherDefault<KeyHasher>>;
+
+/// Configurations of one surface, by [`Topology::structure_key`].
+#[derive(Debug, Default)]
+pub(super) struct TreeCache {
+    trees: Mutex<TreeMap>,
+    /// Refine single-crease faces further instead of using [`CreasePatch`] (tests compare).
+    pub no_crease_patches: bool,
+}
+
+/// FxHash's multiply-and-rotate over `u32` words (keys are not adversarial; SipHash costs
+/// more than the rest of a lookup).
+#[derive(Default)]
+pub(super) struct KeyHasher(u64);
+
+impl Hasher for KeyHasher {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+    fn write(&mut self, bytes: &[u8]) {
+        for b in bytes.chunks(4) {
+            let mut w = [0u8; 4];
+            w[..b.len()].copy_from_slice(b);
+            self.write_u32(u32::from_le_bytes(w));
+        }
+    }
+    fn write_u32(&mut self, x: u32) {
+        self.0 = (self.0.rotate_left(5) ^ x as u64).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
+    }
+    fn write_usize(&mut self, x: usize) {
+        self.write_u32(x as u32);
+        self.write_u32((x as u64 >> 32) as u32);
+    }
+}
+
+impl TreeCache {
+    /// An empty cache; with `crease_patches` false, single-crease faces are refined
+    /// further like any irregular face instead of becoming [`CreasePatch`]es.
+    pub fn new(crease_patches: bool) -> Self {
+        TreeCache {
+            no_crease_patches: !crease_patches,
+            ..TreeCache::default()
+        }
+    }
+
+    /// The tree of the configuration whose root cut-out is `topo` (face 0), built the
+    /// first time.
+    pub fn get(&self, topo: Topology) -> Arc<Tree> {
+        let mut key = Vec::new();
+        topo.structure_key(&mut key);
+        let mut map = match self.trees.lock() {
+            Ok(m) => m,
+            Err(poisoned) => poisoned.into_inner(),
+        };
+        map.entry(key.into_boxed_slice())
+            .or_insert_with(|| {
+                Arc::new(Tree {
+                    root: TNode::new(topo, 0, !self.no_crease_patches),
+                })
+            })
+            .clone()
+    }
+
+    /// Number of configurations.
+    pub fn len(&self) -> usize {
+        self.trees.lock().map_or(0, |m| m.len())
+    }
+}
+
+/// One point to evaluate: its parameter in the current node, and where its result goes.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Query {
+    /// Parameter along `u`.
+    pub u: f64,
+    /// Parameter along `v`.
+    pub v: f64,
+    /// Index of the result.
+    pub out: u32,
+}
+
+/// Buffers reused from one evaluation to the next: the points of each level of the
+/// descent.
+#[derive(Debug, Default)]
+pub(super) struct Scratch {
+    levels: Vec<Vec<[f64; 3]>>,
+}
+
+impl Tree {
+    /// The root's children (sub-faces of an `n`-gon root; quadrants of a quad).
+    pub fn root_kids(&self, options: &Options) -> &[Kid] {
+        self.root.kids(options)
+    }
+
+    /// Evaluates `queries` on the face whose cut-out points are `pos` — on sub-face `sub`
+    /// of an `n`-gon, or on the quad itself (`None`) — passing each result to `sink`
+    /// (`None`: the point has no surface). Reorders `queries`.
+    pub fn eval(
+        &self,
+        pos: &[[f64; 3]],
+        sub: Option<usize>,
+        queries: &mut [Query],
+        scratch: &mut Scratch,
+        options: &Options,
+        sink: &mut impl FnMut(u32, Option<Derivatives>),
+    ) {
+        match sub {
+            None => descend(&self.root, pos, queries, 0, scratch, options, sink),
+            Some(j) => {
+                let kids = self.root.kids(options);
+                // The sub-face is its own parameter domain: depth 0, no rescaling.
+                kid_eval(kids.get(j), pos, queries, 0, scratch, options, sink);
+            }
+        }
+    }
+}
+
+/// Evaluates `qs` on `node` (at `depth`, points `pos`).
+fn descend(
+    node: &TNode,
+    pos: &[[f64; 3]],
+    qs: &mut [Query],
+    depth: u32,
+    scratch: &mut Scratch,
+    options: &Options,
+    sink: &mut impl FnMut(u32, Option<Derivatives>),
+) {
+    // Points at a corner where the limit is known: the corner analysis.
+    let mut rest = 0;
+    for i in 0..qs.len() {
+        let q = qs[i];
+        let corner = match (q.u, q.v) {
+            (0.0, 0.0) => Some(0),
+            (1.0, 0.0) => Some(1),
+            (1.0, 1.0) => Some(2),
+            (0.0, 1.0) => Some(3),
+            _ if depth >= MAX_DEPTH => Some(quadrant(q.u, q.v).0),
+            _ => None,
+        };
+        match corner.filter(|&k| depth >= MAX_DEPTH || node.stop[k]) {
+            Some(k) => sink(q.out, Some(node.corner(k, options).eval(pos))),
+            None => {
+                qs[rest] = q;
+                rest += 1;
+            }
+        }
+    }
+    let qs = &mut qs[..rest];
+    if qs.is_empty() {
+        return;
+    }
+    let kids = node.kids(options);
+    qs.sort_unstable_by_key(|q| quadrant(q.u, q.v).0);
+    let mut start = 0;
+    while start < qs.len() {
+        let k = quadrant(qs[start].u, qs[start].v).0;
+        let mut end = start;
+        while end < qs.len() && quadrant(qs[end].u, qs[end].v).0 == k {
+            let (_, s, t) = quadrant(qs[end].u, qs[end].v);
+            (qs[end].u, qs[end].v) = (s, t);
+            end += 1;
+        }
+        kid_eval(
+            kids.get(k),
+            pos,
+            &mut qs[start..end],
+            depth + 1,
+            scratch,
+            options,
+            sink,
+        );
+        start = end;
+    }
+}
+
+/// Evaluates `qs` (parameters already in the kid's domain) on `kid`, a child at `depth`
+/// of a node with points `pos`.
+fn kid_eval(
+    kid: Option<&Kid>,
+    pos: &[[f64; 3]],
+    qs: &mut [Query],
+    depth: u32,
+    scratch: &mut Scratch,
+    options: &Options,
+    sink: &mut impl FnMut(u32, Option<Derivatives>),
+) {
+    match kid {
+        None | Some(Kid::Hole) => qs.iter().for_each(|q| sink(q.out, None)),
+        Some(Kid::Regular(rows)) => {
+            let cp = rows.patch(pos);
+            let scale = 2f64.powi(depth as i32);
+            for q in qs.iter() {
+                sink(q.out, Some(bspline::eval(&cp, q.u, q.v).scaled(scale)));
+            }
+        }
+        Some(kid @ Kid::Crease(..)) => {
+            if let Some(patch) = kid.crease_patch(pos) {
+                let scale = 2f64.powi(depth as i32);
+                for q in qs.iter() {
+                    sink(q.out, Some(patch.eval(q.u, q.v).scaled(scale)));
+                }
+            }
+        }
+        Some(Kid::Irregular(rows, node)) => {
+            let d = depth as usize;
+            if scratch.levels.len() <= d {
+                scratch.levels.resize_with(d + 1, Vec::new);
+            }
+            let mut kpos = std::mem::take(&mut scratch.levels[d]);
+            rows.apply(pos, &mut kpos);
+            descend(node, &kpos, qs, depth, scratch, options, sink);
+            scratch.levels[d] = kpos;
+        }
+    }
+}
+
+impl TNode {
+    fn new(topo: Topology, face: usize, crease: bool) -> Self {
+        let stop = std::array::from_fn(|k| {
+            topo.face_vertices(face).len() == 4 && is_limit_corner(&topo, face, k)
+        });
+        TNode {
+            topo,
+            face,
+            crease,
+            stop,
+            kids: OnceLock::new(),
+            corners: Default::default(),
+        }
+    }
+
+    /// The children (built the first time).
+    fn kids(&self, options: &Options) -> &[Kid] {
+        self.kids.get_or_init(|| self.build_kids(options))
+    }
+
+    fn build_kids(&self, options: &Options) -> Box<[Kid]> {
+        let t = &self.topo;
+        let n = t.num_vertices();
+        let child = refine_topology(t, options, true);
+        let mat = refinement_matrix(t, &child, options);
+        let row = |v: u32| &mat[v as usize * n..(v as usize + 1) * n];
+        let first = t.face_offsets()[self.face] as usize;
+        let size = t.face_vertices(self.face).len();
+        let mut dense = vec![0.0; n];
+        (first..first + size)
+            .map(|f| {
+                if child.is_hole(f) {
+                    return Kid::Hole;
+                }
+                let mut patch_rows = |cells: &[[Cell; 4]; 4]| {
+                    let mut rows = Rows::new();
+                    for cell in cells.iter().flatten() {
+                        dense.iter_mut().for_each(|x| *x = 0.0);
+                        for (&v, &w) in cell.verts.iter().zip(&cell.weights).take(cell.len) {
+                            for (d, &x) in dense.iter_mut().zip(row(v)) {
+                                *d += w * x;
+                            }
+                        }
+                        rows.push_dense(&dense);
+                    }
+                    rows
+                };
+                if let Some(cells) = regular_patch_cells(&child, f) {
+                    return Kid::Regular(patch_rows(&cells));
+                }
+                if let Some((cells, side, s)) =
+                    single_crease(&child, f, options).filter(|_| self.crease)
+                {
+                    return Kid::Crease(patch_rows(&cells), side, Arc::new(CreaseBasis::new(s)));
+                }
+                let faces = one_ring_unbounded(&child, f);
+                let (sub, verts) = child.subset(&faces);
+                let mut rows = Rows::new();
+                for &v in &verts {
+                    rows.push_dense(row(v));
+                }
+                Kid::Irregular(rows, Box::new(TNode::new(sub, 0, self.crease)))
+            })
+            .collect()
+    }
+
+    /// The corner analysis at corner `k` as weights (computed the first time).
+    fn corner(&self, k: usize, options: &Options) -> &CornerRows {
+        self.corners[k].get_or_init(|| {
+            // Three unit control points at a time, one per coordinate: coordinate `c` of
+            // each output vector is the weight of the point set to `e_c`.
+            let n = self.topo.num_vertices();
+            let mut weights = vec![[0.0; 5]; n];
+            let mut limit = CornerLimit::default();
+            for c0 in (0..n).step_by(3) {
+                let mut pos = vec![[0.0; 3]; n];
+                for c in 0..3.min(n - c0) {
+                    pos[c0 + c][c] = 1.0;
+                }
+                let local = Local {
+                    region: Arc::new(Region::whole(self.topo.clone(), pos, false, usize::MAX)),
+                    face: self.face,
+                };
+                limit = corner_limit(&local, k, options);
+                let vs = limit.vectors();
+                for c in 0..3.min(n - c0) {
+                    weights[c0 + c] = vs.map(|v| v[c]);
+                }
+            }
+            CornerRows { limit, weights }
+        })
+    }
+}
+
+/// The refinement of `t` into `child` as a dense matrix (row `c · n .. (c + 1) · n`: the
+/// weights of child vertex `c` on the `n` vertices of `t`), by interpolating unit vectors
+/// four at a time.
+fn refinement_matrix(t: &Topology, child: &Topology, options: &Options) -> Vec<f64> {
+    let (n, nc) = (t.num_vertices(), child.num_vertices());
+    let mut mat = vec![0.0; nc * n];
+    let mut src = vec![[0.0; 4]; n];
+    let mut dst = vec![[0.0; 4]; nc];
+    for c0 in (0..n).step_by(4) {
+        let w = 4.min(n - c0);
+        for c in 0..w {
+            src[c0 + c] = [0.0; 4];
+            src[c0 + c][c] = 1.0;
+        }
+        interpolate(t, child, options, &src, &mut dst);
+        for c in 0..w {
+            src[c0 + c] = [0.0; 4];
+        }
+        for (r, d) in dst.iter().enumerate() {
+            mat[r * n + c0..r * n + c0 + w].copy_from_slice(&d[..w]);
+        }
+    }
+    mat
+}
