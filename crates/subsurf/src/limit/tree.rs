@@ -483,21 +483,22 @@ impl TNode {
 
 /// The refinement of `t` into `child` as a dense matrix (row `c · n .. (c + 1) · n`: the
 /// weights of child vertex `c` on the `n` vertices of `t`), by interpolating unit vectors
-/// four at a time.
+/// [`UNITS`] at a time.
 fn refinement_matrix(t: &Topology, child: &Topology, options: &Options) -> Vec<f64> {
+    /// Unit vectors per interpolation: one pass covers most cut-outs.
+    const UNITS: usize = 16;
     let (n, nc) = (t.num_vertices(), child.num_vertices());
     let mut mat = vec![0.0; nc * n];
-    let mut src = vec![[0.0; 4]; n];
-    let mut dst = vec![[0.0; 4]; nc];
-    for c0 in (0..n).step_by(4) {
-        let w = 4.min(n - c0);
+    let mut src = vec![[0.0; UNITS]; n];
+    let mut dst = vec![[0.0; UNITS]; nc];
+    for c0 in (0..n).step_by(UNITS) {
+        let w = UNITS.min(n - c0);
         for c in 0..w {
-            src[c0 + c] = [0.0; 4];
             src[c0 + c][c] = 1.0;
         }
         interpolate(t, child, options, &src, &mut dst);
         for c in 0..w {
-            src[c0 + c] = [0.0; 4];
+            src[c0 + c] = [0.0; UNITS];
         }
         for (r, d) in dst.iter().enumerate() {
             mat[r * n + c0..r * n + c0 + w].copy_from_slice(&d[..w]);
