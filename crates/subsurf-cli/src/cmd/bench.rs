@@ -118,7 +118,8 @@ fn bench_replay(
 /// Times evaluating an `n`×`n` grid on every quad face, as `osd-oracle benchlimit` times
 /// OpenSubdiv's `Bfr`: the surface is built once (as `Bfr`'s factory and its cache of
 /// irregular configurations are), and each repetition sets the control points and
-/// evaluates every point ([`LimitSurface::set_positions`], [`LimitSurface::eval_many`]).
+/// evaluates every point's position and first derivatives ([`LimitSurface::set_positions`],
+/// [`LimitSurface::eval_many_into`] with [`Order::First`], as `Bfr::Surface::Evaluate`).
 /// The first build plus evaluation (nothing cached) is reported as `cold_s`.
 fn bench_limit(
     input: &Input,
@@ -127,7 +128,7 @@ fn bench_limit(
     reps: usize,
     pool: &rayon::ThreadPool,
 ) -> Result<()> {
-    use subsurf::limit::{LimitSurface, SurfacePoint};
+    use subsurf::limit::{LimitSurface, Order, SurfacePoint};
     let param = |i: usize| {
         if n == 1 {
             0.5
@@ -155,7 +156,11 @@ fn bench_limit(
         .with_context(|| input.name.clone())?;
     let points = grid(&surface);
     let mut sink: f64 = pool
-        .install(|| surface.eval_many(&points))
+        .install(|| {
+            let mut out = Vec::new();
+            surface.eval_many_into(&points, Order::First, &mut out);
+            out
+        })
         .iter()
         .filter_map(|r| r.as_ref().ok())
         .map(|d| d.p[0])
@@ -167,7 +172,8 @@ fn bench_limit(
         let t0 = Instant::now();
         pool.install(|| {
             surface.set_positions(mesh.positions())?;
-            surface.eval_many_into(&points, &mut results);
+            // Position and first derivatives, as `Bfr::Surface::Evaluate(uv, P, Du, Dv)`.
+            surface.eval_many_into(&points, Order::First, &mut results);
             Ok::<_, subsurf::mesh::MeshError>(())
         })
         .with_context(|| input.name.clone())?;

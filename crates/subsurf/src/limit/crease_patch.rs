@@ -46,7 +46,7 @@
 //! Checked against the general local refinement (configuration trees) for sharpness
 //! 0.3 to 9.7 and every side, and against OpenSubdiv's `Bfr` on the regression shapes.
 
-use super::bspline::{basis, tensor, Derivatives};
+use super::bspline::{basis, tensor, Derivatives, Order};
 use super::patch::{patch_cells, walk, Cell, Corner};
 use crate::mesh::{CreaseMethod, Options, Topology};
 use crate::scheme::crease;
@@ -184,8 +184,8 @@ impl CreasePatch {
         CreasePatch { net, side, basis }
     }
 
-    /// Position and derivatives at `(u, v)`.
-    pub fn eval(&self, u: f64, v: f64) -> Derivatives {
+    /// Position and derivatives (of `order`) at `(u, v)`.
+    pub fn eval(&self, u: f64, v: f64, order: Order) -> Derivatives {
         // x along the crease, y across it (distance from the crease).
         let (x, y) = match self.side {
             0 => (u, v),
@@ -193,7 +193,7 @@ impl CreasePatch {
             3 => (v, u),
             _ => (v, 1.0 - u),
         };
-        let d = tensor(&self.net, basis(x), self.basis.eval(y));
+        let d = tensor(&self.net, basis(x), self.basis.eval(y), order);
         let (s, sx, sy, sxx, sxy, syy) = (d.p, d.du, d.dv, d.duu, d.duv, d.dvv);
         let neg = |x: [f64; 3]| x.map(|c| -c);
         let (du, dv, duu, duv, dvv) = match self.side {

@@ -18,7 +18,7 @@ mod surface;
 mod tessellate;
 mod tree;
 
-pub use bspline::Derivatives;
+pub use bspline::{Derivatives, Order};
 pub use stencil::{LimitStencils, StencilError};
 pub use surface::{EvalError, LimitSurface, SurfacePoint, MAX_DEPTH};
 pub use tessellate::{

@@ -13,9 +13,10 @@
 //! on the geometry, not linearly on the control points; there the table's derivative
 //! weights are not meaningful (positions are exact everywhere).
 
-use super::bspline::Derivatives;
+use super::bspline::{Derivatives, Order};
 use super::local::{LevelRef, RegionCache};
 use super::surface::{build_face, eval_node, EvalError, Shared, SurfacePoint};
+use super::tree::Ctx;
 use crate::mesh::{MeshError, Options, PolyMesh, Topology};
 use rayon::prelude::*;
 
@@ -226,8 +227,17 @@ fn face_stencils(
                 )
             });
             let d = match node {
-                Ok(n) => eval_node(n, p.u, p.v, 0, options)
-                    .ok_or_else(|| err(i, EvalError::Hole { face: p.face })),
+                Ok(n) => eval_node(
+                    n,
+                    p.u,
+                    p.v,
+                    0,
+                    Ctx {
+                        options,
+                        order: Order::First,
+                    },
+                )
+                .ok_or_else(|| err(i, EvalError::Hole { face: p.face })),
                 Err(e) => Err(e),
             };
             let d = match d {

@@ -53,12 +53,12 @@
 //! cross product is the exact limit normal) but their lengths are not parametric
 //! derivatives; second derivatives are zero.
 
-use super::bspline::{self, Derivatives};
+use super::bspline::{self, Derivatives, Order};
 use super::corner::{corner_limit, is_limit_corner};
 use super::crease_patch::{CreaseBases, CreasePatch};
 use super::local::{cut, one_ring, LevelRef, Local, RegionCache, HIGH_VALENCE};
 use super::patch::regular_patch;
-use super::tree::{Kid, Query, Scratch, Tree, TreeCache};
+use super::tree::{Ctx, Kid, Query, Scratch, Tree, TreeCache};
 use crate::mesh::{MeshError, Options, PolyMesh, Topology};
 use rayon::prelude::*;
 use std::sync::{Arc, OnceLock};
@@ -339,8 +339,24 @@ impl LimitSurface {
 
     /// Evaluates at a [`SurfacePoint`].
     pub fn eval_point(&self, p: SurfacePoint) -> Result<Derivatives, EvalError> {
+        self.eval_point_order(p, Order::Second)
+    }
+
+    /// [`Self::eval_point`] computing the derivatives of `order` only.
+    pub fn eval_point_order(
+        &self,
+        p: SurfacePoint,
+        order: Order,
+    ) -> Result<Derivatives, EvalError> {
         let node = self.node(p)?;
-        eval_node(node, p.u, p.v, 0, &self.options).ok_or(EvalError::Hole { face: p.face })
+        eval_node(node, p.u, p.v, 0, self.ctx(order)).ok_or(EvalError::Hole { face: p.face })
+    }
+
+    fn ctx(&self, order: Order) -> Ctx<'_> {
+        Ctx {
+            options: &self.options,
+            order,
+        }
     }
 
     /// The node of `p`'s face and sub-face, after checking `p`.
@@ -373,15 +389,17 @@ impl LimitSurface {
     /// calling [`Self::eval_point`] for each.
     pub fn eval_many(&self, points: &[SurfacePoint]) -> Vec<Result<Derivatives, EvalError>> {
         let mut out = Vec::new();
-        self.eval_many_into(points, &mut out);
+        self.eval_many_into(points, Order::Second, &mut out);
         out
     }
 
-    /// [`Self::eval_many`] into `out` (resized to `points.len()`): reusing the buffer from
-    /// one call to the next (re-posing, animation) saves allocating and clearing it.
+    /// [`Self::eval_many`] computing the derivatives of `order` only, into `out` (resized to
+    /// `points.len()`): reusing the buffer from one call to the next (re-posing,
+    /// animation) saves allocating and clearing it.
     pub fn eval_many_into(
         &self,
         points: &[SurfacePoint],
+        order: Order,
         out: &mut Vec<Result<Derivatives, EvalError>>,
     ) {
         /// Points per parallel task.
@@ -390,7 +408,7 @@ impl LimitSurface {
         out.par_chunks_mut(CHUNK)
             .zip(points.par_chunks(CHUNK))
             .for_each_init(Batch::default, |batch, (out, points)| {
-                self.eval_chunk(points, out, batch)
+                self.eval_chunk(points, out, batch, order)
             });
     }
 
@@ -400,6 +418,7 @@ impl LimitSurface {
         points: &[SurfacePoint],
         out: &mut [Result<Derivatives, EvalError>],
         batch: &mut Batch,
+        order: Order,
     ) {
         let mut i = 0;
         while i < points.len() {
@@ -414,7 +433,7 @@ impl LimitSurface {
             };
             let Some(t) = tree else {
                 for k in i..i + run {
-                    out[k] = self.eval_point(points[k]);
+                    out[k] = self.eval_point_order(points[k], order);
                 }
                 i += run;
                 continue;
@@ -437,7 +456,7 @@ impl LimitSurface {
                 t.sub,
                 &mut batch.queries,
                 &mut batch.scratch,
-                &self.options,
+                self.ctx(order),
                 &mut |k, d| out[k as usize] = d.ok_or(EvalError::Hole { face: p.face }),
             );
             i += run;
@@ -575,16 +594,20 @@ pub(super) fn eval_node(
     u: f64,
     v: f64,
     depth: u32,
-    options: &Options,
+    ctx: Ctx<'_>,
 ) -> Option<Derivatives> {
+    let options = ctx.options;
     let (mut node, mut u, mut v, mut depth) = (node, u, v, depth);
     loop {
         match node {
             Node::Hole => return None,
             Node::Regular(cp) => {
-                return Some(bspline::eval(cp, u, v).scaled(2f64.powi(depth as i32)))
+                let d = bspline::eval_order(cp, u, v, ctx.order);
+                return Some(d.scaled(2f64.powi(depth as i32)));
             }
-            Node::Crease(p) => return Some(p.eval(u, v).scaled(2f64.powi(depth as i32))),
+            Node::Crease(p) => {
+                return Some(p.eval(u, v, ctx.order).scaled(2f64.powi(depth as i32)))
+            }
             // Trees are base-level nodes only (never children of a `Lazy` node), so `depth`
             // is 0 here.
             Node::Tree(t) => {
@@ -594,7 +617,7 @@ pub(super) fn eval_node(
                     t.sub,
                     &mut [Query { u, v, out: 0 }],
                     &mut Scratch::default(),
-                    options,
+                    ctx,
                     &mut |_, d| result = d,
                 );
                 return result;

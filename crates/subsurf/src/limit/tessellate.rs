@@ -2,7 +2,7 @@
 //!
 //! See [`tessellate`] for the grid, the sharing of samples, normals and limits.
 
-use super::bspline::Derivatives;
+use super::bspline::{Derivatives, Order};
 use super::surface::{EvalError, LimitSurface, SurfacePoint};
 use crate::mesh::{MeshError, Options, PolyMesh, Topology, INVALID};
 
@@ -594,8 +594,11 @@ fn evaluate(
 ) -> Result<(Vec<[f64; 3]>, Vec<[f64; 3]>), TessellateError> {
     let mut positions = Vec::with_capacity(points.len());
     let mut normals = Vec::with_capacity(points.len());
+    let mut results = Vec::new();
     for chunk in points.chunks(CHUNK) {
-        for (p, d) in chunk.iter().zip(surface.eval_many(chunk)) {
+        // Normals need first derivatives only.
+        surface.eval_many_into(chunk, Order::First, &mut results);
+        for (p, d) in chunk.iter().zip(results.drain(..)) {
             let d: Derivatives = d.map_err(|source| TessellateError::Eval {
                 face: p.face,
                 subface: p.subface,

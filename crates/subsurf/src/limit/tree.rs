@@ -25,7 +25,7 @@
 //! surface, to rounding. No topology is built while evaluating, and nothing is allocated
 //! per point.
 
-use super::bspline::{self, Derivatives};
+use super::bspline::{self, Derivatives, Order};
 use super::corner::{corner_limit, is_limit_corner, CornerLimit};
 use super::crease_patch::{single_crease, CreaseBasis, CreasePatch};
 use super::local::{one_ring_unbounded, Local, Region};
@@ -241,6 +241,16 @@ impl TreeCache {
     }
 }
 
+/// What an evaluation needs besides the points: the scheme options (to build tree levels)
+/// and the derivatives to compute.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Ctx<'a> {
+    /// Scheme options.
+    pub options: &'a Options,
+    /// Derivatives to compute.
+    pub order: Order,
+}
+
 /// One point to evaluate: its parameter in the current node, and where its result goes.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Query {
@@ -274,15 +284,15 @@ impl Tree {
         sub: Option<usize>,
         queries: &mut [Query],
         scratch: &mut Scratch,
-        options: &Options,
+        ctx: Ctx<'_>,
         sink: &mut impl FnMut(u32, Option<Derivatives>),
     ) {
         match sub {
-            None => descend(&self.root, pos, queries, 0, scratch, options, sink),
+            None => descend(&self.root, pos, queries, 0, scratch, ctx, sink),
             Some(j) => {
-                let kids = self.root.kids(options);
+                let kids = self.root.kids(ctx.options);
                 // The sub-face is its own parameter domain: depth 0, no rescaling.
-                kid_eval(kids.get(j), pos, queries, 0, scratch, options, sink);
+                kid_eval(kids.get(j), pos, queries, 0, scratch, ctx, sink);
             }
         }
     }
@@ -295,7 +305,7 @@ fn descend(
     qs: &mut [Query],
     depth: u32,
     scratch: &mut Scratch,
-    options: &Options,
+    ctx: Ctx<'_>,
     sink: &mut impl FnMut(u32, Option<Derivatives>),
 ) {
     // Points at a corner where the limit is known: the corner analysis.
@@ -311,7 +321,7 @@ fn descend(
             _ => None,
         };
         match corner.filter(|&k| depth >= MAX_DEPTH || node.stop[k]) {
-            Some(k) => sink(q.out, Some(node.corner(k, options).eval(pos))),
+            Some(k) => sink(q.out, Some(node.corner(k, ctx.options).eval(pos))),
             None => {
                 qs[rest] = q;
                 rest += 1;
@@ -322,7 +332,7 @@ fn descend(
     if qs.is_empty() {
         return;
     }
-    let kids = node.kids(options);
+    let kids = node.kids(ctx.options);
     qs.sort_unstable_by_key(|q| quadrant(q.u, q.v).0);
     let mut start = 0;
     while start < qs.len() {
@@ -339,7 +349,7 @@ fn descend(
             &mut qs[start..end],
             depth + 1,
             scratch,
-            options,
+            ctx,
             sink,
         );
         start = end;
@@ -354,7 +364,7 @@ fn kid_eval(
     qs: &mut [Query],
     depth: u32,
     scratch: &mut Scratch,
-    options: &Options,
+    ctx: Ctx<'_>,
     sink: &mut impl FnMut(u32, Option<Derivatives>),
 ) {
     match kid {
@@ -363,14 +373,17 @@ fn kid_eval(
             let cp = rows.patch(pos);
             let scale = 2f64.powi(depth as i32);
             for q in qs.iter() {
-                sink(q.out, Some(bspline::eval(&cp, q.u, q.v).scaled(scale)));
+                sink(
+                    q.out,
+                    Some(bspline::eval_order(&cp, q.u, q.v, ctx.order).scaled(scale)),
+                );
             }
         }
         Some(kid @ Kid::Crease(..)) => {
             if let Some(patch) = kid.crease_patch(pos) {
                 let scale = 2f64.powi(depth as i32);
                 for q in qs.iter() {
-                    sink(q.out, Some(patch.eval(q.u, q.v).scaled(scale)));
+                    sink(q.out, Some(patch.eval(q.u, q.v, ctx.order).scaled(scale)));
                 }
             }
         }
@@ -381,7 +394,7 @@ fn kid_eval(
             }
             let mut kpos = std::mem::take(&mut scratch.levels[d]);
             rows.apply(pos, &mut kpos);
-            descend(node, &kpos, qs, depth, scratch, options, sink);
+            descend(node, &kpos, qs, depth, scratch, ctx, sink);
             scratch.levels[d] = kpos;
         }
     }
