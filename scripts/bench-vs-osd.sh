@@ -18,7 +18,11 @@
 #   LARGE_LEVELS="3 4"  levels for the large input
 #   SCALING_LEVELS="3 4 5 6"  levels of the time-per-output-vertex table (catmark_bishop;
 #                       empty: skip that table)
+#   REPLAY_LEVELS="6"   levels of the re-posing table (catmark_bishop, catmark_pawn and the
+#                       extra meshes: `subsurf bench --replay` against a full refinement
+#                       with the same threads; empty: skip that table)
 #   OSD_ORACLE=PATH     use this osd-oracle binary instead of building one
+#   SUBSURF=PATH        use this subsurf binary instead of building one (release)
 #   OSD_ORACLE_SRC=DIR  osd-oracle sources (default: ../shared/tools/osd-oracle next to the
 #                       repository); its build.sh installs Debian's libosd-dev if missing
 #
@@ -36,9 +40,10 @@ ROUNDS="${ROUNDS:-3}"
 LEVELS="${LEVELS:-5 6}"
 LARGE_LEVELS="${LARGE_LEVELS:-3 4}"
 SCALING_LEVELS="${SCALING_LEVELS-3 4 5 6}"
+REPLAY_LEVELS="${REPLAY_LEVELS-6}"
 
 case "${1:-}" in
-  -h|--help) sed -n '2,26p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+  -h|--help) sed -n '2,30p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
 esac
 for extra in "$@"; do
   [ -r "$extra" ] || { echo "bench-vs-osd: cannot read $extra" >&2; exit 1; }
@@ -75,11 +80,17 @@ if [ ! -x /usr/bin/time ]; then
   (as_root apt-get update -qq && DEBIAN_FRONTEND=noninteractive as_root apt-get install -y -qq time) >/dev/null
 fi
 
-log "building subsurf (release)"
-(cd "$root" && cargo build --release --quiet -p subsurf-cli)
-target_dir="${CARGO_TARGET_DIR:-$root/target}"
-case "$target_dir" in /*) ;; *) target_dir="$root/$target_dir" ;; esac
-subsurf="$target_dir/release/subsurf"
+if [ -n "${SUBSURF:-}" ]; then
+  subsurf="$SUBSURF"
+else
+  log "building subsurf (release)"
+  (cd "$root" && cargo build --release --quiet -p subsurf-cli)
+  target_dir="${CARGO_TARGET_DIR:-$root/target}"
+  case "$target_dir" in /*) ;; *) target_dir="$root/$target_dir" ;; esac
+  # A copy, so that a rebuild during the run does not change the binary measured.
+  cp "$target_dir/release/subsurf" "$work/subsurf"
+  subsurf="$work/subsurf"
+fi
 [ -x "$subsurf" ] || { log "no subsurf binary at $subsurf"; exit 1; }
 
 # --- inputs ----------------------------------------------------------------------------
@@ -168,6 +179,38 @@ if [ -n "$SCALING_LEVELS" ]; then
     printf '| %s | %s | %s | %s | %s | %s |\n' "$level" "$verts" \
       "$t1_s" "$(awk -v t="$t1_s" -v n="$verts" 'BEGIN { printf "%.1f", t * 1e9 / n }')" \
       "$osd_s" "$(awk -v t="$osd_s" -v n="$verts" 'BEGIN { printf "%.1f", t * 1e9 / n }')"
+  done
+fi
+if [ -n "$REPLAY_LEVELS" ]; then
+  printf '\nRe-posing (`subsurf bench --replay`: a precomputed plan applied to the base positions)\n'
+  printf 'against full refinement (`subsurf bench`), same threads, interleaved as above:\n\n'
+  printf '| mesh | level | full 1T s | replay 1T s | full/replay 1T | full 2T s | replay 2T s | full/replay 2T |\n'
+  printf '|---|---:|---:|---:|---:|---:|---:|---:|\n'
+  replay_runs=("$shapes/catmark_bishop.obj|catmark_bishop" "$shapes/catmark_pawn.obj|catmark_pawn")
+  for extra in "$@"; do
+    replay_runs+=("$extra|$(basename "$extra" .obj)")
+  done
+  for run in "${replay_runs[@]}"; do
+    IFS='|' read -r path label <<<"$run"
+    for level in $REPLAY_LEVELS; do
+      log "$label level $level (re-posing)"
+      f1=() r1=() f2=() r2=()
+      for _ in $(seq "$ROUNDS"); do
+        for t in 1 2; do
+          f_line="$("$subsurf" bench "$path" -l "$level" --reps "$REPS" --threads "$t")"
+          r_line="$("$subsurf" bench "$path" -l "$level" --reps "$REPS" --threads "$t" --replay)"
+          if [ "$t" = 1 ]; then
+            f1+=("$(field median_s "$f_line")"); r1+=("$(field median_s "$r_line")")
+          else
+            f2+=("$(field median_s "$f_line")"); r2+=("$(field median_s "$r_line")")
+          fi
+        done
+      done
+      f1_s="$(median "${f1[@]}")"; r1_s="$(median "${r1[@]}")"
+      f2_s="$(median "${f2[@]}")"; r2_s="$(median "${r2[@]}")"
+      printf '| %s | %s | %s | %s | %s | %s | %s | %s |\n' "$label" "$level" \
+        "$f1_s" "$r1_s" "$(ratio "$f1_s" "$r1_s")" "$f2_s" "$r2_s" "$(ratio "$f2_s" "$r2_s")"
+    done
   done
 fi
 exit "$status"

@@ -19,6 +19,11 @@ use clap::{Args, Parser, Subcommand};
 use subsurf::io::obj::FileOptions;
 use subsurf::mesh::{BoundaryInterpolation, CreaseMethod, TriangleSubdivision};
 
+/// Large buffers get transparent huge pages: refinement writes hundreds of MB of fresh
+/// memory, and 4 KiB page faults cost as much as the work (see `subsurf::alloc`).
+#[global_allocator]
+static GLOBAL: subsurf::alloc::HugePageAlloc = subsurf::alloc::HugePageAlloc;
+
 const MAIN_EXAMPLES: &str = "\
 Examples:
   subsurf subdivide model.obj -o smooth.obj -l 3

@@ -14,6 +14,11 @@ use subsurf::io::obj::read_obj;
 use subsurf::mesh::{Options, PolyMesh};
 use subsurf::{subdivide, SubdivideOptions};
 
+/// As in the `subsurf` binary: transparent huge pages for large buffers, so that the benches
+/// measure what `subsurf bench` measures (see `subsurf::alloc`).
+#[global_allocator]
+static GLOBAL: subsurf::alloc::HugePageAlloc = subsurf::alloc::HugePageAlloc;
+
 /// The shapes benched, from `crates/subsurf/tests/shapes/osd/`.
 const SHAPES: [&str; 2] = ["catmark_bishop", "catmark_pawn"];
 

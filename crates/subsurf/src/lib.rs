@@ -32,6 +32,7 @@
 // Geometry kernels walk several parallel arrays with one index; iterator chains would hide that.
 #![allow(clippy::needless_range_loop)]
 
+pub mod alloc;
 pub mod blend;
 pub mod g2cap;
 pub mod interpolate;

@@ -4,7 +4,7 @@ use crate::limit;
 use crate::mesh::{Corner, Crease, MeshError, Options, PolyMesh, Tags, Topology, TopologyWarning};
 use crate::mixed::Mixed;
 use crate::refine::interpolate;
-use crate::refine::{interpolate_adjustable, refine_topology};
+use crate::refine::{interpolate_adjustable, refine_topology, refine_topology_for_output};
 
 /// What [`subdivide`] should do.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -167,10 +167,17 @@ fn subdivide_steps(
 
     let (mut level, warnings) = Topology::from_mesh(mesh, &opts.scheme)?;
     let mut pos = mesh.positions().to_vec();
+    // The parent of the last level, when that level is built without edge vertices.
+    let mut parent = None;
     for l in 1..=opts.levels {
-        // The last level needs its full adjacency only for limit masks.
-        let full = l < opts.levels || opts.limit;
-        let child = refine_topology(&level, &opts.scheme, full);
+        let last = l == opts.levels;
+        // The last level needs its full adjacency only for limit masks, and its edge
+        // vertices only for the output's creases, which are read from its parent.
+        let child = if last && !opts.limit {
+            refine_topology_for_output(&level, &opts.scheme)
+        } else {
+            refine_topology(&level, &opts.scheme, true)
+        };
         let mut next = vec![[0.0; 3]; child.num_vertices()];
         match mixed {
             Some(m) if l <= m.steps => {
@@ -178,7 +185,10 @@ fn subdivide_steps(
             }
             _ => interpolate(&level, &child, &opts.scheme, &pos, &mut next),
         }
-        level = child;
+        let p = std::mem::replace(&mut level, child);
+        if last && !opts.limit {
+            parent = Some(p);
+        }
         pos = next;
         progress(l, opts.levels);
     }
@@ -189,11 +199,13 @@ fn subdivide_steps(
         None
     };
     let out = output_mesh(
-        &level,
+        level,
+        parent.as_ref(),
         opts.scheme.boundary == crate::mesh::BoundaryInterpolation::None,
         pos,
         opts.keep_holes,
     );
+    drop(parent);
     Ok(Subdivision {
         mesh: out,
         normals,
@@ -236,58 +248,105 @@ fn limit_in_place(level: &Topology, options: &Options, pos: &mut [[f64; 3]]) -> 
 /// result as refining the input `a + b` levels. Sharpness that the next run re-derives
 /// by itself (boundary and non-manifold edges, sharpened corners and non-manifold
 /// vertices) is not written.
+///
+/// `parent` is given when `level` was built by `refine_topology_for_output`, without edge
+/// vertices: the crease tags then come from the parent's edges.
+///
+/// The level is consumed: when every face is kept (no holes, or `keep_holes`) its face
+/// arrays become the mesh's without a copy (at level 6 of `catmark_bishop`, 76 MB that
+/// would otherwise be allocated, faulted in and copied), and the scans for remaining
+/// sharpness run in parallel on large levels.
 fn output_mesh(
-    level: &Topology,
+    mut level: Topology,
+    parent: Option<&Topology>,
     explicit_boundary: bool,
     pos: Vec<[f64; 3]>,
     keep_holes: bool,
 ) -> PolyMesh {
-    let mut offsets = Vec::with_capacity(level.num_faces() + 1);
-    let mut verts = Vec::with_capacity(level.face_verts().len());
-    let mut holes = Vec::new();
-    offsets.push(0u32);
-    for f in 0..level.num_faces() {
-        let hole = level.is_hole(f);
-        if hole && !keep_holes {
-            continue;
-        }
-        if hole {
-            holes.push((offsets.len() - 1) as u32);
-        }
-        verts.extend_from_slice(level.face_vertices(f));
-        offsets.push(verts.len() as u32);
-    }
-    let mut tags = Tags {
-        holes,
-        ..Tags::default()
+    let nf = level.num_faces();
+    let holes: Vec<u32> = if keep_holes && level.has_holes() {
+        (0..nf as u32)
+            .filter(|&f| level.is_hole(f as usize))
+            .collect()
+    } else {
+        Vec::new()
     };
-    for e in 0..level.num_edges() {
+    let drop_holes = !keep_holes && level.has_holes() && (0..nf).any(|f| level.is_hole(f));
+    // Boundary edges are sharpened again when the output is read back, except that with
+    // `BoundaryInterpolation::None` their explicit sharpness decides which faces are
+    // holes: there, write them all (the holes themselves are tagged).
+    let crease = |e: usize, [v0, v1]: [u32; 2]| {
         let t = level.edge_tag(e);
         let s = level.edge_sharpness(e);
-        // Boundary edges are sharpened again when the output is read back, except that with
-        // `BoundaryInterpolation::None` their explicit sharpness decides which faces are
-        // holes: there, write them all (the holes themselves are tagged).
         let keep = !t.non_manifold && (!t.boundary || explicit_boundary);
-        if s > 0.0 && keep {
-            let [v0, v1] = level.edge_vertices(e);
-            tags.creases.push(Crease {
-                v0,
-                v1,
-                sharpness: s,
-            });
-        }
-    }
-    for v in 0..level.num_vertices() {
+        (s > 0.0 && keep).then_some(Crease {
+            v0,
+            v1,
+            sharpness: s,
+        })
+    };
+    let corner = |v: usize| {
         let s = level.vertex_sharpness(v);
         let t = level.vertex_tag(v);
-        if s > 0.0 && !t.non_manifold && !t.sharpened_corner {
-            tags.corners.push(Corner {
-                vertex: v as u32,
-                sharpness: s,
-            });
+        (s > 0.0 && !t.non_manifold && !t.sharpened_corner).then_some(Corner {
+            vertex: v as u32,
+            sharpness: s,
+        })
+    };
+    let creases = || match parent {
+        None => filter_map_indices(level.num_edges(), |e| crease(e, level.edge_vertices(e))),
+        Some(p) => {
+            // Child edges `0..S` lie inside parent faces and are never sharp; `S + 2e + k`
+            // joins the child of parent edge `e` to the end `k` of that edge.
+            let s = p.face_verts().len();
+            debug_assert!((0..s).all(|e| level.edge_sharpness(e) == 0.0));
+            let ec0 = (p.num_vertices() + p.num_faces()) as u32;
+            filter_map_indices(2 * p.num_edges(), |i| {
+                let e = i / 2;
+                crease(s + i, [ec0 + e as u32, p.edge_vertices(e)[i % 2]])
+            })
         }
-    }
+    };
+    let (creases, corners) =
+        rayon::join(creases, || filter_map_indices(level.num_vertices(), corner));
+    let tags = Tags {
+        holes,
+        creases,
+        corners,
+    };
+    let (offsets, verts) = if drop_holes {
+        let mut offsets = Vec::with_capacity(nf + 1);
+        let mut verts = Vec::with_capacity(level.face_verts().len());
+        offsets.push(0u32);
+        for f in 0..nf {
+            if !level.is_hole(f) {
+                verts.extend_from_slice(level.face_vertices(f));
+                offsets.push(verts.len() as u32);
+            }
+        }
+        (offsets, verts)
+    } else {
+        (
+            std::mem::take(&mut level.face_offsets),
+            std::mem::take(&mut level.face_verts),
+        )
+    };
+    drop(level);
     let mut m = PolyMesh::new_unchecked(pos, offsets, verts);
     m.tags = tags;
     m
+}
+
+/// `(0..n).filter_map(f).collect()`, in parallel (keeping the order) when `n` is large.
+fn filter_map_indices<T: Send>(n: usize, f: impl Fn(usize) -> Option<T> + Sync + Send) -> Vec<T> {
+    use rayon::prelude::*;
+    if n < 64 * 1024 {
+        (0..n).filter_map(f).collect()
+    } else {
+        (0..n)
+            .into_par_iter()
+            .with_min_len(16 * 1024)
+            .filter_map(f)
+            .collect()
+    }
 }

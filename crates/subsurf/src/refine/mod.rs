@@ -34,7 +34,7 @@ mod topology;
 pub use adjustable::interpolate_adjustable;
 pub use plan::{PlanScratch, RefinePlan};
 pub use primvar::interpolate;
-pub(crate) use topology::refine_topology;
+pub(crate) use topology::{refine_topology, refine_topology_for_output};
 
 use crate::mesh::{MeshError, Options, PolyMesh, Topology, TopologyWarning};
 
