@@ -709,18 +709,93 @@ fn curve_with_a_clamped_end_at_a_crossing_is_refused() {
     );
 }
 
+/// An open uniform (unclamped) curve starting at the origin and leaving it along `d`.
+fn ending_at_origin(d: V3, bend: f64) -> Curve {
+    bspline(
+        (0..9).map(|i| i as f64).collect(),
+        (0..5)
+            .map(|i| {
+                let t = i as f64;
+                [t * d[0], t * d[1], bend * t * t]
+            })
+            .collect(),
+    )
+}
+
 #[test]
-fn two_curves_ending_at_one_point_are_refused() {
-    let ends = |d: V3| {
-        bspline(
-            (0..9).map(|i| i as f64).collect(),
-            (0..5)
-                .map(|i| [i as f64 * d[0], i as f64 * d[1], 0.1 * (i * i) as f64])
-                .collect(),
-        )
-    };
-    let err = build_pair(&ends([1.0, 0.0, 0.0]), &ends([0.0, 1.0, 0.0])).unwrap_err();
-    assert!(err.to_string().contains("not implemented"), "{err}");
+fn two_curves_ending_at_one_point_are_both_interpolated_and_meet_g0_at_the_fixed_centre() {
+    // Both start at X = (0, 0, 0) (an L-shaped corner): each gets a phantom point opposite its
+    // first edge, and the two extended polygons cross at X (a joint polygon group).
+    let a = ending_at_origin([1.0, 0.0, 0.0], 0.1);
+    let b = ending_at_origin([0.0, 1.2, 0.0], -0.05);
+    let out = build_pair(&a, &b).unwrap();
+    assert_eq!((out.zones[0].first, out.zones[1].first), (1, 1));
+    let x = out.zones[0].middle[1];
+    assert_eq!(
+        out.zones[1].middle[1], x,
+        "both polygons pass through one vertex"
+    );
+    for (i, c) in [&a, &b].iter().enumerate() {
+        let (checked, worst, worst_limit) = check_zone(c, &out, i, 4);
+        assert!(checked > 10);
+        assert!(worst <= 1e-12, "curve {i}: {worst:e}");
+        assert!(worst_limit <= 1e-9, "curve {i}: {worst_limit:e}");
+    }
+    let mut s = Nurss::new(&out.mesh, &Default::default()).unwrap();
+    let mut ids: Vec<Vec<u32>> = out.zones.iter().map(|z| z.middle.clone()).collect();
+    for _ in 0..4 {
+        for id in ids.iter_mut() {
+            *id = refine_polyline(s.topology(), id, false).unwrap();
+        }
+        s.step();
+        assert!(
+            dist(&s.positions()[x as usize], &[0.0; 3]) < 1e-15,
+            "centre fixed"
+        );
+    }
+    let lp = s.limit_points();
+    assert!(dist(&lp[x as usize], &[0.0; 3]) < 1e-14);
+    let j = |i: usize| ids[i].iter().position(|&v| v == x).unwrap();
+    let ta = lp[ids[0][j(0) + 1] as usize];
+    let tb = lp[ids[1][j(1) + 1] as usize];
+    let cos = (ta[0] * tb[0] + ta[1] * tb[1] + ta[2] * tb[2])
+        / (dist(&ta, &[0.0; 3]) * dist(&tb, &[0.0; 3]));
+    assert!(
+        cos.abs() < 0.2,
+        "the branches meet at an angle (G0), cos = {cos}"
+    );
+}
+
+#[test]
+fn two_curves_ending_at_one_point_in_one_line_are_refused() {
+    // `b`'s first edge continues `a`'s straight through X (`b`'s point 1 is `a`'s phantom).
+    let a = ending_at_origin([1.0, 0.0, 0.0], 0.1);
+    let b = ending_at_origin([-1.0, 0.0, 0.0], -0.1);
+    let err = build_pair(&a, &b).unwrap_err();
+    assert!(
+        matches!(err, InterpolateError::Crossing { index: 0, .. }),
+        "{err}"
+    );
+    assert!(err.to_string().contains("join the two curves"), "{err}");
+}
+
+#[test]
+fn three_curves_ending_at_one_point_are_refused_naming_each() {
+    let curves = [
+        CubicCurve::new(&ending_at_origin([1.0, 0.0, 0.0], 0.1), "east").unwrap(),
+        CubicCurve::new(&ending_at_origin([0.0, 1.0, 0.0], 0.1), "north").unwrap(),
+        CubicCurve::new(&ending_at_origin([-0.7, -0.7, 0.0], 0.1), "south-west").unwrap(),
+    ];
+    let err = interpolate_curves(&curves, &InterpolateOptions::default()).unwrap_err();
+    assert!(
+        matches!(err, InterpolateError::SharedPoint { count: 3, .. }),
+        "{err}"
+    );
+    let msg = err.to_string();
+    for name in ["east ends at its point 0", "north ends", "south-west ends"] {
+        assert!(msg.contains(name), "{msg}");
+    }
+    assert!(msg.contains("(0, 0, 0)"), "{msg}");
 }
 
 #[test]

@@ -7,9 +7,12 @@ use std::path::PathBuf;
 
 use anyhow::{Context, Result};
 use clap::Args;
-use subsurf::interpolate::{interpolate_geometry, InterpolateOptions, DEFAULT_WIDTH};
+use subsurf::interpolate::{
+    embed_geometry, interpolate_geometry, HostOptions, InterpolateOptions, DEFAULT_HOST_WIDTH,
+    DEFAULT_WIDTH,
+};
 use subsurf::io::geometry::read_geometry;
-use subsurf::io::obj::{write_obj, WriteOptions};
+use subsurf::io::obj::{read_obj, write_obj, WriteOptions};
 use subsurf::nurbs::Geometry;
 
 use crate::output::Output;
@@ -23,8 +26,13 @@ end on another (an unclamped end).
 Output: OBJ quads with `t interval` / `t weight` tags (refine with `subsurf subdivide`, which
 uses NURSS for tagged meshes), then the curves as polylines (`l`, group `curves`).
 
+With --host HOST.obj the zones are inserted into a quad mesh whose edges contain the control
+polygons (every control point a host vertex, open curves ending at interior vertices of valence
+>= 4); --width is then the rows' distance from the polygon as a fraction of the host's edges.
+
 Examples:
   subsurf interpolate examples/curves/vase.json -o vase.obj
+  subsurf interpolate crates/subsurf-cli/examples/host-curve.json --host crates/subsurf-cli/examples/host-grid.obj -o embedded.obj
   subsurf interpolate examples/curves/vase.json -o vase-limit.obj --levels 4 --tessellate
   subsurf interpolate examples/curves/dolphin.json -o dolphin.obj --width 0.05 --side 0,0,1";
 
@@ -39,13 +47,20 @@ pub struct InterpolateArgs {
     #[arg(short, long, value_name = "OUT")]
     pub output: PathBuf,
     /// Zone width: distance of the side points from the curve's control polygon, relative to
-    /// the curve's size (the diagonal of its control points' bounding box).
-    #[arg(long, value_name = "W", default_value_t = DEFAULT_WIDTH, allow_negative_numbers = true)]
-    pub width: f64,
+    /// the curve's size (the diagonal of its control points' bounding box) [default: 0.05];
+    /// with --host, as a fraction in (0, 1) of the shortest host edge leaving each control
+    /// point [default: 1/3].
+    #[arg(long, value_name = "W", allow_negative_numbers = true)]
+    pub width: Option<f64>,
     /// Side direction X,Y,Z: side points are offset along it (projected perpendicular to the
     /// curve) instead of a rotation-minimising frame.
-    #[arg(long, value_name = "X,Y,Z", value_parser = parse_vector, allow_negative_numbers = true)]
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse_vector, allow_negative_numbers = true, conflicts_with = "host")]
     pub side: Option<[f64; 3]>,
+    /// Host quad mesh (OBJ) whose edges contain the control polygons: the zones are inserted
+    /// into it along the polygons (knot intervals and, at control points of valence > 4,
+    /// auxiliary side intervals set as seed 001's Fig. 11 requires).
+    #[arg(long, value_name = "HOST.obj")]
+    pub host: Option<PathBuf>,
     /// Refine L levels with NURSS before writing (0: the control mesh).
     #[arg(long, value_name = "L", value_parser = clap::value_parser!(u32).range(0..=8))]
     pub levels: Option<u32>,
@@ -79,11 +94,23 @@ pub fn run(args: &InterpolateArgs) -> Result<()> {
     let out = Output::new(&args.output);
     out.check()?;
     let items = read_geometry(&args.input)?;
-    let opts = InterpolateOptions {
-        width: args.width,
-        side: args.side,
+    let (zones, width) = match &args.host {
+        Some(path) => {
+            let host = read_obj(path)?.mesh;
+            let width = args.width.unwrap_or(DEFAULT_HOST_WIDTH);
+            let zones = embed_geometry(&host, &items, &HostOptions { width })
+                .with_context(|| format!("cannot embed the curves in {}", path.display()))?;
+            (zones, width)
+        }
+        None => {
+            let width = args.width.unwrap_or(DEFAULT_WIDTH);
+            let opts = InterpolateOptions {
+                width,
+                side: args.side,
+            };
+            (interpolate_geometry(&items, &opts)?, width)
+        }
     };
-    let zones = interpolate_geometry(&items, &opts)?;
     let levels = match (args.levels, args.tessellate) {
         (Some(l), _) => l,
         (None, true) => 4,
@@ -105,9 +132,13 @@ pub fn run(args: &InterpolateArgs) -> Result<()> {
         }
     }
     let comment = format!(
-        "subsurf interpolate: {} curve zone(s), width {}, {}{}",
+        "subsurf interpolate: {} curve zone(s){}, width {}, {}{}",
         zones.zones.len(),
-        args.width,
+        match &args.host {
+            Some(h) => format!(" in host {}", h.display()),
+            None => String::new(),
+        },
+        width,
         if args.tessellate {
             format!("limit surface after {levels} NURSS levels")
         } else if levels > 0 {

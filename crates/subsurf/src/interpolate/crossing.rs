@@ -19,9 +19,23 @@
 //! curve's natural extension; its end needs `d_1 = d_2` (an unclamped end: a clamped end has
 //! zero intervals there, which a group cannot take).
 //!
+//! Two curves *both ending* at one point `X` (an L-shaped corner) are the same group once each
+//! has its phantom end point: the phantoms fill the two free arms, each extended polygon passes
+//! through `X`, and the pair is a crossing of the extended polygons. Why this is the only way
+//! an end can sit in a group: Lemma 1's conclusion (iii) (`E_2 + E_4 = 2 V`, the group's
+//! centre fixed) needs every middle polygon through `X` to have a neighbour on *both* sides,
+//! symmetric about `X` with equal intervals — an end has one, and its phantom (`2X − P_{n−2}`,
+//! interval `d_{n+1}`) is the other; and the curve on its domain `[t_3, t_n]` does not depend on
+//! where the phantom is, only on `d_{n+1}` (see [`super::curve`]). So each curve at `X`, ending
+//! or passing, takes one of the group's two lines, and the conditions are those of a crossing:
+//! `d_{n−1} = d_n = d_{n+1}` at the end (an unclamped end with equal last intervals; a clamped
+//! end has `d_{n+1} = 0`). A third curve would need a third line through `X` (a valence-6
+//! centre), beyond Corollary 1: refused ([`InterpolateError::SharedPoint`]), as are two curves
+//! ending at `X` in one line (their zones would overlap: join them into one curve).
+//!
 //! What the method cannot do is reported, naming the curve and the point: more than 4 branches
-//! at one point (a curve passing through counts 2, one ending there 1); groups where two or
-//! more curves end (not implemented); neighbours that are not
+//! at one point (a curve passing through counts 2, one ending there 1); three or more curves at
+//! one point; neighbours that are not
 //! symmetric about `X`; unequal intervals on the four edges around `X`
 //! (`d_{k−2} = d_{k−1} = d_k = d_{k+1}` is needed: the other curve's zone has column interval
 //! `d_k`, and at the group's corners its column edges read `d_{k−2}` and `d_{k+1}` two steps
@@ -117,7 +131,6 @@ pub fn find_crossings(
         let c = &curves[a.curve];
         !c.closed && (a.index == 0 || a.index + 1 == c.len())
     };
-    let plain: Vec<MiddlePolygon> = curves.iter().map(CubicCurve::middle_polygon).collect();
     let mut phantoms = vec![(false, false); curves.len()];
     for (x, arms) in &groups {
         let branches: usize = arms.iter().map(|a| if is_end(a) { 1 } else { 2 }).sum();
@@ -134,16 +147,21 @@ pub fn find_crossings(
                 z: x[2],
             });
         }
-        let ends = arms.iter().filter(|a| is_end(a)).count();
-        if arms.len() > 2 || ends > 1 {
-            let a = arms.iter().rev().find(|a| is_end(a)).unwrap_or(&arms[0]);
-            let m = &plain[a.curve];
-            return Err(crossing_error(
-                &curves[a.curve],
-                m,
-                a.index + m.first,
-                "the curve ends at a point it shares with other curves; supported are two curves crossing, and a curve ending on another that passes through (a T-junction); groups where two or more curves end are not implemented".into(),
-            ));
+        if arms.len() > 2 {
+            let names: Vec<String> = arms
+                .iter()
+                .map(|a| {
+                    let how = if is_end(a) { "ends" } else { "passes" };
+                    format!("{} {how} at its point {}", curves[a.curve].label, a.index)
+                })
+                .collect();
+            return Err(InterpolateError::SharedPoint {
+                count: arms.len(),
+                curves: names.join(", "),
+                x: x[0],
+                y: x[1],
+                z: x[2],
+            });
         }
         for a in arms.iter().filter(|a| is_end(a)) {
             if a.index == 0 {
@@ -168,6 +186,10 @@ pub fn find_crossings(
             })
             .collect();
         let (a, b) = (arms[0], arms[1]);
+        let user = |arm: Arm| Arm {
+            curve: arm.curve,
+            index: arm.index - middles[arm.curve].first,
+        };
         check_arm(curves, &middles, a, tol)?;
         check_arm(curves, &middles, b, tol)?;
         let dir = |arm: Arm| {
@@ -177,6 +199,18 @@ pub fn find_crossings(
         };
         let (da, db) = (dir(a), dir(b));
         if norm(&cross(&da, &db)) <= 1e-6 * norm(&da) * norm(&db) {
+            let (ea, eb) = (is_end(&user(a)), is_end(&user(b)));
+            if ea && eb {
+                return Err(crossing_error(
+                    &curves[b.curve],
+                    &middles[b.curve],
+                    b.index,
+                    format!(
+                        "the curve ends where {} ends, in the same line; join the two curves into one (their zones would overlap)",
+                        curves[a.curve].label
+                    ),
+                ));
+            }
             return Err(crossing_error(
                 &curves[b.curve],
                 &middles[b.curve],

@@ -41,6 +41,59 @@ pub enum InterpolateError {
         /// The point.
         z: f64,
     },
+    /// Three or more curves share one control point. A joint polygon group has two lines
+    /// through its centre (two symmetric polygon pairs, Corollary 1), and every curve there needs
+    /// a line of its own: one passing through fills both arms of its line, one ending there
+    /// fills one arm and its phantom end point the other (see [`super::crossing`]).
+    #[error("{count} curves share the point ({x}, {y}, {z}) ({curves}); a joint polygon group takes two curves (crossing, ending on one another, or both ending there), as in the paper's Corollary 1")]
+    SharedPoint {
+        /// Number of curves.
+        count: usize,
+        /// The curves, how they meet the point, and their control points.
+        curves: String,
+        /// The point.
+        x: f64,
+        /// The point.
+        y: f64,
+        /// The point.
+        z: f64,
+    },
+    /// A control point is not a vertex of the host mesh.
+    #[error("{curve}, control point {index} at ({x}, {y}, {z}): no host vertex within {tol:e} of it; with a host mesh every control point must be a host vertex")]
+    HostVertex {
+        /// The curve.
+        curve: String,
+        /// The control point.
+        index: usize,
+        /// Its position.
+        x: f64,
+        /// Its position.
+        y: f64,
+        /// Its position.
+        z: f64,
+        /// The matching tolerance (a fraction of the host's size, see
+        /// [`super::host::HOST_TOLERANCE`]).
+        tol: f64,
+    },
+    /// The host mesh around a control point does not have the shape the embedding needs.
+    #[error("{curve}, control point {index} at ({x}, {y}, {z}): {reason}")]
+    Host {
+        /// The curve.
+        curve: String,
+        /// The control point.
+        index: usize,
+        /// Its position.
+        x: f64,
+        /// Its position.
+        y: f64,
+        /// Its position.
+        z: f64,
+        /// What is wrong.
+        reason: String,
+    },
+    /// The host mesh as a whole cannot take zones.
+    #[error("host mesh: {0}")]
+    HostMesh(String),
     /// The crossing does not have the shape a joint polygon group needs.
     #[error("{curve}, control point {index} at ({x}, {y}, {z}): {reason}")]
     Crossing {

@@ -8,9 +8,10 @@
 //! limit surface passes through the curve: for any knot vector (non-uniform, multiple knots
 //! for C1 and C0 points, clamped or not, closed), and for rational curves (weights on the
 //! middle polygon, side points weighted like their middle point — a circle stays a circle).
-//! Two curves may cross at a shared control point, or one end on another (joint polygon
-//! groups of 4 and 3 branches, [`crossing`]): opposite branches join `G2`, adjacent ones `G0`
-//! (Corollary 1).
+//! Two curves may cross at a shared control point, one end on another, or both end there
+//! (joint polygon groups, [`crossing`]): opposite branches join `G2`, adjacent ones `G0`
+//! (Corollary 1). The zones may also be inserted into a host mesh whose edges contain the
+//! control polygons ([`host`], the paper's Fig. 11).
 //!
 //! | module | concept |
 //! |---|---|
@@ -18,6 +19,7 @@
 //! | [`frame`] | side directions: rotation-minimising frame or a given side vector |
 //! | [`crossing`] | shared control points, the checks a joint polygon group needs |
 //! | [`zone`] | the symmetric zonal mesh, its intervals and weights; why the boundary needs no skirt removal |
+//! | [`host`] | zones cut into a host mesh along its edges; the auxiliary intervals of Fig. 11 |
 //! | [`track`] | the middle polygon at any refinement level |
 //!
 //! Source: Zheng Jianmin et al. (seed 001), "Subdivision surfaces interpolating cubic NURBS
@@ -45,11 +47,13 @@ pub mod crossing;
 pub mod curve;
 mod error;
 pub mod frame;
+pub mod host;
 pub mod track;
 pub mod zone;
 
 pub use curve::{CubicCurve, MiddlePolygon};
 pub use error::InterpolateError;
+pub use host::{embed_curves, HostOptions, DEFAULT_HOST_WIDTH};
 pub use track::refine_polyline;
 
 use crate::io::geometry::SourcedGeometry;
@@ -98,6 +102,10 @@ pub struct Zone {
     pub first: usize,
     /// Number of the curve's control points.
     pub count: usize,
+    /// The zone's intervals are the curve's knot intervals times this (1 for a standalone
+    /// zone; in a host, see [`host`]): the knot at `middle[j]` is `start_knot` plus the
+    /// intervals of the middle edges before it divided by `knot_scale`.
+    pub knot_scale: f64,
 }
 
 /// The interpolating control mesh and where each curve's zone is in it.
@@ -156,7 +164,25 @@ pub fn interpolate_geometry(
     items: &[SourcedGeometry],
     opts: &InterpolateOptions,
 ) -> Result<Interpolation, InterpolateError> {
-    let curves = items
+    interpolate_curves(&curves_of(items)?, opts)
+}
+
+/// [`embed_curves`] for the curves of a file ([`crate::io::geometry::read_geometry`]),
+/// embedded in `host`; each curve is named by its [`SourcedGeometry::label`].
+///
+/// # Errors
+/// As [`embed_curves`]; a surface in the file is a [`InterpolateError::BadCurve`].
+pub fn embed_geometry(
+    host: &PolyMesh,
+    items: &[SourcedGeometry],
+    opts: &HostOptions,
+) -> Result<Interpolation, InterpolateError> {
+    embed_curves(host, &curves_of(items)?, opts)
+}
+
+/// The checked cubic curves of a file.
+fn curves_of(items: &[SourcedGeometry]) -> Result<Vec<CubicCurve>, InterpolateError> {
+    items
         .iter()
         .map(|g| match &g.geometry {
             Geometry::Curve(c) => CubicCurve::new(c, &g.label()),
@@ -165,8 +191,7 @@ pub fn interpolate_geometry(
                 reason: "is a surface; curve interpolation takes curves only".into(),
             }),
         })
-        .collect::<Result<Vec<_>, _>>()?;
-    interpolate_curves(&curves, opts)
+        .collect()
 }
 
 impl Interpolation {

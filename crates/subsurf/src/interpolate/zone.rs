@@ -295,6 +295,7 @@ pub(crate) fn build(
             start_knot: m.start_knot,
             first: m.first,
             count: curves[c].len(),
+            knot_scale: 1.0,
         });
     }
     Ok((b.finish()?, zones))
