@@ -7,7 +7,9 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Context, Result};
 use clap::Args;
-use subsurf::g2cap::{continuity_report, patches_json, tessellate, G2Surface, G2SurfaceOptions};
+use subsurf::g2cap::{
+    continuity_report, patches_json, tessellate, to_iges, G2Surface, G2SurfaceOptions,
+};
 use subsurf::io::obj::{write_obj, WriteOptions};
 use subsurf::limit::{Derivatives, EvalError, SurfacePoint};
 use subsurf::mesh::Options;
@@ -26,7 +28,8 @@ every n-gon) gets a cap of n bi-septic Bezier patches that join each other and t
 surrounding bicubic B-spline patches with curvature continuity (G2); vertices on boundaries
 or creases keep Catmull-Clark (listed with --report). OBJ output is a tessellation, N x N
 quads per face (ceil(N/2) per sub-face of an n-gon), with normals; JSON output lists every
-patch's control points (schema in the README). --report prints, for every cap boundary, the
+patch's control points (schema in the README); .igs/.iges output writes the same patches as
+IGES 5.3 rational B-spline surfaces (entity 128). --report prints, for every cap boundary, the
 largest position gap, normal angle and relative jump of the normal curvature across it, for
 the G2 surface and for Catmull-Clark (to standard error when the surface goes to standard
 output). A .png output draws the G2 surface (the same renderer as 'subsurf render'), plain,
@@ -40,6 +43,7 @@ is the bicubic B-spline of the C-refined mesh; the caps join it G2, and the repo
 Examples:
   subsurf g2 model.obj -o model-g2.obj --rate 16
   subsurf g2 model.obj -o model-g2.json
+  subsurf g2 model.obj -o model-g2.igs
   subsurf g2 model.obj -o model-g2.obj --report
   subsurf g2 model.obj -o model-g2-zebra.png --zebra --view 30,40
   subsurf g2 model.obj -o model-g2-tight.obj --c 0.3 --report";
@@ -50,7 +54,8 @@ pub struct G2Args {
     /// Input OBJ file ('-' reads standard input).
     #[arg(value_name = "IN")]
     pub input: PathBuf,
-    /// Output file, .obj (tessellation) or .json (control points) ('-' writes OBJ to
+    /// Output file, .obj (tessellation), .json (control points), .igs/.iges (IGES entity
+    /// 128 surfaces) or .png (picture) ('-' writes OBJ to
     /// standard output); written only when everything succeeded.
     #[arg(short, long, value_name = "OUT")]
     pub output: PathBuf,
@@ -86,6 +91,7 @@ pub struct G2Args {
 enum Format {
     Obj,
     Json,
+    Iges,
     Png,
 }
 
@@ -114,10 +120,11 @@ fn format(path: &Path) -> Result<Format> {
     {
         Some("obj") => Ok(Format::Obj),
         Some("json") => Ok(Format::Json),
+        Some("igs" | "iges") => Ok(Format::Iges),
         Some("png") => Ok(Format::Png),
         _ => bail!(
-            "cannot write {}: subsurf g2 writes .obj (tessellation), .json (control points) \
-             or .png (picture)",
+            "cannot write {}: subsurf g2 writes .obj (tessellation), .json (control points), \
+             .igs/.iges (IGES surfaces) or .png (picture)",
             path.display()
         ),
     }
@@ -220,6 +227,16 @@ pub fn run(args: &G2Args) -> Result<()> {
             let doc = patches_json(&surface, mesh).with_context(|| input.name.clone())?;
             let text = doc.to_json();
             out.write(|w| writeln!(w, "{text}"))?;
+        }
+        Format::Iges => {
+            let doc = patches_json(&surface, mesh).with_context(|| input.name.clone())?;
+            let name = args
+                .output
+                .file_name()
+                .map(|n| n.to_string_lossy().into_owned())
+                .unwrap_or_default();
+            let text = to_iges(&doc, &name);
+            out.write(|w| w.write_all(text.as_bytes()))?;
         }
     }
     if args.report {

@@ -79,8 +79,13 @@
 //! The outer rows of control points (three per outer edge) follow explicitly from the
 //! bicubic neighbours ([`cap::outer_rows`]); the inner `5×5` blocks minimise the energy of
 //! [`energy`] (zero exactly for bicubics, so valence 4 gives back the B-spline patches)
-//! under the inner G2 conditions, by the null-space method ([`CapSolver`], once per
-//! valence; the paper's per-frequency DFT split is not needed at these sizes).
+//! under the inner G2 conditions. The system commutes with the rotation of the sectors,
+//! so [`CapSolver`] solves it per Fourier frequency of the sector index (`⌊n/2⌋ + 1`
+//! systems of at most 50 unknowns, once per valence), after eliminating the rows that
+//! involve outer data only and projecting the data onto the consistent subspace: the
+//! caps are a well-conditioned function of the mesh (ulp perturbations move them by
+//! `≲ 5·10⁻¹⁴` of their size). [`DenseCapSolver`], the direct solve over all sectors, is
+//! kept as the reference (same caps to its own rounding, `~10⁻¹⁰`).
 //! [`G2Surface`] does this for every interior smooth EV of a mesh (valence 3..=16, also
 //! the centres of n-gons); vertices on boundaries or creases, or next to them, keep the
 //! Catmull-Clark surface. [`G2Surface::new_mixed`] does the same for the mixed
@@ -90,9 +95,11 @@
 mod bernstein;
 mod bezier;
 pub mod cap;
+mod dense;
 pub mod energy;
 mod error;
 pub mod export;
+mod iges;
 mod report;
 mod solver;
 pub mod surface;
@@ -100,10 +107,12 @@ pub mod transition;
 
 pub use bezier::BezierPatch;
 pub use cap::{G2Cap, OuterPatches};
+pub use dense::{DenseCapSolver, INNER_SAMPLES};
 pub use error::G2Error;
-pub use export::{patches_json, tessellate, MixedJson, SurfaceJson};
+pub use export::{patches_json, tessellate, CapJson, MixedJson, PatchJson, SurfaceJson};
+pub use iges::to_iges;
 pub use report::{continuity_report, BoundaryKind, BoundaryStats, ContinuityReport, Side};
-pub use solver::{inner_rows, CapSolver, INNER_SAMPLES};
+pub use solver::{inner_rows, CapSolver};
 pub use surface::{CapInfo, G2Surface, G2SurfaceOptions, PatchRef, Uncapped};
 pub use transition::{Jet, Transitions};
 
