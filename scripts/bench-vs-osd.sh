@@ -21,6 +21,10 @@
 #   REPLAY_LEVELS="6"   levels of the re-posing table (catmark_bishop, catmark_pawn and the
 #                       extra meshes: `subsurf bench --replay` against a full refinement
 #                       with the same threads; empty: skip that table)
+#   LIMIT_GRID=8        N of the limit-evaluation table: an N x N grid of limit points (position
+#                       and first derivatives) on every quad of catmark_bishop, catmark_pawn and
+#                       the extra meshes, `osd-oracle benchlimit IN N REPS` against
+#                       `subsurf bench IN --limit-grid N` (empty: skip that table)
 #   OSD_ORACLE=PATH     use this osd-oracle binary instead of building one
 #   SUBSURF=PATH        use this subsurf binary instead of building one (release)
 #   OSD_ORACLE_SRC=DIR  osd-oracle sources (default: ../shared/tools/osd-oracle next to the
@@ -41,6 +45,7 @@ LEVELS="${LEVELS:-5 6}"
 LARGE_LEVELS="${LARGE_LEVELS:-3 4}"
 SCALING_LEVELS="${SCALING_LEVELS-3 4 5 6}"
 REPLAY_LEVELS="${REPLAY_LEVELS-6}"
+LIMIT_GRID="${LIMIT_GRID-8}"
 
 case "${1:-}" in
   -h|--help) sed -n '2,30p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
@@ -211,6 +216,43 @@ if [ -n "$REPLAY_LEVELS" ]; then
       printf '| %s | %s | %s | %s | %s | %s | %s | %s |\n' "$label" "$level" \
         "$f1_s" "$r1_s" "$(ratio "$f1_s" "$r1_s")" "$f2_s" "$r2_s" "$(ratio "$f2_s" "$r2_s")"
     done
+  done
+fi
+if [ -n "$LIMIT_GRID" ]; then
+  printf '\nLimit evaluation: a %sx%s grid (position, first derivatives) on every quad face,\n' "$LIMIT_GRID" "$LIMIT_GRID"
+  printf '`osd-oracle benchlimit` (Bfr, its factory and cache kept across repetitions) against\n'
+  printf '`subsurf bench --limit-grid` (LimitSurface kept; each repetition re-poses and evaluates),\n'
+  printf 'interleaved as above; cold = the first build plus evaluation of subsurf (one process).\n\n'
+  printf '| mesh | points | OSD median s | subsurf 1T median s | 1T/OSD | subsurf 2T median s | 2T/OSD | subsurf cold 1T s | configurations |\n'
+  printf '|---|---:|---:|---:|---:|---:|---:|---:|---:|\n'
+  limit_runs=("$shapes/catmark_bishop.obj|catmark_bishop" "$shapes/catmark_pawn.obj|catmark_pawn")
+  for extra in "$@"; do
+    limit_runs+=("$extra|$(basename "$extra" .obj)")
+  done
+  for run in "${limit_runs[@]}"; do
+    IFS='|' read -r path label <<<"$run"
+    log "$label limit grid $LIMIT_GRID"
+    osd_t=() t1_t=() t2_t=() cold_t=()
+    for _ in $(seq "$ROUNDS"); do
+      osd_line="$("$oracle" benchlimit "$path" "$LIMIT_GRID" "$REPS")"
+      t1_line="$("$subsurf" bench "$path" --limit-grid "$LIMIT_GRID" --reps "$REPS" --threads 1)"
+      t2_line="$("$subsurf" bench "$path" --limit-grid "$LIMIT_GRID" --reps "$REPS" --threads 2)"
+      osd_t+=("$(field median_s "$osd_line")")
+      t1_t+=("$(field median_s "$t1_line")")
+      t2_t+=("$(field median_s "$t2_line")")
+      cold_t+=("$(field cold_s "$t1_line")")
+    done
+    points="$(field points "$t1_line")"
+    osd_points="$(field points "$osd_line")"
+    if [ "$points" != "$osd_points" ]; then
+      log "WARNING: $label: subsurf evaluated $points points, OSD $osd_points"
+      points="$points (OSD: $osd_points)"
+      status=1
+    fi
+    osd_s="$(median "${osd_t[@]}")"; t1_s="$(median "${t1_t[@]}")"; t2_s="$(median "${t2_t[@]}")"
+    printf '| %s | %s | %s | %s | %s | %s | %s | %s | %s |\n' "$label" "$points" "$osd_s" \
+      "$t1_s" "$(ratio "$t1_s" "$osd_s")" "$t2_s" "$(ratio "$t2_s" "$osd_s")" \
+      "$(median "${cold_t[@]}")" "$(field configurations "$t1_line")"
   done
 fi
 exit "$status"

@@ -65,6 +65,44 @@ fn json_lists_bi_septic_caps_and_bicubic_patches() {
         .all(|p| p["points"].as_array().unwrap().len() == 16));
 }
 
+/// IGES: fixed 80-column records, one rational B-spline surface entity (128) per patch of
+/// the JSON output (caps and bicubics), and the terminate record's section counts.
+#[test]
+fn iges_has_one_entity_128_per_patch() {
+    let dir = dir_with(&[("hut.obj", HUT)]);
+    assert_code(&run_in(dir.path(), &["g2", "hut.obj", "-o", "hut.igs"]), 0);
+    assert_code(&run_in(dir.path(), &["g2", "hut.obj", "-o", "hut.json"]), 0);
+    let iges = fs::read_to_string(dir.path().join("hut.igs")).unwrap();
+    let lines: Vec<&str> = iges.lines().collect();
+    assert!(
+        lines.iter().all(|l| l.len() == 80),
+        "a record is not 80 columns"
+    );
+    // Directory entries come in pairs of 'D' records; the first field is the entity type.
+    let entities: Vec<&str> = lines
+        .iter()
+        .filter(|l| l.as_bytes()[72] == b'D')
+        .step_by(2)
+        .map(|l| l[..8].trim())
+        .collect();
+    let doc: serde_json::Value =
+        serde_json::from_str(&fs::read_to_string(dir.path().join("hut.json")).unwrap()).unwrap();
+    let caps: usize = doc["caps"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| c["patches"].as_array().unwrap().len())
+        .sum();
+    let bicubic = doc["bicubic"].as_array().unwrap().len();
+    assert_eq!(entities.len(), caps + bicubic);
+    assert!(entities.iter().all(|&e| e == "128"), "{entities:?}");
+    let last = lines.last().unwrap();
+    assert_eq!(last.as_bytes()[72], b'T');
+    assert_eq!(&last[16..17], "D");
+    let d_count: usize = last[17..24].trim().parse().unwrap();
+    assert_eq!(d_count, 2 * entities.len());
+}
+
 /// `--report` prints the table: G2 rows tiny, Catmull-Clark's vertex row not.
 #[test]
 fn report_compares_with_catmull_clark() {
