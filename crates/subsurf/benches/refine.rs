@@ -1,5 +1,6 @@
 //! Criterion benches of uniform Catmull-Clark refinement (topology + positions, the same
-//! work `subsurf bench` and `osd-oracle bench` time) on two OpenSubdiv test shapes.
+//! work `subsurf bench` and `osd-oracle bench` time) and of exact limit evaluation (as
+//! `subsurf bench --limit-grid 8` and `osd-oracle benchlimit`) on two OpenSubdiv test shapes.
 //!
 //! Run with `cargo bench -p subsurf` (or `cargo bench -p subsurf -- pawn` to filter).
 //! The meshes are read at bench time from `tests/shapes/osd/`, with the scheme options of
@@ -120,5 +121,63 @@ fn limit_level3(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, refine_level5, limit_level3);
+/// Exact limit evaluation, as `osd-oracle benchlimit IN 8` times `Bfr`: an 8×8 grid of
+/// positions and first derivatives on every quad face, after `set_positions` on a surface
+/// built once (`eval_grid8/threads1|2/<shape>`, throughput in points per second), and the
+/// first build plus evaluation (`eval_grid8/cold/<shape>`).
+fn limit_grid8(c: &mut Criterion) {
+    use subsurf::limit::{LimitSurface, Order, SurfacePoint};
+    let mut group = c.benchmark_group("eval_grid8");
+    group
+        .sample_size(20)
+        .warm_up_time(Duration::from_secs(1))
+        .measurement_time(Duration::from_secs(3));
+    let grid = |s: &LimitSurface| -> Vec<SurfacePoint> {
+        (0..s.num_faces())
+            .filter(|&f| s.num_subfaces(f) == 1 && s.has_surface(f))
+            .flat_map(|f| {
+                (0..64).map(move |k| SurfacePoint {
+                    face: f as u32,
+                    subface: 0,
+                    u: (k / 8) as f64 / 7.0,
+                    v: (k % 8) as f64 / 7.0,
+                })
+            })
+            .collect()
+    };
+    for shape in SHAPES {
+        let (mesh, scheme) = load(shape);
+        let mut surface = LimitSurface::new(&mesh, scheme).expect("surface");
+        let points = grid(&surface);
+        group.throughput(Throughput::Elements(points.len() as u64));
+        let mut out = Vec::new();
+        for threads in [1, 2] {
+            let pool = pool(threads);
+            group.bench_with_input(
+                BenchmarkId::new(format!("threads{threads}"), shape),
+                &points,
+                |b, points| {
+                    b.iter(|| {
+                        pool.install(|| {
+                            surface.set_positions(mesh.positions()).expect("positions");
+                            surface.eval_many_into(points, Order::First, &mut out);
+                        })
+                    })
+                },
+            );
+        }
+        let pool = pool(1);
+        group.bench_with_input(BenchmarkId::new("cold", shape), &points, |b, points| {
+            b.iter(|| {
+                pool.install(|| {
+                    let s = LimitSurface::new(&mesh, scheme).expect("surface");
+                    s.eval_many_into(points, Order::First, &mut out);
+                })
+            })
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, refine_level5, limit_level3, limit_grid8);
 criterion_main!(benches);

@@ -19,8 +19,8 @@ mod topology;
 pub use crease_angle::{crease_by_angle, CreaseAngleError};
 pub use error::{MeshError, TopologyWarning};
 pub use options::{BoundaryInterpolation, CreaseMethod, Options, TriangleSubdivision};
-pub use polymesh::{PolyMesh, MAX_COORDINATE};
 pub(crate) use polymesh::check_coordinates;
+pub use polymesh::{PolyMesh, MAX_COORDINATE};
 pub use tags::{
     Corner, Crease, EdgeInterval, KnotTagError, KnotTags, SideInterval, Tags, VertexWeight,
     SHARPNESS_INFINITE,
