@@ -48,6 +48,7 @@ pub mod scheme;
 pub mod spline;
 
 mod geom;
+mod hash;
 mod info;
 mod mixed;
 mod subdivide;

@@ -788,6 +788,55 @@ mod tests {
         }
     }
 
+    /// Asserts that `a` and `b` give the same position and first derivatives (within
+    /// `tol × max(scale, |value|)`), or both no surface, on every `step`-th face (all its
+    /// sub-faces) at `params × params`; returns the number of points compared.
+    fn assert_agree(
+        a: &LimitSurface,
+        b: &LimitSurface,
+        (params, step): (&[f64], usize),
+        (tol, scale): (f64, f64),
+        what: &str,
+    ) -> usize {
+        let mut compared = 0;
+        for f in (0..a.num_faces()).step_by(step) {
+            for sub in 0..a.num_subfaces(f) {
+                for &u in params {
+                    for &v in params {
+                        let p = SurfacePoint {
+                            face: f as u32,
+                            subface: sub as u32,
+                            u,
+                            v,
+                        };
+                        let (x, y) = (a.eval_point(p), b.eval_point(p));
+                        assert_eq!(x.is_ok(), y.is_ok(), "{what}: face {f}/{sub}");
+                        let (Ok(x), Ok(y)) = (x, y) else {
+                            continue;
+                        };
+                        for (x, y) in [(x.p, y.p), (x.du, y.du), (x.dv, y.dv)] {
+                            let d = geom::norm(&geom::sub(&x, &y));
+                            assert!(
+                                d <= tol * scale.max(geom::norm(&y)),
+                                "{what}: face {f}/{sub} at ({u}, {v}): {x:?} vs {y:?}"
+                            );
+                        }
+                        compared += 1;
+                    }
+                }
+            }
+        }
+        compared
+    }
+
+    /// `tests/shapes/osd/<name>.obj`, its scheme options and its bounding-box diagonal.
+    fn shape(path: &std::path::Path) -> (PolyMesh, Options, f64) {
+        let obj = crate::io::obj::read_obj(path).expect("shape");
+        let o = obj.options.resolve(Options::default());
+        let (lo, hi) = obj.mesh.bounding_box().expect("box");
+        (obj.mesh, o, geom::norm(&geom::sub(&hi, &lo)))
+    }
+
     /// The same inside configuration trees, where single-crease children of faces next to
     /// extraordinary vertices become crease patches: OpenSubdiv's bishop and pawn, whose
     /// sharpness-6 rings pass next to extraordinary vertices, evaluated with and without
@@ -798,37 +847,11 @@ mod tests {
         for name in ["catmark_bishop", "catmark_pawn"] {
             let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
                 .join(format!("tests/shapes/osd/{name}.obj"));
-            let obj = crate::io::obj::read_obj(&path).expect("shape");
-            let o = obj.options.resolve(Options::default());
-            let fast =
-                LimitSurface::with_high_valence(&obj.mesh, o, HIGH_VALENCE, true).expect("surface");
-            let slow = LimitSurface::with_high_valence(&obj.mesh, o, HIGH_VALENCE, false)
-                .expect("surface");
-            let (lo, hi) = obj.mesh.bounding_box().expect("box");
-            let diag = geom::norm(&geom::sub(&hi, &lo));
-            for f in 0..fast.num_faces() {
-                for sub in 0..fast.num_subfaces(f) {
-                    for &u in &params {
-                        for &v in &params {
-                            let p = SurfacePoint {
-                                face: f as u32,
-                                subface: sub as u32,
-                                u,
-                                v,
-                            };
-                            let (a, b) = (fast.eval_point(p), slow.eval_point(p));
-                            let (a, b) = (a.expect("eval"), b.expect("eval"));
-                            for (x, y) in [(a.p, b.p), (a.du, b.du), (a.dv, b.dv)] {
-                                let d = geom::norm(&geom::sub(&x, &y));
-                                assert!(
-                                    d <= 1e-12 * diag.max(geom::norm(&y)),
-                                    "{name}: face {f}/{sub} at ({u}, {v}): {x:?} vs {y:?}"
-                                );
-                            }
-                        }
-                    }
-                }
-            }
+            let (mesh, o, diag) = shape(&path);
+            let fast = LimitSurface::with_high_valence(&mesh, o, HIGH_VALENCE, true);
+            let slow = LimitSurface::with_high_valence(&mesh, o, HIGH_VALENCE, false);
+            let (fast, slow) = (fast.expect("surface"), slow.expect("surface"));
+            assert_agree(&fast, &slow, (&params, 1), (1e-12, diag), name);
         }
     }
 
@@ -849,38 +872,11 @@ mod tests {
             if path.extension().is_none_or(|e| e != "obj") {
                 continue;
             }
-            let obj = crate::io::obj::read_obj(&path).expect("shape");
-            let o = obj.options.resolve(Options::default());
-            let trees = LimitSurface::new(&obj.mesh, o).expect("surface");
-            let regions = LimitSurface::with_high_valence(&obj.mesh, o, 0, false).expect("surface");
-            let (lo, hi) = obj.mesh.bounding_box().expect("box");
-            let diag = geom::norm(&geom::sub(&hi, &lo));
-            for f in (0..trees.num_faces()).step_by(3) {
-                for sub in 0..trees.num_subfaces(f) {
-                    for &u in &params {
-                        for &v in &params {
-                            let p = SurfacePoint {
-                                face: f as u32,
-                                subface: sub as u32,
-                                u,
-                                v,
-                            };
-                            let (a, b) = (trees.eval_point(p), regions.eval_point(p));
-                            assert_eq!(a.is_ok(), b.is_ok(), "{path:?} face {f}/{sub}");
-                            let (Ok(a), Ok(b)) = (a, b) else {
-                                continue;
-                            };
-                            for (x, y) in [(a.p, b.p), (a.du, b.du), (a.dv, b.dv)] {
-                                let d = geom::norm(&geom::sub(&x, &y));
-                                assert!(
-                                    d <= 1e-11 * diag.max(geom::norm(&y)),
-                                    "{path:?}: face {f}/{sub} at ({u}, {v}): {x:?} vs {y:?}"
-                                );
-                            }
-                        }
-                    }
-                }
-            }
+            let (mesh, o, diag) = shape(&path);
+            let trees = LimitSurface::new(&mesh, o).expect("surface");
+            let regions = LimitSurface::with_high_valence(&mesh, o, 0, false).expect("surface");
+            let what = path.display().to_string();
+            assert_agree(&trees, &regions, (&params, 3), (1e-11, diag), &what);
             shapes += 1;
         }
         assert!(shapes > 50, "only {shapes} shapes");
@@ -911,32 +907,8 @@ mod tests {
                 let shared = LimitSurface::new(mesh, options).expect("surface");
                 let alone = LimitSurface::with_high_valence(mesh, options, usize::MAX, true)
                     .expect("surface");
-                let mut compared = 0;
-                for f in 0..shared.num_faces() {
-                    for sub in 0..shared.num_subfaces(f) {
-                        for &u in &params {
-                            for &v in &params {
-                                let p = SurfacePoint {
-                                    face: f as u32,
-                                    subface: sub as u32,
-                                    u,
-                                    v,
-                                };
-                                let (a, b) = (shared.eval_point(p), alone.eval_point(p));
-                                let (a, b) = (a.expect("eval"), b.expect("eval"));
-                                for (x, y) in [(a.p, b.p), (a.du, b.du), (a.dv, b.dv)] {
-                                    let d = geom::norm(&geom::sub(&x, &y));
-                                    assert!(
-                                        d <= 1e-12 * (1.0 + geom::norm(&y)),
-                                        "{what}, {boundary:?}: face {f}/{sub} at ({u}, {v}): \
-                                         {x:?} vs {y:?}"
-                                    );
-                                }
-                                compared += 1;
-                            }
-                        }
-                    }
-                }
+                let what = format!("{what}, {boundary:?}");
+                let compared = assert_agree(&shared, &alone, (&params, 1), (1e-12, 1.0), &what);
                 assert!(compared > 500, "{what}: only {compared} points");
             }
         }

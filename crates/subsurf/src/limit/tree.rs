@@ -31,10 +31,11 @@ use super::crease_patch::{single_crease, CreaseBasis, CreasePatch};
 use super::local::{one_ring_unbounded, Local, Region};
 use super::patch::{regular_patch_cells, Cell};
 use super::surface::{quadrant, MAX_DEPTH};
+use crate::hash::FxHasher;
 use crate::mesh::{Options, Topology};
 use crate::refine::{interpolate, refine_topology};
 use std::collections::HashMap;
-use std::hash::{BuildHasherDefault, Hasher};
+use std::hash::BuildHasherDefault;
 use std::sync::{Arc, Mutex, OnceLock};
 
 /// Sparse rows of weights on a node's points (CSR).
@@ -172,7 +173,7 @@ pub(super) struct Tree {
 }
 
 /// Trees by [`Topology::structure_key`].
-type TreeMap = HashMap<Box<[u32]>, Arc<Tree>, BuildHasherDefault<KeyHasher>>;
+type TreeMap = HashMap<Box<[u32]>, Arc<Tree>, BuildHasherDefault<FxHasher>>;
 
 /// Configurations of one surface, by [`Topology::structure_key`].
 #[derive(Debug, Default)]
@@ -180,31 +181,6 @@ pub(super) struct TreeCache {
     trees: Mutex<TreeMap>,
     /// Refine single-crease faces further instead of using [`CreasePatch`] (tests compare).
     pub no_crease_patches: bool,
-}
-
-/// FxHash's multiply-and-rotate over `u32` words (keys are not adversarial; SipHash costs
-/// more than the rest of a lookup).
-#[derive(Default)]
-pub(super) struct KeyHasher(u64);
-
-impl Hasher for KeyHasher {
-    fn finish(&self) -> u64 {
-        self.0
-    }
-    fn write(&mut self, bytes: &[u8]) {
-        for b in bytes.chunks(4) {
-            let mut w = [0u8; 4];
-            w[..b.len()].copy_from_slice(b);
-            self.write_u32(u32::from_le_bytes(w));
-        }
-    }
-    fn write_u32(&mut self, x: u32) {
-        self.0 = (self.0.rotate_left(5) ^ x as u64).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
-    }
-    fn write_usize(&mut self, x: usize) {
-        self.write_u32(x as u32);
-        self.write_u32((x as u64 >> 32) as u32);
-    }
 }
 
 impl TreeCache {

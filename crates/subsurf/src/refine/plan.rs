@@ -42,7 +42,9 @@
 //! of threads.
 
 use std::collections::HashMap;
-use std::hash::{BuildHasherDefault, Hasher};
+use std::hash::BuildHasherDefault;
+
+use crate::hash::FxHasher;
 use std::ops::Range;
 
 use rayon::prelude::*;
@@ -510,41 +512,7 @@ impl Block {
 }
 
 /// Class numbers by weights (as bits).
-type ClassIds = HashMap<Vec<u64>, u32, BuildHasherDefault<WeightHasher>>;
-
-/// FxHash's multiply-and-rotate: much faster than the default SipHash on the short weight
-/// vectors hashed once per row (the keys are not adversarial).
-#[derive(Default)]
-struct WeightHasher(u64);
-
-impl WeightHasher {
-    #[inline]
-    fn add(&mut self, x: u64) {
-        self.0 = (self.0.rotate_left(5) ^ x).wrapping_mul(0x517c_c1b7_2722_0a95);
-    }
-}
-
-impl Hasher for WeightHasher {
-    fn write(&mut self, bytes: &[u8]) {
-        for chunk in bytes.chunks(8) {
-            let mut b = [0u8; 8];
-            b[..chunk.len()].copy_from_slice(chunk);
-            self.add(u64::from_le_bytes(b));
-        }
-    }
-
-    fn write_u64(&mut self, x: u64) {
-        self.add(x);
-    }
-
-    fn write_usize(&mut self, x: usize) {
-        self.add(x as u64);
-    }
-
-    fn finish(&self) -> u64 {
-        self.0
-    }
-}
+type ClassIds = HashMap<Vec<u64>, u32, BuildHasherDefault<FxHasher>>;
 
 /// A sparse row being built: weights on parent vertices, one entry per vertex. A weight
 /// may be the sum of hundreds of contributions (the vertex itself in every face around a
