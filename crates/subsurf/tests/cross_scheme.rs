@@ -31,19 +31,16 @@
 use std::collections::HashSet;
 
 use proptest::prelude::*;
-use proptest::test_runner::TestCaseError;
 
 use subsurf::blend::skirt::{catmark_refine_once, nurss_refine_once, refine_with_skirt};
-use subsurf::mesh::{
-    BoundaryInterpolation, Corner, Crease, CreaseMethod, EdgeInterval, Options, PolyMesh, Tags,
-    TriangleSubdivision,
-};
+use subsurf::mesh::{Corner, Crease, CreaseMethod, EdgeInterval, Options, PolyMesh, Tags};
 use subsurf::nurss::{self, NurssOptions};
 use subsurf::scheme::adjustable::Adjustable;
 use subsurf::{subdivide, subdivide_mixed, Mixed, SubdivideOptions};
 
-type P3 = [f64; 3];
-type Mat3 = [[f64; 3]; 3];
+#[path = "common/schemes.rs"]
+mod schemes;
+use schemes::{config, fail, mat_vec, options_strategy, scale_of, Mat3, P3};
 
 // =======================================================================================
 // The schemes
@@ -166,26 +163,6 @@ struct MeshSpec {
     holes: usize,
     options: Options,
     seed: u64,
-}
-
-fn options_strategy() -> impl Strategy<Value = Options> {
-    (0..3usize, any::<bool>(), any::<bool>()).prop_map(|(b, chaikin, smooth)| Options {
-        boundary: [
-            BoundaryInterpolation::None,
-            BoundaryInterpolation::EdgeAndCorner,
-            BoundaryInterpolation::EdgeOnly,
-        ][b],
-        crease_method: if chaikin {
-            CreaseMethod::Chaikin
-        } else {
-            CreaseMethod::Uniform
-        },
-        triangles: if smooth {
-            TriangleSubdivision::Smooth
-        } else {
-            TriangleSubdivision::Catmark
-        },
-    })
 }
 
 fn mesh_spec() -> impl Strategy<Value = MeshSpec> {
@@ -378,35 +355,9 @@ fn all_schemes(c: f64) -> [Scheme; 5] {
     ]
 }
 
-/// Proptest settings: `cases` random cases (`PROPTEST_CASES` overrides it), failures not
-/// persisted to files.
-fn config(cases: u32) -> ProptestConfig {
-    let cases = std::env::var("PROPTEST_CASES")
-        .ok()
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(cases);
-    ProptestConfig {
-        cases,
-        failure_persistence: None,
-        ..ProptestConfig::default()
-    }
-}
-
-fn fail(msg: String) -> TestCaseError {
-    TestCaseError::fail(msg)
-}
-
 // =======================================================================================
 // Geometry helpers
 // =======================================================================================
-
-fn mat_vec(a: &Mat3, x: &P3) -> P3 {
-    let mut y = [0.0; 3];
-    for r in 0..3 {
-        y[r] = a[r][0] * x[0] + a[r][1] * x[1] + a[r][2] * x[2];
-    }
-    y
-}
 
 fn mat_mul(a: &Mat3, b: &Mat3) -> Mat3 {
     let mut c = [[0.0; 3]; 3];
@@ -431,13 +382,6 @@ fn rotation(a: f64, b: f64, c: f64) -> Mat3 {
 
 fn dist(a: &P3, b: &P3) -> f64 {
     ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
-}
-
-/// The size of a point set for relative tolerances: its largest coordinate magnitude (≥ 1).
-fn scale_of(pts: &[P3]) -> f64 {
-    pts.iter()
-        .flat_map(|p| p.iter())
-        .fold(1.0, |m: f64, c| m.max(c.abs()))
 }
 
 /// `got[i]` and `want[i]` agree to `tol` for every `i`.

@@ -10,105 +10,14 @@
 
 use subsurf::interpolate::{
     interpolate_curves, refine_polyline, CubicCurve, InterpolateError, InterpolateOptions,
-    Interpolation, Zone,
+    Interpolation,
 };
 use subsurf::nurbs::{BSplineCurve, Curve, KnotVector, NurbsCurve};
 use subsurf::nurss::Nurss;
 
-type V3 = [f64; 3];
-
-fn dist(a: &V3, b: &V3) -> f64 {
-    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
-}
-
-/// Homogeneous control points (unwrapped for a periodic curve) and knots.
-fn homogeneous(c: &Curve) -> (Vec<[f64; 4]>, KnotVector) {
-    let (k, pts, w): (&KnotVector, Vec<V3>, Vec<f64>) = match c {
-        Curve::BSpline(b) => (b.knots(), b.points().to_vec(), vec![1.0; b.points().len()]),
-        Curve::Nurbs(b) => (b.knots(), b.points().to_vec(), b.weights()),
-    };
-    let n = pts.len();
-    let count = k.num_basis();
-    let h = (0..count)
-        .map(|i| {
-            let (p, w) = (pts[i % n], w[i % n]);
-            [w * p[0], w * p[1], w * p[2], w]
-        })
-        .collect();
-    (h, k.clone())
-}
-
-/// The blossom `B(u_1, u_2, u_3)` of the piece of `c` on span `s` (`[t_s, t_{s+1}]`),
-/// projected.
-fn blossom(c: &Curve, s: usize, u: [f64; 3]) -> V3 {
-    let (h, k) = homogeneous(c);
-    let t = k.as_slice();
-    let mut q: Vec<[f64; 4]> = (0..4).map(|i| h[s - 3 + i]).collect();
-    for r in 1..=3 {
-        for i in (r..=3).rev() {
-            let gi = s - 3 + i;
-            let den = t[gi + 4 - r] - t[gi];
-            let a = if den > 0.0 {
-                (u[r - 1] - t[gi]) / den
-            } else {
-                0.0
-            };
-            let prev = q[i - 1];
-            for (x, y) in q[i].iter_mut().zip(prev) {
-                *x = (1.0 - a) * y + a * *x;
-            }
-        }
-    }
-    let p = q[3];
-    [p[0] / p[3], p[1] / p[3], p[2] / p[3]]
-}
-
-fn eval(c: &Curve, t: f64) -> V3 {
-    match c {
-        Curve::BSpline(b) => b.eval(t).unwrap(),
-        Curve::Nurbs(b) => b.eval(t).unwrap(),
-    }
-}
-
-fn knots(c: &Curve) -> &KnotVector {
-    match c {
-        Curve::BSpline(b) => b.knots(),
-        Curve::Nurbs(b) => b.knots(),
-    }
-}
-
-fn size(c: &Curve) -> f64 {
-    let pts = match c {
-        Curve::BSpline(b) => b.points().to_vec(),
-        Curve::Nurbs(b) => b.points().to_vec(),
-    };
-    let mut lo = [f64::INFINITY; 3];
-    let mut hi = [f64::NEG_INFINITY; 3];
-    for p in &pts {
-        for k in 0..3 {
-            lo[k] = lo[k].min(p[k]);
-            hi[k] = hi[k].max(p[k]);
-        }
-    }
-    dist(&lo, &hi)
-}
-
-/// The middle polygon at the current level and the knot at each of its points.
-fn middle(s: &Nurss, ids: &[u32], z: &Zone) -> Vec<f64> {
-    let t = s.topology();
-    let d = s.intervals();
-    let n = ids.len();
-    let mut knots = vec![z.start_knot];
-    for i in 0..n - 1 {
-        let e = t.find_edge(ids[i], ids[i + 1]).expect("middle edge") as usize;
-        knots.push(knots[i] + d[e]);
-    }
-    if z.closed {
-        let e = t.find_edge(ids[n - 1], ids[0]).expect("closing edge") as usize;
-        knots.push(knots[n - 1] + d[e]);
-    }
-    knots
-}
+#[path = "common/curves.rs"]
+mod curves;
+use curves::{check_middle, dist, eval, knots, middle_knots, size, V3};
 
 /// Checks, at levels 0..=levels, every middle-polygon point that influences the curve's
 /// domain against the blossom; returns the number of points checked and the largest error
@@ -127,47 +36,13 @@ fn check_zone(curve: &Curve, out: &Interpolation, zone: usize, levels: u32) -> (
             ids = refine_polyline(s.topology(), &ids, z.closed).unwrap();
             s.step();
         }
-        let pos = s.positions();
-        let zk = middle(&s, &ids, z);
-        let n = ids.len();
-        let knot = |j: isize| -> f64 {
-            // Knot at point j (extended periodically for a closed polygon).
-            if z.closed {
-                let q = j.div_euclid(n as isize);
-                zk[j.rem_euclid(n as isize) as usize] + q as f64 * period
-            } else {
-                zk[j as usize]
-            }
-        };
-        let range: Vec<isize> = if z.closed {
-            (0..n as isize).collect()
-        } else {
-            (2..n as isize - 2).collect()
-        };
-        for j in range {
-            let tri = [knot(j - 1), knot(j), knot(j + 1)];
-            // A non-empty span among the four the point influences, inside the domain.
-            let span = (-2..2).find_map(|k| {
-                let (lo, hi) = (knot(j + k), knot(j + k + 1));
-                let x = 0.5 * (lo + hi);
-                (hi > lo && (z.closed || (x > a && x < b))).then_some(x)
-            });
-            let Some(x) = span else { continue };
-            let shift = if z.closed {
-                ((x - a) / period).floor() * period
-            } else {
-                0.0
-            };
-            let s_idx = kv.span(x - shift).unwrap();
-            let reference = blossom(curve, s_idx, tri.map(|t| t - shift));
-            let got = pos[ids[j as usize] as usize];
-            worst = worst.max(dist(&got, &reference) / sz);
-            checked += 1;
-        }
+        let (c, w) = check_middle(curve, &s, &ids, z);
+        checked += c;
+        worst = worst.max(w);
     }
     // Limit points of the middle polygon at the last level lie on the curve.
     let limit = s.limit_points();
-    let zk = middle(&s, &ids, z);
+    let zk = middle_knots(&s, &ids, z);
     let mut worst_limit = 0.0f64;
     for (j, &v) in ids.iter().enumerate() {
         let t = zk[j];
@@ -540,13 +415,13 @@ fn opposite_branches_join_g2_and_the_group_centre_is_fixed() {
     let lp = s.limit_points();
     for (i, (z, c)) in out.zones.iter().zip([&a, &b]).enumerate() {
         let j = ids[i].iter().position(|&v| v == x).unwrap();
-        let h = middle(&s, &ids[i], z)[j + 1] - middle(&s, &ids[i], z)[j];
+        let h = middle_knots(&s, &ids[i], z)[j + 1] - middle_knots(&s, &ids[i], z)[j];
         // Limit points on both sides of X, 1..3 samples away: curvature from the left and
         // from the right branch agree with each other and with the curve (de Boor).
         let at = |k: isize| lp[ids[i][(j as isize + k) as usize] as usize];
         let left = second_difference(&at(-2), &at(-1), &at(0), h);
         let right = second_difference(&at(0), &at(1), &at(2), h);
-        let tx = middle(&s, &ids[i], z)[j];
+        let tx = middle_knots(&s, &ids[i], z)[j];
         let exact = eval(c, tx);
         assert!(dist(&at(0), &exact) < 1e-12);
         // O(h) one-sided differences: compare the two sides with each other at O(h).

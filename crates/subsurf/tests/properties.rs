@@ -30,7 +30,6 @@
 use std::collections::{HashMap, HashSet};
 
 use proptest::prelude::*;
-use proptest::test_runner::TestCaseError;
 
 use subsurf::io::obj::{parse_obj, write_obj, WriteOptions};
 use subsurf::mesh::{
@@ -40,8 +39,9 @@ use subsurf::mesh::{
 use subsurf::refine::TopologyRefiner;
 use subsurf::{subdivide, Error, SubdivideOptions, Subdivision};
 
-type P3 = [f64; 3];
-type Mat3 = [[f64; 3]; 3];
+#[path = "common/schemes.rs"]
+mod schemes;
+use schemes::{config, fail, mat_vec, options_strategy, scale_of, Mat3, P3};
 
 // =======================================================================================
 // Small deterministic random source for the details of a generated mesh
@@ -100,26 +100,6 @@ struct MeshSpec {
     holes: usize,
     options: Options,
     seed: u64,
-}
-
-fn options_strategy() -> impl Strategy<Value = Options> {
-    (0..3usize, any::<bool>(), any::<bool>()).prop_map(|(b, chaikin, smooth)| Options {
-        boundary: [
-            BoundaryInterpolation::None,
-            BoundaryInterpolation::EdgeAndCorner,
-            BoundaryInterpolation::EdgeOnly,
-        ][b],
-        crease_method: if chaikin {
-            CreaseMethod::Chaikin
-        } else {
-            CreaseMethod::Uniform
-        },
-        triangles: if smooth {
-            TriangleSubdivision::Smooth
-        } else {
-            TriangleSubdivision::Catmark
-        },
-    })
 }
 
 /// Random meshes with up to `max_holes` holes.
@@ -274,31 +254,9 @@ impl MeshSpec {
     }
 }
 
-/// Proptest settings: `cases` random cases (`PROPTEST_CASES` overrides it, for a deeper
-/// search), failures reported with their minimal input but not persisted to files.
-fn config(cases: u32) -> ProptestConfig {
-    let cases = std::env::var("PROPTEST_CASES")
-        .ok()
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(cases);
-    ProptestConfig {
-        cases,
-        failure_persistence: None,
-        ..ProptestConfig::default()
-    }
-}
-
 // =======================================================================================
 // Geometry helpers
 // =======================================================================================
-
-fn mat_vec(a: &Mat3, x: &P3) -> P3 {
-    let mut y = [0.0; 3];
-    for r in 0..3 {
-        y[r] = a[r][0] * x[0] + a[r][1] * x[1] + a[r][2] * x[2];
-    }
-    y
-}
 
 fn mat_mul(a: &Mat3, b: &Mat3) -> Mat3 {
     let mut c = [[0.0; 3]; 3];
@@ -360,13 +318,6 @@ fn rotation(a: f64, b: f64, c: f64) -> Mat3 {
     mat_mul(&rz(a), &mat_mul(&ry(b), &rz(c)))
 }
 
-/// Largest absolute coordinate of `pts`, at least 1: the scale of relative tolerances.
-fn scale_of(pts: &[P3]) -> f64 {
-    pts.iter()
-        .flat_map(|p| p.iter())
-        .fold(1.0, |m: f64, c| m.max(c.abs()))
-}
-
 /// `got[i]` and `want[i]` agree to `tol` for every `i` (and the lengths agree).
 fn compare_points(what: &str, got: &[P3], want: &[P3], tol: f64) -> Result<(), String> {
     if got.len() != want.len() {
@@ -392,10 +343,6 @@ fn compare_points(what: &str, got: &[P3], want: &[P3], tol: f64) -> Result<(), S
             got[at], want[at]
         ))
     }
-}
-
-fn fail(msg: String) -> TestCaseError {
-    TestCaseError::fail(msg)
 }
 
 fn run(mesh: &PolyMesh, opts: &SubdivideOptions) -> Subdivision {
