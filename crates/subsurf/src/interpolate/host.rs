@@ -469,18 +469,7 @@ pub fn embed_curves(
         .map(|((v0, v1), interval)| EdgeInterval { v0, v1, interval })
         .collect();
     iv.sort_by_key(|t| (t.v0, t.v1));
-    let weights = if weights.iter().all(|&x| x == 1.0) {
-        Vec::new()
-    } else {
-        weights
-            .iter()
-            .enumerate()
-            .map(|(v, &weight)| VertexWeight {
-                vertex: v as u32,
-                weight,
-            })
-            .collect()
-    };
+    let weights = VertexWeight::tags(&weights);
     mesh.knots = KnotTags {
         intervals: iv,
         side_intervals: sides,

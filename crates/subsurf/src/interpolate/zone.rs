@@ -74,18 +74,7 @@ impl Builder {
             .map(|((v0, v1), interval)| EdgeInterval { v0, v1, interval })
             .collect();
         intervals.sort_by_key(|t| (t.v0, t.v1));
-        let weights = if self.weights.iter().all(|&w| w == 1.0) {
-            Vec::new()
-        } else {
-            self.weights
-                .iter()
-                .enumerate()
-                .map(|(v, &weight)| VertexWeight {
-                    vertex: v as u32,
-                    weight,
-                })
-                .collect()
-        };
+        let weights = VertexWeight::tags(&self.weights);
         mesh.knots = KnotTags {
             intervals,
             side_intervals: Vec::new(),

@@ -107,30 +107,24 @@ pub fn eval_order(cp: &[[[f64; 3]; 4]; 4], u: f64, v: f64, order: Order) -> Deri
 #[inline]
 pub fn tensor(
     cp: &[[[f64; 3]; 4]; 4],
-    (a, da, dda): ([f64; 4], [f64; 4], [f64; 4]),
-    (b, db, ddb): ([f64; 4], [f64; 4], [f64; 4]),
+    a: ([f64; 4], [f64; 4], [f64; 4]),
+    b: ([f64; 4], [f64; 4], [f64; 4]),
     order: Order,
 ) -> Derivatives {
-    if order == Order::First {
-        let mut q = [[[0.0; 3]; 2]; 4];
-        for (qi, col) in q.iter_mut().zip(cp) {
-            for (j, p) in col.iter().enumerate() {
-                for k in 0..3 {
-                    qi[0][k] += b[j] * p[k];
-                    qi[1][k] += db[j] * p[k];
-                }
-            }
-        }
-        let mut r = Derivatives::default();
-        for i in 0..4 {
-            for k in 0..3 {
-                r.p[k] += a[i] * q[i][0][k];
-                r.du[k] += da[i] * q[i][0][k];
-                r.dv[k] += a[i] * q[i][1][k];
-            }
-        }
-        return r;
+    match order {
+        Order::First => tensor_to::<false>(cp, a, b),
+        Order::Second => tensor_to::<true>(cp, a, b),
     }
+}
+
+/// [`tensor`], with second derivatives when `SECOND` (a constant, so each instance has
+/// only the sums it needs).
+#[inline(always)]
+fn tensor_to<const SECOND: bool>(
+    cp: &[[[f64; 3]; 4]; 4],
+    (a, da, dda): ([f64; 4], [f64; 4], [f64; 4]),
+    (b, db, ddb): ([f64; 4], [f64; 4], [f64; 4]),
+) -> Derivatives {
     // q[i] = (Σⱼ Bⱼ P, Σⱼ B'ⱼ P, Σⱼ B''ⱼ P) for column i.
     let mut q = [[[0.0; 3]; 3]; 4];
     for (qi, col) in q.iter_mut().zip(cp) {
@@ -138,7 +132,9 @@ pub fn tensor(
             for k in 0..3 {
                 qi[0][k] += b[j] * p[k];
                 qi[1][k] += db[j] * p[k];
-                qi[2][k] += ddb[j] * p[k];
+                if SECOND {
+                    qi[2][k] += ddb[j] * p[k];
+                }
             }
         }
     }
@@ -148,9 +144,11 @@ pub fn tensor(
             r.p[k] += a[i] * q[i][0][k];
             r.du[k] += da[i] * q[i][0][k];
             r.dv[k] += a[i] * q[i][1][k];
-            r.duu[k] += dda[i] * q[i][0][k];
-            r.duv[k] += da[i] * q[i][1][k];
-            r.dvv[k] += a[i] * q[i][2][k];
+            if SECOND {
+                r.duu[k] += dda[i] * q[i][0][k];
+                r.duv[k] += da[i] * q[i][1][k];
+                r.dvv[k] += a[i] * q[i][2][k];
+            }
         }
     }
     r

@@ -153,7 +153,7 @@ pub(super) fn patch_cells(
 
 /// The faces around a regular corner, as [`regular_corner`] finds them: each item is
 /// `(face, position of the corner in it)`.
-pub(super) enum Corner {
+pub(crate) enum Corner {
     /// A smooth interior vertex of valence 4: the three other faces, counter-clockwise
     /// from the face.
     Closed([(usize, usize); 3]),
@@ -168,7 +168,7 @@ pub(super) enum Corner {
 }
 
 /// Whether corner `k` of quad `f` is regular (see the module docs), and its neighbours.
-pub(super) fn regular_corner(t: &Topology, f: usize, k: usize) -> Option<Corner> {
+pub(crate) fn regular_corner(t: &Topology, f: usize, k: usize) -> Option<Corner> {
     let c = t.face_vertices(f)[k] as usize;
     let tag = t.vertex_tag(c);
     // A non-manifold vertex can still bound a regular sector: the walk below only crosses

@@ -86,6 +86,24 @@ pub struct VertexWeight {
     pub weight: f64,
 }
 
+impl VertexWeight {
+    /// The tags of per-vertex weights `weights` (vertex `i` has `weights[i]`): none when all
+    /// are 1 (the mesh is then polynomial), else one per vertex.
+    pub fn tags(weights: &[f64]) -> Vec<VertexWeight> {
+        if weights.iter().all(|&w| w == 1.0) {
+            return Vec::new();
+        }
+        weights
+            .iter()
+            .enumerate()
+            .map(|(v, &weight)| VertexWeight {
+                vertex: v as u32,
+                weight,
+            })
+            .collect()
+    }
+}
+
 /// Knot intervals and rational weights of a mesh for non-uniform Catmull-Clark subdivision
 /// (NURSS). Entries listed twice take the last value. Catmull-Clark ignores them.
 #[derive(Clone, Debug, Default, PartialEq)]

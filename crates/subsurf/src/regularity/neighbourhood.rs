@@ -12,8 +12,8 @@
 //! `P₋₁ = 2 P₀ − P₁`; those cells are `None` here (see [`super`] for why their differences
 //! need not be listed).
 
-// The fan walk of the limit surface's regular-patch test: both read the same neighbourhoods.
-use crate::limit::patch::walk;
+// The limit surface's regular-patch test: the certificate reads the same neighbourhoods.
+use crate::limit::patch::{regular_corner, regular_patch_cells, walk};
 use crate::mesh::{Rule, Topology};
 use crate::scheme::crease;
 
@@ -90,7 +90,9 @@ impl std::fmt::Display for Inapplicable {
     }
 }
 
-/// The patch neighbourhood of face `f` of `t`.
+/// The patch neighbourhood of face `f` of `t`: the control net of the limit surface's
+/// regular patch ([`regular_patch_cells`], so the certificate applies to exactly the faces
+/// that are bicubic patches there), phantom cells left out; or why there is none.
 pub fn block(t: &Topology, f: usize) -> Result<Block, Inapplicable> {
     let fv = t.face_vertices(f);
     if fv.len() != 4 {
@@ -99,85 +101,42 @@ pub fn block(t: &Topology, f: usize) -> Result<Block, Inapplicable> {
     if t.is_hole(f) {
         return Err(Inapplicable::Hole);
     }
-    let mut cells = [[None; 4]; 4];
-    const CORNER: [(i32, i32); 4] = [(1, 1), (2, 1), (2, 2), (1, 2)];
-    let rot = |k: usize, (x, y): (i32, i32)| {
-        let (mut x, mut y) = (x, y);
-        for _ in 0..k {
-            (x, y) = (-y, x);
-        }
-        (x, y)
+    let Some(net) = regular_patch_cells(t, f) else {
+        let irregular = (0..4).find(|&k| regular_corner(t, f, k).is_none());
+        return Err(match irregular {
+            Some(k) => why_irregular(t, f, k),
+            // Every corner is regular, so the net exists: not reached.
+            None => Inapplicable::Feature { vertex: fv[0] },
+        });
     };
-    let mut put = |k: usize, off: (i32, i32), v: u32| {
-        let (dx, dy) = rot(k, off);
-        cells[(CORNER[k].0 + dx) as usize][(CORNER[k].1 + dy) as usize] = Some(v);
-    };
-    for k in 0..4 {
-        put(k, (0, 0), fv[k]);
-    }
-    for k in 0..4 {
-        let q = |(g, m): (usize, usize), d: usize| t.face_vertices(g)[(m + d) % 4];
-        match corner(t, f, k)? {
-            Corner::Closed(ring) => {
-                put(k, (-1, 1), q(ring[0], 2));
-                put(k, (-1, 0), q(ring[0], 3));
-                put(k, (-1, -1), q(ring[1], 2));
-                put(k, (0, -1), q(ring[1], 3));
-                put(k, (1, -1), q(ring[2], 2));
-            }
-            Corner::Sector { ccw, cw } => {
-                for &g in &ccw {
-                    put(k, (-1, 1), q(g, 2));
-                    put(k, (-1, 0), q(g, 3));
-                }
-                for &g in &cw {
-                    put(k, (0, -1), q(g, 1));
-                    put(k, (1, -1), q(g, 2));
-                }
-            }
-        }
-    }
     let fe = t.face_edge_list(f);
     let sharp = [0, 1, 2, 3].map(|k| t.edge_tag(fe[k] as usize).inf_sharp);
-    for i in 0..4 {
-        for j in 0..4 {
+    let cells = std::array::from_fn(|i| {
+        std::array::from_fn(|j| {
             let phantom = (j == 0 && sharp[0])
                 || (i == 3 && sharp[1])
                 || (j == 3 && sharp[2])
                 || (i == 0 && sharp[3]);
-            if phantom {
-                cells[i][j] = None;
-            } else if cells[i][j].is_none() {
-                // Not reached for a regular patch; refuse rather than guess.
-                return Err(Inapplicable::Feature { vertex: fv[0] });
-            }
-        }
-    }
+            (!phantom).then_some(net[i][j].verts[0])
+        })
+    });
     Ok(Block { cells })
 }
 
-enum Corner {
-    Closed([(usize, usize); 3]),
-    Sector {
-        ccw: Vec<(usize, usize)>,
-        cw: Vec<(usize, usize)>,
-    },
-}
-
-/// Corner `k` of quad `f`: regular (with its neighbour faces), or why not.
-fn corner(t: &Topology, f: usize, k: usize) -> Result<Corner, Inapplicable> {
+/// Why corner `k` of quad `f` is not a regular patch corner
+/// ([`regular_corner`] is `None`), for the report.
+fn why_irregular(t: &Topology, f: usize, k: usize) -> Inapplicable {
     let c = t.face_vertices(f)[k] as usize;
     let vertex = c as u32;
     let tag = t.vertex_tag(c);
     let feature = Inapplicable::Feature { vertex };
-    if tag.semi_sharp || crease::is_semi_sharp(t.vertex_sharpness(c)) {
-        return Err(feature);
-    }
-    if t.vertex_edges(c)
-        .iter()
-        .any(|&e| t.edge_tag(e as usize).semi_sharp)
+    if tag.semi_sharp
+        || crease::is_semi_sharp(t.vertex_sharpness(c))
+        || t.vertex_edges(c)
+            .iter()
+            .any(|&e| t.edge_tag(e as usize).semi_sharp)
     {
-        return Err(feature);
+        return feature;
     }
     let (ccw, closed) = walk(t, f, c, true);
     let inf_edges = t
@@ -185,45 +144,33 @@ fn corner(t: &Topology, f: usize, k: usize) -> Result<Corner, Inapplicable> {
         .iter()
         .filter(|&&e| t.edge_tag(e as usize).inf_sharp)
         .count();
-    let quads =
-        |faces: &[(usize, usize)]| faces.iter().all(|&(g, _)| t.face_vertices(g).len() == 4);
     if closed {
-        if tag.rule == Rule::Smooth && inf_edges == 0 && ccw.len() == 3 && quads(&ccw) {
-            return Ok(Corner::Closed([ccw[0], ccw[1], ccw[2]]));
-        }
-        if inf_edges == 0 && ccw.len() != 3 {
-            return Err(Inapplicable::InteriorExtraordinary {
+        return if inf_edges == 0 && ccw.len() != 3 {
+            Inapplicable::InteriorExtraordinary {
                 vertex,
                 valence: t.vertex_faces(c).len(),
-            });
-        }
-        return Err(feature);
+            }
+        } else {
+            feature
+        };
     }
     let (cw, _) = walk(t, f, c, false);
     let sector = 1 + ccw.len() + cw.len();
-    let ok = match tag.rule {
-        Rule::Crease => inf_edges == 2 && sector == 2,
-        Rule::Corner => sector == 1 && (tag.inf_sharp || inf_edges > 2),
-        Rule::Smooth | Rule::Dart => false,
-    };
-    if ok && quads(&ccw) && quads(&cw) {
-        return Ok(Corner::Sector { ccw, cw });
-    }
     if !tag.boundary && !tag.non_manifold && inf_edges == 0 {
         // A fan too long for the walk: valence above 5.
-        return Err(Inapplicable::InteriorExtraordinary {
+        return Inapplicable::InteriorExtraordinary {
             vertex,
             valence: t.vertex_faces(c).len(),
-        });
+        };
     }
     if tag.boundary && tag.rule == Rule::Crease && sector == 1 && t.vertex_faces(c).len() == 1 {
-        return Err(Inapplicable::SmoothCorner { vertex });
+        return Inapplicable::SmoothCorner { vertex };
     }
     if tag.boundary || inf_edges >= 2 {
-        return Err(Inapplicable::IrregularBoundary {
+        return Inapplicable::IrregularBoundary {
             vertex,
             faces: sector,
-        });
+        };
     }
-    Err(feature)
+    feature
 }
