@@ -213,6 +213,35 @@ fn primvars_and_level_zero() {
     assert_eq!(id.num_weights(), 0);
 }
 
+/// Values of any width go through the regular patches too (positions use a vectorised
+/// kernel where the processor allows, other widths the portable one): each component
+/// comes out as the positions do, to rounding.
+#[test]
+fn patches_for_any_width() {
+    let (mesh, options) = load("catmark_pawn");
+    let plan = RefinePlan::new(&mesh, options, 4).unwrap();
+    assert!(plan.num_patches() > 0);
+    let pos = deform(mesh.positions());
+    let want = plan.apply(&pos);
+    let tol = 1e-15 * diagonal(&pos);
+    let four: Vec<[f64; 4]> = pos.iter().map(|p| [p[0], p[1], p[2], 1.0]).collect();
+    let seven: Vec<[f64; 7]> = pos
+        .iter()
+        .map(|p| [p[2], p[1], p[0], 1.0, p[0], p[1], p[2]])
+        .collect();
+    let got4 = plan.apply(&four);
+    let got7 = plan.apply(&seven);
+    for (i, w) in want.iter().enumerate() {
+        let (a, b) = (got4[i], got7[i]);
+        for k in 0..3 {
+            assert!((a[k] - w[k]).abs() <= tol, "vertex {i}: {a:?} vs {w:?}");
+            assert!((b[4 + k] - w[k]).abs() <= tol, "vertex {i}: {b:?} vs {w:?}");
+            assert!((b[2 - k] - w[k]).abs() <= tol, "vertex {i}: {b:?} vs {w:?}");
+        }
+        assert!((a[3] - 1.0).abs() < 1e-14 && (b[3] - 1.0).abs() < 1e-14);
+    }
+}
+
 #[test]
 #[should_panic(expected = "base values")]
 fn wrong_base_length_panics() {

@@ -8,9 +8,13 @@
 //! [`RefinePlan`] stores that chain `S_0, …, S_{L-1}`, with the face points folded in (a
 //! face point is the average of its face's vertices, so edge and vertex points depend on
 //! parent vertices only), duplicate columns merged and zero weights dropped. Applying it
-//! does no topology work and no mask computation: it only gathers parent values and
-//! multiplies them by stored weights, which makes it about 8× faster than
-//! [`subdivide`](crate::subdivide) on large meshes (see [`RefinePlan`] for numbers).
+//! does no topology work and no mask computation. The last levels go further: over
+//! regular quads (97 % of level 4 of `catmark_bishop`) refinement is uniform bicubic
+//! B-spline subdivision, so the plan stores only the 16 control points of each such quad
+//! and computes the 81 vertices that three more levels put on it with a fixed
+//! tensor-product kernel (see `refine/plan_patches.rs`); sparse rows cover the
+//! rest. Re-posing is about 12× faster than [`subdivide`](crate::subdivide) on large
+//! meshes (see [`RefinePlan`] for numbers).
 //!
 //! # Storage
 //! Most rows share their weights with many others: every smooth edge point between two
@@ -26,10 +30,11 @@
 //!   sharpness values), and then a weight costs up to 20 bytes.
 //!
 //! A level of a quad mesh has about 6.2 weights per row (face points 4, smooth edge
-//! points 6, valence-4 vertex points 9), i.e. about 29 bytes per vertex of each level; the
-//! levels before the last add a third, so a plan costs about 38 bytes per output vertex:
-//! `catmark_bishop` to level 6 has 3.8 M output vertices, 5.1 M rows over all levels,
-//! 31.8 M weights and takes 140 MiB.
+//! points 6, valence-4 vertex points 9), i.e. about 29 bytes per vertex of each level.
+//! A patch costs 64 bytes of control indices and 4 bytes per grid point (81 for a
+//! depth-3 patch, of which it writes 64 on average), about 6 bytes per output vertex:
+//! `catmark_bishop` to level 6 (3.8 M output vertices) takes 29 MiB, 1.5 M weights and
+//! 60 k patches (140 MiB and 31.8 M weights with sparse rows only).
 //!
 //! # Accuracy
 //! The plan computes the same linear map as [`interpolate`](super::interpolate), but sums
@@ -49,6 +54,7 @@ use std::ops::Range;
 
 use rayon::prelude::*;
 
+use super::plan_patches::{Claims, PatchLayer};
 use super::topology::{refine_topology, run, split_pieces};
 use crate::mesh::{
     MeshError, Options, PolyMesh, Rule, Topology, TopologyWarning, TriangleSubdivision,
@@ -85,36 +91,56 @@ const PAR_MIN_ROWS: usize = 16 * 1024;
 /// ```
 ///
 /// # Cost
-/// Building a plan refines the topology once (as [`subdivide`](crate::subdivide) does)
-/// and computes every mask once: about 2.5× the time of one `subdivide` (parallel, like
-/// it). Applying it does no topology work and no mask computation; it reads 4 bytes per
-/// weight and gathers the parent values, and writes every vertex of every level once.
+/// Building a plan refines the topology once (as [`subdivide`](crate::subdivide) does),
+/// computes every mask of the sparse rows once and finds the regular patches: about 2–3×
+/// the time of one `subdivide` (parallel, like it). Applying it does no topology work and
+/// no mask computation: the first levels are sparse products, which read 4 bytes per
+/// weight and gather the parent values; the last three levels are mostly the patch
+/// kernel, which reads 16 control points and writes up to 81 vertices per patch, and is
+/// bound by writing the output.
 ///
 /// Measured on `catmark_bishop` refined to level 6 (3.8 M output vertices; a shared
-/// 2-core virtual machine, medians of 7 repetitions, `subsurf bench --replay`): one apply
-/// takes 0.044–0.052 s on one thread and 0.025–0.029 s on two, against 0.36–0.39 s and
-/// 0.23–0.24 s for `subdivide` (about 8× faster with the same threads) and 0.63–0.68 s
-/// for OpenSubdiv's `RefineUniform` + `PrimvarRefiner` (about 14× faster on one thread).
-/// Building the plan took 0.9 s (one thread). `catmark_pawn` to level 6 (2.4 M vertices):
-/// 0.030 s against 0.21 s (one thread), 0.014 s against 0.13 s (two).
-///
-/// The apply is bound by memory traffic rather than arithmetic: besides the stored
-/// columns and the output, OpenSubdiv's vertex order (children of vertices, then of faces,
-/// then of edges, each in parent order) makes the last step sweep over the whole parent
-/// level several times, and each sweep streams it from memory once it no longer fits in
-/// cache. (Storing the parent level in a different order, prefetching, and computing the
-/// rows in a cache-friendly order followed by a permutation into the output order were
-/// tried and measured no faster.)
+/// 2-core virtual machine, medians of 9 repetitions, `subsurf bench --replay`): one apply
+/// takes 0.017–0.018 s on one thread and 0.010–0.013 s on two, against 0.22–0.24 s and
+/// 0.13–0.15 s for `subdivide` (12–13× faster with the same threads) and about 0.7 s
+/// for OpenSubdiv's `RefineUniform` + `PrimvarRefiner`. Building the plan took 0.5–0.8 s
+/// (one thread). `catmark_pawn` to level 6 (2.4 M vertices): 0.012 s against 0.12–0.15 s
+/// (one thread), 0.006 s against 0.10 s (two). With sparse rows only (before patches)
+/// the same bishop apply took 0.05–0.06 s.
 ///
 /// The plan covers positions of every vertex of the last level, in
 /// [`subdivide`](crate::subdivide)'s order (including vertices used only by hole faces);
 /// it does not move them to the limit surface.
 #[derive(Clone, Debug)]
 pub struct RefinePlan {
+    /// The levels computed in full, from the base on.
     steps: Vec<Step>,
+    /// The last levels, by patches and sparse rows (see [`Tail`]).
+    tail: Option<Tail>,
     num_base: usize,
     warnings: Vec<TopologyWarning>,
 }
+
+/// The last `d` levels of a plan (`d` = [`PATCH_DEPTH`], or fewer for fewer levels),
+/// from the values of level `a = L − d` (the last fully computed one):
+/// - [`PatchLayer`]s write the output vertices over regular quads of levels `a` (depth
+///   `d`), `a + 1` (depth `d − 1`), … (depth ≥ 2), each output vertex at most once;
+/// - the other output vertices are sparse rows on level `L − 1`, whose rows are needed
+///   only at some of its vertices: `subsets[s − 1]` computes level `a + s` at the vertices
+///   that later subsets and patches read (compact, in increasing order); the last one
+///   computes the remaining output vertices `out_rows`.
+#[derive(Clone, Debug)]
+struct Tail {
+    subsets: Vec<Step>,
+    out_rows: Vec<u32>,
+    layers: Vec<PatchLayer>,
+    num_out: usize,
+}
+
+/// Levels refined inside a patch (at most): 3 gives 81 vertices per patch from 16
+/// control points. (On `catmark_bishop` 93 % of the quads of level 3 are patches, 97 % of
+/// level 4; deeper patches would cover less and need more of the sparse rows.)
+const PATCH_DEPTH: u32 = 3;
 
 /// One level's sparse matrix: child vertex `i` = Σ weights × parent vertices.
 #[derive(Clone, Debug)]
@@ -138,6 +164,7 @@ struct Step {
 pub struct PlanScratch<const D: usize = 3> {
     a: Vec<[f64; D]>,
     b: Vec<[f64; D]>,
+    tail: Vec<Vec<[f64; D]>>,
 }
 
 impl RefinePlan {
@@ -149,6 +176,16 @@ impl RefinePlan {
     /// [`MeshError`] for an invalid mesh or tags, or when the last level would exceed
     /// 32-bit indices.
     pub fn new(mesh: &PolyMesh, options: Options, levels: u32) -> Result<Self, MeshError> {
+        Self::build(mesh, options, levels, PATCH_DEPTH)
+    }
+
+    /// [`new`](Self::new) with patches of at most `max_depth` levels (none below 2).
+    fn build(
+        mesh: &PolyMesh,
+        options: Options,
+        levels: u32,
+        max_depth: u32,
+    ) -> Result<Self, MeshError> {
         mesh.validate()?;
         // Vertices of the last level ≤ ~4 × its faces + base vertices: keep that in u32.
         let s = mesh.face_verts().len() as u64;
@@ -167,17 +204,40 @@ impl RefinePlan {
             });
         }
         let (mut level, warnings) = Topology::from_mesh(mesh, &options)?;
-        let mut steps = Vec::with_capacity(levels as usize);
-        for l in 1..=levels {
+        let depth = if levels >= 2 && max_depth >= 2 {
+            max_depth.min(levels)
+        } else {
+            0
+        };
+        let full = levels - depth;
+        let mut steps = Vec::with_capacity(full as usize);
+        for l in 1..=full {
             let child = refine_topology(&level, &options, l < levels);
-            steps.push(Step::build(&level, &child, &options));
+            steps.push(Step::build(&level, &child, &options, None));
             level = child;
         }
+        let tail = (depth > 0).then(|| {
+            let mut tops = vec![level];
+            for l in full + 1..=levels {
+                let child = refine_topology(&tops[tops.len() - 1], &options, l < levels);
+                tops.push(child);
+            }
+            Tail::build(&tops, &options)
+        });
         Ok(Self {
             steps,
+            tail,
             num_base: mesh.num_vertices(),
             warnings,
         })
+    }
+
+    /// Number of regular patches: quads whose last levels the plan computes by the bicubic
+    /// kernel (module docs).
+    pub fn num_patches(&self) -> usize {
+        self.tail
+            .as_ref()
+            .map_or(0, |t| t.layers.iter().map(PatchLayer::len).sum())
     }
 
     /// Number of base vertices the plan expects.
@@ -187,9 +247,11 @@ impl RefinePlan {
 
     /// Number of vertices it produces (all vertices of the last level).
     pub fn num_vertices(&self) -> usize {
-        self.steps
-            .last()
-            .map_or(self.num_base, |s| s.row_class.len())
+        match (&self.tail, self.steps.last()) {
+            (Some(tail), _) => tail.num_out,
+            (None, Some(s)) => s.row_class.len(),
+            (None, None) => self.num_base,
+        }
     }
 
     /// Number of refinement levels.
@@ -199,21 +261,23 @@ impl RefinePlan {
 
     /// Number of stored weights (columns) over all levels.
     pub fn num_weights(&self) -> usize {
-        self.steps.iter().map(|s| s.cols.len()).sum()
+        self.all_steps().map(|s| s.cols.len()).sum()
     }
 
     /// Bytes held by the plan's arrays.
     pub fn memory_bytes(&self) -> usize {
+        let steps: usize = self.all_steps().map(Step::memory_bytes).sum();
+        steps
+            + self.tail.as_ref().map_or(0, |t| {
+                4 * t.out_rows.len() + t.layers.iter().map(PatchLayer::memory_bytes).sum::<usize>()
+            })
+    }
+
+    /// The sparse steps, full and subset.
+    fn all_steps(&self) -> impl Iterator<Item = &Step> {
         self.steps
             .iter()
-            .map(|s| {
-                4 * s.row_class.len()
-                    + 4 * s.cols.len()
-                    + std::mem::size_of::<usize>() * s.block_starts.len()
-                    + 4 * s.class_offsets.len()
-                    + 16 * s.class_groups.len()
-            })
-            .sum()
+            .chain(self.tail.iter().flat_map(|t| &t.subsets))
     }
 
     /// Warnings about the base mesh (ignored tags, non-manifold elements).
@@ -250,7 +314,7 @@ impl RefinePlan {
             self.num_base
         );
         let n = self.steps.len();
-        if n == 0 {
+        if n == 0 && self.tail.is_none() {
             out.clear();
             out.extend_from_slice(base);
             return;
@@ -261,15 +325,102 @@ impl RefinePlan {
         );
         for (i, step) in self.steps.iter().enumerate() {
             let src: &[[f64; D]] = if i == 0 { base } else { &cur };
-            let dst = if i + 1 == n { &mut *out } else { &mut spare };
+            let last = i + 1 == n && self.tail.is_none();
+            let dst = if last { &mut *out } else { &mut spare };
             set_len(dst, step.row_class.len());
             step.apply(src, dst);
-            if i + 1 < n {
+            if !last {
                 std::mem::swap(&mut cur, &mut spare);
             }
         }
+        if let Some(tail) = &self.tail {
+            let src: &[[f64; D]] = if n == 0 { base } else { &cur };
+            set_len(out, tail.num_out);
+            tail.apply(src, out, &mut scratch.tail);
+        }
         scratch.a = cur;
         scratch.b = spare;
+    }
+}
+
+impl Tail {
+    /// The tail that refines `tops[0]` to `tops[d]` (`d = tops.len() − 1 ≥ 2`), `tops`
+    /// being consecutive levels.
+    fn build(tops: &[Topology], options: &Options) -> Tail {
+        let d = tops.len() - 1;
+        let mut claims = Claims::new(tops[d].num_vertices());
+        let mut layers: Vec<PatchLayer> = (2..=d)
+            .rev()
+            .map(|depth| PatchLayer::build(&tops[d - depth..d], d - depth, &mut claims))
+            .collect();
+        // From the last level down: the rows that are needed, and the vertices they read.
+        let mut rows = claims.unclaimed();
+        let out_rows = rows.clone();
+        let mut subsets = Vec::with_capacity(d);
+        for s in (1..=d).rev() {
+            let (p, c) = (&tops[s - 1], &tops[s]);
+            let mut step = Step::build(p, c, options, Some(&rows));
+            if s > 1 {
+                let mut used = vec![false; p.num_vertices()];
+                for &col in &step.cols {
+                    used[col as usize] = true;
+                }
+                let readers = layers.iter().filter(|l| l.source == s - 1);
+                for layer in readers {
+                    for &col in layer.ctrl.iter().flatten() {
+                        used[col as usize] = true;
+                    }
+                }
+                let mut map = vec![u32::MAX; used.len()];
+                rows.clear();
+                for (v, _) in used.iter().enumerate().filter(|&(_, &u)| u) {
+                    map[v] = rows.len() as u32;
+                    rows.push(v as u32);
+                }
+                step.remap_cols(&map);
+                for layer in layers.iter_mut().filter(|l| l.source == s - 1) {
+                    layer.remap(&map);
+                }
+            }
+            subsets.push(step);
+        }
+        subsets.reverse();
+        Tail {
+            subsets,
+            out_rows,
+            layers,
+            num_out: tops[d].num_vertices(),
+        }
+    }
+
+    /// Writes the last level into `out` (of length `num_out`) from the values `src` of
+    /// the first level of the tail, with the subset levels in `bufs`.
+    fn apply<const D: usize>(
+        &self,
+        src: &[[f64; D]],
+        out: &mut [[f64; D]],
+        bufs: &mut Vec<Vec<[f64; D]>>,
+    ) {
+        bufs.resize_with(self.subsets.len(), Vec::new);
+        for (s, step) in self.subsets.iter().enumerate() {
+            let (done, rest) = bufs.split_at_mut(s);
+            let from: &[[f64; D]] = if s == 0 { src } else { &done[s - 1] };
+            set_len(&mut rest[0], step.row_class.len());
+            step.apply(from, &mut rest[0]);
+        }
+        if let Some(last) = bufs.last() {
+            for (&r, v) in self.out_rows.iter().zip(last) {
+                out[r as usize] = *v;
+            }
+        }
+        for layer in &self.layers {
+            let from: &[[f64; D]] = if layer.source == 0 {
+                src
+            } else {
+                &bufs[layer.source - 1]
+            };
+            layer.apply(from, out);
+        }
     }
 }
 
@@ -364,13 +515,31 @@ impl Step {
         }
     }
 
-    /// The weights of every vertex of `c` (the refinement of `p`) on the vertices of `p`.
-    fn build(p: &Topology, c: &Topology, options: &Options) -> Step {
-        let rows = c.num_vertices();
+    /// Bytes held.
+    fn memory_bytes(&self) -> usize {
+        4 * self.row_class.len()
+            + 4 * self.cols.len()
+            + std::mem::size_of::<usize>() * self.block_starts.len()
+            + 4 * self.class_offsets.len()
+            + 16 * self.class_groups.len()
+    }
+
+    /// Renumbers the columns through `map`.
+    fn remap_cols(&mut self, map: &[u32]) {
+        for c in &mut self.cols {
+            *c = map[*c as usize];
+        }
+    }
+
+    /// The weights of the vertices `only` of `c` (the refinement of `p`; all of them when
+    /// `None`) on the vertices of `p`, one row per vertex in that order.
+    fn build(p: &Topology, c: &Topology, options: &Options, only: Option<&[u32]>) -> Step {
+        let rows = only.map_or(c.num_vertices(), <[u32]>::len);
         let nblocks = rows.div_ceil(BLOCK);
         let make = |scratch: &mut RowScratch, b: usize| {
             let mut block = Block::new(BLOCK.min(rows - b * BLOCK));
-            for cv in b * BLOCK..((b + 1) * BLOCK).min(rows) {
+            for r in b * BLOCK..((b + 1) * BLOCK).min(rows) {
+                let cv = only.map_or(r, |o| o[r] as usize);
                 scratch.row.clear();
                 stencil(p, c, options, cv, scratch);
                 block.push(&scratch.row, &mut scratch.sorted, &mut scratch.bits);
@@ -742,7 +911,8 @@ mod tests {
         let obj = crate::io::obj::read_obj(std::path::Path::new(path)).unwrap();
         let options = obj.options.resolve(Options::default());
         for levels in 1..=3 {
-            let plan = RefinePlan::new(&obj.mesh, options, levels).unwrap();
+            // Sparse rows only (patches are not near the pole; see `patches_match_rows`).
+            let plan = RefinePlan::build(&obj.mesh, options, levels, 0).unwrap();
             let exact = apply_dd(&plan, obj.mesh.positions());
             let got = plan.apply(obj.mesh.positions());
             let opts = crate::SubdivideOptions {
@@ -766,6 +936,40 @@ mod tests {
         }
     }
 
+    /// Patches compute the same vertices as the sparse rows, to rounding, at every depth,
+    /// and cover most of a mesh with few extraordinary vertices.
+    #[test]
+    fn patches_match_rows() {
+        for name in ["catmark_pawn", "catmark_torus_creases0", "catmark_bishop"] {
+            let path = format!("{}/tests/shapes/osd/{name}.obj", env!("CARGO_MANIFEST_DIR"));
+            let obj = crate::io::obj::read_obj(std::path::Path::new(&path)).unwrap();
+            let options = obj.options.resolve(Options::default());
+            let pos = obj.mesh.positions();
+            let (lo, hi) = obj.mesh.bounding_box().unwrap();
+            let size = (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f64>().sqrt();
+            for levels in 2..=4 {
+                let rows = RefinePlan::build(&obj.mesh, options, levels, 0).unwrap();
+                let want = rows.apply(pos);
+                for depth in 2..=3 {
+                    let plan = RefinePlan::build(&obj.mesh, options, levels, depth).unwrap();
+                    assert!(
+                        plan.num_patches() > 0,
+                        "{name} level {levels} depth {depth}"
+                    );
+                    let got = plan.apply(pos);
+                    assert_eq!(got.len(), want.len());
+                    for (i, (a, b)) in got.iter().zip(&want).enumerate() {
+                        let err = (0..3).map(|k| (a[k] - b[k]).abs()).fold(0.0, f64::max);
+                        assert!(
+                            err <= 4e-15 * size,
+                            "{name} level {levels} depth {depth} vertex {i}: {err:e}"
+                        );
+                    }
+                }
+            }
+        }
+    }
+
     /// Every vertex of the smooth regular part shares a handful of classes.
     #[test]
     fn classes_are_shared() {
@@ -774,7 +978,7 @@ mod tests {
             "/tests/shapes/osd/catmark_torus.obj"
         );
         let obj = crate::io::obj::read_obj(std::path::Path::new(path)).unwrap();
-        let plan = RefinePlan::new(&obj.mesh, Options::default(), 3).unwrap();
+        let plan = RefinePlan::build(&obj.mesh, Options::default(), 3, 0).unwrap();
         let last = plan.steps.last().unwrap();
         // Regular quads: face points, smooth edge points and valence-4 vertex points.
         assert_eq!(last.class_offsets.len() - 1, 3);

@@ -91,7 +91,7 @@ impl std::fmt::Display for Inapplicable {
 }
 
 /// The patch neighbourhood of face `f` of `t`: the control net of the limit surface's
-/// regular patch ([`regular_patch_cells`], so the certificate applies to exactly the faces
+/// regular patch (`limit::patch::regular_patch_cells`, so the certificate applies to exactly the faces
 /// that are bicubic patches there), phantom cells left out; or why there is none.
 pub fn block(t: &Topology, f: usize) -> Result<Block, Inapplicable> {
     let fv = t.face_vertices(f);

@@ -1,0 +1,504 @@
+//! Regular patches of a [`RefinePlan`](super::RefinePlan): the last levels of a quad
+//! whose neighbourhood is a regular grid, computed from its 16 control points by a fixed
+//! tensor-product kernel instead of one sparse row per refined vertex.
+//!
+//! # Why
+//! Applying a plan level by level reads four bytes of stored column per weight (about 29
+//! bytes per refined vertex) and sweeps over each parent level several times; at level 6
+//! that memory traffic, not arithmetic, sets the time. Almost all of a refined mesh lies
+//! over *regular* quads, where Catmull-Clark refinement is uniform bicubic B-spline
+//! subdivision (Catmull & Clark 1978, §2; Stam 1998, §2): the `(2ᵈ + 1)²` vertices that
+//! `d` more levels put on such a quad are the same fixed linear combinations of its 16
+//! control points for every such quad. A patch therefore stores only its 16 control
+//! indices and where its refined vertices go (about 5 bytes per output vertex at depth 3),
+//! and computes them in registers.
+//!
+//! # The kernel
+//! One level of uniform cubic B-spline subdivision of a sequence `pᵢ` gives the vertex
+//! points `(pᵢ₋₁ + 6pᵢ + pᵢ₊₁)/8` and the edge points `(pᵢ + pᵢ₊₁)/2` (Lane & Riesenfeld
+//! 1980). `d` such steps map the four control points at parameters `−1, 0, 1, 2` to the
+//! points at `k/2ᵈ`, `k = 0..=2ᵈ`, of the span `[0, 1]`: an `(2ᵈ + 1) × 4` matrix `W`
+//! of dyadic rationals (for `d = 2` the rows are `(5, 22, 5, 0)/32`, `(1, 10, 5, 0)/16`,
+//! `(1, 31, 31, 1)/64` and their mirror images), computed exactly by [`weights`]. The
+//! quad's refined vertices are `W P Wᵀ`, applied as two passes of `W` (along `u`, then
+//! along `v`): 13 applications of `W` for the 81 vertices of depth 3.
+//!
+//! # Which quads
+//! A quad is a patch when [`regular_patch_cells`] finds its 4 × 4 net made of 16 distinct
+//! vertices of its level (no phantom points): its four corners are smooth valence-4
+//! vertices with no sharp or semi-sharp edge, surrounded by quads. Refinement inside such a
+//! quad then only ever applies the smooth regular masks: the vertices that level `l + 1`
+//! puts within half a parent edge of the quad come from the masks of its corners, of the
+//! twelve edges at them and of the nine faces around them (all regular), and every element
+//! derived from them is regular again. Each refined vertex is written by exactly one
+//! patch or by the plan's remaining sparse rows (see [`Claims`]).
+//!
+//! # Numbering
+//! Where a patch's refined vertices go follows from [`refine_topology`]'s child numbering
+//! (the child of vertex `v` is `v`; of face `f` is `V + f`; of edge `e` is `V + F + e`;
+//! child quad `j` of a quad keeps the parent's orientation, its corner `j` at the
+//! parent's corner `j`): [`grid_indices`] walks the levels down and checks at every step
+//! that the child quads are where the numbering says (a patch whose check fails is left
+//! to the sparse rows).
+//!
+//! [`refine_topology`]: super::topology::refine_topology
+
+use rayon::prelude::*;
+
+use crate::limit::patch::regular_patch_cells;
+use crate::mesh::Topology;
+
+/// Patches per parallel task.
+const CHUNK: usize = 256;
+
+/// The grid point for "written elsewhere".
+pub(super) const NOT_OWNED: u32 = u32::MAX;
+
+/// All patches of one depth, on one level.
+#[derive(Clone, Debug)]
+pub(super) struct PatchLayer {
+    /// Levels refined within each patch (2 or 3).
+    depth: u32,
+    /// Which level's values the control indices refer to (see [`RefinePlan`]'s tail):
+    /// 0 for the fully computed level, `s ≥ 1` for the `s`-th subset level.
+    ///
+    /// [`RefinePlan`]: super::RefinePlan
+    pub(super) source: usize,
+    /// The 16 control vertices of each patch, `ctrl[4i + j]` at `(u, v)` cell `(i, j)`.
+    pub(super) ctrl: Vec<[u32; 16]>,
+    /// The output vertex of each of the `n²` grid points of each patch (`n = 2ᵈ + 1`,
+    /// point `(x, y)` at `n x + y`, `x` along `u`), or [`NOT_OWNED`].
+    out: Vec<u32>,
+    /// The kernel's matrix `W`, one row of four weights per grid column.
+    w: Vec<[f64; 4]>,
+    /// One more than the largest control index, and than the largest output index.
+    bounds: [usize; 2],
+}
+
+/// Which output vertices are already written by a patch.
+pub(super) struct Claims(Vec<bool>);
+
+impl Claims {
+    pub(super) fn new(n: usize) -> Self {
+        Claims(vec![false; n])
+    }
+
+    /// The output vertices no patch writes, in increasing order.
+    pub(super) fn unclaimed(&self) -> Vec<u32> {
+        (0..self.0.len() as u32)
+            .filter(|&i| !self.0[i as usize])
+            .collect()
+    }
+}
+
+/// The matrix `W` of depth `d` (module docs): row `k` holds the weights of the point at
+/// parameter `k/2ᵈ` on the control points at `−1, 0, 1, 2`.
+pub(super) fn weights(d: u32) -> Vec<[f64; 4]> {
+    // Points as (parameter × 2^d, weights); all values are exact dyadic rationals.
+    let scale = 1i64 << d;
+    let mut pts: Vec<(i64, [f64; 4])> = (0..4)
+        .map(|k| {
+            let mut w = [0.0; 4];
+            w[k] = 1.0;
+            ((k as i64 - 1) * scale, w)
+        })
+        .collect();
+    let lerp = |a: &[f64; 4], b: &[f64; 4], wa: f64, wb: f64| -> [f64; 4] {
+        std::array::from_fn(|k| wa * a[k] + wb * b[k])
+    };
+    for _ in 0..d {
+        let mut next = Vec::with_capacity(2 * pts.len());
+        for i in 0..pts.len() {
+            if i > 0 && i + 1 < pts.len() {
+                let (x, ref p) = pts[i];
+                let side = lerp(&pts[i - 1].1, &pts[i + 1].1, 0.125, 0.125);
+                next.push((x, lerp(p, &side, 0.75, 1.0)));
+            }
+            if i + 1 < pts.len() {
+                let x = (pts[i].0 + pts[i + 1].0) / 2;
+                next.push((x, lerp(&pts[i].1, &pts[i + 1].1, 0.5, 0.5)));
+            }
+        }
+        pts = next;
+    }
+    pts.into_iter()
+        .filter(|&(x, _)| (0..=scale).contains(&x))
+        .map(|(_, w)| w)
+        .collect()
+}
+
+/// The output vertices (numbered in the level `d` below `levels[0]`) of the
+/// `(2ᵈ + 1)²` grid points of quad `f` of `levels[0]`, where `levels` holds the `d` levels
+/// from that of `f` on (`d = levels.len()`), or `None` when the numbering does not give a
+/// consistent grid (see the module docs).
+pub(super) fn grid_indices(levels: &[Topology], f: usize) -> Option<Vec<u32>> {
+    let d = levels.len();
+    let n = (1usize << d) + 1;
+    let mut grid = vec![NOT_OWNED; n * n];
+    fill(levels, f, (0, 0), 1 << d, n, &mut grid)?;
+    grid.iter().all(|&g| g != NOT_OWNED).then_some(grid)
+}
+
+/// Corner `j` of a quad of side `h`, as an offset from its corner 0.
+fn corner(j: usize, h: usize) -> (usize, usize) {
+    [(0, 0), (h, 0), (h, h), (0, h)][j]
+}
+
+/// Fills the grid points of quad `f` of `levels[0]`, whose corner 0 is at `origin` and
+/// whose side is `h` grid steps.
+fn fill(
+    levels: &[Topology],
+    f: usize,
+    origin: (usize, usize),
+    h: usize,
+    n: usize,
+    grid: &mut [u32],
+) -> Option<()> {
+    let t = &levels[0];
+    let fv = t.face_vertices(f);
+    if fv.len() != 4 {
+        return None;
+    }
+    let mut put = |(x, y): (usize, usize), v: u32| -> Option<()> {
+        let g = &mut grid[(origin.0 + x) * n + origin.1 + y];
+        if *g != NOT_OWNED && *g != v {
+            return None;
+        }
+        *g = v;
+        Some(())
+    };
+    if levels.len() == 1 {
+        // The last step: the children of this quad's vertices, edges and of itself.
+        let fe = t.face_edge_list(f);
+        let (nv, nf) = (t.num_vertices() as u32, t.num_faces() as u32);
+        for j in 0..4 {
+            let (a, b) = (fv[j], fv[(j + 1) % 4]);
+            let ev = t.edge_vertices(fe[j] as usize);
+            if ev != [a, b] && ev != [b, a] {
+                return None;
+            }
+            let (c0, c1) = (corner(j, h), corner((j + 1) % 4, h));
+            put(c0, a)?;
+            put(((c0.0 + c1.0) / 2, (c0.1 + c1.1) / 2), nv + nf + fe[j])?;
+        }
+        return put((h / 2, h / 2), nv + f as u32);
+    }
+    // Child quad `j` sits in the quadrant of corner `j`, in the same orientation, with
+    // the child of vertex `j` (the same index) at its corner `j`.
+    let o = t.face_offsets[f] as usize;
+    let child = &levels[1];
+    for j in 0..4 {
+        let g = o + j;
+        let cv = child.face_vertices(g);
+        if cv.len() != 4 || cv[j] != fv[j] {
+            return None;
+        }
+        let q = corner(j, h / 2);
+        fill(
+            &levels[1..],
+            g,
+            (origin.0 + q.0, origin.1 + q.1),
+            h / 2,
+            n,
+            grid,
+        )?;
+    }
+    Some(())
+}
+
+/// The 16 control vertices of quad `f` if it can be a patch (module docs).
+fn patch_controls(t: &Topology, f: usize) -> Option<[u32; 16]> {
+    let cells = regular_patch_cells(t, f)?;
+    let mut ctrl = [0u32; 16];
+    for (i, col) in cells.iter().enumerate() {
+        for (j, c) in col.iter().enumerate() {
+            if c.len != 1 || c.weights[0] != 1.0 {
+                return None;
+            }
+            ctrl[4 * i + j] = c.verts[0];
+        }
+    }
+    let mut sorted = ctrl;
+    sorted.sort_unstable();
+    sorted.windows(2).all(|w| w[0] != w[1]).then_some(ctrl)
+}
+
+impl PatchLayer {
+    /// The patches of depth `levels.len()` on the quads of `levels[0]`: every quad that can
+    /// be one and writes at least one output vertex not yet in `claims` (which it then
+    /// claims).
+    pub(super) fn build(levels: &[Topology], source: usize, claims: &mut Claims) -> Self {
+        let depth = levels.len() as u32;
+        let t = &levels[0];
+        let found: Vec<([u32; 16], Vec<u32>)> = (0..t.num_faces())
+            .into_par_iter()
+            .with_min_len(CHUNK)
+            .filter_map(|f| {
+                let ctrl = patch_controls(t, f)?;
+                Some((ctrl, grid_indices(levels, f)?))
+            })
+            .collect();
+        let mut ctrl = Vec::with_capacity(found.len());
+        let mut out = Vec::with_capacity(found.iter().map(|(_, g)| g.len()).sum());
+        for (c, mut grid) in found {
+            let mut any = false;
+            for g in &mut grid {
+                let seen = &mut claims.0[*g as usize];
+                if *seen {
+                    *g = NOT_OWNED;
+                } else {
+                    *seen = true;
+                    any = true;
+                }
+            }
+            if any {
+                ctrl.push(c);
+                out.extend_from_slice(&grid);
+            }
+        }
+        let mut layer = PatchLayer {
+            depth,
+            source,
+            ctrl,
+            out,
+            w: weights(depth),
+            bounds: [0, 0],
+        };
+        layer.set_bounds();
+        layer
+    }
+
+    fn set_bounds(&mut self) {
+        let end = |i: u32| i as usize + 1;
+        self.bounds = [
+            self.ctrl
+                .iter()
+                .flatten()
+                .map(|&c| end(c))
+                .max()
+                .unwrap_or(0),
+            (self.out.iter().filter(|&&o| o != NOT_OWNED))
+                .map(|&o| end(o))
+                .max()
+                .unwrap_or(0),
+        ];
+    }
+
+    /// Number of patches.
+    pub(super) fn len(&self) -> usize {
+        self.ctrl.len()
+    }
+
+    /// Bytes held.
+    pub(super) fn memory_bytes(&self) -> usize {
+        64 * self.ctrl.len() + 4 * self.out.len() + 32 * self.w.len()
+    }
+
+    /// Renumbers the control vertices through `map` (the position of each vertex in the
+    /// subset level that holds it).
+    pub(super) fn remap(&mut self, map: &[u32]) {
+        for c in self.ctrl.iter_mut().flatten() {
+            *c = map[*c as usize];
+        }
+        self.set_bounds();
+    }
+
+    /// Writes every owned grid point of every patch into `out`, from the values `src`
+    /// of the patches' level.
+    pub(super) fn apply<const D: usize>(&self, src: &[[f64; D]], out: &mut [[f64; D]]) {
+        match self.depth {
+            2 => self.run::<5, 25, D>(src, out),
+            3 => self.run::<9, 81, D>(src, out),
+            d => unreachable!("patch depth {d}"),
+        }
+    }
+
+    fn run<const N: usize, const NN: usize, const D: usize>(
+        &self,
+        src: &[[f64; D]],
+        out: &mut [[f64; D]],
+    ) {
+        // Every index the kernels use is in bounds (they do not check each one).
+        assert!(self.bounds[0] <= src.len() && self.bounds[1] <= out.len());
+        let w: &[[f64; 4]; N] = self.w.as_slice().try_into().expect("kernel size");
+        let dst = SharedOut(out.as_mut_ptr());
+        let body = |(ctrl, grids): (&[[u32; 16]], &[u32])| {
+            // SAFETY: indices checked above; each output written once (`SharedOut`).
+            unsafe { patches::<N, NN, D>(w, src, ctrl, grids, &dst) };
+        };
+        if self.ctrl.len() <= CHUNK || rayon::current_num_threads() == 1 {
+            (self.ctrl.chunks(CHUNK).zip(self.out.chunks(CHUNK * NN))).for_each(body);
+        } else {
+            (self
+                .ctrl
+                .par_chunks(CHUNK)
+                .zip(self.out.par_chunks(CHUNK * NN)))
+            .for_each(body);
+        }
+    }
+}
+
+/// The output array, written by several patches at once at distinct indices.
+struct SharedOut<T>(*mut T);
+
+// SAFETY: every output index appears at most once over all patches of a plan (they are
+// claimed in `PatchLayer::build`), so concurrent writers never touch the same element.
+unsafe impl<T: Send> Sync for SharedOut<T> {}
+
+/// Runs the kernel on a run of patches: [`patches_avx`] for positions when the processor
+/// has AVX2 and FMA (detected at run time: the default x86-64 target has neither), else
+/// [`kernel`].
+///
+/// # Safety
+/// Every control index is in bounds of `src`, every grid index is [`NOT_OWNED`] or in
+/// bounds of `out`, and no other thread writes the same output indices.
+unsafe fn patches<const N: usize, const NN: usize, const D: usize>(
+    w: &[[f64; 4]; N],
+    src: &[[f64; D]],
+    ctrl: &[[u32; 16]],
+    grids: &[u32],
+    out: &SharedOut<[f64; D]>,
+) {
+    #[cfg(target_arch = "x86_64")]
+    if D == 3 && std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma") {
+        // SAFETY: the features were just detected; `D == 3`; the caller's bounds.
+        unsafe {
+            patches_avx::<N, NN>(w, src.as_ptr().cast(), ctrl, grids, out.0.cast());
+        }
+        return;
+    }
+    for (c, g) in ctrl.iter().zip(grids.chunks_exact(NN)) {
+        // SAFETY: the caller's.
+        unsafe { kernel::<N, NN, D>(w, src, c, g.try_into().expect("grid size"), out) };
+    }
+}
+
+/// The kernel for positions (three components, each point one 256-bit vector with a
+/// zero fourth lane) with fused multiply-adds: about 25 % faster than [`kernel`]
+/// compiled for the default target, and it keeps the 16 control points in registers.
+///
+/// # Safety
+/// As [`patches`], with `src` and `out` pointing at `[f64; 3]` values; the processor
+/// has AVX2 and FMA.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+unsafe fn patches_avx<const N: usize, const NN: usize>(
+    w: &[[f64; 4]; N],
+    src: *const f64,
+    ctrl: &[[u32; 16]],
+    grids: &[u32],
+    out: *mut f64,
+) {
+    use std::arch::x86_64::*;
+    // SAFETY (whole body): the caller's bounds; loads and stores of 3 doubles each.
+    unsafe {
+        let load = |c: u32| {
+            let p = src.add(3 * c as usize);
+            _mm256_insertf128_pd::<1>(
+                _mm256_castpd128_pd256(_mm_loadu_pd(p)),
+                _mm_load_sd(p.add(2)),
+            )
+        };
+        let combine = |w: &[f64; 4], q: [__m256d; 4]| {
+            let a = _mm256_mul_pd(_mm256_broadcast_sd(&w[0]), q[0]);
+            let a = _mm256_fmadd_pd(_mm256_broadcast_sd(&w[1]), q[1], a);
+            let a = _mm256_fmadd_pd(_mm256_broadcast_sd(&w[2]), q[2], a);
+            _mm256_fmadd_pd(_mm256_broadcast_sd(&w[3]), q[3], a)
+        };
+        for (c, g) in ctrl.iter().zip(grids.chunks_exact(NN)) {
+            // Along u, one column of control points at a time.
+            let mut t = [[_mm256_setzero_pd(); N]; 4];
+            for (j, tj) in t.iter_mut().enumerate() {
+                let q = [0, 1, 2, 3].map(|i| load(c[4 * i + j]));
+                for (x, txj) in tj.iter_mut().enumerate() {
+                    *txj = combine(&w[x], q);
+                }
+            }
+            // Along v, for the owned points only.
+            for x in 0..N {
+                let col = [t[0][x], t[1][x], t[2][x], t[3][x]];
+                for y in 0..N {
+                    let o = g[x * N + y];
+                    if o == NOT_OWNED {
+                        continue;
+                    }
+                    let v = combine(&w[y], col);
+                    let p = out.add(3 * o as usize);
+                    _mm_storeu_pd(p, _mm256_castpd256_pd128(v));
+                    _mm_store_sd(p.add(2), _mm256_extractf128_pd::<1>(v));
+                }
+            }
+        }
+    }
+}
+
+/// Computes the grid points of one patch (`W P Wᵀ`) and writes those it owns.
+///
+/// # Safety
+/// As [`patches`].
+#[inline(always)]
+unsafe fn kernel<const N: usize, const NN: usize, const D: usize>(
+    w: &[[f64; 4]; N],
+    src: &[[f64; D]],
+    ctrl: &[u32; 16],
+    grid: &[u32; NN],
+    out: &SharedOut<[f64; D]>,
+) {
+    let mix = |w: &[f64; 4], x: [&[f64; D]; 4]| -> [f64; D] {
+        std::array::from_fn(|l| w[0] * x[0][l] + w[1] * x[1][l] + w[2] * x[2][l] + w[3] * x[3][l])
+    };
+    // Along u: t[j][x] = Σᵢ W[x][i] p[i][j].
+    let t: [[[f64; D]; N]; 4] = std::array::from_fn(|j| {
+        let q = [0, 1, 2, 3].map(|i| &src[ctrl[4 * i + j] as usize]);
+        std::array::from_fn(|x| mix(&w[x], q))
+    });
+    // Along v, for the owned points only.
+    for x in 0..N {
+        for y in 0..N {
+            let o = grid[x * N + y];
+            if o != NOT_OWNED {
+                let v = mix(&w[y], [&t[0][x], &t[1][x], &t[2][x], &t[3][x]]);
+                // SAFETY: the caller's.
+                unsafe { out.0.add(o as usize).write(v) };
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The kernel rows of depth 2 are the composed subdivision masks worked out by hand.
+    #[test]
+    fn depth_two_weights() {
+        let w = weights(2);
+        let expect = [
+            [5.0 / 32.0, 22.0 / 32.0, 5.0 / 32.0, 0.0],
+            [1.0 / 16.0, 10.0 / 16.0, 5.0 / 16.0, 0.0],
+            [1.0 / 64.0, 31.0 / 64.0, 31.0 / 64.0, 1.0 / 64.0],
+            [0.0, 5.0 / 16.0, 10.0 / 16.0, 1.0 / 16.0],
+            [0.0, 5.0 / 32.0, 22.0 / 32.0, 5.0 / 32.0],
+        ];
+        assert_eq!(w, expect);
+    }
+
+    /// Every row is a partition of unity and reproduces the parameter of its point (cubic
+    /// B-splines reproduce linear functions).
+    #[test]
+    fn weights_reproduce_linear_functions() {
+        for d in 1..=4 {
+            let w = weights(d);
+            assert_eq!(w.len(), (1 << d) + 1);
+            for (k, row) in w.iter().enumerate() {
+                assert_eq!(row.iter().sum::<f64>(), 1.0);
+                let t: f64 = row
+                    .iter()
+                    .zip([-1.0, 0.0, 1.0, 2.0])
+                    .map(|(w, x)| w * x)
+                    .sum();
+                assert_eq!(t, k as f64 / (1 << d) as f64);
+            }
+        }
+    }
+}
