@@ -104,12 +104,13 @@ fn bench_replay(
     }
     times.sort_by(f64::total_cmp);
     println!(
-        "subsurf replay level={levels} verts={} threads={} median_s={:.6} min_s={:.6} (plan built in {build:.6}s) weights={} plan_mib={}",
+        "subsurf replay level={levels} verts={} threads={} median_s={:.6} min_s={:.6} (plan built in {build:.6}s) weights={} patches={} plan_mib={}",
         out.len(),
         pool.current_num_threads(),
         times[times.len() / 2],
         times[0],
         plan.num_weights(),
+        plan.num_patches(),
         plan.memory_bytes() >> 20,
     );
     Ok(())
