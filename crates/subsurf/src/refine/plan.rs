@@ -43,8 +43,10 @@
 //! of the mesh (its bounding-box diagonal) on all of OpenSubdiv's regression shapes at
 //! levels 1–3 (at most 1.4e-15 measured; `tests/replay.rs`). Merged weights are summed
 //! with their rounding errors, and each row adds its smallest terms first, so that a
-//! valence-360 pole is as accurate as elsewhere. The result does not depend on the number
-//! of threads.
+//! valence-360 pole is as accurate as elsewhere. The patches' kernel rounds like a row
+//! of 16 terms (dyadic weights, 8 multiply-adds per vertex, fused where the processor
+//! has FMA, so the last bits can differ between processors with and without it). The
+//! result does not depend on the number of threads.
 
 use std::collections::HashMap;
 use std::hash::BuildHasherDefault;
