@@ -26,6 +26,8 @@
 #                       the extra meshes, `osd-oracle benchlimit IN N REPS` against
 #                       `subsurf bench IN --limit-grid N` (empty: skip that table)
 #   OSD_ORACLE=PATH     use this osd-oracle binary instead of building one
+#   OSD_STENCIL_BENCH=PATH  use this osd-stencil-bench binary (tools/osd-stencil-bench, for
+#                       the re-posing table) instead of building one
 #   SUBSURF=PATH        use this subsurf binary instead of building one (release)
 #   OSD_ORACLE_SRC=DIR  osd-oracle sources (default: ../shared/tools/osd-oracle next to the
 #                       repository); its build.sh installs Debian's libosd-dev if missing
@@ -78,6 +80,20 @@ else
   oracle="$work/osd-oracle"
   log "building osd-oracle from $src"
   "$src/build.sh" "$oracle" >&2 || { log "building osd-oracle failed"; exit 2; }
+fi
+
+# OpenSubdiv's re-posing path (a stencil table), for the re-posing table: our own small
+# program on the same libosd-dev (tools/osd-stencil-bench).
+if [ -n "$REPLAY_LEVELS" ]; then
+  if [ -n "${OSD_STENCIL_BENCH:-}" ]; then
+    stencil_bench="$OSD_STENCIL_BENCH"
+  else
+    stencil_bench="$work/osd-stencil-bench"
+    log "building osd-stencil-bench"
+    g++ -O2 -std=c++14 "$root/tools/osd-stencil-bench/osd_stencil_bench.cpp" -o "$stencil_bench" -losdCPU \
+      || { log "building osd-stencil-bench failed (needs libosd-dev)"; exit 2; }
+  fi
+  [ -x "$stencil_bench" ] || { log "no osd-stencil-bench at $stencil_bench"; exit 2; }
 fi
 
 if [ ! -x /usr/bin/time ]; then
@@ -188,9 +204,11 @@ if [ -n "$SCALING_LEVELS" ]; then
 fi
 if [ -n "$REPLAY_LEVELS" ]; then
   printf '\nRe-posing (`subsurf bench --replay`: a precomputed plan applied to the base positions)\n'
-  printf 'against full refinement (`subsurf bench`), same threads, interleaved as above:\n\n'
-  printf '| mesh | level | full 1T s | replay 1T s | full/replay 1T | full 2T s | replay 2T s | full/replay 2T |\n'
-  printf '|---|---:|---:|---:|---:|---:|---:|---:|\n'
+  printf 'against full refinement (`subsurf bench`), same threads, and against OpenSubdiv'"'"'s stencil table\n'
+  printf '(`osd-stencil-bench IN L REPS`: `Far::StencilTableReal<double>` of the last level, intermediate\n'
+  printf 'levels factorized, `UpdateValues` from the base positions; one thread), interleaved as above:\n\n'
+  printf '| mesh | level | full 1T s | replay 1T s | full/replay 1T | full 2T s | replay 2T s | full/replay 2T | OSD stencils s | OSD stencils/replay 1T |\n'
+  printf '|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n'
   replay_runs=("$shapes/catmark_bishop.obj|catmark_bishop" "$shapes/catmark_pawn.obj|catmark_pawn")
   for extra in "$@"; do
     replay_runs+=("$extra|$(basename "$extra" .obj)")
@@ -199,8 +217,9 @@ if [ -n "$REPLAY_LEVELS" ]; then
     IFS='|' read -r path label <<<"$run"
     for level in $REPLAY_LEVELS; do
       log "$label level $level (re-posing)"
-      f1=() r1=() f2=() r2=()
+      f1=() r1=() f2=() r2=() st=()
       for _ in $(seq "$ROUNDS"); do
+        st+=("$(field median_s "$("$stencil_bench" "$path" "$level" "$REPS")")")
         for t in 1 2; do
           f_line="$("$subsurf" bench "$path" -l "$level" --reps "$REPS" --threads "$t")"
           r_line="$("$subsurf" bench "$path" -l "$level" --reps "$REPS" --threads "$t" --replay)"
@@ -212,9 +231,10 @@ if [ -n "$REPLAY_LEVELS" ]; then
         done
       done
       f1_s="$(median "${f1[@]}")"; r1_s="$(median "${r1[@]}")"
-      f2_s="$(median "${f2[@]}")"; r2_s="$(median "${r2[@]}")"
-      printf '| %s | %s | %s | %s | %s | %s | %s | %s |\n' "$label" "$level" \
-        "$f1_s" "$r1_s" "$(ratio "$f1_s" "$r1_s")" "$f2_s" "$r2_s" "$(ratio "$f2_s" "$r2_s")"
+      f2_s="$(median "${f2[@]}")"; r2_s="$(median "${r2[@]}")"; st_s="$(median "${st[@]}")"
+      printf '| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |\n' "$label" "$level" \
+        "$f1_s" "$r1_s" "$(ratio "$f1_s" "$r1_s")" "$f2_s" "$r2_s" "$(ratio "$f2_s" "$r2_s")" \
+        "$st_s" "$(ratio "$st_s" "$r1_s")"
     done
   done
 fi
