@@ -494,6 +494,32 @@ fn missing_or_unreadable_input_and_unwritable_output() {
 }
 
 #[test]
+fn replay_bench_checks_memory_before_building() {
+    let dir = dir_with(&[("cube.obj", CUBE)]);
+    let args: Vec<String> = [
+        "bench",
+        "cube.obj",
+        "-l",
+        "12",
+        "--replay",
+        "--max-memory",
+        "1M",
+    ]
+    .iter()
+    .map(|s| s.to_string())
+    .collect();
+    let run = run_limited(dir.path(), &args, None);
+    assert_eq!(run.code, Some(1), "{}", run.stderr);
+    assert!(
+        run.stderr
+            .contains("cube.obj: building a re-posing plan to level 12 needs about"),
+        "{}",
+        run.stderr
+    );
+    assert!(run.elapsed < TIME_LIMIT);
+}
+
+#[test]
 fn memory_guard_refuses_without_writing() {
     let dir = dir_with(&[("cube.obj", CUBE)]);
     for (levels, extra) in [("12", vec!["--max-memory", "1M"]), ("4294967295", vec![])] {

@@ -42,10 +42,14 @@ pub fn run(args: &BenchArgs) -> Result<()> {
                 .saturating_add(crate::memory::grid_samples(mesh, n).saturating_mul(192)),
             "use a smaller --limit-grid",
         ),
-        // A plan holds a weight table about as large as the refined mesh.
+        None if args.replay => (
+            format!("building a re-posing plan to level {}", args.levels),
+            RefinePlan::estimate_memory(mesh, args.levels),
+            "use a lower level",
+        ),
         None => (
             format!("refining to level {}", args.levels),
-            subsurf::estimate_memory(mesh, &opts).saturating_mul(if args.replay { 2 } else { 1 }),
+            subsurf::estimate_memory(mesh, &opts),
             "use a lower level",
         ),
     };

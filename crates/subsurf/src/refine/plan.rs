@@ -234,6 +234,22 @@ impl RefinePlan {
         })
     }
 
+    /// Estimated peak memory in bytes of building a plan for `mesh` to `levels` and
+    /// applying it once, saturating at `u64::MAX`: twice [`estimate_memory`] of a
+    /// refinement to the same level (building holds the last four levels at once; the
+    /// measured peak of `subsurf bench --replay` on `catmark_bishop` to level 6 is
+    /// ~125 bytes per output face, the estimate 320). Check it before [`new`](Self::new)
+    /// to refuse a level that would not fit instead of failing to allocate.
+    ///
+    /// [`estimate_memory`]: crate::estimate_memory
+    pub fn estimate_memory(mesh: &PolyMesh, levels: u32) -> u64 {
+        let opts = crate::SubdivideOptions {
+            levels,
+            ..Default::default()
+        };
+        crate::estimate_memory(mesh, &opts).saturating_mul(2)
+    }
+
     /// Number of regular patches: quads whose last levels the plan computes by the bicubic
     /// kernel (module docs).
     pub fn num_patches(&self) -> usize {
