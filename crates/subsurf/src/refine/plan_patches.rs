@@ -374,7 +374,7 @@ unsafe fn patches<const N: usize, const NN: usize, const D: usize>(
 }
 
 /// The kernel for positions (three components, each point one 256-bit vector with a
-/// zero fourth lane) with fused multiply-adds: about 25 % faster than [`kernel`]
+/// zero fourth lane) with fused multiply-adds: about 15 % faster than [`kernel`]
 /// compiled for the default target, and it keeps the 16 control points in registers.
 ///
 /// # Safety
