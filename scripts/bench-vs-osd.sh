@@ -202,6 +202,11 @@ if [ -n "$SCALING_LEVELS" ]; then
       "$osd_s" "$(awk -v t="$osd_s" -v n="$verts" 'BEGIN { printf "%.1f", t * 1e9 / n }')"
   done
 fi
+# The meshes of the re-posing and limit tables: the two shapes and the extra ones.
+small_runs=("$shapes/catmark_bishop.obj|catmark_bishop" "$shapes/catmark_pawn.obj|catmark_pawn")
+for extra in "$@"; do
+  small_runs+=("$extra|$(basename "$extra" .obj)")
+done
 if [ -n "$REPLAY_LEVELS" ]; then
   printf '\nRe-posing (`subsurf bench --replay`: a precomputed plan applied to the base positions)\n'
   printf 'against full refinement (`subsurf bench`), same threads, and against OpenSubdiv'"'"'s stencil table\n'
@@ -209,11 +214,7 @@ if [ -n "$REPLAY_LEVELS" ]; then
   printf 'levels factorized, `UpdateValues` from the base positions; one thread), interleaved as above:\n\n'
   printf '| mesh | level | full 1T s | replay 1T s | full/replay 1T | full 2T s | replay 2T s | full/replay 2T | OSD stencils s | OSD stencils/replay 1T |\n'
   printf '|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n'
-  replay_runs=("$shapes/catmark_bishop.obj|catmark_bishop" "$shapes/catmark_pawn.obj|catmark_pawn")
-  for extra in "$@"; do
-    replay_runs+=("$extra|$(basename "$extra" .obj)")
-  done
-  for run in "${replay_runs[@]}"; do
+  for run in "${small_runs[@]}"; do
     IFS='|' read -r path label <<<"$run"
     for level in $REPLAY_LEVELS; do
       log "$label level $level (re-posing)"
@@ -245,11 +246,7 @@ if [ -n "$LIMIT_GRID" ]; then
   printf 'interleaved as above; cold = the first build plus evaluation of subsurf (one process).\n\n'
   printf '| mesh | points | OSD median s | subsurf 1T median s | 1T/OSD | subsurf 2T median s | 2T/OSD | subsurf cold 1T s | configurations |\n'
   printf '|---|---:|---:|---:|---:|---:|---:|---:|---:|\n'
-  limit_runs=("$shapes/catmark_bishop.obj|catmark_bishop" "$shapes/catmark_pawn.obj|catmark_pawn")
-  for extra in "$@"; do
-    limit_runs+=("$extra|$(basename "$extra" .obj)")
-  done
-  for run in "${limit_runs[@]}"; do
+  for run in "${small_runs[@]}"; do
     IFS='|' read -r path label <<<"$run"
     log "$label limit grid $LIMIT_GRID"
     osd_t=() t1_t=() t2_t=() cold_t=()

@@ -113,12 +113,7 @@ fn iges_entities_read_back_as_the_json_patches() {
     let doc = patches_json(&surface, &mesh).unwrap();
     let text = to_iges(&doc, "cube-g2.igs");
     let entities = parse(&text);
-    let patches: Vec<&PatchJson> = doc
-        .caps
-        .iter()
-        .flat_map(|c| c.patches.iter())
-        .chain(doc.bicubic.iter())
-        .collect();
+    let patches: Vec<&PatchJson> = doc.patches().collect();
     assert_eq!(entities.len(), patches.len());
     assert_eq!(patches.iter().filter(|p| p.degree == 7).count(), 24);
     for (e, p) in entities.iter().zip(&patches) {

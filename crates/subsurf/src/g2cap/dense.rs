@@ -117,12 +117,7 @@ impl DenseCapSolver {
     /// [`G2Error::OuterCount`] if `points.len() != 64n`.
     pub fn complete(&self, points: &mut [[f64; 3]]) -> Result<(), G2Error> {
         let n = self.valence();
-        if points.len() != NP * n {
-            return Err(G2Error::OuterCount {
-                valence: n,
-                got: points.len() / NP,
-            });
-        }
+        super::solver::check_count(points, n)?;
         let centre = super::solver::centroid(points, &self.fixed);
         let xf = DMatrix::from_fn(self.fixed.len(), 3, |r, c| {
             points[self.fixed[r]][c] - centre[c]

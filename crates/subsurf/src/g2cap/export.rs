@@ -231,6 +231,16 @@ pub struct SurfaceJson {
 }
 
 impl SurfaceJson {
+    /// All patches in file order: the caps' (degree 7) first, then the bicubic ones.
+    pub fn patches(&self) -> impl Iterator<Item = &PatchJson> {
+        self.caps
+            .iter()
+            .flat_map(|c| c.patches.iter())
+            .chain(self.bicubic.iter())
+    }
+}
+
+impl SurfaceJson {
     /// The document as compact JSON text (shortest round-trip `f64` digits).
     pub fn to_json(&self) -> String {
         // Serialising plain numbers, strings and vectors cannot fail.

@@ -96,12 +96,7 @@ pub fn to_iges(doc: &SurfaceJson, name: &str) -> String {
         .filter(|c| c.is_ascii_graphic() && *c != ',' && *c != ';' || *c == ' ')
         .take(60)
         .collect();
-    let patches: Vec<&PatchJson> = doc
-        .caps
-        .iter()
-        .flat_map(|c| c.patches.iter())
-        .chain(doc.bicubic.iter())
-        .collect();
+    let patches: Vec<&PatchJson> = doc.patches().collect();
     let mut out = String::new();
     let start = [
         "subsurf: G2 surface (seed 003) as Bezier patches, IGES 5.3 entity 128.",

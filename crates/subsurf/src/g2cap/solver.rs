@@ -128,6 +128,17 @@ pub(crate) fn check_valence(n: usize) -> Result<(), G2Error> {
     }
 }
 
+/// [`G2Error::OuterCount`] unless `points` holds the `64n` control points of `n` patches.
+pub(crate) fn check_count(points: &[[f64; 3]], n: usize) -> Result<(), G2Error> {
+    if points.len() != NP * n {
+        return Err(G2Error::OuterCount {
+            valence: n,
+            got: points.len() / NP,
+        });
+    }
+    Ok(())
+}
+
 /// The centroid of the points at `indices`.
 pub(crate) fn centroid(points: &[[f64; 3]], indices: &[usize]) -> [f64; 3] {
     let mut centre = [0.0; 3];
@@ -523,12 +534,7 @@ impl CapSolver {
     /// constraints are not met to `1e-7` of the net's size (never expected).
     pub fn complete(&self, points: &mut [[f64; 3]]) -> Result<(), G2Error> {
         let n = self.valence();
-        if points.len() != NP * n {
-            return Err(G2Error::OuterCount {
-                valence: n,
-                got: points.len() / NP,
-            });
-        }
+        check_count(points, n)?;
         let fixed_global: Vec<usize> = (0..n)
             .flat_map(|i| self.fixed.iter().map(move |&l| i * NP + l))
             .collect();

@@ -199,26 +199,17 @@ pub fn find_crossings(
         };
         let (da, db) = (dir(a), dir(b));
         if norm(&cross(&da, &db)) <= 1e-6 * norm(&da) * norm(&db) {
-            let (ea, eb) = (is_end(&user(a)), is_end(&user(b)));
-            if ea && eb {
-                return Err(crossing_error(
-                    &curves[b.curve],
-                    &middles[b.curve],
-                    b.index,
-                    format!(
-                        "the curve ends where {} ends, in the same line; join the two curves into one (their zones would overlap)",
-                        curves[a.curve].label
-                    ),
-                ));
-            }
+            let other = &curves[a.curve].label;
+            let reason = if is_end(&user(a)) && is_end(&user(b)) {
+                format!("the curve ends where {other} ends, in the same line; join the two curves into one (their zones would overlap)")
+            } else {
+                format!("the control polygon is parallel to that of {other} here; crossing curves must meet at an angle")
+            };
             return Err(crossing_error(
                 &curves[b.curve],
                 &middles[b.curve],
                 b.index,
-                format!(
-                    "the control polygon is parallel to that of {} here; crossing curves must meet at an angle",
-                    curves[a.curve].label
-                ),
+                reason,
             ));
         }
         let w = |arm: Arm, s: isize| {
