@@ -205,7 +205,6 @@ fn subdivide_steps(
         pos,
         opts.keep_holes,
     );
-    drop(parent);
     Ok(Subdivision {
         mesh: out,
         normals,
