@@ -367,10 +367,42 @@ unsafe fn patches<const N: usize, const NN: usize, const D: usize>(
         }
         return;
     }
-    for (c, g) in ctrl.iter().zip(grids.chunks_exact(NN)) {
+    for (k, (c, g)) in ctrl.iter().zip(grids.chunks_exact(NN)).enumerate() {
         // SAFETY: the caller's.
-        unsafe { kernel::<N, NN, D>(w, src, c, g.try_into().expect("grid size"), out) };
+        unsafe {
+            prefetch_next::<NN, D>(grids, k, out.0.cast());
+            kernel::<N, NN, D>(w, src, c, g.try_into().expect("grid size"), out);
+        }
     }
+}
+
+/// Asks the processor to start loading the cache lines that patch `k + 1` of `grids` will
+/// write (its owned points in `out`, `D` doubles each), while patch `k` is computed.
+///
+/// The outputs of one patch lie in a few dozen separate runs of the output array (the
+/// child numbering puts vertex, face and edge children of each level apart), too many
+/// streams for the hardware prefetcher, so without this each patch waits on its stores'
+/// cache misses. Measured on `catmark_bishop` (one thread, medians of 50 and 20
+/// applications, three interleaved rounds): level 5 4.2 → 3.3 ms, level 6 16.4 → 13.0 ms;
+/// prefetching two patches ahead was slower. A hint only: it never faults, and on other
+/// processors than x86-64 it is nothing.
+///
+/// # Safety
+/// Every grid index is [`NOT_OWNED`] or in bounds of `out` (as [`patches`]).
+#[inline(always)]
+unsafe fn prefetch_next<const NN: usize, const D: usize>(grids: &[u32], k: usize, out: *mut f64) {
+    #[cfg(target_arch = "x86_64")]
+    if let Some(next) = grids.get((k + 1) * NN..(k + 2) * NN) {
+        use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+        for &o in next {
+            if o != NOT_OWNED {
+                // SAFETY: `o` is in bounds of `out` (the caller's); SSE is part of x86-64.
+                unsafe { _mm_prefetch::<_MM_HINT_T0>(out.add(D * o as usize).cast()) };
+            }
+        }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = (grids, k, out);
 }
 
 /// The kernel for positions (three components, each point one 256-bit vector with a
@@ -405,7 +437,8 @@ unsafe fn patches_avx<const N: usize, const NN: usize>(
             let a = _mm256_fmadd_pd(_mm256_broadcast_sd(&w[2]), q[2], a);
             _mm256_fmadd_pd(_mm256_broadcast_sd(&w[3]), q[3], a)
         };
-        for (c, g) in ctrl.iter().zip(grids.chunks_exact(NN)) {
+        for (k, (c, g)) in ctrl.iter().zip(grids.chunks_exact(NN)).enumerate() {
+            prefetch_next::<NN, 3>(grids, k, out.cast());
             // Along u, one column of control points at a time.
             let mut t = [[_mm256_setzero_pd(); N]; 4];
             for (j, tj) in t.iter_mut().enumerate() {
