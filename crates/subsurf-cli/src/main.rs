@@ -19,10 +19,11 @@ use clap::{Args, Parser, Subcommand};
 use subsurf::io::obj::FileOptions;
 use subsurf::mesh::{BoundaryInterpolation, CreaseMethod, TriangleSubdivision};
 
-/// Large buffers get transparent huge pages: refinement writes hundreds of MB of fresh
-/// memory, and 4 KiB page faults cost as much as the work (see `subsurf::alloc`).
+/// mimalloc keeps freed memory for reuse in large regions backed by transparent huge pages:
+/// refinement writes hundreds of MB of fresh buffers, and with the system allocator the
+/// kernel's 4 KiB page faults cost as much as the work (see the `subsurf` crate docs).
 #[global_allocator]
-static GLOBAL: subsurf::alloc::HugePageAlloc = subsurf::alloc::HugePageAlloc;
+static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
 const MAIN_EXAMPLES: &str = "\
 Examples:

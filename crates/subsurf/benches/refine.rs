@@ -15,10 +15,10 @@ use subsurf::io::obj::read_obj;
 use subsurf::mesh::{Options, PolyMesh};
 use subsurf::{subdivide, SubdivideOptions};
 
-/// As in the `subsurf` binary: transparent huge pages for large buffers, so that the benches
-/// measure what `subsurf bench` measures (see `subsurf::alloc`).
+/// The allocator of the `subsurf` binary, so that the benches measure what `subsurf bench`
+/// measures (see the crate docs, "Speed: choose the global allocator").
 #[global_allocator]
-static GLOBAL: subsurf::alloc::HugePageAlloc = subsurf::alloc::HugePageAlloc;
+static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
 /// The shapes benched, from `crates/subsurf/tests/shapes/osd/`.
 const SHAPES: [&str; 2] = ["catmark_bishop", "catmark_pawn"];

@@ -15,6 +15,11 @@ use subsurf::mesh::{Options, PolyMesh};
 use subsurf::refine::{PlanScratch, RefinePlan};
 use subsurf::{subdivide, SubdivideOptions};
 
+/// The allocator of the `subsurf` binary, so that the full refinement compared with is the
+/// one `subsurf bench` measures (see the crate docs, "Speed: choose the global allocator").
+#[global_allocator]
+static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 const SHAPE: &str = "catmark_bishop";
 const LEVELS: u32 = 5;
 
