@@ -64,6 +64,12 @@ impl Derivatives {
     /// The derivatives of `S(a·u + b, a·v + c)`: first derivatives times `a`, second
     /// times `a²` (used when a sub-patch covers a square of side `1/a` of its face).
     pub fn scaled(mut self, a: f64) -> Self {
+        self.scale(a);
+        self
+    }
+
+    /// [`scaled`](Self::scaled) in place.
+    pub(crate) fn scale(&mut self, a: f64) {
         for k in 0..3 {
             self.du[k] *= a;
             self.dv[k] *= a;
@@ -71,7 +77,6 @@ impl Derivatives {
             self.duv[k] *= a * a;
             self.dvv[k] *= a * a;
         }
-        self
     }
 }
 
@@ -100,6 +105,18 @@ pub fn eval_order(cp: &[[[f64; 3]; 4]; 4], u: f64, v: f64, order: Order) -> Deri
     tensor(cp, basis(u), basis(v), order)
 }
 
+/// [`eval_order`] into `out` (see [`tensor_into`]).
+#[inline]
+pub(crate) fn eval_order_into(
+    cp: &[[[f64; 3]; 4]; 4],
+    u: f64,
+    v: f64,
+    order: Order,
+    out: &mut Derivatives,
+) {
+    tensor_into(cp, basis(u), basis(v), order, out)
+}
+
 /// `Σᵢ Σⱼ Aᵢ(u) Bⱼ(v) P[i][j]` with its first and (for [`Order::Second`]) second
 /// derivatives, for bases given as `(values, first, second derivatives)` at the point: a
 /// tensor-product surface of any two bases of four functions. Contracts `v` first (two or
@@ -111,20 +128,37 @@ pub fn tensor(
     b: ([f64; 4], [f64; 4], [f64; 4]),
     order: Order,
 ) -> Derivatives {
+    let mut r = Derivatives::default();
+    tensor_into(cp, a, b, order, &mut r);
+    r
+}
+
+/// [`tensor`] written into `out` in place. The evaluators use this form: a
+/// [`Derivatives`] is 144 bytes, and each move of one through a temporary compiles to a
+/// `memcpy` call (9 % of the time of a grid of limit evaluations before this).
+#[inline]
+pub(crate) fn tensor_into(
+    cp: &[[[f64; 3]; 4]; 4],
+    a: ([f64; 4], [f64; 4], [f64; 4]),
+    b: ([f64; 4], [f64; 4], [f64; 4]),
+    order: Order,
+    out: &mut Derivatives,
+) {
     match order {
-        Order::First => tensor_to::<false>(cp, a, b),
-        Order::Second => tensor_to::<true>(cp, a, b),
+        Order::First => tensor_to::<false>(cp, a, b, out),
+        Order::Second => tensor_to::<true>(cp, a, b, out),
     }
 }
 
-/// [`tensor`], with second derivatives when `SECOND` (a constant, so each instance has
-/// only the sums it needs).
+/// [`tensor_into`], with second derivatives when `SECOND` (a constant, so each instance
+/// has only the sums it needs).
 #[inline(always)]
 fn tensor_to<const SECOND: bool>(
     cp: &[[[f64; 3]; 4]; 4],
     (a, da, dda): ([f64; 4], [f64; 4], [f64; 4]),
     (b, db, ddb): ([f64; 4], [f64; 4], [f64; 4]),
-) -> Derivatives {
+    r: &mut Derivatives,
+) {
     // q[i] = (Σⱼ Bⱼ P, Σⱼ B'ⱼ P, Σⱼ B''ⱼ P) for column i.
     let mut q = [[[0.0; 3]; 3]; 4];
     for (qi, col) in q.iter_mut().zip(cp) {
@@ -138,7 +172,7 @@ fn tensor_to<const SECOND: bool>(
             }
         }
     }
-    let mut r = Derivatives::default();
+    *r = Derivatives::default();
     for i in 0..4 {
         for k in 0..3 {
             r.p[k] += a[i] * q[i][0][k];
@@ -151,7 +185,6 @@ fn tensor_to<const SECOND: bool>(
             }
         }
     }
-    r
 }
 
 #[cfg(test)]

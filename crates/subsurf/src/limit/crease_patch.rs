@@ -46,7 +46,7 @@
 //! Checked against the general local refinement (configuration trees) for sharpness
 //! 0.3 to 9.7 and every side, and against OpenSubdiv's `Bfr` on the regression shapes.
 
-use super::bspline::{basis, tensor, Derivatives, Order};
+use super::bspline::{basis, tensor_into, Derivatives, Order};
 use super::patch::{patch_cells, walk, Cell, Corner};
 use crate::mesh::{CreaseMethod, Options, Topology};
 use crate::scheme::crease;
@@ -186,6 +186,13 @@ impl CreasePatch {
 
     /// Position and derivatives (of `order`) at `(u, v)`.
     pub fn eval(&self, u: f64, v: f64, order: Order) -> Derivatives {
+        let mut d = Derivatives::default();
+        self.eval_into(u, v, order, &mut d);
+        d
+    }
+
+    /// [`eval`](Self::eval) into `out`, in place (see [`tensor_into`]).
+    pub(crate) fn eval_into(&self, u: f64, v: f64, order: Order, out: &mut Derivatives) {
         // x along the crease, y across it (distance from the crease).
         let (x, y) = match self.side {
             0 => (u, v),
@@ -193,22 +200,15 @@ impl CreasePatch {
             3 => (v, u),
             _ => (v, 1.0 - u),
         };
-        let d = tensor(&self.net, basis(x), self.basis.eval(y), order);
-        let (s, sx, sy, sxx, sxy, syy) = (d.p, d.du, d.dv, d.duu, d.duv, d.dvv);
+        tensor_into(&self.net, basis(x), self.basis.eval(y), order, out);
+        // From (x, y) derivatives to (u, v) ones.
         let neg = |x: [f64; 3]| x.map(|c| -c);
-        let (du, dv, duu, duv, dvv) = match self.side {
-            0 => (sx, sy, sxx, sxy, syy),
-            2 => (sx, neg(sy), sxx, neg(sxy), syy),
-            3 => (sy, sx, syy, sxy, sxx),
-            _ => (neg(sy), sx, syy, neg(sxy), sxx),
-        };
-        Derivatives {
-            p: s,
-            du,
-            dv,
-            duu,
-            duv,
-            dvv,
+        let d = out;
+        match self.side {
+            0 => {}
+            2 => (d.dv, d.duv) = (neg(d.dv), neg(d.duv)),
+            3 => (d.du, d.dv, d.duu, d.dvv) = (d.dv, d.du, d.dvv, d.duu),
+            _ => (d.du, d.dv, d.duu, d.duv, d.dvv) = (neg(d.dv), d.du, d.dvv, neg(d.duv), d.duu),
         }
     }
 }

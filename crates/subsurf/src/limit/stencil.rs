@@ -227,17 +227,18 @@ fn face_stencils(
                 )
             });
             let d = match node {
-                Ok(n) => eval_node(
-                    n,
-                    p.u,
-                    p.v,
-                    0,
-                    Ctx {
+                Ok(n) => {
+                    let ctx = Ctx {
                         options,
                         order: Order::First,
-                    },
-                )
-                .ok_or_else(|| err(i, EvalError::Hole { face: p.face })),
+                    };
+                    let mut d = Derivatives::default();
+                    if eval_node(n, p.u, p.v, 0, ctx, &mut d) {
+                        Ok(d)
+                    } else {
+                        Err(err(i, EvalError::Hole { face: p.face }))
+                    }
+                }
                 Err(e) => Err(e),
             };
             let d = match d {
