@@ -88,18 +88,29 @@ pub fn regular_patch(t: &Topology, pos: &[[f64; 3]], f: usize) -> Option<[[[f64;
 /// The control points of quad `f`, if it is regular, as combinations of vertices of `t`
 /// ([`Cell`]s, `cells[i][j]` as in [`regular_patch`]).
 pub fn regular_patch_cells(t: &Topology, f: usize) -> Option<[[Cell; 4]; 4]> {
+    if t.is_hole(f) {
+        return None;
+    }
+    patch_cells(t, f, |k| regular_corner(t, f, k))
+}
+
+/// [`regular_patch_cells`] for refinement: the same net, also on a hole. A hole has no
+/// limit surface, but holes only hide faces: the refined vertices inside one follow the
+/// same rules as anywhere else, so the net gives them too.
+pub(crate) fn refinement_patch_cells(t: &Topology, f: usize) -> Option<[[Cell; 4]; 4]> {
     patch_cells(t, f, |k| regular_corner(t, f, k))
 }
 
 /// The 4×4 control net of quad `f` with the corner analysis `corner`, with phantom points
-/// across infinitely sharp sides, if every corner passes `corner`.
+/// across infinitely sharp sides, if every corner passes `corner` (on holes too: the
+/// callers that need a limit surface check for holes).
 pub(super) fn patch_cells(
     t: &Topology,
     f: usize,
     corner: impl Fn(usize) -> Option<Corner>,
 ) -> Option<[[Cell; 4]; 4]> {
     let fv = t.face_vertices(f);
-    if fv.len() != 4 || t.is_hole(f) {
+    if fv.len() != 4 {
         return None;
     }
     let mut cp = [[Cell::default(); 4]; 4];

@@ -385,7 +385,7 @@ impl Tail {
                 }
                 let readers = layers.iter().filter(|l| l.source == s - 1);
                 for layer in readers {
-                    for &col in layer.ctrl.iter().flatten() {
+                    for col in layer.control_vertices() {
                         used[col as usize] = true;
                     }
                 }
@@ -954,39 +954,68 @@ mod tests {
         }
     }
 
+    /// Builds plans of regression shape `name` to levels 2..=4 with patches of depth 2 and
+    /// 3, checks that they compute the same vertices as plans of sparse rows only (to
+    /// rounding), and returns the number of patches with phantom points (edge patches)
+    /// over all of them.
+    fn check_patches(name: &str) -> usize {
+        let path = format!("{}/tests/shapes/osd/{name}.obj", env!("CARGO_MANIFEST_DIR"));
+        let obj = crate::io::obj::read_obj(std::path::Path::new(&path)).unwrap();
+        let options = obj.options.resolve(Options::default());
+        let pos = obj.mesh.positions();
+        let (lo, hi) = obj.mesh.bounding_box().unwrap();
+        let size = (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f64>().sqrt();
+        let mut edge_patches = 0;
+        for levels in 2..=4 {
+            let rows = RefinePlan::build(&obj.mesh, options, levels, 0).unwrap();
+            let want = rows.apply(pos);
+            for depth in 2..=3 {
+                let plan = RefinePlan::build(&obj.mesh, options, levels, depth).unwrap();
+                assert!(
+                    plan.num_patches() > 0,
+                    "{name} level {levels} depth {depth}"
+                );
+                let layers = plan.tail.iter().flat_map(|t| &t.layers);
+                edge_patches += layers.map(|l| l.edge_nets.len()).sum::<usize>();
+                let got = plan.apply(pos);
+                assert_eq!(got.len(), want.len());
+                for (i, (a, b)) in got.iter().zip(&want).enumerate() {
+                    let err = (0..3).map(|k| (a[k] - b[k]).abs()).fold(0.0, f64::max);
+                    // Both sides round differently (16-term kernel against folded
+                    // sparse rows): measured at most 1.3e-15 of the size.
+                    assert!(
+                        err <= 4e-15 * size,
+                        "{name} level {levels} depth {depth} vertex {i}: {err:e}"
+                    );
+                }
+            }
+        }
+        edge_patches
+    }
+
     /// Patches compute the same vertices as the sparse rows, to rounding, at every depth,
     /// and cover most of a mesh with few extraordinary vertices.
     #[test]
     fn patches_match_rows() {
         for name in ["catmark_pawn", "catmark_torus_creases0", "catmark_bishop"] {
-            let path = format!("{}/tests/shapes/osd/{name}.obj", env!("CARGO_MANIFEST_DIR"));
-            let obj = crate::io::obj::read_obj(std::path::Path::new(&path)).unwrap();
-            let options = obj.options.resolve(Options::default());
-            let pos = obj.mesh.positions();
-            let (lo, hi) = obj.mesh.bounding_box().unwrap();
-            let size = (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f64>().sqrt();
-            for levels in 2..=4 {
-                let rows = RefinePlan::build(&obj.mesh, options, levels, 0).unwrap();
-                let want = rows.apply(pos);
-                for depth in 2..=3 {
-                    let plan = RefinePlan::build(&obj.mesh, options, levels, depth).unwrap();
-                    assert!(
-                        plan.num_patches() > 0,
-                        "{name} level {levels} depth {depth}"
-                    );
-                    let got = plan.apply(pos);
-                    assert_eq!(got.len(), want.len());
-                    for (i, (a, b)) in got.iter().zip(&want).enumerate() {
-                        let err = (0..3).map(|k| (a[k] - b[k]).abs()).fold(0.0, f64::max);
-                        // Both sides round differently (16-term kernel against
-                        // folded sparse rows): measured at most 1.3e-15 of the size.
-                        assert!(
-                            err <= 4e-15 * size,
-                            "{name} level {levels} depth {depth} vertex {i}: {err:e}"
-                        );
-                    }
-                }
-            }
+            check_patches(name);
+        }
+    }
+
+    /// Patches with phantom points across boundaries (every boundary mode), infinitely
+    /// sharp creases and corners reproduce the crease rules: the same vertices as the
+    /// sparse rows.
+    #[test]
+    fn edge_patches_match_rows() {
+        for name in [
+            "catmark_edgeonly",
+            "catmark_edgecorner",
+            "catmark_edgenone",
+            "catmark_quadstrips",
+            "catmark_inf_crease1",
+            "catmark_hole_test3",
+        ] {
+            assert!(check_patches(name) > 0, "{name}: no edge patches");
         }
     }
 

@@ -24,14 +24,27 @@
 //! along `v`): 13 applications of `W` for the 81 vertices of depth 3.
 //!
 //! # Which quads
-//! A quad is a patch when [`regular_patch_cells`] finds its 4 × 4 net made of 16 distinct
-//! vertices of its level (no phantom points): its four corners are smooth valence-4
-//! vertices with no sharp or semi-sharp edge, surrounded by quads. Refinement inside such a
-//! quad then only ever applies the smooth regular masks: the vertices that level `l + 1`
-//! puts within half a parent edge of the quad come from the masks of its corners, of the
-//! twelve edges at them and of the nine faces around them (all regular), and every element
-//! derived from them is regular again. Each refined vertex is written by exactly one
-//! patch or by the plan's remaining sparse rows (see [`Claims`]).
+//! A quad is a patch when [`refinement_patch_cells`] finds its 4 × 4 net, with distinct
+//! vertices (on holes too, whose vertices follow the same rules): its four corners are smooth valence-4 vertices with no sharp or semi-sharp
+//! edge, surrounded by quads, or regular boundary, crease and corner vertices (see
+//! [`crate::limit::patch`]). Refinement inside a smooth such quad only ever applies the
+//! smooth regular masks: the vertices that level `l + 1` puts within half a parent edge of
+//! the quad come from the masks of its corners, of the twelve edges at them and of the nine
+//! faces around them (all regular), and every element derived from them is regular again.
+//!
+//! Across a boundary or an infinitely sharp crease the net has *phantom* points, `2 P₀ −
+//! P₁` (and `4 P₀₀ − 2 P₁₀ − 2 P₀₁ + P₁₁` in a corner cell). They reproduce the crease rules
+//! exactly: one step of the curve rules on a row `P₁, P₀, 2 P₀ − P₁` across the side gives
+//! `P₀` at the side (the vertex rule `(P₁ + 6 P₀ + (2 P₀ − P₁))/8`) and the new phantom
+//! `(3 P₀ − P₁)/2 = 2 P₀' − P₁'`, so the refined row has the same form; along the side the
+//! tensor product then applies `(1, 6, 1)/8` and `(1, 1)/2` to the side's points, the crease
+//! vertex and edge rules (Biermann, Levin & Zorin 2000, §3; OpenSubdiv's regular boundary
+//! patches). A corner cell is fixed the same way in both directions (the corner rule). Such
+//! patches ("edge patches" here) evaluate their phantom points into a local net first, then
+//! run the same kernel.
+//!
+//! Each refined vertex is written by exactly one patch or by the plan's remaining sparse
+//! rows (see [`Claims`]).
 //!
 //! # Numbering
 //! Where a patch's refined vertices go follows from [`refine_topology`]'s child numbering
@@ -45,7 +58,7 @@
 
 use rayon::prelude::*;
 
-use crate::limit::patch::regular_patch_cells;
+use crate::limit::patch::{refinement_patch_cells, Cell};
 use crate::mesh::Topology;
 
 /// Patches per parallel task.
@@ -65,10 +78,14 @@ pub(super) struct PatchLayer {
     /// [`RefinePlan`]: super::RefinePlan
     pub(super) source: usize,
     /// The 16 control vertices of each patch, `ctrl[4i + j]` at `(u, v)` cell `(i, j)`.
-    pub(super) ctrl: Vec<[u32; 16]>,
+    ctrl: Vec<[u32; 16]>,
     /// The output vertex of each of the `n²` grid points of each patch (`n = 2ᵈ + 1`,
     /// point `(x, y)` at `n x + y`, `x` along `u`), or [`NOT_OWNED`].
     out: Vec<u32>,
+    /// The nets of the edge patches (with phantom points; module docs), as `ctrl`.
+    pub(super) edge_nets: Vec<[Cell; 16]>,
+    /// The grid points of the edge patches, as `out`.
+    edge_out: Vec<u32>,
     /// The kernel's matrix `W`, one row of four weights per grid column.
     w: Vec<[f64; 4]>,
     /// One more than the largest control index, and than the largest output index.
@@ -206,21 +223,38 @@ fn fill(
     Some(())
 }
 
-/// The 16 control vertices of quad `f` if it can be a patch (module docs).
-fn patch_controls(t: &Topology, f: usize) -> Option<[u32; 16]> {
-    let cells = regular_patch_cells(t, f)?;
-    let mut ctrl = [0u32; 16];
-    for (i, col) in cells.iter().enumerate() {
-        for (j, c) in col.iter().enumerate() {
-            if c.len != 1 || c.weights[0] != 1.0 {
-                return None;
-            }
-            ctrl[4 * i + j] = c.verts[0];
-        }
+/// The control net of a patch.
+enum Net {
+    /// 16 vertices of the level.
+    Plain([u32; 16]),
+    /// With phantom points (boxed: 14 times the size of a plain net, and rarer).
+    Edge(Box<[Cell; 16]>),
+}
+
+/// The control net of quad `f` if it can be a patch (module docs): its 16 cells, whose
+/// vertices (those that are not phantoms) must be distinct.
+fn patch_controls(t: &Topology, f: usize) -> Option<Net> {
+    let cells = refinement_patch_cells(t, f)?;
+    let cells: [Cell; 16] = std::array::from_fn(|k| cells[k / 4][k % 4]);
+    let plain = cells.iter().all(|c| c.len == 1 && c.weights[0] == 1.0);
+    let mut verts: Vec<u32> = (cells.iter())
+        .filter(|c| c.len == 1)
+        .map(|c| c.verts[0])
+        .collect();
+    verts.sort_unstable();
+    if verts.windows(2).any(|w| w[0] == w[1]) {
+        return None;
     }
-    let mut sorted = ctrl;
-    sorted.sort_unstable();
-    sorted.windows(2).all(|w| w[0] != w[1]).then_some(ctrl)
+    Some(if plain {
+        Net::Plain(cells.map(|c| c.verts[0]))
+    } else {
+        Net::Edge(Box::new(cells))
+    })
+}
+
+/// The vertices a cell combines.
+fn cell_verts(c: &Cell) -> &[u32] {
+    &c.verts[..c.len]
 }
 
 impl PatchLayer {
@@ -230,7 +264,7 @@ impl PatchLayer {
     pub(super) fn build(levels: &[Topology], source: usize, claims: &mut Claims) -> Self {
         let depth = levels.len() as u32;
         let t = &levels[0];
-        let found: Vec<([u32; 16], Vec<u32>)> = (0..t.num_faces())
+        let found: Vec<(Net, Vec<u32>)> = (0..t.num_faces())
             .into_par_iter()
             .with_min_len(CHUNK)
             .filter_map(|f| {
@@ -240,7 +274,8 @@ impl PatchLayer {
             .collect();
         let mut ctrl = Vec::with_capacity(found.len());
         let mut out = Vec::with_capacity(found.iter().map(|(_, g)| g.len()).sum());
-        for (c, mut grid) in found {
+        let (mut edge_nets, mut edge_out) = (Vec::new(), Vec::new());
+        for (net, mut grid) in found {
             let mut any = false;
             for g in &mut grid {
                 let seen = &mut claims.0[*g as usize];
@@ -251,9 +286,16 @@ impl PatchLayer {
                     any = true;
                 }
             }
-            if any {
-                ctrl.push(c);
-                out.extend_from_slice(&grid);
+            match net {
+                _ if !any => {}
+                Net::Plain(c) => {
+                    ctrl.push(c);
+                    out.extend_from_slice(&grid);
+                }
+                Net::Edge(c) => {
+                    edge_nets.push(*c);
+                    edge_out.extend_from_slice(&grid);
+                }
             }
         }
         let mut layer = PatchLayer {
@@ -261,6 +303,8 @@ impl PatchLayer {
             source,
             ctrl,
             out,
+            edge_nets,
+            edge_out,
             w: weights(depth),
             bounds: [0, 0],
         };
@@ -271,27 +315,33 @@ impl PatchLayer {
     fn set_bounds(&mut self) {
         let end = |i: u32| i as usize + 1;
         self.bounds = [
-            self.ctrl
-                .iter()
-                .flatten()
-                .map(|&c| end(c))
-                .max()
-                .unwrap_or(0),
-            (self.out.iter().filter(|&&o| o != NOT_OWNED))
+            self.control_vertices().map(end).max().unwrap_or(0),
+            (self.out.iter().chain(&self.edge_out))
+                .filter(|&&o| o != NOT_OWNED)
                 .map(|&o| end(o))
                 .max()
                 .unwrap_or(0),
         ];
     }
 
+    /// Every source vertex that the patches read (with repetitions).
+    pub(super) fn control_vertices(&self) -> impl Iterator<Item = u32> + '_ {
+        let edge = self.edge_nets.iter().flatten().flat_map(cell_verts);
+        self.ctrl.iter().flatten().chain(edge).copied()
+    }
+
     /// Number of patches.
     pub(super) fn len(&self) -> usize {
-        self.ctrl.len()
+        self.ctrl.len() + self.edge_nets.len()
     }
 
     /// Bytes held.
     pub(super) fn memory_bytes(&self) -> usize {
-        64 * self.ctrl.len() + 4 * self.out.len() + 32 * self.w.len()
+        64 * self.ctrl.len()
+            + 4 * self.out.len()
+            + std::mem::size_of::<[Cell; 16]>() * self.edge_nets.len()
+            + 4 * self.edge_out.len()
+            + 32 * self.w.len()
     }
 
     /// Renumbers the control vertices through `map` (the position of each vertex in the
@@ -299,6 +349,11 @@ impl PatchLayer {
     pub(super) fn remap(&mut self, map: &[u32]) {
         for c in self.ctrl.iter_mut().flatten() {
             *c = map[*c as usize];
+        }
+        for c in self.edge_nets.iter_mut().flatten() {
+            for v in &mut c.verts[..c.len] {
+                *v = map[*v as usize];
+            }
         }
         self.set_bounds();
     }
@@ -322,19 +377,41 @@ impl PatchLayer {
         assert!(self.bounds[0] <= src.len() && self.bounds[1] <= out.len());
         let w: &[[f64; 4]; N] = self.w.as_slice().try_into().expect("kernel size");
         let dst = SharedOut(out.as_mut_ptr());
-        let body = |(ctrl, grids): (&[[u32; 16]], &[u32])| {
+        for_chunks::<_, NN>(&self.ctrl, &self.out, |ctrl, grids| {
             // SAFETY: indices checked above; each output written once (`SharedOut`).
             unsafe { patches::<N, NN, D>(w, src, ctrl, grids, &dst) };
-        };
-        if self.ctrl.len() <= CHUNK || rayon::current_num_threads() == 1 {
-            (self.ctrl.chunks(CHUNK).zip(self.out.chunks(CHUNK * NN))).for_each(body);
-        } else {
-            (self
-                .ctrl
-                .par_chunks(CHUNK)
-                .zip(self.out.par_chunks(CHUNK * NN)))
-            .for_each(body);
-        }
+        });
+        const IDENTITY: [u32; 16] = [0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15];
+        for_chunks::<_, NN>(&self.edge_nets, &self.edge_out, |nets, grids| {
+            for (net, grid) in nets.iter().zip(grids.chunks_exact(NN)) {
+                let local: [[f64; D]; 16] = std::array::from_fn(|k| {
+                    let c = &net[k];
+                    let mut acc = [0.0; D];
+                    for (&v, &wt) in c.verts.iter().zip(&c.weights).take(c.len) {
+                        let p = &src[v as usize];
+                        (0..D).for_each(|l| acc[l] += wt * p[l]);
+                    }
+                    acc
+                });
+                // SAFETY: the net's indices are in bounds of `local`; outputs as above.
+                unsafe { patches::<N, NN, D>(w, &local, &[IDENTITY], grid, &dst) };
+            }
+        });
+    }
+}
+
+/// Runs `f` on runs of [`CHUNK`] patches and their grids (`NN` points per patch), in
+/// parallel when there are several runs and threads.
+fn for_chunks<P: Sync, const NN: usize>(
+    patches: &[P],
+    grids: &[u32],
+    f: impl Fn(&[P], &[u32]) + Sync + Send,
+) {
+    let body = |(p, g): (&[P], &[u32])| f(p, g);
+    if patches.len() <= CHUNK || rayon::current_num_threads() == 1 {
+        (patches.chunks(CHUNK).zip(grids.chunks(CHUNK * NN))).for_each(body);
+    } else {
+        (patches.par_chunks(CHUNK).zip(grids.par_chunks(CHUNK * NN))).for_each(body);
     }
 }
 
