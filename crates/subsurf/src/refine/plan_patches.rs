@@ -381,21 +381,24 @@ impl PatchLayer {
             // SAFETY: indices checked above; each output written once (`SharedOut`).
             unsafe { patches::<N, NN, D>(w, src, ctrl, grids, &dst) };
         });
-        const IDENTITY: [u32; 16] = [0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15];
+        // Edge patches: each run's nets evaluated into a local array, then the same kernel
+        // over it (local patch `p` has the control indices `16 p + k`).
+        let local_ctrl: Vec<[u32; 16]> = (0..CHUNK.min(self.edge_nets.len()) as u32)
+            .map(|p| std::array::from_fn(|k| 16 * p + k as u32))
+            .collect();
         for_chunks::<_, NN>(&self.edge_nets, &self.edge_out, |nets, grids| {
-            for (net, grid) in nets.iter().zip(grids.chunks_exact(NN)) {
-                let local: [[f64; D]; 16] = std::array::from_fn(|k| {
-                    let c = &net[k];
+            let local: Vec<[f64; D]> = (nets.iter().flatten())
+                .map(|c| {
                     let mut acc = [0.0; D];
                     for (&v, &wt) in c.verts.iter().zip(&c.weights).take(c.len) {
                         let p = &src[v as usize];
                         (0..D).for_each(|l| acc[l] += wt * p[l]);
                     }
                     acc
-                });
-                // SAFETY: the net's indices are in bounds of `local`; outputs as above.
-                unsafe { patches::<N, NN, D>(w, &local, &[IDENTITY], grid, &dst) };
-            }
+                })
+                .collect();
+            // SAFETY: the local indices are in bounds of `local`; outputs as above.
+            unsafe { patches::<N, NN, D>(w, &local, &local_ctrl[..nets.len()], grids, &dst) };
         });
     }
 }
