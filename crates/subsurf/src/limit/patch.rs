@@ -66,13 +66,13 @@ impl Cell {
         c
     }
 
-    /// The point `Σ wₖ pos[vₖ]`.
+    /// The point `Σ wₖ pos[vₖ]` (of any number `D` of components).
     #[inline]
-    pub fn eval(&self, pos: &[[f64; 3]]) -> [f64; 3] {
-        let mut acc = [0.0; 3];
+    pub fn eval<const D: usize>(&self, pos: &[[f64; D]]) -> [f64; D] {
+        let mut acc = [0.0; D];
         for (&v, &w) in self.verts.iter().zip(&self.weights).take(self.len) {
             let p = &pos[v as usize];
-            (0..3).for_each(|k| acc[k] += w * p[k]);
+            (0..D).for_each(|k| acc[k] += w * p[k]);
         }
         acc
     }

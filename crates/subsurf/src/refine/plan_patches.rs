@@ -25,9 +25,10 @@
 //!
 //! # Which quads
 //! A quad is a patch when [`refinement_patch_cells`] finds its 4 × 4 net, with distinct
-//! vertices (on holes too, whose vertices follow the same rules): its four corners are smooth valence-4 vertices with no sharp or semi-sharp
-//! edge, surrounded by quads, or regular boundary, crease and corner vertices (see
-//! [`crate::limit::patch`]). Refinement inside a smooth such quad only ever applies the
+//! vertices (on holes too, whose vertices follow the same rules): its four corners are
+//! smooth valence-4 vertices with no sharp or semi-sharp edge, surrounded by quads, or
+//! regular boundary, crease and corner vertices (see [`crate::limit::patch`]).
+//! Refinement inside a smooth such quad only ever applies the
 //! smooth regular masks: the vertices that level `l + 1` puts within half a parent edge of
 //! the quad come from the masks of its corners, of the twelve edges at them and of the nine
 //! faces around them (all regular), and every element derived from them is regular again.
@@ -387,16 +388,7 @@ impl PatchLayer {
             .map(|p| std::array::from_fn(|k| 16 * p + k as u32))
             .collect();
         for_chunks::<_, NN>(&self.edge_nets, &self.edge_out, |nets, grids| {
-            let local: Vec<[f64; D]> = (nets.iter().flatten())
-                .map(|c| {
-                    let mut acc = [0.0; D];
-                    for (&v, &wt) in c.verts.iter().zip(&c.weights).take(c.len) {
-                        let p = &src[v as usize];
-                        (0..D).for_each(|l| acc[l] += wt * p[l]);
-                    }
-                    acc
-                })
-                .collect();
+            let local: Vec<[f64; D]> = nets.iter().flatten().map(|c| c.eval(src)).collect();
             // SAFETY: the local indices are in bounds of `local`; outputs as above.
             unsafe { patches::<N, NN, D>(w, &local, &local_ctrl[..nets.len()], grids, &dst) };
         });
