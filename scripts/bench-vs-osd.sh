@@ -266,6 +266,11 @@ if [ -n "$LIMIT_GRID" ]; then
       points="$points (OSD: $osd_points)"
       status=1
     fi
+    if [ "$points" = 0 ]; then
+      # No quad faces (an all-triangle mesh, say): both tools time an empty evaluation.
+      printf '| %s | 0 (no quads) | — | — | — | — | — | — | — |\n' "$label"
+      continue
+    fi
     osd_s="$(median "${osd_t[@]}")"; t1_s="$(median "${t1_t[@]}")"; t2_s="$(median "${t2_t[@]}")"
     printf '| %s | %s | %s | %s | %s | %s | %s | %s | %s |\n' "$label" "$points" "$osd_s" \
       "$t1_s" "$(ratio "$t1_s" "$osd_s")" "$t2_s" "$(ratio "$t2_s" "$osd_s")" \
