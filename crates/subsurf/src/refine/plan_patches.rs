@@ -382,18 +382,35 @@ impl PatchLayer {
             // SAFETY: indices checked above; each output written once (`SharedOut`).
             unsafe { patches::<N, NN, D>(w, src, ctrl, grids, &dst) };
         });
-        // Edge patches: each run's nets evaluated into a local array, then the same kernel
-        // over it (local patch `p` has the control indices `16 p + k`).
-        let local_ctrl: Vec<[u32; 16]> = (0..CHUNK.min(self.edge_nets.len()) as u32)
-            .map(|p| std::array::from_fn(|k| 16 * p + k as u32))
-            .collect();
+        // Edge patches: the nets of up to `LOCAL` patches evaluated into an array on the
+        // stack (nothing is allocated), then the same kernel over it.
         for_chunks::<_, NN>(&self.edge_nets, &self.edge_out, |nets, grids| {
-            let local: Vec<[f64; D]> = nets.iter().flatten().map(|c| c.eval(src)).collect();
-            // SAFETY: the local indices are in bounds of `local`; outputs as above.
-            unsafe { patches::<N, NN, D>(w, &local, &local_ctrl[..nets.len()], grids, &dst) };
+            for (nets, grids) in nets.chunks(LOCAL).zip(grids.chunks(LOCAL * NN)) {
+                let mut local = [[[0.0; D]; 16]; LOCAL];
+                for (l, net) in local.iter_mut().zip(nets) {
+                    *l = net.each_ref().map(|c| c.eval(src));
+                }
+                let local = local.as_flattened();
+                // SAFETY: `LOCAL_CTRL` indexes `local`; outputs as above.
+                unsafe { patches::<N, NN, D>(w, local, &LOCAL_CTRL[..nets.len()], grids, &dst) };
+            }
         });
     }
 }
+
+/// Edge patches evaluated together into one local array.
+const LOCAL: usize = 16;
+
+/// The control indices of the local patches: patch `p`'s net at `16 p .. 16 p + 16`.
+const LOCAL_CTRL: [[u32; 16]; LOCAL] = {
+    let mut ctrl = [[0u32; 16]; LOCAL];
+    let mut i = 0;
+    while i < 16 * LOCAL {
+        ctrl[i / 16][i % 16] = i as u32;
+        i += 1;
+    }
+    ctrl
+};
 
 /// Runs `f` on runs of [`CHUNK`] patches and their grids (`NN` points per patch), in
 /// parallel when there are several runs and threads.
