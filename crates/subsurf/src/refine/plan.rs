@@ -314,8 +314,8 @@ impl RefinePlan {
     }
 
     /// [`apply`](Self::apply) into `out` (resized to [`num_vertices`](Self::num_vertices)),
-    /// with the intermediate levels in `scratch`: once `out` and `scratch` have their
-    /// sizes, nothing is allocated.
+    /// with the intermediate levels in `scratch`: after the first call with the same
+    /// `out` and `scratch`, nothing is allocated (`tests/plan_no_alloc.rs`).
     ///
     /// # Panics
     /// If `base.len() != self.num_base_vertices()`.
@@ -341,6 +341,16 @@ impl RefinePlan {
             std::mem::take(&mut scratch.a),
             std::mem::take(&mut scratch.b),
         );
+        // Both buffers take every level in turn: room for the largest from the first call
+        // on, so that later calls allocate nothing (whatever the parity of the levels).
+        let in_scratch = if self.tail.is_some() { n } else { n - 1 };
+        let widest = self.steps[..in_scratch]
+            .iter()
+            .map(|s| s.row_class.len())
+            .max();
+        for v in [&mut cur, &mut spare] {
+            v.reserve(widest.unwrap_or(0).saturating_sub(v.len()));
+        }
         for (i, step) in self.steps.iter().enumerate() {
             let src: &[[f64; D]] = if i == 0 { base } else { &cur };
             let last = i + 1 == n && self.tail.is_none();
