@@ -13,8 +13,8 @@
 //! B-spline subdivision, so the plan stores only the 16 control points of each such quad
 //! and computes the 81 vertices that three more levels put on it with a fixed
 //! tensor-product kernel (see `refine/plan_patches.rs`); sparse rows cover the
-//! rest. Re-posing is about 12× faster than [`subdivide`](crate::subdivide) on large
-//! meshes (see [`RefinePlan`] for numbers).
+//! rest. Re-posing is 11–20× faster than [`subdivide`](crate::subdivide) on large
+//! meshes with few extraordinary vertices (see [`RefinePlan`] for numbers).
 //!
 //! # Storage
 //! Most rows share their weights with many others: every smooth edge point between two
@@ -34,7 +34,8 @@
 //! A patch costs 64 bytes of control indices and 4 bytes per grid point (81 for a
 //! depth-3 patch, of which it writes 64 on average), about 6 bytes per output vertex:
 //! `catmark_bishop` to level 6 (3.8 M output vertices) takes 29 MiB, 1.5 M weights and
-//! 60 k patches (140 MiB and 31.8 M weights with sparse rows only).
+//! 65 k patches (140 MiB and 31.8 M weights with sparse rows only). A patch with phantom
+//! points (at a boundary or crease) stores its 16 cells instead, 896 bytes.
 //!
 //! # Accuracy
 //! The plan computes the same linear map as [`interpolate`](super::interpolate), but sums
@@ -44,7 +45,7 @@
 //! levels 1–3 (at most 1.4e-15 measured; `tests/replay.rs`). Merged weights are summed
 //! with their rounding errors, and each row adds its smallest terms first, so that a
 //! valence-360 pole is as accurate as elsewhere. The patches' kernel rounds like a row
-//! of 16 terms (dyadic weights, 8 multiply-adds per vertex, fused where the processor
+//! of 16 terms (after one more rounding for phantom points) (dyadic weights, 8 multiply-adds per vertex, fused where the processor
 //! has FMA, so the last bits can differ between processors with and without it). The
 //! result does not depend on the number of threads.
 
@@ -102,13 +103,14 @@ const PAR_MIN_ROWS: usize = 16 * 1024;
 /// bound by writing the output.
 ///
 /// Measured on `catmark_bishop` refined to level 6 (3.8 M output vertices; a shared
-/// 2-core virtual machine, medians of 9 repetitions, `subsurf bench --replay`): one apply
-/// takes 0.017–0.018 s on one thread and 0.010–0.013 s on two, against 0.22–0.24 s and
-/// 0.13–0.15 s for `subdivide` (12–13× faster with the same threads) and about 0.7 s
-/// for OpenSubdiv's `RefineUniform` + `PrimvarRefiner`. Building the plan took 0.5–0.8 s
-/// (one thread). `catmark_pawn` to level 6 (2.4 M vertices): 0.012 s against 0.12–0.15 s
-/// (one thread), 0.006 s against 0.10 s (two). With sparse rows only (before patches)
-/// the same bishop apply took 0.05–0.06 s.
+/// 2-core virtual machine, `scripts/bench-vs-osd.sh`, medians of 7 repetitions in three
+/// interleaved rounds, five runs; `BENCHMARKS.md`): one apply takes 0.012–0.014 s on one
+/// thread and 0.007–0.011 s on two, against 0.17–0.20 s and 0.10–0.13 s for `subdivide`
+/// (11–16× faster with the same threads) and 0.64–0.68 s for OpenSubdiv's
+/// `RefineUniform` + `PrimvarRefiner`. Building the plan took 0.5–1.6 s (one thread).
+/// `catmark_pawn` to level 6 (2.4 M vertices): 0.007 s against 0.11–0.14 s (one thread).
+/// With sparse rows only (before patches) the same bishop apply took 0.05–0.06 s. Meshes
+/// dense in extraordinary vertices gain less: an all-triangle mesh at level 5, 5–8×.
 ///
 /// The plan covers positions of every vertex of the last level, in
 /// [`subdivide`](crate::subdivide)'s order (including vertices used only by hole faces);
@@ -932,12 +934,7 @@ mod tests {
     /// an ulp or two, as `subdivide` is.
     #[test]
     fn high_valence_rows_are_accurate() {
-        let path = concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/tests/shapes/osd/catmark_pole360.obj"
-        );
-        let obj = crate::io::obj::read_obj(std::path::Path::new(path)).unwrap();
-        let options = obj.options.resolve(Options::default());
+        let (obj, options) = shape("catmark_pole360");
         for levels in 1..=3 {
             // Sparse rows only (patches are not near the pole; see `patches_match_rows`).
             let plan = RefinePlan::build(&obj.mesh, options, levels, 0).unwrap();
@@ -964,14 +961,20 @@ mod tests {
         }
     }
 
+    /// Regression shape `name` and the options of its tags.
+    fn shape(name: &str) -> (crate::io::obj::ObjFile, Options) {
+        let path = format!("{}/tests/shapes/osd/{name}.obj", env!("CARGO_MANIFEST_DIR"));
+        let obj = crate::io::obj::read_obj(std::path::Path::new(&path)).unwrap();
+        let options = obj.options.resolve(Options::default());
+        (obj, options)
+    }
+
     /// Builds plans of regression shape `name` to levels 2..=4 with patches of depth 2 and
     /// 3, checks that they compute the same vertices as plans of sparse rows only (to
     /// rounding), and returns the number of patches with phantom points (edge patches)
     /// over all of them.
     fn check_patches(name: &str) -> usize {
-        let path = format!("{}/tests/shapes/osd/{name}.obj", env!("CARGO_MANIFEST_DIR"));
-        let obj = crate::io::obj::read_obj(std::path::Path::new(&path)).unwrap();
-        let options = obj.options.resolve(Options::default());
+        let (obj, options) = shape(name);
         let pos = obj.mesh.positions();
         let (lo, hi) = obj.mesh.bounding_box().unwrap();
         let size = (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f64>().sqrt();
@@ -1009,6 +1012,12 @@ mod tests {
     fn patches_match_rows() {
         for name in ["catmark_pawn", "catmark_torus_creases0", "catmark_bishop"] {
             check_patches(name);
+            let (obj, options) = shape(name);
+            let plan = RefinePlan::new(&obj.mesh, options, 4).unwrap();
+            let tail = plan.tail.as_ref().unwrap();
+            let rows = tail.out_rows.len() as f64 / tail.num_out as f64;
+            // Measured: 9 % (pawn), 11 % (torus_creases0), 14 % (bishop) of level 4.
+            assert!(rows < 0.2, "{name}: {rows} of the output in sparse rows");
         }
     }
 
@@ -1032,11 +1041,7 @@ mod tests {
     /// Every vertex of the smooth regular part shares a handful of classes.
     #[test]
     fn classes_are_shared() {
-        let path = concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/tests/shapes/osd/catmark_torus.obj"
-        );
-        let obj = crate::io::obj::read_obj(std::path::Path::new(path)).unwrap();
+        let (obj, _) = shape("catmark_torus");
         let plan = RefinePlan::build(&obj.mesh, Options::default(), 3, 0).unwrap();
         let last = plan.steps.last().unwrap();
         // Regular quads: face points, smooth edge points and valence-4 vertex points.
