@@ -28,6 +28,7 @@
 mod adjustable;
 pub mod nurss;
 pub mod plan;
+mod plan_ev;
 mod plan_patches;
 mod primvar;
 mod topology;

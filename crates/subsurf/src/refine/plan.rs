@@ -184,7 +184,7 @@ impl RefinePlan {
     }
 
     /// [`new`](Self::new) with patches of at most `max_depth` levels (none below 2).
-    fn build(
+    pub(super) fn build(
         mesh: &PolyMesh,
         options: Options,
         levels: u32,
@@ -381,7 +381,7 @@ impl Tail {
         let mut claims = Claims::new(tops[d].num_vertices());
         let mut layers: Vec<PatchLayer> = (2..=d)
             .rev()
-            .map(|depth| PatchLayer::build(&tops[d - depth..d], d - depth, &mut claims))
+            .map(|depth| PatchLayer::build(&tops[d - depth..d], d - depth, &mut claims, options))
             .collect();
         // From the last level down: the rows that are needed, and the vertices they read.
         let mut rows = claims.unclaimed();
@@ -971,31 +971,36 @@ mod tests {
 
     /// Builds plans of regression shape `name` to levels 2..=4 with patches of depth 2 and
     /// 3, checks that they compute the same vertices as plans of sparse rows only (to
-    /// rounding), and returns the number of patches with phantom points (edge patches)
-    /// over all of them.
-    fn check_patches(name: &str) -> usize {
+    /// rounding), and returns the numbers of patches with phantom points (edge patches)
+    /// and of extraordinary patches over all of them.
+    fn check_patches(name: &str) -> (usize, usize) {
         let (obj, options) = shape(name);
         let pos = obj.mesh.positions();
         let (lo, hi) = obj.mesh.bounding_box().unwrap();
         let size = (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f64>().sqrt();
-        let mut edge_patches = 0;
+        let (mut edge_patches, mut ev_patches) = (0, 0);
         for levels in 2..=4 {
             let rows = RefinePlan::build(&obj.mesh, options, levels, 0).unwrap();
             let want = rows.apply(pos);
             for depth in 2..=3 {
                 let plan = RefinePlan::build(&obj.mesh, options, levels, depth).unwrap();
+                // (The quads of level 2 have at most one extraordinary corner; a
+                // level-1 quad may have two, and a base mesh no quad at all.)
                 assert!(
-                    plan.num_patches() > 0,
+                    levels < 4 || plan.num_patches() > 0,
                     "{name} level {levels} depth {depth}"
                 );
-                let layers = plan.tail.iter().flat_map(|t| &t.layers);
-                edge_patches += layers.map(|l| l.edge_nets.len()).sum::<usize>();
+                for layer in plan.tail.iter().flat_map(|t| &t.layers) {
+                    edge_patches += layer.edge_nets.len();
+                    ev_patches += layer.ev.iter().map(|g| g.len()).sum::<usize>();
+                }
                 let got = plan.apply(pos);
                 assert_eq!(got.len(), want.len());
                 for (i, (a, b)) in got.iter().zip(&want).enumerate() {
                     let err = (0..3).map(|k| (a[k] - b[k]).abs()).fold(0.0, f64::max);
-                    // Both sides round differently (16-term kernel against folded
-                    // sparse rows): measured at most 1.3e-15 of the size.
+                    // Both sides round differently (16-term kernel, or up to 40 terms of
+                    // an extraordinary one, against folded sparse rows): measured at
+                    // most 1.3e-15 of the size.
                     assert!(
                         err <= 4e-15 * size,
                         "{name} level {levels} depth {depth} vertex {i}: {err:e}"
@@ -1003,7 +1008,7 @@ mod tests {
                 }
             }
         }
-        edge_patches
+        (edge_patches, ev_patches)
     }
 
     /// Patches compute the same vertices as the sparse rows, to rounding, at every depth,
@@ -1034,7 +1039,28 @@ mod tests {
             "catmark_inf_crease1",
             "catmark_hole_test3",
         ] {
-            assert!(check_patches(name) > 0, "{name}: no edge patches");
+            assert!(check_patches(name).0 > 0, "{name}: no edge patches");
+        }
+    }
+
+    /// Quads at one extraordinary vertex (valences 3 to 8 here, with triangles and
+    /// n-gons in the base meshes) computed by their valence's matrix give the same vertices
+    /// as the sparse rows.
+    #[test]
+    fn ev_patches_match_rows() {
+        for name in [
+            "catmark_cube",
+            "catmark_pyramid",
+            "catmark_toroidal_tet",
+            "catmark_nonquads",
+            "catmark_smoothtris0",
+            "catmark_pole8",
+            "catmark_gregory_test6",
+        ] {
+            assert!(
+                check_patches(name).1 > 0,
+                "{name}: no extraordinary patches"
+            );
         }
     }
 

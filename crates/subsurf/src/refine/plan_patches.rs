@@ -57,13 +57,19 @@
 //!
 //! [`refine_topology`]: super::topology::refine_topology
 
+use std::collections::BTreeMap;
+use std::ops::Range;
+
 use rayon::prelude::*;
 
+use super::plan_ev::{ev_net, rotate_grid, EvGroup, EvNet, Kernel};
 use crate::limit::patch::{refinement_patch_cells, Cell};
-use crate::mesh::Topology;
+use crate::mesh::{Options, Topology};
 
-/// Patches per parallel task.
-const CHUNK: usize = 256;
+/// Faces of a layer's level per run: the unit of parallel work. A run applies all its
+/// patches, of every kind, before the next: neighbouring patches share cache lines of the
+/// output, which a separate pass per kind would load again from memory.
+const RUN: usize = 256;
 
 /// The grid point for "written elsewhere".
 pub(super) const NOT_OWNED: u32 = u32::MAX;
@@ -78,8 +84,12 @@ pub(super) struct PatchLayer {
     ///
     /// [`RefinePlan`]: super::RefinePlan
     pub(super) source: usize,
+    /// Number of runs of [`RUN`] faces.
+    runs: usize,
     /// The 16 control vertices of each patch, `ctrl[4i + j]` at `(u, v)` cell `(i, j)`.
     ctrl: Vec<[u32; 16]>,
+    /// Where the patches of each run start in `ctrl`.
+    ctrl_runs: Runs,
     /// The output vertex of each of the `n²` grid points of each patch (`n = 2ᵈ + 1`,
     /// point `(x, y)` at `n x + y`, `x` along `u`), or [`NOT_OWNED`].
     out: Vec<u32>,
@@ -87,10 +97,44 @@ pub(super) struct PatchLayer {
     pub(super) edge_nets: Vec<[Cell; 16]>,
     /// The grid points of the edge patches, as `out`.
     edge_out: Vec<u32>,
+    /// Where the edge patches of each run start.
+    edge_runs: Runs,
+    /// The extraordinary patches (`refine/plan_ev.rs`), by valence.
+    pub(super) ev: Vec<EvGroup>,
     /// The kernel's matrix `W`, one row of four weights per grid column.
     w: Vec<[f64; 4]>,
     /// One more than the largest control index, and than the largest output index.
     bounds: [usize; 2],
+}
+
+/// Where the patches of one kind start in each run of faces: run `r`'s are
+/// `starts[r]..starts[r + 1]`.
+#[derive(Clone, Debug, Default)]
+pub(super) struct Runs(Vec<u32>);
+
+impl Runs {
+    /// From the run of each patch (in increasing order), with `runs` runs.
+    pub(super) fn new(run_of: &[u32], runs: usize) -> Self {
+        let mut starts = Vec::with_capacity(runs + 1);
+        let mut at = 0;
+        for r in 0..=runs as u32 {
+            while at < run_of.len() && run_of[at] < r {
+                at += 1;
+            }
+            starts.push(at as u32);
+        }
+        Runs(starts)
+    }
+
+    /// The patches of run `r`.
+    pub(super) fn range(&self, r: usize) -> Range<usize> {
+        self.0[r] as usize..self.0[r + 1] as usize
+    }
+
+    /// Bytes held.
+    pub(super) fn memory_bytes(&self) -> usize {
+        4 * self.0.len()
+    }
 }
 
 /// Which output vertices are already written by a patch.
@@ -230,12 +274,17 @@ enum Net {
     Plain([u32; 16]),
     /// With phantom points (boxed: 14 times the size of a plain net, and rarer).
     Edge(Box<[Cell; 16]>),
+    /// With one extraordinary corner (`refine/plan_ev.rs`).
+    Ev(EvNet),
 }
 
 /// The control net of quad `f` if it can be a patch (module docs): its 16 cells, whose
-/// vertices (those that are not phantoms) must be distinct.
+/// vertices (those that are not phantoms) must be distinct; or else its extraordinary
+/// net.
 fn patch_controls(t: &Topology, f: usize) -> Option<Net> {
-    let cells = refinement_patch_cells(t, f)?;
+    let Some(cells) = refinement_patch_cells(t, f) else {
+        return ev_net(t, f).map(Net::Ev);
+    };
     let cells: [Cell; 16] = std::array::from_fn(|k| cells[k / 4][k % 4]);
     let plain = cells.iter().all(|c| c.len == 1 && c.weights[0] == 1.0);
     let mut verts: Vec<u32> = (cells.iter())
@@ -259,24 +308,49 @@ fn cell_verts(c: &Cell) -> &[u32] {
 }
 
 impl PatchLayer {
-    /// The patches of depth `levels.len()` on the quads of `levels[0]`: every quad that can
-    /// be one and writes at least one output vertex not yet in `claims` (which it then
-    /// claims).
-    pub(super) fn build(levels: &[Topology], source: usize, claims: &mut Claims) -> Self {
+    /// The patches of depth `levels.len()` on the quads of `levels[0]` (refined with
+    /// `options`): every quad that can be one and writes at least one output vertex not
+    /// yet in `claims` (which it then claims).
+    pub(super) fn build(
+        levels: &[Topology],
+        source: usize,
+        claims: &mut Claims,
+        options: &Options,
+    ) -> Self {
         let depth = levels.len() as u32;
+        let side = (1 << depth) + 1;
         let t = &levels[0];
-        let found: Vec<(Net, Vec<u32>)> = (0..t.num_faces())
+        let found: Vec<(u32, Net, Vec<u32>)> = (0..t.num_faces())
             .into_par_iter()
-            .with_min_len(CHUNK)
+            .with_min_len(RUN)
             .filter_map(|f| {
                 let ctrl = patch_controls(t, f)?;
-                Some((ctrl, grid_indices(levels, f)?))
+                let grid = grid_indices(levels, f)?;
+                let run = (f / RUN) as u32;
+                Some(match ctrl {
+                    Net::Ev(net) => {
+                        let grid = rotate_grid(&grid, side, net.corner);
+                        (run, Net::Ev(net), grid)
+                    }
+                    net => (run, net, grid),
+                })
             })
             .collect();
+        let runs = t.num_faces().div_ceil(RUN);
+        // One kernel per valence found (a quad whose kernel fails is left to the rows).
+        let mut ev: BTreeMap<usize, Option<EvGroup>> = BTreeMap::new();
+        for (_, net, _) in &found {
+            if let Net::Ev(net) = net {
+                ev.entry(net.valence).or_insert_with(|| {
+                    Kernel::new(net.valence, depth, options).map(|k| EvGroup::new(net.valence, k))
+                });
+            }
+        }
         let mut ctrl = Vec::with_capacity(found.len());
-        let mut out = Vec::with_capacity(found.iter().map(|(_, g)| g.len()).sum());
+        let mut out = Vec::with_capacity(found.iter().map(|(_, _, g)| g.len()).sum());
         let (mut edge_nets, mut edge_out) = (Vec::new(), Vec::new());
-        for (net, mut grid) in found {
+        let (mut ctrl_run, mut edge_run) = (Vec::new(), Vec::new());
+        for (run, net, mut grid) in found {
             let mut any = false;
             for g in &mut grid {
                 let seen = &mut claims.0[*g as usize];
@@ -289,23 +363,41 @@ impl PatchLayer {
             }
             match net {
                 _ if !any => {}
+                Net::Ev(net) => {
+                    let Some(Some(group)) = ev.get_mut(&net.valence) else {
+                        // No kernel: give the points back to the rows.
+                        for g in grid.iter().filter(|&&g| g != NOT_OWNED) {
+                            claims.0[*g as usize] = false;
+                        }
+                        continue;
+                    };
+                    group.push(run, &net.verts, &grid);
+                }
                 Net::Plain(c) => {
                     ctrl.push(c);
                     out.extend_from_slice(&grid);
+                    ctrl_run.push(run);
                 }
                 Net::Edge(c) => {
                     edge_nets.push(*c);
                     edge_out.extend_from_slice(&grid);
+                    edge_run.push(run);
                 }
             }
         }
+        let mut ev: Vec<EvGroup> = ev.into_values().flatten().filter(|g| g.len() > 0).collect();
+        ev.iter_mut().for_each(|g| g.set_runs(runs));
         let mut layer = PatchLayer {
             depth,
             source,
+            runs,
             ctrl,
+            ctrl_runs: Runs::new(&ctrl_run, runs),
             out,
             edge_nets,
             edge_out,
+            edge_runs: Runs::new(&edge_run, runs),
+            ev,
             w: weights(depth),
             bounds: [0, 0],
         };
@@ -318,6 +410,7 @@ impl PatchLayer {
         self.bounds = [
             self.control_vertices().map(end).max().unwrap_or(0),
             (self.out.iter().chain(&self.edge_out))
+                .chain(self.ev.iter().flat_map(|g| &g.out))
                 .filter(|&&o| o != NOT_OWNED)
                 .map(|&o| end(o))
                 .max()
@@ -328,20 +421,24 @@ impl PatchLayer {
     /// Every source vertex that the patches read (with repetitions).
     pub(super) fn control_vertices(&self) -> impl Iterator<Item = u32> + '_ {
         let edge = self.edge_nets.iter().flatten().flat_map(cell_verts);
-        self.ctrl.iter().flatten().chain(edge).copied()
+        let ev = self.ev.iter().flat_map(|g| &g.ctrl);
+        self.ctrl.iter().flatten().chain(edge).chain(ev).copied()
     }
 
     /// Number of patches.
     pub(super) fn len(&self) -> usize {
-        self.ctrl.len() + self.edge_nets.len()
+        self.ctrl.len() + self.edge_nets.len() + self.ev.iter().map(EvGroup::len).sum::<usize>()
     }
 
     /// Bytes held.
     pub(super) fn memory_bytes(&self) -> usize {
         64 * self.ctrl.len()
             + 4 * self.out.len()
+            + self.ctrl_runs.memory_bytes()
+            + self.edge_runs.memory_bytes()
             + std::mem::size_of::<[Cell; 16]>() * self.edge_nets.len()
             + 4 * self.edge_out.len()
+            + self.ev.iter().map(EvGroup::memory_bytes).sum::<usize>()
             + 32 * self.w.len()
     }
 
@@ -355,6 +452,9 @@ impl PatchLayer {
             for v in &mut c.verts[..c.len] {
                 *v = map[*v as usize];
             }
+        }
+        for c in self.ev.iter_mut().flat_map(|g| &mut g.ctrl) {
+            *c = map[*c as usize];
         }
         self.set_bounds();
     }
@@ -378,13 +478,19 @@ impl PatchLayer {
         assert!(self.bounds[0] <= src.len() && self.bounds[1] <= out.len());
         let w: &[[f64; 4]; N] = self.w.as_slice().try_into().expect("kernel size");
         let dst = SharedOut(out.as_mut_ptr());
-        for_chunks::<_, NN>(&self.ctrl, &self.out, |ctrl, grids| {
+        let body = |r: usize| {
+            let run = self.ctrl_runs.range(r);
+            let (ctrl, grids) = (
+                &self.ctrl[run.clone()],
+                &self.out[run.start * NN..run.end * NN],
+            );
             // SAFETY: indices checked above; each output written once (`SharedOut`).
             unsafe { patches::<N, NN, D>(w, src, ctrl, grids, &dst) };
-        });
-        // Edge patches: the nets of up to `LOCAL` patches evaluated into an array on the
-        // stack (nothing is allocated), then the same kernel over it.
-        for_chunks::<_, NN>(&self.edge_nets, &self.edge_out, |nets, grids| {
+            // Edge patches: the nets of up to `LOCAL` patches evaluated into an array on
+            // the stack (nothing is allocated), then the same kernel over it.
+            let run = self.edge_runs.range(r);
+            let nets = &self.edge_nets[run.clone()];
+            let grids = &self.edge_out[run.start * NN..run.end * NN];
             for (nets, grids) in nets.chunks(LOCAL).zip(grids.chunks(LOCAL * NN)) {
                 let mut local = [[[0.0; D]; 16]; LOCAL];
                 for (l, net) in local.iter_mut().zip(nets) {
@@ -394,7 +500,16 @@ impl PatchLayer {
                 // SAFETY: `LOCAL_CTRL` indexes `local`; outputs as above.
                 unsafe { patches::<N, NN, D>(w, local, &LOCAL_CTRL[..nets.len()], grids, &dst) };
             }
-        });
+            for group in &self.ev {
+                // SAFETY: as above.
+                unsafe { group.apply(r, src, &dst) };
+            }
+        };
+        if self.runs <= 1 || rayon::current_num_threads() == 1 {
+            (0..self.runs).for_each(body);
+        } else {
+            (0..self.runs).into_par_iter().for_each(body);
+        }
     }
 }
 
@@ -412,23 +527,8 @@ const LOCAL_CTRL: [[u32; 16]; LOCAL] = {
     ctrl
 };
 
-/// Runs `f` on runs of [`CHUNK`] patches and their grids (`NN` points per patch), in
-/// parallel when there are several runs and threads.
-fn for_chunks<P: Sync, const NN: usize>(
-    patches: &[P],
-    grids: &[u32],
-    f: impl Fn(&[P], &[u32]) + Sync + Send,
-) {
-    let body = |(p, g): (&[P], &[u32])| f(p, g);
-    if patches.len() <= CHUNK || rayon::current_num_threads() == 1 {
-        (patches.chunks(CHUNK).zip(grids.chunks(CHUNK * NN))).for_each(body);
-    } else {
-        (patches.par_chunks(CHUNK).zip(grids.par_chunks(CHUNK * NN))).for_each(body);
-    }
-}
-
 /// The output array, written by several patches at once at distinct indices.
-struct SharedOut<T>(*mut T);
+pub(super) struct SharedOut<T>(pub(super) *mut T);
 
 // SAFETY: every output index appears at most once over all patches of a plan (they are
 // claimed in `PatchLayer::build`), so concurrent writers never touch the same element.
@@ -459,14 +559,15 @@ unsafe fn patches<const N: usize, const NN: usize, const D: usize>(
     for (k, (c, g)) in ctrl.iter().zip(grids.chunks_exact(NN)).enumerate() {
         // SAFETY: the caller's.
         unsafe {
-            prefetch_next::<NN, D>(grids, k, out.0.cast());
+            prefetch_next::<D>(grids, k, NN, out.0.cast());
             kernel::<N, NN, D>(w, src, c, g.try_into().expect("grid size"), out);
         }
     }
 }
 
-/// Asks the processor to start loading the cache lines that patch `k + 1` of `grids` will
-/// write (its owned points in `out`, `D` doubles each), while patch `k` is computed.
+/// Asks the processor to start loading the cache lines that patch `k + 1` of `grids` (`nn`
+/// points per patch) will write (its owned points in `out`, `D` doubles each), while
+/// patch `k` is computed.
 ///
 /// The outputs of one patch lie in a few dozen separate runs of the output array (the
 /// child numbering puts vertex, face and edge children of each level apart), too many
@@ -479,9 +580,14 @@ unsafe fn patches<const N: usize, const NN: usize, const D: usize>(
 /// # Safety
 /// Every grid index is [`NOT_OWNED`] or in bounds of `out` (as [`patches`]).
 #[inline(always)]
-unsafe fn prefetch_next<const NN: usize, const D: usize>(grids: &[u32], k: usize, out: *mut f64) {
+pub(super) unsafe fn prefetch_next<const D: usize>(
+    grids: &[u32],
+    k: usize,
+    nn: usize,
+    out: *mut f64,
+) {
     #[cfg(target_arch = "x86_64")]
-    if let Some(next) = grids.get((k + 1) * NN..(k + 2) * NN) {
+    if let Some(next) = grids.get((k + 1) * nn..(k + 2) * nn) {
         use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
         for &o in next {
             if o != NOT_OWNED {
@@ -491,7 +597,7 @@ unsafe fn prefetch_next<const NN: usize, const D: usize>(grids: &[u32], k: usize
         }
     }
     #[cfg(not(target_arch = "x86_64"))]
-    let _ = (grids, k, out);
+    let _ = (grids, k, nn, out);
 }
 
 /// The kernel for positions (three components, each point one 256-bit vector with a
@@ -527,7 +633,7 @@ unsafe fn patches_avx<const N: usize, const NN: usize>(
             _mm256_fmadd_pd(_mm256_broadcast_sd(&w[3]), q[3], a)
         };
         for (k, (c, g)) in ctrl.iter().zip(grids.chunks_exact(NN)).enumerate() {
-            prefetch_next::<NN, 3>(grids, k, out.cast());
+            prefetch_next::<3>(grids, k, NN, out.cast());
             // Along u, one column of control points at a time.
             let mut t = [[_mm256_setzero_pd(); N]; 4];
             for (j, tj) in t.iter_mut().enumerate() {
