@@ -11,7 +11,7 @@
 
 use super::bspline::Derivatives;
 use super::local::{Local, Region, HIGH_VALENCE};
-use super::patch::regular_corner;
+use super::patch::{regular_corner, Sharp};
 use crate::geom::{self, V3};
 use crate::mesh::{Options, Topology};
 use crate::refine::interpolate;
@@ -115,7 +115,7 @@ pub(super) fn is_limit_corner(t: &Topology, face: usize, k: usize) -> bool {
         && t.vertex_edges(c)
             .iter()
             .all(|&e| !t.edge_tag(e as usize).semi_sharp);
-    settled && regular_corner(t, face, k).is_none()
+    settled && regular_corner(t, face, k, Sharp::LIMIT).is_none()
 }
 
 /// Limit position and tangents at corner `k` of the cut-out's face (see the module docs).

@@ -47,7 +47,7 @@
 //! 0.3 to 9.7 and every side, and against OpenSubdiv's `Bfr` on the regression shapes.
 
 use super::bspline::{basis, tensor_into, Derivatives, Order};
-use super::patch::{patch_cells, walk, Cell, Corner};
+use super::patch::{patch_cells, walk, Cell, Corner, Sharp};
 use crate::mesh::{CreaseMethod, Options, Topology};
 use crate::scheme::crease;
 use std::collections::HashMap;
@@ -237,11 +237,11 @@ pub(super) fn single_crease(
         if t.vertex_sharpness(c) != 0.0 || t.vertex_edges(c).len() != 4 {
             return None;
         }
-        let (ring, closed) = walk(t, f, c, true);
+        let (ring, closed) = walk(t, f, c, true, Sharp::LIMIT);
         let quads = ring.iter().all(|&(g, _)| t.face_vertices(g).len() == 4);
         (closed && ring.len() == 3 && quads).then(|| Corner::Closed([ring[0], ring[1], ring[2]]))
     };
-    let cells = patch_cells(t, f, closed)?;
+    let cells = patch_cells(t, f, closed, Sharp::LIMIT)?;
     let net = cells.map(|col| col.map(|c| c.verts[0]));
     // The sharp edges at the corners, as vertex pairs.
     let mut sharp: Vec<([u32; 2], f32)> = Vec::with_capacity(4);

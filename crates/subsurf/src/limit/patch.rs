@@ -19,8 +19,73 @@
 //! infinitely sharp crease do not influence each other, so each side is such a patch.
 //! This is the construction of OpenSubdiv's regular boundary and corner patches.
 
-use crate::mesh::{Rule, Topology};
+use crate::mesh::{CreaseMethod, Rule, Topology};
 use crate::scheme::crease;
+
+/// Which edges and vertices the patch tests treat as infinitely sharp: those that are
+/// (sharpness ≥ 10, boundary and non-manifold edges) and, for a bounded number of
+/// refinement levels, semi-sharp ones that stay sharp through all of them.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Sharp {
+    /// Semi-sharp edges and vertices of at least this sharpness count as infinitely sharp.
+    from: f32,
+}
+
+/// How [`Sharp`] sees an edge or a vertex.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Feature {
+    Smooth,
+    /// Infinitely sharp, or sharp through all the levels that matter.
+    Sharp,
+    /// Semi-sharp and softening within them: no patch has the same rules.
+    Softening,
+}
+
+impl Sharp {
+    /// For the limit surface: only the infinitely sharp.
+    pub(crate) const LIMIT: Sharp = Sharp {
+        from: f32::INFINITY,
+    };
+
+    /// For `levels` levels of refinement with `method`. With the uniform decay an edge's
+    /// sharpness drops by 1 per level, and a step whose parent sharpness is at least 1
+    /// applies the crease rules (at exactly 1 the child is smooth, and OpenSubdiv's
+    /// transitional blend weighs the crease rule by the parent sharpness, 1): an edge
+    /// (or vertex) of sharpness `s ≥ levels` keeps the rules of an infinitely sharp one for
+    /// all `levels`. With Chaikin's decay a child's sharpness depends on its neighbours,
+    /// so only the infinitely sharp count.
+    pub(crate) fn for_levels(levels: u32, method: CreaseMethod) -> Sharp {
+        match method {
+            CreaseMethod::Uniform => Sharp {
+                from: levels as f32,
+            },
+            CreaseMethod::Chaikin => Sharp::LIMIT,
+        }
+    }
+
+    fn edge(self, t: &Topology, e: usize) -> Feature {
+        let tag = t.edge_tag(e);
+        if tag.inf_sharp || (tag.semi_sharp && t.edge_sharpness(e) >= self.from) {
+            Feature::Sharp
+        } else if tag.semi_sharp {
+            Feature::Softening
+        } else {
+            Feature::Smooth
+        }
+    }
+
+    fn vertex(self, t: &Topology, v: usize) -> Feature {
+        let (tag, s) = (t.vertex_tag(v), t.vertex_sharpness(v));
+        let semi = tag.semi_sharp || crease::is_semi_sharp(s);
+        if tag.inf_sharp || (semi && s >= self.from) {
+            Feature::Sharp
+        } else if semi {
+            Feature::Softening
+        } else {
+            Feature::Smooth
+        }
+    }
+}
 
 /// One control point of a regular patch as a combination of at most four vertices of
 /// its level: a vertex itself, or a phantom point extrapolated across a sharp side
@@ -91,23 +156,35 @@ pub fn regular_patch_cells(t: &Topology, f: usize) -> Option<[[Cell; 4]; 4]> {
     if t.is_hole(f) {
         return None;
     }
-    patch_cells(t, f, |k| regular_corner(t, f, k))
+    patch_cells(
+        t,
+        f,
+        |k| regular_corner(t, f, k, Sharp::LIMIT),
+        Sharp::LIMIT,
+    )
 }
 
-/// [`regular_patch_cells`] for refinement: the same net, also on a hole. A hole has no
-/// limit surface, but holes only hide faces: the refined vertices inside one follow the
-/// same rules as anywhere else, so the net gives them too.
-pub(crate) fn refinement_patch_cells(t: &Topology, f: usize) -> Option<[[Cell; 4]; 4]> {
-    patch_cells(t, f, |k| regular_corner(t, f, k))
+/// [`regular_patch_cells`] for refinement through the levels for which `sharp` is made
+/// ([`Sharp::for_levels`]): the same net, also on a hole, and with the semi-sharp edges
+/// and vertices that stay sharp through those levels taken as infinitely sharp. A hole
+/// has no limit surface, but holes only hide faces: the refined vertices inside one
+/// follow the same rules as anywhere else, so the net gives them too.
+pub(crate) fn refinement_patch_cells(
+    t: &Topology,
+    f: usize,
+    sharp: Sharp,
+) -> Option<[[Cell; 4]; 4]> {
+    patch_cells(t, f, |k| regular_corner(t, f, k, sharp), sharp)
 }
 
 /// The 4×4 control net of quad `f` with the corner analysis `corner`, with phantom points
-/// across infinitely sharp sides, if every corner passes `corner` (on holes too: the
-/// callers that need a limit surface check for holes).
+/// across the sides that `sharp` takes as infinitely sharp, if every corner passes
+/// `corner` (on holes too: the callers that need a limit surface check for holes).
 pub(super) fn patch_cells(
     t: &Topology,
     f: usize,
     corner: impl Fn(usize) -> Option<Corner>,
+    sharp: Sharp,
 ) -> Option<[[Cell; 4]; 4]> {
     let fv = t.face_vertices(f);
     if fv.len() != 4 {
@@ -157,8 +234,8 @@ pub(super) fn patch_cells(
         }
     }
     let fe = t.face_edge_list(f);
-    let sharp = [0, 1, 2, 3].map(|k| t.edge_tag(fe[k] as usize).inf_sharp);
-    fill_phantoms(&mut cp, sharp);
+    let sides = [0, 1, 2, 3].map(|k| sharp.edge(t, fe[k] as usize) == Feature::Sharp);
+    fill_phantoms(&mut cp, sides);
     Some(cp)
 }
 
@@ -178,42 +255,38 @@ pub(crate) enum Corner {
     },
 }
 
-/// Whether corner `k` of quad `f` is regular (see the module docs), and its neighbours.
-pub(crate) fn regular_corner(t: &Topology, f: usize, k: usize) -> Option<Corner> {
+/// Whether corner `k` of quad `f` is regular (see the module docs), with the edges and
+/// vertices that `sharp` takes as infinitely sharp, and its neighbours.
+pub(crate) fn regular_corner(t: &Topology, f: usize, k: usize, sharp: Sharp) -> Option<Corner> {
     let c = t.face_vertices(f)[k] as usize;
     let tag = t.vertex_tag(c);
     // A non-manifold vertex can still bound a regular sector: the walk below only crosses
     // edges with exactly two faces, and non-manifold edges are infinitely sharp.
-    if tag.semi_sharp || crease::is_semi_sharp(t.vertex_sharpness(c)) {
+    let vertex = sharp.vertex(t, c);
+    if vertex == Feature::Softening {
         return None;
     }
     // Walk the sector: counter-clockwise across the edge entering `c` in each face,
     // clockwise across the edge leaving it, stopping at infinitely sharp edges. The walk
     // takes at most four steps; the sector's size rules most corners out before the checks
     // below that look at every edge of `c` (whose valence may be large).
-    let (ccw, closed) = walk(t, f, c, true);
+    let (ccw, closed) = walk(t, f, c, true, sharp);
     if closed && ccw.len() != 3 {
         return None;
     }
     let cw = if closed {
         Vec::new()
     } else {
-        walk(t, f, c, false).0
+        walk(t, f, c, false, sharp).0
     };
     if !closed && 1 + ccw.len() + cw.len() > 2 {
         return None;
     }
-    if t.vertex_edges(c)
-        .iter()
-        .any(|&e| t.edge_tag(e as usize).semi_sharp)
-    {
+    let edges = t.vertex_edges(c).iter().map(|&e| sharp.edge(t, e as usize));
+    if edges.clone().any(|e| e == Feature::Softening) {
         return None;
     }
-    let inf_edges = t
-        .vertex_edges(c)
-        .iter()
-        .filter(|&&e| t.edge_tag(e as usize).inf_sharp)
-        .count();
+    let inf_edges = edges.filter(|&e| e == Feature::Sharp).count();
     let quads =
         |faces: &[(usize, usize)]| faces.iter().all(|&(g, _)| t.face_vertices(g).len() == 4);
     if closed {
@@ -223,18 +296,24 @@ pub(crate) fn regular_corner(t: &Topology, f: usize, k: usize) -> Option<Corner>
     let sector = 1 + ccw.len() + cw.len();
     let ok = match tag.rule {
         Rule::Crease => inf_edges == 2 && sector == 2,
-        Rule::Corner => sector == 1 && (tag.inf_sharp || inf_edges > 2),
+        Rule::Corner => sector == 1 && (vertex == Feature::Sharp || inf_edges > 2),
         Rule::Smooth | Rule::Dart => false,
     };
     (ok && quads(&ccw) && quads(&cw)).then_some(Corner::Sector { ccw, cw })
 }
 
 /// Faces around vertex `c` reached from face `f` by crossing, repeatedly, the edge that
-/// enters `c` (`ccw`) or leaves it (`!ccw`), as long as that edge is not infinitely sharp
-/// and has two faces; at most four steps. Each item is `(face, position of c in it)`;
+/// enters `c` (`ccw`) or leaves it (`!ccw`), as long as that edge is not sharp (as
+/// `sharp` sees it) and has two faces; at most four steps. Each item is `(face, position of c in it)`;
 /// `f` itself is not listed. The flag tells whether the walk came back to `f` (a closed
 /// fan). (Also used by the regularity certificate, which reads the same neighbourhoods.)
-pub(crate) fn walk(t: &Topology, f: usize, c: usize, ccw: bool) -> (Vec<(usize, usize)>, bool) {
+pub(crate) fn walk(
+    t: &Topology,
+    f: usize,
+    c: usize,
+    ccw: bool,
+    sharp: Sharp,
+) -> (Vec<(usize, usize)>, bool) {
     let mut out = Vec::with_capacity(4);
     let mut g = f;
     for _ in 0..5 {
@@ -245,7 +324,7 @@ pub(crate) fn walk(t: &Topology, f: usize, c: usize, ccw: bool) -> (Vec<(usize, 
         };
         let e = t.face_edge_list(g)[if ccw { (m + n - 1) % n } else { m }] as usize;
         let ef = t.edge_face_list(e);
-        if t.edge_tag(e).inf_sharp || ef.len() != 2 {
+        if sharp.edge(t, e) == Feature::Sharp || ef.len() != 2 {
             break;
         }
         let next = if ef[0] as usize == g { ef[1] } else { ef[0] } as usize;

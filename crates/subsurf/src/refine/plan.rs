@@ -1043,6 +1043,42 @@ mod tests {
         }
     }
 
+    /// Semi-sharp creases and corners that stay sharp through a patch's levels (uniform
+    /// decay, sharpness at least the depth; `catmark_single_crease` has sharpness exactly
+    /// 1, 2 and 5, where the last step is OpenSubdiv's transitional rule at full weight)
+    /// are taken as infinitely sharp: the same vertices as the sparse rows.
+    #[test]
+    fn semi_sharp_patches_match_rows() {
+        for name in [
+            "catmark_torus_creases0",
+            "catmark_single_crease",
+            "catmark_cube_creases1",
+            "catmark_cubes_semisharp",
+        ] {
+            let (edge, _) = check_patches(name);
+            assert!(edge > 0, "{name}: no edge patches");
+        }
+        // The torus has no boundary and no infinitely sharp edge: its edge patches are
+        // at the semi-sharp creases. With Chaikin's decay they are not patches.
+        let (obj, options) = shape("catmark_torus_creases0");
+        let plan = RefinePlan::new(&obj.mesh, options, 4).unwrap();
+        assert!(plan
+            .tail
+            .iter()
+            .flat_map(|t| &t.layers)
+            .any(|l| !l.edge_nets.is_empty()));
+        let chaikin = Options {
+            crease_method: crate::mesh::CreaseMethod::Chaikin,
+            ..options
+        };
+        let plan = RefinePlan::new(&obj.mesh, chaikin, 4).unwrap();
+        assert!(plan
+            .tail
+            .iter()
+            .flat_map(|t| &t.layers)
+            .all(|l| l.edge_nets.is_empty()));
+    }
+
     /// Quads at one extraordinary vertex (valences 3 to 8 here, with triangles and
     /// n-gons in the base meshes) computed by their valence's matrix give the same vertices
     /// as the sparse rows.

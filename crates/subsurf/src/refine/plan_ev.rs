@@ -57,7 +57,7 @@
 //! whose extraordinary corner is its corner `k` has its grid turned `k` quarter turns
 //! ([`rotate_grid`]), once, when the plan is built.
 
-use crate::limit::patch::{regular_corner, Corner};
+use crate::limit::patch::{regular_corner, Corner, Sharp};
 use crate::mesh::{Options, PolyMesh, Rule, Topology};
 
 use super::plan::RefinePlan;
@@ -84,8 +84,9 @@ pub(super) fn net_len(n: usize) -> usize {
     2 * n + 8
 }
 
-/// The net of quad `f` of `t` if it is an extraordinary patch (module docs).
-pub(super) fn ev_net(t: &Topology, f: usize) -> Option<EvNet> {
+/// The net of quad `f` of `t` if it is an extraordinary patch (module docs); `sharp` as
+/// for regular patches (it only matters in that a sharp feature rules the quad out).
+pub(super) fn ev_net(t: &Topology, f: usize, sharp: Sharp) -> Option<EvNet> {
     let fv = t.face_vertices(f);
     if fv.len() != 4 {
         return None;
@@ -93,7 +94,7 @@ pub(super) fn ev_net(t: &Topology, f: usize) -> Option<EvNet> {
     let mut rings = [None; 4];
     let mut ev = None;
     for (k, ring) in rings.iter_mut().enumerate() {
-        match regular_corner(t, f, k) {
+        match regular_corner(t, f, k, sharp) {
             Some(Corner::Closed(r)) => *ring = Some(r),
             Some(Corner::Sector { .. }) => return None,
             None if ev.is_none() => ev = Some(k),
@@ -537,7 +538,8 @@ mod tests {
             let mesh = PolyMesh::from_faces(vec![[0.0; 3]; net_len(n)], &faces).unwrap();
             let (t, _) = Topology::from_mesh(&mesh, &Options::default()).unwrap();
             assert_eq!(t.vertex_edges(0).len(), n);
-            let net = ev_net(&t, 0).expect("the template's quad is an extraordinary patch");
+            let net =
+                ev_net(&t, 0, Sharp::LIMIT).expect("the template's quad is an extraordinary patch");
             assert_eq!((net.valence, net.corner), (n, 0));
             assert_eq!(net.verts, (0..net_len(n) as u32).collect::<Vec<_>>());
             // The same quad listed from another corner.
@@ -546,7 +548,7 @@ mod tests {
                 turned[0].rotate_left(k);
                 let mesh = PolyMesh::from_faces(vec![[0.0; 3]; net_len(n)], &turned).unwrap();
                 let (t, _) = Topology::from_mesh(&mesh, &Options::default()).unwrap();
-                let net = ev_net(&t, 0).unwrap();
+                let net = ev_net(&t, 0, Sharp::LIMIT).unwrap();
                 assert_eq!(net.corner, (4 - k) % 4);
                 assert_eq!(net.verts, (0..net_len(n) as u32).collect::<Vec<_>>());
             }

@@ -63,7 +63,7 @@ use std::ops::Range;
 use rayon::prelude::*;
 
 use super::plan_ev::{ev_net, rotate_grid, EvGroup, EvNet, Kernel};
-use crate::limit::patch::{refinement_patch_cells, Cell};
+use crate::limit::patch::{refinement_patch_cells, Cell, Sharp};
 use crate::mesh::{Options, Topology};
 
 /// Faces of a layer's level per run: the unit of parallel work. A run applies all its
@@ -278,12 +278,12 @@ enum Net {
     Ev(EvNet),
 }
 
-/// The control net of quad `f` if it can be a patch (module docs): its 16 cells, whose
-/// vertices (those that are not phantoms) must be distinct; or else its extraordinary
-/// net.
-fn patch_controls(t: &Topology, f: usize) -> Option<Net> {
-    let Some(cells) = refinement_patch_cells(t, f) else {
-        return ev_net(t, f).map(Net::Ev);
+/// The control net of quad `f` if it can be a patch (module docs), with the edges and
+/// vertices that `sharp` takes as infinitely sharp: its 16 cells, whose vertices (those
+/// that are not phantoms) must be distinct; or else its extraordinary net.
+fn patch_controls(t: &Topology, f: usize, sharp: Sharp) -> Option<Net> {
+    let Some(cells) = refinement_patch_cells(t, f, sharp) else {
+        return ev_net(t, f, sharp).map(Net::Ev);
     };
     let cells: [Cell; 16] = std::array::from_fn(|k| cells[k / 4][k % 4]);
     let plain = cells.iter().all(|c| c.len == 1 && c.weights[0] == 1.0);
@@ -319,12 +319,13 @@ impl PatchLayer {
     ) -> Self {
         let depth = levels.len() as u32;
         let side = (1 << depth) + 1;
+        let sharp = Sharp::for_levels(depth, options.crease_method);
         let t = &levels[0];
         let found: Vec<(u32, Net, Vec<u32>)> = (0..t.num_faces())
             .into_par_iter()
             .with_min_len(RUN)
             .filter_map(|f| {
-                let ctrl = patch_controls(t, f)?;
+                let ctrl = patch_controls(t, f, sharp)?;
                 let grid = grid_indices(levels, f)?;
                 let run = (f / RUN) as u32;
                 Some(match ctrl {

@@ -13,7 +13,7 @@
 //! need not be listed).
 
 // The limit surface's regular-patch test: the certificate reads the same neighbourhoods.
-use crate::limit::patch::{regular_corner, regular_patch_cells, walk};
+use crate::limit::patch::{regular_corner, regular_patch_cells, walk, Sharp};
 use crate::mesh::{Rule, Topology};
 use crate::scheme::crease;
 
@@ -102,7 +102,7 @@ pub fn block(t: &Topology, f: usize) -> Result<Block, Inapplicable> {
         return Err(Inapplicable::Hole);
     }
     let Some(net) = regular_patch_cells(t, f) else {
-        let irregular = (0..4).find(|&k| regular_corner(t, f, k).is_none());
+        let irregular = (0..4).find(|&k| regular_corner(t, f, k, Sharp::LIMIT).is_none());
         return Err(match irregular {
             Some(k) => why_irregular(t, f, k),
             // Every corner is regular, so the net exists: not reached.
@@ -138,7 +138,7 @@ fn why_irregular(t: &Topology, f: usize, k: usize) -> Inapplicable {
     {
         return feature;
     }
-    let (ccw, closed) = walk(t, f, c, true);
+    let (ccw, closed) = walk(t, f, c, true, Sharp::LIMIT);
     let inf_edges = t
         .vertex_edges(c)
         .iter()
@@ -154,7 +154,7 @@ fn why_irregular(t: &Topology, f: usize, k: usize) -> Inapplicable {
             feature
         };
     }
-    let (cw, _) = walk(t, f, c, false);
+    let (cw, _) = walk(t, f, c, false, Sharp::LIMIT);
     let sector = 1 + ccw.len() + cw.len();
     if !tag.boundary && !tag.non_manifold && inf_edges == 0 {
         // A fan too long for the walk: valence above 5.
