@@ -18,8 +18,9 @@
 #   LARGE_LEVELS="3 4"  levels for the large input
 #   SCALING_LEVELS="3 4 5 6"  levels of the time-per-output-vertex table (catmark_bishop;
 #                       empty: skip that table)
-#   REPLAY_LEVELS="6"   levels of the re-posing table (catmark_bishop, catmark_pawn and the
-#                       extra meshes: `subsurf bench --replay` against a full refinement
+#   REPLAY_LEVELS="6"   levels of the re-posing table (catmark_bishop, catmark_pawn, the extra
+#                       meshes and catmark_bishop with every quad split into two triangles,
+#                       dense in extraordinary vertices: `subsurf bench --replay` against a full refinement
 #                       with the same threads; empty: skip that table)
 #   LIMIT_GRID=8        N of the limit-evaluation table: an N x N grid of limit points (position
 #                       and first derivatives) on every quad of catmark_bishop, catmark_pawn and
@@ -207,6 +208,12 @@ small_runs=("$shapes/catmark_bishop.obj|catmark_bishop" "$shapes/catmark_pawn.ob
 for extra in "$@"; do
   small_runs+=("$extra|$(basename "$extra" .obj)")
 done
+# Re-posing also on a mesh dense in extraordinary vertices: catmark_bishop with every quad
+# split into two triangles (one level later every vertex and face centre is extraordinary).
+all_tri="$work/catmark_bishop_tri.obj"
+awk '$1 == "f" && NF == 5 { print "f", $2, $3, $4; print "f", $2, $4, $5; next } { print }' \
+  "$shapes/catmark_bishop.obj" >"$all_tri"
+replay_runs=("${small_runs[@]}" "$all_tri|catmark_bishop_tri (all triangles)")
 if [ -n "$REPLAY_LEVELS" ]; then
   printf '\nRe-posing (`subsurf bench --replay`: a precomputed plan applied to the base positions)\n'
   printf 'against full refinement (`subsurf bench`), same threads, and against OpenSubdiv'"'"'s stencil table\n'
@@ -214,7 +221,7 @@ if [ -n "$REPLAY_LEVELS" ]; then
   printf 'levels factorized, `UpdateValues` from the base positions; one thread), interleaved as above:\n\n'
   printf '| mesh | level | full 1T s | replay 1T s | full/replay 1T | full 2T s | replay 2T s | full/replay 2T | OSD stencils s | OSD stencils/replay 1T |\n'
   printf '|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n'
-  for run in "${small_runs[@]}"; do
+  for run in "${replay_runs[@]}"; do
     IFS='|' read -r path label <<<"$run"
     for level in $REPLAY_LEVELS; do
       log "$label level $level (re-posing)"

@@ -9,12 +9,16 @@
 //! face point is the average of its face's vertices, so edge and vertex points depend on
 //! parent vertices only), duplicate columns merged and zero weights dropped. Applying it
 //! does no topology work and no mask computation. The last levels go further: over
-//! regular quads (97 % of level 4 of `catmark_bishop`) refinement is uniform bicubic
-//! B-spline subdivision, so the plan stores only the 16 control points of each such quad
-//! and computes the 81 vertices that three more levels put on it with a fixed
-//! tensor-product kernel (see `refine/plan_patches.rs`); sparse rows cover the
-//! rest. Re-posing is 11–20× faster than [`subdivide`](crate::subdivide) on large
-//! meshes with few extraordinary vertices (see [`RefinePlan`] for numbers).
+//! regular quads refinement is uniform bicubic B-spline subdivision, so the plan stores
+//! only the 16 control points of each such quad and computes the 81 vertices that three
+//! more levels put on it with a fixed tensor-product kernel (see
+//! `refine/plan_patches.rs`); a quad with one extraordinary corner gets its vertices from
+//! a fixed matrix per valence on the `2n + 8` points of its 1-ring
+//! (`refine/plan_ev.rs`). Sparse rows cover the rest: quads at extraordinary vertices on
+//! boundaries or sharp features, at semi-sharp features that soften within the last
+//! three levels, or at valences above 16 (0.05 % of the output of `catmark_bishop` at level
+//! 6). Re-posing is 10–20× faster than [`subdivide`](crate::subdivide) (see
+//! [`RefinePlan`] for numbers).
 //!
 //! # Storage
 //! Most rows share their weights with many others: every smooth edge point between two
@@ -33,9 +37,11 @@
 //! points 6, valence-4 vertex points 9), i.e. about 29 bytes per vertex of each level.
 //! A patch costs 64 bytes of control indices and 4 bytes per grid point (81 for a
 //! depth-3 patch, of which it writes 64 on average), about 6 bytes per output vertex:
-//! `catmark_bishop` to level 6 (3.8 M output vertices) takes 29 MiB, 1.5 M weights and
-//! 65 k patches (140 MiB and 31.8 M weights with sparse rows only). A patch with phantom
-//! points (at a boundary or crease) stores its 16 cells instead, 896 bytes.
+//! `catmark_bishop` to level 6 (3.8 M output vertices) takes 27 MiB, 0.5 M weights and
+//! 60 k patches (140 MiB and 31.8 M weights with sparse rows only). A patch with phantom
+//! points (at a boundary or crease) stores its 16 cells instead, 896 bytes; an
+//! extraordinary patch `4 (2n + 8)` bytes of control indices and 4 bytes per grid point
+//! (88 at depth 3, padded to whole groups of eight); its valence's matrix is stored once.
 //!
 //! # Accuracy
 //! The plan computes the same linear map as [`interpolate`](super::interpolate), but sums
@@ -45,9 +51,11 @@
 //! levels 1–3 (at most 1.4e-15 measured; `tests/replay.rs`). Merged weights are summed
 //! with their rounding errors, and each row adds its smallest terms first, so that a
 //! valence-360 pole is as accurate as elsewhere. The patches' kernel rounds like a row
-//! of 16 terms (after one more rounding for phantom points) (dyadic weights, 8 multiply-adds per vertex, fused where the processor
-//! has FMA, so the last bits can differ between processors with and without it). The
-//! result does not depend on the number of threads.
+//! of 16 terms (after one more rounding for phantom points; dyadic weights, 8
+//! multiply-adds per vertex), an extraordinary patch like a row of up to `2n + 8` terms
+//! (its matrix itself rounded once per entry); multiply-adds are fused where the
+//! processor has FMA, so the last bits can differ between processors with and without
+//! it. The result does not depend on the number of threads.
 
 use std::collections::HashMap;
 use std::hash::BuildHasherDefault;
@@ -95,22 +103,23 @@ const PAR_MIN_ROWS: usize = 16 * 1024;
 ///
 /// # Cost
 /// Building a plan refines the topology once (as [`subdivide`](crate::subdivide) does),
-/// computes every mask of the sparse rows once and finds the regular patches: about 2–3×
-/// the time of one `subdivide` (parallel, like it). Applying it does no topology work and
-/// no mask computation: the first levels are sparse products, which read 4 bytes per
-/// weight and gather the parent values; the last three levels are mostly the patch
-/// kernel, which reads 16 control points and writes up to 81 vertices per patch, and is
-/// bound by writing the output.
+/// computes every mask of the sparse rows once and finds the patches: about 2–3× the time
+/// of one `subdivide` (parallel, like it). Applying it does no topology work and no mask
+/// computation: the first levels are sparse products, which read 4 bytes per weight and
+/// gather the parent values; the last three levels are the patch kernels, which read 16
+/// (or `2n + 8`) control points and write up to 81 vertices per patch. They are bound by
+/// memory: each output vertex is written once, but its cache line is read first.
 ///
-/// Measured on `catmark_bishop` refined to level 6 (3.8 M output vertices; a shared
-/// 2-core virtual machine, `scripts/bench-vs-osd.sh`, medians of 7 repetitions in three
-/// interleaved rounds, five runs; `BENCHMARKS.md`): one apply takes 0.012–0.014 s on one
-/// thread and 0.007–0.011 s on two, against 0.17–0.20 s and 0.10–0.13 s for `subdivide`
-/// (11–16× faster with the same threads) and 0.64–0.68 s for OpenSubdiv's
-/// `RefineUniform` + `PrimvarRefiner`. Building the plan took 0.5–1.6 s (one thread).
-/// `catmark_pawn` to level 6 (2.4 M vertices): 0.007 s against 0.11–0.14 s (one thread).
-/// With sparse rows only (before patches) the same bishop apply took 0.05–0.06 s. Meshes
-/// dense in extraordinary vertices gain less: an all-triangle mesh at level 5, 5–8×.
+/// Measured on a shared 2-core virtual machine (`scripts/bench-vs-osd.sh`, medians of 7
+/// repetitions in three interleaved rounds; `BENCHMARKS.md`), full refinement /
+/// re-posing with the same threads: `catmark_bishop` to level 6 (3.8 M output vertices)
+/// 14× on one thread (one apply 0.014 s against 0.20 s for `subdivide` and 0.73 s for
+/// OpenSubdiv's `RefineUniform` + `PrimvarRefiner`) and 18× on two; `catmark_pawn` 16–20×
+/// at levels 5 and 6. An all-triangle mesh (`catmark_bishop` with each quad split in
+/// two), where one level makes every vertex and face centre extraordinary and half of
+/// level 2 are extraordinary patches: 10× at level 5 and 17× at level 6 on one thread,
+/// 8× and 12× on two. Building the plan for bishop at level 6 took 0.4–1.6 s (one
+/// thread). With sparse rows only (before patches) the bishop apply took 0.05–0.06 s.
 ///
 /// The plan covers positions of every vertex of the last level, in
 /// [`subdivide`](crate::subdivide)'s order (including vertices used only by hole faces);
