@@ -191,19 +191,8 @@ pub(super) fn patch_cells(
         return None;
     }
     let mut cp = [[Cell::default(); 4]; 4];
-    // Corner k of the face sits at grid cell CORNER[k]; its frame is the corner-0 frame
-    // turned k quarter turns counter-clockwise (u → v).
-    const CORNER: [(i32, i32); 4] = [(1, 1), (2, 1), (2, 2), (1, 2)];
-    let rot = |k: usize, (x, y): (i32, i32)| -> (i32, i32) {
-        let (mut x, mut y) = (x, y);
-        for _ in 0..k {
-            (x, y) = (-y, x);
-        }
-        (x, y)
-    };
     let mut put = |k: usize, off: (i32, i32), v: u32| {
-        let (dx, dy) = rot(k, off);
-        let (i, j) = ((CORNER[k].0 + dx) as usize, (CORNER[k].1 + dy) as usize);
+        let (i, j) = net_cell(k, off);
         cp[i][j] = Cell::vertex(v);
     };
     for k in 0..4 {
@@ -212,12 +201,9 @@ pub(super) fn patch_cells(
     for k in 0..4 {
         match corner(k)? {
             Corner::Closed(ring) => {
-                let q = |(g, m): (usize, usize), d: usize| t.face_vertices(g)[(m + d) % 4];
-                put(k, (-1, 1), q(ring[0], 2));
-                put(k, (-1, 0), q(ring[0], 3));
-                put(k, (-1, -1), q(ring[1], 2));
-                put(k, (0, -1), q(ring[1], 3));
-                put(k, (1, -1), q(ring[2], 2));
+                for (off, v) in closed_ring(t, &ring) {
+                    put(k, off, v);
+                }
             }
             Corner::Sector { ccw, cw } => {
                 for &(g, m) in &ccw {
@@ -237,6 +223,34 @@ pub(super) fn patch_cells(
     let sides = [0, 1, 2, 3].map(|k| sharp.edge(t, fe[k] as usize) == Feature::Sharp);
     fill_phantoms(&mut cp, sides);
     Some(cp)
+}
+
+/// The cell of a quad's 4 × 4 net that holds the point at offset `off` from its corner
+/// `k`, the offset in the corner's own frame: corner `k` sits at cell
+/// `[(1, 1), (2, 1), (2, 2), (1, 2)][k]`, and its frame is corner 0's turned `k` quarter
+/// turns counter-clockwise (`u → v`), so that `(−1, −1)` is always diagonally away from
+/// the quad.
+pub(crate) fn net_cell(k: usize, off: (i32, i32)) -> (usize, usize) {
+    const CORNER: [(i32, i32); 4] = [(1, 1), (2, 1), (2, 2), (1, 2)];
+    let (mut x, mut y) = off;
+    for _ in 0..k {
+        (x, y) = (-y, x);
+    }
+    ((CORNER[k].0 + x) as usize, (CORNER[k].1 + y) as usize)
+}
+
+/// The five points beyond the quad around a smooth valence-4 corner whose other faces are
+/// `ring` ([`Corner::Closed`]), each with its offset from the corner in the corner's frame
+/// ([`net_cell`]).
+pub(crate) fn closed_ring(t: &Topology, ring: &[(usize, usize); 3]) -> [((i32, i32), u32); 5] {
+    let q = |(g, m): (usize, usize), d: usize| t.face_vertices(g)[(m + d) % 4];
+    [
+        ((-1, 1), q(ring[0], 2)),
+        ((-1, 0), q(ring[0], 3)),
+        ((-1, -1), q(ring[1], 2)),
+        ((0, -1), q(ring[1], 3)),
+        ((1, -1), q(ring[2], 2)),
+    ]
 }
 
 /// The faces around a regular corner, as [`regular_corner`] finds them: each item is

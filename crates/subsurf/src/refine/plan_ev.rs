@@ -57,15 +57,18 @@
 //! whose extraordinary corner is its corner `k` has its grid turned `k` quarter turns
 //! ([`rotate_grid`]), once, when the plan is built.
 
-use crate::limit::patch::{regular_corner, Corner, Sharp};
+use crate::limit::patch::{closed_ring, net_cell, regular_corner, Corner, Sharp};
 use crate::mesh::{Options, PolyMesh, Rule, Topology};
 
 use super::plan::RefinePlan;
+#[cfg(target_arch = "x86_64")]
+use super::plan_patches::has_avx2_fma;
 use super::plan_patches::{grid_indices, prefetch_next, Runs, SharedOut, NOT_OWNED};
 use super::topology::refine_topology;
 
-/// Largest valence of an extraordinary patch. A row of `Mₙ` has up to `2n + 8` terms, a
-/// sparse row of the plan about 7 per level; past this the rows stay cheaper.
+/// Largest valence of an extraordinary patch: a row of `Mₙ` has up to `2n + 8` terms (on
+/// average 15 at valence 6 and 27 at valence 16, depth 3), and the control points are
+/// held on the stack. Higher valences are rare and stay with the sparse rows.
 pub(super) const MAX_VALENCE: usize = 16;
 
 /// Largest number of control points of an extraordinary patch.
@@ -142,30 +145,18 @@ pub(super) fn ev_net(t: &Topology, f: usize, sharp: Sharp) -> Option<EvNet> {
     if g != f {
         return None;
     }
-    // The 4×4 cells in the frame of v (v at (1,1), f's corner k0 + j at CORNER[j]), from
-    // the three regular corners, as `limit::patch::patch_cells` reads a regular net.
-    const CORNER: [(i32, i32); 4] = [(1, 1), (2, 1), (2, 2), (1, 2)];
+    // The 4×4 cells in the frame of v (the quad turned so that v is its corner 0, at
+    // (1,1)), from the three regular corners, as a regular net is read.
     let mut cells = [[u32::MAX; 4]; 4];
     let mut consistent = true;
-    let mut put = |j: usize, off: (i32, i32), x: u32| {
-        let (mut dx, mut dy) = off;
-        for _ in 0..j {
-            (dx, dy) = (-dy, dx);
-        }
-        let c = &mut cells[(CORNER[j].0 + dx) as usize][(CORNER[j].1 + dy) as usize];
-        consistent &= *c == u32::MAX || *c == x;
-        *c = x;
-    };
     for j in 1..4 {
         let k = (k0 + j) % 4;
         let ring = rings[k]?;
-        let q = |(h, p): (usize, usize), d: usize| t.face_vertices(h)[(p + d) % 4];
-        put(j, (0, 0), fv[k]);
-        put(j, (-1, 1), q(ring[0], 2));
-        put(j, (-1, 0), q(ring[0], 3));
-        put(j, (-1, -1), q(ring[1], 2));
-        put(j, (0, -1), q(ring[1], 3));
-        put(j, (1, -1), q(ring[2], 2));
+        for (off, x) in std::iter::once(((0, 0), fv[k])).chain(closed_ring(t, &ring)) {
+            let (i, l) = net_cell(j, off);
+            consistent &= cells[i][l] == u32::MAX || cells[i][l] == x;
+            cells[i][l] = x;
+        }
     }
     // The cells that the fan also holds must agree with it.
     let a = |i: usize| verts[1 + 2 * (i % n)];
@@ -383,7 +374,7 @@ impl EvGroup {
         let ctrl = &self.ctrl[run.start * points..run.end * points];
         let grids = &self.out[run.start * nn..run.end * nn];
         #[cfg(target_arch = "x86_64")]
-        if D == 3 && std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma") {
+        if D == 3 && has_avx2_fma() {
             let src = src.as_ptr().cast();
             // SAFETY: the features were just detected; `D == 3`; the caller's bounds.
             unsafe { ev_patches_avx(&self.kernel, points, src, ctrl, grids, out.0.cast()) };

@@ -338,7 +338,7 @@ impl PatchLayer {
         let side = (1 << depth) + 1;
         let sharp = Sharp::for_levels(depth, options.crease_method);
         let t = &levels[0];
-        let found: Vec<(u32, Net, Vec<u32>)> = (0..t.num_faces())
+        let mut found: Vec<(u32, Net, Vec<u32>)> = (0..t.num_faces())
             .into_par_iter()
             .with_min_len(RUN)
             .filter_map(|f| {
@@ -355,15 +355,24 @@ impl PatchLayer {
             })
             .collect();
         let runs = t.num_faces().div_ceil(RUN);
-        // One kernel per valence found (a quad whose kernel fails is left to the rows).
-        let mut ev: BTreeMap<usize, Option<EvGroup>> = BTreeMap::new();
+        // One kernel per valence found; the quads of a valence whose kernel could not be
+        // built (a defect: see `Kernel::new`) are left to the rows.
+        let mut kernels: BTreeMap<usize, Option<EvGroup>> = BTreeMap::new();
         for (_, net, _) in &found {
             if let Net::Ev(net) = net {
-                ev.entry(net.valence).or_insert_with(|| {
+                kernels.entry(net.valence).or_insert_with(|| {
                     Kernel::new(net.valence, depth, options).map(|k| EvGroup::new(net.valence, k))
                 });
             }
         }
+        found.retain(|(_, net, _)| match net {
+            Net::Ev(net) => kernels[&net.valence].is_some(),
+            _ => true,
+        });
+        let mut ev: BTreeMap<usize, EvGroup> = kernels
+            .into_iter()
+            .filter_map(|(n, g)| Some((n, g?)))
+            .collect();
         let mut ctrl = Vec::with_capacity(found.len());
         let mut out = Vec::with_capacity(found.iter().map(|(_, _, g)| g.len()).sum());
         let (mut edge_nets, mut edge_out) = (Vec::new(), Vec::new());
@@ -382,14 +391,9 @@ impl PatchLayer {
             match net {
                 _ if !any => {}
                 Net::Ev(net) => {
-                    let Some(Some(group)) = ev.get_mut(&net.valence) else {
-                        // No kernel: give the points back to the rows.
-                        for g in grid.iter().filter(|&&g| g != NOT_OWNED) {
-                            claims.0[*g as usize] = false;
-                        }
-                        continue;
-                    };
-                    group.push(run, &net.verts, &grid);
+                    if let Some(group) = ev.get_mut(&net.valence) {
+                        group.push(run, &net.verts, &grid);
+                    }
                 }
                 Net::Plain(c) => {
                     ctrl.push(c);
@@ -403,7 +407,7 @@ impl PatchLayer {
                 }
             }
         }
-        let mut ev: Vec<EvGroup> = ev.into_values().flatten().filter(|g| g.len() > 0).collect();
+        let mut ev: Vec<EvGroup> = ev.into_values().filter(|g| g.len() > 0).collect();
         ev.iter_mut().for_each(|g| g.set_runs(runs));
         let mut layer = PatchLayer {
             depth,
@@ -567,7 +571,7 @@ unsafe fn patches<const N: usize, const NN: usize, const D: usize>(
     out: &SharedOut<[f64; D]>,
 ) {
     #[cfg(target_arch = "x86_64")]
-    if D == 3 && std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma") {
+    if D == 3 && has_avx2_fma() {
         // SAFETY: the features were just detected; `D == 3`; the caller's bounds.
         unsafe {
             patches_avx::<N, NN>(w, src.as_ptr().cast(), ctrl, grids, out.0.cast());
@@ -581,6 +585,14 @@ unsafe fn patches<const N: usize, const NN: usize, const D: usize>(
             kernel::<N, NN, D>(w, src, c, g.try_into().expect("grid size"), out);
         }
     }
+}
+
+/// Whether the processor has AVX2 and FMA, for the kernels for positions (detected at run
+/// time, and cached by the standard library: the default x86-64 target has neither).
+#[cfg(target_arch = "x86_64")]
+#[inline]
+pub(super) fn has_avx2_fma() -> bool {
+    std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma")
 }
 
 /// Asks the processor to start loading the cache lines that patch `k + 1` of `grids` (`nn`
