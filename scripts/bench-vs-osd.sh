@@ -22,6 +22,8 @@
 #                       meshes and catmark_bishop with every quad split into two triangles,
 #                       dense in extraordinary vertices: `subsurf bench --replay` against a full refinement
 #                       with the same threads; empty: skip that table)
+#   LARGE_TRI_LEVELS="2 3"  levels of the re-posing table for the large input with every quad
+#                       split into two triangles (30 k triangles; empty: skip those rows)
 #   LIMIT_GRID=8        N of the limit-evaluation table: an N x N grid of limit points (position
 #                       and first derivatives) on every quad of catmark_bishop, catmark_pawn and
 #                       the extra meshes, `osd-oracle benchlimit IN N REPS` against
@@ -48,6 +50,7 @@ LEVELS="${LEVELS:-5 6}"
 LARGE_LEVELS="${LARGE_LEVELS:-3 4}"
 SCALING_LEVELS="${SCALING_LEVELS-3 4 5 6}"
 REPLAY_LEVELS="${REPLAY_LEVELS-6}"
+LARGE_TRI_LEVELS="${LARGE_TRI_LEVELS-2 3}"
 LIMIT_GRID="${LIMIT_GRID-8}"
 
 case "${1:-}" in
@@ -210,10 +213,19 @@ for extra in "$@"; do
 done
 # Re-posing also on a mesh dense in extraordinary vertices: catmark_bishop with every quad
 # split into two triangles (one level later every vertex and face centre is extraordinary).
+split_quads() {
+  awk '$1 == "f" && NF == 5 { print "f", $2, $3, $4; print "f", $2, $4, $5; next } { print }' "$1" >"$2"
+}
 all_tri="$work/catmark_bishop_tri.obj"
-awk '$1 == "f" && NF == 5 { print "f", $2, $3, $4; print "f", $2, $4, $5; next } { print }' \
-  "$shapes/catmark_bishop.obj" >"$all_tri"
-replay_runs=("${small_runs[@]}" "$all_tri|catmark_bishop_tri (all triangles)")
+split_quads "$shapes/catmark_bishop.obj" "$all_tri"
+# And a large all-triangle mesh, like a scan or a CAD tessellation: the large input split.
+large_tri="$work/catmark_bishop_l2_tri.obj"
+split_quads "$large" "$large_tri"
+replay_runs=()
+for run in "${small_runs[@]}" "$all_tri|catmark_bishop_tri (all triangles)"; do
+  replay_runs+=("$run|$REPLAY_LEVELS")
+done
+replay_runs+=("$large_tri|catmark_bishop_l2_tri (large, all triangles)|$LARGE_TRI_LEVELS")
 if [ -n "$REPLAY_LEVELS" ]; then
   printf '\nRe-posing (`subsurf bench --replay`: a precomputed plan applied to the base positions)\n'
   printf 'against full refinement (`subsurf bench`), same threads, and against OpenSubdiv'"'"'s stencil table\n'
@@ -222,8 +234,8 @@ if [ -n "$REPLAY_LEVELS" ]; then
   printf '| mesh | level | full 1T s | replay 1T s | full/replay 1T | full 2T s | replay 2T s | full/replay 2T | OSD stencils s | OSD stencils/replay 1T |\n'
   printf '|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n'
   for run in "${replay_runs[@]}"; do
-    IFS='|' read -r path label <<<"$run"
-    for level in $REPLAY_LEVELS; do
+    IFS='|' read -r path label levels <<<"$run"
+    for level in $levels; do
       log "$label level $level (re-posing)"
       f1=() r1=() f2=() r2=() st=()
       for _ in $(seq "$ROUNDS"); do

@@ -28,8 +28,8 @@
 mod adjustable;
 pub mod nurss;
 pub mod plan;
-mod plan_ev;
 mod plan_patches;
+mod plan_ring;
 mod primvar;
 mod topology;
 

@@ -12,9 +12,10 @@
 //! regular quads refinement is uniform bicubic B-spline subdivision, so the plan stores
 //! only the 16 control points of each such quad and computes the 81 vertices that three
 //! more levels put on it with a fixed tensor-product kernel (see
-//! `refine/plan_patches.rs`); a quad with one extraordinary corner gets its vertices from
-//! a fixed matrix per valence on the `2n + 8` points of its 1-ring
-//! (`refine/plan_ev.rs`). Sparse rows cover the rest: quads at extraordinary vertices on
+//! `refine/plan_patches.rs`); any other face whose corners are smooth interior vertices
+//! (extraordinary ones, triangles and n-gons of the base mesh included) gets its vertices
+//! from a fixed matrix per shape of its 1-ring, on the points of that ring
+//! (`refine/plan_ring.rs`). Sparse rows cover the rest: faces at extraordinary vertices on
 //! boundaries or sharp features, at semi-sharp features that soften within the last
 //! three levels, or at valences above 16 (0.05 % of the output of `catmark_bishop` at level
 //! 6). Re-posing is 10–20× faster than [`subdivide`](crate::subdivide) (see
@@ -39,9 +40,10 @@
 //! depth-3 patch, of which it writes 64 on average), about 6 bytes per output vertex:
 //! `catmark_bishop` to level 6 (3.8 M output vertices) takes 27 MiB, 0.5 M weights and
 //! 60 k patches (140 MiB and 31.8 M weights with sparse rows only). A patch with phantom
-//! points (at a boundary or crease) stores its 16 cells instead, 896 bytes; an
-//! extraordinary patch `4 (2n + 8)` bytes of control indices and 4 bytes per grid point
-//! (88 at depth 3, padded to whole groups of eight); its valence's matrix is stored once.
+//! points (at a boundary or crease) stores its 16 cells instead, 896 bytes; a ring
+//! patch 4 bytes per point of its ring (`2n + 8` for a quad with one corner of valence
+//! `n`) and 4 bytes per vertex on it (81 on a quad at depth 3, 61 on a triangle, padded
+//! to whole groups of eight); its ring's matrix is stored once.
 //!
 //! # Accuracy
 //! The plan computes the same linear map as [`interpolate`](super::interpolate), but sums
@@ -52,8 +54,8 @@
 //! with their rounding errors, and each row adds its smallest terms first, so that a
 //! valence-360 pole is as accurate as elsewhere. The patches' kernel rounds like a row
 //! of 16 terms (after one more rounding for phantom points; dyadic weights, 8
-//! multiply-adds per vertex), an extraordinary patch like a row of up to `2n + 8` terms
-//! (its matrix itself rounded once per entry); multiply-adds are fused where the
+//! multiply-adds per vertex), a ring patch like a row of up to 64 terms (its matrix
+//! itself rounded once per entry); multiply-adds are fused where the
 //! processor has FMA, so the last bits can differ between processors with and without
 //! it. The result does not depend on the number of threads.
 
@@ -106,8 +108,8 @@ const PAR_MIN_ROWS: usize = 16 * 1024;
 /// computes every mask of the sparse rows once and finds the patches: about 2–3× the time
 /// of one `subdivide` (parallel, like it). Applying it does no topology work and no mask
 /// computation: the first levels are sparse products, which read 4 bytes per weight and
-/// gather the parent values; the last three levels are the patch kernels, which read 16
-/// (or `2n + 8`) control points and write up to 81 vertices per patch. They are bound by
+/// gather the parent values; the last two or three levels are the patch kernels, which
+/// read 16 control points (or a face's ring) and write the vertices on their face. They are bound by
 /// memory: each output vertex is written once, but its cache line is read first.
 ///
 /// Measured on a shared 2-core virtual machine (`scripts/bench-vs-osd.sh`, medians of 7
@@ -136,8 +138,8 @@ pub struct RefinePlan {
 
 /// The last `d` levels of a plan (`d` = [`PATCH_DEPTH`], or fewer for fewer levels),
 /// from the values of level `a = L − d` (the last fully computed one):
-/// - [`PatchLayer`]s write the output vertices over the patches (regular, edge and
-///   extraordinary quads) of levels `a` (depth
+/// - [`PatchLayer`]s write the output vertices over the patches (regular and edge quads,
+///   ring patches) of levels `a` (depth
 ///   `d`), `a + 1` (depth `d − 1`), … (depth ≥ 2), each output vertex at most once;
 /// - the other output vertices are sparse rows on level `L − 1`, whose rows are needed
 ///   only at some of its vertices: `subsets[s − 1]` computes level `a + s` at the vertices
@@ -262,8 +264,8 @@ impl RefinePlan {
         crate::estimate_memory(mesh, &opts).saturating_mul(2)
     }
 
-    /// Number of patches: quads whose last levels the plan computes by the bicubic kernel
-    /// or by the matrix of their extraordinary corner's valence (module docs).
+    /// Number of patches: faces whose last levels the plan computes by the bicubic kernel
+    /// or by the matrix of their 1-ring (module docs).
     pub fn num_patches(&self) -> usize {
         self.tail
             .as_ref()
@@ -980,37 +982,43 @@ mod tests {
     }
 
     /// Builds plans of regression shape `name` to levels 2..=4 with patches of depth 2 and
-    /// 3, checks that they compute the same vertices as plans of sparse rows only (to
-    /// rounding), and returns the numbers of patches with phantom points (edge patches)
-    /// and of extraordinary patches over all of them.
+    /// 3 (see [`check_mesh_patches`]).
     fn check_patches(name: &str) -> (usize, usize) {
         let (obj, options) = shape(name);
-        let pos = obj.mesh.positions();
-        let (lo, hi) = obj.mesh.bounding_box().unwrap();
+        check_mesh_patches(&obj.mesh, options, name)
+    }
+
+    /// Builds plans of `mesh` to levels 2..=4 with patches of depth 2 and 3, checks that
+    /// they compute the same vertices as plans of sparse rows only (to rounding), and
+    /// returns the numbers of patches with phantom points (edge patches) and of ring
+    /// patches over all of them.
+    fn check_mesh_patches(mesh: &PolyMesh, options: Options, name: &str) -> (usize, usize) {
+        let pos = mesh.positions();
+        let (lo, hi) = mesh.bounding_box().unwrap();
         let size = (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f64>().sqrt();
-        let (mut edge_patches, mut ev_patches) = (0, 0);
+        let (mut edge_patches, mut ring_patches) = (0, 0);
         for levels in 2..=4 {
-            let rows = RefinePlan::build(&obj.mesh, options, levels, 0).unwrap();
+            let rows = RefinePlan::build(mesh, options, levels, 0).unwrap();
             let want = rows.apply(pos);
             for depth in 2..=3 {
-                let plan = RefinePlan::build(&obj.mesh, options, levels, depth).unwrap();
-                // (The quads of level 2 have at most one extraordinary corner; a
-                // level-1 quad may have two, and a base mesh no quad at all.)
+                let plan = RefinePlan::build(mesh, options, levels, depth).unwrap();
+                // (A face is a patch once its corners are smooth or regular: on every
+                // level of a mesh without sharp features.)
                 assert!(
                     levels < 4 || plan.num_patches() > 0,
                     "{name} level {levels} depth {depth}"
                 );
                 for layer in plan.tail.iter().flat_map(|t| &t.layers) {
                     edge_patches += layer.edge_nets.len();
-                    ev_patches += layer.ev.iter().map(|g| g.len()).sum::<usize>();
+                    ring_patches += layer.rings.iter().map(|g| g.len()).sum::<usize>();
                 }
                 let got = plan.apply(pos);
                 assert_eq!(got.len(), want.len());
                 for (i, (a, b)) in got.iter().zip(&want).enumerate() {
                     let err = (0..3).map(|k| (a[k] - b[k]).abs()).fold(0.0, f64::max);
-                    // Both sides round differently (16-term kernel, or up to 40 terms of
-                    // an extraordinary one, against folded sparse rows): measured at
-                    // most 2.4e-15 of the size (pawn, level 4).
+                    // Both sides round differently (16-term kernel, or up to 64 terms of
+                    // a ring patch, against folded sparse rows): measured at most 2.4e-15
+                    // of the size (pawn, level 4).
                     assert!(
                         err <= 4e-15 * size,
                         "{name} level {levels} depth {depth} vertex {i}: {err:e}"
@@ -1018,7 +1026,7 @@ mod tests {
                 }
             }
         }
-        (edge_patches, ev_patches)
+        (edge_patches, ring_patches)
     }
 
     /// Patches compute the same vertices as the sparse rows, to rounding, at every depth,
@@ -1089,11 +1097,12 @@ mod tests {
             .all(|l| l.edge_nets.is_empty()));
     }
 
-    /// Quads at one extraordinary vertex (valences 3 to 8 here, with triangles and
-    /// n-gons in the base meshes) computed by their valence's matrix give the same vertices
-    /// as the sparse rows.
+    /// Faces with smooth corners of any valence (3 to 8 here; triangles and n-gons of the
+    /// base meshes, quads of level 1 with two extraordinary corners, quads of level 2
+    /// with one) computed by their ring's matrix give the same vertices as the sparse
+    /// rows; `catmark_smoothtris0` with OpenSubdiv's `smoothtriangles` rule.
     #[test]
-    fn ev_patches_match_rows() {
+    fn ring_patches_match_rows() {
         for name in [
             "catmark_cube",
             "catmark_pyramid",
@@ -1102,10 +1111,40 @@ mod tests {
             "catmark_smoothtris0",
             "catmark_pole8",
             "catmark_gregory_test6",
+            "catmark_val2_foldover",
         ] {
+            assert!(check_patches(name).1 > 0, "{name}: no ring patches");
+        }
+    }
+
+    /// An all-triangle mesh (`catmark_bishop` with each quad split in two, and its
+    /// creases and holes dropped) is covered by ring patches at every level: its
+    /// triangles from the base level on, the quads of level 1 with two extraordinary
+    /// corners, those of level 2 with one. Few vertices are left to the rows.
+    #[test]
+    fn triangle_meshes_are_ring_patches() {
+        let (obj, _) = shape("catmark_bishop");
+        let mesh = &obj.mesh;
+        let mut tris: Vec<[u32; 3]> = Vec::new();
+        for f in 0..mesh.num_faces() {
+            let v = mesh.face(f);
+            for k in 1..v.len() - 1 {
+                tris.push([v[0], v[k], v[k + 1]]);
+            }
+        }
+        let tri = PolyMesh::from_faces(mesh.positions().to_vec(), &tris).unwrap();
+        let (_, rings) = check_mesh_patches(&tri, Options::default(), "bishop_tri");
+        assert!(rings > 0);
+        for levels in 2..=5 {
+            let plan = RefinePlan::new(&tri, Options::default(), levels).unwrap();
+            let tail = plan.tail.as_ref().unwrap();
+            let rows = tail.out_rows.len() as f64 / tail.num_out as f64;
+            // Measured: 6.9 %, 2.5 %, 0.6 %, 0.15 % at levels 2 to 5 (the faces at the
+            // poles of valence above 16 and their children), where every vertex was a row
+            // at levels 2 and 3 before ring patches.
             assert!(
-                check_patches(name).1 > 0,
-                "{name}: no extraordinary patches"
+                rows < 0.08,
+                "level {levels}: {rows} of the output in sparse rows"
             );
         }
     }

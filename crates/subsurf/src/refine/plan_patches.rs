@@ -50,19 +50,19 @@
 //! sharpness-6 creases of `catmark_bishop` and `catmark_pawn` are patch sides from level 2
 //! on, where their quads used to be sparse rows.
 //!
-//! A quad with one extraordinary corner (and three regular ones) is an *extraordinary
-//! patch* instead: the same idea with a fixed matrix per valence on the `2n + 8` points
-//! of its 1-ring (`refine/plan_ev.rs`).
+//! Any other face whose corners are smooth interior vertices (of any valence, a triangle
+//! or n-gon of the base mesh too) is a *ring patch* instead: the same idea with a fixed
+//! matrix per shape of 1-ring on the points of that ring (`refine/plan_ring.rs`).
 //!
 //! Each refined vertex is written by exactly one patch or by the plan's remaining sparse
 //! rows (see [`Claims`]).
 //!
 //! # Order of work
 //! A layer applies its patches by runs of [`RUN`] consecutive faces, each run all its
-//! patches of every kind (plain, edge, extraordinary) before the next, and runs in
+//! patches of every kind (plain, edge, ring) before the next, and runs in
 //! parallel. The outputs of neighbouring quads share cache lines; one pass per kind would
 //! load those lines from memory once per pass. On an all-triangle mesh, half regular and
-//! half extraordinary patches at level 2, this made applying 15–20 % faster.
+//! half ring patches at level 2, this made applying 15–20 % faster.
 //!
 //! # Numbering
 //! Where a patch's refined vertices go follows from [`refine_topology`]'s child numbering
@@ -79,7 +79,7 @@ use std::ops::Range;
 
 use rayon::prelude::*;
 
-use super::plan_ev::{ev_net, rotate_grid, EvGroup, EvNet, Kernel};
+use super::plan_ring::{descendants, ring_net, Kernel, RingGroup, RingNet};
 use crate::limit::patch::{refinement_patch_cells, Cell, Sharp};
 use crate::mesh::{Options, Topology};
 
@@ -116,8 +116,8 @@ pub(super) struct PatchLayer {
     edge_out: Vec<u32>,
     /// Where the edge patches of each run start.
     edge_runs: Runs,
-    /// The extraordinary patches (`refine/plan_ev.rs`), by valence.
-    pub(super) ev: Vec<EvGroup>,
+    /// The ring patches (`refine/plan_ring.rs`), by key.
+    pub(super) rings: Vec<RingGroup>,
     /// The kernel's matrix `W`, one row of four weights per grid column.
     w: Vec<[f64; 4]>,
     /// One more than the largest control index, and than the largest output index.
@@ -291,16 +291,16 @@ enum Net {
     Plain([u32; 16]),
     /// With phantom points (boxed: 14 times the size of a plain net, and rarer).
     Edge(Box<[Cell; 16]>),
-    /// With one extraordinary corner (`refine/plan_ev.rs`).
-    Ev(EvNet),
+    /// The 1-ring of a face with smooth corners (`refine/plan_ring.rs`).
+    Ring(RingNet),
 }
 
-/// The control net of quad `f` if it can be a patch (module docs), with the edges and
+/// The control net of face `f` if it can be a patch (module docs), with the edges and
 /// vertices that `sharp` takes as infinitely sharp: its 16 cells, whose vertices (those
-/// that are not phantoms) must be distinct; or else its extraordinary net.
+/// that are not phantoms) must be distinct; or else its 1-ring.
 fn patch_controls(t: &Topology, f: usize, sharp: Sharp) -> Option<Net> {
     let Some(cells) = refinement_patch_cells(t, f, sharp) else {
-        return ev_net(t, f, sharp).map(Net::Ev);
+        return ring_net(t, f).map(Net::Ring);
     };
     let cells: [Cell; 16] = std::array::from_fn(|k| cells[k / 4][k % 4]);
     let plain = cells.iter().all(|c| c.len == 1 && c.weights[0] == 1.0);
@@ -310,7 +310,7 @@ fn patch_controls(t: &Topology, f: usize, sharp: Sharp) -> Option<Net> {
         .collect();
     verts.sort_unstable();
     if verts.windows(2).any(|w| w[0] == w[1]) {
-        return None;
+        return ring_net(t, f).map(Net::Ring);
     }
     Some(if plain {
         Net::Plain(cells.map(|c| c.verts[0]))
@@ -335,51 +335,70 @@ impl PatchLayer {
         options: &Options,
     ) -> Self {
         let depth = levels.len() as u32;
-        let side = (1 << depth) + 1;
         let sharp = Sharp::for_levels(depth, options.crease_method);
         let t = &levels[0];
-        let mut found: Vec<(u32, Net, Vec<u32>)> = (0..t.num_faces())
+        // Regular and edge patches with their grids; ring patches get theirs below, once
+        // the matrix of their key says which vertices repeat.
+        let found: Vec<(u32, Net, Vec<u32>)> = (0..t.num_faces())
             .into_par_iter()
             .with_min_len(RUN)
             .filter_map(|f| {
-                let ctrl = patch_controls(t, f, sharp)?;
-                let grid = grid_indices(levels, f)?;
-                let run = (f / RUN) as u32;
-                Some(match ctrl {
-                    Net::Ev(net) => {
-                        let grid = rotate_grid(&grid, side, net.corner);
-                        (run, Net::Ev(net), grid)
-                    }
-                    net => (run, net, grid),
-                })
+                let net = patch_controls(t, f, sharp)?;
+                let grid = match net {
+                    Net::Ring(_) => Vec::new(),
+                    _ => grid_indices(levels, f)?,
+                };
+                Some((f as u32, net, grid))
             })
             .collect();
         let runs = t.num_faces().div_ceil(RUN);
-        // One kernel per valence found; the quads of a valence whose kernel could not be
-        // built (a defect: see `Kernel::new`) are left to the rows.
-        let mut kernels: BTreeMap<usize, Option<EvGroup>> = BTreeMap::new();
+        // One matrix per key found. A key whose matrix could not be built leaves its faces
+        // to the rows.
+        let mut keys: BTreeMap<&[u32], usize> = BTreeMap::new();
         for (_, net, _) in &found {
-            if let Net::Ev(net) = net {
-                kernels.entry(net.valence).or_insert_with(|| {
-                    Kernel::new(net.valence, depth, options).map(|k| EvGroup::new(net.valence, k))
-                });
+            if let Net::Ring(ring) = net {
+                let next = keys.len();
+                keys.entry(&ring.key).or_insert(next);
             }
         }
-        found.retain(|(_, net, _)| match net {
-            Net::Ev(net) => kernels[&net.valence].is_some(),
-            _ => true,
-        });
-        let mut ev: BTreeMap<usize, EvGroup> = kernels
-            .into_iter()
-            .filter_map(|(n, g)| Some((n, g?)))
+        let mut key_list = vec![&[][..]; keys.len()];
+        for (&key, &i) in &keys {
+            key_list[i] = key;
+        }
+        let kernels: Vec<Option<Kernel>> = key_list
+            .par_iter()
+            .map(|key| Kernel::new(key, depth, options))
+            .collect();
+        let key_of = |ring: &RingNet| keys[ring.key.as_slice()];
+        let ring_grids: Vec<Option<(usize, Vec<u32>)>> = (found.par_iter())
+            .with_min_len(RUN)
+            .map(|(f, net, _)| {
+                let Net::Ring(ring) = net else { return None };
+                let k = key_of(ring);
+                let mut walk = Vec::new();
+                descendants(levels, *f as usize, ring.start, &mut walk)?;
+                Some((k, kernels[k].as_ref()?.grid(&ring.verts, &walk)?))
+            })
+            .collect();
+        drop(keys);
+        let mut groups: Vec<Option<RingGroup>> =
+            kernels.into_iter().map(|k| k.map(RingGroup::new)).collect();
+        // Each patch with its grid, and a ring patch with its key.
+        let found: Vec<(u32, Net, Vec<u32>, usize)> = (found.into_iter().zip(ring_grids))
+            .filter_map(|((f, net, grid), ring)| match (net, ring) {
+                (Net::Ring(_), None) => None,
+                (net @ Net::Ring(_), Some((k, grid))) => Some((f, net, grid, k)),
+                (net, _) => Some((f, net, grid, 0)),
+            })
             .collect();
         let mut ctrl = Vec::with_capacity(found.len());
-        let mut out = Vec::with_capacity(found.iter().map(|(_, _, g)| g.len()).sum());
+        let mut out = Vec::with_capacity(found.iter().map(|(_, _, g, _)| g.len()).sum());
         let (mut edge_nets, mut edge_out) = (Vec::new(), Vec::new());
         let (mut ctrl_run, mut edge_run) = (Vec::new(), Vec::new());
-        for (run, net, mut grid) in found {
+        for (f, net, mut grid, key) in found {
+            let run = f / RUN as u32;
             let mut any = false;
-            for g in &mut grid {
+            for g in grid.iter_mut().filter(|g| **g != NOT_OWNED) {
                 let seen = &mut claims.0[*g as usize];
                 if *seen {
                     *g = NOT_OWNED;
@@ -390,9 +409,9 @@ impl PatchLayer {
             }
             match net {
                 _ if !any => {}
-                Net::Ev(net) => {
-                    if let Some(group) = ev.get_mut(&net.valence) {
-                        group.push(run, &net.verts, &grid);
+                Net::Ring(ring) => {
+                    if let Some(group) = &mut groups[key] {
+                        group.push(run, &ring.verts, &grid);
                     }
                 }
                 Net::Plain(c) => {
@@ -407,8 +426,12 @@ impl PatchLayer {
                 }
             }
         }
-        let mut ev: Vec<EvGroup> = ev.into_values().filter(|g| g.len() > 0).collect();
-        ev.iter_mut().for_each(|g| g.set_runs(runs));
+        let mut rings: Vec<RingGroup> = groups
+            .into_iter()
+            .flatten()
+            .filter(|g| g.len() > 0)
+            .collect();
+        rings.iter_mut().for_each(|g| g.set_runs(runs));
         let mut layer = PatchLayer {
             depth,
             source,
@@ -419,7 +442,7 @@ impl PatchLayer {
             edge_nets,
             edge_out,
             edge_runs: Runs::new(&edge_run, runs),
-            ev,
+            rings,
             w: weights(depth),
             bounds: [0, 0],
         };
@@ -432,7 +455,7 @@ impl PatchLayer {
         self.bounds = [
             self.control_vertices().map(end).max().unwrap_or(0),
             (self.out.iter().chain(&self.edge_out))
-                .chain(self.ev.iter().flat_map(|g| &g.out))
+                .chain(self.rings.iter().flat_map(|g| &g.out))
                 .filter(|&&o| o != NOT_OWNED)
                 .map(|&o| end(o))
                 .max()
@@ -443,13 +466,15 @@ impl PatchLayer {
     /// Every source vertex that the patches read (with repetitions).
     pub(super) fn control_vertices(&self) -> impl Iterator<Item = u32> + '_ {
         let edge = self.edge_nets.iter().flatten().flat_map(cell_verts);
-        let ev = self.ev.iter().flat_map(|g| &g.ctrl);
-        self.ctrl.iter().flatten().chain(edge).chain(ev).copied()
+        let rings = self.rings.iter().flat_map(|g| &g.ctrl);
+        self.ctrl.iter().flatten().chain(edge).chain(rings).copied()
     }
 
     /// Number of patches.
     pub(super) fn len(&self) -> usize {
-        self.ctrl.len() + self.edge_nets.len() + self.ev.iter().map(EvGroup::len).sum::<usize>()
+        self.ctrl.len()
+            + self.edge_nets.len()
+            + self.rings.iter().map(RingGroup::len).sum::<usize>()
     }
 
     /// Bytes held.
@@ -460,7 +485,11 @@ impl PatchLayer {
             + self.edge_runs.memory_bytes()
             + std::mem::size_of::<[Cell; 16]>() * self.edge_nets.len()
             + 4 * self.edge_out.len()
-            + self.ev.iter().map(EvGroup::memory_bytes).sum::<usize>()
+            + self
+                .rings
+                .iter()
+                .map(RingGroup::memory_bytes)
+                .sum::<usize>()
             + 32 * self.w.len()
     }
 
@@ -475,7 +504,7 @@ impl PatchLayer {
                 *v = map[*v as usize];
             }
         }
-        for c in self.ev.iter_mut().flat_map(|g| &mut g.ctrl) {
+        for c in self.rings.iter_mut().flat_map(|g| &mut g.ctrl) {
             *c = map[*c as usize];
         }
         self.set_bounds();
@@ -522,7 +551,7 @@ impl PatchLayer {
                 // SAFETY: `LOCAL_CTRL` indexes `local`; outputs as above.
                 unsafe { patches::<N, NN, D>(w, local, &LOCAL_CTRL[..nets.len()], grids, &dst) };
             }
-            for group in &self.ev {
+            for group in &self.rings {
                 // SAFETY: as above.
                 unsafe { group.apply(r, src, &dst) };
             }

@@ -24,7 +24,7 @@ use crate::scheme::crease;
 /// Rotation of the child quad at `corner` of a parent face of size `n`: child quads of
 /// quads are rotated so that their corner `corner` is the parent vertex's child.
 #[inline]
-fn rot(n: usize, corner: usize) -> usize {
+pub(super) fn rot(n: usize, corner: usize) -> usize {
     if n == 4 {
         corner
     } else {

@@ -1,0 +1,785 @@
+//! Ring patches of a [`RefinePlan`](super::RefinePlan): the last levels of a face whose
+//! corners are smooth interior vertices of any valence, computed from the points of its
+//! 1-ring by one fixed matrix per shape of ring, as regular patches are computed from 16
+//! points by the bicubic kernel (see `refine/plan_patches.rs`).
+//!
+//! # Why
+//! Regular patches need four regular corners, so every face at an extraordinary vertex,
+//! and every face that is not a quad, would be left to the plan's sparse rows, about ten
+//! times dearer per vertex. On most quad meshes that is a few percent of the output; on
+//! meshes dense in extraordinary vertices it is most of it: in an all-triangle mesh
+//! (scans, CAD tessellations) every base face is a triangle, every quad of level 1 has two
+//! extraordinary corners (an input vertex of valence about 6 and a face centre of valence
+//! 3), and every quad of level 2 one.
+//!
+//! # Which faces
+//! A face `f` (of any size) whose corners are smooth interior vertices: rule smooth, no
+//! sharp or semi-sharp vertex or edge at them, manifold, surrounded by faces, of valence
+//! 3 to [`MAX_VALENCE`]; with at most [`MAX_POINTS`] points in its 1-ring (the faces that
+//! share a vertex with it).
+//!
+//! The vertices that any number of levels put on the closed face depend only on its
+//! 1-ring, through the masks of its corners, of the edges at its corners and of the faces
+//! of the 1-ring: a level-`l + 1` vertex on `f` is a vertex, edge or face point of an
+//! element of `f`, whose masks read the corners' fans; the child faces of `f` have as
+//! corners children of `f`'s corners, of its edges and of `f` itself, whose fans lie in
+//! the refined 1-ring of `f` and were computed by the masks of `f`'s corners, of the edges
+//! at them and of the faces around them; and so on down. Every mask used is that of a
+//! corner of `f` (smooth, of its valence), of an edge at a corner (smooth, between its
+//! two faces; with OpenSubdiv's `smoothtriangles` rule, depending on their sizes) or of a
+//! face of the 1-ring (the centroid). The other points of the 1-ring may be anything
+//! (extraordinary, sharp, on a boundary): their own masks are never used. So the map from
+//! the ring's points to the vertices that `d` levels put on `f` is one matrix for all
+//! faces whose 1-rings have the same faces on the same points, once the points are
+//! numbered the same way; on an all-triangle mesh, one per triple of corner valences.
+//!
+//! # The ring
+//! [`ring_net`] lists the faces of the 1-ring from a corner `s` of `f`: `f` itself from
+//! `s`, then for each corner in turn (`s`, `s + 1`, …) the faces around it that are not
+//! listed yet, counter-clockwise from `f`, each from that corner. The points are numbered
+//! in order of first appearance. This list (the ring's *key*) depends only on the shape of
+//! the ring and on `s`; of the keys from every corner the least is kept, so that the same
+//! ring seen from another corner shares the matrix. Two points of the ring may be the same
+//! vertex of the mesh (a small closed mesh): the key says so, and the matrix is computed
+//! on exactly that.
+//!
+//! # The matrix
+//! It is computed by refining the 1-ring itself: a mesh of the key's faces
+//! ([`Kernel::new`]) refined `d` levels by a plan of sparse rows only (the masks of all
+//! refinement, [`RefinePlan`](super::RefinePlan) without patches), applied to the unit
+//! vectors of its points; row `k` is then the refined value at the `k`-th vertex on the
+//! template's face 0. No mask is written twice, so the matrix cannot disagree with the
+//! rows. The template's own boundary rules act only on points beyond the 1-ring's
+//! interior, which `f`'s vertices never read (above). Zero entries are dropped.
+//!
+//! # Which vertices
+//! [`descendants`] lists the vertices that `d` levels put on a face, walking down the
+//! child numbering of [`refine_topology`] from its corner `s` (child face `j` of a face
+//! holds the child of its corner `j`; within a child, the walk starts from that corner):
+//! the same list, in the same order, for the template's face 0 from its corner 0 and for
+//! `f` from `s`. A vertex shared by two child faces is listed by each, the first time
+//! counting; a patch is kept only if its list repeats exactly where the template's does.
+//!
+//! [`refine_topology`]: super::topology::refine_topology
+
+use crate::mesh::{Options, PolyMesh, Rule, Topology};
+
+use super::plan::RefinePlan;
+#[cfg(target_arch = "x86_64")]
+use super::plan_patches::has_avx2_fma;
+use super::plan_patches::{grid_indices, prefetch_next, Runs, SharedOut, NOT_OWNED};
+use super::topology::{refine_topology, rot};
+
+/// Largest valence of a corner of a ring patch. Higher valences are rare and stay with
+/// the sparse rows.
+pub(super) const MAX_VALENCE: usize = 16;
+
+/// Largest number of points of a ring (held on the stack while a patch is computed): a
+/// quad with one corner of valence 16 has 40, a triangle with corners of valence 6, 12.
+/// A row of the matrix has up to as many terms.
+pub(super) const MAX_POINTS: usize = 64;
+
+/// The 1-ring of a face, read from one of its corners (module docs).
+pub(super) struct RingNet {
+    /// The ring's faces on the ring's points: for each face, its size then its points,
+    /// face 0 being the patch's face from corner `start`. Equal keys, equal matrices.
+    pub(super) key: Vec<u32>,
+    /// The corner of the face the ring was read from.
+    pub(super) start: usize,
+    /// The mesh vertex of each point of the ring.
+    pub(super) verts: Vec<u32>,
+    /// The mesh faces of the ring, in the key's order.
+    faces: Vec<u32>,
+}
+
+/// Whether vertex `v` of `t` can be a corner of a ring patch (module docs).
+fn smooth_corner(t: &Topology, v: usize) -> bool {
+    let tag = t.vertex_tag(v);
+    let n = t.vertex_edges(v).len();
+    tag.rule == Rule::Smooth
+        && !(tag.boundary
+            || tag.non_manifold
+            || tag.semi_sharp
+            || tag.inf_sharp
+            || tag.semi_sharp_edges
+            || tag.inf_sharp_edges)
+        && (3..=MAX_VALENCE).contains(&n)
+        && t.vertex_faces(v).len() == n
+        && (t.vertex_edges(v).iter()).all(|&e| t.edge_face_list(e as usize).len() == 2)
+}
+
+/// The ring of face `f` of `t` with the least key over its corners, if `f` can be a ring
+/// patch (module docs).
+pub(super) fn ring_net(t: &Topology, f: usize) -> Option<RingNet> {
+    let fv = t.face_vertices(f);
+    if !fv.iter().all(|&v| smooth_corner(t, v as usize)) {
+        return None;
+    }
+    let mut best: Option<RingNet> = None;
+    for start in 0..fv.len() {
+        let ring = read_ring(t, f, start)?;
+        if best.as_ref().map_or(true, |b| ring.key < b.key) {
+            best = Some(ring);
+        }
+    }
+    let ring = best?;
+    // The template finds its edges by their ends: so must the mesh, around this face
+    // (two edges between the same two vertices, as at a valence-2 vertex folded over,
+    // would be one edge of the template).
+    let mut edges: Vec<([u32; 2], u32)> = Vec::new();
+    for &g in &ring.faces {
+        let (gv, ge) = (t.face_vertices(g as usize), t.face_edge_list(g as usize));
+        for (k, &e) in ge.iter().enumerate() {
+            let (a, b) = (gv[k], gv[(k + 1) % gv.len()]);
+            edges.push(([a.min(b), a.max(b)], e));
+        }
+    }
+    edges.sort_unstable();
+    edges.dedup();
+    edges.windows(2).all(|w| w[0].0 != w[1].0).then_some(ring)
+}
+
+/// The ring of face `f` of `t` read from its corner `start` (module docs), or `None`
+/// if it has more than [`MAX_POINTS`] points.
+fn read_ring(t: &Topology, f: usize, start: usize) -> Option<RingNet> {
+    let fv = t.face_vertices(f);
+    let n = fv.len();
+    let mut ring = RingNet {
+        key: Vec::new(),
+        start,
+        verts: Vec::new(),
+        faces: vec![f as u32],
+    };
+    let push = |ring: &mut RingNet, face: &mut dyn Iterator<Item = u32>| {
+        let len = ring.key.len();
+        ring.key.push(0);
+        for v in face {
+            let p = match ring.verts.iter().position(|&x| x == v) {
+                Some(p) => p,
+                None => {
+                    ring.verts.push(v);
+                    ring.verts.len() - 1
+                }
+            };
+            ring.key.push(p as u32);
+        }
+        ring.key[len] = (ring.key.len() - len - 1) as u32;
+    };
+    push(&mut ring, &mut (0..n).map(|j| fv[(start + j) % n]));
+    for j in 0..n {
+        let k = (start + j) % n;
+        let v = fv[k] as usize;
+        let (faces, locals) = (t.vertex_faces(v), t.vertex_face_locals(v));
+        let m = faces.len();
+        let i0 = (0..m).find(|&i| faces[i] as usize == f && locals[i] as usize == k)?;
+        for s in 1..m {
+            let g = faces[(i0 + s) % m];
+            if ring.faces.contains(&g) {
+                continue;
+            }
+            ring.faces.push(g);
+            let gv = t.face_vertices(g as usize);
+            let l = locals[(i0 + s) % m] as usize;
+            push(
+                &mut ring,
+                &mut (0..gv.len()).map(|q| gv[(l + q) % gv.len()]),
+            );
+        }
+        if ring.verts.len() > MAX_POINTS {
+            return None;
+        }
+    }
+    Some(ring)
+}
+
+/// Appends to `out` the vertices that `levels.len()` levels put on the closed face `f`
+/// of `levels[0]`, numbered in the level below the last of `levels`, walking from corner
+/// `start` (module docs), with repetitions; `None` if a child face is not where the
+/// numbering says.
+pub(super) fn descendants(
+    levels: &[Topology],
+    f: usize,
+    start: usize,
+    out: &mut Vec<u32>,
+) -> Option<()> {
+    let t = &levels[0];
+    let fv = t.face_vertices(f);
+    let n = fv.len();
+    if levels.len() == 1 {
+        let fe = t.face_edge_list(f);
+        let (nv, nf) = (t.num_vertices() as u32, t.num_faces() as u32);
+        for j in 0..n {
+            let k = (start + j) % n;
+            out.extend([fv[k], nv + nf + fe[k]]);
+        }
+        out.push(nv + f as u32);
+        return Some(());
+    }
+    let o = t.face_offsets[f] as usize;
+    for j in 0..n {
+        let k = (start + j) % n;
+        let (g, r) = (o + k, rot(n, k));
+        let cv = levels[1].face_vertices(g);
+        if cv.len() != 4 || cv[r] != fv[k] {
+            return None;
+        }
+        descendants(&levels[1..], g, r, out)?;
+    }
+    Some(())
+}
+
+/// Rows of a ring matrix computed together: enough independent sums to keep the
+/// multiply-add units busy (a single row's sum waits on each addition in turn, four cycles
+/// each), and two 256-bit vectors of weights per control point.
+const LANES: usize = 8;
+
+/// The matrix of a ring key for `d` levels (module docs), by groups of [`LANES`] rows
+/// (vertices on the face, in [`descendants`] order without repetitions): each group lists
+/// the ring points that any of its rows depends on, with the [`LANES`] weights of its rows
+/// on each (0 where a row does not depend on it), padded with empty rows to whole groups.
+/// (Grouping rows greedily by their supports saves under 2 % of the terms: neighbouring
+/// vertices depend on nearly the same points.)
+#[derive(Clone, Debug)]
+pub(super) struct Kernel {
+    /// Number of points of the ring.
+    points: usize,
+    /// Number of rows: the vertices on the face, and the padding to a multiple of
+    /// [`LANES`].
+    rows: usize,
+    /// For each entry of [`descendants`] (with repetitions), its row.
+    row_of: Vec<u16>,
+    /// Group `g`'s terms are `starts[g]..starts[g + 1]`.
+    starts: Vec<u32>,
+    /// The weights of each term, one per row of its group.
+    weights: Vec<[f64; LANES]>,
+    /// The ring point of each term.
+    slots: Vec<u32>,
+}
+
+impl Kernel {
+    /// The matrix of ring `key` for `depth` levels, refined with `options` (module docs).
+    /// `None` if the template cannot be built or refined as a mesh of its own (the faces
+    /// are then left to the sparse rows).
+    pub(super) fn new(key: &[u32], depth: u32, options: &Options) -> Option<Kernel> {
+        let mut faces = Vec::new();
+        let mut rest = key;
+        while let Some((&len, tail)) = rest.split_first() {
+            let (face, tail) = tail.split_at_checked(len as usize)?;
+            faces.push(face);
+            rest = tail;
+        }
+        let points = (faces.iter().copied().flatten().max()).map_or(0, |&m| m as usize + 1);
+        let mesh = PolyMesh::from_faces(vec![[0.0; 3]; points], &faces).ok()?;
+        let plan = RefinePlan::build(&mesh, *options, depth, 0).ok()?;
+        let (mut level, _) = Topology::from_mesh(&mesh, options).ok()?;
+        let mut levels = Vec::with_capacity(depth as usize);
+        for _ in 1..depth {
+            let child = refine_topology(&level, options, true);
+            levels.push(std::mem::replace(&mut level, child));
+        }
+        levels.push(level);
+        let mut walk = Vec::new();
+        descendants(&levels, 0, 0, &mut walk)?;
+        let columns: Vec<Vec<[f64; 1]>> = (0..points)
+            .map(|s| {
+                let unit: Vec<[f64; 1]> =
+                    (0..points).map(|i| [f64::from(u8::from(i == s))]).collect();
+                plan.apply(&unit)
+            })
+            .collect();
+        // The rows, in groups of `LANES` that depend on few ring points together. On a
+        // quad, the grid's rows (`x` along the side from corner 0): measured 5 % faster
+        // than any grouping below, with as few terms (137 against 138 at valence 3, depth
+        // 3). Elsewhere each group is grown greedily from the vertex that depends on the
+        // fewest points by the vertex that adds the fewest.
+        let rows: Vec<Option<u32>> = if faces[0].len() == 4 {
+            grid_indices(&levels, 0)?.into_iter().map(Some).collect()
+        } else {
+            let mut verts = walk.clone();
+            verts.sort_unstable();
+            verts.dedup();
+            let mut left: Vec<(u32, u64)> = (verts.into_iter())
+                .map(|v| {
+                    let support = (0..points)
+                        .filter(|&s| columns[s][v as usize][0] != 0.0)
+                        .fold(0u64, |m, s| m | 1 << s);
+                    (v, support)
+                })
+                .collect();
+            let mut rows = Vec::with_capacity(left.len().next_multiple_of(LANES));
+            while let Some(seed) = (0..left.len()).min_by_key(|&i| left[i].1.count_ones()) {
+                let (v, mut union) = left.remove(seed);
+                rows.push(Some(v));
+                for _ in 1..LANES {
+                    let Some((i, _)) = (left.iter().enumerate())
+                        .min_by_key(|(_, (_, s))| ((union | s).count_ones(), s.count_ones()))
+                    else {
+                        break;
+                    };
+                    let (v, s) = left.remove(i);
+                    union |= s;
+                    rows.push(Some(v));
+                }
+            }
+            rows
+        };
+        let rows = {
+            let mut rows = rows;
+            rows.resize(rows.len().next_multiple_of(LANES), None);
+            rows
+        };
+        let row_of = (walk.iter())
+            .map(|&v| u16::try_from(rows.iter().position(|&x| x == Some(v))?).ok())
+            .collect::<Option<Vec<u16>>>()?;
+        let mut kernel = Kernel {
+            points,
+            rows: rows.len(),
+            row_of,
+            starts: vec![0],
+            weights: Vec::new(),
+            slots: Vec::new(),
+        };
+        for group in rows.chunks(LANES) {
+            for (s, column) in columns.iter().enumerate() {
+                let mut w = [0.0; LANES];
+                for (w, &g) in w.iter_mut().zip(group) {
+                    *w = g.map_or(0.0, |g| column[g as usize][0]);
+                }
+                if w.iter().any(|&w| w != 0.0) {
+                    kernel.weights.push(w);
+                    kernel.slots.push(s as u32);
+                }
+            }
+            kernel.starts.push(kernel.weights.len() as u32);
+        }
+        Some(kernel)
+    }
+
+    /// The output vertex of each row, padded with [`NOT_OWNED`], of a face with ring
+    /// points `verts` from its [`descendants`] `walk` (with repetitions); `None` unless
+    /// the ring has the template's points and the walk repeats exactly where the
+    /// template's does.
+    pub(super) fn grid(&self, verts: &[u32], walk: &[u32]) -> Option<Vec<u32>> {
+        if verts.len() != self.points || walk.len() != self.row_of.len() {
+            return None;
+        }
+        let mut grid = vec![NOT_OWNED; self.rows];
+        for (&v, &r) in walk.iter().zip(&self.row_of) {
+            let g = &mut grid[r as usize];
+            if *g != NOT_OWNED && *g != v {
+                return None;
+            }
+            *g = v;
+        }
+        let mut sorted: Vec<u32> = grid.iter().copied().filter(|&g| g != NOT_OWNED).collect();
+        sorted.sort_unstable();
+        sorted.windows(2).all(|w| w[0] != w[1]).then_some(grid)
+    }
+
+    /// The nonzero entries `(ring point, weight)` of row `r`.
+    #[cfg(test)]
+    fn row(&self, r: usize) -> impl Iterator<Item = (usize, f64)> + '_ {
+        let (g, lane) = (r / LANES, r % LANES);
+        let terms = self.starts[g] as usize..self.starts[g + 1] as usize;
+        (self.slots[terms.clone()].iter().zip(&self.weights[terms]))
+            .map(move |(&s, w)| (s as usize, w[lane]))
+            .filter(|&(_, w)| w != 0.0)
+    }
+
+    /// Bytes held.
+    pub(super) fn memory_bytes(&self) -> usize {
+        4 * self.starts.len() + 2 * self.row_of.len() + (8 * LANES + 4) * self.weights.len()
+    }
+}
+
+/// The ring patches of one key in one [`PatchLayer`](super::plan_patches::PatchLayer).
+#[derive(Clone, Debug)]
+pub(super) struct RingGroup {
+    kernel: Kernel,
+    /// The ring points of each patch, in the key's order.
+    pub(super) ctrl: Vec<u32>,
+    /// The output vertex of each row of each patch, or [`NOT_OWNED`].
+    pub(super) out: Vec<u32>,
+    /// The run of faces of each patch, while the layer is built.
+    run_of: Vec<u32>,
+    /// Where the patches of each run start.
+    runs: Runs,
+}
+
+impl RingGroup {
+    pub(super) fn new(kernel: Kernel) -> Self {
+        RingGroup {
+            kernel,
+            ctrl: Vec::new(),
+            out: Vec::new(),
+            run_of: Vec::new(),
+            runs: Runs::default(),
+        }
+    }
+
+    /// Adds a patch of run `run` (not before those already added) with ring points
+    /// `verts` and output vertices `grid` (checked by [`Kernel::grid`]).
+    pub(super) fn push(&mut self, run: u32, verts: &[u32], grid: &[u32]) {
+        self.ctrl.extend_from_slice(verts);
+        self.out.extend_from_slice(grid);
+        self.run_of.push(run);
+    }
+
+    /// Indexes the patches by run, once all are added.
+    pub(super) fn set_runs(&mut self, runs: usize) {
+        self.runs = Runs::new(&std::mem::take(&mut self.run_of), runs);
+    }
+
+    /// Number of patches.
+    pub(super) fn len(&self) -> usize {
+        self.ctrl.len() / self.kernel.points.max(1)
+    }
+
+    /// Bytes held.
+    pub(super) fn memory_bytes(&self) -> usize {
+        self.kernel.memory_bytes()
+            + 4 * self.ctrl.len()
+            + 4 * self.out.len()
+            + self.runs.memory_bytes()
+    }
+
+    /// Writes the owned grid points of the patches of run `r` into `out`, from the values
+    /// `src` of the patches' level.
+    ///
+    /// # Safety
+    /// Every control index is in bounds of `src`, every grid index is [`NOT_OWNED`] or in
+    /// bounds of `out`, and no other thread writes the same output indices.
+    pub(super) unsafe fn apply<const D: usize>(
+        &self,
+        r: usize,
+        src: &[[f64; D]],
+        out: &SharedOut<[f64; D]>,
+    ) {
+        let (points, nn) = (self.kernel.points, self.kernel.rows);
+        let run = self.runs.range(r);
+        let ctrl = &self.ctrl[run.start * points..run.end * points];
+        let grids = &self.out[run.start * nn..run.end * nn];
+        #[cfg(target_arch = "x86_64")]
+        if D == 3 && has_avx2_fma() {
+            let src = src.as_ptr().cast();
+            // SAFETY: the features were just detected; `D == 3`; the caller's bounds.
+            unsafe { ring_patches_avx(&self.kernel, points, src, ctrl, grids, out.0.cast()) };
+            return;
+        }
+        let k = &self.kernel;
+        // The control points by component: `local[c][s]`.
+        let mut local = [[0.0; MAX_POINTS]; D];
+        for (p, (c, g)) in ctrl
+            .chunks_exact(points)
+            .zip(grids.chunks_exact(nn))
+            .enumerate()
+        {
+            // SAFETY: the caller's.
+            unsafe { prefetch_next::<D>(grids, p, nn, out.0.cast()) };
+            for (s, &v) in c.iter().enumerate() {
+                (0..D).for_each(|i| local[i][s] = src[v as usize][i]);
+            }
+            for (group, rows) in g.chunks(LANES).enumerate() {
+                if rows.iter().all(|&o| o == NOT_OWNED) {
+                    continue;
+                }
+                let mut acc = [[0.0; LANES]; D];
+                let terms = k.starts[group] as usize..k.starts[group + 1] as usize;
+                for (w, &s) in k.weights[terms.clone()].iter().zip(&k.slots[terms]) {
+                    for (acc, local) in acc.iter_mut().zip(&local) {
+                        let x = local[s as usize];
+                        (0..LANES).for_each(|l| acc[l] += w[l] * x);
+                    }
+                }
+                for (l, &o) in rows.iter().enumerate() {
+                    if o != NOT_OWNED {
+                        // SAFETY: the caller's.
+                        unsafe {
+                            out.0
+                                .add(o as usize)
+                                .write(std::array::from_fn(|i| acc[i][l]))
+                        };
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// [`RingGroup::apply`] for positions, with AVX2 and FMA (as the regular patches'
+/// `patches_avx`): the control points split by component, and for each group of
+/// [`LANES`] rows six independent sums (two vectors of rows × three components).
+///
+/// # Safety
+/// As [`RingGroup::apply`], with `src` and `out` pointing at `[f64; 3]` values; the
+/// processor has AVX2 and FMA.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+unsafe fn ring_patches_avx(
+    k: &Kernel,
+    points: usize,
+    src: *const f64,
+    ctrl: &[u32],
+    grids: &[u32],
+    out: *mut f64,
+) {
+    use std::arch::x86_64::*;
+    let nn = k.rows;
+    let mut local = [[0.0; MAX_POINTS]; 3];
+    // SAFETY (whole body): the caller's bounds; slots are below `points ≤ MAX_POINTS`.
+    unsafe {
+        for (p, (c, g)) in ctrl
+            .chunks_exact(points)
+            .zip(grids.chunks_exact(nn))
+            .enumerate()
+        {
+            prefetch_next::<3>(grids, p, nn, out);
+            for (s, &v) in c.iter().enumerate() {
+                let q = src.add(3 * v as usize);
+                local[0][s] = *q;
+                local[1][s] = *q.add(1);
+                local[2][s] = *q.add(2);
+            }
+            for (group, rows) in g.chunks(LANES).enumerate() {
+                let owned = |rows: &[u32]| rows.iter().any(|&o| o != NOT_OWNED);
+                let (low, high) = (owned(&rows[..4]), owned(&rows[4..]));
+                if !(low || high) {
+                    continue;
+                }
+                let mut acc = [[_mm256_setzero_pd(); 2]; 3];
+                let terms = k.starts[group] as usize..k.starts[group + 1] as usize;
+                let terms = k.weights[terms.clone()].iter().zip(&k.slots[terms]);
+                if low && high {
+                    for (w, &s) in terms {
+                        let w = [
+                            _mm256_loadu_pd(w.as_ptr()),
+                            _mm256_loadu_pd(w.as_ptr().add(4)),
+                        ];
+                        for (acc, local) in acc.iter_mut().zip(&local) {
+                            let x = _mm256_broadcast_sd(local.get_unchecked(s as usize));
+                            acc[0] = _mm256_fmadd_pd(w[0], x, acc[0]);
+                            acc[1] = _mm256_fmadd_pd(w[1], x, acc[1]);
+                        }
+                    }
+                } else {
+                    // Only one half of the rows is written: half the work.
+                    let h = usize::from(high);
+                    for (w, &s) in terms {
+                        let w = _mm256_loadu_pd(w.as_ptr().add(4 * h));
+                        for (acc, local) in acc.iter_mut().zip(&local) {
+                            let x = _mm256_broadcast_sd(local.get_unchecked(s as usize));
+                            acc[h] = _mm256_fmadd_pd(w, x, acc[h]);
+                        }
+                    }
+                }
+                // Four rows at a time from (x, y, z) by row to rows of (x, y), (z).
+                for (half, rows) in rows.chunks(4).enumerate() {
+                    let [x, y, z] = acc.map(|a| a[half]);
+                    let (xy02, xy13) = (_mm256_unpacklo_pd(x, y), _mm256_unpackhi_pd(x, y));
+                    let (zlo, zhi) = (_mm256_castpd256_pd128(z), _mm256_extractf128_pd::<1>(z));
+                    let xy = [
+                        _mm256_castpd256_pd128(xy02),
+                        _mm256_castpd256_pd128(xy13),
+                        _mm256_extractf128_pd::<1>(xy02),
+                        _mm256_extractf128_pd::<1>(xy13),
+                    ];
+                    for (l, &o) in rows.iter().enumerate() {
+                        if o == NOT_OWNED {
+                            continue;
+                        }
+                        let q = out.add(3 * o as usize);
+                        _mm_storeu_pd(q, xy[l]);
+                        let z = if l < 2 { zlo } else { zhi };
+                        if l % 2 == 0 {
+                            _mm_store_sd(q.add(2), z);
+                        } else {
+                            _mm_storeh_pd(q.add(2), z);
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The `n + 5` quads of the 1-ring of a quad with one corner of valence `n` (vertex 0)
+    /// and three regular ones: the fan `(0, aᵢ, bᵢ, aᵢ₊₁)` with `aᵢ = 1 + 2i`,
+    /// `bᵢ = 2 + 2i`, its face 0 being the patch's quad, and five quads beyond.
+    fn one_ev_ring(n: usize) -> Vec<[u32; 4]> {
+        let a = |i: usize| (1 + 2 * (i % n)) as u32;
+        let b = |i: usize| (2 + 2 * i) as u32;
+        let c = |k: u32| 2 * n as u32 + 1 + k;
+        let mut faces: Vec<[u32; 4]> = (0..n).map(|i| [0, a(i), b(i), a(i + 1)]).collect();
+        faces.extend([
+            [b(n - 1), c(0), c(1), a(0)],
+            [a(0), c(1), c(2), b(0)],
+            [b(0), c(2), c(3), c(4)],
+            [a(1), b(0), c(4), c(5)],
+            [b(1), a(1), c(5), c(6)],
+        ]);
+        faces
+    }
+
+    fn topology(faces: &[impl AsRef<[u32]>], options: &Options) -> Topology {
+        let points = faces.iter().flat_map(|f| f.as_ref()).max().unwrap() + 1;
+        let mesh = PolyMesh::from_faces(vec![[0.0; 3]; points as usize], faces).unwrap();
+        Topology::from_mesh(&mesh, options).unwrap().0
+    }
+
+    /// The key and points of a ring do not depend on the corner a face is listed from,
+    /// and the key lists the ring's faces on its own points.
+    #[test]
+    fn ring_does_not_depend_on_listing() {
+        let options = Options::default();
+        let rings = [one_ev_ring(3), one_ev_ring(6)];
+        // An octahedron: four triangles of valence-4 corners around each vertex.
+        let octa: Vec<Vec<u32>> = [
+            [0, 1, 2],
+            [0, 2, 3],
+            [0, 3, 4],
+            [0, 4, 1],
+            [5, 2, 1],
+            [5, 3, 2],
+            [5, 4, 3],
+            [5, 1, 4],
+        ]
+        .map(|f| f.to_vec())
+        .to_vec();
+        let mut cases: Vec<Vec<Vec<u32>>> = rings
+            .iter()
+            .map(|r| r.iter().map(|f| f.to_vec()).collect())
+            .collect();
+        cases.push(octa);
+        for faces in cases {
+            let t = topology(&faces, &options);
+            let ring = ring_net(&t, 0).expect("face 0 is a ring patch");
+            // The key's faces are the mesh's faces around face 0, renumbered.
+            let listed: usize = {
+                let mut rest = &ring.key[..];
+                let mut count = 0;
+                while let Some((&len, tail)) = rest.split_first() {
+                    rest = &tail[len as usize..];
+                    count += 1;
+                }
+                count
+            };
+            let mut around: Vec<u32> = (t.face_vertices(0).iter())
+                .flat_map(|&v| t.vertex_faces(v as usize).to_vec())
+                .collect();
+            around.sort_unstable();
+            around.dedup();
+            assert_eq!(listed, around.len());
+            for k in 1..faces[0].len() {
+                let mut turned = faces.clone();
+                turned[0].rotate_left(k);
+                // The same least key (from any corner that gives it, when the ring is
+                // symmetric), and the same points read from the same corner.
+                let t = topology(&turned, &options);
+                assert_eq!(ring_net(&t, 0).unwrap().key, ring.key, "turned by {k}");
+                let n = faces[0].len();
+                let u = read_ring(&t, 0, (ring.start + n - k) % n).unwrap();
+                assert_eq!(
+                    (&u.key, &u.verts),
+                    (&ring.key, &ring.verts),
+                    "turned by {k}"
+                );
+            }
+        }
+    }
+
+    /// Each row is a partition of unity (refinement is affine invariant), and the row of
+    /// the vertex at a corner of valence `n` is `d` steps of the smooth vertex rule,
+    /// worked out in closed form: with that corner at 1 and every other point at 0, its fan
+    /// stays rotationally symmetric, so one value for it, one for all its neighbours `a`
+    /// and one for all the opposite corners `b` of its faces follow each step (face point
+    /// `(v + 2a + b)/4`, the new `b`; edge point `(v + a + 2 face)/4`, the new `a`; vertex
+    /// point `(n − 2)/n v + (a + face)/n`).
+    #[test]
+    fn rows_are_affine_and_corner_is_vertex_rule() {
+        let options = Options::default();
+        for n in [3, 5, 6, 8] {
+            let faces = one_ev_ring(n);
+            let t = topology(&faces, &options);
+            for depth in [2u32, 3] {
+                let ring = ring_net(&t, 0).unwrap();
+                let k = Kernel::new(&ring.key, depth, &options).unwrap();
+                assert_eq!(k.points, 2 * n + 8);
+                let side = (1usize << depth) + 1;
+                assert_eq!(k.rows, (side * side).next_multiple_of(LANES));
+                for r in 0..side * side {
+                    let sum: f64 = k.row(r).map(|(_, w)| w).sum();
+                    assert!((sum - 1.0).abs() < 1e-14, "n {n} depth {depth} row {r}");
+                }
+                // The patch's own vertices: vertex 0 keeps its index in every level.
+                let mut levels = vec![t.clone()];
+                for _ in 1..depth {
+                    let child = refine_topology(&levels[levels.len() - 1], &options, true);
+                    levels.push(child);
+                }
+                let mut walk = Vec::new();
+                descendants(&levels, 0, ring.start, &mut walk).unwrap();
+                let grid = k.grid(&ring.verts, &walk).unwrap();
+                let row = grid.iter().position(|&g| g == 0).unwrap();
+                let slot = ring.verts.iter().position(|&v| v == 0).unwrap();
+                let nf = n as f64;
+                let (mut v, mut a, mut b) = (1.0, 0.0, 0.0);
+                for _ in 0..depth {
+                    let face = (v + 2.0 * a + b) / 4.0;
+                    let edge = (v + a + 2.0 * face) / 4.0;
+                    (v, a, b) = ((nf - 2.0) / nf * v + (a + face) / nf, edge, face);
+                }
+                let got: f64 = k.row(row).filter(|&(s, _)| s == slot).map(|(_, w)| w).sum();
+                assert!(
+                    (got - v).abs() < 1e-15,
+                    "n {n} depth {depth}: {got} against {v}"
+                );
+            }
+        }
+    }
+
+    /// A triangle's vertices: three child quads of `(2ᵈ⁻¹ + 1)²` points sharing their
+    /// sides from the centre, every row a partition of unity; a face with a corner of
+    /// valence above [`MAX_VALENCE`] is not a ring patch.
+    #[test]
+    fn triangle_rows_and_limits() {
+        let options = Options::default();
+        let octa = [
+            [0u32, 1, 2],
+            [0, 2, 3],
+            [0, 3, 4],
+            [0, 4, 1],
+            [5, 2, 1],
+            [5, 3, 2],
+            [5, 4, 3],
+            [5, 1, 4],
+        ];
+        let t = topology(&octa, &options);
+        let ring = ring_net(&t, 0).unwrap();
+        assert_eq!(ring.verts.len(), 6);
+        for depth in [2u32, 3] {
+            let k = Kernel::new(&ring.key, depth, &options).unwrap();
+            let h = 1usize << (depth - 1);
+            let rows = 3 * (h + 1) * (h + 1) - 3 * (h + 1) + 1;
+            assert_eq!(
+                (0..k.rows).filter(|&r| k.row(r).next().is_some()).count(),
+                rows
+            );
+            for r in 0..k.rows {
+                let sum: f64 = k.row(r).map(|(_, w)| w).sum();
+                assert!(
+                    sum == 0.0 || (sum - 1.0).abs() < 1e-14,
+                    "depth {depth} row {r}"
+                );
+            }
+        }
+        // A fan of 17 triangles around vertex 0.
+        let fan: Vec<[u32; 3]> = (0..17u32).map(|i| [0, 1 + i, 1 + (i + 1) % 17]).collect();
+        let mut closed = fan.clone();
+        closed.extend((0..17u32).map(|i| [18, 1 + (i + 1) % 17, 1 + i]));
+        assert!(ring_net(&topology(&closed, &options), 0).is_none());
+    }
+}
