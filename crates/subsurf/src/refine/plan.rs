@@ -18,8 +18,8 @@
 //! (`refine/plan_ring.rs`). Sparse rows cover the rest: faces at extraordinary vertices on
 //! boundaries or sharp features, at semi-sharp features that soften within the last
 //! three levels, or at valences above 16 (0.05 % of the output of `catmark_bishop` at level
-//! 6). Re-posing is 10–20× faster than [`subdivide`](crate::subdivide) (see
-//! [`RefinePlan`] for numbers).
+//! 6). Re-posing is 10–20× faster than [`subdivide`](crate::subdivide) on quad meshes,
+//! 6–17× on all-triangle ones (see [`RefinePlan`] for numbers).
 //!
 //! # Storage
 //! Most rows share their weights with many others: every smooth edge point between two
@@ -115,12 +115,13 @@ const PAR_MIN_ROWS: usize = 16 * 1024;
 /// Measured on a shared 2-core virtual machine (`scripts/bench-vs-osd.sh`, medians of 7
 /// repetitions in three interleaved rounds; `BENCHMARKS.md`), full refinement /
 /// re-posing with the same threads: `catmark_bishop` to level 6 (3.8 M output vertices)
-/// 14× on one thread (one apply 0.014 s against 0.20 s for `subdivide` and 0.73 s for
-/// OpenSubdiv's `RefineUniform` + `PrimvarRefiner`) and 18× on two; `catmark_pawn` 16–20×
-/// at levels 5 and 6. An all-triangle mesh (`catmark_bishop` with each quad split in
-/// two), where one level makes every vertex and face centre extraordinary and half of
-/// level 2 are extraordinary patches: 10× at level 5 and 17× at level 6 on one thread,
-/// 8× and 12× on two. Building the plan for bishop at level 6 took 0.4–1.6 s (one
+/// 14–16× on one thread (one apply 0.012–0.014 s against 0.18–0.20 s for `subdivide` and
+/// 0.73 s for OpenSubdiv's `RefineUniform` + `PrimvarRefiner`) and 14–18× on two;
+/// `catmark_pawn` 16–20× at levels 5 and 6. All-triangle meshes (`catmark_bishop` with
+/// each quad split in two, where one level makes every vertex and face centre
+/// extraordinary; the same split of its level 2, 30 k triangles): 8–10× at level 5 and
+/// 14–17× at level 6 on one thread, 6× at level 2 and 8.5× at level 3 (12× at level 3 on
+/// a 124 k-triangle model). Building the plan for bishop at level 6 took 0.4–1.6 s (one
 /// thread). With sparse rows only (before patches) the bishop apply took 0.05–0.06 s.
 ///
 /// The plan covers positions of every vertex of the last level, in

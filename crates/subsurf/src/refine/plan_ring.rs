@@ -16,7 +16,7 @@
 //! A face `f` (of any size) whose corners are smooth interior vertices: rule smooth, no
 //! sharp or semi-sharp vertex or edge at them, manifold, surrounded by faces, of valence
 //! 3 to [`MAX_VALENCE`]; with at most [`MAX_POINTS`] points in its 1-ring (the faces that
-//! share a vertex with it).
+//! share a vertex with it), and no two edges of the ring between the same two vertices.
 //!
 //! The vertices that any number of levels put on the closed face depend only on its
 //! 1-ring, through the masks of its corners, of the edges at its corners and of the faces
@@ -124,8 +124,8 @@ pub(super) fn ring_net(t: &Topology, f: usize) -> Option<RingNet> {
     }
     let ring = best?;
     // The template finds its edges by their ends: so must the mesh, around this face
-    // (two edges between the same two vertices, as at a valence-2 vertex folded over,
-    // would be one edge of the template).
+    // (two edges of the ring between the same two vertices would be one edge of the
+    // template).
     let mut edges: Vec<([u32; 2], u32)> = Vec::new();
     for &g in &ring.faces {
         let (gv, ge) = (t.face_vertices(g as usize), t.face_edge_list(g as usize));
@@ -150,22 +150,18 @@ fn read_ring(t: &Topology, f: usize, start: usize) -> Option<RingNet> {
         verts: Vec::new(),
         faces: vec![f as u32],
     };
-    let push = |ring: &mut RingNet, face: &mut dyn Iterator<Item = u32>| {
-        let len = ring.key.len();
-        ring.key.push(0);
+    // Appends a face (its size, then its points, numbered in order of first appearance).
+    fn push(ring: &mut RingNet, face: impl ExactSizeIterator<Item = u32>) {
+        ring.key.push(face.len() as u32);
         for v in face {
-            let p = match ring.verts.iter().position(|&x| x == v) {
-                Some(p) => p,
-                None => {
-                    ring.verts.push(v);
-                    ring.verts.len() - 1
-                }
-            };
+            let p = ring.verts.iter().position(|&x| x == v).unwrap_or_else(|| {
+                ring.verts.push(v);
+                ring.verts.len() - 1
+            });
             ring.key.push(p as u32);
         }
-        ring.key[len] = (ring.key.len() - len - 1) as u32;
-    };
-    push(&mut ring, &mut (0..n).map(|j| fv[(start + j) % n]));
+    }
+    push(&mut ring, (0..n).map(|j| fv[(start + j) % n]));
     for j in 0..n {
         let k = (start + j) % n;
         let v = fv[k] as usize;
@@ -180,10 +176,7 @@ fn read_ring(t: &Topology, f: usize, start: usize) -> Option<RingNet> {
             ring.faces.push(g);
             let gv = t.face_vertices(g as usize);
             let l = locals[(i0 + s) % m] as usize;
-            push(
-                &mut ring,
-                &mut (0..gv.len()).map(|q| gv[(l + q) % gv.len()]),
-            );
+            push(&mut ring, (0..gv.len()).map(|q| gv[(l + q) % gv.len()]));
         }
         if ring.verts.len() > MAX_POINTS {
             return None;
@@ -233,12 +226,10 @@ pub(super) fn descendants(
 /// each), and two 256-bit vectors of weights per control point.
 const LANES: usize = 8;
 
-/// The matrix of a ring key for `d` levels (module docs), by groups of [`LANES`] rows
-/// (vertices on the face, in [`descendants`] order without repetitions): each group lists
-/// the ring points that any of its rows depends on, with the [`LANES`] weights of its rows
-/// on each (0 where a row does not depend on it), padded with empty rows to whole groups.
-/// (Grouping rows greedily by their supports saves under 2 % of the terms: neighbouring
-/// vertices depend on nearly the same points.)
+/// The matrix of a ring key for `d` levels (module docs), by groups of [`LANES`] rows (the
+/// vertices on the face, grouped as [`Kernel::new`] says): each group lists the ring
+/// points that any of its rows depends on, with the [`LANES`] weights of its rows on each
+/// (0 where a row does not depend on it), padded with empty rows to whole groups.
 #[derive(Clone, Debug)]
 pub(super) struct Kernel {
     /// Number of points of the ring.
