@@ -74,7 +74,6 @@
 //!
 //! [`refine_topology`]: super::topology::refine_topology
 
-use std::collections::BTreeMap;
 use std::ops::Range;
 
 use rayon::prelude::*;
@@ -352,35 +351,30 @@ impl PatchLayer {
             })
             .collect();
         let runs = t.num_faces().div_ceil(RUN);
-        // One matrix per key found. A key whose matrix could not be built leaves its faces
-        // to the rows.
-        let mut keys: BTreeMap<&[u32], usize> = BTreeMap::new();
-        for (_, net, _) in &found {
-            if let Net::Ring(ring) = net {
-                let next = keys.len();
-                keys.entry(&ring.key).or_insert(next);
-            }
-        }
-        let mut key_list = vec![&[][..]; keys.len()];
-        for (&key, &i) in &keys {
-            key_list[i] = key;
-        }
-        let kernels: Vec<Option<Kernel>> = key_list
-            .par_iter()
+        // One matrix per key found (in parallel: an all-triangle base mesh has one per
+        // triple of valences). A key whose matrix could not be built leaves its faces to
+        // the rows.
+        let mut keys: Vec<&[u32]> = (found.iter())
+            .filter_map(|(_, net, _)| match net {
+                Net::Ring(ring) => Some(ring.key.as_slice()),
+                _ => None,
+            })
+            .collect();
+        keys.sort_unstable();
+        keys.dedup();
+        let kernels: Vec<Option<Kernel>> = (keys.par_iter())
             .map(|key| Kernel::new(key, depth, options))
             .collect();
-        let key_of = |ring: &RingNet| keys[ring.key.as_slice()];
         let ring_grids: Vec<Option<(usize, Vec<u32>)>> = (found.par_iter())
             .with_min_len(RUN)
             .map(|(f, net, _)| {
                 let Net::Ring(ring) = net else { return None };
-                let k = key_of(ring);
+                let k = keys.binary_search(&ring.key.as_slice()).ok()?;
                 let mut walk = Vec::new();
                 descendants(levels, *f as usize, ring.start, &mut walk)?;
                 Some((k, kernels[k].as_ref()?.grid(&ring.verts, &walk)?))
             })
             .collect();
-        drop(keys);
         let mut groups: Vec<Option<RingGroup>> =
             kernels.into_iter().map(|k| k.map(RingGroup::new)).collect();
         // Each patch with its grid, and a ring patch with its key.

@@ -615,6 +615,18 @@ mod tests {
         faces
     }
 
+    /// An octahedron: four triangles around each vertex.
+    const OCTAHEDRON: [[u32; 3]; 8] = [
+        [0, 1, 2],
+        [0, 2, 3],
+        [0, 3, 4],
+        [0, 4, 1],
+        [5, 2, 1],
+        [5, 3, 2],
+        [5, 4, 3],
+        [5, 1, 4],
+    ];
+
     fn topology(faces: &[impl AsRef<[u32]>], options: &Options) -> Topology {
         let points = faces.iter().flat_map(|f| f.as_ref()).max().unwrap() + 1;
         let mesh = PolyMesh::from_faces(vec![[0.0; 3]; points as usize], faces).unwrap();
@@ -627,19 +639,7 @@ mod tests {
     fn ring_does_not_depend_on_listing() {
         let options = Options::default();
         let rings = [one_ev_ring(3), one_ev_ring(6)];
-        // An octahedron: four triangles of valence-4 corners around each vertex.
-        let octa: Vec<Vec<u32>> = [
-            [0, 1, 2],
-            [0, 2, 3],
-            [0, 3, 4],
-            [0, 4, 1],
-            [5, 2, 1],
-            [5, 3, 2],
-            [5, 4, 3],
-            [5, 1, 4],
-        ]
-        .map(|f| f.to_vec())
-        .to_vec();
+        let octa: Vec<Vec<u32>> = OCTAHEDRON.iter().map(|f| f.to_vec()).collect();
         let mut cases: Vec<Vec<Vec<u32>>> = rings
             .iter()
             .map(|r| r.iter().map(|f| f.to_vec()).collect())
@@ -738,17 +738,7 @@ mod tests {
     #[test]
     fn triangle_rows_and_limits() {
         let options = Options::default();
-        let octa = [
-            [0u32, 1, 2],
-            [0, 2, 3],
-            [0, 3, 4],
-            [0, 4, 1],
-            [5, 2, 1],
-            [5, 3, 2],
-            [5, 4, 3],
-            [5, 1, 4],
-        ];
-        let t = topology(&octa, &options);
+        let t = topology(&OCTAHEDRON, &options);
         let ring = ring_net(&t, 0).unwrap();
         assert_eq!(ring.verts.len(), 6);
         for depth in [2u32, 3] {
