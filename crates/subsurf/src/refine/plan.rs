@@ -1140,11 +1140,12 @@ mod tests {
             let plan = RefinePlan::new(&tri, Options::default(), levels).unwrap();
             let tail = plan.tail.as_ref().unwrap();
             let rows = tail.out_rows.len() as f64 / tail.num_out as f64;
-            // Measured: 6.9 %, 2.5 %, 0.6 %, 0.15 % at levels 2 to 5 (the faces at the
-            // poles of valence above 16 and their children), where every vertex was a row
-            // at levels 2 and 3 before ring patches.
+            // Measured: 8.9 %, 2.5 %, 0.6 %, 0.15 % at levels 2 to 5 (the faces at the
+            // poles of valence above 16 and their children, and at level 2 the triangles
+            // whose ring is shared by fewer than `MIN_RING_FACES`), where every vertex was
+            // a row at levels 2 and 3 before ring patches.
             assert!(
-                rows < 0.08,
+                rows < 0.1,
                 "level {levels}: {rows} of the output in sparse rows"
             );
         }

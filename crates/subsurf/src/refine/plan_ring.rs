@@ -38,8 +38,9 @@
 //! `s`, then for each corner in turn (`s`, `s + 1`, …) the faces around it that are not
 //! listed yet, counter-clockwise from `f`, each from that corner. The points are numbered
 //! in order of first appearance. This list (the ring's *key*) depends only on the shape of
-//! the ring and on `s`; of the keys from every corner the least is kept, so that the same
-//! ring seen from another corner shares the matrix. Two points of the ring may be the same
+//! the ring and on `s`. The corner is chosen by that shape alone, so that the same ring
+//! listed from another corner shares the matrix: among the corners from which the
+//! sequence of corner valences is least, the one whose key is least. Two points of the ring may be the same
 //! vertex of the mesh (a small closed mesh): the key says so, and the matrix is computed
 //! on exactly that.
 //!
@@ -108,15 +109,21 @@ fn smooth_corner(t: &Topology, v: usize) -> bool {
         && (t.vertex_edges(v).iter()).all(|&e| t.edge_face_list(e as usize).len() == 2)
 }
 
-/// The ring of face `f` of `t` with the least key over its corners, if `f` can be a ring
-/// patch (module docs).
+/// The ring of face `f` of `t` read from the corner that the module docs say, if `f`
+/// can be a ring patch.
 pub(super) fn ring_net(t: &Topology, f: usize) -> Option<RingNet> {
     let fv = t.face_vertices(f);
     if !fv.iter().all(|&v| smooth_corner(t, v as usize)) {
         return None;
     }
+    // The corners where the sequence of corner valences (from that corner on) is least,
+    // and of their keys the least: a choice made by the shape of the ring alone, for
+    // which most faces read one ring instead of one per corner.
+    let n = fv.len();
+    let valences = |s: usize| (0..n).map(move |j| t.vertex_edges(fv[(s + j) % n] as usize).len());
+    let least = (0..n).min_by(|&a, &b| valences(a).cmp(valences(b)))?;
     let mut best: Option<RingNet> = None;
-    for start in 0..fv.len() {
+    for start in (0..n).filter(|&s| valences(s).eq(valences(least))) {
         let ring = read_ring(t, f, start)?;
         if best.as_ref().map_or(true, |b| ring.key < b.key) {
             best = Some(ring);
