@@ -105,8 +105,11 @@ const PAR_MIN_ROWS: usize = 16 * 1024;
 ///
 /// # Cost
 /// Building a plan refines the topology once (as [`subdivide`](crate::subdivide) does),
-/// computes every mask of the sparse rows once and finds the patches: about 2–3× the time
-/// of one `subdivide` (parallel, like it). Applying it does no topology work and no mask
+/// computes every mask of the sparse rows once, finds the patches and builds one matrix
+/// per shape of ring: 2–10× the time of one `subdivide` (parallel, like it; measured in
+/// one process each, which allocates all its memory fresh: `catmark_bishop` level 6
+/// 0.3–1.8 s against 0.15–0.22 s, a 124 k-triangle model at level 3 1.7–3.4 s against
+/// 0.23–0.32 s). Applying it does no topology work and no mask
 /// computation: the first levels are sparse products, which read 4 bytes per weight and
 /// gather the parent values; the last two or three levels are the patch kernels, which
 /// read 16 control points (or a face's ring) and write the vertices on their face. They are bound by
