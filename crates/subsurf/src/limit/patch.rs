@@ -230,7 +230,7 @@ pub(super) fn patch_cells(
 /// `[(1, 1), (2, 1), (2, 2), (1, 2)][k]`, and its frame is corner 0's turned `k` quarter
 /// turns counter-clockwise (`u → v`), so that `(−1, −1)` is always diagonally away from
 /// the quad.
-pub(crate) fn net_cell(k: usize, off: (i32, i32)) -> (usize, usize) {
+fn net_cell(k: usize, off: (i32, i32)) -> (usize, usize) {
     const CORNER: [(i32, i32); 4] = [(1, 1), (2, 1), (2, 2), (1, 2)];
     let (mut x, mut y) = off;
     for _ in 0..k {
@@ -242,7 +242,7 @@ pub(crate) fn net_cell(k: usize, off: (i32, i32)) -> (usize, usize) {
 /// The five points beyond the quad around a smooth valence-4 corner whose other faces are
 /// `ring` ([`Corner::Closed`]), each with its offset from the corner in the corner's frame
 /// ([`net_cell`]).
-pub(crate) fn closed_ring(t: &Topology, ring: &[(usize, usize); 3]) -> [((i32, i32), u32); 5] {
+fn closed_ring(t: &Topology, ring: &[(usize, usize); 3]) -> [((i32, i32), u32); 5] {
     let q = |(g, m): (usize, usize), d: usize| t.face_vertices(g)[(m + d) % 4];
     [
         ((-1, 1), q(ring[0], 2)),

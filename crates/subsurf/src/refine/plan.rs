@@ -1121,6 +1121,19 @@ mod tests {
         }
     }
 
+    /// A ring shared by fewer than `MIN_RING_FACES` faces of a level gets no matrix:
+    /// `catmark_pyramid`'s four triangles share one ring and are patches from the base
+    /// level, its square base (the only face with its ring) is left to the rows.
+    #[test]
+    fn rare_rings_are_rows() {
+        let (obj, options) = shape("catmark_pyramid");
+        let plan = RefinePlan::new(&obj.mesh, options, 2).unwrap();
+        let layers = &plan.tail.as_ref().unwrap().layers;
+        assert_eq!(layers.len(), 1);
+        let groups = &layers[0].rings;
+        assert_eq!(groups.iter().map(|g| g.len()).collect::<Vec<_>>(), [4]);
+    }
+
     /// An all-triangle mesh (`catmark_bishop` with each quad split in two, and its
     /// creases and holes dropped) is covered by ring patches at every level: its
     /// triangles from the base level on, the quads of level 1 with two extraordinary

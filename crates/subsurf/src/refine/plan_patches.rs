@@ -25,7 +25,8 @@
 //!
 //! # Which quads
 //! A quad is a patch when [`refinement_patch_cells`] finds its 4 × 4 net, with distinct
-//! vertices (on holes too, whose vertices follow the same rules): its four corners are
+//! vertices (else it may be a ring patch; on holes too, whose vertices follow the same
+//! rules): its four corners are
 //! smooth valence-4 vertices with no sharp or semi-sharp edge, surrounded by quads, or
 //! regular boundary, crease and corner vertices (see [`crate::limit::patch`]).
 //! Refinement inside a smooth such quad only ever applies the

@@ -40,16 +40,16 @@
 //! in order of first appearance. This list (the ring's *key*) depends only on the shape of
 //! the ring and on `s`. The corner is chosen by that shape alone, so that the same ring
 //! listed from another corner shares the matrix: among the corners from which the
-//! sequence of corner valences is least, the one whose key is least. Two points of the ring may be the same
-//! vertex of the mesh (a small closed mesh): the key says so, and the matrix is computed
-//! on exactly that.
+//! sequence of corner valences is least, the one whose key is least. Two points of the
+//! ring may be the same vertex of the mesh (a small closed mesh): the key says so, and
+//! the matrix is computed on exactly that.
 //!
 //! # The matrix
 //! It is computed by refining the 1-ring itself: a mesh of the key's faces
 //! ([`Kernel::new`]) refined `d` levels by a plan of sparse rows only (the masks of all
 //! refinement, [`RefinePlan`](super::RefinePlan) without patches), applied to the unit
-//! vectors of its points; row `k` is then the refined value at the `k`-th vertex on the
-//! template's face 0. No mask is written twice, so the matrix cannot disagree with the
+//! vectors of its points; each row is then the refined value at one vertex on the
+//! template's face 0 (rows grouped as [`Kernel::new`] says). No mask is written twice, so the matrix cannot disagree with the
 //! rows. The template's own boundary rules act only on points beyond the 1-ring's
 //! interior, which `f`'s vertices never read (above). Zero entries are dropped.
 //!
@@ -290,42 +290,24 @@ impl Kernel {
         // than any grouping below, with as few terms (137 against 138 at valence 3, depth
         // 3). Elsewhere each group is grown greedily from the vertex that depends on the
         // fewest points by the vertex that adds the fewest.
-        let rows: Vec<Option<u32>> = if faces[0].len() == 4 {
+        let mut rows: Vec<Option<u32>> = if faces[0].len() == 4 {
             grid_indices(&levels, 0)?.into_iter().map(Some).collect()
         } else {
             let mut verts = walk.clone();
             verts.sort_unstable();
             verts.dedup();
-            let mut left: Vec<(u32, u64)> = (verts.into_iter())
-                .map(|v| {
-                    let support = (0..points)
-                        .filter(|&s| columns[s][v as usize][0] != 0.0)
-                        .fold(0u64, |m, s| m | 1 << s);
-                    (v, support)
-                })
-                .collect();
-            let mut rows = Vec::with_capacity(left.len().next_multiple_of(LANES));
-            while let Some(seed) = (0..left.len()).min_by_key(|&i| left[i].1.count_ones()) {
-                let (v, mut union) = left.remove(seed);
-                rows.push(Some(v));
-                for _ in 1..LANES {
-                    let Some((i, _)) = (left.iter().enumerate())
-                        .min_by_key(|(_, (_, s))| ((union | s).count_ones(), s.count_ones()))
-                    else {
-                        break;
-                    };
-                    let (v, s) = left.remove(i);
-                    union |= s;
-                    rows.push(Some(v));
-                }
-            }
-            rows
+            greedy_groups(
+                (verts.into_iter())
+                    .map(|v| {
+                        let support = (0..points)
+                            .filter(|&s| columns[s][v as usize][0] != 0.0)
+                            .fold(0u64, |m, s| m | 1 << s);
+                        (v, support)
+                    })
+                    .collect(),
+            )
         };
-        let rows = {
-            let mut rows = rows;
-            rows.resize(rows.len().next_multiple_of(LANES), None);
-            rows
-        };
+        rows.resize(rows.len().next_multiple_of(LANES), None);
         let row_of = (walk.iter())
             .map(|&v| u16::try_from(rows.iter().position(|&x| x == Some(v))?).ok())
             .collect::<Option<Vec<u16>>>()?;
@@ -388,6 +370,28 @@ impl Kernel {
     pub(super) fn memory_bytes(&self) -> usize {
         4 * self.starts.len() + 2 * self.row_of.len() + (8 * LANES + 4) * self.weights.len()
     }
+}
+
+/// Rows `(vertex, bit set of the ring points it depends on)` in groups of [`LANES`], each
+/// grown from the row that depends on the fewest points by the row that adds the fewest,
+/// every group but the last full.
+fn greedy_groups(mut left: Vec<(u32, u64)>) -> Vec<Option<u32>> {
+    let mut rows = Vec::with_capacity(left.len().next_multiple_of(LANES));
+    while let Some(seed) = (0..left.len()).min_by_key(|&i| left[i].1.count_ones()) {
+        let (v, mut union) = left.remove(seed);
+        rows.push(Some(v));
+        for _ in 1..LANES {
+            let Some((i, _)) = (left.iter().enumerate())
+                .min_by_key(|(_, (_, s))| ((union | s).count_ones(), s.count_ones()))
+            else {
+                break;
+            };
+            let (v, s) = left.remove(i);
+            union |= s;
+            rows.push(Some(v));
+        }
+    }
+    rows
 }
 
 /// The ring patches of one key in one [`PatchLayer`](super::plan_patches::PatchLayer).
@@ -702,8 +706,8 @@ mod tests {
         for n in [3, 5, 6, 8] {
             let faces = one_ev_ring(n);
             let t = topology(&faces, &options);
+            let ring = ring_net(&t, 0).unwrap();
             for depth in [2u32, 3] {
-                let ring = ring_net(&t, 0).unwrap();
                 let k = Kernel::new(&ring.key, depth, &options).unwrap();
                 assert_eq!(k.points, 2 * n + 8);
                 let side = (1usize << depth) + 1;
