@@ -35,6 +35,21 @@ impl Input {
         Ok(Self { name, obj })
     }
 
+    /// Like [`read`](Self::read), for the commands that compute a surface: an input without
+    /// faces has none, and is far more often the wrong file (an empty one, a `.mtl`, an ASCII
+    /// STL: OBJ readers skip statements they do not know) than a wish for empty output, so it
+    /// is an error rather than an empty result.
+    pub fn read_surface(arg: &Path) -> Result<Self> {
+        let input = Self::read(arg)?;
+        if input.obj.mesh.num_faces() == 0 {
+            bail!(
+                "{}: no faces (no 'f' lines), so there is no surface; is this an OBJ file?",
+                input.name
+            );
+        }
+        Ok(input)
+    }
+
     /// Rejects what OpenSubdiv would accept but a strict pipeline should not: faces that
     /// repeat a vertex, non-manifold edges and vertices, inconsistently oriented faces.
     /// The error names the file and, where it concerns a face, its line.

@@ -14,7 +14,7 @@ use crate::BenchArgs;
 
 /// Runs `subsurf bench`.
 pub fn run(args: &BenchArgs) -> Result<()> {
-    let input = Input::read(&args.input)?;
+    let input = Input::read_surface(&args.input)?;
     if !args.quiet {
         for w in input.unsupported_tag_warnings() {
             eprintln!("warning: {w}");

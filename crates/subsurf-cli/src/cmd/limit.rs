@@ -16,7 +16,7 @@ const BYTES_PER_ROW: u64 = 256;
 pub fn run(args: &LimitArgs) -> Result<()> {
     let out = Output::new(&args.output);
     out.check()?;
-    let input = Input::read(&args.input)?;
+    let input = Input::read_surface(&args.input)?;
     if !args.quiet {
         for w in input.unsupported_tag_warnings() {
             eprintln!("warning: {w}");

@@ -23,7 +23,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     check_png(&args.output)?;
     let out = Output::new(&args.output);
     out.check()?;
-    let input = Input::read(&args.input)?;
+    let input = Input::read_surface(&args.input)?;
     if !args.quiet {
         for w in input.unsupported_tag_warnings() {
             eprintln!("warning: {w}");
