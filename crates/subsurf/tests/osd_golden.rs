@@ -1,6 +1,6 @@
 //! # subsurf against OpenSubdiv, shape by shape
 //!
-//! Every one of OpenSubdiv's 81 regression shapes (`tests/shapes/osd/*.obj`, copied verbatim
+//! Every one of OpenSubdiv's 87 regression shapes (`tests/shapes/osd/*.obj`, copied verbatim
 //! from OpenSubdiv 3.6.0) is refined with Catmull-Clark to levels 1, 2, 3 and 4, once plainly
 //! ("refine") and once with the last level's vertices moved to their limit positions ("limit"),
 //! and the result is compared with what OpenSubdiv 3.5 itself computed for the same file

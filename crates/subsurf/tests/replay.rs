@@ -30,7 +30,7 @@ fn shapes() -> Vec<(String, PolyMesh, Options)> {
         .filter(|p| p.extension().is_some_and(|e| e == "obj"))
         .collect();
     paths.sort();
-    assert!(paths.len() >= 80, "expected the 81 OpenSubdiv shapes");
+    assert!(paths.len() >= 80, "expected the 87 OpenSubdiv shapes");
     paths
         .iter()
         .map(|path| {
