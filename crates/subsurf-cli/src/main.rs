@@ -14,7 +14,7 @@ use std::io;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use clap::builder::{PossibleValuesParser, TypedValueParser};
+use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
 use clap::{Args, Parser, Subcommand};
 use subsurf::io::obj::FileOptions;
 use subsurf::mesh::{BoundaryInterpolation, CreaseMethod, TriangleSubdivision};
@@ -484,9 +484,15 @@ pub struct DemoArgs {
     pub output: PathBuf,
 }
 
+/// `edge` and `corner` are accepted too: the names `osd-oracle` and OpenSubdiv's
+/// `VTX_BOUNDARY_EDGE_ONLY` / `VTX_BOUNDARY_EDGE_AND_CORNER` use.
 fn boundary_parser() -> impl TypedValueParser<Value = BoundaryInterpolation> {
-    PossibleValuesParser::new(["edge-only", "edge-and-corner", "none"])
-        .try_map(|s| s.parse::<BoundaryInterpolation>())
+    PossibleValuesParser::new([
+        PossibleValue::new("edge-only").alias("edge"),
+        PossibleValue::new("edge-and-corner").alias("corner"),
+        PossibleValue::new("none"),
+    ])
+    .try_map(|s| s.parse::<BoundaryInterpolation>())
 }
 
 fn crease_method_parser() -> impl TypedValueParser<Value = CreaseMethod> {

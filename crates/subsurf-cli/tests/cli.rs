@@ -386,6 +386,38 @@ fn boundary_tag(obj: &str) -> Option<&str> {
         .and_then(|l| l.split_whitespace().last())
 }
 
+/// `--boundary edge` and `--boundary corner`, OpenSubdiv's and `osd-oracle`'s names, mean
+/// `edge-only` and `edge-and-corner`.
+#[test]
+fn boundary_accepts_opensubdiv_names() {
+    let dir = dir_with(&[("grid.obj", GRID)]);
+    for (alias, name, tag) in [
+        ("edge", "edge-only", "2"),
+        ("corner", "edge-and-corner", "1"),
+    ] {
+        let run = |mode: &str| {
+            let o = run_in(
+                dir.path(),
+                &[
+                    "subdivide",
+                    "grid.obj",
+                    "-o",
+                    "-",
+                    "-l",
+                    "1",
+                    "--boundary",
+                    mode,
+                ],
+            );
+            assert_code(&o, 0);
+            stdout(&o)
+        };
+        let out = run(alias);
+        assert_eq!(boundary_tag(&out), Some(tag), "{alias}");
+        assert_eq!(out, run(name), "{alias}");
+    }
+}
+
 #[test]
 fn flags_override_file_tags_only_when_given() {
     // grid.obj says `t interpolateboundary 1/0/0 1` (edge-and-corner).
