@@ -652,10 +652,11 @@ pub(super) unsafe fn prefetch_next<const D: usize>(
     if let Some(next) = grids.get((k + 1) * nn..(k + 2) * nn) {
         use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
         for &o in next {
-            if o != NOT_OWNED {
-                // SAFETY: `o` is in bounds of `out` (the caller's); SSE is part of x86-64.
-                unsafe { _mm_prefetch::<_MM_HINT_T0>(out.add(D * o as usize).cast()) };
-            }
+            // Without a branch (which the pattern of owned points would mispredict):
+            // points not owned prefetch the start of `out` instead.
+            let o = if o == NOT_OWNED { 0 } else { o as usize };
+            // SAFETY: `o` is 0 or in bounds of `out` (the caller's); SSE is part of x86-64.
+            unsafe { _mm_prefetch::<_MM_HINT_T0>(out.add(D * o).cast()) };
         }
     }
     #[cfg(not(target_arch = "x86_64"))]

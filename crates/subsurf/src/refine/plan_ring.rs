@@ -528,6 +528,7 @@ unsafe fn ring_patches_avx(
     use std::arch::x86_64::*;
     let nn = k.rows;
     let mut local = [[0.0; MAX_POINTS]; 3];
+    let mut scratch = [0.0f64; 3];
     // SAFETY (whole body): the caller's bounds; slots are below `points ≤ MAX_POINTS`.
     unsafe {
         for (p, (c, g)) in ctrl
@@ -543,7 +544,8 @@ unsafe fn ring_patches_avx(
                 local[2][s] = *q.add(2);
             }
             for (group, rows) in g.chunks(LANES).enumerate() {
-                let owned = |rows: &[u32]| rows.iter().any(|&o| o != NOT_OWNED);
+                // Whether any of four rows is owned, without a branch per row.
+                let owned = |r: &[u32]| r[0] & r[1] & r[2] & r[3] != NOT_OWNED;
                 let (low, high) = (owned(&rows[..4]), owned(&rows[4..]));
                 if !(low || high) {
                     continue;
@@ -586,10 +588,13 @@ unsafe fn ring_patches_avx(
                         _mm256_extractf128_pd::<1>(xy13),
                     ];
                     for (l, &o) in rows.iter().enumerate() {
-                        if o == NOT_OWNED {
-                            continue;
-                        }
-                        let q = out.add(3 * o as usize);
+                        // Points not owned are written to `scratch`: a select, not a
+                        // branch that the pattern of owned points would mispredict.
+                        let q = if o == NOT_OWNED {
+                            scratch.as_mut_ptr()
+                        } else {
+                            out.wrapping_add(3 * o as usize)
+                        };
                         _mm_storeu_pd(q, xy[l]);
                         let z = if l < 2 { zlo } else { zhi };
                         if l % 2 == 0 {
