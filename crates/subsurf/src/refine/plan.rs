@@ -12,12 +12,12 @@
 //! regular quads refinement is uniform bicubic B-spline subdivision, so the plan stores
 //! only the 16 control points of each such quad and computes the 81 vertices that three
 //! more levels put on it with a fixed tensor-product kernel (see
-//! `refine/plan_patches.rs`); any other face whose corners are smooth interior vertices
-//! (extraordinary ones, triangles and n-gons of the base mesh included) gets its vertices
-//! from a fixed matrix per shape of its 1-ring, on the points of that ring
-//! (`refine/plan_ring.rs`). Sparse rows cover the rest: faces at extraordinary vertices on
-//! boundaries or sharp features, at semi-sharp features that soften within the last
-//! three levels, or at valences above 16 (0.05 % of the output of `catmark_bishop` at level
+//! `refine/plan_patches.rs`); any other face whose corners are smooth interior or plain
+//! boundary vertices (extraordinary ones, triangles and n-gons of the base mesh included)
+//! gets its vertices from a fixed matrix per shape of its 1-ring, on the points of that
+//! ring (`refine/plan_ring.rs`). Sparse rows cover the rest: faces at extraordinary
+//! vertices on sharp features or non-manifold ones, at semi-sharp features that soften
+//! within the last three levels, or at valences above 16 (0.05 % of the output of `catmark_bishop` at level
 //! 6). Re-posing is 10–20× faster than [`subdivide`](crate::subdivide) on quad meshes,
 //! 6–17× on all-triangle ones (see [`RefinePlan`] for numbers).
 //!
@@ -900,6 +900,7 @@ fn vertex_stencil(p: &Topology, c: &Topology, options: &Options, v: usize, s: &m
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::mesh::BoundaryInterpolation;
 
     /// `a + b` as a double-double (Knuth's two-sum).
     fn two_sum(a: f64, b: f64) -> (f64, f64) {
@@ -1103,8 +1104,9 @@ mod tests {
 
     /// Faces with smooth corners of any valence (3 to 8 here; triangles and n-gons of the
     /// base meshes, quads of level 1 with two extraordinary corners, quads of level 2
-    /// with one) computed by their ring's matrix give the same vertices as the sparse
-    /// rows; `catmark_smoothtris0` with OpenSubdiv's `smoothtriangles` rule.
+    /// with one), and with boundary corners (edge-only, edge-and-corner and none),
+    /// computed by their ring's matrix give the same vertices as the sparse rows;
+    /// `catmark_smoothtris0` with OpenSubdiv's `smoothtriangles` rule.
     #[test]
     fn ring_patches_match_rows() {
         for name in [
@@ -1116,6 +1118,14 @@ mod tests {
             "catmark_pole8",
             "catmark_gregory_test6",
             "catmark_val2_foldover",
+            // Boundary corners, in each boundary mode.
+            "catmark_edgeonly",
+            "catmark_edgenone",
+            "catmark_flap",
+            "catmark_flap2",
+            "catmark_quadstrips",
+            "catmark_tent",
+            "catmark_val2_interior",
         ] {
             assert!(check_patches(name).1 > 0, "{name}: no ring patches");
         }
@@ -1164,6 +1174,52 @@ mod tests {
                 rows < 0.1,
                 "level {levels}: {rows} of the output in sparse rows"
             );
+        }
+    }
+
+    /// An open all-triangle mesh (the triangles of [`triangle_meshes_are_ring_patches`]
+    /// below a cut, so that its boundary runs along the cut) is covered by ring patches up
+    /// to its boundary: faces with boundary corners are ring patches too, their template
+    /// having the same boundary.
+    #[test]
+    fn open_triangle_meshes_are_ring_patches() {
+        let (obj, _) = shape("catmark_bishop");
+        let mesh = &obj.mesh;
+        let pos = mesh.positions();
+        let mut tris: Vec<[u32; 3]> = Vec::new();
+        for f in 0..mesh.num_faces() {
+            let v = mesh.face(f);
+            for k in 1..v.len() - 1 {
+                let t = [v[0], v[k], v[k + 1]];
+                if t.iter().map(|&i| pos[i as usize][2]).sum::<f64>() < 3.0 * 0.6 {
+                    tris.push(t);
+                }
+            }
+        }
+        let open = PolyMesh::from_faces(pos.to_vec(), &tris).unwrap();
+        for boundary in [
+            BoundaryInterpolation::EdgeOnly,
+            BoundaryInterpolation::EdgeAndCorner,
+            BoundaryInterpolation::None,
+        ] {
+            let options = Options {
+                boundary,
+                ..Options::default()
+            };
+            let (_, rings) = check_mesh_patches(&open, options, "bishop_tri_open");
+            assert!(rings > 0);
+            // Measured, in each mode: 5.5 %, 1.2 % and 0.28 % of the output in sparse
+            // rows at levels 2 to 4, where it was 13.3 %, 5.4 % and 1.2 % with ring
+            // patches only at interior corners.
+            for (levels, bound) in [(2, 0.07), (3, 0.02), (4, 0.005)] {
+                let plan = RefinePlan::new(&open, options, levels).unwrap();
+                let tail = plan.tail.as_ref().unwrap();
+                let rows = tail.out_rows.len() as f64 / tail.num_out as f64;
+                assert!(
+                    rows < bound,
+                    "{boundary:?} level {levels}: {rows} of the output in sparse rows"
+                );
+            }
         }
     }
 

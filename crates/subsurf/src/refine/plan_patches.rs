@@ -51,8 +51,8 @@
 //! sharpness-6 creases of `catmark_bishop` and `catmark_pawn` are patch sides from level 2
 //! on, where their quads used to be sparse rows.
 //!
-//! Any other face whose corners are smooth interior vertices (of any valence, a triangle
-//! or n-gon of the base mesh too) is a *ring patch* instead: the same idea with a fixed
+//! Any other face whose corners are smooth interior or plain boundary vertices (of any
+//! valence, a triangle or n-gon of the base mesh too) is a *ring patch* instead: the same idea with a fixed
 //! matrix per shape of 1-ring on the points of that ring (`refine/plan_ring.rs`).
 //!
 //! Each refined vertex is written by exactly one patch or by the plan's remaining sparse
@@ -298,7 +298,7 @@ enum Net {
     Plain([u32; 16]),
     /// With phantom points (boxed: 14 times the size of a plain net, and rarer).
     Edge(Box<[Cell; 16]>),
-    /// The 1-ring of a face with smooth corners (`refine/plan_ring.rs`).
+    /// The 1-ring of a face with smooth or boundary corners (`refine/plan_ring.rs`).
     Ring(RingNet),
 }
 

@@ -1,7 +1,7 @@
 //! Ring patches of a [`RefinePlan`](super::RefinePlan): the last levels of a face whose
-//! corners are smooth interior vertices of any valence, computed from the points of its
-//! 1-ring by one fixed matrix per shape of ring, as regular patches are computed from 16
-//! points by the bicubic kernel (see `refine/plan_patches.rs`).
+//! corners are smooth interior or plain boundary vertices of any valence, computed from
+//! the points of its 1-ring by one fixed matrix per shape of ring, as regular patches are
+//! computed from 16 points by the bicubic kernel (see `refine/plan_patches.rs`).
 //!
 //! # Why
 //! Regular patches need four regular corners, so every face at an extraordinary vertex,
@@ -13,10 +13,12 @@
 //! 3), and every quad of level 2 one.
 //!
 //! # Which faces
-//! A face `f` (of any size) whose corners are smooth interior vertices: rule smooth, no
-//! sharp or semi-sharp vertex or edge at them, manifold, surrounded by faces, of valence
-//! 3 to [`MAX_VALENCE`]; with at most [`MAX_POINTS`] points in its 1-ring (the faces that
-//! share a vertex with it), and no two edges of the ring between the same two vertices.
+//! A face `f` (of any size) whose corners are manifold, without sharpness of their own or
+//! on their edges but what a boundary gives (boundary edges, and in edge-and-corner mode
+//! the corner of one face), and either interior with the smooth rule and valence 3 to
+//! [`MAX_VALENCE`], or on a boundary with valence 2 to [`MAX_VALENCE`]; with at most
+//! [`MAX_POINTS`] points in its 1-ring (the faces that share a vertex with it), and no two
+//! edges of the ring between the same two vertices.
 //!
 //! The vertices that any number of levels put on the closed face depend only on its
 //! 1-ring, through the masks of its corners, of the edges at its corners and of the faces
@@ -32,6 +34,13 @@
 //! the ring's points to the vertices that `d` levels put on `f` is one matrix for all
 //! faces whose 1-rings have the same faces on the same points, once the points are
 //! numbered the same way; on an all-triangle mesh, one per triple of corner valences.
+//!
+//! A boundary corner keeps this true. Its whole fan is in the 1-ring, so in the template
+//! (a mesh of the ring's faces, below) it has the same faces, the same boundary edges and
+//! so the same rule (crease, or corner in edge-and-corner mode), and the masks of the
+//! boundary edges at it read the same two ends. The template is refined with the mesh's
+//! boundary mode. What a boundary corner may not carry is sharpness the template cannot
+//! see: a tagged crease or corner, or a non-manifold edge.
 //!
 //! # The ring
 //! [`ring_net`] lists the faces of the 1-ring from a corner `s` of `f`: `f` itself from
@@ -49,9 +58,11 @@
 //! ([`Kernel::new`]) refined `d` levels by a plan of sparse rows only (the masks of all
 //! refinement, [`RefinePlan`](super::RefinePlan) without patches), applied to the unit
 //! vectors of its points; each row is then the refined value at one vertex on the
-//! template's face 0 (rows grouped as [`Kernel::new`] says). No mask is written twice, so the matrix cannot disagree with the
-//! rows. The template's own boundary rules act only on points beyond the 1-ring's
-//! interior, which `f`'s vertices never read (above). Zero entries are dropped.
+//! template's face 0 (rows grouped as [`Kernel::new`] says). No mask is written twice, so
+//! the matrix cannot disagree with the rows. The template's own boundary rules act only
+//! on points beyond the 1-ring's interior, which `f`'s vertices never read (above), and
+//! at boundary corners of `f`, where the mesh has the same boundary. Zero entries are
+//! dropped.
 //!
 //! # Which vertices
 //! [`descendants`] lists the vertices that `d` levels put on a face, walking down the
@@ -93,27 +104,33 @@ pub(super) struct RingNet {
     faces: Vec<u32>,
 }
 
-/// Whether vertex `v` of `t` can be a corner of a ring patch (module docs).
-fn smooth_corner(t: &Topology, v: usize) -> bool {
+/// Whether vertex `v` of `t` can be a corner of a ring patch (module docs): manifold,
+/// without sharpness of its own or on its edges but what its boundary gives it (the
+/// template, a mesh of the ring's faces, has the same boundary there and derives the
+/// same), and of valence 3 to [`MAX_VALENCE`] inside, 2 to [`MAX_VALENCE`] on a boundary.
+fn ring_corner(t: &Topology, v: usize) -> bool {
     let tag = t.vertex_tag(v);
-    let n = t.vertex_edges(v).len();
-    tag.rule == Rule::Smooth
-        && !(tag.boundary
-            || tag.non_manifold
-            || tag.semi_sharp
-            || tag.inf_sharp
-            || tag.semi_sharp_edges
-            || tag.inf_sharp_edges)
-        && (3..=MAX_VALENCE).contains(&n)
-        && t.vertex_faces(v).len() == n
-        && (t.vertex_edges(v).iter()).all(|&e| t.edge_face_list(e as usize).len() == 2)
+    let (edges, faces) = (t.vertex_edges(v), t.vertex_faces(v).len());
+    let n = edges.len();
+    let sharp_only_by_boundary = (edges.iter()).all(|&e| {
+        let e = t.edge_tag(e as usize);
+        !(e.non_manifold || e.semi_sharp || (e.inf_sharp && !e.boundary))
+    });
+    !(tag.non_manifold || tag.semi_sharp || (tag.inf_sharp && !tag.sharpened_corner))
+        && sharp_only_by_boundary
+        && n <= MAX_VALENCE
+        && if tag.boundary {
+            n >= 2 && faces + 1 == n
+        } else {
+            tag.rule == Rule::Smooth && n >= 3 && faces == n
+        }
 }
 
 /// The ring of face `f` of `t` read from the corner that the module docs say, if `f`
 /// can be a ring patch.
 pub(super) fn ring_net(t: &Topology, f: usize) -> Option<RingNet> {
     let fv = t.face_vertices(f);
-    if !fv.iter().all(|&v| smooth_corner(t, v as usize)) {
+    if !fv.iter().all(|&v| ring_corner(t, v as usize)) {
         return None;
     }
     // The corners where the sequence of corner valences (from that corner on) is least,
