@@ -12,13 +12,13 @@
 //! regular quads refinement is uniform bicubic B-spline subdivision, so the plan stores
 //! only the 16 control points of each such quad and computes the 81 vertices that three
 //! more levels put on it with a fixed tensor-product kernel (see
-//! `refine/plan_patches.rs`); any other face whose corners are smooth interior or plain
-//! boundary vertices (extraordinary ones, triangles and n-gons of the base mesh included)
-//! gets its vertices from a fixed matrix per shape of its 1-ring, on the points of that
-//! ring (`refine/plan_ring.rs`). Sparse rows cover the rest: faces at extraordinary
-//! vertices on sharp features or non-manifold ones, at semi-sharp features that soften
-//! within the last three levels, or at valences above 16 (0.05 % of the output of `catmark_bishop` at level
-//! 6). Re-posing is 10–20× faster than [`subdivide`](crate::subdivide) on quad meshes,
+//! `refine/plan_patches.rs`); any other face whose corners are manifold vertices
+//! (extraordinary ones, triangles and n-gons of the base mesh, boundaries and sharp
+//! features included) gets its vertices from a fixed matrix per shape and sharpness of
+//! its 1-ring, on the points of that ring (`refine/plan_ring.rs`). Sparse rows cover the
+//! rest: faces at non-manifold vertices, at semi-sharp edges under Chaikin's rule, at
+//! valences above 16, and faces whose ring is shared by fewer than four faces (0.05 % of
+//! the output of `catmark_bishop` at level 6). Re-posing is 10–20× faster than [`subdivide`](crate::subdivide) on quad meshes,
 //! 6–17× on all-triangle ones (see [`RefinePlan`] for numbers).
 //!
 //! # Storage
@@ -1104,9 +1104,9 @@ mod tests {
 
     /// Faces with smooth corners of any valence (3 to 8 here; triangles and n-gons of the
     /// base meshes, quads of level 1 with two extraordinary corners, quads of level 2
-    /// with one), and with boundary corners (edge-only, edge-and-corner and none),
-    /// computed by their ring's matrix give the same vertices as the sparse rows;
-    /// `catmark_smoothtris0` with OpenSubdiv's `smoothtriangles` rule.
+    /// with one), with boundary corners (edge-only, edge-and-corner and none) and with
+    /// sharp corners and edges, computed by their ring's matrix give the same vertices as
+    /// the sparse rows; `catmark_smoothtris0` with OpenSubdiv's `smoothtriangles` rule.
     #[test]
     fn ring_patches_match_rows() {
         for name in [
@@ -1126,8 +1126,82 @@ mod tests {
             "catmark_quadstrips",
             "catmark_tent",
             "catmark_val2_interior",
+            // Semi-sharp and infinitely sharp creases and corners at the corners (their
+            // sharpness is part of the key), with Chaikin's rule too.
+            "catmark_pyramid_creases0",
+            "catmark_pyramid_creases1",
+            "catmark_single_crease",
+            "catmark_tent_creases0",
+            "catmark_dart_edgeonly",
+            "catmark_chaikin0",
         ] {
             assert!(check_patches(name).1 > 0, "{name}: no ring patches");
+        }
+    }
+
+    /// Ring patches at sharp corners and edges give the vertices of the sparse rows:
+    /// `catmark_smoothtris0` with random tags (semi-sharp creases from 0.23 to 3.9,
+    /// infinitely sharp ones, a corner, holes), with uniform decay and with Chaikin's
+    /// rule. Chaikin's rule makes a semi-sharp edge's children depend on edges beyond
+    /// the ring, so corners with one are left to the rows (allowing them makes this
+    /// test fail: an error of 4e-7 at level 3).
+    #[test]
+    fn ring_patches_with_random_creases() {
+        const TAGS: &str = "t crease 2/1/0 10 40 1\n\
+            t crease 2/1/0 18 37 3.6\n\
+            t crease 2/1/0 30 31 0.557\n\
+            t crease 2/1/0 3 4 0.99\n\
+            t crease 2/1/0 0 1 2.0001\n\
+            t crease 2/1/0 9 29 0.99\n\
+            t crease 2/1/0 16 36 2.891\n\
+            t crease 2/1/0 28 41 2.793\n\
+            t crease 2/1/0 18 19 0.373\n\
+            t crease 2/1/0 10 29 1.5\n\
+            t crease 2/1/0 9 10 0.6\n\
+            t crease 2/1/0 4 40 10\n\
+            t crease 2/1/0 39 41 3.9\n\
+            t crease 2/1/0 5 6 0.5\n\
+            t crease 2/1/0 27 41 0.611\n\
+            t crease 2/1/0 4 23 0.557\n\
+            t crease 2/1/0 2 40 1.276\n\
+            t crease 2/1/0 21 41 1.516\n\
+            t crease 2/1/0 12 31 10\n\
+            t crease 2/1/0 33 34 10\n\
+            t crease 2/1/0 32 41 0.229\n\
+            t crease 2/1/0 13 33 0.920\n\
+            t crease 2/1/0 19 39 1.953\n\
+            t crease 2/1/0 12 13 1.5\n\
+            t crease 2/1/0 14 33 1\n\
+            t crease 2/1/0 15 35 2.0001\n\
+            t crease 2/1/0 22 41 1.309\n\
+            t crease 2/1/0 7 8 0.261\n\
+            t crease 2/1/0 24 41 0.859\n\
+            t crease 2/1/0 5 25 3.8\n\
+            t crease 2/1/0 28 29 1.5\n\
+            t crease 2/1/0 36 41 2.991\n\
+            t crease 2/1/0 36 37 3.1\n\
+            t crease 2/1/0 7 40 4.3\n\
+            t crease 2/1/0 1 21 3.4\n\
+            t crease 2/1/0 10 11 2.0001\n\
+            t corner 1/1/0 9 1.733\n\
+            t hole 4/0/0 41 30 44 46\n\
+            t creasemethod 0/0/1 chaikin\n\
+            t interpolateboundary 1/0/0 2\n";
+        let path = format!(
+            "{}/tests/shapes/osd/catmark_smoothtris0.obj",
+            env!("CARGO_MANIFEST_DIR")
+        );
+        let text = std::fs::read_to_string(path).unwrap() + TAGS;
+        let obj = crate::io::obj::parse_obj(text.as_bytes(), "tagged").unwrap();
+        let options = obj.options.resolve(Options::default());
+        assert_eq!(options.crease_method, crate::mesh::CreaseMethod::Chaikin);
+        for crease_method in [crate::mesh::CreaseMethod::Uniform, options.crease_method] {
+            let options = Options {
+                crease_method,
+                ..options
+            };
+            let (_, rings) = check_mesh_patches(&obj.mesh, options, "tagged smoothtris0");
+            assert!(rings > 0);
         }
     }
 

@@ -51,8 +51,9 @@
 //! sharpness-6 creases of `catmark_bishop` and `catmark_pawn` are patch sides from level 2
 //! on, where their quads used to be sparse rows.
 //!
-//! Any other face whose corners are smooth interior or plain boundary vertices (of any
-//! valence, a triangle or n-gon of the base mesh too) is a *ring patch* instead: the same idea with a fixed
+//! Any other face whose corners are manifold vertices (of any valence, inside or on a
+//! boundary, smooth or sharp; a triangle or n-gon of the base mesh too) is a *ring patch*
+//! instead: the same idea with a fixed
 //! matrix per shape of 1-ring on the points of that ring (`refine/plan_ring.rs`).
 //!
 //! Each refined vertex is written by exactly one patch or by the plan's remaining sparse
@@ -81,7 +82,7 @@ use rayon::prelude::*;
 
 use super::plan_ring::{descendants, ring_net, Kernel, RingGroup, RingNet};
 use crate::limit::patch::{refinement_patch_cells, Cell, Sharp};
-use crate::mesh::{Options, Topology};
+use crate::mesh::{CreaseMethod, Options, Topology};
 
 /// Faces of a layer's level per run: the unit of parallel work. A run applies all its
 /// patches, of every kind, before the next: neighbouring patches share cache lines of the
@@ -298,16 +299,16 @@ enum Net {
     Plain([u32; 16]),
     /// With phantom points (boxed: 14 times the size of a plain net, and rarer).
     Edge(Box<[Cell; 16]>),
-    /// The 1-ring of a face with smooth or boundary corners (`refine/plan_ring.rs`).
+    /// The 1-ring of a face with manifold corners (`refine/plan_ring.rs`).
     Ring(RingNet),
 }
 
 /// The control net of face `f` if it can be a patch (module docs), with the edges and
 /// vertices that `sharp` takes as infinitely sharp: its 16 cells, whose vertices (those
 /// that are not phantoms) must be distinct; or else its 1-ring.
-fn patch_controls(t: &Topology, f: usize, sharp: Sharp) -> Option<Net> {
+fn patch_controls(t: &Topology, f: usize, sharp: Sharp, chaikin: bool) -> Option<Net> {
     let Some(cells) = refinement_patch_cells(t, f, sharp) else {
-        return ring_net(t, f).map(Net::Ring);
+        return ring_net(t, f, chaikin).map(Net::Ring);
     };
     let cells: [Cell; 16] = std::array::from_fn(|k| cells[k / 4][k % 4]);
     let plain = cells.iter().all(|c| c.len == 1 && c.weights[0] == 1.0);
@@ -317,7 +318,7 @@ fn patch_controls(t: &Topology, f: usize, sharp: Sharp) -> Option<Net> {
         .collect();
     verts.sort_unstable();
     if verts.windows(2).any(|w| w[0] == w[1]) {
-        return ring_net(t, f).map(Net::Ring);
+        return ring_net(t, f, chaikin).map(Net::Ring);
     }
     Some(if plain {
         Net::Plain(cells.map(|c| c.verts[0]))
@@ -343,6 +344,7 @@ impl PatchLayer {
     ) -> Self {
         let depth = levels.len() as u32;
         let sharp = Sharp::for_levels(depth, options.crease_method);
+        let chaikin = options.crease_method == CreaseMethod::Chaikin;
         let t = &levels[0];
         // Regular and edge patches with their grids; ring patches get theirs below, once
         // the matrix of their key says which vertices repeat.
@@ -350,7 +352,7 @@ impl PatchLayer {
             .into_par_iter()
             .with_min_len(RUN)
             .filter_map(|f| {
-                let net = patch_controls(t, f, sharp)?;
+                let net = patch_controls(t, f, sharp, chaikin)?;
                 let grid = match net {
                     Net::Ring(_) => Vec::new(),
                     _ => grid_indices(levels, f)?,

@@ -1,7 +1,8 @@
 //! Ring patches of a [`RefinePlan`](super::RefinePlan): the last levels of a face whose
-//! corners are smooth interior or plain boundary vertices of any valence, computed from
-//! the points of its 1-ring by one fixed matrix per shape of ring, as regular patches are
-//! computed from 16 points by the bicubic kernel (see `refine/plan_patches.rs`).
+//! corners are manifold vertices of any valence (inside or on a boundary, smooth or
+//! sharp), computed from the points of its 1-ring by one fixed matrix per shape of ring
+//! and sharpness, as regular patches are computed from 16 points by the bicubic kernel
+//! (see `refine/plan_patches.rs`).
 //!
 //! # Why
 //! Regular patches need four regular corners, so every face at an extraordinary vertex,
@@ -13,13 +14,14 @@
 //! 3), and every quad of level 2 one.
 //!
 //! # Which faces
-//! A face `f` (of any size) whose corners are manifold, without sharpness of their own or
-//! on their edges but what a boundary gives (boundary edges, and in edge-and-corner mode
-//! the corner of one face), and either interior with the smooth rule and valence 3 to
-//! [`MAX_VALENCE`], or on a boundary with valence 2 to [`MAX_VALENCE`]; with at most
+//! A face `f` (of any size) whose corners are manifold, of valence 3 to [`MAX_VALENCE`]
+//! inside or 2 to [`MAX_VALENCE`] on a boundary, with manifold edges; with at most
 //! [`MAX_POINTS`] points in its 1-ring (the faces that share a vertex with it), and no two
-//! edges of the ring between the same two vertices.
-//!
+//! edges of the ring between the same two vertices. Corners and the edges at them may be
+//! sharp, semi-sharp or infinitely (their sharpness is part of the key, below), except for
+//! semi-sharp edges under Chaikin's rule, whose children's sharpness reads edges beyond
+//! the ring (test `ring_patches_with_random_creases`).
+
 //! The vertices that any number of levels put on the closed face depend only on its
 //! 1-ring, through the masks of its corners, of the edges at its corners and of the faces
 //! of the 1-ring: a level-`l + 1` vertex on `f` is a vertex, edge or face point of an
@@ -35,12 +37,14 @@
 //! faces whose 1-rings have the same faces on the same points, once the points are
 //! numbered the same way; on an all-triangle mesh, one per triple of corner valences.
 //!
-//! A boundary corner keeps this true. Its whole fan is in the 1-ring, so in the template
-//! (a mesh of the ring's faces, below) it has the same faces, the same boundary edges and
-//! so the same rule (crease, or corner in edge-and-corner mode), and the masks of the
-//! boundary edges at it read the same two ends. The template is refined with the mesh's
-//! boundary mode. What a boundary corner may not carry is sharpness the template cannot
-//! see: a tagged crease or corner, or a non-manifold edge.
+//! Boundaries and sharpness keep this true. A corner's whole fan is in the 1-ring, so in
+//! the template (a mesh of the ring's faces, below) it has the same faces and the same
+//! boundary edges; the key lists the sharpness of the corners and of every edge at them
+//! ([`push_sharpness`]), which the template is given as tags and refined with the mesh's
+//! options. So each corner has the same rule (smooth, dart, crease, corner, or a blend as
+//! sharpness falls below 1) at every level, and the edges at it the same masks and the
+//! same decay: uniform decay reads only the edge itself. Masks of points beyond the
+//! corners, sharp or not, are never used.
 //!
 //! # The ring
 //! [`ring_net`] lists the faces of the 1-ring from a corner `s` of `f`: `f` itself from
@@ -51,7 +55,8 @@
 //! listed from another corner shares the matrix: among the corners from which the
 //! sequence of corner valences is least, the one whose key is least. Two points of the
 //! ring may be the same vertex of the mesh (a small closed mesh): the key says so, and
-//! the matrix is computed on exactly that.
+//! the matrix is computed on exactly that. When a corner or an edge at one is sharp, the
+//! key goes on with their sharpness values (`f32` bits, as refinement holds them).
 //!
 //! # The matrix
 //! It is computed by refining the 1-ring itself: a mesh of the key's faces
@@ -74,7 +79,7 @@
 //!
 //! [`refine_topology`]: super::topology::refine_topology
 
-use crate::mesh::{Options, PolyMesh, Rule, Topology};
+use crate::mesh::{Corner, Crease, Options, PolyMesh, Topology};
 
 use super::plan::RefinePlan;
 #[cfg(target_arch = "x86_64")]
@@ -104,33 +109,33 @@ pub(super) struct RingNet {
     faces: Vec<u32>,
 }
 
-/// Whether vertex `v` of `t` can be a corner of a ring patch (module docs): manifold,
-/// without sharpness of its own or on its edges but what its boundary gives it (the
-/// template, a mesh of the ring's faces, has the same boundary there and derives the
-/// same), and of valence 3 to [`MAX_VALENCE`] inside, 2 to [`MAX_VALENCE`] on a boundary.
-fn ring_corner(t: &Topology, v: usize) -> bool {
+/// Whether vertex `v` of `t` can be a corner of a ring patch (module docs): manifold, of
+/// valence 3 to [`MAX_VALENCE`] inside and 2 to [`MAX_VALENCE`] on a boundary, and, with
+/// Chaikin's crease rule, without semi-sharp edges (whose decay reads edges beyond the
+/// ring). Its sharpness and that of its edges go into the ring's key.
+fn ring_corner(t: &Topology, v: usize, chaikin: bool) -> bool {
     let tag = t.vertex_tag(v);
     let (edges, faces) = (t.vertex_edges(v), t.vertex_faces(v).len());
     let n = edges.len();
-    let sharp_only_by_boundary = (edges.iter()).all(|&e| {
+    let edges_ok = (edges.iter()).all(|&e| {
         let e = t.edge_tag(e as usize);
-        !(e.non_manifold || e.semi_sharp || (e.inf_sharp && !e.boundary))
+        !(e.non_manifold || (chaikin && e.semi_sharp))
     });
-    !(tag.non_manifold || tag.semi_sharp || (tag.inf_sharp && !tag.sharpened_corner))
-        && sharp_only_by_boundary
+    !tag.non_manifold
+        && edges_ok
         && n <= MAX_VALENCE
         && if tag.boundary {
             n >= 2 && faces + 1 == n
         } else {
-            tag.rule == Rule::Smooth && n >= 3 && faces == n
+            n >= 3 && faces == n
         }
 }
 
 /// The ring of face `f` of `t` read from the corner that the module docs say, if `f`
 /// can be a ring patch.
-pub(super) fn ring_net(t: &Topology, f: usize) -> Option<RingNet> {
+pub(super) fn ring_net(t: &Topology, f: usize, chaikin: bool) -> Option<RingNet> {
     let fv = t.face_vertices(f);
-    if !fv.iter().all(|&v| ring_corner(t, v as usize)) {
+    if !fv.iter().all(|&v| ring_corner(t, v as usize, chaikin)) {
         return None;
     }
     // The corners where the sequence of corner valences (from that corner on) is least,
@@ -206,7 +211,50 @@ fn read_ring(t: &Topology, f: usize, start: usize) -> Option<RingNet> {
             return None;
         }
     }
+    push_sharpness(t, &mut ring, n);
     Some(ring)
+}
+
+/// Marks the end of the faces of a key that goes on with sharpness (no face size or
+/// point is this large).
+const SHARP_KEY: u32 = u32::MAX;
+
+/// Appends to the key of `ring`, if any corner of its face (its first `n` points) or any
+/// edge at one is sharp: [`SHARP_KEY`], the number of such edges, `(point, point,
+/// sharpness bits)` for each, sorted, then `(point, sharpness bits)` for each such
+/// corner. These are all the sharpness values the face's refined vertices read (module
+/// docs). Sharpness that the template would derive itself (boundary edges, a boundary
+/// corner of one face in edge-and-corner mode) is listed too: given or derived, it is
+/// the same.
+fn push_sharpness(t: &Topology, ring: &mut RingNet, n: usize) {
+    let point = |v: u32| ring.verts.iter().position(|&x| x == v);
+    let mut edges: Vec<[u32; 3]> = Vec::new();
+    let mut corners: Vec<[u32; 2]> = Vec::new();
+    for (p, &v) in ring.verts[..n].iter().enumerate() {
+        let s = t.vertex_sharpness(v as usize);
+        if s > 0.0 {
+            corners.push([p as u32, s.to_bits()]);
+        }
+        for &e in t.vertex_edges(v as usize) {
+            let s = t.edge_sharpness(e as usize);
+            if s > 0.0 {
+                let [a, b] = t.edge_vertices(e as usize).map(point);
+                // Both ends are ring points: the edge is in a face at this corner.
+                if let (Some(a), Some(b)) = (a, b) {
+                    edges.push([a.min(b) as u32, a.max(b) as u32, s.to_bits()]);
+                }
+            }
+        }
+    }
+    if edges.is_empty() && corners.is_empty() {
+        return;
+    }
+    edges.sort_unstable();
+    edges.dedup();
+    ring.key.push(SHARP_KEY);
+    ring.key.push(edges.len() as u32);
+    ring.key.extend(edges.into_iter().flatten());
+    ring.key.extend(corners.into_iter().flatten());
 }
 
 /// Appends to `out` the vertices that `levels.len()` levels put on the closed face `f`
@@ -279,12 +327,31 @@ impl Kernel {
         let mut faces = Vec::new();
         let mut rest = key;
         while let Some((&len, tail)) = rest.split_first() {
+            if len == SHARP_KEY {
+                break;
+            }
             let (face, tail) = tail.split_at_checked(len as usize)?;
             faces.push(face);
             rest = tail;
         }
         let points = (faces.iter().copied().flatten().max()).map_or(0, |&m| m as usize + 1);
-        let mesh = PolyMesh::from_faces(vec![[0.0; 3]; points], &faces).ok()?;
+        let mut mesh = PolyMesh::from_faces(vec![[0.0; 3]; points], &faces).ok()?;
+        // The sharpness that [`push_sharpness`] put after the faces.
+        if let [SHARP_KEY, count, sharp @ ..] = rest {
+            let (edges, corners) = sharp.split_at_checked(3 * *count as usize)?;
+            let (edges, corners) = (edges.chunks_exact(3), corners.chunks_exact(2));
+            mesh.tags.creases = (edges.map(|e| Crease {
+                v0: e[0],
+                v1: e[1],
+                sharpness: f32::from_bits(e[2]),
+            }))
+            .collect();
+            mesh.tags.corners = (corners.map(|c| Corner {
+                vertex: c[0],
+                sharpness: f32::from_bits(c[1]),
+            }))
+            .collect();
+        }
         let plan = RefinePlan::build(&mesh, *options, depth, 0).ok()?;
         let (mut level, _) = Topology::from_mesh(&mesh, options).ok()?;
         let mut levels = Vec::with_capacity(depth as usize);
@@ -680,7 +747,7 @@ mod tests {
         cases.push(octa);
         for faces in cases {
             let t = topology(&faces, &options);
-            let ring = ring_net(&t, 0).expect("face 0 is a ring patch");
+            let ring = ring_net(&t, 0, false).expect("face 0 is a ring patch");
             // The key's faces are the mesh's faces around face 0, renumbered.
             let listed: usize = {
                 let mut rest = &ring.key[..];
@@ -703,7 +770,11 @@ mod tests {
                 // The same least key (from any corner that gives it, when the ring is
                 // symmetric), and the same points read from the same corner.
                 let t = topology(&turned, &options);
-                assert_eq!(ring_net(&t, 0).unwrap().key, ring.key, "turned by {k}");
+                assert_eq!(
+                    ring_net(&t, 0, false).unwrap().key,
+                    ring.key,
+                    "turned by {k}"
+                );
                 let n = faces[0].len();
                 let u = read_ring(&t, 0, (ring.start + n - k) % n).unwrap();
                 assert_eq!(
@@ -728,7 +799,7 @@ mod tests {
         for n in [3, 5, 6, 8] {
             let faces = one_ev_ring(n);
             let t = topology(&faces, &options);
-            let ring = ring_net(&t, 0).unwrap();
+            let ring = ring_net(&t, 0, false).unwrap();
             for depth in [2u32, 3] {
                 let k = Kernel::new(&ring.key, depth, &options).unwrap();
                 assert_eq!(k.points, 2 * n + 8);
@@ -772,7 +843,7 @@ mod tests {
     fn triangle_rows_and_limits() {
         let options = Options::default();
         let t = topology(&OCTAHEDRON, &options);
-        let ring = ring_net(&t, 0).unwrap();
+        let ring = ring_net(&t, 0, false).unwrap();
         assert_eq!(ring.verts.len(), 6);
         for depth in [2u32, 3] {
             let k = Kernel::new(&ring.key, depth, &options).unwrap();
@@ -794,6 +865,6 @@ mod tests {
         let fan: Vec<[u32; 3]> = (0..17u32).map(|i| [0, 1 + i, 1 + (i + 1) % 17]).collect();
         let mut closed = fan.clone();
         closed.extend((0..17u32).map(|i| [18, 1 + (i + 1) % 17, 1 + i]));
-        assert!(ring_net(&topology(&closed, &options), 0).is_none());
+        assert!(ring_net(&topology(&closed, &options), 0, false).is_none());
     }
 }
