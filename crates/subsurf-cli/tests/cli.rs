@@ -386,6 +386,16 @@ fn boundary_tag(obj: &str) -> Option<&str> {
         .and_then(|l| l.split_whitespace().last())
 }
 
+/// `subsurf subdivide grid.obj -o - -l 1 EXTRA...` in `dir`: its standard output, after
+/// checking that it succeeded.
+fn grid_level_one(dir: &Path, extra: &[&str]) -> String {
+    let mut args = vec!["subdivide", "grid.obj", "-o", "-", "-l", "1"];
+    args.extend_from_slice(extra);
+    let o = run_in(dir, &args);
+    assert_code(&o, 0);
+    stdout(&o)
+}
+
 /// `--boundary edge` and `--boundary corner`, OpenSubdiv's and `osd-oracle`'s names, mean
 /// `edge-only` and `edge-and-corner`.
 #[test]
@@ -395,26 +405,13 @@ fn boundary_accepts_opensubdiv_names() {
         ("edge", "edge-only", "2"),
         ("corner", "edge-and-corner", "1"),
     ] {
-        let run = |mode: &str| {
-            let o = run_in(
-                dir.path(),
-                &[
-                    "subdivide",
-                    "grid.obj",
-                    "-o",
-                    "-",
-                    "-l",
-                    "1",
-                    "--boundary",
-                    mode,
-                ],
-            );
-            assert_code(&o, 0);
-            stdout(&o)
-        };
-        let out = run(alias);
+        let out = grid_level_one(dir.path(), &["--boundary", alias]);
         assert_eq!(boundary_tag(&out), Some(tag), "{alias}");
-        assert_eq!(out, run(name), "{alias}");
+        assert_eq!(
+            out,
+            grid_level_one(dir.path(), &["--boundary", name]),
+            "{alias}"
+        );
     }
 }
 
@@ -422,40 +419,13 @@ fn boundary_accepts_opensubdiv_names() {
 fn flags_override_file_tags_only_when_given() {
     // grid.obj says `t interpolateboundary 1/0/0 1` (edge-and-corner).
     let dir = dir_with(&[("grid.obj", GRID)]);
-    let o = run_in(dir.path(), &["subdivide", "grid.obj", "-o", "-", "-l", "1"]);
-    assert_code(&o, 0);
-    assert_eq!(boundary_tag(&stdout(&o)), Some("1"));
-    let o = run_in(
+    assert_eq!(boundary_tag(&grid_level_one(dir.path(), &[])), Some("1"));
+    let out = grid_level_one(dir.path(), &["--boundary", "none"]);
+    assert_eq!(boundary_tag(&out), Some("0"));
+    let out = grid_level_one(
         dir.path(),
-        &[
-            "subdivide",
-            "grid.obj",
-            "-o",
-            "-",
-            "-l",
-            "1",
-            "--boundary",
-            "none",
-        ],
+        &["--crease-method", "chaikin", "--smooth-triangles"],
     );
-    assert_code(&o, 0);
-    assert_eq!(boundary_tag(&stdout(&o)), Some("0"));
-    let o = run_in(
-        dir.path(),
-        &[
-            "subdivide",
-            "grid.obj",
-            "-o",
-            "-",
-            "-l",
-            "1",
-            "--crease-method",
-            "chaikin",
-            "--smooth-triangles",
-        ],
-    );
-    assert_code(&o, 0);
-    let out = stdout(&o);
     assert_eq!(boundary_tag(&out), Some("1"));
     assert!(out.contains("t creasemethod 0/0/1 chaikin"), "{out}");
     assert!(out.contains("t smoothtriangles 0/0/1 smooth"), "{out}");
