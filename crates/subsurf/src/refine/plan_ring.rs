@@ -18,10 +18,10 @@
 //! inside or 2 to [`MAX_VALENCE`] on a boundary, with manifold edges; with at most
 //! [`MAX_POINTS`] points in its 1-ring (the faces that share a vertex with it), and no two
 //! edges of the ring between the same two vertices. Corners and the edges at them may be
-//! sharp, semi-sharp or infinitely (their sharpness is part of the key, below), except for
+//! semi-sharp or infinitely sharp (their sharpness is part of the key, below), except for
 //! semi-sharp edges under Chaikin's rule, whose children's sharpness reads edges beyond
 //! the ring (test `ring_patches_with_random_creases`).
-
+//!
 //! The vertices that any number of levels put on the closed face depend only on its
 //! 1-ring, through the masks of its corners, of the edges at its corners and of the faces
 //! of the 1-ring: a level-`l + 1` vertex on `f` is a vertex, edge or face point of an
