@@ -99,7 +99,8 @@ pub(super) const MAX_POINTS: usize = 64;
 /// The 1-ring of a face, read from one of its corners (module docs).
 pub(super) struct RingNet {
     /// The ring's faces on the ring's points: for each face, its size then its points,
-    /// face 0 being the patch's face from corner `start`. Equal keys, equal matrices.
+    /// face 0 being the patch's face from corner `start`; then, if any, the sharpness at
+    /// its corners ([`push_sharpness`]). Equal keys, equal matrices.
     pub(super) key: Vec<u32>,
     /// The corner of the face the ring was read from.
     pub(super) start: usize,
@@ -211,7 +212,7 @@ fn read_ring(t: &Topology, f: usize, start: usize) -> Option<RingNet> {
             return None;
         }
     }
-    push_sharpness(t, &mut ring, n);
+    push_sharpness(t, &mut ring, n)?;
     Some(ring)
 }
 
@@ -225,8 +226,9 @@ const SHARP_KEY: u32 = u32::MAX;
 /// corner. These are all the sharpness values the face's refined vertices read (module
 /// docs). Sharpness that the template would derive itself (boundary edges, a boundary
 /// corner of one face in edge-and-corner mode) is listed too: given or derived, it is
-/// the same.
-fn push_sharpness(t: &Topology, ring: &mut RingNet, n: usize) {
+/// the same. [`template`] reads it back. `None` if a sharp edge at a corner does not end
+/// at ring points (it always does: it lies in a face at that corner).
+fn push_sharpness(t: &Topology, ring: &mut RingNet, n: usize) -> Option<()> {
     let point = |v: u32| ring.verts.iter().position(|&x| x == v);
     let mut edges: Vec<[u32; 3]> = Vec::new();
     let mut corners: Vec<[u32; 2]> = Vec::new();
@@ -239,15 +241,13 @@ fn push_sharpness(t: &Topology, ring: &mut RingNet, n: usize) {
             let s = t.edge_sharpness(e as usize);
             if s > 0.0 {
                 let [a, b] = t.edge_vertices(e as usize).map(point);
-                // Both ends are ring points: the edge is in a face at this corner.
-                if let (Some(a), Some(b)) = (a, b) {
-                    edges.push([a.min(b) as u32, a.max(b) as u32, s.to_bits()]);
-                }
+                let (a, b) = (a? as u32, b? as u32);
+                edges.push([a.min(b), a.max(b), s.to_bits()]);
             }
         }
     }
     if edges.is_empty() && corners.is_empty() {
-        return;
+        return Some(());
     }
     edges.sort_unstable();
     edges.dedup();
@@ -255,6 +255,41 @@ fn push_sharpness(t: &Topology, ring: &mut RingNet, n: usize) {
     ring.key.push(edges.len() as u32);
     ring.key.extend(edges.into_iter().flatten());
     ring.key.extend(corners.into_iter().flatten());
+    Some(())
+}
+
+/// The template of ring `key`: a mesh of its faces on its points (at the origin), with
+/// the sharpness of [`push_sharpness`] as tags. `None` if the key is malformed or its
+/// faces are not a valid mesh.
+fn template(key: &[u32]) -> Option<PolyMesh> {
+    let mut faces = Vec::new();
+    let mut rest = key;
+    while let Some((&len, tail)) = rest.split_first() {
+        if len == SHARP_KEY {
+            break;
+        }
+        let (face, tail) = tail.split_at_checked(len as usize)?;
+        faces.push(face);
+        rest = tail;
+    }
+    let points = (faces.iter().copied().flatten().max()).map_or(0, |&m| m as usize + 1);
+    let mut mesh = PolyMesh::from_faces(vec![[0.0; 3]; points], &faces).ok()?;
+    if let [SHARP_KEY, count, sharp @ ..] = rest {
+        let (edges, corners) = sharp.split_at_checked(3 * *count as usize)?;
+        let (edges, corners) = (edges.chunks_exact(3), corners.chunks_exact(2));
+        mesh.tags.creases = (edges.map(|e| Crease {
+            v0: e[0],
+            v1: e[1],
+            sharpness: f32::from_bits(e[2]),
+        }))
+        .collect();
+        mesh.tags.corners = (corners.map(|c| Corner {
+            vertex: c[0],
+            sharpness: f32::from_bits(c[1]),
+        }))
+        .collect();
+    }
+    Some(mesh)
 }
 
 /// Appends to `out` the vertices that `levels.len()` levels put on the closed face `f`
@@ -324,34 +359,8 @@ impl Kernel {
     /// `None` if the template cannot be built or refined as a mesh of its own (the faces
     /// are then left to the sparse rows).
     pub(super) fn new(key: &[u32], depth: u32, options: &Options) -> Option<Kernel> {
-        let mut faces = Vec::new();
-        let mut rest = key;
-        while let Some((&len, tail)) = rest.split_first() {
-            if len == SHARP_KEY {
-                break;
-            }
-            let (face, tail) = tail.split_at_checked(len as usize)?;
-            faces.push(face);
-            rest = tail;
-        }
-        let points = (faces.iter().copied().flatten().max()).map_or(0, |&m| m as usize + 1);
-        let mut mesh = PolyMesh::from_faces(vec![[0.0; 3]; points], &faces).ok()?;
-        // The sharpness that [`push_sharpness`] put after the faces.
-        if let [SHARP_KEY, count, sharp @ ..] = rest {
-            let (edges, corners) = sharp.split_at_checked(3 * *count as usize)?;
-            let (edges, corners) = (edges.chunks_exact(3), corners.chunks_exact(2));
-            mesh.tags.creases = (edges.map(|e| Crease {
-                v0: e[0],
-                v1: e[1],
-                sharpness: f32::from_bits(e[2]),
-            }))
-            .collect();
-            mesh.tags.corners = (corners.map(|c| Corner {
-                vertex: c[0],
-                sharpness: f32::from_bits(c[1]),
-            }))
-            .collect();
-        }
+        let mesh = template(key)?;
+        let points = mesh.num_vertices();
         let plan = RefinePlan::build(&mesh, *options, depth, 0).ok()?;
         let (mut level, _) = Topology::from_mesh(&mesh, options).ok()?;
         let mut levels = Vec::with_capacity(depth as usize);
@@ -374,7 +383,7 @@ impl Kernel {
         // than any grouping below, with as few terms (137 against 138 at valence 3, depth
         // 3). Elsewhere each group is grown greedily from the vertex that depends on the
         // fewest points by the vertex that adds the fewest.
-        let mut rows: Vec<Option<u32>> = if faces[0].len() == 4 {
+        let mut rows: Vec<Option<u32>> = if mesh.face(0).len() == 4 {
             grid_indices(&levels, 0)?.into_iter().map(Some).collect()
         } else {
             let mut verts = walk.clone();
