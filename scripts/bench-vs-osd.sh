@@ -71,20 +71,9 @@ as_root() {
     log "need root to run: $*"; return 1; fi
 }
 
-if [ -n "${OSD_ORACLE:-}" ]; then
-  oracle="$OSD_ORACLE"
-  [ -x "$oracle" ] || { log "OSD_ORACLE=$oracle is not an executable"; exit 2; }
-else
-  src="${OSD_ORACLE_SRC:-$root/../shared/tools/osd-oracle}"
-  if [ ! -x "$src/build.sh" ]; then
-    log "the OpenSubdiv oracle source is not available at $src (expected build.sh there)."
-    log "Set OSD_ORACLE_SRC=DIR to its sources, or OSD_ORACLE=PATH to a built osd-oracle."
-    exit 2
-  fi
-  oracle="$work/osd-oracle"
-  log "building osd-oracle from $src"
-  "$src/build.sh" "$oracle" >&2 || { log "building osd-oracle failed"; exit 2; }
-fi
+# shellcheck source=scripts/oracle.sh
+. "$root/scripts/oracle.sh"
+find_oracle "$work"
 
 # OpenSubdiv's re-posing path (a stencil table), for the re-posing table: our own small
 # program on the same libosd-dev (tools/osd-stencil-bench).

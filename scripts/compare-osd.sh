@@ -29,15 +29,9 @@ log() { echo "compare-osd: $*" >&2; }
 work="$(mktemp -d "${TMPDIR:-/tmp}/compare-osd.XXXXXX")"
 trap 'rm -rf "$work"' EXIT
 
-if [ -n "${OSD_ORACLE:-}" ]; then
-  oracle="$OSD_ORACLE"
-  [ -x "$oracle" ] || { log "OSD_ORACLE=$oracle is not an executable"; exit 2; }
-else
-  src="${OSD_ORACLE_SRC:-$root/../shared/tools/osd-oracle}"
-  [ -x "$src/build.sh" ] || { log "no osd-oracle sources at $src; set OSD_ORACLE_SRC or OSD_ORACLE"; exit 2; }
-  oracle="$work/osd-oracle"
-  "$src/build.sh" "$oracle" >&2 || { log "building osd-oracle failed"; exit 2; }
-fi
+# shellcheck source=scripts/oracle.sh
+. "$root/scripts/oracle.sh"
+find_oracle "$work"
 if [ -n "${SUBSURF:-}" ]; then
   subsurf="$SUBSURF"
 else
@@ -70,7 +64,7 @@ if len(ours[0]) != len(theirs[0]):
     problems.append("vertices %d vs %d" % (len(ours[0]), len(theirs[0])))
 if ours[1] != theirs[1]:
     problems.append("faces differ (%d vs %d)" % (len(ours[1]), len(theirs[1])))
-err = max((abs(a - b) for p, q in zip(*[ours[0], theirs[0]]) for a, b in zip(p, q)), default=0.0) / diag
+err = max((abs(a - b) for p, q in zip(ours[0], theirs[0]) for a, b in zip(p, q)), default=0.0) / diag
 if err > 1e-12:
     problems.append("error above 1e-12")
 print("%-5s max error %.1e of the diagonal, %d vertices %s"
