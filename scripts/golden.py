@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Golden data for crates/subsurf/tests/osd_golden.rs from the OpenSubdiv oracle.
+"""Golden data for crates/subsurf/tests/integration/osd_golden.rs from the OpenSubdiv oracle.
 
 Called by scripts/make-golden.sh (see there and crates/subsurf/tests/golden/README.md).
 For every shape SHAPES/<name>.obj it runs

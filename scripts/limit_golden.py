@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Limit-surface golden data for crates/subsurf/tests/limit_golden.rs from the OpenSubdiv oracle.
+"""Limit-surface golden data for crates/subsurf/tests/integration/limit_golden.rs from the OpenSubdiv oracle.
 
 Called by scripts/make-limit-golden.sh (see there and crates/subsurf/tests/golden/limit/README.md).
 For every shape SHAPES/<name>.obj it runs

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Regenerates the OpenSubdiv golden data that crates/subsurf/tests/osd_golden.rs checks against.
+# Regenerates the OpenSubdiv golden data that crates/subsurf/tests/integration/osd_golden.rs checks against.
 #
 #   scripts/make-golden.sh [--copy-shapes [DIR]] [SHAPE_NAME...]
 #

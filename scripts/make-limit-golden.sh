@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Regenerates the OpenSubdiv limit-surface golden data that
-# crates/subsurf/tests/limit_golden.rs checks LimitSurface against.
+# crates/subsurf/tests/integration/limit_golden.rs checks LimitSurface against.
 #
 #   scripts/make-limit-golden.sh [SHAPE_NAME...]
 #

@@ -66,7 +66,7 @@
 //!
 //! The map's norm drops to `~25`, the caps' response to perturbations of the mesh is
 //! linear down to ulps (`~0.5` of the perturbation), and ulp perturbations move the caps
-//! by `≤ 5·10⁻¹⁴` of their size (`tests/g2cap.rs`). The two solvers agree to the
+//! by `≤ 5·10⁻¹⁴` of their size (`tests/integration/g2cap.rs`). The two solvers agree to the
 //! reference's rounding (`≤ 4·10⁻¹⁰` of the size; `~10⁻¹⁰` typically).
 
 use super::bernstein::bernstein;

@@ -20,7 +20,7 @@
 //! `w_0`) on an edge with interval `d_1`, so the rules read `d_1` at `P_0`. The phantom only
 //! shapes the surface beyond the curve's end: the curve on its domain depends on
 //! `P_0 … P_{n−1}` and `t_1 … t_{n+2}` alone. The same holds at the far end with `d_{n+1}`.
-//! (Measured in `tests/interpolate.rs`: for an unclamped non-uniform curve, leaving the
+//! (Measured in `tests/integration/interpolate.rs`: for an unclamped non-uniform curve, leaving the
 //! phantoms out puts the refined middle polygon 1.5e-2 of the curve's size off the knot-inserted
 //! control polygon; with them the difference is 3e-16.)
 

@@ -57,7 +57,7 @@
 //!   ordinary degrees, and bit-exact JSON round trips.
 //!
 //! The module is small (a few hundred lines of algorithms), and every algorithm is checked in
-//! `tests/nurbs.rs` against an independent computation (de Casteljau, polynomial blossoms,
+//! `tests/integration/nurbs.rs` against an independent computation (de Casteljau, polynomial blossoms,
 //! finite differences, exact circles and tori, repeated single insertions).
 
 pub mod basis;

@@ -50,7 +50,7 @@
 //! in a different order (folded face points, merged columns), so its results agree with
 //! [`subdivide`](crate::subdivide) to rounding, not bit for bit: within 1e-14 of the size
 //! of the mesh (its bounding-box diagonal) on all of OpenSubdiv's regression shapes at
-//! levels 1–3 (at most 2.1e-15 measured; `tests/replay.rs`). Merged weights are summed
+//! levels 1–3 (at most 2.1e-15 measured; `tests/integration/replay.rs`). Merged weights are summed
 //! with their rounding errors, and each row adds its smallest terms first, so that a
 //! valence-360 pole is as accurate as elsewhere. The patches' kernel rounds like a row
 //! of 16 terms (after one more rounding for phantom points; dyadic weights, 8

@@ -1,0 +1,201 @@
+//! End-to-end tests of `subsurf render`, each in its own temporary directory.
+
+use crate::common;
+use common::*;
+
+use std::fs;
+
+const TORUS: &str = include_str!("../../../../examples/meshes/torus.obj");
+
+/// Width and height from a PNG's IHDR chunk (panics if `bytes` is not a PNG).
+#[track_caller]
+fn png_size(bytes: &[u8]) -> (u32, u32) {
+    assert!(bytes.len() > 24, "too short for a PNG");
+    assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n", "not a PNG");
+    assert_eq!(&bytes[12..16], b"IHDR");
+    let be = |b: &[u8]| u32::from_be_bytes([b[0], b[1], b[2], b[3]]);
+    (be(&bytes[16..20]), be(&bytes[20..24]))
+}
+
+#[test]
+fn writes_a_png_of_the_requested_size() {
+    let dir = dir_with(&[("cube.obj", CUBE)]);
+    let o = run_in(
+        dir.path(),
+        &["render", "cube.obj", "-o", "out.png", "--size", "200x150"],
+    );
+    assert_code(&o, 0);
+    let bytes = fs::read(dir.path().join("out.png")).unwrap();
+    assert_eq!(png_size(&bytes), (200, 150));
+    // Deterministic: the same command writes the same bytes.
+    let o = run_in(
+        dir.path(),
+        &["render", "cube.obj", "-o", "again.png", "--size", "200x150"],
+    );
+    assert_code(&o, 0);
+    assert_eq!(bytes, fs::read(dir.path().join("again.png")).unwrap());
+    // The default size.
+    let o = run_in(dir.path(), &["render", "cube.obj", "-o", "big.PNG"]);
+    assert_code(&o, 0);
+    assert_eq!(
+        png_size(&fs::read(dir.path().join("big.PNG")).unwrap()),
+        (800, 600)
+    );
+}
+
+#[test]
+fn modes_work_and_differ() {
+    let dir = dir_with(&[("cube.obj", CUBE), ("torus.obj", TORUS)]);
+    let runs: &[&[&str]] = &[
+        &["cube.obj", "-o", "plain.png"],
+        &["cube.obj", "-o", "zebra.png", "--zebra"],
+        &["cube.obj", "-o", "mean.png", "--curvature", "mean"],
+        &[
+            "torus.obj",
+            "-o",
+            "gauss.png",
+            "--curvature",
+            "gauss",
+            "--range=-2,2",
+        ],
+        &[
+            "cube.obj",
+            "-o",
+            "max.png",
+            "--curvature",
+            "max",
+            "--view",
+            "45,35",
+        ],
+        &["cube.obj", "-o", "cage.png", "--control-mesh"],
+        &["cube.obj", "-o", "faces.png", "--faces", "--up", "y"],
+        &[
+            "cube.obj", "-o", "l2.png", "--level", "2", "--shade", "flat",
+        ],
+        &[
+            "cube.obj",
+            "-o",
+            "rate.png",
+            "--limit-rate",
+            "3",
+            "--view",
+            "-30,-10",
+        ],
+        &["cube.obj", "-o", "zoom.png", "--zoom", "2"],
+    ];
+    let mut seen = Vec::new();
+    for args in runs {
+        let mut all = vec!["render"];
+        all.extend_from_slice(args);
+        all.extend_from_slice(&["--size", "120x90"]);
+        let o = run_in(dir.path(), &all);
+        assert_code(&o, 0);
+        let bytes = fs::read(dir.path().join(args[2])).unwrap();
+        assert_eq!(png_size(&bytes), (120, 90), "{args:?}");
+        assert!(
+            !seen.contains(&bytes),
+            "{args:?} drew the same as another mode"
+        );
+        seen.push(bytes);
+    }
+    // Curvature reports its colour range.
+    let o = run_in(
+        dir.path(),
+        &["render", "cube.obj", "-o", "m.png", "--curvature", "mean"],
+    );
+    assert_code(&o, 0);
+    assert!(
+        stderr(&o).contains("mean curvature colour range"),
+        "{}",
+        stderr(&o)
+    );
+    let o = run_in(
+        dir.path(),
+        &[
+            "render",
+            "cube.obj",
+            "-o",
+            "q.png",
+            "--curvature",
+            "mean",
+            "-q",
+        ],
+    );
+    assert_code(&o, 0);
+    assert_eq!(stderr(&o), "");
+}
+
+#[test]
+fn writes_to_standard_output_and_reads_standard_input() {
+    let dir = dir_with(&[]);
+    let o = run_with_stdin(
+        dir.path(),
+        &["render", "-", "-o", "-", "--size", "64x48"],
+        CUBE,
+    );
+    assert_code(&o, 0);
+    assert_eq!(png_size(&o.stdout), (64, 48));
+    assert!(listing(dir.path()).is_empty());
+}
+
+#[test]
+fn bad_extension_fails_without_writing() {
+    let dir = dir_with(&[("cube.obj", CUBE)]);
+    for out in ["out.jpg", "out"] {
+        let o = run_in(dir.path(), &["render", "cube.obj", "-o", out]);
+        assert_code(&o, 1);
+        assert!(stderr(&o).contains(".png"), "{}", stderr(&o));
+    }
+    assert_eq!(listing(dir.path()), ["cube.obj"]);
+}
+
+#[test]
+fn bad_input_and_usage_errors() {
+    let dir = dir_with(&[("cube.obj", CUBE), ("bad.obj", "v 0 0 0\nf 1 2 3\n")]);
+    let o = run_in(dir.path(), &["render", "bad.obj", "-o", "out.png"]);
+    assert_code(&o, 1);
+    assert!(stderr(&o).contains("bad.obj"), "{}", stderr(&o));
+    let o = run_in(dir.path(), &["render", "missing.obj", "-o", "out.png"]);
+    assert_code(&o, 1);
+    assert!(stderr(&o).contains("missing.obj"), "{}", stderr(&o));
+    // Every face a hole: nothing to draw.
+    let holes = format!("{CUBE}t hole 6/0/0 0 1 2 3 4 5\n");
+    fs::write(dir.path().join("holes.obj"), holes).unwrap();
+    let o = run_in(dir.path(), &["render", "holes.obj", "-o", "out.png"]);
+    assert_code(&o, 1);
+    assert!(stderr(&o).contains("nothing to draw"), "{}", stderr(&o));
+    // Usage errors exit with 2.
+    for args in [
+        &["--size", "10x10"][..],
+        &["--size", "800"],
+        &["--view", "30"],
+        &["--curvature", "mean", "--level", "1"],
+        &["--zebra", "--faces"],
+        &["--curvature", "gauss", "--zebra"],
+        &["--range=-1,1"],
+        &["--shade", "phong"],
+        &["--level", "1", "--limit-rate", "4"],
+        &["--zoom", "0"],
+    ] {
+        let mut all = vec!["render", "cube.obj", "-o", "out.png"];
+        all.extend_from_slice(args);
+        let o = run_in(dir.path(), &all);
+        assert_code(&o, 2);
+    }
+    let o = run_in(
+        dir.path(),
+        &[
+            "render",
+            "cube.obj",
+            "-o",
+            "out.png",
+            "--curvature",
+            "mean",
+            "--range",
+            "1,1",
+        ],
+    );
+    assert_code(&o, 1);
+    assert!(stderr(&o).contains("range"), "{}", stderr(&o));
+    assert_eq!(listing(dir.path()), ["bad.obj", "cube.obj", "holes.obj"]);
+}

@@ -1,0 +1,197 @@
+//! End-to-end tests of `subsurf tessellate`, each in its own temporary directory.
+
+use crate::common;
+use common::*;
+
+use std::fs;
+
+const HUT: &str = include_str!("../../../../examples/meshes/hut.obj");
+
+#[track_caller]
+fn count_records(obj: &str, prefix: &str) -> usize {
+    obj.lines()
+        .filter(|l| l.split_whitespace().next() == Some(prefix))
+        .count()
+}
+
+/// The cube at rate 3: 6 × 9 quads, 6 · 9 + 2 shared vertices (closed, genus 0).
+const FACES: usize = 54;
+const VERTS: usize = 56;
+
+#[test]
+fn writes_obj_with_normals() {
+    let dir = dir_with(&[("cube.obj", CUBE)]);
+    let o = run_in(
+        dir.path(),
+        &["tessellate", "cube.obj", "-o", "out.obj", "--rate", "3"],
+    );
+    assert_code(&o, 0);
+    let text = fs::read_to_string(dir.path().join("out.obj")).unwrap();
+    assert_eq!(count_records(&text, "v"), VERTS);
+    assert_eq!(count_records(&text, "vn"), VERTS);
+    assert_eq!(count_records(&text, "f"), FACES);
+    assert!(text.contains("# subsurf tessellate --rate 3"), "{text}");
+    assert!(text
+        .lines()
+        .any(|l| l.starts_with("f ") && l.contains("//")));
+    // Not a control cage: no scheme tags.
+    assert_eq!(count_records(&text, "t"), 0);
+    let o = run_in(
+        dir.path(),
+        &[
+            "tessellate",
+            "cube.obj",
+            "-o",
+            "tri.obj",
+            "--rate",
+            "3",
+            "--triangles",
+        ],
+    );
+    assert_code(&o, 0);
+    let text = fs::read_to_string(dir.path().join("tri.obj")).unwrap();
+    assert_eq!(count_records(&text, "f"), 2 * FACES);
+    assert_eq!(count_records(&text, "v"), VERTS);
+}
+
+#[test]
+fn writes_ply_of_the_expected_size() {
+    let dir = dir_with(&[("cube.obj", CUBE)]);
+    let o = run_in(
+        dir.path(),
+        &["tessellate", "cube.obj", "-o", "out.PLY", "--rate", "3"],
+    );
+    assert_code(&o, 0);
+    let bytes = fs::read(dir.path().join("out.PLY")).unwrap();
+    let end = bytes
+        .windows(11)
+        .position(|w| w == b"end_header\n")
+        .expect("a PLY header")
+        + 11;
+    let header = std::str::from_utf8(&bytes[..end]).unwrap();
+    assert!(header.starts_with("ply\nformat binary_little_endian 1.0\n"));
+    assert!(header.contains(&format!("element vertex {VERTS}\n")));
+    assert!(header.contains(&format!("element face {FACES}\n")));
+    assert!(header.contains("property double nx\n"));
+    // x y z nx ny nz as f64; per quad a u8 count and four i32.
+    assert_eq!(bytes.len(), end + VERTS * 48 + FACES * 17);
+    let ply = subsurf::io::ply::read_ply(&bytes).unwrap();
+    assert_eq!(ply.positions.len(), VERTS);
+}
+
+#[test]
+fn writes_stl_of_the_expected_size() {
+    let dir = dir_with(&[("cube.obj", CUBE)]);
+    for extra in [&[][..], &["--triangles"][..]] {
+        let mut args = vec!["tessellate", "cube.obj", "-o", "out.stl", "--rate", "3"];
+        args.extend_from_slice(extra);
+        let o = run_in(dir.path(), &args);
+        assert_code(&o, 0);
+        let bytes = fs::read(dir.path().join("out.stl")).unwrap();
+        assert_eq!(bytes.len(), 84 + 50 * 2 * FACES);
+        let count = u32::from_le_bytes([bytes[80], bytes[81], bytes[82], bytes[83]]);
+        assert_eq!(count as usize, 2 * FACES);
+        assert!(!bytes.starts_with(b"solid"));
+    }
+}
+
+#[test]
+fn dash_writes_obj_to_stdout() {
+    let dir = dir_with(&[("cube.obj", CUBE)]);
+    let o = run_in(
+        dir.path(),
+        &["tessellate", "cube.obj", "-o", "-", "--rate", "2"],
+    );
+    assert_code(&o, 0);
+    let text = String::from_utf8(o.stdout).unwrap();
+    assert_eq!(count_records(&text, "f"), 6 * 4);
+    assert_eq!(count_records(&text, "vn"), 6 * 4 + 2);
+    assert_eq!(listing(dir.path()), ["cube.obj"]);
+}
+
+#[test]
+fn unknown_extension_exits_one_and_writes_nothing() {
+    let dir = dir_with(&[("cube.obj", CUBE)]);
+    for out in ["out.xyz", "out"] {
+        let o = run_in(
+            dir.path(),
+            &["tessellate", "cube.obj", "-o", out, "--rate", "2"],
+        );
+        assert_code(&o, 1);
+        let e = stderr(&o);
+        assert!(e.contains(out) && e.contains(".obj, .ply or .stl"), "{e}");
+        assert_eq!(listing(dir.path()), ["cube.obj"]);
+    }
+}
+
+#[test]
+fn bad_rates_are_usage_errors() {
+    let dir = dir_with(&[("cube.obj", CUBE)]);
+    for args in [
+        &["tessellate", "cube.obj", "-o", "a.obj"][..],
+        &["tessellate", "cube.obj", "-o", "a.obj", "--rate", "0"][..],
+        &["tessellate", "cube.obj", "-o", "a.obj", "--rate", "x"][..],
+    ] {
+        let o = run_in(dir.path(), args);
+        assert_code(&o, 2);
+    }
+    assert_eq!(listing(dir.path()), ["cube.obj"]);
+}
+
+#[test]
+fn too_large_exits_one_with_the_estimate() {
+    let dir = dir_with(&[("cube.obj", CUBE)]);
+    let o = run_in(
+        dir.path(),
+        &["tessellate", "cube.obj", "-o", "a.ply", "--rate", "100000"],
+    );
+    assert_code(&o, 1);
+    let e = stderr(&o);
+    assert!(
+        e.contains("60000000002 vertices") && e.contains("lower the rate"),
+        "{e}"
+    );
+    assert_eq!(listing(dir.path()), ["cube.obj"]);
+}
+
+#[test]
+fn odd_rates_round_up_with_non_quads() {
+    let dir = dir_with(&[("hut.obj", HUT)]);
+    let o = run_in(
+        dir.path(),
+        &["tessellate", "hut.obj", "-o", "hut.obj.obj", "--rate", "3"],
+    );
+    assert_code(&o, 0);
+    assert!(
+        stderr(&o).contains("rate 3 rounded up to 4"),
+        "{}",
+        stderr(&o)
+    );
+    let text = fs::read_to_string(dir.path().join("hut.obj.obj")).unwrap();
+    // Six quads of 4 × 4, a hexagon and six triangles of 2 × 2 per corner.
+    assert_eq!(count_records(&text, "f"), 6 * 16 + 6 * 4 + 6 * 3 * 4);
+    let o = run_in(
+        dir.path(),
+        &["tessellate", "hut.obj", "-o", "q.obj", "--rate", "3", "-q"],
+    );
+    assert_code(&o, 0);
+    assert_eq!(stderr(&o), "");
+}
+
+#[test]
+fn help_shows_examples() {
+    let dir = dir_with(&[]);
+    let o = run_in(dir.path(), &["tessellate", "--help"]);
+    assert_code(&o, 0);
+    let text = String::from_utf8_lossy(&o.stdout);
+    for s in [
+        "--rate",
+        "--triangles",
+        "--boundary",
+        "--crease-method",
+        "Examples:",
+        ".stl",
+    ] {
+        assert!(text.contains(s), "{s} missing from:\n{text}");
+    }
+}

@@ -1,0 +1,32 @@
+//! The library's integration tests, as one test binary. Each module is one topic (one
+//! former `tests/*.rs` file); `cargo test -p subsurf --test integration spline::` runs one.
+//!
+//! One binary links the library and its dependencies once instead of once per file, which
+//! keeps a clean `cargo test` quick to link and small on disk. `tests/plan_no_alloc.rs` stays
+//! a binary of its own: its counting global allocator would count the other tests'
+//! allocations too.
+
+mod common;
+
+mod adjustable;
+mod blend;
+mod cross_scheme;
+mod g2cap;
+mod g2cap_iges;
+mod g2cap_mixed;
+mod gltf;
+mod interpolate;
+mod interpolate_host;
+mod limit_golden;
+mod limit_second_derivatives;
+mod limit_stencils;
+mod nurbs;
+mod nurss;
+mod obj_io;
+mod osd_golden;
+mod properties;
+mod regularity;
+mod render;
+mod replay;
+mod spline;
+mod tessellate;
