@@ -552,6 +552,10 @@ impl RingGroup {
     ) {
         let (points, nn) = (self.kernel.points, self.kernel.rows);
         let run = self.runs.range(r);
+        if run.is_empty() {
+            // Most keys have no patch in a given run (an all-triangle mesh has dozens).
+            return;
+        }
         let ctrl = &self.ctrl[run.start * points..run.end * points];
         let grids = &self.out[run.start * nn..run.end * nn];
         #[cfg(target_arch = "x86_64")]
