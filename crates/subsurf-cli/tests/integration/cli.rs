@@ -6,15 +6,6 @@ use common::*;
 use std::fs;
 use std::path::Path;
 
-const GRID: &str = include_str!("../../../../examples/meshes/grid.obj");
-
-/// Lines of `obj` starting with `prefix` followed by a space.
-fn count_records(obj: &str, prefix: &str) -> usize {
-    obj.lines()
-        .filter(|l| l.split_whitespace().next() == Some(prefix))
-        .count()
-}
-
 /// The value on the `label:` line of `subsurf info` output.
 fn info_value<'a>(text: &'a str, label: &str) -> Option<&'a str> {
     text.lines()

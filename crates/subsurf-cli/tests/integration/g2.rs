@@ -5,14 +5,6 @@ use common::*;
 
 use std::fs;
 
-const HUT: &str = include_str!("../../../../examples/meshes/hut.obj");
-
-fn count(text: &str, prefix: &str) -> usize {
-    text.lines()
-        .filter(|l| l.split_whitespace().next() == Some(prefix))
-        .count()
-}
-
 /// The cube (8 vertices of valence 3, all capped) at rate 4: 6 × 16 quads on
 /// 6 · 16 + 2 shared vertices — closed and watertight, with normals.
 #[test]
@@ -24,9 +16,9 @@ fn writes_a_watertight_obj_with_normals() {
     );
     assert_code(&o, 0);
     let text = fs::read_to_string(dir.path().join("out.obj")).unwrap();
-    assert_eq!(count(&text, "v"), 98);
-    assert_eq!(count(&text, "vn"), 98);
-    assert_eq!(count(&text, "f"), 96);
+    assert_eq!(count_records(&text, "v"), 98);
+    assert_eq!(count_records(&text, "vn"), 98);
+    assert_eq!(count_records(&text, "f"), 96);
     assert!(text.contains("8 caps"), "{text}");
     assert!(stderr(&o).is_empty(), "{}", stderr(&o));
 }

@@ -5,15 +5,6 @@ use common::*;
 
 use std::fs;
 
-const HUT: &str = include_str!("../../../../examples/meshes/hut.obj");
-const GRID: &str = include_str!("../../../../examples/meshes/grid.obj");
-
-fn count(text: &str, prefix: &str) -> usize {
-    text.lines()
-        .filter(|l| l.split_whitespace().next() == Some(prefix))
-        .count()
-}
-
 /// The cube at rate 3: 6 × 9 quads on 6 · 9 + 2 shared vertices (closed, watertight).
 #[test]
 fn writes_a_watertight_obj_with_normals() {
@@ -24,9 +15,9 @@ fn writes_a_watertight_obj_with_normals() {
     );
     assert_code(&o, 0);
     let text = fs::read_to_string(dir.path().join("out.obj")).unwrap();
-    assert_eq!(count(&text, "v"), 56);
-    assert_eq!(count(&text, "vn"), 56);
-    assert_eq!(count(&text, "f"), 54);
+    assert_eq!(count_records(&text, "v"), 56);
+    assert_eq!(count_records(&text, "vn"), 56);
+    assert_eq!(count_records(&text, "f"), 54);
     assert!(text.contains("# subsurf spline --rate 3"), "{text}");
     assert!(stderr(&o).is_empty(), "{}", stderr(&o));
 }
@@ -63,7 +54,7 @@ fn open_meshes_leave_out_faces_at_the_boundary() {
         stderr(&o)
     );
     let text = fs::read_to_string(dir.path().join("g.obj")).unwrap();
-    assert_eq!(count(&text, "f"), 4 * 4);
+    assert_eq!(count_records(&text, "f"), 4 * 4);
 }
 
 #[test]
@@ -84,7 +75,7 @@ fn colour_faces_writes_vertex_colours_in_obj_and_face_colours_in_ply() {
     assert_code(&o, 0);
     let text = fs::read_to_string(dir.path().join("c.obj")).unwrap();
     // Each patch has its own 3 × 3 vertices, each `v x y z r g b`.
-    assert_eq!(count(&text, "v"), 6 * 9);
+    assert_eq!(count_records(&text, "v"), 6 * 9);
     assert!(text
         .lines()
         .filter(|l| l.starts_with("v "))

@@ -5,15 +5,6 @@ use common::*;
 
 use std::fs;
 
-const HUT: &str = include_str!("../../../../examples/meshes/hut.obj");
-
-#[track_caller]
-fn count_records(obj: &str, prefix: &str) -> usize {
-    obj.lines()
-        .filter(|l| l.split_whitespace().next() == Some(prefix))
-        .count()
-}
-
 /// The cube at rate 3: 6 × 9 quads, 6 · 9 + 2 shared vertices (closed, genus 0).
 const FACES: usize = 54;
 const VERTS: usize = 56;

@@ -46,29 +46,14 @@ use schemes::{config, fail, mat_vec, options_strategy, scale_of, Mat3, P3};
 // Small deterministic random source for the details of a generated mesh
 // =======================================================================================
 
-/// SplitMix64: the structural parameters of a mesh are drawn (and shrunk) by proptest, the
-/// many small details (jitter, face edits, tag placement) by this generator from a seed.
-struct Rng(u64);
+use crate::common::schemes::SplitMix64 as Rng;
 
-impl Rng {
-    fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
-    }
-    fn below(&mut self, n: usize) -> usize {
-        (self.next_u64() % n as u64) as usize
-    }
-    /// Uniform in [0, 1).
-    fn unit(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
-    }
-    /// Uniform in [-1, 1).
-    fn signed(&mut self) -> f64 {
-        2.0 * self.unit() - 1.0
-    }
+/// This module's draw of a sharpness value.
+trait DrawTags {
+    fn sharpness(&mut self) -> f32;
+}
+
+impl DrawTags for Rng {
     /// A sharpness value: fractional, integral, infinite (10 and above) or arbitrary.
     fn sharpness(&mut self) -> f32 {
         const CHOICES: [f32; 10] = [0.3, 0.7, 1.0, 1.3, 2.0, 2.5, 3.2, 10.0, 12.0, 0.0];

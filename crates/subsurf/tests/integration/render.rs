@@ -9,27 +9,7 @@ use subsurf::render::{
     render, render_detailed, write_png, Geometry, Paint, Render, RenderError, RgbImage, Shading,
 };
 
-fn cube() -> PolyMesh {
-    let p = vec![
-        [0.0, 0.0, 0.0],
-        [1.0, 0.0, 0.0],
-        [1.0, 1.0, 0.0],
-        [0.0, 1.0, 0.0],
-        [0.0, 0.0, 1.0],
-        [1.0, 0.0, 1.0],
-        [1.0, 1.0, 1.0],
-        [0.0, 1.0, 1.0],
-    ];
-    let f = [
-        [0, 3, 2, 1],
-        [4, 5, 6, 7],
-        [0, 1, 5, 4],
-        [1, 2, 6, 5],
-        [2, 3, 7, 6],
-        [3, 0, 4, 7],
-    ];
-    PolyMesh::from_faces(p, &f).unwrap()
-}
+use crate::common::cube;
 
 fn example(name: &str) -> (PolyMesh, Options) {
     let path = format!(

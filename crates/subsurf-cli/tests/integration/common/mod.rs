@@ -9,6 +9,17 @@ use std::process::{Command, Output, Stdio};
 
 /// The bundled cube (8 vertices, 6 quads).
 pub const CUBE: &str = include_str!("../../../../../examples/meshes/cube.obj");
+/// The bundled hut (a house with a pentagon and triangles).
+pub const HUT: &str = include_str!("../../../../../examples/meshes/hut.obj");
+/// The bundled 4 × 4 grid of quads.
+pub const GRID: &str = include_str!("../../../../../examples/meshes/grid.obj");
+
+/// Lines of `obj` whose first word is `prefix` (`v`, `vn`, `f`, ...).
+pub fn count_records(obj: &str, prefix: &str) -> usize {
+    obj.lines()
+        .filter(|l| l.split_whitespace().next() == Some(prefix))
+        .count()
+}
 
 pub fn run_in(dir: &Path, args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_subsurf"))

@@ -6,6 +6,31 @@ use proptest::prelude::*;
 use proptest::test_runner::TestCaseError;
 use subsurf::mesh::{BoundaryInterpolation, CreaseMethod, Options, TriangleSubdivision};
 
+/// SplitMix64, for the many small details of a generated mesh (jitter, face edits, tag
+/// placement) from a seed that proptest draws (and shrinks).
+pub struct SplitMix64(pub u64);
+
+impl SplitMix64 {
+    pub fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^ (z >> 31)
+    }
+    pub fn below(&mut self, n: usize) -> usize {
+        (self.next_u64() % n as u64) as usize
+    }
+    /// Uniform in [0, 1).
+    pub fn unit(&mut self) -> f64 {
+        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
+    }
+    /// Uniform in [-1, 1).
+    pub fn signed(&mut self) -> f64 {
+        2.0 * self.unit() - 1.0
+    }
+}
+
 pub type P3 = [f64; 3];
 pub type Mat3 = [[f64; 3]; 3];
 
