@@ -464,7 +464,8 @@ pub struct InfoArgs {
     /// Input OBJ file ('-' reads standard input).
     #[arg(value_name = "IN")]
     pub input: PathBuf,
-    /// Boundary interpolation used to classify the topology [default: the file's tag, else edge-only].
+    /// Boundary interpolation used to classify the topology [default: the file's tag, else
+    /// edge-only].
     #[arg(long, value_name = "MODE", value_parser = boundary_parser())]
     pub boundary: Option<BoundaryInterpolation>,
     /// Print a JSON object instead of text.

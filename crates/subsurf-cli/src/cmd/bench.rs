@@ -123,9 +123,11 @@ fn bench_replay(
 /// Times evaluating an `n`×`n` grid on every quad face, as `osd-oracle benchlimit` times
 /// OpenSubdiv's `Bfr`: the surface is built once (as `Bfr`'s factory and its cache of
 /// irregular configurations are), and each repetition sets the control points and
-/// evaluates every point's position and first derivatives ([`LimitSurface::set_positions`](subsurf::limit::LimitSurface::set_positions),
-/// [`LimitSurface::eval_many_into`](subsurf::limit::LimitSurface::eval_many_into) with [`Order::First`](subsurf::limit::Order::First), as `Bfr::Surface::Evaluate`).
-/// The first build plus evaluation (nothing cached) is reported as `cold_s`.
+/// evaluates every point's position and first derivatives
+/// ([`LimitSurface::set_positions`](subsurf::limit::LimitSurface::set_positions),
+/// [`LimitSurface::eval_many_into`](subsurf::limit::LimitSurface::eval_many_into) with
+/// [`Order::First`](subsurf::limit::Order::First), as `Bfr::Surface::Evaluate`). The first build
+/// plus evaluation (nothing cached) is reported as `cold_s`.
 fn bench_limit(
     input: &Input,
     options: Options,

@@ -61,9 +61,9 @@ impl Format {
 /// 6 million vertices).
 const BYTES_PER_VERTEX: u64 = 128;
 
-/// The surface to sample: `--scheme` when given, else adjustable with `--c`, else NURSS for a file with knot tags (with a note on
-/// stderr unless `--quiet`), else Catmull-Clark ([`check_scheme_flags`] has refused the
-/// contradictory combinations).
+/// The surface to sample: `--scheme` when given, else adjustable with `--c`, else NURSS for a file
+/// with knot tags (with a note on stderr unless `--quiet`), else Catmull-Clark
+/// ([`check_scheme_flags`] has refused the contradictory combinations).
 fn scheme_kind(args: &TessellateArgs, input: &Input) -> SchemeKind {
     match args.scheme_kind {
         Some(kind) => kind,

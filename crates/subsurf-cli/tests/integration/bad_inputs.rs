@@ -543,8 +543,8 @@ fn memory_guard_refuses_without_writing() {
 
 /// Without `--max-memory`, jobs that would need far more memory than any machine has
 /// (hundreds of gigabytes to terabytes; `tessellate --rate 460`: 2.1 billion vertices, just
-/// under the library's cap on the output) are refused up front against the available memory, with the
-/// estimate, by every subcommand that allocates from its arguments.
+/// under the library's cap on the output) are refused up front against the available memory, with
+/// the estimate, by every subcommand that allocates from its arguments.
 #[test]
 fn memory_guards_without_a_cap() {
     // A 100 × 100 grid of quads.

@@ -71,8 +71,8 @@
 //!
 //! For `n = 4` all of this is the identity of the regular grid. The derivation is checked
 //! numerically: for random 2-rings of every valence 3..=16 the constraint system is
-//! consistent to rounding (`solver` tests, `tests/integration/g2cap.rs`), the corner blocks from the
-//! two outer edges agree, and the resulting surfaces have position, normal and normal
+//! consistent to rounding (`solver` tests, `tests/integration/g2cap.rs`), the corner blocks from
+//! the two outer edges agree, and the resulting surfaces have position, normal and normal
 //! curvature continuous across every boundary at 1e-10 ([`continuity_report`]).
 //!
 //! # Construction

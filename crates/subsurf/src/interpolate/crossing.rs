@@ -39,9 +39,9 @@
 //! symmetric about `X`; unequal intervals on the four edges around `X`
 //! (`d_{k−2} = d_{k−1} = d_k = d_{k+1}` is needed: the other curve's zone has column interval
 //! `d_k`, and at the group's corners its column edges read `d_{k−2}` and `d_{k+1}` two steps
-//! around — Lemma 1's second-edge condition; measured in `tests/integration/interpolate.rs`: with intervals
-//! `0.6, 1, 1, 0.6` around `X` the other curve is missed by 2e-3 of its size); curves tangent
-//! at `X`;
+//! around — Lemma 1's second-edge condition; measured in `tests/integration/interpolate.rs`: with
+//! intervals `0.6, 1, 1, 0.6` around `X` the other curve is missed by 2e-3 of its size); curves
+//! tangent at `X`;
 //! unequal weights around a rational crossing; control polygons that cross without a shared
 //! control point.
 

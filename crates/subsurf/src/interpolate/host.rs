@@ -43,8 +43,8 @@
 //! (midpoints and face points of zone faces). Walk round `T_j` from the host face on the row
 //! edge towards `T_{j+1}` (`W_0`) across its host edges `X_1 … X_k` to the face on the row edge
 //! towards `T_{j−1}` (`W_k`). Derived from the face-point and midpoint weights (and checked in
-//! `tests/integration/interpolate_host.rs`), the new middle points are the curve's and the new zone is
-//! symmetric when
+//! `tests/integration/interpolate_host.rs`), the new middle points are the curve's and the new zone
+//! is symmetric when
 //! - `d±` of the column edge at `T_j` is the same `2 ê` at every side vertex: the side of
 //!   `X_1` in `W_0` and of `X_k` in `W_k` are `ê` (the second edge met rotating from the column
 //!   edge, Theorem 1's condition);

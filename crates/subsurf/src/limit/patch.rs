@@ -318,8 +318,8 @@ pub(crate) fn regular_corner(t: &Topology, f: usize, k: usize, sharp: Sharp) -> 
 
 /// Faces around vertex `c` reached from face `f` by crossing, repeatedly, the edge that
 /// enters `c` (`ccw`) or leaves it (`!ccw`), as long as that edge is not sharp (as
-/// `sharp` sees it) and has two faces; at most four steps. Each item is `(face, position of c in it)`;
-/// `f` itself is not listed. The flag tells whether the walk came back to `f` (a closed
+/// `sharp` sees it) and has two faces; at most four steps. Each item is `(face, position of c in
+/// it)`; `f` itself is not listed. The flag tells whether the walk came back to `f` (a closed
 /// fan). (Also used by the regularity certificate, which reads the same neighbourhoods.)
 pub(crate) fn walk(
     t: &Topology,

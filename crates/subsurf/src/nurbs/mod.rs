@@ -57,8 +57,8 @@
 //!   ordinary degrees, and bit-exact JSON round trips.
 //!
 //! The module is small (a few hundred lines of algorithms), and every algorithm is checked in
-//! `tests/integration/nurbs.rs` against an independent computation (de Casteljau, polynomial blossoms,
-//! finite differences, exact circles and tori, repeated single insertions).
+//! `tests/integration/nurbs.rs` against an independent computation (de Casteljau, polynomial
+//! blossoms, finite differences, exact circles and tori, repeated single insertions).
 
 pub mod basis;
 pub mod curve;

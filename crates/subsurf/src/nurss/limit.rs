@@ -17,8 +17,8 @@
 //!   successive vertex points differ by at most [`LIMIT_TOLERANCE`] times the fan's size (at
 //!   most 400 steps; the difference shrinks geometrically, by the fan's second-largest
 //!   eigenvalue, `¼` on regular uniform grids). On regular grids this equals the tensor-product
-//!   B-spline evaluated at the vertex's knots (tested in `tests/integration/nurss.rs` against de Boor), and
-//!   with equal intervals Catmull-Clark's limit position.
+//!   B-spline evaluated at the vertex's knots (tested in `tests/integration/nurss.rs`
+//!   against de Boor), and with equal intervals Catmull-Clark's limit position.
 
 use rayon::prelude::*;
 

@@ -96,8 +96,8 @@ const ZERO_INTERVAL: f64 = 1e-100;
 /// vertex by the curve rule along the column; a face spanning a zero interval in one direction
 /// has all-zero weights although the spline gives the curve rule in the other direction. The
 /// rules' limits as the zero intervals tend to 0 together are the exact answers (they are the
-/// knot-insertion results of the multiple knots; `tests/integration/nurss.rs` checks them), and with a
-/// stand-in 10⁻¹⁰⁰ times the largest interval the computed weights *are* those limits to
+/// knot-insertion results of the multiple knots; `tests/integration/nurss.rs` checks them), and
+/// with a stand-in 10⁻¹⁰⁰ times the largest interval the computed weights *are* those limits to
 /// `f64` precision (the perturbation is far below one ulp). Where every interval around an
 /// element is zero the limit is the uniform rule's, except that a vertex whose edge
 /// midpoints and face points all coincide with it stays put — the blending paper's

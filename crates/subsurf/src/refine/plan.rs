@@ -18,8 +18,9 @@
 //! its 1-ring, on the points of that ring (`refine/plan_ring.rs`). Sparse rows cover the
 //! rest: faces at non-manifold vertices, at semi-sharp edges under Chaikin's rule, at
 //! valences above 16, and faces whose ring is shared by fewer than four faces (0.05 % of
-//! the output of `catmark_bishop` at level 6). Re-posing is 10–20× faster than [`subdivide`](crate::subdivide) on quad meshes,
-//! 6–17× on all-triangle ones (see [`RefinePlan`] for numbers).
+//! the output of `catmark_bishop` at level 6). Re-posing is 10–20× faster than
+//! [`subdivide`](crate::subdivide) on quad meshes, 6–17× on all-triangle ones (see [`RefinePlan`]
+//! for numbers).
 //!
 //! # Storage
 //! Most rows share their weights with many others: every smooth edge point between two
@@ -112,8 +113,8 @@ const PAR_MIN_ROWS: usize = 16 * 1024;
 /// 0.23–0.32 s). Applying it does no topology work and no mask
 /// computation: the first levels are sparse products, which read 4 bytes per weight and
 /// gather the parent values; the last two or three levels are the patch kernels, which
-/// read 16 control points (or a face's ring) and write the vertices on their face. They are bound by
-/// memory: each output vertex is written once, but its cache line is read first.
+/// read 16 control points (or a face's ring) and write the vertices on their face. They are bound
+/// by memory: each output vertex is written once, but its cache line is read first.
 ///
 /// Measured on a shared 2-core virtual machine (`scripts/bench-vs-osd.sh`, medians of 7
 /// repetitions in three interleaved rounds; `BENCHMARKS.md`), full refinement /

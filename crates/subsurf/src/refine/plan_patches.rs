@@ -92,8 +92,8 @@ const RUN: usize = 256;
 /// Fewest faces of a layer that share a ring (a key of `refine/plan_ring.rs`) for its
 /// matrix to be built: building one refines its ring and applies the result to each of
 /// the ring's points (measured for a 20-point ring: 0.1 ms at depth 2, 0.5 ms at depth
-/// 3), which the sparse rows of a face cost in microseconds. A mesh whose every face has its own ring (mixed face sizes around
-/// every vertex) would otherwise build one matrix per face.
+/// 3), which the sparse rows of a face cost in microseconds. A mesh whose every face has its own
+/// ring (mixed face sizes around every vertex) would otherwise build one matrix per face.
 const MIN_RING_FACES: usize = 4;
 
 /// The grid point for "written elsewhere".

@@ -762,15 +762,7 @@ mod tests {
             let t = topology(&faces, &options);
             let ring = ring_net(&t, 0, false).expect("face 0 is a ring patch");
             // The key's faces are the mesh's faces around face 0, renumbered.
-            let listed: usize = {
-                let mut rest = &ring.key[..];
-                let mut count = 0;
-                while let Some((&len, tail)) = rest.split_first() {
-                    rest = &tail[len as usize..];
-                    count += 1;
-                }
-                count
-            };
+            let listed = template(&ring.key).expect("a valid key").num_faces();
             let mut around: Vec<u32> = (t.face_vertices(0).iter())
                 .flat_map(|&v| t.vertex_faces(v as usize).to_vec())
                 .collect();

@@ -17,8 +17,8 @@
 //!
 //! Every rule reduces to Catmull-Clark when all intervals are equal and, on a regular grid,
 //! to exact midpoint knot insertion into the tensor-product non-uniform cubic B-spline
-//! (tested below and in `tests/integration/nurss.rs`). All weight sets sum to 1, so the rules are affine
-//! invariant, and they are homogeneous of degree 0 in the intervals (scaling every interval
+//! (tested below and in `tests/integration/nurss.rs`). All weight sets sum to 1, so the rules are
+//! affine invariant, and they are homogeneous of degree 0 in the intervals (scaling every interval
 //! by a constant changes nothing).
 
 /// Weights of the cubic B-spline *edge point* (midpoint knot insertion, Sederberg et al.

@@ -24,7 +24,8 @@
 //!
 //! Random meshes are small open grids or tori with jittered vertices, some cells split into
 //! triangles or merged into hexagons, random creases, corners and holes, and random scheme
-//! options. `PROPTEST_CASES=2000 cargo test -p subsurf --test integration cross_scheme::` searches deeper.
+//! options. `PROPTEST_CASES=2000 cargo test -p subsurf --test integration cross_scheme::` searches
+//! deeper.
 // Geometry helpers walk parallel arrays with one index.
 #![allow(clippy::needless_range_loop)]
 
@@ -39,6 +40,7 @@ use subsurf::scheme::adjustable::Adjustable;
 use subsurf::{subdivide, subdivide_mixed, Mixed, SubdivideOptions};
 
 use crate::common::schemes;
+use crate::common::schemes::SplitMix64 as Rng;
 use schemes::{config, fail, mat_vec, options_strategy, scale_of, Mat3, P3};
 
 // =======================================================================================
@@ -115,8 +117,6 @@ fn refine(
 // =======================================================================================
 // Random meshes
 // =======================================================================================
-
-use crate::common::schemes::SplitMix64 as Rng;
 
 /// This module's draws of tags: crease and corner sharpness, knot intervals.
 trait DrawTags {

@@ -42,8 +42,8 @@
 //!
 //! `osd_golden_all_shapes` runs everything, gathers *every* difference into one report (shape,
 //! level, mode, what differs, largest error and where) and fails once at the end. With
-//! `cargo test -p subsurf --test integration osd_golden:: -- --nocapture` it also prints a table of the
-//! largest sampled error per shape, relative to the input's bounding-box diagonal (the check
+//! `cargo test -p subsurf --test integration osd_golden:: -- --nocapture` it also prints a table of
+//! the largest sampled error per shape, relative to the input's bounding-box diagonal (the check
 //! is ≤ 1e-12). A case on which the oracle itself failed (`oracle-failed` in the golden file)
 //! is skipped with a note.
 

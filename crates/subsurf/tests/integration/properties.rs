@@ -21,8 +21,8 @@
 //! with jittered vertices; some cells are split into two triangles or merged into hexagons
 //! and pentagons, and random creases (fractional, integral and infinite sharpness), corners
 //! and holes are tagged; the scheme options (boundary mode, crease method, triangle rule)
-//! are random too. `PROPTEST_CASES=20000 cargo test -p subsurf --test integration properties::` searches
-//! deeper (about a minute).
+//! are random too. `PROPTEST_CASES=20000 cargo test -p subsurf --test integration properties::`
+//! searches deeper (about a minute).
 //!
 // Geometry helpers walk parallel arrays with one index.
 #![allow(clippy::needless_range_loop)]
@@ -40,13 +40,12 @@ use subsurf::refine::TopologyRefiner;
 use subsurf::{subdivide, Error, SubdivideOptions, Subdivision};
 
 use crate::common::schemes;
+use crate::common::schemes::SplitMix64 as Rng;
 use schemes::{config, fail, mat_vec, options_strategy, scale_of, Mat3, P3};
 
 // =======================================================================================
 // Small deterministic random source for the details of a generated mesh
 // =======================================================================================
-
-use crate::common::schemes::SplitMix64 as Rng;
 
 /// This module's draw of a sharpness value.
 trait DrawTags {

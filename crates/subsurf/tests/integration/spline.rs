@@ -7,6 +7,7 @@
 
 use std::f64::consts::{PI, SQRT_2};
 
+use crate::common::example;
 use subsurf::io::obj::parse_obj;
 use subsurf::limit::LimitSurface;
 use subsurf::mesh::{Options, PolyMesh, Topology};
@@ -415,25 +416,16 @@ fn regular_open_grid_equals_the_b_spline_on_its_interior_faces() {
 /// The meshes of the irregular tests: closed and open, with valences 3, 5, 6, 7, 8.
 fn irregular_meshes() -> Vec<(String, PolyMesh)> {
     let mut v = vec![
-        (
-            "cube".to_string(),
-            obj(include_str!("../../../../examples/meshes/cube.obj")),
-        ),
-        (
-            "pawn".to_string(),
-            obj(include_str!("../../../../examples/meshes/catmark_pawn.obj")),
-        ),
-        (
-            "hut".to_string(),
-            quads(&obj(include_str!("../../../../examples/meshes/hut.obj"))),
-        ),
+        ("cube".to_string(), example("cube.obj")),
+        ("pawn".to_string(), example("catmark_pawn.obj")),
+        ("hut".to_string(), quads(&example("hut.obj"))),
     ];
     for n in [3, 5, 6, 7, 8] {
         v.push((format!("prism{n}"), quads(&prism(n, n as u64))));
         v.push((format!("cup{n}"), quads(&cup(n, 10 + n as u64))));
     }
     // A randomly perturbed cube, refined once (valence 3 and 4 vertices).
-    let mut c = quads(&obj(include_str!("../../../../examples/meshes/cube.obj")));
+    let mut c = quads(&example("cube.obj"));
     let mut s = 99;
     c = subsurf::subdivide(
         &c,
@@ -635,7 +627,7 @@ fn derivatives_match_finite_differences_on_irregular_faces() {
 
 #[test]
 fn batched_evaluation_equals_single_evaluation() {
-    let m = obj(include_str!("../../../../examples/meshes/catmark_pawn.obj"));
+    let m = example("catmark_pawn.obj");
     let s = SubBasisSurface::new(&m).unwrap();
     let pts: Vec<(u32, f64, f64)> = (0..m.num_faces() as u32)
         .flat_map(|f| grid_params(3).map(move |(u, v)| (f, u, v)))
@@ -648,21 +640,21 @@ fn batched_evaluation_equals_single_evaluation() {
 
 #[test]
 fn non_quad_meshes_need_one_catmull_clark_step() {
-    let hut = obj(include_str!("../../../../examples/meshes/hut.obj"));
+    let hut = example("hut.obj");
     assert!(matches!(
         SubBasisSurface::new(&hut),
         Err(SplineError::NotQuad { .. })
     ));
     let (q, refined) = quad_control_mesh(&hut).unwrap();
     assert!(refined && q.faces().all(|f| f.len() == 4));
-    let cube = obj(include_str!("../../../../examples/meshes/cube.obj"));
+    let cube = example("cube.obj");
     let (q, refined) = quad_control_mesh(&cube).unwrap();
     assert!(!refined && q.num_faces() == 6);
 }
 
 #[test]
 fn bad_queries_are_typed_errors() {
-    let cube = obj(include_str!("../../../../examples/meshes/cube.obj"));
+    let cube = example("cube.obj");
     let s = SubBasisSurface::new(&cube).unwrap();
     assert!(matches!(
         s.eval(6, 0.5, 0.5),
@@ -689,7 +681,7 @@ fn bad_queries_are_typed_errors() {
 /// characteristic of the input), its vertices lie on the surface.
 #[test]
 fn tessellation_is_watertight() {
-    let cube = obj(include_str!("../../../../examples/meshes/cube.obj"));
+    let cube = example("cube.obj");
     let s = SubBasisSurface::new(&cube).unwrap();
     let t = tessellate(&s, &cube, 5).unwrap();
     assert_eq!(t.num_faces(), 6 * 25);
