@@ -65,6 +65,7 @@ pub mod render;
 pub mod scheme;
 pub mod spline;
 
+mod cpu;
 mod geom;
 mod hash;
 mod info;

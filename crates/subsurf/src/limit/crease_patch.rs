@@ -46,7 +46,7 @@
 //! Checked against the general local refinement (configuration trees) for sharpness
 //! 0.3 to 9.7 and every side, and against OpenSubdiv's `Bfr` on the regression shapes.
 
-use super::bspline::{basis, tensor_into, Derivatives, Order};
+use super::bspline::{basis, tensor_batch, transpose_bases, Batch, Lanes, Order, LANES};
 use super::patch::{patch_cells, walk, Cell, Corner, Sharp};
 use crate::mesh::{CreaseMethod, Options, Topology};
 use crate::scheme::crease;
@@ -133,7 +133,7 @@ impl CreaseBasis {
 pub(super) struct CreaseBases(Mutex<HashMap<u32, Arc<CreaseBasis>>>);
 
 impl CreaseBases {
-    fn get(&self, s: f32) -> Arc<CreaseBasis> {
+    pub(super) fn get(&self, s: f32) -> Arc<CreaseBasis> {
         let mut map = match self.0.lock() {
             Ok(m) => m,
             Err(poisoned) => poisoned.into_inner(),
@@ -156,24 +156,23 @@ pub(super) struct CreasePatch {
 }
 
 impl CreasePatch {
-    /// The patch of quad `f` with positions `pos`, if it is a single-crease face.
-    pub fn new(
-        t: &Topology,
-        pos: &[[f64; 3]],
-        f: usize,
-        options: &Options,
-        bases: &CreaseBases,
-    ) -> Option<Self> {
-        let (cells, side, s) = single_crease(t, f, options)?;
-        let cp = cells.map(|col| col.map(|c| c.eval(pos)));
-        Some(Self::from_net(&cp, side, bases.get(s)))
-    }
-
     /// The patch with control net `cp[i][j]` (`i` along `u`), crease side `side` and
     /// basis `basis`.
     pub fn from_net(cp: &[[[f64; 3]; 4]; 4], side: usize, basis: Arc<CreaseBasis>) -> Self {
+        let mut patch = CreasePatch {
+            net: Default::default(),
+            side,
+            basis,
+        };
+        patch.set_net(cp);
+        patch
+    }
+
+    /// Sets the control net `cp[i][j]` (`i` along `u`), keeping the side and the basis.
+    pub fn set_net(&mut self, cp: &[[[f64; 3]; 4]; 4]) {
         // cp[i][j]: i along u, j along v. Map to net[a][m].
-        let net = std::array::from_fn(|a| {
+        let side = self.side;
+        self.net = std::array::from_fn(|a| {
             std::array::from_fn(|m| match side {
                 0 => cp[a][m],
                 2 => cp[a][3 - m],
@@ -181,34 +180,41 @@ impl CreasePatch {
                 _ => cp[3 - m][a],
             })
         });
-        CreasePatch { net, side, basis }
     }
 
-    /// Position and derivatives (of `order`) at `(u, v)`.
-    pub fn eval(&self, u: f64, v: f64, order: Order) -> Derivatives {
-        let mut d = Derivatives::default();
-        self.eval_into(u, v, order, &mut d);
-        d
-    }
-
-    /// [`eval`](Self::eval) into `out`, in place (see [`tensor_into`]).
-    pub(crate) fn eval_into(&self, u: f64, v: f64, order: Order, out: &mut Derivatives) {
+    /// Position and derivatives (of `order`) at every point of `batch`, the derivatives
+    /// multiplied as [`tensor_batch`] says.
+    pub(crate) fn eval_batch(&self, order: Order, scale: f64, batch: &mut impl Batch) {
         // x along the crease, y across it (distance from the crease).
-        let (x, y) = match self.side {
+        let side = self.side;
+        let frame = |u: f64, v: f64| match side {
             0 => (u, v),
             2 => (u, 1.0 - v),
             3 => (v, u),
             _ => (v, 1.0 - u),
         };
-        tensor_into(&self.net, basis(x), self.basis.eval(y), order, out);
+        let bases = |u: Lanes, v: Lanes| {
+            let xy: [(f64, f64); LANES] = std::array::from_fn(|l| frame(u[l], v[l]));
+            (
+                transpose_bases(xy.map(|(x, _)| basis(x))),
+                transpose_bases(xy.map(|(_, y)| self.basis.eval(y))),
+            )
+        };
+        tensor_batch(&self.net, bases, order, scale, batch);
+        if side == 0 {
+            return;
+        }
         // From (x, y) derivatives to (u, v) ones.
         let neg = |x: [f64; 3]| x.map(|c| -c);
-        let d = out;
-        match self.side {
-            0 => {}
-            2 => (d.dv, d.duv) = (neg(d.dv), neg(d.duv)),
-            3 => (d.du, d.dv, d.duu, d.dvv) = (d.dv, d.du, d.dvv, d.duu),
-            _ => (d.du, d.dv, d.duu, d.duv, d.dvv) = (neg(d.dv), d.du, d.dvv, neg(d.duv), d.duu),
+        for i in 0..batch.len() {
+            let d = batch.out(i);
+            match side {
+                2 => (d.dv, d.duv) = (neg(d.dv), neg(d.duv)),
+                3 => (d.du, d.dv, d.duu, d.dvv) = (d.dv, d.du, d.dvv, d.duu),
+                _ => {
+                    (d.du, d.dv, d.duu, d.duv, d.dvv) = (neg(d.dv), d.du, d.dvv, neg(d.duv), d.duu)
+                }
+            }
         }
     }
 }

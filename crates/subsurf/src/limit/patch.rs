@@ -143,6 +143,38 @@ impl Cell {
     }
 }
 
+/// The 16 control points of a patch as combinations of vertices, kept to evaluate them
+/// again when the vertices move ([`LimitSurface::set_positions`]) without walking the
+/// topology again: vertex indices when every cell is one vertex (64 bytes; every patch
+/// away from boundaries and creases), else the cells (896 bytes).
+///
+/// [`LimitSurface::set_positions`]: super::LimitSurface::set_positions
+#[derive(Clone, Debug)]
+pub(super) enum Net {
+    Plain([u32; 16]),
+    Cells(Box<[[Cell; 4]; 4]>),
+}
+
+impl Net {
+    pub(super) fn new(cells: [[Cell; 4]; 4]) -> Self {
+        if (cells.iter().flatten()).all(|c| c.len == 1 && c.weights[0] == 1.0) {
+            Net::Plain(std::array::from_fn(|k| cells[k / 4][k % 4].verts[0]))
+        } else {
+            Net::Cells(Box::new(cells))
+        }
+    }
+
+    /// The control points `cp[i][j]` for vertex positions `pos` (as [`regular_patch`]).
+    pub(super) fn eval(&self, pos: &[[f64; 3]]) -> [[[f64; 3]; 4]; 4] {
+        match self {
+            Net::Plain(v) => {
+                std::array::from_fn(|i| std::array::from_fn(|j| pos[v[4 * i + j] as usize]))
+            }
+            Net::Cells(c) => c.map(|col| col.map(|c| c.eval(pos))),
+        }
+    }
+}
+
 /// The control points `cp[i][j]` (`i` along `u`, `j` along `v`) of quad `f` if it is
 /// regular (see the module docs), else `None`.
 pub fn regular_patch(t: &Topology, pos: &[[f64; 3]], f: usize) -> Option<[[[f64; 3]; 4]; 4]> {

@@ -213,7 +213,7 @@ fn face_stencils(
         }
         let cache = RegionCache::default();
         let level = LevelRef::new(base, unit, &cache);
-        let nodes = build_face(level, shared, f, options);
+        let (nodes, _) = build_face(level, shared, f, options);
         for (row, &i) in rows.iter_mut().zip(group) {
             let p = points[i];
             let node = nodes.get(p.subface as usize).ok_or_else(|| {

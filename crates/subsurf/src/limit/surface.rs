@@ -53,12 +53,12 @@
 //! cross product is the exact limit normal) but their lengths are not parametric
 //! derivatives; second derivatives are zero.
 
-use super::bspline::{self, Derivatives, Order};
+use super::bspline::{self, regular_bases, Batch, Derivatives, One, Order};
 use super::corner::{corner_limit, is_limit_corner};
-use super::crease_patch::{CreaseBases, CreasePatch};
+use super::crease_patch::{single_crease, CreaseBases, CreaseBasis, CreasePatch};
 use super::local::{cut, one_ring, LevelRef, Local, RegionCache, HIGH_VALENCE};
-use super::patch::regular_patch;
-use super::tree::{Ctx, Kid, Query, Scratch, Tree, TreeCache};
+use super::patch::{regular_patch, regular_patch_cells, Net};
+use super::tree::{Ctx, Kid, Query, Scratch, Sink, Tree, TreeCache};
 use crate::mesh::{MeshError, Options, PolyMesh, Topology};
 use rayon::prelude::*;
 use std::sync::{Arc, OnceLock};
@@ -136,8 +136,6 @@ pub(super) enum Node {
 #[derive(Clone, Debug)]
 pub(super) struct TreeFace {
     tree: Arc<Tree>,
-    /// The vertices of the face's cut-out (the tree's root), in the base level.
-    verts: Arc<[u32]>,
     /// The points of the face's cut-out (the tree's root).
     pos: Arc<[[f64; 3]]>,
     /// The sub-face of an `n`-gon, `None` for a quad.
@@ -153,13 +151,6 @@ pub(super) struct Lazy {
 }
 
 impl Node {
-    fn tree_face(&self) -> Option<&TreeFace> {
-        match self {
-            Node::Tree(t) => Some(t),
-            _ => None,
-        }
-    }
-
     fn lazy(local: Local) -> Node {
         Node::Lazy(Box::new(Lazy {
             local,
@@ -200,6 +191,8 @@ pub struct LimitSurface {
     shared: Arc<Shared>,
     /// Per base face, its nodes (one per sub-face; one for quads).
     nodes: Vec<Vec<Node>>,
+    /// Per base face, how its nodes follow the control points.
+    recipes: Vec<Recipe>,
 }
 
 impl LimitSurface {
@@ -231,6 +224,7 @@ impl LimitSurface {
                 ..Shared::default()
             }),
             nodes: Vec::new(),
+            recipes: Vec::new(),
         };
         surface.place(mesh.positions());
         Ok(surface)
@@ -284,22 +278,23 @@ impl LimitSurface {
             ..LevelRef::new(&self.base, pos, &cache)
         };
         let (shared, options) = (&*self.shared, &self.options);
-        let build = |f: usize| build_face(level, shared, f, options);
-        let old = std::mem::take(&mut self.nodes);
-        self.nodes = if old.is_empty() {
-            (0..self.base.num_faces())
+        if self.nodes.is_empty() {
+            (self.nodes, self.recipes) = (0..self.base.num_faces())
                 .into_par_iter()
-                .map(build)
-                .collect()
-        } else {
-            old.into_par_iter()
-                .enumerate()
-                .map(|(f, nodes)| match nodes.iter().find_map(Node::tree_face) {
-                    Some(t) => tree_nodes(&t.tree, t.verts.clone(), pos, nodes.len(), options),
-                    None => build(f),
-                })
-                .collect()
-        };
+                .map(|f| build_face(level, shared, f, options))
+                .unzip();
+            return;
+        }
+        // Re-posing: patches evaluate their nets again and trees take the new points of
+        // their cut-outs, in place; the rest (position-based local refinement) is built
+        // again.
+        (self.nodes.par_iter_mut().zip(&mut self.recipes))
+            .enumerate()
+            .for_each(|(f, (nodes, recipe))| {
+                if !recipe.update(nodes, pos, options) {
+                    (*nodes, *recipe) = build_face(level, shared, f, options);
+                }
+            });
     }
 
     /// Number of distinct neighbourhoods ("configurations") of the irregular faces whose
@@ -432,7 +427,7 @@ impl LimitSurface {
         out.resize(points.len(), Ok(Derivatives::default()));
         out.par_chunks_mut(CHUNK)
             .zip(points.par_chunks(CHUNK))
-            .for_each_init(Batch::default, |batch, (out, points)| {
+            .for_each_init(Buffers::default, |batch, (out, points)| {
                 self.eval_chunk(points, out, batch, order)
             });
     }
@@ -442,7 +437,7 @@ impl LimitSurface {
         &self,
         points: &[SurfacePoint],
         out: &mut [Result<Derivatives, EvalError>],
-        batch: &mut Batch,
+        bufs: &mut Buffers,
         order: Order,
     ) {
         let mut i = 0;
@@ -452,8 +447,29 @@ impl LimitSurface {
                 .iter()
                 .take_while(|q| (q.face, q.subface) == (p.face, p.subface))
                 .count();
-            let tree = match self.node(p) {
-                Ok(Node::Tree(t)) => Some(t),
+            let in_domain =
+                |q: &SurfacePoint| (0.0..=1.0).contains(&q.u) && (0.0..=1.0).contains(&q.v);
+            let node = self.node(p).ok();
+            if matches!(node, Some(Node::Regular(_) | Node::Crease(_)))
+                && points[i..i + run].iter().all(in_domain)
+            {
+                // A patch: all the run's points together, four at a time.
+                let run_batch = &mut RunBatch {
+                    points: &points[i..i + run],
+                    out: &mut out[i..i + run],
+                };
+                match node {
+                    Some(Node::Regular(cp)) => {
+                        bspline::tensor_batch(cp, regular_bases, order, 1.0, run_batch)
+                    }
+                    Some(Node::Crease(c)) => c.eval_batch(order, 1.0, run_batch),
+                    _ => {}
+                }
+                i += run;
+                continue;
+            }
+            let tree = match node {
+                Some(Node::Tree(t)) => Some(t),
                 _ => None,
             };
             let Some(t) = tree else {
@@ -463,10 +479,10 @@ impl LimitSurface {
                 i += run;
                 continue;
             };
-            batch.queries.clear();
+            bufs.queries.clear();
             for (k, q) in points[i..i + run].iter().enumerate() {
-                if (0.0..=1.0).contains(&q.u) && (0.0..=1.0).contains(&q.v) {
-                    batch.queries.push(Query {
+                if in_domain(q) {
+                    bufs.queries.push(Query {
                         u: q.u,
                         v: q.v,
                         out: k as u32,
@@ -475,23 +491,86 @@ impl LimitSurface {
                     out[i + k] = Err(EvalError::BadParameter { u: q.u, v: q.v });
                 }
             }
-            let out = &mut out[i..i + run];
+            let sink = &mut RunSink {
+                out: &mut out[i..i + run],
+                face: p.face,
+            };
+            let ctx = self.ctx(order);
             t.tree.eval(
                 &t.pos,
                 t.sub,
-                &mut batch.queries,
-                &mut batch.scratch,
-                self.ctx(order),
-                &mut |k, d| out[k as usize] = d.ok_or(EvalError::Hole { face: p.face }),
+                &mut bufs.queries,
+                &mut bufs.scratch,
+                ctx,
+                sink,
             );
             i += run;
         }
     }
 }
 
+/// `r`'s derivatives, after making it `Ok` if it was not (their values are then to be
+/// overwritten).
+fn ok_slot(r: &mut Result<Derivatives, EvalError>) -> &mut Derivatives {
+    if r.is_err() {
+        *r = Ok(Derivatives::default());
+    }
+    match r {
+        Ok(d) => d,
+        Err(_) => unreachable!("set to Ok above"),
+    }
+}
+
+/// The points of one face run of [`LimitSurface::eval_many`] on a patch.
+struct RunBatch<'a> {
+    points: &'a [SurfacePoint],
+    out: &'a mut [Result<Derivatives, EvalError>],
+}
+
+impl Batch for RunBatch<'_> {
+    fn len(&self) -> usize {
+        self.points.len()
+    }
+    fn uv(&self, i: usize) -> (f64, f64) {
+        (self.points[i].u, self.points[i].v)
+    }
+    fn out(&mut self, i: usize) -> &mut Derivatives {
+        ok_slot(&mut self.out[i])
+    }
+}
+
+/// The results of one face run of [`LimitSurface::eval_many`] through a tree.
+struct RunSink<'a> {
+    out: &'a mut [Result<Derivatives, EvalError>],
+    face: u32,
+}
+
+impl Sink for RunSink<'_> {
+    fn slot(&mut self, k: u32) -> &mut Derivatives {
+        ok_slot(&mut self.out[k as usize])
+    }
+    fn hole(&mut self, k: u32) {
+        self.out[k as usize] = Err(EvalError::Hole { face: self.face });
+    }
+}
+
+/// The result of one point evaluated through a tree.
+struct OneSink<'a> {
+    out: &'a mut Derivatives,
+    found: bool,
+}
+
+impl Sink for OneSink<'_> {
+    fn slot(&mut self, _: u32) -> &mut Derivatives {
+        self.found = true;
+        self.out
+    }
+    fn hole(&mut self, _: u32) {}
+}
+
 /// Buffers of one [`LimitSurface::eval_many`] task.
 #[derive(Default)]
-struct Batch {
+struct Buffers {
     queries: Vec<Query>,
     scratch: Scratch,
 }
@@ -514,43 +593,148 @@ pub(super) fn build_face(
     shared: &Shared,
     f: usize,
     options: &Options,
-) -> Vec<Node> {
+) -> (Vec<Node>, Recipe) {
     let base = level.topo;
     let n = base.face_vertices(f).len();
     if base.is_hole(f) {
-        return vec![Node::Hole; if n == 4 { 1 } else { n }];
+        return (vec![Node::Hole; if n == 4 { 1 } else { n }], Recipe::Fixed);
     }
-    if n == 4 {
-        if let Some(cp) = regular_patch(base, level.pos, f) {
-            return vec![Node::Regular(Box::new(cp))];
-        }
-        if !shared.trees.no_crease_patches {
-            if let Some(p) = CreasePatch::new(base, level.pos, f, options, &shared.bases) {
-                return vec![Node::Crease(Box::new(p))];
-            }
-        }
+    if let Some(patch) = PatchNet::new(base, f, shared, options) {
+        return (vec![patch.node(level.pos)], Recipe::Patch(patch));
     }
     if let Ok(faces) = one_ring(base, f, level.high_valence) {
         let (sub, verts) = base.subset(&faces);
         let tree = shared.trees.get(sub);
-        let nodes = if n == 4 { 1 } else { n };
-        return tree_nodes(&tree, verts.into(), level.pos, nodes, options);
+        let verts: Arc<[u32]> = verts.into();
+        let nodes = tree_nodes(
+            &tree,
+            &verts,
+            level.pos,
+            if n == 4 { 1 } else { n },
+            options,
+        );
+        return (nodes, Recipe::Tree(tree, verts));
     }
     if n == 4 {
-        return vec![node_for(level, f)];
+        return (vec![node_for(level, f)], Recipe::Local);
     }
     // Sub-faces: the children of the face after one step, unrotated for n ≠ 4.
     let local = cut(level, f);
     let child = local.region.refined(options);
     let first = local.child_face(0);
-    (0..n).map(|j| node_for(child.level(), first + j)).collect()
+    let nodes = (0..n).map(|j| node_for(child.level(), first + j)).collect();
+    (nodes, Recipe::Local)
+}
+
+/// How the nodes of a base face follow its control points, so that
+/// [`LimitSurface::set_positions`] updates them in place (without walking the topology,
+/// and allocating only a tree face's new cut-out points).
+#[derive(Clone, Debug)]
+pub(super) enum Recipe {
+    /// Nothing depends on the positions (a hole).
+    Fixed,
+    /// One patch.
+    Patch(PatchNet),
+    /// Through a configuration tree, with the vertices of the face's cut-out.
+    Tree(Arc<Tree>, Arc<[u32]>),
+    /// Position-based local refinement: built again.
+    Local,
+}
+
+impl Recipe {
+    /// Sets `nodes` (built with this recipe) to base positions `pos`; `false` if they
+    /// must be built again.
+    fn update(&self, nodes: &mut [Node], pos: &[[f64; 3]], options: &Options) -> bool {
+        match (self, nodes) {
+            (Recipe::Fixed, _) => true,
+            (Recipe::Patch(patch), [node]) => {
+                patch.update(node, pos);
+                true
+            }
+            (Recipe::Tree(tree, verts), nodes) => {
+                let points: Arc<[[f64; 3]]> = verts.iter().map(|&v| pos[v as usize]).collect();
+                let kids = tree.root_kids(options);
+                for (j, node) in nodes.iter_mut().enumerate() {
+                    match node {
+                        Node::Tree(t) => t.pos = points.clone(),
+                        Node::Regular(cp) => match kids.get(j).and_then(|k| k.patch(&points)) {
+                            Some(p) => **cp = p,
+                            None => return false,
+                        },
+                        Node::Crease(c) => match kids.get(j).and_then(|k| k.crease_net(&points)) {
+                            Some(p) => c.set_net(&p),
+                            None => return false,
+                        },
+                        Node::Hole => {}
+                        Node::Lazy(_) => return false,
+                    }
+                }
+                true
+            }
+            _ => false,
+        }
+    }
+}
+
+/// A base face whose surface is one patch (regular, or with one semi-sharp crease): its
+/// control net as combinations of base vertices, kept so that
+/// [`LimitSurface::set_positions`] evaluates the net again instead of walking the topology
+/// (about 3 000 instructions per face).
+#[derive(Clone, Debug)]
+pub(super) struct PatchNet {
+    net: Net,
+    /// The crease side and basis of a single-crease patch.
+    crease: Option<(usize, Arc<CreaseBasis>)>,
+}
+
+impl PatchNet {
+    /// The net of face `f` of `t`, if it is a regular or (unless `shared` says not) a
+    /// single-crease quad.
+    fn new(t: &Topology, f: usize, shared: &Shared, options: &Options) -> Option<Self> {
+        if t.face_vertices(f).len() != 4 || t.is_hole(f) {
+            return None;
+        }
+        if let Some(cells) = regular_patch_cells(t, f) {
+            let net = Net::new(cells);
+            return Some(PatchNet { net, crease: None });
+        }
+        if shared.trees.no_crease_patches {
+            return None;
+        }
+        let (cells, side, s) = single_crease(t, f, options)?;
+        let crease = Some((side, shared.bases.get(s)));
+        Some(PatchNet {
+            net: Net::new(cells),
+            crease,
+        })
+    }
+
+    /// The face's node for base positions `pos`.
+    fn node(&self, pos: &[[f64; 3]]) -> Node {
+        let cp = self.net.eval(pos);
+        match &self.crease {
+            None => Node::Regular(Box::new(cp)),
+            Some((side, basis)) => {
+                Node::Crease(Box::new(CreasePatch::from_net(&cp, *side, basis.clone())))
+            }
+        }
+    }
+
+    /// Sets `node` (built by [`Self::node`]) to base positions `pos`, in place.
+    fn update(&self, node: &mut Node, pos: &[[f64; 3]]) {
+        match (node, &self.crease) {
+            (Node::Regular(cp), None) => **cp = self.net.eval(pos),
+            (Node::Crease(p), Some(_)) => p.set_net(&self.net.eval(pos)),
+            (node, _) => *node = self.node(pos),
+        }
+    }
 }
 
 /// The `count` nodes of a face evaluated through `tree` (one for a quad, one per sub-face
 /// of an `n`-gon), whose cut-out has the vertices `verts` of a level with positions `pos`.
 fn tree_nodes(
     tree: &Arc<Tree>,
-    verts: Arc<[u32]>,
+    verts: &[u32],
     pos: &[[f64; 3]],
     count: usize,
     options: &Options,
@@ -559,7 +743,6 @@ fn tree_nodes(
     let node = |sub: Option<usize>| {
         Node::Tree(Box::new(TreeFace {
             tree: tree.clone(),
-            verts: verts.clone(),
             pos: pos.clone(),
             sub,
         }))
@@ -631,33 +814,28 @@ pub(super) fn eval_node(
         match node {
             Node::Hole => return false,
             Node::Regular(cp) => {
-                bspline::eval_order_into(cp, u, v, ctx.order, out);
-                out.scale(2f64.powi(depth as i32));
+                let scale = 2f64.powi(depth as i32);
+                bspline::tensor_batch(cp, regular_bases, ctx.order, scale, &mut One { u, v, out });
                 return true;
             }
             Node::Crease(p) => {
-                p.eval_into(u, v, ctx.order, out);
-                out.scale(2f64.powi(depth as i32));
+                let scale = 2f64.powi(depth as i32);
+                p.eval_batch(ctx.order, scale, &mut One { u, v, out });
                 return true;
             }
             // Trees are base-level nodes only (never children of a `Lazy` node), so `depth`
             // is 0 here.
             Node::Tree(t) => {
-                let mut found = false;
+                let mut sink = OneSink { out, found: false };
                 t.tree.eval(
                     &t.pos,
                     t.sub,
                     &mut [Query { u, v, out: 0 }],
                     &mut Scratch::default(),
                     ctx,
-                    &mut |_, d| {
-                        if let Some(d) = d {
-                            *out = d;
-                            found = true;
-                        }
-                    },
+                    &mut sink,
                 );
-                return found;
+                return sink.found;
             }
             Node::Lazy(lz) => {
                 let corner = match (u, v) {

@@ -118,6 +118,14 @@ impl Kid {
         }
     }
 
+    /// The control net `cp[i][j]` of a crease kid whose node's points are `pos`.
+    pub fn crease_net(&self, pos: &[[f64; 3]]) -> Option<[[[f64; 3]; 4]; 4]> {
+        match self {
+            Kid::Crease(rows, ..) => Some(rows.patch(pos)),
+            _ => None,
+        }
+    }
+
     /// The single-crease patch of a crease kid whose node's points are `pos`.
     pub fn crease_patch(&self, pos: &[[f64; 3]]) -> Option<CreasePatch> {
         match self {
@@ -252,8 +260,7 @@ impl Tree {
     }
 
     /// Evaluates `queries` on the face whose cut-out points are `pos` — on sub-face `sub`
-    /// of an `n`-gon, or on the quad itself (`None`) — passing each result to `sink`
-    /// (`None`: the point has no surface). Reorders `queries`.
+    /// of an `n`-gon, or on the quad itself (`None`) — writing each result into `sink`. Reorders `queries`.
     pub fn eval(
         &self,
         pos: &[[f64; 3]],
@@ -261,7 +268,7 @@ impl Tree {
         queries: &mut [Query],
         scratch: &mut Scratch,
         ctx: Ctx<'_>,
-        sink: &mut impl FnMut(u32, Option<Derivatives>),
+        sink: &mut impl Sink,
     ) {
         match sub {
             None => descend(&self.root, pos, queries, 0, scratch, ctx, sink),
@@ -274,6 +281,32 @@ impl Tree {
     }
 }
 
+/// Where [`Tree::eval`] writes the result of each query (by its `out`).
+pub(super) trait Sink {
+    /// Where the derivatives of query `k` go (every field is overwritten).
+    fn slot(&mut self, k: u32) -> &mut Derivatives;
+    /// Query `k` has no surface (it lies on a hole).
+    fn hole(&mut self, k: u32);
+}
+
+/// The queries of one patch, as a [`bspline::Batch`] writing into a [`Sink`].
+struct Leaf<'a, S> {
+    qs: &'a [Query],
+    sink: &'a mut S,
+}
+
+impl<S: Sink> bspline::Batch for Leaf<'_, S> {
+    fn len(&self) -> usize {
+        self.qs.len()
+    }
+    fn uv(&self, i: usize) -> (f64, f64) {
+        (self.qs[i].u, self.qs[i].v)
+    }
+    fn out(&mut self, i: usize) -> &mut Derivatives {
+        self.sink.slot(self.qs[i].out)
+    }
+}
+
 /// Evaluates `qs` on `node` (at `depth`, points `pos`).
 fn descend(
     node: &TNode,
@@ -282,7 +315,7 @@ fn descend(
     depth: u32,
     scratch: &mut Scratch,
     ctx: Ctx<'_>,
-    sink: &mut impl FnMut(u32, Option<Derivatives>),
+    sink: &mut impl Sink,
 ) {
     // Points at a corner where the limit is known: the corner analysis.
     let mut rest = 0;
@@ -297,7 +330,7 @@ fn descend(
             _ => None,
         };
         match corner.filter(|&k| depth >= MAX_DEPTH || node.stop[k]) {
-            Some(k) => sink(q.out, Some(node.corner(k, ctx.options).eval(pos))),
+            Some(k) => *sink.slot(q.out) = node.corner(k, ctx.options).eval(pos),
             None => {
                 qs[rest] = q;
                 rest += 1;
@@ -341,26 +374,20 @@ fn kid_eval(
     depth: u32,
     scratch: &mut Scratch,
     ctx: Ctx<'_>,
-    sink: &mut impl FnMut(u32, Option<Derivatives>),
+    sink: &mut impl Sink,
 ) {
     match kid {
-        None | Some(Kid::Hole) => qs.iter().for_each(|q| sink(q.out, None)),
+        None | Some(Kid::Hole) => qs.iter().for_each(|q| sink.hole(q.out)),
         Some(Kid::Regular(rows)) => {
             let cp = rows.patch(pos);
             let scale = 2f64.powi(depth as i32);
-            for q in qs.iter() {
-                sink(
-                    q.out,
-                    Some(bspline::eval_order(&cp, q.u, q.v, ctx.order).scaled(scale)),
-                );
-            }
+            let leaf = &mut Leaf { qs, sink };
+            bspline::tensor_batch(&cp, bspline::regular_bases, ctx.order, scale, leaf);
         }
         Some(kid @ Kid::Crease(..)) => {
             if let Some(patch) = kid.crease_patch(pos) {
                 let scale = 2f64.powi(depth as i32);
-                for q in qs.iter() {
-                    sink(q.out, Some(patch.eval(q.u, q.v, ctx.order).scaled(scale)));
-                }
+                patch.eval_batch(ctx.order, scale, &mut Leaf { qs, sink });
             }
         }
         Some(Kid::Irregular(rows, node)) => {

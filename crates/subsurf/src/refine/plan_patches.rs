@@ -81,6 +81,8 @@ use std::ops::Range;
 use rayon::prelude::*;
 
 use super::plan_ring::{descendants, ring_net, Kernel, RingGroup, RingNet};
+#[cfg(target_arch = "x86_64")]
+use crate::cpu::has_avx2_fma;
 use crate::limit::patch::{refinement_patch_cells, Cell, Sharp};
 use crate::mesh::{CreaseMethod, Options, Topology};
 
@@ -619,14 +621,6 @@ unsafe fn patches<const N: usize, const NN: usize, const D: usize>(
             kernel::<N, NN, D>(w, src, c, g.try_into().expect("grid size"), out);
         }
     }
-}
-
-/// Whether the processor has AVX2 and FMA, for the kernels for positions (detected at run
-/// time, and cached by the standard library: the default x86-64 target has neither).
-#[cfg(target_arch = "x86_64")]
-#[inline]
-pub(super) fn has_avx2_fma() -> bool {
-    std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma")
 }
 
 /// Asks the processor to start loading the cache lines that patch `k + 1` of `grids` (`nn`

@@ -82,10 +82,10 @@
 use crate::mesh::{Corner, Crease, Options, PolyMesh, Topology};
 
 use super::plan::RefinePlan;
-#[cfg(target_arch = "x86_64")]
-use super::plan_patches::has_avx2_fma;
 use super::plan_patches::{grid_indices, prefetch_next, Runs, SharedOut, NOT_OWNED};
 use super::topology::{refine_topology, rot};
+#[cfg(target_arch = "x86_64")]
+use crate::cpu::has_avx2_fma;
 
 /// Largest valence of a corner of a ring patch. Higher valences are rare and stay with
 /// the sparse rows.
