@@ -254,7 +254,8 @@ if [ -n "$LIMIT_GRID" ]; then
   printf 'interleaved as above; cold = the first build plus evaluation of subsurf (one process).\n\n'
   printf '| mesh | points | OSD median s | subsurf 1T median s | 1T/OSD | subsurf 2T median s | 2T/OSD | subsurf cold 1T s | configurations |\n'
   printf '|---|---:|---:|---:|---:|---:|---:|---:|---:|\n'
-  for run in "${small_runs[@]}"; do
+  # And the large input: mostly regular faces, the bulk of a refined or modelled mesh.
+  for run in "${small_runs[@]}" "$large|catmark_bishop_l2 (large)"; do
     IFS='|' read -r path label <<<"$run"
     log "$label limit grid $LIMIT_GRID"
     osd_t=() t1_t=() t2_t=() cold_t=()

@@ -34,9 +34,12 @@
 //! corners) and finds each irregular face's configuration; the levels of a configuration's
 //! tree are built the first time a point needs them (thread-safely, so batched parallel
 //! evaluation shares them). [`LimitSurface::set_positions`] moves the control points and keeps the trees, so
-//! re-evaluating an animated or optimised mesh costs only the per-face work.
-//! [`LimitSurface::eval_many`] evaluates the points of one face together, computing each
-//! tree node's points once. Measured against OpenSubdiv's `Bfr` in `BENCHMARKS.md`.
+//! re-evaluating an animated or optimised mesh costs only the per-face work: each face keeps
+//! how its nodes follow the control points ([`Recipe`]: a patch's net, a tree face's
+//! cut-out vertices) and is updated in place. [`LimitSurface::eval_many`] evaluates the
+//! points of one face together, computing each tree node's points once, and the points of
+//! one patch four at a time on vectors (`bspline::tensor_batch`). Measured against
+//! OpenSubdiv's `Bfr` in `BENCHMARKS.md`.
 //!
 //! # Parametrisation
 //! A quad `[v0 v1 v2 v3]` has `(0, 0)` at `v0`, `u` toward `v1`, `v` toward `v3` (as
