@@ -430,8 +430,8 @@ impl LimitSurface {
         out.resize(points.len(), Ok(Derivatives::default()));
         out.par_chunks_mut(CHUNK)
             .zip(points.par_chunks(CHUNK))
-            .for_each_init(Buffers::default, |batch, (out, points)| {
-                self.eval_chunk(points, out, batch, order)
+            .for_each_init(Buffers::default, |bufs, (out, points)| {
+                self.eval_chunk(points, out, bufs, order)
             });
     }
 
@@ -453,23 +453,29 @@ impl LimitSurface {
             let in_domain =
                 |q: &SurfacePoint| (0.0..=1.0).contains(&q.u) && (0.0..=1.0).contains(&q.v);
             let node = self.node(p).ok();
-            if matches!(node, Some(Node::Regular(_) | Node::Crease(_)))
-                && points[i..i + run].iter().all(in_domain)
-            {
-                // A patch: all the run's points together, four at a time.
-                let run_batch = &mut RunBatch {
-                    points: &points[i..i + run],
-                    out: &mut out[i..i + run],
-                };
-                match node {
-                    Some(Node::Regular(cp)) => {
-                        bspline::tensor_batch(cp, regular_bases, order, 1.0, run_batch)
-                    }
-                    Some(Node::Crease(c)) => c.eval_batch(order, 1.0, run_batch),
-                    _ => {}
+            // A patch: all the run's points together, four at a time.
+            let run_points = &points[i..i + run];
+            let all_in = || run_points.iter().all(in_domain);
+            match node {
+                Some(Node::Regular(cp)) if all_in() => {
+                    let batch = &mut RunBatch {
+                        points: run_points,
+                        out: &mut out[i..i + run],
+                    };
+                    bspline::tensor_batch(cp, regular_bases, order, 1.0, batch);
+                    i += run;
+                    continue;
                 }
-                i += run;
-                continue;
+                Some(Node::Crease(c)) if all_in() => {
+                    let batch = &mut RunBatch {
+                        points: run_points,
+                        out: &mut out[i..i + run],
+                    };
+                    c.eval_batch(order, 1.0, batch);
+                    i += run;
+                    continue;
+                }
+                _ => {}
             }
             let tree = match node {
                 Some(Node::Tree(t)) => Some(t),
