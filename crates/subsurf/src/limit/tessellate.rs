@@ -684,27 +684,7 @@ mod tests {
         assert!(checked > 0);
     }
 
-    fn cube() -> PolyMesh {
-        let p = vec![
-            [0.0, 0.0, 0.0],
-            [1.0, 0.0, 0.0],
-            [1.0, 1.0, 0.0],
-            [0.0, 1.0, 0.0],
-            [0.0, 0.0, 1.0],
-            [1.0, 0.0, 1.0],
-            [1.0, 1.0, 1.0],
-            [0.0, 1.0, 1.0],
-        ];
-        let f = [
-            [0, 3, 2, 1],
-            [4, 5, 6, 7],
-            [0, 1, 5, 4],
-            [1, 2, 6, 5],
-            [2, 3, 7, 6],
-            [3, 0, 4, 7],
-        ];
-        PolyMesh::from_faces(p, &f).unwrap()
-    }
+    use crate::mesh::test_cube as cube;
 
     /// A cube whose top is split into a triangle and a pentagon.
     fn mixed() -> PolyMesh {

@@ -306,7 +306,8 @@ impl Tree {
     }
 
     /// Evaluates `queries` on the face whose cut-out points are `pos` — on sub-face `sub`
-    /// of an `n`-gon, or on the quad itself (`None`) — writing each result into `sink`. Reorders `queries`.
+    /// of an `n`-gon, or on the quad itself (`None`) — writing each result into `sink`.
+    /// Reorders `queries`.
     pub fn eval(
         &self,
         pos: &[[f64; 3]],

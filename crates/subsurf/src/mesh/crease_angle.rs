@@ -159,27 +159,7 @@ mod tests {
     use super::*;
     use crate::mesh::SHARPNESS_INFINITE;
 
-    fn cube() -> PolyMesh {
-        let p = vec![
-            [0.0, 0.0, 0.0],
-            [1.0, 0.0, 0.0],
-            [1.0, 1.0, 0.0],
-            [0.0, 1.0, 0.0],
-            [0.0, 0.0, 1.0],
-            [1.0, 0.0, 1.0],
-            [1.0, 1.0, 1.0],
-            [0.0, 1.0, 1.0],
-        ];
-        let faces = [
-            [0, 3, 2, 1],
-            [4, 5, 6, 7],
-            [0, 1, 5, 4],
-            [1, 2, 6, 5],
-            [2, 3, 7, 6],
-            [3, 0, 4, 7],
-        ];
-        PolyMesh::from_faces(p, &faces).unwrap()
-    }
+    use crate::mesh::test_cube as cube;
 
     /// An `n × m` grid of unit quads in the plane z = 0, vertex `(i, j)` at index
     /// `j * (n + 1) + i`, mapped through `f`.

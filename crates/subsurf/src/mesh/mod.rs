@@ -26,3 +26,28 @@ pub use tags::{
     SHARPNESS_INFINITE,
 };
 pub use topology::{EdgeTag, Rule, Topology, VertexTag, INVALID};
+
+/// The unit cube `[0, 1]³`, six quads oriented outwards: every vertex extraordinary
+/// (valence 3). Shared by the unit tests of several layers.
+#[cfg(test)]
+pub(crate) fn test_cube() -> PolyMesh {
+    let p = vec![
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [1.0, 1.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, 0.0, 1.0],
+        [1.0, 0.0, 1.0],
+        [1.0, 1.0, 1.0],
+        [0.0, 1.0, 1.0],
+    ];
+    let f = [
+        [0, 3, 2, 1],
+        [4, 5, 6, 7],
+        [0, 1, 5, 4],
+        [1, 2, 6, 5],
+        [2, 3, 7, 6],
+        [3, 0, 4, 7],
+    ];
+    PolyMesh::from_faces(p, &f).expect("a valid cube")
+}
