@@ -15,8 +15,10 @@
 //!
 //! # High valence: shared regions
 //! Around a vertex `w` of valence `n` every face's 1-ring holds all `n` faces of `w`, so
-//! one cut-out per face would cost `O(n²)` time and memory. When a face's 1-ring reaches a
-//! vertex of more than [`HIGH_VALENCE`] faces, the face instead uses the *region* of that
+//! one cut-out per face would cost `O(n²)` time and memory unless the faces share their
+//! configurations (see [`HIGH_VALENCE`]). When a face's 1-ring reaches a vertex of more
+//! than [`HIGH_VALENCE`] faces (a quarter of that on a boundary or a non-manifold vertex),
+//! the face instead uses the *region* of that
 //! vertex, shared by all faces that reach it: the faces within three rings of `w`
 //! (`F₁` = the faces of `w`, `Fₖ₊₁` = the faces sharing a vertex with a face of `Fₖ`).
 //! It holds the 1-ring of every such face `g`: `w` is a vertex of a face `h` in `g`'s
@@ -32,8 +34,27 @@ use std::collections::{HashMap, HashSet};
 use std::sync::{Arc, Mutex, OnceLock};
 
 /// A vertex with more faces than this makes the faces whose 1-ring reaches it share a
-/// region (see the module docs).
-pub const HIGH_VALENCE: usize = 32;
+/// region (see the module docs); so does a boundary or non-manifold vertex with more than
+/// a quarter of this.
+///
+/// Below it, each face's cut-out is a configuration of its own tree
+/// ([`super::tree`]), so the faces around a vertex of valence `n` cost `O(n)` each, in
+/// time and memory, unless they share configurations. Around an interior manifold vertex
+/// they usually do (the cut-outs are compared up to where the vertex's cycle of faces
+/// starts: a symmetric pole of any valence is one or two configurations), around a
+/// boundary or non-manifold vertex they do not (its faces are ordered from the boundary),
+/// hence the lower bound there. Measured on OpenSubdiv's pole shapes (`BENCHMARKS.md`):
+/// trees evaluate 3–4× faster than the regions after re-posing, as a region's refinement
+/// depends on the positions and is built again, where a tree keeps it as weights.
+pub const HIGH_VALENCE: usize = 128;
+
+/// Whether vertex `v` of `t` has too many faces for per-face cut-outs (see
+/// [`HIGH_VALENCE`]; `high_valence` is its value, or `usize::MAX` in tests).
+pub(super) fn is_high_valence(t: &Topology, v: usize, high_valence: usize) -> bool {
+    let n = t.vertex_faces(v).len();
+    let tag = t.vert_tags[v];
+    n > high_valence || (n > high_valence / 4 && (tag.boundary || tag.non_manifold))
+}
 
 /// Value cached per corner of a shared region (see [`Region::corner_cache`]).
 pub type CornerCache<T> = Mutex<HashMap<(u32, u32), Arc<OnceLock<T>>>>;
@@ -232,7 +253,7 @@ pub fn cut(level: LevelRef<'_>, f: usize) -> Local {
 /// more than [`HIGH_VALENCE`] faces is met among the ring's vertices (any such vertex gives
 /// a region that holds the 1-ring).
 pub(super) fn one_ring(t: &Topology, f: usize, high_valence: usize) -> Result<Vec<u32>, u32> {
-    let big = |v: u32| t.vertex_faces(v as usize).len() > high_valence;
+    let big = |v: u32| is_high_valence(t, v as usize, high_valence);
     let mut faces = vec![f as u32];
     let add = |g: u32, faces: &mut Vec<u32>| {
         if !faces.contains(&g) {
@@ -243,7 +264,12 @@ pub(super) fn one_ring(t: &Topology, f: usize, high_valence: usize) -> Result<Ve
         if big(v) {
             return Err(v);
         }
-        for &g in t.vertex_faces(v as usize) {
+        // From `f` on around `v`: faces whose neighbourhoods differ only by where `v`'s
+        // cycle starts list their rings in the same order (see
+        // `Topology::subset_canonical`).
+        let around = t.vertex_faces(v as usize);
+        let start = around.iter().position(|&g| g == f as u32).unwrap_or(0);
+        for &g in around[start..].iter().chain(&around[..start]) {
             add(g, &mut faces);
         }
     }

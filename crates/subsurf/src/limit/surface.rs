@@ -21,8 +21,11 @@
 //! distinct neighbourhood (*configuration*), lazily, as deep as evaluated points need, as
 //! weights on the cut-out's control points ([`super::tree`], as OpenSubdiv's `Bfr` caches
 //! its patch trees); a face only stores its cut-out's positions, which flow down its
-//! configuration's tree when points are evaluated. Faces whose 1-ring reaches a vertex of
-//! more than [`HIGH_VALENCE`] faces (whose configurations would be as many as the
+//! configuration's tree when points are evaluated. Cut-outs are compared up to where the
+//! cycles around their interior vertices start (`Topology::subset_canonical`), so the faces
+//! around a symmetric pole share one configuration. Faces whose 1-ring reaches a vertex of
+//! more than [`HIGH_VALENCE`] faces (a quarter of that on a boundary or non-manifold
+//! vertex, whose faces cannot share configurations that way: they would be as many as the
 //! vertex's faces, each of size `O(valence)`) instead refine their positions directly, in
 //! regions shared around the vertex ([`super::local`]).
 //!
@@ -612,7 +615,7 @@ pub(super) fn build_face(
         return (vec![patch.node(level.pos)], Recipe::Patch(patch));
     }
     if let Ok(faces) = one_ring(base, f, level.high_valence) {
-        let (sub, verts) = base.subset(&faces);
+        let (sub, verts) = base.subset_canonical(&faces);
         let tree = shared.trees.get(sub);
         let verts: Arc<[u32]> = verts.into();
         let nodes = tree_nodes(
@@ -1107,18 +1110,20 @@ mod tests {
         assert!(shapes > 50, "only {shapes} shapes");
     }
 
-    /// Faces that share a region (around a vertex of more faces than [`HIGH_VALENCE`],
-    /// refined with positions) give the same surface as faces cut out on their own (and
-    /// evaluated through configuration trees, as weights): to rounding, `1e-12` of the
-    /// values' size, everywhere including the high-valence vertex itself.
+    /// Faces that share a region (around a vertex of more faces than [`HIGH_VALENCE`], or
+    /// a quarter of that on a boundary, refined with positions) give the same surface as
+    /// faces cut out on their own (and evaluated through configuration trees, as weights):
+    /// to rounding, `1e-12` of the values' size, everywhere including the high-valence
+    /// vertex itself.
     #[test]
     fn shared_regions_equal_own_cut_outs() {
         let params = [0.0, 0.25, 0.5, 1.0 / 3.0, 0.9, 1.0];
+        let (interior, boundary) = (HIGH_VALENCE + 7, HIGH_VALENCE / 4 + 3);
         let cases = [
-            (fan(HIGH_VALENCE + 7, false, true), "closed quad fan"),
-            (fan(HIGH_VALENCE + 7, true, true), "closed triangle fan"),
-            (fan(HIGH_VALENCE + 3, false, false), "open quad fan"),
-            (fan(HIGH_VALENCE + 3, true, false), "open triangle fan"),
+            (fan(interior, false, true), "closed quad fan"),
+            (fan(interior, true, true), "closed triangle fan"),
+            (fan(boundary, false, false), "open quad fan"),
+            (fan(boundary, true, false), "open triangle fan"),
         ];
         for (mesh, what) in &cases {
             for boundary in [
@@ -1136,6 +1141,21 @@ mod tests {
                 let compared = assert_agree(&shared, &alone, (&params, 1), (1e-12, 1.0), &what);
                 assert!(compared > 500, "{what}: only {compared} points");
             }
+        }
+    }
+
+    /// The faces around a pole whose neighbourhoods differ only by where the pole's cycle
+    /// of faces starts, and by the direction of edges, share one configuration (the
+    /// fan's faces all start at the pole); faces around a boundary vertex do not.
+    #[test]
+    fn faces_around_a_symmetric_pole_share_one_configuration() {
+        for tri in [false, true] {
+            let closed = fan(40, tri, true);
+            let s = LimitSurface::new(&closed, Options::default()).expect("surface");
+            assert_eq!(s.num_configurations(), 1, "closed fan, triangles: {tri}");
+            let open = fan(12, tri, false);
+            let s = LimitSurface::new(&open, Options::default()).expect("surface");
+            assert!(s.num_configurations() > 1, "open fan, triangles: {tri}");
         }
     }
 }

@@ -20,9 +20,10 @@
 //!   on one face computes each node's points once ([`Tree::eval`]).
 //!
 //! The weights are those of the very refinement and corner analysis that the
-//! position-based path runs, obtained by applying them to unit control points ("stencils
-//! by evaluation on a basis"; both are linear in the positions): so the tree gives the same
-//! surface, to rounding. No topology is built while evaluating, and nothing is allocated
+//! position-based path runs: the refinement's sparse masks (`refine::refinement_rows`,
+//! which the `RefinePlan` uses too), and the corner analysis applied to unit control points
+//! ("stencils by evaluation on a basis"; it is linear in the positions): so the tree gives
+//! the same surface, to rounding. No topology is built while evaluating, and nothing is allocated
 //! per point.
 
 use super::bspline::{self, Derivatives, Order};
@@ -33,7 +34,7 @@ use super::patch::{regular_patch_cells, Cell};
 use super::surface::{quadrant, MAX_DEPTH};
 use crate::hash::FxHasher;
 use crate::mesh::{Options, Topology};
-use crate::refine::{interpolate, refine_topology};
+use crate::refine::{refine_topology, refinement_rows};
 use std::collections::HashMap;
 use std::hash::BuildHasherDefault;
 use std::sync::{Arc, Mutex, OnceLock};
@@ -54,15 +55,30 @@ impl Rows {
         }
     }
 
-    /// Appends a row given densely (zero weights dropped).
-    fn push_dense(&mut self, w: &[f64]) {
-        for (c, &x) in w.iter().enumerate() {
-            if x != 0.0 {
-                self.cols.push(c as u32);
-                self.weights.push(x);
+    /// The refinement of `t` into `child` (its `refine_topology`): row `c` holds the
+    /// weights of child vertex `c` on the vertices of `t` (sparse, from the refinement's
+    /// masks: `O(weights)`, where interpolating unit vectors costs `O(vertices²)`, which
+    /// dominated building the trees of faces next to vertices of high valence).
+    fn refinement(t: &Topology, child: &Topology, options: &Options) -> Self {
+        let mut rows = Rows::new();
+        refinement_rows(t, child, options, |_, cols, weights| {
+            for (&c, &w) in cols.iter().zip(weights) {
+                if w != 0.0 {
+                    rows.cols.push(c);
+                    rows.weights.push(w);
+                }
             }
+            rows.offsets.push(rows.cols.len() as u32);
+        });
+        rows
+    }
+
+    /// Adds `w ×` row `r` to `acc`.
+    fn add_row_to(&self, r: usize, w: f64, acc: &mut Accumulator) {
+        let (a, b) = (self.offsets[r] as usize, self.offsets[r + 1] as usize);
+        for (&c, &x) in self.cols[a..b].iter().zip(&self.weights[a..b]) {
+            acc.add(c, w * x);
         }
-        self.offsets.push(self.cols.len() as u32);
     }
 
     fn len(&self) -> usize {
@@ -138,6 +154,48 @@ impl Rows {
             unsafe { _mm256_storeu_pd(lanes.as_mut_ptr(), acc) };
             *o = [lanes[0], lanes[1], lanes[2]];
         }
+    }
+}
+
+/// A sparse row being summed: a dense array over the node's points, with the columns
+/// touched, so that emptying it costs the row's length, not the node's size.
+struct Accumulator {
+    dense: Vec<f64>,
+    /// Whether a column is in `touched`.
+    seen: Vec<bool>,
+    touched: Vec<u32>,
+}
+
+impl Accumulator {
+    fn new(n: usize) -> Self {
+        Accumulator {
+            dense: vec![0.0; n],
+            seen: vec![false; n],
+            touched: Vec::new(),
+        }
+    }
+
+    #[inline]
+    fn add(&mut self, c: u32, w: f64) {
+        if !std::mem::replace(&mut self.seen[c as usize], true) {
+            self.touched.push(c);
+        }
+        self.dense[c as usize] += w;
+    }
+
+    /// Appends the row (by column, zero weights dropped) to `rows` and empties it.
+    fn push_into(&mut self, rows: &mut Rows) {
+        self.touched.sort_unstable();
+        for &c in &self.touched {
+            self.seen[c as usize] = false;
+            let w = std::mem::take(&mut self.dense[c as usize]);
+            if w != 0.0 {
+                rows.cols.push(c);
+                rows.weights.push(w);
+            }
+        }
+        self.touched.clear();
+        rows.offsets.push(rows.cols.len() as u32);
     }
 }
 
@@ -483,13 +541,11 @@ impl TNode {
 
     fn build_kids(&self, options: &Options) -> Box<[Kid]> {
         let t = &self.topo;
-        let n = t.num_vertices();
         let child = refine_topology(t, options, true);
-        let mat = refinement_matrix(t, &child, options);
-        let row = |v: u32| &mat[v as usize * n..(v as usize + 1) * n];
+        let refinement = Rows::refinement(t, &child, options);
         let first = t.face_offsets()[self.face] as usize;
         let size = t.face_vertices(self.face).len();
-        let mut dense = vec![0.0; n];
+        let mut acc = Accumulator::new(t.num_vertices());
         (first..first + size)
             .map(|f| {
                 if child.is_hole(f) {
@@ -498,13 +554,10 @@ impl TNode {
                 let mut patch_rows = |cells: &[[Cell; 4]; 4]| {
                     let mut rows = Rows::new();
                     for cell in cells.iter().flatten() {
-                        dense.iter_mut().for_each(|x| *x = 0.0);
                         for (&v, &w) in cell.verts.iter().zip(&cell.weights).take(cell.len) {
-                            for (d, &x) in dense.iter_mut().zip(row(v)) {
-                                *d += w * x;
-                            }
+                            refinement.add_row_to(v as usize, w, &mut acc);
                         }
-                        rows.push_dense(&dense);
+                        acc.push_into(&mut rows);
                     }
                     rows
                 };
@@ -520,7 +573,8 @@ impl TNode {
                 let (sub, verts) = child.subset(&faces);
                 let mut rows = Rows::new();
                 for &v in &verts {
-                    rows.push_dense(row(v));
+                    refinement.add_row_to(v as usize, 1.0, &mut acc);
+                    acc.push_into(&mut rows);
                 }
                 Kid::Irregular(rows, Box::new(TNode::new(sub, 0, self.crease)))
             })
@@ -553,30 +607,4 @@ impl TNode {
             CornerRows { limit, weights }
         })
     }
-}
-
-/// The refinement of `t` into `child` as a dense matrix (row `c · n .. (c + 1) · n`: the
-/// weights of child vertex `c` on the `n` vertices of `t`), by interpolating unit vectors
-/// [`UNITS`] at a time.
-fn refinement_matrix(t: &Topology, child: &Topology, options: &Options) -> Vec<f64> {
-    /// Unit vectors per interpolation: one pass covers most cut-outs.
-    const UNITS: usize = 16;
-    let (n, nc) = (t.num_vertices(), child.num_vertices());
-    let mut mat = vec![0.0; nc * n];
-    let mut src = vec![[0.0; UNITS]; n];
-    let mut dst = vec![[0.0; UNITS]; nc];
-    for c0 in (0..n).step_by(UNITS) {
-        let w = UNITS.min(n - c0);
-        for c in 0..w {
-            src[c0 + c][c] = 1.0;
-        }
-        interpolate(t, child, options, &src, &mut dst);
-        for c in 0..w {
-            src[c0 + c] = [0.0; UNITS];
-        }
-        for (r, d) in dst.iter().enumerate() {
-            mat[r * n + c0..r * n + c0 + w].copy_from_slice(&d[..w]);
-        }
-    }
-    mat
 }

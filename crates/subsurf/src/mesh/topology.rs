@@ -844,6 +844,24 @@ impl Topology {
     ///
     /// Returns the subset and, for each of its vertices, the vertex of `self`.
     pub(crate) fn subset(&self, faces: &[u32]) -> (Topology, Vec<u32>) {
+        self.subset_with(faces, false)
+    }
+
+    /// [`subset`](Self::subset) in a form that does not depend on where this level starts
+    /// the cyclic lists of faces and edges around its interior manifold vertices, nor on the
+    /// direction of its edges or the order of an edge's faces: around each such vertex,
+    /// both lists start at its face listed first in `faces` (for a vertex on the subset's
+    /// rim, the parts of the lists in the subset), each edge runs from its lower-numbered
+    /// end, and its faces are in the subset's order. The Catmull-Clark rules do not depend on where
+    /// a cycle starts, so the surface is the same (to rounding: sums run in another
+    /// order), and faces with the same neighbourhood up to that rotation get the same
+    /// [`structure_key`](Self::structure_key): around a pole of valence `n`, one
+    /// configuration instead of `n`.
+    pub(crate) fn subset_canonical(&self, faces: &[u32]) -> (Topology, Vec<u32>) {
+        self.subset_with(faces, true)
+    }
+
+    fn subset_with(&self, faces: &[u32], canonical: bool) -> (Topology, Vec<u32>) {
         // Subsets are small: maps from this level's indices are sorted (index, local) pairs.
         fn lookup(map: &[(u32, u32)], x: u32) -> Option<u32> {
             map.binary_search_by_key(&x, |&(k, _)| k)
@@ -938,20 +956,71 @@ impl Topology {
         t.vert_face_offsets.push(0);
         t.vert_edge_offsets.push(0);
         for &v in &verts {
-            for i in range(&self.vert_face_offsets, v as usize) {
+            let (faces_v, edges_v) = (
+                range(&self.vert_face_offsets, v as usize),
+                range(&self.vert_edge_offsets, v as usize),
+            );
+            // Where the lists start: the level's own start, or (canonical, around an
+            // interior manifold vertex, whose face `k` and edge `k` go together) the
+            // subset's first face around `v`.
+            let tag = self.vert_tags[v as usize];
+            let cyclic = !tag.boundary && !tag.non_manifold && faces_v.len() == edges_v.len();
+            let start = if canonical && cyclic {
+                faces_v
+                    .clone()
+                    .filter_map(|i| lookup(&fmap, self.vert_faces[i]).map(|lf| (lf, i)))
+                    .min()
+                    .map_or(0, |(_, i)| i - faces_v.start)
+            } else {
+                0
+            };
+            let from = |r: &std::ops::Range<usize>| {
+                let (a, b) = (r.start + start.min(r.len()), r.end);
+                (a..b).chain(r.start..a)
+            };
+            for i in from(&faces_v) {
                 if let Some(lf) = lookup(&fmap, self.vert_faces[i]) {
                     t.vert_faces.push(lf);
                     t.vert_face_local.push(self.vert_face_local[i]);
                 }
             }
             t.vert_face_offsets.push(t.vert_faces.len() as u32);
-            for i in range(&self.vert_edge_offsets, v as usize) {
+            for i in from(&edges_v) {
                 if let Some(le) = lookup(&emap, self.vert_edges[i]) {
                     t.vert_edges.push(le);
                     t.vert_edge_local.push(self.vert_edge_local[i]);
                 }
             }
             t.vert_edge_offsets.push(t.vert_edges.len() as u32);
+        }
+        if canonical {
+            // Each edge from its lower-numbered end (the subset numbers its vertices in
+            // the order of `faces`), as the level's own direction depends on how it was
+            // built.
+            let flip: Vec<bool> = t.edge_verts.iter().map(|&[a, b]| a > b).collect();
+            for (ev, &f) in t.edge_verts.iter_mut().zip(&flip) {
+                if f {
+                    ev.swap(0, 1);
+                }
+            }
+            for (&e, end) in t.vert_edges.iter().zip(&mut t.vert_edge_local) {
+                if flip[e as usize] {
+                    *end = 1 - *end;
+                }
+            }
+            // The faces of each edge in the subset's order.
+            for e in 0..t.edge_verts.len() {
+                let r = range(&t.edge_face_offsets, e);
+                let mut pairs: Vec<(u32, u16)> = t.edge_faces[r.clone()]
+                    .iter()
+                    .copied()
+                    .zip(t.edge_face_local[r.clone()].iter().copied())
+                    .collect();
+                pairs.sort_unstable();
+                for (i, (f, l)) in r.zip(pairs) {
+                    (t.edge_faces[i], t.edge_face_local[i]) = (f, l);
+                }
+            }
         }
         t.max_valence = (0..t.num_vertices())
             .map(|v| t.vertex_edges(v).len().max(t.vertex_faces(v).len()) as u32)

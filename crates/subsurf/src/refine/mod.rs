@@ -34,6 +34,7 @@ mod primvar;
 mod topology;
 
 pub use adjustable::interpolate_adjustable;
+pub(crate) use plan::refinement_rows;
 pub use plan::{PlanScratch, RefinePlan};
 pub use primvar::interpolate;
 pub(crate) use topology::{refine_topology, refine_topology_for_output};

@@ -791,6 +791,31 @@ struct RowScratch {
     ce: Vec<f32>,
 }
 
+/// The refinement of `p` into `c` (its [`refine_topology`]) as sparse rows: for each
+/// vertex `cv` of `c` in order, `row(cv, cols, weights)` with its weights on the vertices of
+/// `p`, each vertex once, zero weights included. These are the masks
+/// [`interpolate`](super::interpolate) applies (each weight summed with its rounding error
+/// carried, as [`RefinePlan`] does), so applying them gives `interpolate`'s values to
+/// rounding, in `O(weights)` time where interpolating unit vectors would take
+/// `O(vertices²)`.
+pub(crate) fn refinement_rows(
+    p: &Topology,
+    c: &Topology,
+    options: &Options,
+    mut row: impl FnMut(usize, &[u32], &[f64]),
+) {
+    let mut scratch = RowScratch::default();
+    let mut weights = Vec::new();
+    for cv in 0..c.num_vertices() {
+        scratch.row.clear();
+        stencil(p, c, options, cv, &mut scratch);
+        let r = &scratch.row;
+        weights.clear();
+        weights.extend((0..r.cols.len()).map(|i| r.weight(i)));
+        row(cv, &r.cols, &weights);
+    }
+}
+
 /// The row of child vertex `cv`: the masks of [`interpolate`](super::interpolate), with
 /// face points expanded into their vertices.
 fn stencil(p: &Topology, c: &Topology, options: &Options, cv: usize, scratch: &mut RowScratch) {
