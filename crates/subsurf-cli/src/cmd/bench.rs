@@ -30,7 +30,6 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     };
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(args.threads)
-        .use_current_thread()
         .build()
         .context("cannot start the thread pool")?;
     let reps = args.reps.max(1);

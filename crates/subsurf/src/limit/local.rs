@@ -18,8 +18,7 @@
 //! one cut-out per face would cost `O(n²)` time and memory unless the faces share their
 //! configurations (see [`HIGH_VALENCE`]). When a face's 1-ring reaches a vertex of more
 //! than [`HIGH_VALENCE`] faces (a quarter of that on a boundary or a non-manifold vertex),
-//! the face instead uses the *region* of that
-//! vertex, shared by all faces that reach it: the faces within three rings of `w`
+//! the face instead uses the *region* of that vertex, shared by all faces that reach it: the faces within three rings of `w`
 //! (`F₁` = the faces of `w`, `Fₖ₊₁` = the faces sharing a vertex with a face of `Fₖ`).
 //! It holds the 1-ring of every such face `g`: `w` is a vertex of a face `h` in `g`'s
 //! 1-ring, so `g` is in `h`'s 1-ring, within `F₂`, and `g`'s 1-ring within `F₃`. A shared
@@ -43,9 +42,10 @@ use std::sync::{Arc, Mutex, OnceLock};
 /// they usually do (the cut-outs are compared up to where the vertex's cycle of faces
 /// starts: a symmetric pole of any valence is one or two configurations), around a
 /// boundary or non-manifold vertex they do not (its faces are ordered from the boundary),
-/// hence the lower bound there. Measured on OpenSubdiv's pole shapes (`BENCHMARKS.md`):
-/// trees evaluate 3–4× faster than the regions after re-posing, as a region's refinement
-/// depends on the positions and is built again, where a tree keeps it as weights.
+/// hence the lower bound there. Measured on OpenSubdiv's pole shapes and a teapot
+/// (`BENCHMARKS.md`): a re-posed evaluation through trees takes 5–10× less time than
+/// through regions, as a region's refinement depends on the positions and is built again,
+/// where a tree keeps it as weights.
 pub const HIGH_VALENCE: usize = 128;
 
 /// Whether vertex `v` of `t` has too many faces for per-face cut-outs (see

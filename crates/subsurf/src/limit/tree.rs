@@ -23,8 +23,8 @@
 //! position-based path runs: the refinement's sparse masks (`refine::refinement_rows`,
 //! which the `RefinePlan` uses too), and the corner analysis applied to unit control points
 //! ("stencils by evaluation on a basis"; it is linear in the positions): so the tree gives
-//! the same surface, to rounding. No topology is built while evaluating, and nothing is allocated
-//! per point.
+//! the same surface, to rounding. No topology is built while evaluating, and nothing is
+//! allocated per point.
 
 use super::bspline::{self, Derivatives, Order};
 use super::corner::{corner_limit, is_limit_corner, CornerLimit};
@@ -61,7 +61,7 @@ impl Rows {
     /// dominated building the trees of faces next to vertices of high valence).
     fn refinement(t: &Topology, child: &Topology, options: &Options) -> Self {
         let mut rows = Rows::new();
-        refinement_rows(t, child, options, |_, cols, weights| {
+        refinement_rows(t, child, options, |cols, weights| {
             for (&c, &w) in cols.iter().zip(weights) {
                 if w != 0.0 {
                     rows.cols.push(c);

@@ -852,10 +852,10 @@ impl Topology {
     /// direction of its edges or the order of an edge's faces: around each such vertex,
     /// both lists start at its face listed first in `faces` (for a vertex on the subset's
     /// rim, the parts of the lists in the subset), each edge runs from its lower-numbered
-    /// end, and its faces are in the subset's order. The Catmull-Clark rules do not depend on where
-    /// a cycle starts, so the surface is the same (to rounding: sums run in another
-    /// order), and faces with the same neighbourhood up to that rotation get the same
-    /// [`structure_key`](Self::structure_key): around a pole of valence `n`, one
+    /// end, and its faces are in the subset's order. The Catmull-Clark rules depend on none
+    /// of these, so the surface is the same (to rounding: sums run in another order), and
+    /// faces whose neighbourhoods differ only by them get the same
+    /// [`structure_key`](Self::structure_key): around a symmetric pole of valence `n`, one
     /// configuration instead of `n`.
     pub(crate) fn subset_canonical(&self, faces: &[u32]) -> (Topology, Vec<u32>) {
         self.subset_with(faces, true)
@@ -975,8 +975,9 @@ impl Topology {
                 0
             };
             let from = |r: &std::ops::Range<usize>| {
-                let (a, b) = (r.start + start.min(r.len()), r.end);
-                (a..b).chain(r.start..a)
+                // `start` is 0 unless the two lists have the same length.
+                let a = r.start + start;
+                (a..r.end).chain(r.start..a)
             };
             for i in from(&faces_v) {
                 if let Some(lf) = lookup(&fmap, self.vert_faces[i]) {
@@ -1009,15 +1010,18 @@ impl Topology {
                 }
             }
             // The faces of each edge in the subset's order.
+            let mut pairs: Vec<(u32, u16)> = Vec::new();
             for e in 0..t.edge_verts.len() {
                 let r = range(&t.edge_face_offsets, e);
-                let mut pairs: Vec<(u32, u16)> = t.edge_faces[r.clone()]
-                    .iter()
-                    .copied()
-                    .zip(t.edge_face_local[r.clone()].iter().copied())
-                    .collect();
+                pairs.clear();
+                pairs.extend(
+                    t.edge_faces[r.clone()]
+                        .iter()
+                        .copied()
+                        .zip(t.edge_face_local[r.clone()].iter().copied()),
+                );
                 pairs.sort_unstable();
-                for (i, (f, l)) in r.zip(pairs) {
+                for (i, &(f, l)) in r.zip(&pairs) {
                     (t.edge_faces[i], t.edge_face_local[i]) = (f, l);
                 }
             }

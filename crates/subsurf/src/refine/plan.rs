@@ -792,8 +792,8 @@ struct RowScratch {
 }
 
 /// The refinement of `p` into `c` (its [`refine_topology`]) as sparse rows: for each
-/// vertex `cv` of `c` in order, `row(cv, cols, weights)` with its weights on the vertices of
-/// `p`, each vertex once, zero weights included. These are the masks
+/// vertex of `c` in order, `row(cols, weights)` with its weights on the vertices of `p`,
+/// each vertex once, zero weights included. These are the masks
 /// [`interpolate`](super::interpolate) applies (each weight summed with its rounding error
 /// carried, as [`RefinePlan`] does), so applying them gives `interpolate`'s values to
 /// rounding, in `O(weights)` time where interpolating unit vectors would take
@@ -802,7 +802,7 @@ pub(crate) fn refinement_rows(
     p: &Topology,
     c: &Topology,
     options: &Options,
-    mut row: impl FnMut(usize, &[u32], &[f64]),
+    mut row: impl FnMut(&[u32], &[f64]),
 ) {
     let mut scratch = RowScratch::default();
     let mut weights = Vec::new();
@@ -812,7 +812,7 @@ pub(crate) fn refinement_rows(
         let r = &scratch.row;
         weights.clear();
         weights.extend((0..r.cols.len()).map(|i| r.weight(i)));
-        row(cv, &r.cols, &weights);
+        row(&r.cols, &weights);
     }
 }
 
