@@ -281,7 +281,7 @@ fn eigen_corner(l: &Local, k: usize, options: &Options) -> Option<CornerLimit> {
     let analyse = || eigen_analysis(l, k, ring, options).map(Arc::new);
     let e = if l.region.is_shared() {
         let c = l.topo().face_vertices(l.face)[k];
-        super::local::cached(&l.region.eigen, (c, start as u32), analyse)
+        super::local::cached(&l.region.shape.eigen, (c, start as u32), analyse)
     } else {
         analyse()
     }?;
@@ -326,7 +326,7 @@ fn eigen_analysis(l: &Local, k: usize, ring: Vec<u32>, options: &Options) -> Opt
         let (sub, verts) = t.subset(faces);
         let pos = verts.iter().map(|&v| l.pos()[v as usize]).collect();
         let tiny = Local {
-            region: Arc::new(Region::whole(sub, pos, false, usize::MAX)),
+            region: Arc::new(Region::whole(sub, pos, usize::MAX)),
             face,
         };
         if let Some((_, sub_ring)) = sector_ring(tiny.topo(), face, k) {

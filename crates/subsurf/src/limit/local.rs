@@ -18,15 +18,31 @@
 //! one cut-out per face would cost `O(n²)` time and memory unless the faces share their
 //! configurations (see [`HIGH_VALENCE`]). When a face's 1-ring reaches a vertex of more
 //! than [`HIGH_VALENCE`] faces (a quarter of that on a boundary or a non-manifold vertex),
-//! the face instead uses the *region* of that vertex, shared by all faces that reach it: the faces within three rings of `w`
-//! (`F₁` = the faces of `w`, `Fₖ₊₁` = the faces sharing a vertex with a face of `Fₖ`).
-//! It holds the 1-ring of every such face `g`: `w` is a vertex of a face `h` in `g`'s
-//! 1-ring, so `g` is in `h`'s 1-ring, within `F₂`, and `g`'s 1-ring within `F₃`. A shared
-//! region is refined once (the refinement is kept and shared, and so are the regions cut
-//! from it one level down and the analyses of its corners), so the work around `w` is
-//! `O(n)` per level. [`Topology::subset`] keeps the order of faces and edges around every
-//! vertex, so a region gives the same values, bit for bit, as a face's own cut-out.
+//! the face instead uses the *region* of that vertex, shared by all faces that reach it:
+//! the faces within three rings of `w` (`F₁` = the faces of `w`, `Fₖ₊₁` = the faces
+//! sharing a vertex with a face of `Fₖ`). It holds the 1-ring of every such face `g`: `w`
+//! is a vertex of a face `h` in `g`'s 1-ring, so `g` is in `h`'s 1-ring, within `F₂`, and
+//! `g`'s 1-ring within `F₃`. A shared region is refined once (the refinement is kept and
+//! shared, and so are the regions cut from it one level down and the analyses of its
+//! corners), so the work around `w` is `O(n)` per level. [`Topology::subset`] keeps the
+//! order of faces and edges around every vertex, so a region gives the same values, bit
+//! for bit, as a face's own cut-out.
+//!
+//! # Re-posing: shapes and points
+//! A region is a [`Shape`] (its topology and everything derived from the topology alone:
+//! the refined shape, the shapes of the regions cut from it, what each of its faces is, a
+//! patch's control net as vertex indices or an irregular face's cut, and the
+//! eigen-analyses of its corners) and the points of that shape. A surface keeps the shapes
+//! of its base level's regions across re-posing (`LimitSurface::set_positions`), so a new
+//! pose only gathers each region's points, interpolates them level by level as far as its
+//! evaluations descend and evaluates the patches' nets: `O(n)` per level, as before, but
+//! without building any topology. (Before, re-posing built the regions again, about half
+//! of the time of a re-posed evaluation around `OpenSubdiv`'s `catmark_pole360`, and found
+//! each face's kind again, a third of the rest.)
 
+use super::patch::{regular_patch_cells, Net};
+use super::surface::Shared;
+use super::tree::{Tree, TreeCache};
 use crate::mesh::{Options, Topology};
 use crate::refine::{interpolate, refine_topology};
 use std::collections::{HashMap, HashSet};
@@ -56,16 +72,19 @@ pub(super) fn is_high_valence(t: &Topology, v: usize, high_valence: usize) -> bo
     n > high_valence || (n > high_valence / 4 && (tag.boundary || tag.non_manifold))
 }
 
-/// Value cached per corner of a shared region (see [`Region::corner_cache`]).
+/// Value cached per corner of a shared region (see [`Shape::eigen`]).
 pub type CornerCache<T> = Mutex<HashMap<(u32, u32), Arc<OnceLock<T>>>>;
 
-/// A cut-out (or a whole refined cut-out) with positions.
+/// The part of a cut-out (or of a refined cut-out) that does not depend on the positions:
+/// its topology and, for a region shared around a high-valence vertex, everything derived
+/// from it alone: its refinement, the regions cut from that and the eigen-analyses of its
+/// corners. A [`LimitSurface`](super::LimitSurface) keeps the shapes of its shared regions
+/// across [`set_positions`](super::LimitSurface::set_positions), so re-posing a face near
+/// such a vertex only interpolates the region's points, level by level.
 #[derive(Debug, Default)]
-pub struct Region {
+pub struct Shape {
     /// The cut-out topology.
     pub topo: Topology,
-    /// Positions of its vertices.
-    pub pos: Vec<[f64; 3]>,
     /// Valence above which faces share regions (normally [`HIGH_VALENCE`]).
     high_valence: usize,
     /// Shared by many faces: then its refinement, the regions cut from that and corner
@@ -74,26 +93,57 @@ pub struct Region {
     /// For a region cut around a vertex: the faces of the level it was cut from, sorted,
     /// with their index here.
     faces: Vec<(u32, u32)>,
+    /// For a region cut around a vertex: the vertex of the level it was cut from of each
+    /// of its vertices.
+    verts: Vec<u32>,
+    /// The refined shape (shared regions only).
+    refined: OnceLock<Arc<Shape>>,
+    /// Shapes of the regions cut from this one, by vertex (see [`cut`]).
+    regions: ShapeCache,
+    /// Eigen-analyses of corners, by (vertex, first face of the sector).
+    pub(super) eigen: CornerCache<Option<Arc<super::corner::Eigen>>>,
+    /// Per face of a shared shape, what it is (see [`LevelRef::kinds`]); empty otherwise.
+    kinds: Box<[OnceLock<Box<FaceKind>>]>,
+    /// The surface's configuration trees, for the irregular faces of a shared shape that
+    /// do not reach its high-valence vertex (see [`FaceKind::Tree`]).
+    trees: Option<Arc<TreeCache>>,
+}
+
+/// Shapes of the regions cut around the high-valence vertices of one level, by vertex.
+#[derive(Debug, Default)]
+pub struct ShapeCache(Mutex<HashMap<u32, Arc<OnceLock<Arc<Shape>>>>>);
+
+/// A cut-out (or a whole refined cut-out) with positions: a [`Shape`] and its points.
+#[derive(Debug, Default)]
+pub struct Region {
+    /// The topology and what derives from it.
+    pub shape: Arc<Shape>,
+    /// Positions of its vertices.
+    pub pos: Vec<[f64; 3]>,
     /// The refined region (shared regions only).
     refined: OnceLock<Arc<Region>>,
     /// Regions cut from this one, by vertex (see [`cut`]).
     regions: RegionCache,
-    /// Eigen-analyses of corners, by (vertex, first face of the sector).
-    pub(super) eigen: CornerCache<Option<Arc<super::corner::Eigen>>>,
     /// Smooth limit position and the cosine and sine tangents of high-valence vertices.
     pub(super) smooth: CornerCache<[[f64; 3]; 3]>,
 }
 
 /// The value of `key` in `cache`, computed by `make` the first time.
 pub fn cached<T: Clone>(cache: &CornerCache<T>, key: (u32, u32), make: impl FnOnce() -> T) -> T {
-    let cell = {
-        let mut map = match cache.lock() {
-            Ok(m) => m,
-            Err(poisoned) => poisoned.into_inner(),
-        };
-        map.entry(key).or_default().clone()
+    cell(cache, key).get_or_init(make).clone()
+}
+
+/// The cell of `key` in a map behind a mutex (a poisoned lock is taken as it is: cells are
+/// only ever inserted).
+fn cell<K: std::hash::Hash + Eq, T>(
+    cache: &Mutex<HashMap<K, Arc<OnceLock<T>>>>,
+    key: K,
+) -> Arc<OnceLock<T>> {
+    let mut map = match cache.lock() {
+        Ok(m) => m,
+        Err(poisoned) => poisoned.into_inner(),
     };
-    cell.get_or_init(make).clone()
+    map.entry(key).or_default().clone()
 }
 
 /// Regions cut around high-valence vertices of one level, by vertex.
@@ -109,40 +159,101 @@ pub struct Local {
     pub face: usize,
 }
 
-/// A level to cut from: its topology, positions and the cache of its shared regions.
+/// A level to cut from: its topology, positions and the caches of its shared regions.
 #[derive(Clone, Copy)]
 pub struct LevelRef<'a> {
     /// Topology.
     pub topo: &'a Topology,
     /// Positions.
     pub pos: &'a [[f64; 3]],
-    /// Shared regions already cut from it.
+    /// Shapes of the shared regions cut from it (kept across positions).
+    pub shapes: &'a ShapeCache,
+    /// Shared regions already cut from it (these positions).
     pub cache: &'a RegionCache,
+    /// Per face, what it is, found once and kept across positions (a shared region's
+    /// faces); empty: found afresh.
+    pub kinds: &'a [OnceLock<Box<FaceKind>>],
+    /// Configuration trees for its irregular faces whose 1-ring has no high-valence
+    /// vertex, if any (the base level, shared regions); `None`: own cut-outs.
+    pub trees: Option<&'a Arc<TreeCache>>,
     /// Valence above which faces share regions: [`HIGH_VALENCE`] (tests compare with
     /// `usize::MAX`, every face on its own).
     pub high_valence: usize,
 }
 
 impl<'a> LevelRef<'a> {
-    /// A level with the default [`HIGH_VALENCE`].
-    pub fn new(topo: &'a Topology, pos: &'a [[f64; 3]], cache: &'a RegionCache) -> Self {
+    /// The base level of a surface, with what its faces share and the default
+    /// [`HIGH_VALENCE`].
+    pub fn new(
+        topo: &'a Topology,
+        pos: &'a [[f64; 3]],
+        shared: &'a Shared,
+        cache: &'a RegionCache,
+    ) -> Self {
         Self {
             topo,
             pos,
+            shapes: &shared.regions,
             cache,
+            kinds: &[],
+            trees: Some(&shared.trees),
             high_valence: HIGH_VALENCE,
         }
     }
 }
 
-impl Region {
-    /// A whole level as a region (the result of refining a region).
-    pub fn whole(topo: Topology, pos: Vec<[f64; 3]>, shared: bool, high_valence: usize) -> Self {
+impl Shape {
+    /// A shape of its own (a face's cut-out, not shared).
+    fn own(topo: Topology, high_valence: usize) -> Self {
         Self {
             topo,
-            pos,
-            shared,
             high_valence,
+            ..Self::default()
+        }
+    }
+
+    /// A shared shape.
+    fn shared(topo: Topology, high_valence: usize, trees: Option<Arc<TreeCache>>) -> Self {
+        let kinds = (0..topo.num_faces()).map(|_| OnceLock::new()).collect();
+        Self {
+            topo,
+            high_valence,
+            shared: true,
+            kinds,
+            trees,
+            ..Self::default()
+        }
+    }
+
+    /// The shape refined one level: computed once for a shared shape, afresh otherwise.
+    fn refined(&self, options: &Options) -> Arc<Shape> {
+        let make = || {
+            let topo = refine_topology(&self.topo, options, true);
+            Arc::new(if self.shared {
+                Shape::shared(topo, self.high_valence, self.trees.clone())
+            } else {
+                Shape::own(topo, self.high_valence)
+            })
+        };
+        if self.shared {
+            self.refined.get_or_init(make).clone()
+        } else {
+            make()
+        }
+    }
+}
+
+impl Region {
+    /// A whole level as a region of its own, not shared.
+    pub fn whole(topo: Topology, pos: Vec<[f64; 3]>, high_valence: usize) -> Self {
+        Self::with_shape(Arc::new(Shape::own(topo, high_valence)), pos)
+    }
+
+    /// Shape `shape` with points `pos`.
+    fn with_shape(shape: Arc<Shape>, pos: Vec<[f64; 3]>) -> Self {
+        Self {
+            shape,
+            pos,
             ..Self::default()
         }
     }
@@ -150,28 +261,32 @@ impl Region {
     /// This region as a level to cut from.
     pub fn level(&self) -> LevelRef<'_> {
         LevelRef {
-            topo: &self.topo,
+            topo: &self.shape.topo,
             pos: &self.pos,
+            shapes: &self.shape.regions,
             cache: &self.regions,
-            high_valence: self.high_valence,
+            kinds: &self.shape.kinds,
+            trees: self.shape.trees.as_ref(),
+            high_valence: self.shape.high_valence,
         }
     }
 
     /// Whether this region is shared by many faces (and caches its work).
     pub fn is_shared(&self) -> bool {
-        self.shared
+        self.shape.shared
     }
 
     /// The region refined one level (full topology, positions by the level's rules):
-    /// computed once for a shared region, afresh otherwise.
+    /// computed once for a shared region (whose refined shape is kept across positions),
+    /// afresh otherwise.
     pub fn refined(&self, options: &Options) -> Arc<Region> {
         let make = || {
-            let child = refine_topology(&self.topo, options, true);
-            let mut cpos = vec![[0.0; 3]; child.num_vertices()];
-            interpolate(&self.topo, &child, options, &self.pos, &mut cpos);
-            Arc::new(Region::whole(child, cpos, self.shared, self.high_valence))
+            let child = self.shape.refined(options);
+            let mut cpos = vec![[0.0; 3]; child.topo.num_vertices()];
+            interpolate(&self.shape.topo, &child.topo, options, &self.pos, &mut cpos);
+            Arc::new(Region::with_shape(child, cpos))
         };
-        if self.shared {
+        if self.is_shared() {
             self.refined.get_or_init(make).clone()
         } else {
             make()
@@ -182,7 +297,7 @@ impl Region {
 impl Local {
     /// The region's topology.
     pub fn topo(&self) -> &Topology {
-        &self.region.topo
+        &self.region.shape.topo
     }
 
     /// The region's positions.
@@ -204,48 +319,84 @@ impl Local {
     }
 }
 
+/// What a face of a level is, as far as its limit surface goes: found from the topology
+/// alone, so a shared region finds it once for all positions.
+#[derive(Debug)]
+pub enum FaceKind {
+    /// A hole: no surface.
+    Hole,
+    /// A regular patch with this control net.
+    Patch(Net),
+    /// Irregular, in the shared region of this high-valence vertex.
+    Region(u32),
+    /// Irregular, with its own cut-out: these faces (its 1-ring).
+    Own(Vec<u32>),
+    /// An irregular quad whose 1-ring has no high-valence vertex, in a level that has
+    /// configuration trees (a shared region of a surface): the tree of its configuration
+    /// and its cut-out's vertices, so that its local refinement is kept as weights across
+    /// positions, like a base face's.
+    Tree(Arc<Tree>, Arc<[u32]>),
+}
+
+impl FaceKind {
+    /// What face `f` of `level` is.
+    pub fn find(level: LevelRef<'_>, f: usize) -> FaceKind {
+        if level.topo.is_hole(f) {
+            return FaceKind::Hole;
+        }
+        if let Some(cells) = regular_patch_cells(level.topo, f) {
+            return FaceKind::Patch(Net::new(cells));
+        }
+        match (one_ring(level.topo, f, level.high_valence), level.trees) {
+            (Ok(faces), Some(trees)) if level.topo.face_vertices(f).len() == 4 => {
+                let (sub, verts) = level.topo.subset_canonical(&faces);
+                FaceKind::Tree(trees.get(sub), verts.into())
+            }
+            (Ok(faces), _) => FaceKind::Own(faces),
+            (Err(w), _) => FaceKind::Region(w),
+        }
+    }
+}
+
 /// The cut-out of face `f` of `level`: its own 1-ring, or the shared region of a
 /// high-valence vertex that its 1-ring reaches (see the module docs).
 pub fn cut(level: LevelRef<'_>, f: usize) -> Local {
     match one_ring(level.topo, f, level.high_valence) {
-        Ok(faces) => {
-            let (topo, verts) = level.topo.subset(&faces);
-            let pos = verts.iter().map(|&v| level.pos[v as usize]).collect();
-            Local {
-                region: Arc::new(Region::whole(topo, pos, false, level.high_valence)),
-                face: 0,
-            }
-        }
-        Err(w) => {
-            let cell = {
-                let mut map = match level.cache.0.lock() {
-                    Ok(m) => m,
-                    Err(poisoned) => poisoned.into_inner(),
-                };
-                map.entry(w).or_default().clone()
-            };
-            let region = cell
+        Ok(faces) => own_cut(level, &faces),
+        Err(w) => region_cut(level, f, w),
+    }
+}
+
+/// The cut-out of `faces` of `level`, the face of interest first.
+pub fn own_cut(level: LevelRef<'_>, faces: &[u32]) -> Local {
+    let (topo, verts) = level.topo.subset(faces);
+    let pos = verts.iter().map(|&v| level.pos[v as usize]).collect();
+    Local {
+        region: Arc::new(Region::whole(topo, pos, level.high_valence)),
+        face: 0,
+    }
+}
+
+/// Face `f` of `level` in the shared region of vertex `w` (which its 1-ring reaches).
+pub fn region_cut(level: LevelRef<'_>, f: usize, w: u32) -> Local {
+    let region = cell(&level.cache.0, w)
+        .get_or_init(|| {
+            let shape = cell(&level.shapes.0, w)
                 .get_or_init(|| Arc::new(vertex_region(level, w)))
                 .clone();
-            let face = region
-                .faces
-                .binary_search_by_key(&(f as u32), |&(g, _)| g)
-                .map(|i| region.faces[i].1 as usize);
-            match face {
-                Ok(face) => Local { region, face },
-                // Unreachable by the argument in the module docs; fall back to the
-                // face's own (large) cut-out rather than fail.
-                Err(_) => {
-                    let faces = one_ring_unbounded(level.topo, f);
-                    let (topo, verts) = level.topo.subset(&faces);
-                    let pos = verts.iter().map(|&v| level.pos[v as usize]).collect();
-                    Local {
-                        region: Arc::new(Region::whole(topo, pos, false, level.high_valence)),
-                        face: 0,
-                    }
-                }
-            }
-        }
+            let pos = shape.verts.iter().map(|&v| level.pos[v as usize]).collect();
+            Arc::new(Region::with_shape(shape, pos))
+        })
+        .clone();
+    let faces = &region.shape.faces;
+    match faces.binary_search_by_key(&(f as u32), |&(g, _)| g) {
+        Ok(i) => Local {
+            face: faces[i].1 as usize,
+            region,
+        },
+        // Unreachable by the argument in the module docs; fall back to the face's own
+        // (large) cut-out rather than fail.
+        Err(_) => own_cut(level, &one_ring_unbounded(level.topo, f)),
     }
 }
 
@@ -300,8 +451,9 @@ pub(super) fn one_ring_unbounded(t: &Topology, f: usize) -> Vec<u32> {
     faces
 }
 
-/// The shared region of vertex `w`: the faces within three rings of it (module docs).
-fn vertex_region(level: LevelRef<'_>, w: u32) -> Region {
+/// The shape of the shared region of vertex `w`: the faces within three rings of it
+/// (module docs).
+fn vertex_region(level: LevelRef<'_>, w: u32) -> Shape {
     let t = level.topo;
     let mut seen: HashSet<u32> = HashSet::new();
     let mut faces: Vec<u32> = Vec::new();
@@ -329,19 +481,15 @@ fn vertex_region(level: LevelRef<'_>, w: u32) -> Region {
         from = end;
     }
     let (topo, verts) = t.subset(&faces);
-    let pos = verts.iter().map(|&v| level.pos[v as usize]).collect();
     let mut map: Vec<(u32, u32)> = faces
         .iter()
         .enumerate()
         .map(|(i, &g)| (g, i as u32))
         .collect();
     map.sort_unstable();
-    Region {
-        topo,
-        pos,
-        shared: true,
-        high_valence: level.high_valence,
+    Shape {
+        verts,
         faces: map,
-        ..Region::default()
+        ..Shape::shared(topo, level.high_valence, level.trees.cloned())
     }
 }

@@ -164,7 +164,8 @@ impl Net {
         }
     }
 
-    /// The control points `cp[i][j]` for vertex positions `pos` (as [`regular_patch`]).
+    /// The control points `cp[i][j]` for vertex positions `pos` (`i` along `u`, `j` along
+    /// `v`).
     pub(super) fn eval(&self, pos: &[[f64; 3]]) -> [[[f64; 3]; 4]; 4] {
         match self {
             Net::Plain(v) => {
@@ -175,15 +176,8 @@ impl Net {
     }
 }
 
-/// The control points `cp[i][j]` (`i` along `u`, `j` along `v`) of quad `f` if it is
-/// regular (see the module docs), else `None`.
-pub fn regular_patch(t: &Topology, pos: &[[f64; 3]], f: usize) -> Option<[[[f64; 3]; 4]; 4]> {
-    let cells = regular_patch_cells(t, f)?;
-    Some(cells.map(|col| col.map(|c| c.eval(pos))))
-}
-
-/// The control points of quad `f`, if it is regular, as combinations of vertices of `t`
-/// ([`Cell`]s, `cells[i][j]` as in [`regular_patch`]).
+/// The control points of quad `f`, if it is regular (see the module docs), as
+/// combinations of vertices of `t`: `cells[i][j]`, `i` along `u`, `j` along `v`.
 pub fn regular_patch_cells(t: &Topology, f: usize) -> Option<[[Cell; 4]; 4]> {
     if t.is_hole(f) {
         return None;

@@ -212,7 +212,7 @@ fn face_stencils(
             unit[v as usize][k] = 1.0;
         }
         let cache = RegionCache::default();
-        let level = LevelRef::new(base, unit, &cache);
+        let level = LevelRef::new(base, unit, shared, &cache);
         let (nodes, _) = build_face(level, shared, f, options);
         for (row, &i) in rows.iter_mut().zip(group) {
             let p = points[i];

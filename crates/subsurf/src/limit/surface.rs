@@ -36,13 +36,15 @@
 //! [`LimitSurface::new`] analyses every face (regular faces cost a few walks around their
 //! corners) and finds each irregular face's configuration; the levels of a configuration's
 //! tree are built the first time a point needs them (thread-safely, so batched parallel
-//! evaluation shares them). [`LimitSurface::set_positions`] moves the control points and keeps the trees, so
-//! re-evaluating an animated or optimised mesh costs only the per-face work: each face keeps
-//! how its nodes follow the control points ([`Recipe`]: a patch's net, a tree face's
-//! cut-out vertices) and is updated in place. [`LimitSurface::eval_many`] evaluates the
-//! points of one face together, computing each tree node's points once, and the points of
-//! one patch four at a time on vectors (`bspline::tensor_batch`). Measured against
-//! OpenSubdiv's `Bfr` in `BENCHMARKS.md`.
+//! evaluation shares them). [`LimitSurface::set_positions`] moves the control points and
+//! keeps the trees, so re-evaluating an animated or optimised mesh costs only the per-face
+//! work: each face keeps how its nodes follow the control points ([`Recipe`]: a patch's
+//! net, a tree face's cut-out vertices) and is updated in place; faces in shared regions
+//! keep the regions' shapes (`local::Shape`) and recompute only their points.
+//! [`LimitSurface::eval_many`] evaluates the points of one face together, computing each
+//! tree node's (or region's) points once, and the points of one patch four at a time on
+//! vectors (`bspline::tensor_batch`). Measured against OpenSubdiv's `Bfr` in
+//! `BENCHMARKS.md`.
 //!
 //! # Parametrisation
 //! A quad `[v0 v1 v2 v3]` has `(0, 0)` at `v0`, `u` toward `v1`, `v` toward `v3` (as
@@ -62,9 +64,12 @@
 use super::bspline::{self, regular_bases, Batch, Derivatives, One, Order};
 use super::corner::{corner_limit, is_limit_corner};
 use super::crease_patch::{single_crease, CreaseBases, CreaseBasis, CreasePatch};
-use super::local::{cut, one_ring, LevelRef, Local, RegionCache, HIGH_VALENCE};
-use super::patch::{regular_patch, regular_patch_cells, Net};
-use super::tree::{Ctx, Kid, Query, Scratch, Sink, Tree, TreeCache};
+use super::local::{
+    cut, one_ring, own_cut, region_cut, FaceKind, LevelRef, Local, RegionCache, ShapeCache,
+    HIGH_VALENCE,
+};
+use super::patch::{regular_patch_cells, Net};
+use super::tree::{by_quadrant, Ctx, Kid, Leaf, Query, Scratch, Sink, Tree, TreeCache};
 use crate::mesh::{MeshError, Options, PolyMesh, Topology};
 use rayon::prelude::*;
 use std::sync::{Arc, OnceLock};
@@ -226,7 +231,7 @@ impl LimitSurface {
             base: Arc::new(base),
             high_valence,
             shared: Arc::new(Shared {
-                trees: TreeCache::new(crease_patches),
+                trees: Arc::new(TreeCache::new(crease_patches)),
                 ..Shared::default()
             }),
             nodes: Vec::new(),
@@ -281,7 +286,7 @@ impl LimitSurface {
         let cache = RegionCache::default();
         let level = LevelRef {
             high_valence: self.high_valence,
-            ..LevelRef::new(&self.base, pos, &cache)
+            ..LevelRef::new(&self.base, pos, &self.shared, &cache)
         };
         let (shared, options) = (&*self.shared, &self.options);
         if self.nodes.is_empty() {
@@ -293,7 +298,7 @@ impl LimitSurface {
         }
         // Re-posing: patches evaluate their nets again and trees take the new points of
         // their cut-outs, in place; the rest (position-based local refinement) is built
-        // again.
+        // again, on the kept shapes of the shared regions.
         (self.nodes.par_iter_mut().zip(&mut self.recipes))
             .enumerate()
             .for_each(|(f, (nodes, recipe))| {
@@ -480,11 +485,7 @@ impl LimitSurface {
                 }
                 _ => {}
             }
-            let tree = match node {
-                Some(Node::Tree(t)) => Some(t),
-                _ => None,
-            };
-            let Some(t) = tree else {
+            let Some(node) = node.filter(|n| matches!(n, Node::Tree(_) | Node::Lazy(_))) else {
                 for k in i..i + run {
                     self.eval_point_into(points[k], order, &mut out[k]);
                 }
@@ -508,14 +509,7 @@ impl LimitSurface {
                 face: p.face,
             };
             let ctx = self.ctx(order);
-            t.tree.eval(
-                &t.pos,
-                t.sub,
-                &mut bufs.queries,
-                &mut bufs.scratch,
-                ctx,
-                sink,
-            );
+            eval_queries(node, &mut bufs.queries, 0, &mut bufs.scratch, ctx, sink);
             i += run;
         }
     }
@@ -590,10 +584,13 @@ struct Buffers {
 /// What the faces of one surface share.
 #[derive(Debug, Default)]
 pub(super) struct Shared {
-    /// Configuration trees of irregular faces.
-    pub trees: TreeCache,
+    /// Configuration trees of irregular faces (also those inside shared regions, see
+    /// [`super::local::FaceKind::Tree`]).
+    pub trees: Arc<TreeCache>,
     /// Crease bases by sharpness.
     pub bases: CreaseBases,
+    /// Shapes of the base level's shared regions (see [`super::local::Shape`]).
+    pub regions: ShapeCache,
 }
 
 /// The nodes of face `f` of `level` (one per sub-face): a regular patch, a single-crease
@@ -649,7 +646,8 @@ pub(super) enum Recipe {
     Patch(PatchNet),
     /// Through a configuration tree, with the vertices of the face's cut-out.
     Tree(Arc<Tree>, Arc<[u32]>),
-    /// Position-based local refinement: built again.
+    /// Position-based local refinement in a shared region: built again, on the region's
+    /// kept shape.
     Local,
 }
 
@@ -782,12 +780,24 @@ fn tree_nodes(
 
 /// The node of face `f` of a level or refined cut-out.
 fn node_for(level: LevelRef<'_>, f: usize) -> Node {
-    if level.topo.is_hole(f) {
-        return Node::Hole;
-    }
-    match regular_patch(level.topo, level.pos, f) {
-        Some(cp) => Node::Regular(Box::new(cp)),
-        None => Node::lazy(cut(level, f)),
+    let fresh;
+    let kind = match level.kinds.get(f) {
+        Some(kind) => kind.get_or_init(|| Box::new(FaceKind::find(level, f))),
+        None => {
+            fresh = FaceKind::find(level, f);
+            &fresh
+        }
+    };
+    match kind {
+        FaceKind::Hole => Node::Hole,
+        FaceKind::Patch(net) => Node::Regular(Box::new(net.eval(level.pos))),
+        FaceKind::Region(w) => Node::lazy(region_cut(level, f, *w)),
+        FaceKind::Own(faces) => Node::lazy(own_cut(level, faces)),
+        FaceKind::Tree(tree, verts) => Node::Tree(Box::new(TreeFace {
+            tree: tree.clone(),
+            pos: verts.iter().map(|&v| level.pos[v as usize]).collect(),
+            sub: None,
+        })),
     }
 }
 
@@ -796,6 +806,70 @@ fn split(l: &Local, options: &Options) -> Box<[Node; 4]> {
     let child = l.region.refined(options);
     let first = l.child_face(0);
     Box::new([0, 1, 2, 3].map(|j| node_for(child.level(), first + j)))
+}
+
+/// Evaluates `qs` on `node`, `depth` levels below its base face (as [`eval_node`], all
+/// queries together: a tree's descent, or a lazy node's with its patches' points four at
+/// a time), writing each result into `sink`. Reorders `qs`.
+fn eval_queries(
+    node: &Node,
+    qs: &mut [Query],
+    depth: u32,
+    scratch: &mut Scratch,
+    ctx: Ctx<'_>,
+    sink: &mut impl Sink,
+) {
+    let scale = 2f64.powi(depth as i32);
+    match node {
+        Node::Hole => qs.iter().for_each(|q| sink.hole(q.out)),
+        Node::Regular(cp) => {
+            let leaf = &mut Leaf { qs, sink };
+            bspline::tensor_batch(cp, regular_bases, ctx.order, scale, leaf);
+        }
+        Node::Crease(p) => p.eval_batch(ctx.order, scale, &mut Leaf { qs, sink }),
+        Node::Tree(t) => t.tree.eval(&t.pos, t.sub, qs, depth, scratch, ctx, sink),
+        Node::Lazy(lz) => {
+            let mut rest = 0;
+            for i in 0..qs.len() {
+                let q = qs[i];
+                match lazy_corner(lz, q.u, q.v, depth) {
+                    Some(k) => *sink.slot(q.out) = corner_limit(&lz.local, k, ctx.options).finish(),
+                    None => {
+                        qs[rest] = q;
+                        rest += 1;
+                    }
+                }
+            }
+            let qs = &mut qs[..rest];
+            if qs.is_empty() {
+                return;
+            }
+            let kids = lz.kids.get_or_init(|| split(&lz.local, ctx.options));
+            for (kid, qs) in kids.iter().zip(by_quadrant(qs)) {
+                if !qs.is_empty() {
+                    eval_queries(kid, qs, depth + 1, scratch, ctx, sink);
+                }
+            }
+        }
+    }
+}
+
+/// The corner of lazy node `lz` whose limit analysis gives its surface at `(u, v)`, if any.
+///
+/// Limit masks give the limit only once no semi-sharp feature is left at the corner
+/// (sharpness still to decay changes the rules of later levels). A regular corner (one
+/// that only an irregularity elsewhere on the face keeps from being a patch corner) is
+/// reached by refining further, where the patch gives exact parametric derivatives.
+fn lazy_corner(lz: &Lazy, u: f64, v: f64, depth: u32) -> Option<usize> {
+    let corner = match (u, v) {
+        (0.0, 0.0) => Some(0),
+        (1.0, 0.0) => Some(1),
+        (1.0, 1.0) => Some(2),
+        (0.0, 1.0) => Some(3),
+        _ if depth >= MAX_DEPTH => Some(quadrant(u, v).0),
+        _ => None,
+    };
+    corner.filter(|&k| depth >= MAX_DEPTH || is_limit_corner(lz.local.topo(), lz.local.face, k))
 }
 
 /// Quadrant of `(u, v)` and the parameter within it.
@@ -835,14 +909,13 @@ pub(super) fn eval_node(
                 p.eval_batch(ctx.order, scale, &mut One { u, v, out });
                 return true;
             }
-            // Trees are base-level nodes only (never children of a `Lazy` node), so `depth`
-            // is 0 here.
             Node::Tree(t) => {
                 let mut sink = OneSink { out, found: false };
                 t.tree.eval(
                     &t.pos,
                     t.sub,
                     &mut [Query { u, v, out: 0 }],
+                    depth,
                     &mut Scratch::default(),
                     ctx,
                     &mut sink,
@@ -850,21 +923,7 @@ pub(super) fn eval_node(
                 return sink.found;
             }
             Node::Lazy(lz) => {
-                let corner = match (u, v) {
-                    (0.0, 0.0) => Some(0),
-                    (1.0, 0.0) => Some(1),
-                    (1.0, 1.0) => Some(2),
-                    (0.0, 1.0) => Some(3),
-                    _ if depth >= MAX_DEPTH => Some(quadrant(u, v).0),
-                    _ => None,
-                };
-                // Limit masks give the limit only once no semi-sharp feature is left at
-                // the corner (sharpness still to decay changes the rules of later levels).
-                // A regular corner (one that only an irregularity elsewhere on the face keeps
-                // from being a patch corner) is reached by refining further, where the
-                // patch gives exact parametric derivatives.
-                let irregular = |k: usize| is_limit_corner(lz.local.topo(), lz.local.face, k);
-                if let Some(k) = corner.filter(|&k| depth >= MAX_DEPTH || irregular(k)) {
+                if let Some(k) = lazy_corner(lz, u, v, depth) {
                     *out = corner_limit(&lz.local, k, options).finish();
                     return true;
                 }
@@ -1141,6 +1200,77 @@ mod tests {
                 let compared = assert_agree(&shared, &alone, (&params, 1), (1e-12, 1.0), &what);
                 assert!(compared > 500, "{what}: only {compared} points");
             }
+        }
+    }
+
+    /// Re-posing keeps what depends on the topology alone (configuration trees, the shapes
+    /// of shared regions and what their faces are, patch nets) and recomputes the rest:
+    /// after [`LimitSurface::set_positions`] (and evaluations at the old positions, which
+    /// fill the caches), every point equals, bit for bit, that of a surface built afresh
+    /// at the new positions; and points evaluated together ([`LimitSurface::eval_many`])
+    /// equal points evaluated one by one.
+    #[test]
+    fn re_posing_equals_a_fresh_surface() {
+        let params = [0.0, 0.1, 0.25, 1.0 / 3.0, 0.5, 0.9, 1.0];
+        let cases = [
+            (
+                fan(HIGH_VALENCE + 7, false, true),
+                "closed quad fan (shared region)",
+            ),
+            (
+                fan(HIGH_VALENCE / 4 + 3, true, false),
+                "open triangle fan (shared region)",
+            ),
+            (fan(9, false, false), "open quad fan (trees)"),
+            (crate::mesh::test_cube(), "cube (trees)"),
+            (creased_grid(2.5, true), "creased grid (crease patches)"),
+        ];
+        for (mesh, what) in &cases {
+            let o = Options::default();
+            let moved: Vec<[f64; 3]> = (mesh.positions().iter())
+                .map(|p| {
+                    [
+                        p[0] + 0.1 * p[1].sin(),
+                        p[1] * 1.2,
+                        p[2] + 0.05 * p[0] * p[1],
+                    ]
+                })
+                .collect();
+            let mut points = Vec::new();
+            let mut s = LimitSurface::new(mesh, o).expect("surface");
+            for f in 0..s.num_faces() {
+                for sub in 0..s.num_subfaces(f) {
+                    for &u in &params {
+                        for &v in &params {
+                            let (face, subface) = (f as u32, sub as u32);
+                            points.push(SurfacePoint {
+                                face,
+                                subface,
+                                u,
+                                v,
+                            });
+                        }
+                    }
+                }
+            }
+            let before = s.eval_many(&points);
+            s.set_positions(&moved).expect("positions");
+            let mut fresh_mesh = mesh.clone();
+            fresh_mesh.positions_mut().copy_from_slice(&moved);
+            let fresh = LimitSurface::new(&fresh_mesh, o).expect("surface");
+            let (a, b) = (s.eval_many(&points), fresh.eval_many(&points));
+            let mut moved_points = 0;
+            for (k, p) in points.iter().enumerate() {
+                assert_eq!(a[k], b[k], "{what}: re-posed vs fresh at {p:?}");
+                assert_eq!(a[k], s.eval_point(*p), "{what}: together vs alone at {p:?}");
+                if let (Ok(x), Ok(y)) = (&a[k], &before[k]) {
+                    moved_points += usize::from(x.p != y.p);
+                }
+            }
+            assert!(
+                moved_points > points.len() / 2,
+                "{what}: the surface did not move"
+            );
         }
     }
 

@@ -364,19 +364,22 @@ impl Tree {
     }
 
     /// Evaluates `queries` on the face whose cut-out points are `pos` — on sub-face `sub`
-    /// of an `n`-gon, or on the quad itself (`None`) — writing each result into `sink`.
-    /// Reorders `queries`.
+    /// of an `n`-gon, or on the quad itself (`None`, then `depth` levels below the base
+    /// face whose parameters the derivatives are scaled to) — writing each result into
+    /// `sink`. Reorders `queries`.
+    #[allow(clippy::too_many_arguments)]
     pub fn eval(
         &self,
         pos: &[[f64; 3]],
         sub: Option<usize>,
         queries: &mut [Query],
+        depth: u32,
         scratch: &mut Scratch,
         ctx: Ctx<'_>,
         sink: &mut impl Sink,
     ) {
         match sub {
-            None => descend(&self.root, pos, queries, 0, scratch, ctx, sink),
+            None => descend(&self.root, pos, queries, depth, scratch, ctx, sink),
             Some(j) => {
                 let kids = self.root.kids(ctx.options);
                 // The sub-face is its own parameter domain: depth 0, no rescaling.
@@ -395,9 +398,11 @@ pub(super) trait Sink {
 }
 
 /// The queries of one patch, as a [`bspline::Batch`] writing into a [`Sink`].
-struct Leaf<'a, S> {
-    qs: &'a [Query],
-    sink: &'a mut S,
+pub(super) struct Leaf<'a, S> {
+    /// The queries.
+    pub qs: &'a [Query],
+    /// Where their results go.
+    pub sink: &'a mut S,
 }
 
 impl<S: Sink> bspline::Batch for Leaf<'_, S> {
@@ -447,25 +452,29 @@ fn descend(
         return;
     }
     let kids = node.kids(ctx.options);
-    // The queries by quadrant (`quadrant`'s numbering: v < ½ with u < ½ then u ≥ ½, then
-    // v ≥ ½ with u ≥ ½ then u < ½), by three partitions: linear, where a sort was 10 % of
-    // the evaluation of a cube's grid.
+    for (k, qs) in by_quadrant(qs).into_iter().enumerate() {
+        if !qs.is_empty() {
+            kid_eval(kids.get(k), pos, qs, depth + 1, scratch, ctx, sink);
+        }
+    }
+}
+
+/// `qs` split by quadrant ([`quadrant`]'s numbering: v < ½ with u < ½ then u ≥ ½, then
+/// v ≥ ½ with u ≥ ½ then u < ½), each query's parameter mapped to its quadrant's. By three
+/// partitions: linear, where a sort was 10 % of the evaluation of a cube's grid.
+pub(super) fn by_quadrant(qs: &mut [Query]) -> [&mut [Query]; 4] {
     let low_v = partition(qs, |q| q.v < 0.5);
     let (low, high) = qs.split_at_mut(low_v);
     let low_u = partition(low, |q| q.u < 0.5);
     let high_u = partition(high, |q| q.u >= 0.5);
     let (q0, q1) = low.split_at_mut(low_u);
     let (q2, q3) = high.split_at_mut(high_u);
-    for (k, qs) in [q0, q1, q2, q3].into_iter().enumerate() {
-        if qs.is_empty() {
-            continue;
-        }
-        for q in qs.iter_mut() {
-            let (_, s, t) = quadrant(q.u, q.v);
-            (q.u, q.v) = (s, t);
-        }
-        kid_eval(kids.get(k), pos, qs, depth + 1, scratch, ctx, sink);
+    let mut quadrants = [q0, q1, q2, q3];
+    for q in quadrants.iter_mut().flat_map(|qs| qs.iter_mut()) {
+        let (_, s, t) = quadrant(q.u, q.v);
+        (q.u, q.v) = (s, t);
     }
+    quadrants
 }
 
 /// Moves the elements of `s` for which `first` holds before the others (in no particular
@@ -595,7 +604,7 @@ impl TNode {
                     pos[c0 + c][c] = 1.0;
                 }
                 let local = Local {
-                    region: Arc::new(Region::whole(self.topo.clone(), pos, false, usize::MAX)),
+                    region: Arc::new(Region::whole(self.topo.clone(), pos, usize::MAX)),
                     face: self.face,
                 };
                 limit = corner_limit(&local, k, options);
