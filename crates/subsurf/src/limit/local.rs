@@ -58,10 +58,10 @@ use std::sync::{Arc, Mutex, OnceLock};
 /// they usually do (the cut-outs are compared up to where the vertex's cycle of faces
 /// starts: a symmetric pole of any valence is one or two configurations), around a
 /// boundary or non-manifold vertex they do not (its faces are ordered from the boundary),
-/// hence the lower bound there. Measured on OpenSubdiv's pole shapes and a teapot
-/// (`BENCHMARKS.md`): a re-posed evaluation through trees takes 5–10× less time than
-/// through regions, as a region's refinement depends on the positions and is built again,
-/// where a tree keeps it as weights.
+/// hence the lower bound there. Measured on OpenSubdiv's pole shapes (`BENCHMARKS.md`): a
+/// re-posed evaluation through trees takes half the time of one through regions at
+/// valence 64, as a region keeps its topology across positions but interpolates its
+/// points level by level again, where a tree keeps its refinement as weights.
 pub const HIGH_VALENCE: usize = 128;
 
 /// Whether vertex `v` of `t` has too many faces for per-face cut-outs (see
