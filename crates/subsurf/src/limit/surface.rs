@@ -69,7 +69,9 @@ use super::local::{
     HIGH_VALENCE,
 };
 use super::patch::{regular_patch_cells, Net};
-use super::tree::{by_quadrant, Ctx, Kid, Leaf, Query, Scratch, Sink, Tree, TreeCache};
+use super::tree::{
+    by_quadrant, corner_query, take_corners, Ctx, Kid, Leaf, Query, Scratch, Sink, Tree, TreeCache,
+};
 use crate::mesh::{MeshError, Options, PolyMesh, Topology};
 use rayon::prelude::*;
 use std::sync::{Arc, OnceLock};
@@ -829,17 +831,10 @@ fn eval_queries(
         Node::Crease(p) => p.eval_batch(ctx.order, scale, &mut Leaf { qs, sink }),
         Node::Tree(t) => t.tree.eval(&t.pos, t.sub, qs, depth, scratch, ctx, sink),
         Node::Lazy(lz) => {
-            let mut rest = 0;
-            for i in 0..qs.len() {
-                let q = qs[i];
-                match lazy_corner(lz, q.u, q.v, depth) {
-                    Some(k) => *sink.slot(q.out) = corner_limit(&lz.local, k, ctx.options).finish(),
-                    None => {
-                        qs[rest] = q;
-                        rest += 1;
-                    }
-                }
-            }
+            let stop = |k| is_limit_corner(lz.local.topo(), lz.local.face, k);
+            let rest = take_corners(qs, depth, stop, |k, out| {
+                *sink.slot(out) = corner_limit(&lz.local, k, ctx.options).finish();
+            });
             let qs = &mut qs[..rest];
             if qs.is_empty() {
                 return;
@@ -861,15 +856,9 @@ fn eval_queries(
 /// that only an irregularity elsewhere on the face keeps from being a patch corner) is
 /// reached by refining further, where the patch gives exact parametric derivatives.
 fn lazy_corner(lz: &Lazy, u: f64, v: f64, depth: u32) -> Option<usize> {
-    let corner = match (u, v) {
-        (0.0, 0.0) => Some(0),
-        (1.0, 0.0) => Some(1),
-        (1.0, 1.0) => Some(2),
-        (0.0, 1.0) => Some(3),
-        _ if depth >= MAX_DEPTH => Some(quadrant(u, v).0),
-        _ => None,
-    };
-    corner.filter(|&k| depth >= MAX_DEPTH || is_limit_corner(lz.local.topo(), lz.local.face, k))
+    corner_query(u, v, depth, |k| {
+        is_limit_corner(lz.local.topo(), lz.local.face, k)
+    })
 }
 
 /// Quadrant of `(u, v)` and the parameter within it.

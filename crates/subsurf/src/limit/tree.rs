@@ -428,25 +428,14 @@ fn descend(
     sink: &mut impl Sink,
 ) {
     // Points at a corner where the limit is known: the corner analysis.
-    let mut rest = 0;
-    for i in 0..qs.len() {
-        let q = qs[i];
-        let corner = match (q.u, q.v) {
-            (0.0, 0.0) => Some(0),
-            (1.0, 0.0) => Some(1),
-            (1.0, 1.0) => Some(2),
-            (0.0, 1.0) => Some(3),
-            _ if depth >= MAX_DEPTH => Some(quadrant(q.u, q.v).0),
-            _ => None,
-        };
-        match corner.filter(|&k| depth >= MAX_DEPTH || node.stop[k]) {
-            Some(k) => *sink.slot(q.out) = node.corner(k, ctx.options).eval(pos),
-            None => {
-                qs[rest] = q;
-                rest += 1;
-            }
-        }
-    }
+    let rest = take_corners(
+        qs,
+        depth,
+        |k| node.stop[k],
+        |k, out| {
+            *sink.slot(out) = node.corner(k, ctx.options).eval(pos);
+        },
+    );
     let qs = &mut qs[..rest];
     if qs.is_empty() {
         return;
@@ -457,6 +446,48 @@ fn descend(
             kid_eval(kids.get(k), pos, qs, depth + 1, scratch, ctx, sink);
         }
     }
+}
+
+/// The corner of a node, `depth` levels below its base face, whose limit analysis gives its
+/// surface at `(u, v)`, if any: `(u, v)` is that corner and `stop` says the limit is known
+/// there, or `MAX_DEPTH` is reached (then the corner of `(u, v)`'s quadrant).
+pub(super) fn corner_query(
+    u: f64,
+    v: f64,
+    depth: u32,
+    stop: impl Fn(usize) -> bool,
+) -> Option<usize> {
+    let corner = match (u, v) {
+        (0.0, 0.0) => Some(0),
+        (1.0, 0.0) => Some(1),
+        (1.0, 1.0) => Some(2),
+        (0.0, 1.0) => Some(3),
+        _ if depth >= MAX_DEPTH => Some(quadrant(u, v).0),
+        _ => None,
+    };
+    corner.filter(|&k| depth >= MAX_DEPTH || stop(k))
+}
+
+/// Answers each query of `qs` at a corner ([`corner_query`]) by `at(corner, query.out)` and
+/// moves the others to the front, in order; returns how many those are.
+pub(super) fn take_corners(
+    qs: &mut [Query],
+    depth: u32,
+    stop: impl Fn(usize) -> bool,
+    mut at: impl FnMut(usize, u32),
+) -> usize {
+    let mut rest = 0;
+    for i in 0..qs.len() {
+        let q = qs[i];
+        match corner_query(q.u, q.v, depth, &stop) {
+            Some(k) => at(k, q.out),
+            None => {
+                qs[rest] = q;
+                rest += 1;
+            }
+        }
+    }
+    rest
 }
 
 /// `qs` split by quadrant ([`quadrant`]'s numbering: v < ½ with u < ½ then u ≥ ½, then
