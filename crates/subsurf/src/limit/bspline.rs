@@ -375,13 +375,15 @@ fn tensor_lanes<const SECOND: bool, const FMA: bool>(
     }
 }
 
-/// A batch of one point, written into `out`.
+/// A batch of one point, written into `out` (for tests).
+#[cfg(test)]
 pub(crate) struct One<'a> {
     pub u: f64,
     pub v: f64,
     pub out: &'a mut Derivatives,
 }
 
+#[cfg(test)]
 impl Batch for One<'_> {
     fn len(&self) -> usize {
         1

@@ -36,9 +36,10 @@
 //! of its base level's regions across re-posing (`LimitSurface::set_positions`), so a new
 //! pose only gathers each region's points, interpolates them level by level as far as its
 //! evaluations descend and evaluates the patches' nets: `O(n)` per level, as before, but
-//! without building any topology. (Before, re-posing built the regions again, about half
-//! of the time of a re-posed evaluation around `OpenSubdiv`'s `catmark_pole360`, and found
-//! each face's kind again, a third of the rest.)
+//! without building any topology. (Before, re-posing built the regions again: in a profile
+//! of a re-posed evaluation of OpenSubdiv's `catmark_nonman_quadpole64`, 40 % of the time
+//! went to building subsets and refining topology, 20 % to finding each face's patch
+//! again.)
 
 use super::patch::{regular_patch_cells, Net};
 use super::surface::Shared;
@@ -98,7 +99,7 @@ pub struct Shape {
     verts: Vec<u32>,
     /// The refined shape (shared regions only).
     refined: OnceLock<Arc<Shape>>,
-    /// Shapes of the regions cut from this one, by vertex (see [`cut`]).
+    /// Shapes of the regions cut from this one, by vertex (see [`region_cut`]).
     regions: ShapeCache,
     /// Eigen-analyses of corners, by (vertex, first face of the sector).
     pub(super) eigen: CornerCache<Option<Arc<super::corner::Eigen>>>,
@@ -122,7 +123,7 @@ pub struct Region {
     pub pos: Vec<[f64; 3]>,
     /// The refined region (shared regions only).
     refined: OnceLock<Arc<Region>>,
-    /// Regions cut from this one, by vertex (see [`cut`]).
+    /// Regions cut from this one, by vertex (see [`region_cut`]).
     regions: RegionCache,
     /// Smooth limit position and the cosine and sine tangents of high-valence vertices.
     pub(super) smooth: CornerCache<[[f64; 3]; 3]>,
@@ -355,15 +356,6 @@ impl FaceKind {
             (Ok(faces), _) => FaceKind::Own(faces),
             (Err(w), _) => FaceKind::Region(w),
         }
-    }
-}
-
-/// The cut-out of face `f` of `level`: its own 1-ring, or the shared region of a
-/// high-valence vertex that its 1-ring reaches (see the module docs).
-pub fn cut(level: LevelRef<'_>, f: usize) -> Local {
-    match one_ring(level.topo, f, level.high_valence) {
-        Ok(faces) => own_cut(level, &faces),
-        Err(w) => region_cut(level, f, w),
     }
 }
 

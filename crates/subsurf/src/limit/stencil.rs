@@ -233,7 +233,7 @@ fn face_stencils(
                         order: Order::First,
                     };
                     let mut d = Derivatives::default();
-                    if eval_node(n, p.u, p.v, 0, ctx, &mut d) {
+                    if eval_node(n, p.u, p.v, ctx, &mut d) {
                         Ok(d)
                     } else {
                         Err(err(i, EvalError::Hole { face: p.face }))

@@ -61,16 +61,15 @@
 //! cross product is the exact limit normal) but their lengths are not parametric
 //! derivatives; second derivatives are zero.
 
-use super::bspline::{self, regular_bases, Batch, Derivatives, One, Order};
+use super::bspline::{self, regular_bases, Batch, Derivatives, Order};
 use super::corner::{corner_limit, is_limit_corner};
 use super::crease_patch::{single_crease, CreaseBases, CreaseBasis, CreasePatch};
 use super::local::{
-    cut, one_ring, own_cut, region_cut, FaceKind, LevelRef, Local, RegionCache, ShapeCache,
-    HIGH_VALENCE,
+    one_ring, own_cut, region_cut, FaceKind, LevelRef, Local, RegionCache, ShapeCache, HIGH_VALENCE,
 };
 use super::patch::{regular_patch_cells, Net};
 use super::tree::{
-    by_quadrant, corner_query, take_corners, Ctx, Kid, Leaf, Query, Scratch, Sink, Tree, TreeCache,
+    by_quadrant, take_corners, Ctx, Kid, Leaf, Query, Scratch, Sink, Tree, TreeCache,
 };
 use crate::mesh::{MeshError, Options, PolyMesh, Topology};
 use rayon::prelude::*;
@@ -304,7 +303,9 @@ impl LimitSurface {
         (self.nodes.par_iter_mut().zip(&mut self.recipes))
             .enumerate()
             .for_each(|(f, (nodes, recipe))| {
-                if !recipe.update(nodes, pos, options) {
+                if let Recipe::Region(w) = *recipe {
+                    *nodes = region_nodes(level, f, w, options);
+                } else if !recipe.update(nodes, pos, options) {
                     (*nodes, *recipe) = build_face(level, shared, f, options);
                 }
             });
@@ -377,7 +378,7 @@ impl LimitSurface {
                     *out = Ok(Derivatives::default());
                 }
                 if let Ok(d) = out {
-                    if !eval_node(node, p.u, p.v, 0, self.ctx(order), d) {
+                    if !eval_node(node, p.u, p.v, self.ctx(order), d) {
                         *out = Err(EvalError::Hole { face: p.face });
                     }
                 }
@@ -613,28 +614,35 @@ pub(super) fn build_face(
     if let Some(patch) = PatchNet::new(base, f, shared, options) {
         return (vec![patch.node(level.pos)], Recipe::Patch(patch));
     }
-    if let Ok(faces) = one_ring(base, f, level.high_valence) {
-        let (sub, verts) = base.subset_canonical(&faces);
-        let tree = shared.trees.get(sub);
-        let verts: Arc<[u32]> = verts.into();
-        let nodes = tree_nodes(
-            &tree,
-            &verts,
-            level.pos,
-            if n == 4 { 1 } else { n },
-            options,
-        );
-        return (nodes, Recipe::Tree(tree, verts));
+    match one_ring(base, f, level.high_valence) {
+        Ok(faces) => {
+            let (sub, verts) = base.subset_canonical(&faces);
+            let tree = shared.trees.get(sub);
+            let verts: Arc<[u32]> = verts.into();
+            let nodes = tree_nodes(
+                &tree,
+                &verts,
+                level.pos,
+                if n == 4 { 1 } else { n },
+                options,
+            );
+            (nodes, Recipe::Tree(tree, verts))
+        }
+        Err(w) => (region_nodes(level, f, w, options), Recipe::Region(w)),
     }
+}
+
+/// The nodes of face `f` of `level`, irregular, in the shared region of vertex `w`: the
+/// face itself, or the children of an `n`-gon after one step (unrotated for `n ≠ 4`).
+fn region_nodes(level: LevelRef<'_>, f: usize, w: u32, options: &Options) -> Vec<Node> {
+    let local = region_cut(level, f, w);
+    let n = level.topo.face_vertices(f).len();
     if n == 4 {
-        return (vec![node_for(level, f)], Recipe::Local);
+        return vec![Node::lazy(local)];
     }
-    // Sub-faces: the children of the face after one step, unrotated for n ≠ 4.
-    let local = cut(level, f);
     let child = local.region.refined(options);
     let first = local.child_face(0);
-    let nodes = (0..n).map(|j| node_for(child.level(), first + j)).collect();
-    (nodes, Recipe::Local)
+    (0..n).map(|j| node_for(child.level(), first + j)).collect()
 }
 
 /// How the nodes of a base face follow its control points, so that
@@ -648,9 +656,9 @@ pub(super) enum Recipe {
     Patch(PatchNet),
     /// Through a configuration tree, with the vertices of the face's cut-out.
     Tree(Arc<Tree>, Arc<[u32]>),
-    /// Position-based local refinement in a shared region: built again, on the region's
-    /// kept shape.
-    Local,
+    /// Position-based local refinement in the shared region of this vertex: built again
+    /// (without looking at the face's topology), on the region's kept shape.
+    Region(u32),
 }
 
 impl Recipe {
@@ -810,9 +818,10 @@ fn split(l: &Local, options: &Options) -> Box<[Node; 4]> {
     Box::new([0, 1, 2, 3].map(|j| node_for(child.level(), first + j)))
 }
 
-/// Evaluates `qs` on `node`, `depth` levels below its base face (as [`eval_node`], all
-/// queries together: a tree's descent, or a lazy node's with its patches' points four at
-/// a time), writing each result into `sink`. Reorders `qs`.
+/// Evaluates `qs` on `node`, `depth` levels below its base face (derivatives are scaled
+/// by `2^depth` to the base face's parameters), all queries together: a tree's descent, or
+/// a lazy node's with its patches' points four at a time. Writes each result into `sink`;
+/// reorders `qs`.
 fn eval_queries(
     node: &Node,
     qs: &mut [Query],
@@ -831,6 +840,11 @@ fn eval_queries(
         Node::Crease(p) => p.eval_batch(ctx.order, scale, &mut Leaf { qs, sink }),
         Node::Tree(t) => t.tree.eval(&t.pos, t.sub, qs, depth, scratch, ctx, sink),
         Node::Lazy(lz) => {
+            // Limit masks give the limit only once no semi-sharp feature is left at the
+            // corner (sharpness still to decay changes the rules of later levels). A
+            // regular corner (one that only an irregularity elsewhere on the face keeps from
+            // being a patch corner) is reached by refining further, where the patch gives
+            // exact parametric derivatives.
             let stop = |k| is_limit_corner(lz.local.topo(), lz.local.face, k);
             let rest = take_corners(qs, depth, stop, |k, out| {
                 *sink.slot(out) = corner_limit(&lz.local, k, ctx.options).finish();
@@ -849,18 +863,6 @@ fn eval_queries(
     }
 }
 
-/// The corner of lazy node `lz` whose limit analysis gives its surface at `(u, v)`, if any.
-///
-/// Limit masks give the limit only once no semi-sharp feature is left at the corner
-/// (sharpness still to decay changes the rules of later levels). A regular corner (one
-/// that only an irregularity elsewhere on the face keeps from being a patch corner) is
-/// reached by refining further, where the patch gives exact parametric derivatives.
-fn lazy_corner(lz: &Lazy, u: f64, v: f64, depth: u32) -> Option<usize> {
-    corner_query(u, v, depth, |k| {
-        is_limit_corner(lz.local.topo(), lz.local.face, k)
-    })
-}
-
 /// Quadrant of `(u, v)` and the parameter within it.
 #[inline]
 pub(super) fn quadrant(u: f64, v: f64) -> (usize, f64, f64) {
@@ -872,58 +874,14 @@ pub(super) fn quadrant(u: f64, v: f64) -> (usize, f64, f64) {
     }
 }
 
-/// The derivatives of the surface of `node` at `(u, v)`, `node` being `depth` levels below
-/// its base face (derivatives are scaled by `2^depth` to the base face's parameters),
-/// written into `out`; false (and `out` unspecified) where `node` is a hole.
-pub(super) fn eval_node(
-    node: &Node,
-    u: f64,
-    v: f64,
-    depth: u32,
-    ctx: Ctx<'_>,
-    out: &mut Derivatives,
-) -> bool {
-    let options = ctx.options;
-    let (mut node, mut u, mut v, mut depth) = (node, u, v, depth);
-    loop {
-        match node {
-            Node::Hole => return false,
-            Node::Regular(cp) => {
-                let scale = 2f64.powi(depth as i32);
-                bspline::tensor_batch(cp, regular_bases, ctx.order, scale, &mut One { u, v, out });
-                return true;
-            }
-            Node::Crease(p) => {
-                let scale = 2f64.powi(depth as i32);
-                p.eval_batch(ctx.order, scale, &mut One { u, v, out });
-                return true;
-            }
-            Node::Tree(t) => {
-                let mut sink = OneSink { out, found: false };
-                t.tree.eval(
-                    &t.pos,
-                    t.sub,
-                    &mut [Query { u, v, out: 0 }],
-                    depth,
-                    &mut Scratch::default(),
-                    ctx,
-                    &mut sink,
-                );
-                return sink.found;
-            }
-            Node::Lazy(lz) => {
-                if let Some(k) = lazy_corner(lz, u, v, depth) {
-                    *out = corner_limit(&lz.local, k, options).finish();
-                    return true;
-                }
-                let kids = lz.kids.get_or_init(|| split(&lz.local, options));
-                let (q, s, t) = quadrant(u, v);
-                node = &kids[q];
-                (u, v) = (s, t);
-                depth += 1;
-            }
-        }
-    }
+/// The derivatives of the surface of base node `node` at `(u, v)`, written into `out`;
+/// false (and `out` unspecified) where `node` is a hole. One point through
+/// [`eval_queries`].
+pub(super) fn eval_node(node: &Node, u: f64, v: f64, ctx: Ctx<'_>, out: &mut Derivatives) -> bool {
+    let mut sink = OneSink { out, found: false };
+    let query = &mut [Query { u, v, out: 0 }];
+    eval_queries(node, query, 0, &mut Scratch::default(), ctx, &mut sink);
+    sink.found
 }
 
 #[cfg(test)]

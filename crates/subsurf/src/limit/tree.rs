@@ -451,12 +451,7 @@ fn descend(
 /// The corner of a node, `depth` levels below its base face, whose limit analysis gives its
 /// surface at `(u, v)`, if any: `(u, v)` is that corner and `stop` says the limit is known
 /// there, or `MAX_DEPTH` is reached (then the corner of `(u, v)`'s quadrant).
-pub(super) fn corner_query(
-    u: f64,
-    v: f64,
-    depth: u32,
-    stop: impl Fn(usize) -> bool,
-) -> Option<usize> {
+fn corner_query(u: f64, v: f64, depth: u32, stop: impl Fn(usize) -> bool) -> Option<usize> {
     let corner = match (u, v) {
         (0.0, 0.0) => Some(0),
         (1.0, 0.0) => Some(1),
