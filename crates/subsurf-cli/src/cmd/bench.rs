@@ -35,11 +35,14 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     let reps = args.reps.max(1);
     let mesh = &input.obj.mesh;
     let (what, estimate, hint) = match args.limit_grid {
-        // The surface, the points (32 bytes) and their results (about 150).
+        // The surface, and each thread's block of points and results (`bench_limit`).
         Some(n) => (
             format!("evaluating a {n}×{n} grid per face"),
-            crate::memory::surface(mesh)
-                .saturating_add(crate::memory::grid_samples(mesh, n).saturating_mul(192)),
+            crate::memory::surface(mesh).saturating_add(
+                (u64::from(n) * u64::from(n))
+                    .saturating_mul(POINT_BYTES * FACES_PER_BLOCK as u64)
+                    .saturating_mul(pool.current_num_threads() as u64),
+            ),
             "use a smaller --limit-grid",
         ),
         None if args.replay => (
@@ -128,6 +131,11 @@ fn bench_replay(
 /// [`LimitSurface::eval_many_into`](subsurf::limit::LimitSurface::eval_many_into) with
 /// [`Order::First`](subsurf::limit::Order::First), as `Bfr::Surface::Evaluate`). The first build
 /// plus evaluation (nothing cached) is reported as `cold_s`.
+///
+/// Like `benchlimit`, which evaluates point after point and keeps only a running sum, the
+/// points are streamed: blocks of [`FACES_PER_BLOCK`] faces are listed and evaluated into
+/// buffers each thread keeps, so the job holds no array of all points or results (168 bytes
+/// a point) and its memory is the surface's and one block per thread.
 fn bench_limit(
     input: &Input,
     options: Options,
@@ -135,6 +143,7 @@ fn bench_limit(
     reps: usize,
     pool: &rayon::ThreadPool,
 ) -> Result<()> {
+    use rayon::prelude::*;
     use subsurf::limit::{LimitSurface, Order, SurfacePoint};
     let param = |i: usize| {
         if n == 1 {
@@ -144,57 +153,64 @@ fn bench_limit(
         }
     };
     let mesh = &input.obj.mesh;
-    let grid = |surface: &LimitSurface| -> Vec<SurfacePoint> {
+    // Every quad face with a surface, in `benchlimit`'s order, then the sum of the `x` of
+    // every point evaluated on them (so that nothing is optimised away).
+    let quads = |surface: &LimitSurface| -> Vec<u32> {
         (0..surface.num_faces())
             .filter(|&f| surface.num_subfaces(f) == 1 && surface.has_surface(f))
-            .flat_map(|f| {
-                (0..n * n).map(move |k| SurfacePoint {
-                    face: f as u32,
-                    subface: 0,
-                    u: param(k / n),
-                    v: param(k % n),
-                })
-            })
+            .map(|f| f as u32)
             .collect()
     };
+    let eval_all = |surface: &LimitSurface, faces: &[u32]| -> f64 {
+        faces
+            .par_chunks(FACES_PER_BLOCK)
+            .map_init(
+                || (Vec::new(), Vec::new()),
+                |(points, out), block| {
+                    points.clear();
+                    points.extend(block.iter().flat_map(|&face| {
+                        (0..n * n).map(move |k| SurfacePoint {
+                            face,
+                            subface: 0,
+                            u: param(k / n),
+                            v: param(k % n),
+                        })
+                    }));
+                    // Position and first derivatives, as `Bfr::Surface::Evaluate(uv, P, Du, Dv)`.
+                    surface.eval_many_into(points, Order::First, out);
+                    out.iter()
+                        .filter_map(|r| r.as_ref().ok())
+                        .map(|d| d.p[0])
+                        .sum::<f64>()
+                },
+            )
+            .sum()
+    };
     let t0 = Instant::now();
-    let mut surface = pool
-        .install(|| LimitSurface::new(mesh, options))
-        .with_context(|| input.name.clone())?;
-    let points = grid(&surface);
-    let mut sink: f64 = pool
+    let (mut surface, faces, mut sink) = pool
         .install(|| {
-            let mut out = Vec::new();
-            surface.eval_many_into(&points, Order::First, &mut out);
-            out
+            let surface = LimitSurface::new(mesh, options)?;
+            let faces = quads(&surface);
+            let sink = eval_all(&surface, &faces);
+            Ok::<_, subsurf::mesh::MeshError>((surface, faces, sink))
         })
-        .iter()
-        .filter_map(|r| r.as_ref().ok())
-        .map(|d| d.p[0])
-        .sum();
+        .with_context(|| input.name.clone())?;
     let cold = t0.elapsed().as_secs_f64();
     let mut times = Vec::with_capacity(reps);
-    let mut results = Vec::new();
     for _ in 0..reps {
         let t0 = Instant::now();
-        pool.install(|| {
-            surface.set_positions(mesh.positions())?;
-            // Position and first derivatives, as `Bfr::Surface::Evaluate(uv, P, Du, Dv)`.
-            surface.eval_many_into(&points, Order::First, &mut results);
-            Ok::<_, subsurf::mesh::MeshError>(())
-        })
-        .with_context(|| input.name.clone())?;
+        sink += pool
+            .install(|| {
+                surface.set_positions(mesh.positions())?;
+                Ok::<_, subsurf::mesh::MeshError>(eval_all(&surface, &faces))
+            })
+            .with_context(|| input.name.clone())?;
         times.push(t0.elapsed().as_secs_f64());
-        sink += results
-            .iter()
-            .filter_map(|r| r.as_ref().ok())
-            .map(|d| d.p[0])
-            .sum::<f64>();
     }
     times.sort_by(f64::total_cmp);
     println!(
         "subsurf limit points={} threads={} median_s={:.6} min_s={:.6} cold_s={cold:.6} configurations={} (sink {sink:.3})",
-        points.len(),
+        faces.len() as u64 * (n * n) as u64,
         pool.current_num_threads(),
         times[times.len() / 2],
         times[0],
@@ -202,3 +218,10 @@ fn bench_limit(
     );
     Ok(())
 }
+
+/// Bytes per point of [`bench_limit`]'s blocks: the point (24) and its result (144).
+const POINT_BYTES: u64 = 168;
+
+/// Faces per block of [`bench_limit`]'s streamed evaluation: 16 faces of an 8×8 grid are
+/// 1,024 points (four of `eval_many_into`'s parallel chunks).
+const FACES_PER_BLOCK: usize = 16;
