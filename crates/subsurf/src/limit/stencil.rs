@@ -231,6 +231,7 @@ fn face_stencils(
                     let ctx = Ctx {
                         options,
                         order: Order::First,
+                        pos: unit,
                     };
                     let mut d = Derivatives::default();
                     if eval_node(n, p.u, p.v, ctx, &mut d) {

@@ -132,6 +132,12 @@ pub enum EvalError {
 #[derive(Clone, Debug)]
 pub(super) enum Node {
     Hole,
+    /// A regular quad of the base mesh whose 16 control points are base vertices (every
+    /// patch away from boundaries and creases): their indices, the points gathered from
+    /// the surface's positions ([`Ctx::pos`]) when evaluated. 64 bytes instead of the
+    /// 384 of the points, and nothing to update when the mesh is re-posed.
+    Plain(Box<[u32; 16]>),
+    /// A bicubic patch: its control points `cp[i][j]` (`i` along `u`).
     Regular(Box<[[[f64; 3]; 4]; 4]>),
     /// A quad that is regular but for one straight semi-sharp crease: closed form.
     Crease(Box<CreasePatch>),
@@ -171,6 +177,43 @@ impl Node {
     }
 }
 
+/// The nodes of one base face: one for a quad (kept inline), one per sub-face of an
+/// `n`-gon.
+#[derive(Clone, Debug)]
+pub(super) enum FaceNodes {
+    One(Node),
+    Many(Box<[Node]>),
+}
+
+impl FaceNodes {
+    pub(super) fn as_slice(&self) -> &[Node] {
+        match self {
+            FaceNodes::One(n) => std::slice::from_ref(n),
+            FaceNodes::Many(ns) => ns,
+        }
+    }
+
+    fn as_mut_slice(&mut self) -> &mut [Node] {
+        match self {
+            FaceNodes::One(n) => std::slice::from_mut(n),
+            FaceNodes::Many(ns) => ns,
+        }
+    }
+}
+
+impl From<Vec<Node>> for FaceNodes {
+    fn from(mut nodes: Vec<Node>) -> Self {
+        match (nodes.pop(), nodes.is_empty()) {
+            (Some(n), true) => FaceNodes::One(n),
+            (Some(n), false) => {
+                nodes.push(n);
+                FaceNodes::Many(nodes.into_boxed_slice())
+            }
+            (None, _) => FaceNodes::Many(Box::new([])),
+        }
+    }
+}
+
 /// The exact Catmull-Clark limit surface of a mesh, evaluable anywhere. See the module
 /// docs for the method and parametrisation.
 ///
@@ -196,13 +239,15 @@ pub struct LimitSurface {
     options: Options,
     /// The base level's topology (kept for [`Self::set_positions`]).
     base: Arc<Topology>,
+    /// The control points (read by [`Node::Plain`] patches).
+    pos: Vec<[f64; 3]>,
     /// Valence above which faces share regions (see [`HIGH_VALENCE`]).
     high_valence: usize,
     /// What faces share: configuration trees and crease bases, kept when the positions
     /// change.
     shared: Arc<Shared>,
     /// Per base face, its nodes (one per sub-face; one for quads).
-    nodes: Vec<Vec<Node>>,
+    nodes: Vec<FaceNodes>,
     /// Per base face, how its nodes follow the control points.
     recipes: Vec<Recipe>,
 }
@@ -230,6 +275,7 @@ impl LimitSurface {
         let mut surface = LimitSurface {
             options,
             base: Arc::new(base),
+            pos: mesh.positions().to_vec(),
             high_valence,
             shared: Arc::new(Shared {
                 trees: Arc::new(TreeCache::new(crease_patches)),
@@ -238,7 +284,7 @@ impl LimitSurface {
             nodes: Vec::new(),
             recipes: Vec::new(),
         };
-        surface.place(mesh.positions());
+        surface.place();
         Ok(surface)
     }
 
@@ -278,12 +324,14 @@ impl LimitSurface {
             });
         }
         crate::mesh::check_coordinates(positions)?;
-        self.place(positions);
+        self.pos.copy_from_slice(positions);
+        self.place();
         Ok(())
     }
 
-    /// (Re)builds the per-face nodes for control points `pos`.
-    fn place(&mut self, pos: &[[f64; 3]]) {
+    /// (Re)builds the per-face nodes for the control points `self.pos`.
+    fn place(&mut self) {
+        let pos = &self.pos[..];
         let cache = RegionCache::default();
         let level = LevelRef {
             high_valence: self.high_valence,
@@ -293,20 +341,25 @@ impl LimitSurface {
         if self.nodes.is_empty() {
             (self.nodes, self.recipes) = (0..self.base.num_faces())
                 .into_par_iter()
-                .map(|f| build_face(level, shared, f, options))
+                .map(|f| {
+                    let (nodes, recipe) = build_face(level, shared, f, options);
+                    (FaceNodes::from(nodes), recipe)
+                })
                 .unzip();
             return;
         }
-        // Re-posing: patches evaluate their nets again and trees take the new points of
-        // their cut-outs, in place; the rest (position-based local refinement) is built
-        // again, on the kept shapes of the shared regions.
+        // Re-posing: plain patches read the new positions as they are; other patches
+        // evaluate their nets again and trees take the new points of their cut-outs, in
+        // place; the rest (position-based local refinement) is built again, on the kept
+        // shapes of the shared regions.
         (self.nodes.par_iter_mut().zip(&mut self.recipes))
             .enumerate()
             .for_each(|(f, (nodes, recipe))| {
                 if let Recipe::Region(w) = *recipe {
-                    *nodes = region_nodes(level, f, w, options);
-                } else if !recipe.update(nodes, pos, options) {
-                    (*nodes, *recipe) = build_face(level, shared, f, options);
+                    *nodes = region_nodes(level, f, w, options).into();
+                } else if !recipe.update(nodes.as_mut_slice(), pos, options) {
+                    let (fresh, r) = build_face(level, shared, f, options);
+                    (*nodes, *recipe) = (fresh.into(), r);
                 }
             });
     }
@@ -325,14 +378,14 @@ impl LimitSurface {
 
     /// Number of sub-faces of face `f` (1 for a quad, `n` for an `n`-gon).
     pub fn num_subfaces(&self, f: usize) -> usize {
-        self.nodes.get(f).map_or(0, Vec::len)
+        self.nodes.get(f).map_or(0, |n| n.as_slice().len())
     }
 
     /// Whether face `f` has a surface (it is not a hole).
     pub fn has_surface(&self, f: usize) -> bool {
         self.nodes
             .get(f)
-            .is_some_and(|n| !matches!(n.first(), Some(Node::Hole) | None))
+            .is_some_and(|n| !matches!(n.as_slice().first(), Some(Node::Hole) | None))
     }
 
     /// Position and first and second derivatives at `(u, v)` of quad `face` (sub-face 0
@@ -390,6 +443,7 @@ impl LimitSurface {
         Ctx {
             options: &self.options,
             order,
+            pos: &self.pos,
         }
     }
 
@@ -401,7 +455,8 @@ impl LimitSurface {
             .ok_or(EvalError::NoSuchFace {
                 face: p.face,
                 count: self.nodes.len(),
-            })?;
+            })?
+            .as_slice();
         let node = nodes
             .get(p.subface as usize)
             .ok_or(EvalError::NoSuchSubface {
@@ -468,6 +523,16 @@ impl LimitSurface {
             let run_points = &points[i..i + run];
             let all_in = || run_points.iter().all(in_domain);
             match node {
+                Some(Node::Plain(verts)) if all_in() => {
+                    let batch = &mut RunBatch {
+                        points: run_points,
+                        out: &mut out[i..i + run],
+                    };
+                    let cp = &gather(verts, &self.pos);
+                    bspline::tensor_batch(cp, regular_bases, order, 1.0, batch);
+                    i += run;
+                    continue;
+                }
                 Some(Node::Regular(cp)) if all_in() => {
                     let batch = &mut RunBatch {
                         points: run_points,
@@ -612,7 +677,10 @@ pub(super) fn build_face(
         return (vec![Node::Hole; if n == 4 { 1 } else { n }], Recipe::Fixed);
     }
     if let Some(patch) = PatchNet::new(base, f, shared, options) {
-        return (vec![patch.node(level.pos)], Recipe::Patch(patch));
+        if let (Net::Plain(verts), None) = (&patch.net, &patch.crease) {
+            return (vec![Node::Plain(Box::new(*verts))], Recipe::Fixed);
+        }
+        return (vec![patch.node(level.pos)], Recipe::Patch(Box::new(patch)));
     }
     match one_ring(base, f, level.high_valence) {
         Ok(faces) => {
@@ -650,10 +718,12 @@ fn region_nodes(level: LevelRef<'_>, f: usize, w: u32, options: &Options) -> Vec
 /// and allocating only a tree face's new cut-out points).
 #[derive(Clone, Debug)]
 pub(super) enum Recipe {
-    /// Nothing depends on the positions (a hole).
+    /// Nothing to update: a hole, or a [`Node::Plain`] patch (which reads the positions
+    /// when evaluated).
     Fixed,
-    /// One patch.
-    Patch(PatchNet),
+    /// One patch whose control points are combinations of base vertices (boxed: the
+    /// recipe of every face is as large as its largest kind).
+    Patch(Box<PatchNet>),
     /// Through a configuration tree, with the vertices of the face's cut-out.
     Tree(Arc<Tree>, Arc<[u32]>),
     /// Position-based local refinement in the shared region of this vertex: built again
@@ -686,7 +756,7 @@ impl Recipe {
                             None => return false,
                         },
                         Node::Hole => {}
-                        Node::Lazy(_) => return false,
+                        Node::Plain(_) | Node::Lazy(_) => return false,
                     }
                 }
                 true
@@ -833,6 +903,11 @@ fn eval_queries(
     let scale = 2f64.powi(depth as i32);
     match node {
         Node::Hole => qs.iter().for_each(|q| sink.hole(q.out)),
+        Node::Plain(verts) => {
+            let leaf = &mut Leaf { qs, sink };
+            let cp = &gather(verts, ctx.pos);
+            bspline::tensor_batch(cp, regular_bases, ctx.order, scale, leaf);
+        }
         Node::Regular(cp) => {
             let leaf = &mut Leaf { qs, sink };
             bspline::tensor_batch(cp, regular_bases, ctx.order, scale, leaf);
@@ -861,6 +936,12 @@ fn eval_queries(
             }
         }
     }
+}
+
+/// The control points `cp[i][j] = pos[verts[4 i + j]]` of a [`Node::Plain`] patch.
+#[inline]
+fn gather(verts: &[u32; 16], pos: &[[f64; 3]]) -> [[[f64; 3]; 4]; 4] {
+    std::array::from_fn(|i| std::array::from_fn(|j| pos[verts[4 * i + j] as usize]))
 }
 
 /// Quadrant of `(u, v)` and the parameter within it.
@@ -987,7 +1068,7 @@ mod tests {
                 let slow = LimitSurface::with_high_valence(&mesh, o, HIGH_VALENCE, false)
                     .expect("surface");
                 let creased = (0..fast.num_faces())
-                    .filter(|&f| matches!(fast.nodes[f][0], Node::Crease(_)))
+                    .filter(|&f| matches!(fast.nodes[f].as_slice()[0], Node::Crease(_)))
                     .count();
                 assert!(creased >= 4, "s = {s}: only {creased} single-crease faces");
                 for f in 0..fast.num_faces() {

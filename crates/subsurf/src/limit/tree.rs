@@ -73,6 +73,15 @@ impl Rows {
         rows
     }
 
+    /// The rows without the spare capacity of their growth (a tree keeps them; they were
+    /// a quarter of a surface's memory on meshes of many configurations).
+    fn shrunk(mut self) -> Self {
+        self.offsets.shrink_to_fit();
+        self.cols.shrink_to_fit();
+        self.weights.shrink_to_fit();
+        self
+    }
+
     /// Adds `w ×` row `r` to `acc`.
     fn add_row_to(&self, r: usize, w: f64, acc: &mut Accumulator) {
         let (a, b) = (self.offsets[r] as usize, self.offsets[r + 1] as usize);
@@ -337,6 +346,9 @@ pub(super) struct Ctx<'a> {
     pub options: &'a Options,
     /// Derivatives to compute.
     pub order: Order,
+    /// The base mesh's control points, which [`Node::Plain`](super::surface::Node) patches
+    /// (base faces only) gather theirs from.
+    pub pos: &'a [[f64; 3]],
 }
 
 /// One point to evaluate: its parameter in the current node, and where its result goes.
@@ -594,7 +606,7 @@ impl TNode {
                         }
                         acc.push_into(&mut rows);
                     }
-                    rows
+                    rows.shrunk()
                 };
                 if let Some(cells) = regular_patch_cells(&child, f) {
                     return Kid::Regular(patch_rows(&cells));
@@ -611,7 +623,7 @@ impl TNode {
                     refinement.add_row_to(v as usize, 1.0, &mut acc);
                     acc.push_into(&mut rows);
                 }
-                Kid::Irregular(rows, Box::new(TNode::new(sub, 0, self.crease)))
+                Kid::Irregular(rows.shrunk(), Box::new(TNode::new(sub, 0, self.crease)))
             })
             .collect()
     }
