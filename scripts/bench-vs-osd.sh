@@ -251,9 +251,10 @@ if [ -n "$LIMIT_GRID" ]; then
   printf '\nLimit evaluation: a %sx%s grid (position, first derivatives) on every quad face,\n' "$LIMIT_GRID" "$LIMIT_GRID"
   printf '`osd-oracle benchlimit` (Bfr, its factory and cache kept across repetitions) against\n'
   printf '`subsurf bench --limit-grid` (LimitSurface kept; each repetition re-poses and evaluates),\n'
-  printf 'interleaved as above; cold = the first build plus evaluation of subsurf (one process).\n\n'
-  printf '| mesh | points | OSD median s | subsurf 1T median s | 1T/OSD | subsurf 2T median s | 2T/OSD | subsurf cold 1T s | configurations |\n'
-  printf '|---|---:|---:|---:|---:|---:|---:|---:|---:|\n'
+  printf 'interleaved as above; cold = the first build plus evaluation of subsurf (one process);\n'
+  printf 'peak memory of one run of each with one repetition (subsurf on one thread).\n\n'
+  printf '| mesh | points | OSD median s | subsurf 1T median s | 1T/OSD | subsurf 2T median s | 2T/OSD | subsurf cold 1T s | configurations | OSD peak MiB | subsurf peak MiB |\n'
+  printf '|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n'
   # And the large input: mostly regular faces, the bulk of a refined or modelled mesh.
   for run in "${small_runs[@]}" "$large|catmark_bishop_l2 (large)"; do
     IFS='|' read -r path label <<<"$run"
@@ -277,13 +278,15 @@ if [ -n "$LIMIT_GRID" ]; then
     fi
     if [ "$points" = 0 ]; then
       # No quad faces (an all-triangle mesh, say): both tools time an empty evaluation.
-      printf '| %s | 0 (no quads) | — | — | — | — | — | — | — |\n' "$label"
+      printf '| %s | 0 (no quads) | — | — | — | — | — | — | — | — | — |\n' "$label"
       continue
     fi
     osd_s="$(median "${osd_t[@]}")"; t1_s="$(median "${t1_t[@]}")"; t2_s="$(median "${t2_t[@]}")"
-    printf '| %s | %s | %s | %s | %s | %s | %s | %s | %s |\n' "$label" "$points" "$osd_s" \
+    osd_rss="$(maxrss_mib "$oracle" benchlimit "$path" "$LIMIT_GRID" 1)"
+    sub_rss="$(maxrss_mib "$subsurf" bench "$path" --limit-grid "$LIMIT_GRID" --reps 1 --threads 1)"
+    printf '| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |\n' "$label" "$points" "$osd_s" \
       "$t1_s" "$(ratio "$t1_s" "$osd_s")" "$t2_s" "$(ratio "$t2_s" "$osd_s")" \
-      "$(median "${cold_t[@]}")" "$(field configurations "$t1_line")"
+      "$(median "${cold_t[@]}")" "$(field configurations "$t1_line")" "$osd_rss" "$sub_rss"
   done
 fi
 exit "$status"

@@ -43,8 +43,9 @@
 //! 60 k patches (140 MiB and 31.8 M weights with sparse rows only). A patch with phantom
 //! points (at a boundary or crease) stores its 16 cells instead, 896 bytes; a ring
 //! patch 4 bytes per point of its ring (`2n + 8` for a quad with one corner of valence
-//! `n`) and 4 bytes per vertex on it (81 on a quad at depth 3, 61 on a triangle, padded
-//! to whole groups of eight); its ring's matrix is stored once.
+//! `n`) and 4 bytes per vertex on it (81 on a quad at depth 3, padded to whole groups of
+//! eight; 61 on a triangle, padded to 72: fours by the faces that can own them, see
+//! `refine/plan_ring.rs`); its ring's matrix is stored once.
 //!
 //! # Accuracy
 //! The plan computes the same linear map as [`interpolate`](super::interpolate), but sums
