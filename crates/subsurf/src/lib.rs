@@ -46,7 +46,11 @@
 //!
 //! Measured (`BENCHMARKS.md`): `catmark_bishop` refined twice, then three more levels on
 //! one thread, 957 827 output vertices: 17 000 → 260 page faults in a fresh process,
-//! 0.11–0.15 s → 0.046 s; the median of repeated calls 0.08 s → 0.04 s.
+//! 0.11–0.15 s → 0.046 s; the median of repeated calls 0.08 s → 0.04 s. Huge pages pay
+//! only for such large buffers: a program that mostly evaluates a
+//! [`LimitSurface`](limit::LimitSurface) (many small blocks) peaks lower without them,
+//! and the binary turns them off for every job but refinement (bishop's limit evaluation:
+//! 29 → 18 MiB at the same speed).
 #![warn(missing_docs)]
 // Geometry kernels walk several parallel arrays with one index; iterator chains would hide that.
 #![allow(clippy::needless_range_loop)]

@@ -125,8 +125,8 @@ const PAR_MIN_ROWS: usize = 16 * 1024;
 /// `catmark_pawn` 16–20× at levels 5 and 6. All-triangle meshes (`catmark_bishop` with
 /// each quad split in two, where one level makes every vertex and face centre
 /// extraordinary; the same split of its level 2, 30 k triangles): 8–10× at level 5 and
-/// 14–17× at level 6 on one thread, 6× at level 2 and 8.5× at level 3 (12× at level 3 on
-/// a 124 k-triangle model). Building the plan for bishop at level 6 took 0.4–1.6 s (one
+/// 14–17× at level 6 on one thread, 6.3× at level 2 and 10–13× at level 3 (12× at level 3
+/// on a 124 k-triangle model). Building the plan for bishop at level 6 took 0.4–1.6 s (one
 /// thread). With sparse rows only (before patches) the bishop apply took 0.05–0.06 s.
 ///
 /// The plan covers positions of every vertex of the last level, in
