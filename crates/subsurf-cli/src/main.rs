@@ -532,7 +532,7 @@ fn parse_bytes(s: &str) -> Result<u64, String> {
 impl Command {
     /// Whether the job writes large fresh buffers (refinement: `subdivide`, and `bench`
     /// unless it times limit evaluation), for which huge pages are kept
-    /// ([`memory::without_huge_pages`]).
+    /// ([`memory::huge_pages`]).
     fn writes_large_buffers(&self) -> bool {
         match self {
             Command::Subdivide(_) => true,
@@ -545,8 +545,8 @@ impl Command {
 fn main() -> ExitCode {
     // Usage errors exit with 2 here; --help and --version with 0.
     let cli = Cli::parse();
-    if !cli.command.writes_large_buffers() {
-        memory::without_huge_pages();
+    if cli.command.writes_large_buffers() {
+        memory::huge_pages(true);
     }
     let result = match &cli.command {
         Command::Subdivide(args) => cmd::subdivide::run(args),

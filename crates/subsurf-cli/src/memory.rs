@@ -9,24 +9,43 @@ pub fn available() -> Option<u64> {
     kib.checked_mul(1024)
 }
 
-/// Stops the kernel from backing this process's memory with transparent huge pages from
-/// now on (Linux's `prctl(PR_SET_THP_DISABLE)`; nothing elsewhere).
+/// Lets the kernel back this process's memory with transparent huge pages from now on, or
+/// stops it (Linux's `prctl(PR_SET_THP_DISABLE)`; nothing elsewhere).
 ///
-/// The allocator (mimalloc) asks for huge pages on its arenas, and `main` keeps them for the
-/// jobs that write hundreds of MB of fresh buffers (refinement), where one fault per 2 MiB
-/// instead of per 4 KiB is worth a third of the time. The other jobs allocate many small
-/// blocks (a limit surface's nodes and configuration trees) spread over the arena, so
+/// The allocator (mimalloc) asks for huge pages on its arenas. They pay for the jobs that
+/// write hundreds of MB of fresh buffers (refinement): one fault per 2 MiB instead of per
+/// 4 KiB, 15 % of the time of a 4 M-vertex refinement. The other jobs allocate many small
+/// blocks (a limit surface's nodes and configuration trees) spread over the arena, and
 /// each 2 MiB page touched is resident whole: `bench --limit-grid 8` on `catmark_bishop`
-/// peaked at 29 MiB with huge pages and 14 MiB without, at the same speed.
-pub fn without_huge_pages() {
+/// peaked at 29 MiB with huge pages and 14 MiB without, at the same speed. A page faulted
+/// in huge stays huge, so they are off from before the first allocation
+/// ([`HUGE_PAGES_OFF_AT_START`]) and `main` turns them back on for refinement.
+pub fn huge_pages(on: bool) {
     #[cfg(target_os = "linux")]
     // SAFETY: `PR_SET_THP_DISABLE` takes integer arguments only and changes a flag of the
-    // process, no memory; a failure (an old kernel) leaves huge pages on, which is harmless.
+    // process, no memory; a failure (an old kernel) leaves the setting as it was, which
+    // costs only speed or memory.
     unsafe {
-        libc::prctl(libc::PR_SET_THP_DISABLE, 1, 0, 0, 0);
-        libmimalloc_sys::mi_collect(true);
+        libc::prctl(libc::PR_SET_THP_DISABLE, libc::c_ulong::from(!on), 0, 0, 0);
     }
+    #[cfg(not(target_os = "linux"))]
+    let _ = on;
 }
+
+/// Turns huge pages off ([`huge_pages`]) before the allocator's first page is touched: a
+/// constructor of priority 100, which runs before mimalloc's (priority 101, which
+/// reserves its first arena) and before anything the Rust runtime allocates (as the
+/// standard library registers its own early initialisation, at priority 99). Without it a
+/// huge page faulted in before `main` stayed resident: 3–4 MiB of every job's peak.
+#[cfg(target_os = "linux")]
+#[used]
+#[link_section = ".init_array.00100"]
+pub static HUGE_PAGES_OFF_AT_START: extern "C" fn() = {
+    extern "C" fn off() {
+        huge_pages(false);
+    }
+    off
+};
 
 /// Refuses a job estimated to need `estimate` bytes when that exceeds `max` (the
 /// `--max-memory` cap) or, without a cap, the memory the system reports as available:

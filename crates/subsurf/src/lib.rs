@@ -50,7 +50,7 @@
 //! only for such large buffers: a program that mostly evaluates a
 //! [`LimitSurface`](limit::LimitSurface) (many small blocks) peaks lower without them,
 //! and the binary turns them off for every job but refinement (bishop's limit evaluation:
-//! 29 → 18 MiB at the same speed).
+//! 29 → 14 MiB at the same speed).
 #![warn(missing_docs)]
 // Geometry kernels walk several parallel arrays with one index; iterator chains would hide that.
 #![allow(clippy::needless_range_loop)]
