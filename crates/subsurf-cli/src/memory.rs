@@ -34,9 +34,10 @@ pub fn huge_pages(on: bool) {
 
 /// Turns huge pages off ([`huge_pages`]) before the allocator's first page is touched: a
 /// constructor of priority 100, which runs before mimalloc's (priority 101, which
-/// reserves its first arena) and before anything the Rust runtime allocates (as the
-/// standard library registers its own early initialisation, at priority 99). Without it a
-/// huge page faulted in before `main` stayed resident: 3–4 MiB of every job's peak.
+/// reserves its first arena) and so before the first allocation (the standard library's
+/// own constructor, priority 99, only stores the program's arguments). Turned off in
+/// `main` instead, a huge page faulted in before it stayed resident: 3–4 MiB of every
+/// job's peak.
 #[cfg(target_os = "linux")]
 #[used]
 #[link_section = ".init_array.00100"]
