@@ -73,6 +73,7 @@ use super::tree::{
 };
 use crate::mesh::{MeshError, Options, PolyMesh, Topology};
 use rayon::prelude::*;
+use std::borrow::Cow;
 use std::sync::{Arc, OnceLock};
 
 /// Deepest local refinement; a sub-face is then `2^-48` of its face.
@@ -174,6 +175,20 @@ impl Node {
             local,
             kids: OnceLock::new(),
         }))
+    }
+
+    /// The control points `cp[i][j]` of a bicubic patch: a [`Node::Regular`]'s, or a
+    /// [`Node::Plain`]'s `pos[verts[4 i + j]]` (`pos` the base mesh's points); `None` for
+    /// any other node.
+    #[inline]
+    fn bicubic(&self, pos: &[[f64; 3]]) -> Option<Cow<'_, [[[f64; 3]; 4]; 4]>> {
+        match self {
+            Node::Plain(verts) => Some(Cow::Owned(std::array::from_fn(|i| {
+                std::array::from_fn(|j| pos[verts[4 * i + j] as usize])
+            }))),
+            Node::Regular(cp) => Some(Cow::Borrowed(cp)),
+            _ => None,
+        }
     }
 }
 
@@ -523,22 +538,14 @@ impl LimitSurface {
             let run_points = &points[i..i + run];
             let all_in = || run_points.iter().all(in_domain);
             match node {
-                Some(Node::Plain(verts)) if all_in() => {
+                Some(n @ (Node::Plain(_) | Node::Regular(_))) if all_in() => {
                     let batch = &mut RunBatch {
                         points: run_points,
                         out: &mut out[i..i + run],
                     };
-                    let cp = &gather(verts, &self.pos);
-                    bspline::tensor_batch(cp, regular_bases, order, 1.0, batch);
-                    i += run;
-                    continue;
-                }
-                Some(Node::Regular(cp)) if all_in() => {
-                    let batch = &mut RunBatch {
-                        points: run_points,
-                        out: &mut out[i..i + run],
-                    };
-                    bspline::tensor_batch(cp, regular_bases, order, 1.0, batch);
+                    if let Some(cp) = n.bicubic(&self.pos) {
+                        bspline::tensor_batch(&cp, regular_bases, order, 1.0, batch);
+                    }
                     i += run;
                     continue;
                 }
@@ -903,14 +910,11 @@ fn eval_queries(
     let scale = 2f64.powi(depth as i32);
     match node {
         Node::Hole => qs.iter().for_each(|q| sink.hole(q.out)),
-        Node::Plain(verts) => {
-            let leaf = &mut Leaf { qs, sink };
-            let cp = &gather(verts, ctx.pos);
-            bspline::tensor_batch(cp, regular_bases, ctx.order, scale, leaf);
-        }
-        Node::Regular(cp) => {
-            let leaf = &mut Leaf { qs, sink };
-            bspline::tensor_batch(cp, regular_bases, ctx.order, scale, leaf);
+        Node::Plain(_) | Node::Regular(_) => {
+            if let Some(cp) = node.bicubic(ctx.pos) {
+                let leaf = &mut Leaf { qs, sink };
+                bspline::tensor_batch(&cp, regular_bases, ctx.order, scale, leaf);
+            }
         }
         Node::Crease(p) => p.eval_batch(ctx.order, scale, &mut Leaf { qs, sink }),
         Node::Tree(t) => t.tree.eval(&t.pos, t.sub, qs, depth, scratch, ctx, sink),
@@ -936,12 +940,6 @@ fn eval_queries(
             }
         }
     }
-}
-
-/// The control points `cp[i][j] = pos[verts[4 i + j]]` of a [`Node::Plain`] patch.
-#[inline]
-fn gather(verts: &[u32; 16], pos: &[[f64; 3]]) -> [[[f64; 3]; 4]; 4] {
-    std::array::from_fn(|i| std::array::from_fn(|j| pos[verts[4 * i + j] as usize]))
 }
 
 /// Quadrant of `(u, v)` and the parameter within it.
