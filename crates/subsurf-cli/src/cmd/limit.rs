@@ -2,7 +2,7 @@
 //! column layout and order of `osd-oracle limit`.
 
 use anyhow::{Context, Result};
-use subsurf::limit::LimitSurface;
+use subsurf::limit::{LimitSurface, Order, SurfacePoint};
 use subsurf::mesh::Options;
 
 use crate::input::Input;
@@ -47,7 +47,9 @@ pub fn run(args: &LimitArgs) -> Result<()> {
             i as f64 / (n - 1) as f64
         }
     };
-    // One face's rows at a time, in parallel over faces, written in face order.
+    // One face's rows at a time, in parallel over faces, written in face order: the face's
+    // points evaluated together (`eval_many_into`, which computes each tree node's points
+    // once and a patch's four points at a time), position and first derivatives only.
     let faces: Vec<usize> = (0..surface.num_faces())
         .filter(|&f| surface.num_subfaces(f) == 1 && surface.has_surface(f))
         .collect();
@@ -55,24 +57,33 @@ pub fn run(args: &LimitArgs) -> Result<()> {
         use rayon::prelude::*;
         faces
             .par_iter()
-            .map(|&f| {
-                let mut s = String::new();
-                for i in 0..n {
-                    for j in 0..n {
-                        let (u, v) = (param(i), param(j));
-                        let d = surface
-                            .eval(f as u32, u, v)
+            .map_init(
+                || (Vec::new(), Vec::new()),
+                |(points, results), &f| {
+                    points.clear();
+                    points.extend((0..n * n).map(|k| SurfacePoint {
+                        face: f as u32,
+                        subface: 0,
+                        u: param(k / n),
+                        v: param(k % n),
+                    }));
+                    surface.eval_many_into(points, Order::First, results);
+                    let mut s = String::new();
+                    for (p, d) in points.iter().zip(results.iter()) {
+                        let d = d
+                            .as_ref()
+                            .map_err(Clone::clone)
                             .with_context(|| format!("{}: face {f}", input.name))?;
                         use std::fmt::Write as _;
-                        let _ = write!(s, "{f} {u} {v}");
+                        let _ = write!(s, "{f} {} {}", p.u, p.v);
                         for x in d.p.iter().chain(&d.du).chain(&d.dv) {
                             let _ = write!(s, " {x}");
                         }
                         s.push('\n');
                     }
-                }
-                Ok(s)
-            })
+                    Ok(s)
+                },
+            )
             .collect()
     };
     out.write(|w| {
