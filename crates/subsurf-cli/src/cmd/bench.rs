@@ -144,14 +144,7 @@ fn bench_limit(
     pool: &rayon::ThreadPool,
 ) -> Result<()> {
     use rayon::prelude::*;
-    use subsurf::limit::{LimitSurface, Order, SurfacePoint};
-    let param = |i: usize| {
-        if n == 1 {
-            0.5
-        } else {
-            i as f64 / (n - 1) as f64
-        }
-    };
+    use subsurf::limit::{LimitSurface, Order};
     let mesh = &input.obj.mesh;
     // Every quad face with a surface, in `benchlimit`'s order, then the sum of the `x` of
     // every point evaluated on them (so that nothing is optimised away).
@@ -168,14 +161,7 @@ fn bench_limit(
                 || (Vec::new(), Vec::new()),
                 |(points, out), block| {
                     points.clear();
-                    points.extend(block.iter().flat_map(|&face| {
-                        (0..n * n).map(move |k| SurfacePoint {
-                            face,
-                            subface: 0,
-                            u: param(k / n),
-                            v: param(k % n),
-                        })
-                    }));
+                    points.extend(block.iter().flat_map(|&face| super::limit::grid(face, n)));
                     // Position and first derivatives, as `Bfr::Surface::Evaluate(uv, P, Du, Dv)`.
                     surface.eval_many_into(points, Order::First, out);
                     out.iter()

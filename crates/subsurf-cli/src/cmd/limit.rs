@@ -12,6 +12,24 @@ use crate::LimitArgs;
 /// Bytes per output row held until the file is written (measured: 214 at 6 million rows).
 const BYTES_PER_ROW: u64 = 256;
 
+/// The `n`×`n` grid on quad `face`, in `osd-oracle limit`'s order: `u = i / (n − 1)` outer,
+/// `v = j / (n − 1)` inner (the centre for `n = 1`).
+pub fn grid(face: u32, n: usize) -> impl Iterator<Item = SurfacePoint> {
+    let param = move |i: usize| {
+        if n == 1 {
+            0.5
+        } else {
+            i as f64 / (n - 1) as f64
+        }
+    };
+    (0..n * n).map(move |k| SurfacePoint {
+        face,
+        subface: 0,
+        u: param(k / n),
+        v: param(k % n),
+    })
+}
+
 /// Runs `subsurf limit`.
 pub fn run(args: &LimitArgs) -> Result<()> {
     let out = Output::new(&args.output);
@@ -40,13 +58,6 @@ pub fn run(args: &LimitArgs) -> Result<()> {
     let surface =
         LimitSurface::new(&input.obj.mesh, options).with_context(|| input.name.clone())?;
     let n = args.grid as usize;
-    let param = |i: usize| {
-        if n == 1 {
-            0.5
-        } else {
-            i as f64 / (n - 1) as f64
-        }
-    };
     // One face's rows at a time, in parallel over faces, written in face order: the face's
     // points evaluated together (`eval_many_into`, which computes each tree node's points
     // once and a patch's four points at a time), position and first derivatives only.
@@ -61,12 +72,7 @@ pub fn run(args: &LimitArgs) -> Result<()> {
                 || (Vec::new(), Vec::new()),
                 |(points, results), &f| {
                     points.clear();
-                    points.extend((0..n * n).map(|k| SurfacePoint {
-                        face: f as u32,
-                        subface: 0,
-                        u: param(k / n),
-                        v: param(k % n),
-                    }));
+                    points.extend(grid(f as u32, n));
                     surface.eval_many_into(points, Order::First, results);
                     let mut s = String::new();
                     for (p, d) in points.iter().zip(results.iter()) {
