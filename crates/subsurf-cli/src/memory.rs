@@ -86,9 +86,10 @@ pub fn size(bytes: u64) -> String {
     }
 }
 
-/// Bytes per face of [`subsurf::limit::LimitSurface`] (measured: 1.4 KiB per face on a
-/// 240 000-quad mesh, 3.6 KiB on a 15 000-quad one, input included; irregular faces keep
-/// a local refinement).
+/// Bytes per face of [`subsurf::limit::LimitSurface`], an upper bound (measured peak above
+/// an empty job: 0.43 KiB per face on a 240 000-quad mesh, 0.8 KiB on a 15 000-quad one,
+/// 1.2 KiB with an 8×8 grid evaluated, input included; meshes dense in irregular faces
+/// keep more configuration trees, and faces at high-valence vertices their regions).
 pub const SURFACE_BYTES_PER_FACE: u64 = 4 << 10;
 
 /// Estimated memory of the exact limit surface of `mesh` (plus the mesh itself).

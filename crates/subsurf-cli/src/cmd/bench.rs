@@ -146,14 +146,8 @@ fn bench_limit(
     use rayon::prelude::*;
     use subsurf::limit::{LimitSurface, Order};
     let mesh = &input.obj.mesh;
-    // Every quad face with a surface, in `benchlimit`'s order, then the sum of the `x` of
-    // every point evaluated on them (so that nothing is optimised away).
-    let quads = |surface: &LimitSurface| -> Vec<u32> {
-        (0..surface.num_faces())
-            .filter(|&f| surface.num_subfaces(f) == 1 && surface.has_surface(f))
-            .map(|f| f as u32)
-            .collect()
-    };
+    // The sum of the `x` of every point evaluated on `faces` (so that nothing is optimised
+    // away).
     let eval_all = |surface: &LimitSurface, faces: &[u32]| -> f64 {
         faces
             .par_chunks(FACES_PER_BLOCK)
@@ -176,7 +170,7 @@ fn bench_limit(
     let (mut surface, faces, mut sink) = pool
         .install(|| {
             let surface = LimitSurface::new(mesh, options)?;
-            let faces = quads(&surface);
+            let faces = super::limit::grid_faces(&surface);
             let sink = eval_all(&surface, &faces);
             Ok::<_, subsurf::mesh::MeshError>((surface, faces, sink))
         })

@@ -12,6 +12,15 @@ use crate::LimitArgs;
 /// Bytes per output row held until the file is written (measured: 214 at 6 million rows).
 const BYTES_PER_ROW: u64 = 256;
 
+/// The faces a grid is sampled on, in order: every quad with a surface (not a hole), as
+/// `osd-oracle limit` and `benchlimit` sample.
+pub fn grid_faces(surface: &LimitSurface) -> Vec<u32> {
+    (0..surface.num_faces())
+        .filter(|&f| surface.num_subfaces(f) == 1 && surface.has_surface(f))
+        .map(|f| f as u32)
+        .collect()
+}
+
 /// The `n`×`n` grid on quad `face`, in `osd-oracle limit`'s order: `u = i / (n − 1)` outer,
 /// `v = j / (n − 1)` inner (the centre for `n = 1`).
 pub fn grid(face: u32, n: usize) -> impl Iterator<Item = SurfacePoint> {
@@ -61,9 +70,7 @@ pub fn run(args: &LimitArgs) -> Result<()> {
     // One face's rows at a time, in parallel over faces, written in face order: the face's
     // points evaluated together (`eval_many_into`, which computes each tree node's points
     // once and a patch's four points at a time), position and first derivatives only.
-    let faces: Vec<usize> = (0..surface.num_faces())
-        .filter(|&f| surface.num_subfaces(f) == 1 && surface.has_surface(f))
-        .collect();
+    let faces = grid_faces(&surface);
     let rows: Vec<Result<String>> = {
         use rayon::prelude::*;
         faces
@@ -72,7 +79,7 @@ pub fn run(args: &LimitArgs) -> Result<()> {
                 || (Vec::new(), Vec::new()),
                 |(points, results), &f| {
                     points.clear();
-                    points.extend(grid(f as u32, n));
+                    points.extend(grid(f, n));
                     surface.eval_many_into(points, Order::First, results);
                     let mut s = String::new();
                     for (p, d) in points.iter().zip(results.iter()) {

@@ -38,8 +38,10 @@
 //! tree are built the first time a point needs them (thread-safely, so batched parallel
 //! evaluation shares them). [`LimitSurface::set_positions`] moves the control points and
 //! keeps the trees, so re-evaluating an animated or optimised mesh costs only the per-face
-//! work: each face keeps how its nodes follow the control points ([`Recipe`]: a patch's
-//! net, a tree face's cut-out vertices) and is updated in place; faces in shared regions
+//! work: a regular face whose control points are vertices reads them from the surface's
+//! positions when evaluated ([`Node::Plain`]), any other face keeps how its nodes follow
+//! the control points ([`Recipe`]: a patch's net with phantom points, a tree face's
+//! cut-out vertices) and is updated in place; faces in shared regions
 //! keep the regions' shapes (`local::Shape`) and recompute only their points.
 //! [`LimitSurface::eval_many`] evaluates the points of one face together, computing each
 //! tree node's (or region's) points once, and the points of one patch four at a time on

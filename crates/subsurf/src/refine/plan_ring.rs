@@ -341,8 +341,8 @@ const LANES: usize = 8;
 pub(super) struct Kernel {
     /// Number of points of the ring.
     points: usize,
-    /// Number of rows: the vertices on the face, and the padding to a multiple of
-    /// [`LANES`].
+    /// Number of rows: the vertices on the face, and the padding (to fours per class of
+    /// owners on a non-quad, see [`by_owner`], and to a multiple of [`LANES`]).
     rows: usize,
     /// For each entry of [`descendants`] (with repetitions), its row.
     row_of: Vec<u16>,
