@@ -124,6 +124,30 @@ pub fn tessellation_vertices(mesh: &subsurf::mesh::PolyMesh, rate: u32) -> u64 {
 mod tests {
     use super::*;
 
+    /// The process's transparent-huge-page flag as the kernel reports it (`THP_enabled` of
+    /// `/proc/self/status`, Linux 5.0 on), if it does.
+    #[cfg(target_os = "linux")]
+    fn thp_enabled() -> Option<bool> {
+        let status = std::fs::read_to_string("/proc/self/status").ok()?;
+        let line = status.lines().find(|l| l.starts_with("THP_enabled:"))?;
+        Some(line.split_whitespace().nth(1)? == "1")
+    }
+
+    /// Huge pages are off from the start of the process (the constructor ran before any
+    /// test), and `huge_pages` turns them on and off again.
+    #[cfg(target_os = "linux")]
+    #[test]
+    fn huge_pages_are_off_from_the_start_and_switchable() {
+        let Some(start) = thp_enabled() else {
+            return; // A kernel that does not report the flag.
+        };
+        assert!(!start, "the constructor did not turn huge pages off");
+        huge_pages(true);
+        assert_eq!(thp_enabled(), Some(true));
+        huge_pages(false);
+        assert_eq!(thp_enabled(), Some(false));
+    }
+
     fn quad_and_triangle() -> subsurf::mesh::PolyMesh {
         let p = vec![
             [0.0, 0.0, 0.0],
