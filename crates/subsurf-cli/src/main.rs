@@ -529,25 +529,9 @@ fn parse_bytes(s: &str) -> Result<u64, String> {
     Ok(bytes as u64)
 }
 
-impl Command {
-    /// Whether the job writes large fresh buffers (refinement: `subdivide`, and `bench`
-    /// unless it times limit evaluation), for which huge pages are kept
-    /// ([`memory::huge_pages`]).
-    fn writes_large_buffers(&self) -> bool {
-        match self {
-            Command::Subdivide(_) => true,
-            Command::Bench(args) => args.limit_grid.is_none(),
-            _ => false,
-        }
-    }
-}
-
 fn main() -> ExitCode {
     // Usage errors exit with 2 here; --help and --version with 0.
     let cli = Cli::parse();
-    if cli.command.writes_large_buffers() {
-        memory::huge_pages(true);
-    }
     let result = match &cli.command {
         Command::Subdivide(args) => cmd::subdivide::run(args),
         Command::Info(args) => cmd::info::run(args),

@@ -57,6 +57,9 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         ),
     };
     crate::memory::check(&input.name, &what, estimate, args.max_memory, hint)?;
+    if args.limit_grid.is_none() {
+        crate::memory::huge_pages_for(estimate);
+    }
     if let Some(n) = args.limit_grid {
         return bench_limit(&input, opts.scheme, n as usize, reps, &pool);
     }
