@@ -106,17 +106,65 @@ pub fn size(bytes: u64) -> String {
     }
 }
 
-/// Bytes per face of [`subsurf::limit::LimitSurface`], an upper bound (measured peak above
-/// an empty job: 0.43 KiB per face on a 240 000-quad mesh, 0.8 KiB on a 15 000-quad one,
-/// 1.2 KiB with an 8×8 grid evaluated, input included; meshes dense in irregular faces
-/// keep more configuration trees, and faces at high-valence vertices their regions).
+/// Bytes per regular face (a quad whose vertices all have four faces) of a
+/// [`subsurf::limit::LimitSurface`], an upper bound (measured peak above an empty job:
+/// 0.43 KiB per face on a 240 000-quad mesh, 0.8 KiB on a 15 000-quad one, 1.2 KiB with an
+/// 8×8 grid evaluated, input included).
 pub const SURFACE_BYTES_PER_FACE: u64 = 4 << 10;
 
-/// Estimated memory of the exact limit surface of `mesh` (plus the mesh itself).
-pub fn surface(mesh: &subsurf::mesh::PolyMesh) -> u64 {
-    (mesh.num_faces() as u64)
-        .saturating_add(mesh.num_vertices() as u64)
-        .saturating_mul(SURFACE_BYTES_PER_FACE)
+/// Bytes per face that is not a quad of a limit surface before evaluation: each such
+/// face's neighbourhood is a configuration tree, shared with the faces whose
+/// neighbourhood is the same, and on an irregular triangulation (a scan, a CAD
+/// tessellation) nearly every face has its own: `rocker-arm` (20 088 triangles, 19 826
+/// configurations) peaked at 25 KiB per face, `cow` (5 804 triangles, 4 060) at 19 KiB.
+/// A bound for that worst case, well above meshes whose faces share configurations
+/// (30 k triangles of a refined quad mesh, 744 configurations: 1.5 KiB per face).
+pub const NON_QUAD_BYTES: u64 = 32 << 10;
+
+/// Bytes per face that is not a quad and per level of its tree that evaluation builds, one
+/// level per halving of the spacing of the samples (`ceil(log2 n)` levels for `n` samples
+/// along a side): `rocker-arm` tessellated at rate 2 peaked at 49 KiB per face, at rate 8
+/// at 171 KiB; `cow` at 36 and 124 KiB.
+pub const NON_QUAD_LEVEL_BYTES: u64 = 48 << 10;
+
+/// Bytes per quad with a vertex that does not have four faces (next to an extraordinary
+/// vertex or a boundary), and per level of its tree evaluated, on top of
+/// [`SURFACE_BYTES_PER_FACE`]: `suzanne` (500 faces, 222 such quads, 32 triangles, 246
+/// configurations) peaked at 10 MiB above an empty job with an 8×8 grid evaluated, 26 MiB
+/// tessellated at rate 8 (the tessellation included); this bound gives 18 and 28 MiB.
+pub const IRREGULAR_QUAD_LEVEL_BYTES: u64 = 20 << 10;
+
+/// Estimated memory of the exact limit surface of `mesh` (plus the mesh itself), with
+/// `samples` points along each side of the quads evaluated (and of the sub-faces of the
+/// other faces, if `all_faces`), `l = ceil(log2 samples)` levels: per vertex and per quad
+/// [`SURFACE_BYTES_PER_FACE`], per quad with a vertex that does not have four faces
+/// `l` × [`IRREGULAR_QUAD_LEVEL_BYTES`] more, per other face [`NON_QUAD_BYTES`] and, if
+/// evaluated, `l` × [`NON_QUAD_LEVEL_BYTES`]. An upper bound on the meshes measured; on
+/// meshes whose irregular faces share their neighbourhoods (refined meshes, most quad
+/// models) 3–20× above the peak.
+pub fn surface(mesh: &subsurf::mesh::PolyMesh, samples: u32, all_faces: bool) -> u64 {
+    let mut faces_at = vec![0u32; mesh.num_vertices()];
+    for f in mesh.faces() {
+        for &v in f {
+            if let Some(n) = faces_at.get_mut(v as usize) {
+                *n = n.saturating_add(1);
+            }
+        }
+    }
+    let levels = u64::from(samples.max(1).next_power_of_two().trailing_zeros());
+    let mut bytes = (mesh.num_vertices() as u64).saturating_mul(SURFACE_BYTES_PER_FACE);
+    for f in mesh.faces() {
+        let face = if f.len() != 4 {
+            let evaluated = if all_faces { levels } else { 0 };
+            NON_QUAD_BYTES.saturating_add(NON_QUAD_LEVEL_BYTES.saturating_mul(evaluated))
+        } else if f.iter().all(|&v| faces_at.get(v as usize) == Some(&4)) {
+            SURFACE_BYTES_PER_FACE
+        } else {
+            SURFACE_BYTES_PER_FACE.saturating_add(IRREGULAR_QUAD_LEVEL_BYTES.saturating_mul(levels))
+        };
+        bytes = bytes.saturating_add(face);
+    }
+    bytes
 }
 
 /// Samples of an `n`×`n` grid on every quad face of `mesh` (what `limit --grid n` and
@@ -199,6 +247,38 @@ mod tests {
         // Rate 3 is rounded up to 4 for the triangle.
         assert_eq!(tessellation_vertices(&m, 3), 16 + 27);
         assert_eq!(tessellation_vertices(&m, u32::MAX), u64::MAX);
+    }
+
+    /// The surface estimate charges each kind of face its bound: regular quads (all four
+    /// vertices with four faces) the least, quads at other vertices more per level
+    /// evaluated, other faces the most, and their levels only when they are evaluated.
+    #[test]
+    fn surface_estimate_charges_irregular_faces_by_level() {
+        let (k, v) = (SURFACE_BYTES_PER_FACE, 5 * SURFACE_BYTES_PER_FACE);
+        // A quad and a triangle: no vertex has four faces.
+        let mesh = quad_and_triangle();
+        assert_eq!(surface(&mesh, 1, false), v + k + NON_QUAD_BYTES);
+        assert_eq!(surface(&mesh, 1, true), v + k + NON_QUAD_BYTES);
+        let quad8 = k + 3 * IRREGULAR_QUAD_LEVEL_BYTES;
+        assert_eq!(surface(&mesh, 8, false), v + quad8 + NON_QUAD_BYTES);
+        assert_eq!(
+            surface(&mesh, 8, true),
+            v + quad8 + NON_QUAD_BYTES + 3 * NON_QUAD_LEVEL_BYTES
+        );
+        // A 3×3 grid of quads: only the middle one is regular.
+        let p: Vec<[f64; 3]> = (0..16)
+            .map(|i| [(i % 4) as f64, (i / 4) as f64, 0.0])
+            .collect();
+        let faces: Vec<[u32; 4]> = (0..9)
+            .map(|q| {
+                let c = (q % 3 + 4 * (q / 3)) as u32;
+                [c, c + 1, c + 5, c + 4]
+            })
+            .collect();
+        let grid = subsurf::mesh::PolyMesh::from_faces(p, &faces).expect("valid mesh");
+        let per_level = 8 * IRREGULAR_QUAD_LEVEL_BYTES;
+        assert_eq!(surface(&grid, 1, false), 25 * k);
+        assert_eq!(surface(&grid, 4, true), 25 * k + 2 * per_level);
     }
 
     #[test]

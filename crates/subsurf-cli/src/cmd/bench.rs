@@ -38,7 +38,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         // The surface, and each thread's block of points and results (`bench_limit`).
         Some(n) => (
             format!("evaluating a {n}×{n} grid per face"),
-            crate::memory::surface(mesh).saturating_add(
+            crate::memory::surface(mesh, n, false).saturating_add(
                 (u64::from(n) * u64::from(n))
                     .saturating_mul(POINT_BYTES * FACES_PER_BLOCK as u64)
                     .saturating_mul(pool.current_num_threads() as u64),

@@ -54,7 +54,7 @@ pub fn run(args: &LimitArgs) -> Result<()> {
         .over(input.obj.options)
         .resolve(Options::default());
     // Memory: the surface, then every row as text until all are written.
-    let estimate = crate::memory::surface(&input.obj.mesh).saturating_add(
+    let estimate = crate::memory::surface(&input.obj.mesh, args.grid, false).saturating_add(
         crate::memory::grid_samples(&input.obj.mesh, args.grid).saturating_mul(BYTES_PER_ROW),
     );
     crate::memory::check(

@@ -95,7 +95,7 @@ const BYTES_PER_PIXEL: u64 = 16;
 fn estimate_memory(mesh: &subsurf::mesh::PolyMesh, options: &Options, opts: &Render) -> u64 {
     let pixels = u64::from(opts.width) * u64::from(opts.height) * BYTES_PER_PIXEL;
     let geometry = match opts.geometry {
-        Geometry::Limit { rate } => crate::memory::surface(mesh).saturating_add(
+        Geometry::Limit { rate } => crate::memory::surface(mesh, rate, true).saturating_add(
             crate::memory::tessellation_vertices(mesh, rate).saturating_mul(BYTES_PER_VERTEX),
         ),
         Geometry::Level(0) => (mesh.face_verts().len() as u64).saturating_mul(BYTES_PER_VERTEX),

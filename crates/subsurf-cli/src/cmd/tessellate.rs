@@ -172,7 +172,7 @@ pub fn run(args: &TessellateArgs) -> Result<()> {
     // Beyond the library's cap on the output, `tessellate` refuses with the exact counts.
     let verts = crate::memory::tessellation_vertices(surface_mesh, rate);
     if verts <= subsurf::limit::MAX_TESSELLATION_VERTICES {
-        let estimate = crate::memory::surface(surface_mesh)
+        let estimate = crate::memory::surface(surface_mesh, rate, true)
             .saturating_add(verts.saturating_mul(BYTES_PER_VERTEX));
         crate::memory::check(
             &input.name,
