@@ -36,7 +36,7 @@ use crate::hash::FxHasher;
 use crate::mesh::{Options, Topology};
 use crate::refine::{refine_topology, refinement_rows};
 use std::collections::HashMap;
-use std::hash::BuildHasherDefault;
+use std::hash::{BuildHasherDefault, Hash, Hasher};
 use std::sync::{Arc, Mutex, OnceLock};
 
 /// Sparse rows of weights on a node's points (CSR).
@@ -296,8 +296,11 @@ pub(super) struct Tree {
     root: TNode,
 }
 
-/// Trees by [`Topology::structure_key`].
-type TreeMap = HashMap<Box<[u32]>, Arc<Tree>, BuildHasherDefault<FxHasher>>;
+/// Trees by a hash of their root's [`Topology::structure_key`], each bucket compared key
+/// by key: the keys are not kept (up to a few KiB each, one per configuration, and on an
+/// irregular triangulation nearly every face has a configuration of its own: 10 % of the
+/// surface), a candidate's is computed again from its root's topology.
+type TreeMap = HashMap<u64, Vec<Arc<Tree>>, BuildHasherDefault<FxHasher>>;
 
 /// Configurations of one surface, by [`Topology::structure_key`].
 #[derive(Debug, Default)]
@@ -322,22 +325,44 @@ impl TreeCache {
     pub fn get(&self, topo: Topology) -> Arc<Tree> {
         let mut key = Vec::new();
         topo.structure_key(&mut key);
-        let mut map = match self.trees.lock() {
+        let hash = {
+            let mut h = FxHasher::default();
+            key.hash(&mut h);
+            h.finish()
+        };
+        let lock = || match self.trees.lock() {
             Ok(m) => m,
             Err(poisoned) => poisoned.into_inner(),
         };
-        map.entry(key.into_boxed_slice())
-            .or_insert_with(|| {
-                Arc::new(Tree {
-                    root: TNode::new(topo, 0, !self.no_crease_patches),
-                })
-            })
-            .clone()
+        // The candidates' keys are computed without the lock (other threads look up
+        // meanwhile); a tree added since is looked for again under it.
+        let seen = lock().get(&hash).cloned().unwrap_or_default();
+        let mut other = Vec::new();
+        let same = |tree: &Arc<Tree>, other: &mut Vec<u32>| {
+            other.clear();
+            tree.root.topo.structure_key(other);
+            *other == key
+        };
+        if let Some(tree) = seen.iter().find(|t| same(t, &mut other)) {
+            return tree.clone();
+        }
+        let mut map = lock();
+        let bucket = map.entry(hash).or_default();
+        if let Some(tree) = bucket[seen.len()..].iter().find(|t| same(t, &mut other)) {
+            return tree.clone();
+        }
+        let tree = Arc::new(Tree {
+            root: TNode::new(topo, 0, !self.no_crease_patches),
+        });
+        bucket.push(tree.clone());
+        tree
     }
 
     /// Number of configurations.
     pub fn len(&self) -> usize {
-        self.trees.lock().map_or(0, |m| m.len())
+        self.trees
+            .lock()
+            .map_or(0, |m| m.values().map(Vec::len).sum())
     }
 }
 
