@@ -116,15 +116,16 @@ pub const SURFACE_BYTES_PER_FACE: u64 = 4 << 10;
 /// face's neighbourhood is a configuration tree, shared with the faces whose
 /// neighbourhood is the same, and on an irregular triangulation (a scan, a CAD
 /// tessellation) nearly every face has its own: `rocker-arm` (20 088 triangles, 19 826
-/// configurations) peaked at 25 KiB per face, `cow` (5 804 triangles, 4 060) at 19 KiB.
+/// configurations) peaked at 19 KiB per face with an 8×8 grid evaluated on its (no)
+/// quads, `cow` (5 804 triangles, 4 060) at 14 KiB.
 /// A bound for that worst case, well above meshes whose faces share configurations
 /// (30 k triangles of a refined quad mesh, 744 configurations: 1.5 KiB per face).
 pub const NON_QUAD_BYTES: u64 = 32 << 10;
 
 /// Bytes per face that is not a quad and per level of its tree that evaluation builds, one
 /// level per halving of the spacing of the samples (`ceil(log2 n)` levels for `n` samples
-/// along a side): `rocker-arm` tessellated at rate 2 peaked at 49 KiB per face, at rate 8
-/// at 171 KiB; `cow` at 36 and 124 KiB.
+/// along a side): `rocker-arm` tessellated at rate 2 peaked at 41 KiB per face, at rate 8
+/// at 152 KiB; `cow` at 30 and 110 KiB.
 pub const NON_QUAD_LEVEL_BYTES: u64 = 48 << 10;
 
 /// Bytes per quad with a vertex that does not have four faces (next to an extraordinary
