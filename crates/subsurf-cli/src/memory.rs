@@ -152,7 +152,8 @@ pub fn surface(mesh: &subsurf::mesh::PolyMesh, samples: u32, all_faces: bool) ->
             }
         }
     }
-    let levels = u64::from(samples.max(1).next_power_of_two().trailing_zeros());
+    // ceil(log2 samples), without overflow at u32::MAX.
+    let levels = u64::from(u32::BITS - (samples.max(1) - 1).leading_zeros());
     let mut bytes = (mesh.num_vertices() as u64).saturating_mul(SURFACE_BYTES_PER_FACE);
     for f in mesh.faces() {
         let face = if f.len() != 4 {
@@ -280,6 +281,12 @@ mod tests {
         let per_level = 8 * IRREGULAR_QUAD_LEVEL_BYTES;
         assert_eq!(surface(&grid, 1, false), 25 * k);
         assert_eq!(surface(&grid, 4, true), 25 * k + 2 * per_level);
+        // 32 levels for the largest count, without overflow (tests run unoptimised too).
+        let all = v + k + 32 * IRREGULAR_QUAD_LEVEL_BYTES + NON_QUAD_BYTES;
+        assert_eq!(
+            surface(&mesh, u32::MAX, true),
+            all + 32 * NON_QUAD_LEVEL_BYTES
+        );
     }
 
     #[test]
