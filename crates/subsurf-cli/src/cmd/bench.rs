@@ -57,12 +57,10 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         ),
     };
     crate::memory::check(&input.name, &what, estimate, args.max_memory, hint)?;
-    if args.limit_grid.is_none() {
-        crate::memory::huge_pages_for(estimate);
-    }
     if let Some(n) = args.limit_grid {
         return bench_limit(&input, opts.scheme, n as usize, reps, &pool);
     }
+    crate::memory::huge_pages_for(estimate);
     if args.replay {
         return bench_replay(&input, opts.scheme, args.levels, reps, &pool);
     }
@@ -202,8 +200,10 @@ fn bench_limit(
     Ok(())
 }
 
-/// Bytes per point of [`bench_limit`]'s blocks: the point (24) and its result (144).
-const POINT_BYTES: u64 = 168;
+/// Bytes per point of [`bench_limit`]'s blocks: the point and its result.
+const POINT_BYTES: u64 = (std::mem::size_of::<subsurf::limit::SurfacePoint>()
+    + std::mem::size_of::<Result<subsurf::limit::Derivatives, subsurf::limit::EvalError>>())
+    as u64;
 
 /// Faces per block of [`bench_limit`]'s streamed evaluation: 16 faces of an 8×8 grid are
 /// 1,024 points (four of `eval_many_into`'s parallel chunks).

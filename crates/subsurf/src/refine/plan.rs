@@ -19,8 +19,8 @@
 //! rest: faces at non-manifold vertices, at semi-sharp edges under Chaikin's rule, at
 //! valences above 16, and faces whose ring is shared by fewer than four faces (0.05 % of
 //! the output of `catmark_bishop` at level 6). Re-posing is 10–20× faster than
-//! [`subdivide`](crate::subdivide) on quad meshes, 6–17× on all-triangle ones (see [`RefinePlan`]
-//! for numbers).
+//! [`subdivide`](crate::subdivide) on quad meshes, 5–17× on all-triangle ones (5–9× at
+//! levels 3–4 of irregular triangulations such as scans; see [`RefinePlan`] for numbers).
 //!
 //! # Storage
 //! Most rows share their weights with many others: every smooth edge point between two
@@ -125,8 +125,10 @@ const PAR_MIN_ROWS: usize = 16 * 1024;
 /// `catmark_pawn` 16–20× at levels 5 and 6. All-triangle meshes (`catmark_bishop` with
 /// each quad split in two, where one level makes every vertex and face centre
 /// extraordinary; the same split of its level 2, 30 k triangles): 8–10× at level 5 and
-/// 14–17× at level 6 on one thread, 6.3× at level 2 and 10–13× at level 3 (12× at level 3
-/// on a 124 k-triangle model). Building the plan for bishop at level 6 took 0.4–1.6 s (one
+/// 14–17× at level 6 on one thread, 6.2–6.3× at level 2 and 9.6–13× at level 3 (12× at
+/// level 3 on a 124 k-triangle model); public scans and CAD parts (5–100 k triangles, not
+/// in the repository) 4.9–8.8× at levels 3 and 4, where every patch is a ring patch with
+/// two extraordinary corners. Building the plan for bishop at level 6 took 0.4–1.6 s (one
 /// thread). With sparse rows only (before patches) the bishop apply took 0.05–0.06 s.
 ///
 /// The plan covers positions of every vertex of the last level, in
