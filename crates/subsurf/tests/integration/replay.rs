@@ -267,3 +267,106 @@ fn wrong_base_length_panics() {
     let plan = RefinePlan::new(&mesh, options, 1).unwrap();
     plan.apply(&mesh.positions()[1..]);
 }
+
+/// A torus of `2 n²` triangles with random edge flips (a fixed xorshift sequence): vertex
+/// valences from 4 to about 12, as in a scanned surface, so that its triangles have
+/// about a hundred rings of different shapes (keys of the ring patches).
+fn scrambled_triangle_torus(n: u32) -> PolyMesh {
+    use std::collections::HashMap;
+    let (big, small) = (3.0, 1.0);
+    let mut positions = Vec::new();
+    for i in 0..n {
+        for j in 0..n {
+            let (u, v) = (
+                std::f64::consts::TAU * f64::from(i) / f64::from(n),
+                std::f64::consts::TAU * f64::from(j) / f64::from(n),
+            );
+            let r = big + small * v.cos();
+            positions.push([r * u.cos(), r * u.sin(), small * v.sin()]);
+        }
+    }
+    let at = |i: u32, j: u32| (i % n) * n + j % n;
+    let mut faces: Vec<[u32; 3]> = Vec::new();
+    for i in 0..n {
+        for j in 0..n {
+            let [a, b, c, d] = [at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)];
+            faces.extend([[a, b, c], [a, c, d]]);
+        }
+    }
+    // The face on the left of each directed edge, and each vertex's valence.
+    let mut left: HashMap<(u32, u32), usize> = HashMap::new();
+    for (f, t) in faces.iter().enumerate() {
+        for k in 0..3 {
+            left.insert((t[k], t[(k + 1) % 3]), f);
+        }
+    }
+    let mut valence = vec![6u32; positions.len()];
+    let mut state = 0x9E37_79B9_7F4A_7C15u64;
+    for _ in 0..4 * faces.len() {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        let f = (state % faces.len() as u64) as usize;
+        let k = (state >> 32) as usize % 3;
+        // Edge (a, b) of f = (a, b, c), with g = (b, a, d) across it, becomes (c, d).
+        let [a, b, c] = [0, 1, 2].map(|i| faces[f][(k + i) % 3]);
+        let g = left[&(b, a)];
+        let d = (faces[g].iter().copied())
+            .find(|&x| x != a && x != b)
+            .expect("triangle");
+        if left.contains_key(&(c, d)) || valence[a as usize] <= 4 || valence[b as usize] <= 4 {
+            continue;
+        }
+        for t in [faces[f], faces[g]] {
+            for k in 0..3 {
+                left.remove(&(t[k], t[(k + 1) % 3]));
+            }
+        }
+        faces[f] = [a, d, c];
+        faces[g] = [b, c, d];
+        for h in [f, g] {
+            let t = faces[h];
+            for k in 0..3 {
+                left.insert((t[k], t[(k + 1) % 3]), h);
+            }
+        }
+        valence[a as usize] -= 1;
+        valence[b as usize] -= 1;
+        valence[c as usize] += 1;
+        valence[d as usize] += 1;
+    }
+    PolyMesh::from_faces(positions, &faces).expect("torus")
+}
+
+/// An irregular triangulation with many ring shapes and more faces than one unit of
+/// parallel work (its ring patches are applied by units of several runs of faces, each
+/// shape's patches of a unit together): the plan agrees with `subdivide`, on one thread
+/// and on two, bit for bit between them.
+#[test]
+fn many_ring_shapes_in_units_of_several_runs() {
+    let mesh = scrambled_triangle_torus(48);
+    let options = Options::default();
+    let pool = |n| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .unwrap()
+    };
+    let moved = deform(mesh.positions());
+    let mut m = mesh.clone();
+    m.positions_mut().copy_from_slice(&moved);
+    for levels in [3, 4] {
+        let plan = RefinePlan::new(&mesh, options, levels).unwrap();
+        assert!(plan.num_patches() > 4000);
+        let a = pool(1).install(|| plan.apply(&moved));
+        let b = pool(2).install(|| plan.apply(&moved));
+        assert!(a.iter().zip(&b).all(|(x, y)| x == y));
+        let want = subdivided(&m, options, levels);
+        let (d, at) = max_diff(&a, &want);
+        let tol = REL_TOL * diagonal(&moved);
+        assert!(
+            d <= tol,
+            "level {levels}: vertex {at} differs by {d:e} ({tol:e})"
+        );
+    }
+}
