@@ -114,12 +114,15 @@ pub const SURFACE_BYTES_PER_FACE: u64 = 4 << 10;
 
 /// Bytes per face that is not a quad of a limit surface before evaluation: each such
 /// face's neighbourhood is a configuration tree, shared with the faces whose
-/// neighbourhood is the same, and on an irregular triangulation (a scan, a CAD
-/// tessellation) nearly every face has its own: `rocker-arm` (20 088 triangles, 19 826
+/// neighbourhood is the same. The bound is for faces that share none: measured when the
+/// key of a configuration still depended on the corners faces are listed from and nearly
+/// every triangle of a scan had its own, `rocker-arm` (20 088 triangles, 19 826
 /// configurations) peaked at 19 KiB per face with an 8×8 grid evaluated on its (no)
-/// quads, `cow` (5 804 triangles, 4 060) at 14 KiB.
-/// A bound for that worst case, well above meshes whose faces share configurations
-/// (30 k triangles of a refined quad mesh, 744 configurations: 1.5 KiB per face).
+/// quads, `cow` (5 804 triangles, 4 060) at 14 KiB. Meshes whose faces share
+/// configurations take far less (`rocker-arm` now 376 configurations, 1.6 KiB per face;
+/// 30 k triangles of a refined quad mesh, 744 configurations: 1.5 KiB); an estimate from
+/// the configurations would have to find them first, which is most of building the
+/// surface.
 pub const NON_QUAD_BYTES: u64 = 32 << 10;
 
 /// Bytes per face that is not a quad and per level of its tree that evaluation builds, one

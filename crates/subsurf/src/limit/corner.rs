@@ -10,7 +10,7 @@
 //! control points, for every face with the same neighbourhood.
 
 use super::bspline::Derivatives;
-use super::local::{Local, Region, HIGH_VALENCE};
+use super::local::{Local, Reach, Region, HIGH_VALENCE};
 use super::patch::{regular_corner, Sharp};
 use crate::geom::{self, V3};
 use crate::mesh::{Options, Topology};
@@ -326,7 +326,7 @@ fn eigen_analysis(l: &Local, k: usize, ring: Vec<u32>, options: &Options) -> Opt
         let (sub, verts) = t.subset(faces);
         let pos = verts.iter().map(|&v| l.pos()[v as usize]).collect();
         let tiny = Local {
-            region: Arc::new(Region::whole(sub, pos, usize::MAX)),
+            region: Arc::new(Region::whole(sub, pos, Reach::default())),
             face,
         };
         if let Some((_, sub_ring)) = sector_ring(tiny.topo(), face, k) {

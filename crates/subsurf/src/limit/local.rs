@@ -13,13 +13,32 @@
 //! but they never influence `f`'s children. (Checked bit for bit against cut-outs of the
 //! 2-ring on every OpenSubdiv regression shape.)
 //!
+//! # Chaikin's rule
+//! With Chaikin's decay ([`CreaseMethod::Chaikin`]) one rim element does: the child of a
+//! semi-sharp edge `(v, w)` at its end `w` takes its sharpness from all the semi-sharp
+//! edges at `w` (`¾ s + ¼ avg − 1`), and whether both children of the edge stay sharp
+//! decides the rule, so the position, of the edge's midpoint, a vertex of `f`'s children
+//! when `v` is a corner of `f`. So under that rule the cut-out also holds the faces around
+//! the far end `w` of every semi-sharp edge at a corner of `f` ([`cut_out_unbounded`]).
+//! That is enough at every level: the corners of a child of `f` are a corner's child
+//! `v′`, the edge midpoints and the face point; the semi-sharp edges at them are halves of
+//! edges at `v`, whose far ends are the midpoints (around which the cut-out holds every
+//! face's child) and the children of `f`'s other corners. Without the faces around `w` a
+//! limit point on a 3 × 3 torus with creases of sharpness 3.2, 1 and 2 was 5e-4 off the
+//! limit of refinement. The surface over `f` still depends on the positions of the 1-ring
+//! only (the extra faces bring topology, and points that reach no child of `f`). A shared
+//! region (below) takes one ring more under this rule: a face `g` that reaches the
+//! high-valence vertex lies within two rings of it, the far ends of `g`'s edges within
+//! three, and the faces around them within four.
+//!
 //! # High valence: shared regions
 //! Around a vertex `w` of valence `n` every face's 1-ring holds all `n` faces of `w`, so
 //! one cut-out per face would cost `O(n²)` time and memory unless the faces share their
 //! configurations (see [`HIGH_VALENCE`]). When a face's 1-ring reaches a vertex of more
 //! than [`HIGH_VALENCE`] faces (a quarter of that on a boundary or a non-manifold vertex),
 //! the face instead uses the *region* of that vertex, shared by all faces that reach it:
-//! the faces within three rings of `w` (`F₁` = the faces of `w`, `Fₖ₊₁` = the faces
+//! the faces within three rings of `w` (four under Chaikin's rule, see above;
+//! `F₁` = the faces of `w`, `Fₖ₊₁` = the faces
 //! sharing a vertex with a face of `Fₖ`). It holds the 1-ring of every such face `g`: `w`
 //! is a vertex of a face `h` in `g`'s 1-ring, so `g` is in `h`'s 1-ring, within `F₂`, and
 //! `g`'s 1-ring within `F₃`. A shared region is refined once (the refinement is kept and
@@ -44,7 +63,7 @@
 use super::patch::{regular_patch_cells, Net};
 use super::surface::Shared;
 use super::tree::{Tree, TreeCache};
-use crate::mesh::{Options, Topology};
+use crate::mesh::{CreaseMethod, Options, Topology};
 use crate::refine::{interpolate, refine_topology};
 use std::collections::{HashMap, HashSet};
 use std::sync::{Arc, Mutex, OnceLock};
@@ -73,6 +92,39 @@ pub(super) fn is_high_valence(t: &Topology, v: usize, high_valence: usize) -> bo
     n > high_valence || (n > high_valence / 4 && (tag.boundary || tag.non_manifold))
 }
 
+/// How far the cut-outs of a level reach: where faces share regions, and whether they
+/// hold the far ends of semi-sharp edges (see the module docs, "Chaikin's rule").
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Reach {
+    /// Valence above which faces share regions (normally [`HIGH_VALENCE`]; `usize::MAX`
+    /// in tests: every face on its own).
+    pub high_valence: usize,
+    /// Semi-sharp edges decay by Chaikin's rule
+    /// ([`CreaseMethod::Chaikin`](crate::mesh::CreaseMethod::Chaikin)).
+    pub chaikin: bool,
+}
+
+impl Default for Reach {
+    /// Every face on its own, uniform decay: for cut-outs that are never cut again
+    /// (the faces around one corner, for its analysis).
+    fn default() -> Self {
+        Reach {
+            high_valence: usize::MAX,
+            chaikin: false,
+        }
+    }
+}
+
+impl Reach {
+    /// The default [`HIGH_VALENCE`] with the crease rule of `options`.
+    pub fn new(options: &Options) -> Self {
+        Reach {
+            high_valence: HIGH_VALENCE,
+            chaikin: options.crease_method == CreaseMethod::Chaikin,
+        }
+    }
+}
+
 /// Value cached per corner of a shared region (see [`Shape::eigen`]).
 pub type CornerCache<T> = Mutex<HashMap<(u32, u32), Arc<OnceLock<T>>>>;
 
@@ -86,8 +138,8 @@ pub type CornerCache<T> = Mutex<HashMap<(u32, u32), Arc<OnceLock<T>>>>;
 pub struct Shape {
     /// The cut-out topology.
     pub topo: Topology,
-    /// Valence above which faces share regions (normally [`HIGH_VALENCE`]).
-    high_valence: usize,
+    /// How far cut-outs of it reach.
+    reach: Reach,
     /// Shared by many faces: then its refinement, the regions cut from that and corner
     /// analyses are cached; a face's own cut-out is refined afresh each time.
     shared: bool,
@@ -177,19 +229,18 @@ pub struct LevelRef<'a> {
     /// Configuration trees for its irregular faces whose 1-ring has no high-valence
     /// vertex, if any (the base level, shared regions); `None`: own cut-outs.
     pub trees: Option<&'a Arc<TreeCache>>,
-    /// Valence above which faces share regions: [`HIGH_VALENCE`] (tests compare with
-    /// `usize::MAX`, every face on its own).
-    pub high_valence: usize,
+    /// How far cut-outs of it reach.
+    pub reach: Reach,
 }
 
 impl<'a> LevelRef<'a> {
-    /// The base level of a surface, with what its faces share and the default
-    /// [`HIGH_VALENCE`].
+    /// The base level of a surface, with what its faces share.
     pub fn new(
         topo: &'a Topology,
         pos: &'a [[f64; 3]],
         shared: &'a Shared,
         cache: &'a RegionCache,
+        reach: Reach,
     ) -> Self {
         Self {
             topo,
@@ -198,27 +249,27 @@ impl<'a> LevelRef<'a> {
             cache,
             kinds: &[],
             trees: Some(&shared.trees),
-            high_valence: HIGH_VALENCE,
+            reach,
         }
     }
 }
 
 impl Shape {
     /// A shape of its own (a face's cut-out, not shared).
-    fn own(topo: Topology, high_valence: usize) -> Self {
+    fn own(topo: Topology, reach: Reach) -> Self {
         Self {
             topo,
-            high_valence,
+            reach,
             ..Self::default()
         }
     }
 
     /// A shared shape.
-    fn shared(topo: Topology, high_valence: usize, trees: Option<Arc<TreeCache>>) -> Self {
+    fn shared(topo: Topology, reach: Reach, trees: Option<Arc<TreeCache>>) -> Self {
         let kinds = (0..topo.num_faces()).map(|_| OnceLock::new()).collect();
         Self {
             topo,
-            high_valence,
+            reach,
             shared: true,
             kinds,
             trees,
@@ -231,9 +282,9 @@ impl Shape {
         let make = || {
             let topo = refine_topology(&self.topo, options, true);
             Arc::new(if self.shared {
-                Shape::shared(topo, self.high_valence, self.trees.clone())
+                Shape::shared(topo, self.reach, self.trees.clone())
             } else {
-                Shape::own(topo, self.high_valence)
+                Shape::own(topo, self.reach)
             })
         };
         if self.shared {
@@ -246,8 +297,8 @@ impl Shape {
 
 impl Region {
     /// A whole level as a region of its own, not shared.
-    pub fn whole(topo: Topology, pos: Vec<[f64; 3]>, high_valence: usize) -> Self {
-        Self::with_shape(Arc::new(Shape::own(topo, high_valence)), pos)
+    pub fn whole(topo: Topology, pos: Vec<[f64; 3]>, reach: Reach) -> Self {
+        Self::with_shape(Arc::new(Shape::own(topo, reach)), pos)
     }
 
     /// Shape `shape` with points `pos`.
@@ -268,7 +319,7 @@ impl Region {
             cache: &self.regions,
             kinds: &self.shape.kinds,
             trees: self.shape.trees.as_ref(),
-            high_valence: self.shape.high_valence,
+            reach: self.shape.reach,
         }
     }
 
@@ -348,7 +399,7 @@ impl FaceKind {
         if let Some(cells) = regular_patch_cells(level.topo, f) {
             return FaceKind::Patch(Net::new(cells));
         }
-        match (one_ring(level.topo, f, level.high_valence), level.trees) {
+        match (cut_out(level.topo, f, level.reach), level.trees) {
             (Ok(faces), Some(trees)) if level.topo.face_vertices(f).len() == 4 => {
                 let (sub, verts) = level.topo.subset_canonical(&faces);
                 FaceKind::Tree(trees.get(sub), verts.into())
@@ -364,7 +415,7 @@ pub fn own_cut(level: LevelRef<'_>, faces: &[u32]) -> Local {
     let (topo, verts) = level.topo.subset(faces);
     let pos = verts.iter().map(|&v| level.pos[v as usize]).collect();
     Local {
-        region: Arc::new(Region::whole(topo, pos, level.high_valence)),
+        region: Arc::new(Region::whole(topo, pos, level.reach)),
         face: 0,
     }
 }
@@ -388,63 +439,101 @@ pub fn region_cut(level: LevelRef<'_>, f: usize, w: u32) -> Local {
         },
         // Unreachable by the argument in the module docs; fall back to the face's own
         // (large) cut-out rather than fail.
-        Err(_) => own_cut(level, &one_ring_unbounded(level.topo, f)),
+        Err(_) => own_cut(
+            level,
+            &cut_out_unbounded(level.topo, f, level.reach.chaikin),
+        ),
     }
 }
 
-/// Faces of the 1-ring of `f`, `f` first, each once; `Err(w)` as soon as a vertex `w` of
-/// more than [`HIGH_VALENCE`] faces is met among the ring's vertices (any such vertex gives
-/// a region that holds the 1-ring).
-pub(super) fn one_ring(t: &Topology, f: usize, high_valence: usize) -> Result<Vec<u32>, u32> {
-    let big = |v: u32| is_high_valence(t, v as usize, high_valence);
-    let mut faces = vec![f as u32];
-    let add = |g: u32, faces: &mut Vec<u32>| {
-        if !faces.contains(&g) {
-            faces.push(g);
-        }
-    };
-    for &v in t.face_vertices(f) {
-        if big(v) {
-            return Err(v);
-        }
-        // From `f` on around `v`: faces whose neighbourhoods differ only by where `v`'s
-        // cycle starts list their rings in the same order (see
-        // `Topology::subset_canonical`).
-        let around = t.vertex_faces(v as usize);
-        let start = around.iter().position(|&g| g == f as u32).unwrap_or(0);
-        for &g in around[start..].iter().chain(&around[..start]) {
-            add(g, &mut faces);
-        }
+/// Faces of the cut-out of `f` ([`cut_out_unbounded`]), `f` first, each once; `Err(w)`
+/// as soon as a vertex `w` of more than `reach.high_valence` faces is met among the
+/// 1-ring's vertices (any such vertex gives a region that holds the cut-out). The faces
+/// added for Chaikin's rule are not checked: a high-valence vertex among them costs its
+/// faces in this cut-out, and the region of such a vertex would not hold the cut-outs of
+/// all faces that reach it so.
+pub(super) fn cut_out(t: &Topology, f: usize, reach: Reach) -> Result<Vec<u32>, u32> {
+    let big = |v: u32| is_high_valence(t, v as usize, reach.high_valence);
+    if let Some(&w) = t.face_vertices(f).iter().find(|&&v| big(v)) {
+        return Err(w);
     }
+    let mut faces = ring_faces(t, f);
     for &g in &faces[1..] {
         if let Some(&w) = t.face_vertices(g as usize).iter().find(|&&v| big(v)) {
             return Err(w);
         }
     }
+    if reach.chaikin {
+        add_far_ends(t, f, &mut faces);
+    }
     Ok(faces)
 }
 
-/// The 1-ring of `f` whatever the valences.
-pub(super) fn one_ring_unbounded(t: &Topology, f: usize) -> Vec<u32> {
-    let mut seen = HashSet::from([f as u32]);
+/// The faces whose topology and points determine the surface over face `f` and its local
+/// refinement, `f` first, each once: its 1-ring, and with `chaikin`, after it the faces
+/// around the far end of each semi-sharp edge at a corner (module docs, "Chaikin's
+/// rule").
+pub(super) fn cut_out_unbounded(t: &Topology, f: usize, chaikin: bool) -> Vec<u32> {
+    let mut faces = ring_faces(t, f);
+    if chaikin {
+        add_far_ends(t, f, &mut faces);
+    }
+    faces
+}
+
+/// Appends `g` to `faces` unless it is there.
+fn add_face(g: u32, faces: &mut Vec<u32>) {
+    if !faces.contains(&g) {
+        faces.push(g);
+    }
+}
+
+/// Faces of the 1-ring of `f`, `f` first: around each corner from `f` on, so that faces
+/// whose neighbourhoods differ only by where a corner's cycle starts list them in the same
+/// order (see `Topology::subset_canonical`).
+fn ring_faces(t: &Topology, f: usize) -> Vec<u32> {
     let mut faces = vec![f as u32];
-    {
-        let end = faces.len();
-        for i in 0..end {
-            for &v in t.face_vertices(faces[i] as usize) {
-                for &g in t.vertex_faces(v as usize) {
-                    if seen.insert(g) {
-                        faces.push(g);
-                    }
-                }
-            }
+    for &v in t.face_vertices(f) {
+        let around = t.vertex_faces(v as usize);
+        let start = around.iter().position(|&g| g == f as u32).unwrap_or(0);
+        for &g in around[start..].iter().chain(&around[..start]) {
+            add_face(g, &mut faces);
         }
     }
     faces
 }
 
-/// The shape of the shared region of vertex `w`: the faces within three rings of it
-/// (module docs).
+/// Appends to the 1-ring `faces` of `f` the faces around the far end `w` of each
+/// semi-sharp edge at a corner of `f` (`w` not a corner), around `w` from its face listed
+/// first so far (for the reason of [`ring_faces`]).
+fn add_far_ends(t: &Topology, f: usize, faces: &mut Vec<u32>) {
+    let corners = t.face_vertices(f);
+    for &v in corners {
+        for &e in t.vertex_edges(v as usize) {
+            if !t.edge_tag(e as usize).semi_sharp {
+                continue;
+            }
+            let [a, b] = t.edge_vertices(e as usize);
+            let w = if a == v { b } else { a };
+            if corners.contains(&w) {
+                continue;
+            }
+            let around = t.vertex_faces(w as usize);
+            let start = around
+                .iter()
+                .enumerate()
+                .filter_map(|(i, g)| faces.iter().position(|x| x == g).map(|at| (at, i)))
+                .min()
+                .map_or(0, |(_, i)| i);
+            for &g in around[start..].iter().chain(&around[..start]) {
+                add_face(g, faces);
+            }
+        }
+    }
+}
+
+/// The shape of the shared region of vertex `w`: the faces within three rings of it, four
+/// under Chaikin's rule (module docs).
 fn vertex_region(level: LevelRef<'_>, w: u32) -> Shape {
     let t = level.topo;
     let mut seen: HashSet<u32> = HashSet::new();
@@ -456,7 +545,7 @@ fn vertex_region(level: LevelRef<'_>, w: u32) -> Shape {
     }
     let mut visited: HashSet<u32> = HashSet::from([w]);
     let mut from = 0;
-    for _ in 0..2 {
+    for _ in 0..2 + level.reach.chaikin as usize {
         let end = faces.len();
         for i in from..end {
             for &v in t.face_vertices(faces[i] as usize) {
@@ -482,6 +571,6 @@ fn vertex_region(level: LevelRef<'_>, w: u32) -> Shape {
     Shape {
         verts,
         faces: map,
-        ..Shape::shared(topo, level.high_valence, level.trees.cloned())
+        ..Shape::shared(topo, level.reach, level.trees.cloned())
     }
 }

@@ -14,7 +14,7 @@
 //! weights are not meaningful (positions are exact everywhere).
 
 use super::bspline::{Derivatives, Order};
-use super::local::{LevelRef, RegionCache};
+use super::local::{LevelRef, Reach, RegionCache};
 use super::surface::{build_face, eval_node, EvalError, Shared, SurfacePoint};
 use super::tree::Ctx;
 use crate::mesh::{MeshError, Options, PolyMesh, Topology};
@@ -212,7 +212,7 @@ fn face_stencils(
             unit[v as usize][k] = 1.0;
         }
         let cache = RegionCache::default();
-        let level = LevelRef::new(base, unit, shared, &cache);
+        let level = LevelRef::new(base, unit, shared, &cache, Reach::new(options));
         let (nodes, _) = build_face(level, shared, f, options);
         for (row, &i) in rows.iter_mut().zip(group) {
             let p = points[i];

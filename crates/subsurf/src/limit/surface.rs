@@ -67,7 +67,8 @@ use super::bspline::{self, regular_bases, Batch, Derivatives, Order};
 use super::corner::{corner_limit, is_limit_corner};
 use super::crease_patch::{single_crease, CreaseBases, CreaseBasis, CreasePatch};
 use super::local::{
-    one_ring, own_cut, region_cut, FaceKind, LevelRef, Local, RegionCache, ShapeCache, HIGH_VALENCE,
+    cut_out, own_cut, region_cut, FaceKind, LevelRef, Local, Reach, RegionCache, ShapeCache,
+    HIGH_VALENCE,
 };
 use super::patch::{regular_patch_cells, Net};
 use super::tree::{
@@ -350,10 +351,11 @@ impl LimitSurface {
     fn place(&mut self) {
         let pos = &self.pos[..];
         let cache = RegionCache::default();
-        let level = LevelRef {
+        let reach = Reach {
             high_valence: self.high_valence,
-            ..LevelRef::new(&self.base, pos, &self.shared, &cache)
+            ..Reach::new(&self.options)
         };
+        let level = LevelRef::new(&self.base, pos, &self.shared, &cache, reach);
         let (shared, options) = (&*self.shared, &self.options);
         if self.nodes.is_empty() {
             (self.nodes, self.recipes) = (0..self.base.num_faces())
@@ -672,7 +674,7 @@ pub(super) struct Shared {
 
 /// The nodes of face `f` of `level` (one per sub-face): a regular patch, a single-crease
 /// patch, else the face's configuration tree from `shared` (unless the 1-ring reaches a
-/// vertex of more than `level.high_valence` faces: then the position-based local
+/// vertex of more than `level.reach.high_valence` faces: then the position-based local
 /// refinement).
 pub(super) fn build_face(
     level: LevelRef<'_>,
@@ -691,7 +693,7 @@ pub(super) fn build_face(
         }
         return (vec![patch.node(level.pos)], Recipe::Patch(Box::new(patch)));
     }
-    match one_ring(base, f, level.high_valence) {
+    match cut_out(base, f, level.reach) {
         Ok(faces) => {
             let (sub, verts) = base.subset_canonical(&faces);
             let tree = shared.trees.get(sub);

@@ -29,11 +29,11 @@
 use super::bspline::{self, Derivatives, Order};
 use super::corner::{corner_limit, is_limit_corner, CornerLimit};
 use super::crease_patch::{single_crease, CreaseBasis, CreasePatch};
-use super::local::{one_ring_unbounded, Local, Region};
+use super::local::{cut_out_unbounded, Local, Reach, Region};
 use super::patch::{regular_patch_cells, Cell};
 use super::surface::{quadrant, MAX_DEPTH};
 use crate::hash::FxHasher;
-use crate::mesh::{Options, Topology};
+use crate::mesh::{CreaseMethod, Options, Topology};
 use crate::refine::{refine_topology, refinement_rows};
 use std::collections::HashMap;
 use std::hash::{BuildHasherDefault, Hash, Hasher};
@@ -263,8 +263,8 @@ pub(super) struct TNode {
     stop: [bool; 4],
     kids: OnceLock<Box<[Kid]>>,
     /// Boxed: most nodes never analyse a corner (only points exactly at one do), and the
-    /// four inline took 640 of a node's 1,160 bytes (on irregular triangulations, where
-    /// nearly every face has a tree of its own, 11 % of the surface).
+    /// four inline took 640 of a node's 1,160 bytes (11 % of the surface on irregular
+    /// triangulations, when nearly every triangle had a tree of its own).
     corners: [OnceLock<Box<CornerRows>>; 4],
 }
 
@@ -297,9 +297,10 @@ pub(super) struct Tree {
 }
 
 /// Trees by a hash of their root's [`Topology::structure_key`], each bucket compared key
-/// by key: the keys are not kept (up to a few KiB each, one per configuration, and on an
-/// irregular triangulation nearly every face has a configuration of its own: 10 % of the
-/// surface), a candidate's is computed again from its root's topology.
+/// by key: the keys are not kept (up to a few KiB each, one per configuration: 10 % of the
+/// surface when nearly every triangle of an irregular triangulation had a configuration of
+/// its own, before faces listed from other corners shared them), a candidate's is computed
+/// again from its root's topology.
 type TreeMap = HashMap<u64, Vec<Arc<Tree>>, BuildHasherDefault<FxHasher>>;
 
 /// Configurations of one surface, by [`Topology::structure_key`].
@@ -644,7 +645,8 @@ impl TNode {
                 {
                     return Kid::Crease(patch_rows(&cells), side, Arc::new(CreaseBasis::new(s)));
                 }
-                let faces = one_ring_unbounded(&child, f);
+                let faces =
+                    cut_out_unbounded(&child, f, options.crease_method == CreaseMethod::Chaikin);
                 let (sub, verts) = child.subset(&faces);
                 let mut rows = Rows::new();
                 for &v in &verts {
@@ -670,7 +672,7 @@ impl TNode {
                     pos[c0 + c][c] = 1.0;
                 }
                 let local = Local {
-                    region: Arc::new(Region::whole(self.topo.clone(), pos, usize::MAX)),
+                    region: Arc::new(Region::whole(self.topo.clone(), pos, Reach::default())),
                     face: self.face,
                 };
                 limit = corner_limit(&local, k, options);

@@ -29,8 +29,11 @@
 //! in OpenSubdiv's order too.
 
 use super::{Corner, Crease, MeshError, Options, PolyMesh, TopologyWarning};
+use crate::hash::FxHasher;
 use crate::mesh::options::BoundaryInterpolation;
 use crate::scheme::crease;
+use std::collections::HashMap;
+use std::hash::BuildHasherDefault;
 
 /// An invalid index.
 pub const INVALID: u32 = u32::MAX;
@@ -117,6 +120,34 @@ pub struct Topology {
     /// Whether the edge → faces and vertex → faces/edges relations (and face → edges) are
     /// present. The last level of a refinement that is only written out lacks them.
     pub(crate) complete: bool,
+}
+
+/// For each of `faces` of `t`, the corner its listing starts from in
+/// [`Topology::subset_canonical`]: 0 for the first face; for each later face, its corner
+/// that the faces before it (listed so) number first, the subset numbering its vertices in
+/// order of first appearance. A face with no corner among those before keeps its own start
+/// (the faces of a 1-ring all share a corner of the first). So the numbering does not
+/// depend on where the level starts the faces' lists.
+fn canonical_rotations(t: &Topology, faces: &[u32]) -> Vec<usize> {
+    let mut number: HashMap<u32, u32, BuildHasherDefault<FxHasher>> = HashMap::default();
+    let mut rotations = Vec::with_capacity(faces.len());
+    for (i, &f) in faces.iter().enumerate() {
+        let fv = t.face_vertices(f as usize);
+        let r = if i == 0 {
+            0
+        } else {
+            (0..fv.len())
+                .filter_map(|k| number.get(&fv[k]).map(|&o| (o, k)))
+                .min()
+                .map_or(0, |(_, k)| k)
+        };
+        for k in 0..fv.len() {
+            let next = number.len() as u32;
+            number.entry(fv[(r + k) % fv.len()]).or_insert(next);
+        }
+        rotations.push(r);
+    }
+    rotations
 }
 
 #[inline]
@@ -849,16 +880,46 @@ impl Topology {
 
     /// [`subset`](Self::subset) in a form that does not depend on where this level starts
     /// the cyclic lists of faces and edges around its interior manifold vertices, nor on the
-    /// direction of its edges or the order of an edge's faces: around each such vertex,
-    /// both lists start at its face listed first in `faces` (for a vertex on the subset's
-    /// rim, the parts of the lists in the subset), each edge runs from its lower-numbered
-    /// end, and its faces are in the subset's order. The Catmull-Clark rules depend on none
-    /// of these, so the surface is the same (to rounding: sums run in another order), and
-    /// faces whose neighbourhoods differ only by them get the same
+    /// direction of its edges or the order of an edge's faces, nor on which corner the
+    /// faces after the first are listed from: around each such vertex, both lists start at
+    /// its face listed first in `faces` (for a vertex on the subset's rim, the parts of the
+    /// lists in the subset), each edge runs from its lower-numbered end, and its faces are
+    /// in the subset's order; every face but the first is listed from its corner that
+    /// comes first in the subset's numbering of the faces before it
+    /// ([`canonical_rotations`]). The Catmull-Clark rules depend on none of these, so the
+    /// surface is the same (to rounding: sums run in another order), and faces whose
+    /// neighbourhoods differ only by them get the same
     /// [`structure_key`](Self::structure_key): around a symmetric pole of valence `n`, one
-    /// configuration instead of `n`.
+    /// configuration instead of `n`; on a scanned triangulation, whose triangles are
+    /// listed from arbitrary corners, one per shape of 1-ring and corner of the face
+    /// instead of one per face. The first face keeps its corners' order (its parameter
+    /// domain).
     pub(crate) fn subset_canonical(&self, faces: &[u32]) -> (Topology, Vec<u32>) {
         self.subset_with(faces, true)
+    }
+
+    /// Whether refining vertex `v` sums three or more semi-sharp values in `f32`, in the
+    /// order of its edges: Chaikin's average of its semi-sharp edges
+    /// ([`subdivide_edge_sharpness`](crate::scheme::crease::subdivide_edge_sharpness)) and
+    /// the fractional weight of a change of rule
+    /// ([`fractional_weight`](crate::scheme::crease::fractional_weight)), as OpenSubdiv
+    /// sums them. Such a sum of values like 0.3, 0.7 and 3.7 depends on the order in its
+    /// last bit (a limit point 8e-9 off the limit of refinement when the cycle started
+    /// elsewhere), and under Chaikin's rule a bit can become a whole step, as a child edge
+    /// of sharpness `1e-7` instead of 0 is semi-sharp and enters its neighbours' average
+    /// the next level (OpenSubdiv's `Bfr`, which orders such sums its own way, is 4e-3 off
+    /// OpenSubdiv's own refinement on that example). So
+    /// [`subset_canonical`](Self::subset_canonical) keeps the level's own order around
+    /// such a vertex, the order the whole mesh refines in.
+    fn sharpness_sums_depend_on_order(&self, v: u32) -> bool {
+        let edges = self.vertex_edges(v as usize);
+        let semi = |s: f32| crate::scheme::crease::is_semi_sharp(s) as usize;
+        let n = semi(self.vert_sharpness[v as usize])
+            + edges
+                .iter()
+                .map(|&e| semi(self.edge_sharpness[e as usize]))
+                .sum::<usize>();
+        n >= 3
     }
 
     fn subset_with(&self, faces: &[u32], canonical: bool) -> (Topology, Vec<u32>) {
@@ -877,14 +938,22 @@ impl Topology {
             m.sort_unstable();
             m
         }
+        // Where each face's listing starts, and its corners and edges from there.
+        let rotations = if canonical {
+            canonical_rotations(self, faces)
+        } else {
+            vec![0; faces.len()]
+        };
+        let corners = |i: usize| {
+            let f = faces[i] as usize;
+            let (fv, fe) = (self.face_vertices(f), self.face_edge_list(f));
+            let (n, r) = (fv.len(), rotations[i]);
+            (0..n).map(move |k| (fv[(r + k) % n], fe[(r + k) % n]))
+        };
         let mut verts: Vec<u32> = Vec::new();
         let mut edges: Vec<u32> = Vec::new();
-        for &f in faces {
-            for (&v, &e) in self
-                .face_vertices(f as usize)
-                .iter()
-                .zip(self.face_edge_list(f as usize))
-            {
+        for i in 0..faces.len() {
+            for (v, e) in corners(i) {
                 verts.push(v);
                 edges.push(e);
             }
@@ -907,17 +976,18 @@ impl Topology {
         face_offsets.push(0u32);
         let mut face_verts = Vec::new();
         let mut face_edges = Vec::new();
-        for &f in faces {
-            for (&v, &e) in self
-                .face_vertices(f as usize)
-                .iter()
-                .zip(self.face_edge_list(f as usize))
-            {
+        for i in 0..faces.len() {
+            for (v, e) in corners(i) {
                 face_verts.push(lookup(&vmap, v).unwrap_or(0));
                 face_edges.push(lookup(&emap, e).unwrap_or(0));
             }
             face_offsets.push(face_verts.len() as u32);
         }
+        // The position of a corner in its face, after the face's rotation.
+        let local = |lf: u32, k: u16| {
+            let n = self.face_vertices(faces[lf as usize] as usize).len();
+            ((k as usize + n - rotations[lf as usize]) % n) as u16
+        };
         let mut t = Topology {
             num_vertices: verts.len() as u32,
             face_offsets,
@@ -943,7 +1013,7 @@ impl Topology {
             for i in r {
                 if let Some(lf) = lookup(&fmap, self.edge_faces[i]) {
                     t.edge_faces.push(lf);
-                    t.edge_face_local.push(self.edge_face_local[i]);
+                    t.edge_face_local.push(local(lf, self.edge_face_local[i]));
                 }
             }
             t.edge_face_offsets.push(t.edge_faces.len() as u32);
@@ -961,11 +1031,12 @@ impl Topology {
                 range(&self.vert_edge_offsets, v as usize),
             );
             // Where the lists start: the level's own start, or (canonical, around an
-            // interior manifold vertex, whose face `k` and edge `k` go together) the
-            // subset's first face around `v`.
+            // interior manifold vertex, whose face `k` and edge `k` go together, unless
+            // the order of its sums of sharpness matters) the subset's first face
+            // around `v`.
             let tag = self.vert_tags[v as usize];
             let cyclic = !tag.boundary && !tag.non_manifold && faces_v.len() == edges_v.len();
-            let start = if canonical && cyclic {
+            let start = if canonical && cyclic && !self.sharpness_sums_depend_on_order(v) {
                 faces_v
                     .clone()
                     .filter_map(|i| lookup(&fmap, self.vert_faces[i]).map(|lf| (lf, i)))
@@ -982,7 +1053,7 @@ impl Topology {
             for i in from(&faces_v) {
                 if let Some(lf) = lookup(&fmap, self.vert_faces[i]) {
                     t.vert_faces.push(lf);
-                    t.vert_face_local.push(self.vert_face_local[i]);
+                    t.vert_face_local.push(local(lf, self.vert_face_local[i]));
                 }
             }
             t.vert_face_offsets.push(t.vert_faces.len() as u32);
