@@ -1,5 +1,8 @@
 //! How much memory a job may use when `--max-memory` is not given.
 
+use subsurf::limit::{BuildError, LimitSurface};
+use subsurf::mesh::{Options, PolyMesh};
+
 /// The memory the system reports as available (Linux `/proc/meminfo` `MemAvailable`), or
 /// `None` where that is not known (the job then runs without a cap).
 pub fn available() -> Option<u64> {
@@ -79,22 +82,44 @@ pub fn check(
     max: Option<u64>,
     hint: &str,
 ) -> anyhow::Result<()> {
-    let Some(limit) = max.or_else(available) else {
-        return Ok(());
-    };
-    if estimate > limit {
-        anyhow::bail!(
+    check_against(
+        name,
+        what,
+        estimate,
+        max.or_else(available),
+        max.is_some(),
+        hint,
+    )
+}
+
+/// [`check`] against `limit` (`capped`: the `--max-memory` cap, else the memory
+/// available; `None`: not known, no check).
+fn check_against(
+    name: &str,
+    what: &str,
+    estimate: u64,
+    limit: Option<u64>,
+    capped: bool,
+    hint: &str,
+) -> anyhow::Result<()> {
+    match limit {
+        Some(limit) if estimate > limit => anyhow::bail!(
             "{name}: {what} needs about {}, more than the limit of {}{}; {hint}",
             size(estimate),
             size(limit),
-            if max.is_some() {
-                " (--max-memory)"
-            } else {
-                " (the memory available)"
-            },
-        );
+            which(capped),
+        ),
+        _ => Ok(()),
     }
-    Ok(())
+}
+
+/// Which limit a job was held to: `--max-memory` (`capped`) or the memory available.
+fn which(capped: bool) -> &'static str {
+    if capped {
+        " (--max-memory)"
+    } else {
+        " (the memory available)"
+    }
 }
 
 /// `bytes` in MiB (rounded up), or in KiB below 1 MiB.
@@ -106,70 +131,67 @@ pub fn size(bytes: u64) -> String {
     }
 }
 
-/// Bytes per regular face (a quad whose vertices all have four faces) of a
-/// [`subsurf::limit::LimitSurface`], an upper bound (measured peak above an empty job:
-/// 0.43 KiB per face on a 240 000-quad mesh, 0.8 KiB on a 15 000-quad one, 1.2 KiB with an
-/// 8×8 grid evaluated, input included).
-pub const SURFACE_BYTES_PER_FACE: u64 = 4 << 10;
+/// The memory guard of a job that builds an exact limit surface and evaluates it
+/// (`limit`, `tessellate`, `bench --limit-grid`), in the library's three steps (see
+/// `subsurf::limit::LimitSurface::new_within`): refused before building when the surface
+/// without its configurations and the job's own buffers (`reserved`) would not fit, the
+/// build stopped as soon as the configurations it finds would not, and refused before any
+/// point is evaluated when the evaluation would not. The limit (`--max-memory`, else the
+/// memory available) is read once, before the job allocates.
+pub struct SurfaceGuard<'a> {
+    /// The input's name (errors start with it).
+    pub name: &'a str,
+    /// What the job does, as in "tessellating at rate 8".
+    pub what: String,
+    /// The `--max-memory` cap.
+    pub max: Option<u64>,
+    /// What to do when the evaluation would not fit, as in "use a lower --rate".
+    pub hint: &'a str,
+}
 
-/// Bytes per face that is not a quad of a limit surface before evaluation: each such
-/// face's neighbourhood is a configuration tree, shared with the faces whose
-/// neighbourhood is the same. The bound is for faces that share none: measured when the
-/// key of a configuration still depended on the corners faces are listed from and nearly
-/// every triangle of a scan had its own, `rocker-arm` (20 088 triangles, 19 826
-/// configurations) peaked at 19 KiB per face with an 8×8 grid evaluated on its (no)
-/// quads, `cow` (5 804 triangles, 4 060) at 14 KiB. Meshes whose faces share
-/// configurations take far less (`rocker-arm` now 376 configurations, 1.6 KiB per face;
-/// 30 k triangles of a refined quad mesh, 744 configurations: 1.5 KiB); an estimate from
-/// the configurations would have to find them first, which is most of building the
-/// surface.
-pub const NON_QUAD_BYTES: u64 = 32 << 10;
-
-/// Bytes per face that is not a quad and per level of its tree that evaluation builds, one
-/// level per halving of the spacing of the samples (`ceil(log2 n)` levels for `n` samples
-/// along a side): `rocker-arm` tessellated at rate 2 peaked at 41 KiB per face, at rate 8
-/// at 152 KiB; `cow` at 30 and 110 KiB.
-pub const NON_QUAD_LEVEL_BYTES: u64 = 48 << 10;
-
-/// Bytes per quad with a vertex that does not have four faces (next to an extraordinary
-/// vertex or a boundary), and per level of its tree evaluated, on top of
-/// [`SURFACE_BYTES_PER_FACE`]: `suzanne` (500 faces, 222 such quads, 32 triangles, 246
-/// configurations) peaked at 10 MiB above an empty job with an 8×8 grid evaluated, 26 MiB
-/// tessellated at rate 8 (the tessellation included); this bound gives 18 and 28 MiB.
-pub const IRREGULAR_QUAD_LEVEL_BYTES: u64 = 20 << 10;
-
-/// Estimated memory of the exact limit surface of `mesh` (plus the mesh itself), with
-/// `samples` points along each side of the quads evaluated (and of the sub-faces of the
-/// other faces, if `all_faces`), `l = ceil(log2 samples)` levels: per vertex and per quad
-/// [`SURFACE_BYTES_PER_FACE`], per quad with a vertex that does not have four faces
-/// `l` × [`IRREGULAR_QUAD_LEVEL_BYTES`] more, per other face [`NON_QUAD_BYTES`] and, if
-/// evaluated, `l` × [`NON_QUAD_LEVEL_BYTES`]. An upper bound on the meshes measured; on
-/// meshes whose irregular faces share their neighbourhoods (refined meshes, most quad
-/// models) 3–20× above the peak.
-pub fn surface(mesh: &subsurf::mesh::PolyMesh, samples: u32, all_faces: bool) -> u64 {
-    let mut faces_at = vec![0u32; mesh.num_vertices()];
-    for f in mesh.faces() {
-        for &v in f {
-            if let Some(n) = faces_at.get_mut(v as usize) {
-                *n = n.saturating_add(1);
-            }
-        }
-    }
-    // ceil(log2 samples), without overflow at u32::MAX.
-    let levels = u64::from(u32::BITS - (samples.max(1) - 1).leading_zeros());
-    let mut bytes = (mesh.num_vertices() as u64).saturating_mul(SURFACE_BYTES_PER_FACE);
-    for f in mesh.faces() {
-        let face = if f.len() != 4 {
-            let evaluated = if all_faces { levels } else { 0 };
-            NON_QUAD_BYTES.saturating_add(NON_QUAD_LEVEL_BYTES.saturating_mul(evaluated))
-        } else if f.iter().all(|&v| faces_at.get(v as usize) == Some(&4)) {
-            SURFACE_BYTES_PER_FACE
-        } else {
-            SURFACE_BYTES_PER_FACE.saturating_add(IRREGULAR_QUAD_LEVEL_BYTES.saturating_mul(levels))
+impl SurfaceGuard<'_> {
+    /// The limit surface of `mesh`, for a job that evaluates points `1 / divisions` of a
+    /// face's side apart and needs `reserved` bytes of its own besides.
+    pub fn limit_surface(
+        &self,
+        mesh: &PolyMesh,
+        options: Options,
+        divisions: u32,
+        reserved: u64,
+    ) -> anyhow::Result<LimitSurface> {
+        use anyhow::Context as _;
+        let limit = self.max.or_else(available);
+        let check = |estimate: u64| {
+            check_against(
+                self.name,
+                &self.what,
+                estimate,
+                limit,
+                self.max.is_some(),
+                self.hint,
+            )
         };
-        bytes = bytes.saturating_add(face);
+        check(LimitSurface::estimate_build_memory(mesh).saturating_add(reserved))?;
+        let surface = match limit {
+            Some(limit) => {
+                match LimitSurface::new_within(mesh, options, limit.saturating_sub(reserved)) {
+                    Err(BuildError::TooLarge { configurations, .. }) => anyhow::bail!(
+                        "{}: {} needs more than {}{}: building the limit surface stopped after \
+                         finding {configurations} distinct neighbourhoods of irregular faces \
+                         (configurations), more than fit",
+                        self.name,
+                        self.what,
+                        size(limit),
+                        which(self.max.is_some()),
+                    ),
+                    built => built.with_context(|| self.name.to_owned())?,
+                }
+            }
+            None => LimitSurface::new(mesh, options).with_context(|| self.name.to_owned())?,
+        };
+        check(surface.estimate_memory(divisions).saturating_add(reserved))?;
+        Ok(surface)
     }
-    bytes
 }
 
 /// Samples of an `n`×`n` grid on every quad face of `mesh` (what `limit --grid n` and
@@ -254,42 +276,56 @@ mod tests {
         assert_eq!(tessellation_vertices(&m, u32::MAX), u64::MAX);
     }
 
-    /// The surface estimate charges each kind of face its bound: regular quads (all four
-    /// vertices with four faces) the least, quads at other vertices more per level
-    /// evaluated, other faces the most, and their levels only when they are evaluated.
+    /// The surface guard refuses in each of its three steps: before building (the cap
+    /// below the surface without configurations), while building (the cap below the
+    /// first configuration), and before evaluating (the cap below the evaluation's
+    /// levels); with the cap at the estimate the surface is built.
     #[test]
-    fn surface_estimate_charges_irregular_faces_by_level() {
-        let (k, v) = (SURFACE_BYTES_PER_FACE, 5 * SURFACE_BYTES_PER_FACE);
-        // A quad and a triangle: no vertex has four faces.
+    fn surface_guard_refuses_before_building_while_building_and_before_evaluating() {
         let mesh = quad_and_triangle();
-        assert_eq!(surface(&mesh, 1, false), v + k + NON_QUAD_BYTES);
-        assert_eq!(surface(&mesh, 1, true), v + k + NON_QUAD_BYTES);
-        let quad8 = k + 3 * IRREGULAR_QUAD_LEVEL_BYTES;
-        assert_eq!(surface(&mesh, 8, false), v + quad8 + NON_QUAD_BYTES);
-        assert_eq!(
-            surface(&mesh, 8, true),
-            v + quad8 + NON_QUAD_BYTES + 3 * NON_QUAD_LEVEL_BYTES
+        let options = Options::default();
+        let reserved = 1000;
+        let guard = |max: u64| SurfaceGuard {
+            name: "in.obj",
+            what: "sampling".to_owned(),
+            max: Some(max),
+            hint: "use less",
+        };
+        let build = LimitSurface::estimate_build_memory(&mesh) + reserved;
+        let e = guard(build - 1)
+            .limit_surface(&mesh, options, 4, reserved)
+            .expect_err("below the surface without configurations");
+        assert!(
+            e.to_string().starts_with("in.obj: sampling needs about"),
+            "{e}"
         );
-        // A 3×3 grid of quads: only the middle one is regular.
-        let p: Vec<[f64; 3]> = (0..16)
-            .map(|i| [(i % 4) as f64, (i / 4) as f64, 0.0])
-            .collect();
-        let faces: Vec<[u32; 4]> = (0..9)
-            .map(|q| {
-                let c = (q % 3 + 4 * (q / 3)) as u32;
-                [c, c + 1, c + 5, c + 4]
-            })
-            .collect();
-        let grid = subsurf::mesh::PolyMesh::from_faces(p, &faces).expect("valid mesh");
-        let per_level = 8 * IRREGULAR_QUAD_LEVEL_BYTES;
-        assert_eq!(surface(&grid, 1, false), 25 * k);
-        assert_eq!(surface(&grid, 4, true), 25 * k + 2 * per_level);
-        // 32 levels for the largest count, without overflow (tests run unoptimised too).
-        let all = v + k + 32 * IRREGULAR_QUAD_LEVEL_BYTES + NON_QUAD_BYTES;
-        assert_eq!(
-            surface(&mesh, u32::MAX, true),
-            all + 32 * NON_QUAD_LEVEL_BYTES
+        let e = guard(build)
+            .limit_surface(&mesh, options, 4, reserved)
+            .expect_err("below the first configuration");
+        assert!(
+            e.to_string().contains("building the limit surface stopped"),
+            "{e}"
         );
+        let s = LimitSurface::new(&mesh, options).expect("surface");
+        assert!(s.num_configurations() > 0);
+        let (shallow, deep) = (s.estimate_memory(4), s.estimate_memory(1 << 10));
+        assert!(shallow < deep);
+        let e = guard(deep + reserved - 1)
+            .limit_surface(&mesh, options, 1 << 10, reserved)
+            .expect_err("below the evaluation");
+        assert_eq!(
+            e.to_string(),
+            format!(
+                "in.obj: sampling needs about {}, more than the limit of {} (--max-memory); \
+                 use less",
+                size(deep + reserved),
+                size(deep + reserved - 1)
+            )
+        );
+        let built = guard(deep + reserved)
+            .limit_surface(&mesh, options, 1 << 10, reserved)
+            .expect("within the cap");
+        assert_eq!(built.num_configurations(), s.num_configurations());
     }
 
     #[test]

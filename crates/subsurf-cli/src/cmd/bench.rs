@@ -5,7 +5,8 @@
 use std::time::Instant;
 
 use anyhow::{Context, Result};
-use subsurf::mesh::Options;
+use subsurf::limit::{LimitSurface, Order};
+use subsurf::mesh::{Options, PolyMesh};
 use subsurf::refine::{PlanScratch, RefinePlan};
 use subsurf::{subdivide, SubdivideOptions};
 
@@ -34,32 +35,34 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         .context("cannot start the thread pool")?;
     let reps = args.reps.max(1);
     let mesh = &input.obj.mesh;
-    let (what, estimate, hint) = match args.limit_grid {
-        // The surface, and each thread's block of points and results (`bench_limit`).
-        Some(n) => (
-            format!("evaluating a {n}×{n} grid per face"),
-            crate::memory::surface(mesh, n, false).saturating_add(
-                (u64::from(n) * u64::from(n))
-                    .saturating_mul(POINT_BYTES * FACES_PER_BLOCK as u64)
-                    .saturating_mul(pool.current_num_threads() as u64),
-            ),
-            "use a smaller --limit-grid",
-        ),
-        None if args.replay => (
+    if let Some(n) = args.limit_grid {
+        let guard = crate::memory::SurfaceGuard {
+            name: &input.name,
+            what: format!("evaluating a {n}×{n} grid per face"),
+            max: args.max_memory,
+            hint: "use a smaller --limit-grid",
+        };
+        // Besides the surface, each thread's block of points and results.
+        let blocks = (u64::from(n) * u64::from(n))
+            .saturating_mul(POINT_BYTES * FACES_PER_BLOCK as u64)
+            .saturating_mul(pool.current_num_threads() as u64);
+        return bench_limit(&input, opts.scheme, n, reps, &pool, |mesh, options| {
+            guard.limit_surface(mesh, options, n, blocks)
+        });
+    }
+    let (what, estimate) = if args.replay {
+        (
             format!("building a re-posing plan to level {}", args.levels),
             RefinePlan::estimate_memory(mesh, args.levels),
-            "use a lower level",
-        ),
-        None => (
+        )
+    } else {
+        (
             format!("refining to level {}", args.levels),
             subsurf::estimate_memory(mesh, &opts),
-            "use a lower level",
-        ),
+        )
     };
+    let hint = "use a lower level";
     crate::memory::check(&input.name, &what, estimate, args.max_memory, hint)?;
-    if let Some(n) = args.limit_grid {
-        return bench_limit(&input, opts.scheme, n as usize, reps, &pool);
-    }
     crate::memory::huge_pages_for(estimate);
     if args.replay {
         return bench_replay(&input, opts.scheme, args.levels, reps, &pool);
@@ -136,17 +139,19 @@ fn bench_replay(
 /// Like `benchlimit`, which evaluates point after point and keeps only a running sum, the
 /// points are streamed: blocks of [`FACES_PER_BLOCK`] faces are listed and evaluated into
 /// buffers each thread keeps, so the job holds no array of all points or results (168 bytes
-/// a point) and its memory is the surface's and one block per thread.
+/// a point) and its memory is the surface's and one block per thread. `build` builds the
+/// surface (within the job's memory limit).
 fn bench_limit(
     input: &Input,
     options: Options,
-    n: usize,
+    n: u32,
     reps: usize,
     pool: &rayon::ThreadPool,
+    build: impl FnOnce(&PolyMesh, Options) -> Result<LimitSurface> + Send,
 ) -> Result<()> {
     use rayon::prelude::*;
-    use subsurf::limit::{LimitSurface, Order};
     let mesh = &input.obj.mesh;
+    let n = n as usize;
     // The sum of the `x` of every point evaluated on `faces` (so that nothing is optimised
     // away).
     let eval_all = |surface: &LimitSurface, faces: &[u32]| -> f64 {
@@ -168,14 +173,12 @@ fn bench_limit(
             .sum()
     };
     let t0 = Instant::now();
-    let (mut surface, faces, mut sink) = pool
-        .install(|| {
-            let surface = LimitSurface::new(mesh, options)?;
-            let faces = super::limit::grid_faces(&surface);
-            let sink = eval_all(&surface, &faces);
-            Ok::<_, subsurf::mesh::MeshError>((surface, faces, sink))
-        })
-        .with_context(|| input.name.clone())?;
+    let (mut surface, faces, mut sink) = pool.install(|| {
+        let surface = build(mesh, options)?;
+        let faces = super::limit::grid_faces(&surface);
+        let sink = eval_all(&surface, &faces);
+        anyhow::Ok((surface, faces, sink))
+    })?;
     let cold = t0.elapsed().as_secs_f64();
     let mut times = Vec::with_capacity(reps);
     for _ in 0..reps {

@@ -54,18 +54,18 @@ pub fn run(args: &LimitArgs) -> Result<()> {
         .over(input.obj.options)
         .resolve(Options::default());
     // Memory: the surface, then every row as text until all are written.
-    let estimate = crate::memory::surface(&input.obj.mesh, args.grid, false).saturating_add(
+    let surface = crate::memory::SurfaceGuard {
+        name: &input.name,
+        what: format!("sampling a {0}×{0} grid per face", args.grid),
+        max: args.max_memory,
+        hint: "use a smaller --grid",
+    }
+    .limit_surface(
+        &input.obj.mesh,
+        options,
+        args.grid,
         crate::memory::grid_samples(&input.obj.mesh, args.grid).saturating_mul(BYTES_PER_ROW),
-    );
-    crate::memory::check(
-        &input.name,
-        &format!("sampling a {0}×{0} grid per face", args.grid),
-        estimate,
-        args.max_memory,
-        "use a smaller --grid",
     )?;
-    let surface =
-        LimitSurface::new(&input.obj.mesh, options).with_context(|| input.name.clone())?;
     let n = args.grid as usize;
     // One face's rows at a time, in parallel over faces, written in face order: the face's
     // points evaluated together (`eval_many_into`, which computes each tree node's points

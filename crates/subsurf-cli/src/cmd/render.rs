@@ -4,6 +4,7 @@
 use std::path::Path;
 
 use anyhow::{bail, Context, Result};
+use subsurf::limit::LimitSurface;
 use subsurf::mesh::Options;
 use subsurf::render::curvature::CurvatureKind;
 use subsurf::render::{render_detailed, write_png, Geometry, Paint, Render, Shading, Up};
@@ -74,6 +75,10 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         args.max_memory,
         hint,
     )?;
+    opts.surface_memory = args
+        .max_memory
+        .or_else(crate::memory::available)
+        .map(|limit| limit.saturating_sub(drawing_memory(mesh, &opts)));
     let r = render_detailed(mesh, &options, &opts).with_context(|| input.name.clone())?;
     if let (Some((lo, hi)), false) = (r.curvature_range, args.quiet) {
         eprintln!(
@@ -90,29 +95,36 @@ const BYTES_PER_VERTEX: u64 = 320;
 /// Bytes per pixel (colour, depth and the PNG encoder's buffers; measured: 7).
 const BYTES_PER_PIXEL: u64 = 16;
 
-/// Estimated peak memory of drawing `mesh` with `opts`: the picture, the drawn vertices
-/// (and the exact limit surface, or the refinement for `--level`).
+/// Estimated peak memory of drawing `mesh` with `opts`, before the surface is built: the
+/// picture, the drawn vertices, and the exact limit surface without its configurations
+/// (the library charges those as it builds, see `Render::surface_memory`) or the
+/// refinement for `--level`.
 fn estimate_memory(mesh: &subsurf::mesh::PolyMesh, options: &Options, opts: &Render) -> u64 {
-    let pixels = u64::from(opts.width) * u64::from(opts.height) * BYTES_PER_PIXEL;
     let geometry = match opts.geometry {
-        Geometry::Limit { rate } => crate::memory::surface(mesh, rate, true).saturating_add(
-            crate::memory::tessellation_vertices(mesh, rate).saturating_mul(BYTES_PER_VERTEX),
-        ),
-        Geometry::Level(0) => (mesh.face_verts().len() as u64).saturating_mul(BYTES_PER_VERTEX),
-        Geometry::Level(l) => {
-            let sub = subsurf::SubdivideOptions {
+        Geometry::Limit { .. } => LimitSurface::estimate_build_memory(mesh),
+        Geometry::Level(0) => 0,
+        Geometry::Level(l) => subsurf::estimate_memory(
+            mesh,
+            &subsurf::SubdivideOptions {
                 levels: l,
                 scheme: *options,
                 ..subsurf::SubdivideOptions::default()
-            };
-            let corners = (mesh.face_verts().len() as u64)
-                .checked_shl(2 * (l - 1))
-                .unwrap_or(u64::MAX);
-            subsurf::estimate_memory(mesh, &sub)
-                .saturating_add(corners.saturating_mul(BYTES_PER_VERTEX))
-        }
+            },
+        ),
     };
-    pixels.saturating_add(geometry)
+    drawing_memory(mesh, opts).saturating_add(geometry)
+}
+
+/// Peak memory of the picture and of the drawn vertices of `mesh` with `opts`.
+fn drawing_memory(mesh: &subsurf::mesh::PolyMesh, opts: &Render) -> u64 {
+    let pixels = u64::from(opts.width) * u64::from(opts.height) * BYTES_PER_PIXEL;
+    let vertices = match opts.geometry {
+        Geometry::Limit { rate } => crate::memory::tessellation_vertices(mesh, rate),
+        Geometry::Level(l) => (mesh.face_verts().len() as u64)
+            .checked_shl(2 * l.saturating_sub(1))
+            .unwrap_or(u64::MAX),
+    };
+    pixels.saturating_add(vertices.saturating_mul(BYTES_PER_VERTEX))
 }
 
 /// The library's options from the command line.

@@ -171,18 +171,22 @@ pub fn run(args: &TessellateArgs) -> Result<()> {
     // Memory: the surface, then the samples (positions, normals, numbering) and the writer.
     // Beyond the library's cap on the output, `tessellate` refuses with the exact counts.
     let verts = crate::memory::tessellation_vertices(surface_mesh, rate);
-    if verts <= subsurf::limit::MAX_TESSELLATION_VERTICES {
-        let estimate = crate::memory::surface(surface_mesh, rate, true)
-            .saturating_add(verts.saturating_mul(BYTES_PER_VERTEX));
-        crate::memory::check(
-            &input.name,
-            &format!("tessellating at rate {rate}"),
-            estimate,
-            args.max_memory,
-            "use a lower --rate",
-        )?;
-    }
-    let surface = LimitSurface::new(surface_mesh, options).with_context(|| input.name.clone())?;
+    let guard = crate::memory::SurfaceGuard {
+        name: &input.name,
+        what: format!("tessellating at rate {rate}"),
+        max: args.max_memory,
+        hint: "use a lower --rate",
+    };
+    let surface = if verts <= subsurf::limit::MAX_TESSELLATION_VERTICES {
+        guard.limit_surface(
+            surface_mesh,
+            options,
+            rate,
+            verts.saturating_mul(BYTES_PER_VERTEX),
+        )?
+    } else {
+        LimitSurface::new(surface_mesh, options).with_context(|| input.name.clone())?
+    };
     // glTF draws triangles: let the tessellation split its quads (it picks the diagonals).
     let triangles = args.triangles || format == Format::Glb;
     let t = tessellate(&surface, surface_mesh, &options, rate, triangles)

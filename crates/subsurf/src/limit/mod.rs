@@ -12,6 +12,7 @@ pub mod bspline;
 mod corner;
 mod crease_patch;
 mod local;
+mod memory;
 pub(crate) mod patch;
 mod stencil;
 mod surface;
@@ -19,6 +20,7 @@ mod tessellate;
 mod tree;
 
 pub use bspline::{Derivatives, Order};
+pub use memory::BuildError;
 pub use stencil::{LimitStencils, StencilError};
 pub use surface::{EvalError, LimitSurface, SurfacePoint, MAX_DEPTH};
 pub use tessellate::{

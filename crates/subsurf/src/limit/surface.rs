@@ -70,6 +70,7 @@ use super::local::{
     cut_out, own_cut, region_cut, FaceKind, LevelRef, Local, Reach, RegionCache, ShapeCache,
     HIGH_VALENCE,
 };
+use super::memory::{Budget, BuildError};
 use super::patch::{regular_patch_cells, Net};
 use super::tree::{
     by_quadrant, take_corners, Ctx, Kid, Leaf, Query, Scratch, Sink, Tree, TreeCache,
@@ -77,6 +78,7 @@ use super::tree::{
 use crate::mesh::{MeshError, Options, PolyMesh, Topology};
 use rayon::prelude::*;
 use std::borrow::Cow;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, OnceLock};
 
 /// Deepest local refinement; a sub-face is then `2^-48` of its face.
@@ -279,6 +281,23 @@ impl LimitSurface {
         Self::with_high_valence(mesh, options, HIGH_VALENCE, true)
     }
 
+    /// [`LimitSurface::new`], stopped (`TooLarge`) once the configurations found take the
+    /// memory estimate over `budget` (see [`LimitSurface::new_within`]).
+    pub(super) fn build(
+        mesh: &PolyMesh,
+        options: Options,
+        budget: Budget,
+    ) -> Result<Self, BuildError> {
+        let mut surface = Self::unplaced(mesh, options, HIGH_VALENCE, true)?;
+        if surface.place_new(|configurations| budget.exceeded_by(configurations)) {
+            return Err(BuildError::TooLarge {
+                configurations: surface.num_configurations(),
+                limit: budget.limit,
+            });
+        }
+        Ok(surface)
+    }
+
     /// [`LimitSurface::new`] with faces sharing regions around vertices of more than
     /// `high_valence` faces (`usize::MAX`: every face on its own, as tests compare), and
     /// single-crease faces in closed form or through the general local refinement.
@@ -288,9 +307,22 @@ impl LimitSurface {
         high_valence: usize,
         crease_patches: bool,
     ) -> Result<Self, MeshError> {
+        let mut surface = Self::unplaced(mesh, options, high_valence, crease_patches)?;
+        let stopped = surface.place_new(|_| false);
+        debug_assert!(!stopped, "a build without a limit stopped");
+        Ok(surface)
+    }
+
+    /// The surface of `mesh` without its nodes ([`Self::place_new`] builds them).
+    fn unplaced(
+        mesh: &PolyMesh,
+        options: Options,
+        high_valence: usize,
+        crease_patches: bool,
+    ) -> Result<Self, MeshError> {
         mesh.validate()?;
         let (base, _) = Topology::from_mesh(mesh, &options)?;
-        let mut surface = LimitSurface {
+        let surface = LimitSurface {
             options,
             base: Arc::new(base),
             pos: mesh.positions().to_vec(),
@@ -302,7 +334,6 @@ impl LimitSurface {
             nodes: Vec::new(),
             recipes: Vec::new(),
         };
-        surface.place();
         Ok(surface)
     }
 
@@ -347,7 +378,34 @@ impl LimitSurface {
         Ok(())
     }
 
-    /// (Re)builds the per-face nodes for the control points `self.pos`.
+    /// Builds the per-face nodes; `true` if it stopped as soon as `over(configurations
+    /// found)`, the faces not built by then left without nodes.
+    fn place_new(&mut self, over: impl Fn(usize) -> bool + Sync) -> bool {
+        let cache = RegionCache::default();
+        let reach = Reach {
+            high_valence: self.high_valence,
+            ..Reach::new(&self.options)
+        };
+        let level = LevelRef::new(&self.base, &self.pos, &self.shared, &cache, reach);
+        let (shared, options) = (&*self.shared, &self.options);
+        let stop = AtomicBool::new(false);
+        (self.nodes, self.recipes) = (0..self.base.num_faces())
+            .into_par_iter()
+            .map(|f| {
+                if stop.load(Ordering::Relaxed) {
+                    return (FaceNodes::Many(Box::new([])), Recipe::Fixed);
+                }
+                let (nodes, recipe) = build_face(level, shared, f, options);
+                if matches!(recipe, Recipe::Tree(..)) && over(shared.trees.len()) {
+                    stop.store(true, Ordering::Relaxed);
+                }
+                (FaceNodes::from(nodes), recipe)
+            })
+            .unzip();
+        stop.into_inner()
+    }
+
+    /// Re-poses the per-face nodes to the control points `self.pos`.
     fn place(&mut self) {
         let pos = &self.pos[..];
         let cache = RegionCache::default();
@@ -357,16 +415,6 @@ impl LimitSurface {
         };
         let level = LevelRef::new(&self.base, pos, &self.shared, &cache, reach);
         let (shared, options) = (&*self.shared, &self.options);
-        if self.nodes.is_empty() {
-            (self.nodes, self.recipes) = (0..self.base.num_faces())
-                .into_par_iter()
-                .map(|f| {
-                    let (nodes, recipe) = build_face(level, shared, f, options);
-                    (FaceNodes::from(nodes), recipe)
-                })
-                .unzip();
-            return;
-        }
         // Re-posing: plain patches read the new positions as they are; other patches
         // evaluate their nets again and trees take the new points of their cut-outs, in
         // place; the rest (position-based local refinement) is built again, on the kept
@@ -388,6 +436,20 @@ impl LimitSurface {
     /// [`Self::new`] and the first evaluations near irregular features do.
     pub fn num_configurations(&self) -> usize {
         self.shared.trees.len()
+    }
+
+    /// Number of faces in the shared region of a vertex of high valence (see
+    /// [`super::local::HIGH_VALENCE`]), refined from the region's points as evaluation
+    /// needs.
+    pub(super) fn num_region_faces(&self) -> usize {
+        (self.recipes.iter())
+            .filter(|r| matches!(r, Recipe::Region(_)))
+            .count()
+    }
+
+    /// Number of control points (the vertices of the mesh the surface was built from).
+    pub fn num_vertices(&self) -> usize {
+        self.pos.len()
     }
 
     /// Number of base faces.

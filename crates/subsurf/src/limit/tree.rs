@@ -37,6 +37,7 @@ use crate::mesh::{CreaseMethod, Options, Topology};
 use crate::refine::{refine_topology, refinement_rows};
 use std::collections::HashMap;
 use std::hash::{BuildHasherDefault, Hash, Hasher};
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, OnceLock};
 
 /// Sparse rows of weights on a node's points (CSR).
@@ -307,6 +308,9 @@ type TreeMap = HashMap<u64, Vec<Arc<Tree>>, BuildHasherDefault<FxHasher>>;
 #[derive(Debug, Default)]
 pub(super) struct TreeCache {
     trees: Mutex<TreeMap>,
+    /// Number of trees in `trees` (read without the lock while a surface is built, to stop
+    /// a build over its memory limit).
+    count: AtomicUsize,
     /// Refine single-crease faces further instead of using [`CreasePatch`] (tests compare).
     pub no_crease_patches: bool,
 }
@@ -356,14 +360,13 @@ impl TreeCache {
             root: TNode::new(topo, 0, !self.no_crease_patches),
         });
         bucket.push(tree.clone());
+        self.count.fetch_add(1, Ordering::Relaxed);
         tree
     }
 
     /// Number of configurations.
     pub fn len(&self) -> usize {
-        self.trees
-            .lock()
-            .map_or(0, |m| m.values().map(Vec::len).sum())
+        self.count.load(Ordering::Relaxed)
     }
 }
 

@@ -55,7 +55,7 @@ use std::io::{self, Write};
 
 pub use image::RgbImage;
 
-use crate::limit::{EvalError, TessellateError};
+use crate::limit::{BuildError, EvalError, TessellateError};
 use crate::mesh::{MeshError, Options, PolyMesh};
 use camera::{Camera, Viewport};
 use curvature::CurvatureKind;
@@ -147,6 +147,12 @@ pub struct Render {
     pub curvature_range: Option<(f64, f64)>,
     /// Background colour.
     pub background: [u8; 3],
+    /// Bytes the exact limit surface ([`Geometry::Limit`]) may take, built and evaluated at
+    /// the rate (see [`LimitSurface::new_within`](crate::limit::LimitSurface::new_within)
+    /// and [`LimitSurface::estimate_memory`](crate::limit::LimitSurface::estimate_memory)):
+    /// over it, [`RenderError::Build`] or [`RenderError::SurfaceMemory`] before a point is
+    /// evaluated. `None`: no limit.
+    pub surface_memory: Option<u64>,
 }
 
 impl Default for Render {
@@ -164,6 +170,7 @@ impl Default for Render {
             zoom: 1.0,
             curvature_range: None,
             background: [244, 244, 246],
+            surface_memory: None,
         }
     }
 }
@@ -212,6 +219,25 @@ pub enum RenderError {
         /// Estimated polygons.
         faces: u128,
         /// The limit.
+        limit: u64,
+    },
+    /// Building the limit surface stopped at [`Render::surface_memory`].
+    #[error(transparent)]
+    Build(#[from] BuildError),
+    /// Evaluating the limit surface at the rate would take more than
+    /// [`Render::surface_memory`].
+    #[error(
+        "the limit surface evaluated at rate {rate} needs about {} MiB, more than the limit \
+         of {} MiB: use a lower rate",
+        estimate.div_ceil(1 << 20),
+        limit >> 20
+    )]
+    SurfaceMemory {
+        /// The rate.
+        rate: u32,
+        /// Estimated bytes.
+        estimate: u64,
+        /// Allowed bytes.
         limit: u64,
     },
     /// There is nothing to draw (no faces, or every face is a hole).

@@ -75,7 +75,14 @@ impl Scene {
                     Paint::Curvature(k) => Some(k),
                     _ => None,
                 };
-                let grid = LimitGrid::sample_with(mesh, options, rate, kind.is_some(), surface)?;
+                let grid = LimitGrid::sample_with(
+                    mesh,
+                    options,
+                    rate,
+                    kind.is_some(),
+                    surface,
+                    opts.surface_memory,
+                )?;
                 Self::from_grid(grid, kind)
             }
             Geometry::Level(levels) => Self::from_level(mesh, options, levels)?,
@@ -444,19 +451,35 @@ impl LimitGrid {
         rate: u32,
         with_curvature: bool,
     ) -> Result<Self, RenderError> {
-        Self::sample_with(mesh, options, rate, with_curvature, None)
+        Self::sample_with(mesh, options, rate, with_curvature, None, None)
     }
 
     /// [`sample`](Self::sample) on the same grid, evaluating `other` (positions, normals
-    /// and curvature) instead of the limit surface when given.
+    /// and curvature) instead of the limit surface when given, with the limit surface
+    /// within `max_bytes` (see [`Render::surface_memory`]).
     pub fn sample_with(
         mesh: &PolyMesh,
         options: &Options,
         rate: u32,
         with_curvature: bool,
         other: Option<&dyn SampledSurface>,
+        max_bytes: Option<u64>,
     ) -> Result<Self, RenderError> {
-        let surface = LimitSurface::new(mesh, *options)?;
+        let surface = match max_bytes {
+            Some(limit) => {
+                let surface = LimitSurface::new_within(mesh, *options, limit)?;
+                let estimate = surface.estimate_memory(rate);
+                if estimate > limit {
+                    return Err(RenderError::SurfaceMemory {
+                        rate,
+                        estimate,
+                        limit,
+                    });
+                }
+                surface
+            }
+            None => LimitSurface::new(mesh, *options)?,
+        };
         let t = tessellate(&surface, mesh, options, rate, false)?;
         let mut g = LimitGrid {
             positions: Vec::new(),

@@ -357,3 +357,36 @@ fn bad_options_are_errors() {
         RenderError::BadRange(..)
     ));
 }
+
+/// With `surface_memory`, the limit surface is held to it: the build stops below its
+/// configurations, the evaluation is refused below the estimate at the rate, and at the
+/// estimate the picture is the one drawn without a limit.
+#[test]
+fn the_limit_surface_is_held_to_its_memory() {
+    use subsurf::limit::{BuildError, LimitSurface};
+    let mesh = cube();
+    let options = Options::default();
+    let opts = |surface_memory| Render {
+        geometry: Geometry::Limit { rate: 64 },
+        surface_memory,
+        ..small(Paint::Plain)
+    };
+    let built = LimitSurface::estimate_build_memory(&mesh);
+    assert!(matches!(
+        render(&mesh, &options, &opts(Some(built))),
+        Err(RenderError::Build(BuildError::TooLarge { .. }))
+    ));
+    let estimate = LimitSurface::new(&mesh, options)
+        .unwrap()
+        .estimate_memory(64);
+    match render(&mesh, &options, &opts(Some(estimate - 1))) {
+        Err(RenderError::SurfaceMemory {
+            rate: 64,
+            estimate: e,
+            limit,
+        }) => assert_eq!((e, limit), (estimate, estimate - 1)),
+        other => panic!("not refused: {:?}", other.map(|i| i.dimensions())),
+    }
+    let held = render(&mesh, &options, &opts(Some(estimate))).unwrap();
+    assert_eq!(held, render(&mesh, &options, &opts(None)).unwrap());
+}

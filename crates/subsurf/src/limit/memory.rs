@@ -1,0 +1,315 @@
+//! How much memory a [`LimitSurface`] takes: bounds to check before building one and
+//! before evaluating it, and a build that stops at a limit.
+//!
+//! A surface holds a node per face (a regular quad's is 16 vertex indices) and, for its
+//! irregular faces, one configuration tree per distinct neighbourhood ([`super::tree`]),
+//! which evaluation deepens a level per halving of the spacing of the points evaluated.
+//! How many configurations a mesh has is known only once they are found, which is most of
+//! building the surface: refined meshes and scans have a few hundred (`rocker-arm`, 20 088
+//! triangles: 376; `nefertiti`, 99 938: 967), a mesh whose irregular faces all differ (say,
+//! by their crease sharpness) one per irregular face. So the bound is taken in two steps:
+//!
+//! 1. before building: [`LimitSurface::estimate_build_memory`], everything but the
+//!    configurations (per vertex and per face); [`LimitSurface::new_within`] then builds
+//!    while charging each configuration as it is found, and stops with
+//!    [`BuildError::TooLarge`] at the limit instead of running out of memory;
+//! 2. before evaluating: [`LimitSurface::estimate_memory`], the built surface with its
+//!    configurations deepened as far as the points need.
+//!
+//! The constants are upper bounds of peaks measured (`/proc/self/status` `VmHWM` around
+//! [`LimitSurface::new`] and around evaluating every face, mimalloc as in the binary, one
+//! and two threads) on the 81 OpenSubdiv regression shapes, the repository's examples and
+//! eleven public scans and their triangulations (`BENCHMARKS.md`, "Memory of limit
+//! surfaces"); the estimates are 1.2–4× the peaks measured on meshes of more than a few
+//! thousand faces.
+
+use super::LimitSurface;
+use crate::mesh::{MeshError, PolyMesh};
+
+/// Bytes taken whatever the mesh: the worker threads' stacks and the allocator's arenas,
+/// which grow in steps of 2–4 MiB (measured: 2.6–4.7 MiB to build the smallest shapes,
+/// up to 11 MiB with points evaluated 1/32 apart), and the program's own pages (the
+/// `subsurf` binary: 8–13 MiB resident before it reads its input).
+const FIXED_BYTES: u64 = 24 << 20;
+
+/// Bytes per vertex and per face of the mesh, configurations apart: the surface's copy of
+/// the positions, the base level's topology, a node per face and, for an irregular face,
+/// its cut-out's vertices and points (measured: 0.12 KiB on the 240 k quads of
+/// `catmark_bishop` refined four times, 0.3–0.4 KiB on quad meshes refined twice, up to
+/// 0.55 KiB on triangulations).
+const ELEMENT_BYTES: u64 = 768;
+
+/// Bytes per configuration and per level of it: charged twice when it is built and first
+/// evaluated (its root cut-out's topology, refinement weights, children and corner
+/// analyses: 60–130 KiB measured on meshes of more than a thousand faces), and once more
+/// per level evaluated (up to 65 KiB measured, on triangulations).
+const CONFIGURATION_LEVEL_BYTES: u64 = 80 << 10;
+
+/// Bytes per face in the shared region of a vertex of high valence (see
+/// [`super::local::HIGH_VALENCE`]) and per level evaluated: such faces are refined on
+/// their own, from the region's points, as deep as the points need (measured: 32 KiB at
+/// `catmark_nonman_quadpole64`, 41 KiB at `catmark_nonman_quadpole360`), and two levels
+/// more for the region's first refinements.
+const REGION_FACE_LEVEL_BYTES: u64 = 48 << 10;
+
+/// Errors of [`LimitSurface::new_within`].
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum BuildError {
+    /// The mesh is invalid.
+    #[error(transparent)]
+    Mesh(#[from] MeshError),
+    /// Building the surface would take more memory than allowed.
+    #[error(
+        "the limit surface needs more than {} MiB (found {configurations} distinct \
+         neighbourhoods of irregular faces so far, about {} KiB each)",
+        limit >> 20,
+        (2 * CONFIGURATION_LEVEL_BYTES) >> 10
+    )]
+    TooLarge {
+        /// Configurations found when the build stopped.
+        configurations: usize,
+        /// Allowed bytes.
+        limit: u64,
+    },
+}
+
+/// The memory limit of a build: the bytes of everything but the configurations, and the
+/// limit.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Budget {
+    pub fixed: u64,
+    pub limit: u64,
+}
+
+impl Budget {
+    /// Whether `configurations` configurations take the build over its limit.
+    pub fn exceeded_by(self, configurations: usize) -> bool {
+        self.fixed
+            .saturating_add(configuration_bytes(configurations, 2))
+            > self.limit
+    }
+}
+
+/// [`LimitSurface::estimate_build_memory`] of a mesh of `vertices` vertices and `faces`
+/// faces.
+fn build_bytes(vertices: usize, faces: usize) -> u64 {
+    let elements = (vertices as u64).saturating_add(faces as u64);
+    FIXED_BYTES.saturating_add(elements.saturating_mul(ELEMENT_BYTES))
+}
+
+/// Bytes of `n` configurations at `levels` levels.
+fn configuration_bytes(n: usize, levels: u64) -> u64 {
+    (n as u64)
+        .saturating_mul(levels)
+        .saturating_mul(CONFIGURATION_LEVEL_BYTES)
+}
+
+/// Levels of refinement that evaluating points `1 / divisions` apart needs near an
+/// extraordinary vertex: `ceil(log2 divisions)` (at most 32, below
+/// [`super::MAX_DEPTH`]).
+fn levels_for(divisions: u32) -> u64 {
+    u64::from(u32::BITS - (divisions.max(1) - 1).leading_zeros())
+}
+
+impl LimitSurface {
+    /// Estimated bytes of building the surface of `mesh` ([`LimitSurface::new`]), apart
+    /// from its configurations: `24 MiB + 768 B × (vertices + faces)`.
+    ///
+    /// A surface's irregular faces take one configuration tree per distinct
+    /// neighbourhood, most of the memory of a surface that has many, and their number is
+    /// known only once they are found (refined meshes and scans have a few hundred, a mesh
+    /// whose irregular faces all differ one per face). So a job checks this before
+    /// building, builds with [`LimitSurface::new_within`], which charges each
+    /// configuration as it is found, and checks [`LimitSurface::estimate_memory`] before
+    /// evaluating. The constants bound the peaks measured on the OpenSubdiv shapes and
+    /// public scans (`BENCHMARKS.md`, "Memory of limit surfaces").
+    ///
+    /// ```
+    /// use subsurf::limit::LimitSurface;
+    /// use subsurf::mesh::PolyMesh;
+    /// let quad = PolyMesh::from_faces(
+    ///     vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]],
+    ///     &[[0, 1, 2, 3]],
+    /// ).unwrap();
+    /// assert_eq!(LimitSurface::estimate_build_memory(&quad), (24 << 20) + 5 * 768);
+    /// ```
+    pub fn estimate_build_memory(mesh: &PolyMesh) -> u64 {
+        build_bytes(mesh.num_vertices(), mesh.num_faces())
+    }
+
+    /// [`LimitSurface::new`], stopping with [`BuildError::TooLarge`] as soon as the
+    /// configurations found would take the estimate over `max_bytes`:
+    /// [`LimitSurface::estimate_build_memory`] plus 160 KiB per configuration (built and
+    /// first evaluated). Nothing is kept of a stopped build.
+    ///
+    /// # Errors
+    /// [`BuildError::Mesh`] if the mesh is invalid, [`BuildError::TooLarge`] over the limit.
+    pub fn new_within(
+        mesh: &PolyMesh,
+        options: crate::mesh::Options,
+        max_bytes: u64,
+    ) -> Result<Self, BuildError> {
+        let budget = Budget {
+            fixed: Self::estimate_build_memory(mesh),
+            limit: max_bytes,
+        };
+        if budget.fixed > budget.limit {
+            return Err(BuildError::TooLarge {
+                configurations: 0,
+                limit: max_bytes,
+            });
+        }
+        Self::build(mesh, options, budget)
+    }
+
+    /// Estimated bytes of this surface once points `1 / divisions` of a face's side apart
+    /// have been evaluated (an `n`×`n` grid or a tessellation at rate `n`: `n`), input
+    /// mesh included: [`LimitSurface::estimate_build_memory`], plus per configuration
+    /// `80 KiB × (l + 2)` and per face in the shared region of a vertex of high valence
+    /// `48 KiB × (l + 2)`, with `l = ceil(log2 divisions)` levels. Every configuration
+    /// is charged as if it were evaluated.
+    ///
+    /// ```
+    /// use subsurf::limit::LimitSurface;
+    /// use subsurf::mesh::{Options, PolyMesh};
+    /// // A cube: its six faces, each with four corners of valence 3, share one
+    /// // configuration.
+    /// let p = vec![
+    ///     [0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0],
+    ///     [0.0, 0.0, 1.0], [1.0, 0.0, 1.0], [1.0, 1.0, 1.0], [0.0, 1.0, 1.0],
+    /// ];
+    /// let f = [[0, 3, 2, 1], [4, 5, 6, 7], [0, 1, 5, 4], [1, 2, 6, 5], [2, 3, 7, 6], [3, 0, 4, 7]];
+    /// let cube = PolyMesh::from_faces(p, &f).unwrap();
+    /// let s = LimitSurface::new(&cube, Options::default()).unwrap();
+    /// assert_eq!(s.num_configurations(), 1);
+    /// let built = LimitSurface::estimate_build_memory(&cube);
+    /// assert_eq!(s.estimate_memory(1), built + 2 * (80 << 10));
+    /// assert_eq!(s.estimate_memory(16), built + 6 * (80 << 10));
+    /// ```
+    pub fn estimate_memory(&self, divisions: u32) -> u64 {
+        let levels = levels_for(divisions);
+        let regions = self.num_region_faces() as u64;
+        build_bytes(self.num_vertices(), self.num_faces())
+            .saturating_add(configuration_bytes(self.num_configurations(), levels + 2))
+            .saturating_add(
+                regions
+                    .saturating_mul(levels + 2)
+                    .saturating_mul(REGION_FACE_LEVEL_BYTES),
+            )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::{Crease, Options};
+
+    /// An `n`×`n` grid of squares split into triangles, with a crease of its own sharpness
+    /// on every horizontal interior edge: no two triangles away from the border share a
+    /// neighbourhood.
+    fn creased_triangles(n: u32) -> PolyMesh {
+        let w = n + 1;
+        let p = (0..w * w)
+            .map(|i| [f64::from(i % w), f64::from(i / w), 0.0])
+            .collect();
+        let mut faces = Vec::new();
+        for j in 0..n {
+            for i in 0..n {
+                let a = j * w + i;
+                faces.push(vec![a, a + 1, a + w + 1]);
+                faces.push(vec![a, a + w + 1, a + w]);
+            }
+        }
+        let mut mesh = PolyMesh::from_faces(p, &faces).expect("valid mesh");
+        for j in 1..n {
+            for i in 0..n {
+                let v0 = j * w + i;
+                mesh.tags.creases.push(Crease {
+                    v0,
+                    v1: v0 + 1,
+                    sharpness: 0.5 + (j * n + i) as f32 / 64.0,
+                });
+            }
+        }
+        mesh
+    }
+
+    /// `new_within` builds the surface `new` builds when its configurations fit, and
+    /// stops as soon as they do not: with room for ten, after finding the eleventh.
+    #[test]
+    fn a_build_within_a_limit_stops_at_the_configurations_that_do_not_fit() {
+        let mesh = creased_triangles(8);
+        let options = Options::default();
+        let whole = LimitSurface::new(&mesh, options).expect("surface");
+        let n = whole.num_configurations();
+        assert!(n > 40, "{n} configurations");
+        let fixed = LimitSurface::estimate_build_memory(&mesh);
+        let room = |k: usize| fixed + configuration_bytes(k, 2);
+        let within = LimitSurface::new_within(&mesh, options, room(n)).expect("fits");
+        assert_eq!(within.num_configurations(), n);
+        for f in 0..mesh.num_faces() as u32 {
+            let (a, b) = (whole.eval(f, 0.3, 0.6), within.eval(f, 0.3, 0.6));
+            assert_eq!(a.expect("point").p, b.expect("point").p, "face {f}");
+        }
+        match LimitSurface::new_within(&mesh, options, room(10)) {
+            Err(BuildError::TooLarge {
+                configurations,
+                limit,
+            }) => {
+                assert!((11..n).contains(&configurations), "{configurations}");
+                assert_eq!(limit, room(10));
+            }
+            other => panic!("not stopped: {other:?}"),
+        }
+        assert!(matches!(
+            LimitSurface::new_within(&mesh, options, fixed - 1),
+            Err(BuildError::TooLarge {
+                configurations: 0,
+                ..
+            })
+        ));
+    }
+
+    /// The estimate after building charges each configuration two levels and one per
+    /// level evaluated, and each face in the region of a vertex of high valence one per
+    /// level and two more.
+    #[test]
+    fn the_estimate_charges_configurations_and_region_faces_per_level() {
+        // A fan of 150 triangles around a vertex of valence 150, and the quad strip around
+        // it (150 quads): the faces next to the centre are in its region.
+        let k = 150u32;
+        let mut p = vec![[0.0, 0.0, 0.0]];
+        for ring in 1..=2 {
+            for i in 0..k {
+                let a = std::f64::consts::TAU * f64::from(i) / f64::from(k);
+                p.push([f64::from(ring) * a.cos(), f64::from(ring) * a.sin(), 0.0]);
+            }
+        }
+        let mut faces = Vec::new();
+        for i in 0..k {
+            let (a, b) = (1 + i, 1 + (i + 1) % k);
+            faces.push(vec![0, a, b]);
+            faces.push(vec![a, a + k, b + k, b]);
+        }
+        let mesh = PolyMesh::from_faces(p, &faces).expect("valid mesh");
+        let s = LimitSurface::new(&mesh, Options::default()).expect("surface");
+        let (c, r) = (s.num_configurations() as u64, s.num_region_faces() as u64);
+        assert!(r >= u64::from(k), "{r} region faces");
+        let fixed = LimitSurface::estimate_build_memory(&mesh);
+        assert_eq!(
+            fixed,
+            FIXED_BYTES + (2 * u64::from(k) + 1 + 2 * u64::from(k)) * ELEMENT_BYTES
+        );
+        let at = |levels: u64| {
+            fixed
+                + c * (levels + 2) * CONFIGURATION_LEVEL_BYTES
+                + r * (levels + 2) * REGION_FACE_LEVEL_BYTES
+        };
+        assert_eq!(s.estimate_memory(0), at(0));
+        assert_eq!(s.estimate_memory(1), at(0));
+        assert_eq!(s.estimate_memory(2), at(1));
+        assert_eq!(s.estimate_memory(16), at(4));
+        assert_eq!(s.estimate_memory(17), at(5));
+        assert_eq!(s.estimate_memory(u32::MAX), at(32));
+    }
+}
