@@ -9,7 +9,7 @@ use subsurf::io::gltf::{face_edges, write_glb, GlbLines, GlbMesh};
 use subsurf::io::obj::{write_obj, WriteOptions};
 use subsurf::io::ply::write_ply;
 use subsurf::io::stl::write_stl;
-use subsurf::limit::{tessellate, LimitSurface, Tessellation};
+use subsurf::limit::{tessellate, Tessellation};
 use subsurf::mesh::{Options, PolyMesh, TriangleSubdivision};
 
 use crate::input::Input;
@@ -185,7 +185,8 @@ pub fn run(args: &TessellateArgs) -> Result<()> {
             verts.saturating_mul(BYTES_PER_VERTEX),
         )?
     } else {
-        LimitSurface::new(surface_mesh, options).with_context(|| input.name.clone())?
+        // Only the build is guarded: the tessellation is refused before any evaluation.
+        guard.limit_surface(surface_mesh, options, 1, 0)?
     };
     // glTF draws triangles: let the tessellation split its quads (it picks the diagonals).
     let triangles = args.triangles || format == Format::Glb;
