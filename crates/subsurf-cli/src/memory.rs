@@ -1,4 +1,6 @@
-//! How much memory a job may use when `--max-memory` is not given.
+//! Memory guards: the limit a job is held to (`--max-memory`, else the memory available),
+//! the checks of estimates against it, the three-step guard of limit surfaces
+//! ([`SurfaceGuard`]), and huge pages for large refinements.
 
 use subsurf::limit::{BuildError, LimitSurface};
 use subsurf::mesh::{Options, PolyMesh};

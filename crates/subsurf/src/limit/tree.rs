@@ -33,7 +33,7 @@ use super::local::{cut_out_unbounded, Local, Reach, Region};
 use super::patch::{regular_patch_cells, Cell};
 use super::surface::{quadrant, MAX_DEPTH};
 use crate::hash::FxHasher;
-use crate::mesh::{CreaseMethod, Options, Topology};
+use crate::mesh::{Options, Topology};
 use crate::refine::{refine_topology, refinement_rows};
 use std::collections::HashMap;
 use std::hash::{BuildHasherDefault, Hash, Hasher};
@@ -648,8 +648,7 @@ impl TNode {
                 {
                     return Kid::Crease(patch_rows(&cells), side, Arc::new(CreaseBasis::new(s)));
                 }
-                let faces =
-                    cut_out_unbounded(&child, f, options.crease_method == CreaseMethod::Chaikin);
+                let faces = cut_out_unbounded(&child, f, Reach::new(options).chaikin);
                 let (sub, verts) = child.subset(&faces);
                 let mut rows = Rows::new();
                 for &v in &verts {
