@@ -2,6 +2,8 @@
 //! the checks of estimates against it, the three-step guard of limit surfaces
 //! ([`SurfaceGuard`]), and huge pages for large refinements.
 
+use std::sync::atomic::{AtomicI64, Ordering};
+
 use subsurf::limit::{BuildError, LimitSurface};
 use subsurf::mesh::{Options, PolyMesh};
 
@@ -24,8 +26,8 @@ pub fn available() -> Option<u64> {
 /// each 2 MiB page touched is resident whole: `bench --limit-grid 8` on `catmark_bishop`
 /// peaked at 29 MiB with huge pages and 14 MiB without, at the same speed. A page faulted
 /// in huge stays huge, so they are off from before the first allocation
-/// ([`HUGE_PAGES_OFF_AT_START`]) and refinement turns them back on when it is large
-/// enough ([`huge_pages_for`]).
+/// ([`ALLOCATOR_AT_START`]) and refinement turns them back on when it is large
+/// enough ([`for_refinement`]).
 pub fn huge_pages(on: bool) {
     #[cfg(target_os = "linux")]
     // SAFETY: `PR_SET_THP_DISABLE` takes integer arguments only and changes a flag of the
@@ -38,7 +40,7 @@ pub fn huge_pages(on: bool) {
     let _ = on;
 }
 
-/// Estimated job size (bytes) from which refinement runs on huge pages ([`huge_pages_for`]).
+/// Estimated job size (bytes) from which refinement runs on huge pages ([`for_refinement`]).
 ///
 /// Each thread's partly used 2 MiB pages stay resident whole, 10–40 MiB over the job on
 /// two threads, which below about this size put the peak above OpenSubdiv's for the
@@ -49,15 +51,54 @@ pub fn huge_pages(on: bool) {
 /// OpenSubdiv's (`catmark_bishop` level 5, 147 MiB: 154 MiB against 190 MiB).
 pub const HUGE_PAGES_FROM: u64 = 128 << 20;
 
-/// Turns huge pages on ([`huge_pages`]) for a refinement estimated to need `estimate`
-/// bytes, if that is at least [`HUGE_PAGES_FROM`]; below it they stay off.
-pub fn huge_pages_for(estimate: u64) {
+/// mimalloc's `mi_option_purge_delay` (its `mimalloc.h`, the same index in its versions 2
+/// and 3; the `libmimalloc-sys` bindings do not name it): how many milliseconds freed
+/// memory stays committed, for reuse, before it is returned to the system (0: at once).
+const MI_OPTION_PURGE_DELAY: libmimalloc_sys::mi_option_t = 15;
+
+/// The allocator's purge delay as it was at start-up (mimalloc's default, 1 s in version
+/// 3, or the `MIMALLOC_PURGE_DELAY` of the environment), which [`for_refinement`]
+/// restores; [`UNCHANGED`] where the start-up constructor does not run (not Linux).
+static PURGE_DELAY_AT_START: AtomicI64 = AtomicI64::new(UNCHANGED);
+
+/// [`PURGE_DELAY_AT_START`] before the constructor: the option was never changed.
+const UNCHANGED: i64 = i64::MIN;
+
+/// Whether the allocator keeps freed memory for reuse (mimalloc's purge delay at its
+/// value from start-up) or returns it to the system at once (a delay of 0).
+///
+/// Refinement frees each level's buffers and allocates the next, larger, ones: kept
+/// memory is reused without faulting pages in again (returned at once, each repetition
+/// of a `bench` of `catmark_pawn` at level 4 took 3× as long). The other jobs allocate
+/// as they build (a limit surface, a tessellation's arrays) and then work in place: there
+/// the memory kept only adds to the peak, the blocks of every growing array and the
+/// parser's buffers staying resident after they are freed (`bench --limit-grid 8` on
+/// `catmark_pawn` refined four times, 150 k quads: 71 MiB kept, 65 MiB returned, at
+/// the same speed).
+pub fn keep_freed_memory(keep: bool) {
+    let delay = match PURGE_DELAY_AT_START.load(Ordering::Relaxed) {
+        UNCHANGED => return,
+        _ if !keep => 0,
+        at_start => at_start,
+    };
+    // SAFETY: setting an option of the allocator is one store into its table of options,
+    // allowed at any time and from any thread (mimalloc reads them as it purges).
+    unsafe { libmimalloc_sys::mi_option_set(MI_OPTION_PURGE_DELAY, delay as _) }
+}
+
+/// Prepares the allocator for a refinement estimated to need `estimate` bytes: freed
+/// memory kept for reuse ([`keep_freed_memory`]), and huge pages ([`huge_pages`]) if
+/// `estimate` is at least [`HUGE_PAGES_FROM`] (below it they stay off).
+pub fn for_refinement(estimate: u64) {
+    keep_freed_memory(true);
     if estimate >= HUGE_PAGES_FROM {
         huge_pages(true);
     }
 }
 
-/// Turns huge pages off ([`huge_pages`]) before the allocator's first page is touched: a
+/// Sets the allocator up for every job but refinement before its first page is touched:
+/// huge pages off ([`huge_pages`]) and freed memory returned at once
+/// ([`keep_freed_memory`]); refinement changes both back ([`for_refinement`]). A
 /// constructor of priority 100, which runs before mimalloc's (priority 101, which
 /// reserves its first arena) and so before the first allocation (the standard library's
 /// own constructor, priority 99, only stores the program's arguments). Turned off in
@@ -66,11 +107,16 @@ pub fn huge_pages_for(estimate: u64) {
 #[cfg(target_os = "linux")]
 #[used]
 #[link_section = ".init_array.00100"]
-pub static HUGE_PAGES_OFF_AT_START: extern "C" fn() = {
-    extern "C" fn off() {
+pub static ALLOCATOR_AT_START: extern "C" fn() = {
+    extern "C" fn start() {
         huge_pages(false);
+        // SAFETY: reading an option only reads the environment and the option table.
+        let delay = unsafe { libmimalloc_sys::mi_option_get(MI_OPTION_PURGE_DELAY) };
+        #[allow(clippy::useless_conversion)] // `c_long` is 32 bits on some targets.
+        PURGE_DELAY_AT_START.store(i64::from(delay), Ordering::Relaxed);
+        keep_freed_memory(false);
     }
-    off
+    start
 };
 
 /// Refuses a job estimated to need `estimate` bytes when that exceeds `max` (the
@@ -230,12 +276,32 @@ mod tests {
         Some(line.split_whitespace().nth(1)? == "1")
     }
 
+    /// The allocator's purge delay (see `keep_freed_memory`) as it is now.
+    fn purge_delay() -> i64 {
+        // SAFETY: reading an option of the allocator.
+        #[allow(clippy::useless_conversion)] // `c_long` is 32 bits on some targets.
+        i64::from(unsafe { libmimalloc_sys::mi_option_get(MI_OPTION_PURGE_DELAY) })
+    }
+
     /// Huge pages are off from the start of the process (the constructor ran before any
-    /// test), `huge_pages` turns them on and off again, and `huge_pages_for` turns them on
-    /// from `HUGE_PAGES_FROM` bytes only. (One test: the flag is the whole process's.)
+    /// test), `huge_pages` turns them on and off again, and `for_refinement` turns them on
+    /// from `HUGE_PAGES_FROM` bytes only; freed memory is returned at once from the start
+    /// and kept again for any refinement. (One test: both settings are the whole
+    /// process's.)
     #[cfg(target_os = "linux")]
     #[test]
-    fn huge_pages_are_off_from_the_start_and_switchable() {
+    fn the_allocator_is_set_for_limit_jobs_from_the_start_and_for_refinement_on_request() {
+        let at_start = PURGE_DELAY_AT_START.load(Ordering::Relaxed);
+        assert_ne!(at_start, UNCHANGED, "the constructor did not run");
+        if std::env::var_os("MIMALLOC_PURGE_DELAY").is_none() {
+            // mimalloc 3's default: the option's index is the purge delay's.
+            assert_eq!(at_start, 1000);
+        }
+        assert_eq!(purge_delay(), 0, "freed memory is kept from the start");
+        keep_freed_memory(true);
+        assert_eq!(purge_delay(), at_start);
+        keep_freed_memory(false);
+        assert_eq!(purge_delay(), 0);
         let Some(start) = thp_enabled() else {
             return; // A kernel that does not report the flag.
         };
@@ -244,15 +310,21 @@ mod tests {
         assert_eq!(thp_enabled(), Some(true));
         huge_pages(false);
         assert_eq!(thp_enabled(), Some(false));
-        huge_pages_for(HUGE_PAGES_FROM - 1);
+        for_refinement(HUGE_PAGES_FROM - 1);
+        assert_eq!(
+            purge_delay(),
+            at_start,
+            "refinement does not keep freed memory"
+        );
         assert_eq!(
             thp_enabled(),
             Some(false),
             "a small job turned huge pages on"
         );
-        huge_pages_for(HUGE_PAGES_FROM);
+        for_refinement(HUGE_PAGES_FROM);
         assert_eq!(thp_enabled(), Some(true), "a large job left huge pages off");
         huge_pages(false);
+        keep_freed_memory(false);
     }
 
     fn quad_and_triangle() -> subsurf::mesh::PolyMesh {

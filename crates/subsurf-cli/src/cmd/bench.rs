@@ -63,7 +63,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     };
     let hint = "use a lower level";
     crate::memory::check(&input.name, &what, estimate, args.max_memory, hint)?;
-    crate::memory::huge_pages_for(estimate);
+    crate::memory::for_refinement(estimate);
     if args.replay {
         return bench_replay(&input, opts.scheme, args.levels, reps, &pool);
     }

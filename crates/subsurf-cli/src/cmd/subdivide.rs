@@ -37,7 +37,7 @@ pub fn run(args: &SubdivideArgs) -> Result<()> {
         keep_holes: args.keep_holes,
         max_memory: args.max_memory.or_else(crate::memory::available),
     };
-    crate::memory::huge_pages_for(subsurf::estimate_memory(&input.obj.mesh, &opts));
+    crate::memory::for_refinement(subsurf::estimate_memory(&input.obj.mesh, &opts));
     let mut flags = String::new();
     if let Some(angle) = args.crease_angle {
         add_angle_creases(&mut input, &opts.scheme, angle, args.sharpness)?;
