@@ -265,6 +265,48 @@ fn net_cell(k: usize, off: (i32, i32)) -> (usize, usize) {
     ((CORNER[k].0 + x) as usize, (CORNER[k].1 + y) as usize)
 }
 
+/// The 16 control points of quad `f` as vertices (`net[4 i + j]`, `i` along `u`, as
+/// [`Net::Plain`]), read from the topology alone, for a quad whose net is plain: every
+/// corner a smooth manifold vertex of four quads. Each corner `c` brings itself and the
+/// three other vertices of the face diagonally across it, the face two steps from `f` in
+/// `c`'s counter-clockwise ring of four (the [`Topology`] module docs): `(−1, 0)`,
+/// `(−1, −1)` and `(0, −1)` in `c`'s frame ([`net_cell`]); the four corners' diagonal faces
+/// cover the net. `None` when a corner does not have four faces around it, or its diagonal
+/// face is not a quad.
+///
+/// The same net as [`regular_patch_cells`] finds by walking each corner's edges, with a
+/// fraction of the reads: a limit surface keeps nothing for such a face and gathers its
+/// net when it is evaluated (its builder checks that both agree).
+pub(super) fn plain_net(t: &Topology, f: usize) -> Option<[u32; 16]> {
+    /// `net_cell(k, off)` as `4 i + j`, for the offsets `(0, 0)`, `(−1, 0)`, `(−1, −1)`,
+    /// `(0, −1)` of the corner itself and its diagonal face's next three vertices.
+    const CELLS: [[usize; 4]; 4] = [[5, 1, 0, 4], [9, 8, 12, 13], [10, 14, 15, 11], [6, 7, 3, 2]];
+    let fv = t.face_vertices(f);
+    if fv.len() != 4 {
+        return None;
+    }
+    let mut net = [0; 16];
+    for (k, &c) in fv.iter().enumerate() {
+        let (faces, locals) = (t.vertex_faces(c as usize), t.vertex_face_locals(c as usize));
+        if faces.len() != 4 {
+            return None;
+        }
+        let i = (0..4).find(|&i| faces[i] as usize == f && usize::from(locals[i]) == k)?;
+        let (g, m) = (
+            faces[(i + 2) % 4] as usize,
+            usize::from(locals[(i + 2) % 4]),
+        );
+        let gv = t.face_vertices(g);
+        if gv.len() != 4 {
+            return None;
+        }
+        for (d, &cell) in CELLS[k].iter().enumerate() {
+            net[cell] = gv[(m + d) % 4];
+        }
+    }
+    Some(net)
+}
+
 /// The five points beyond the quad around a smooth valence-4 corner whose other faces are
 /// `ring` ([`Corner::Closed`]), each with its offset from the corner in the corner's frame
 /// ([`net_cell`]).

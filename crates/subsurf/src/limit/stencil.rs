@@ -232,6 +232,7 @@ fn face_stencils(
                         options,
                         order: Order::First,
                         pos: unit,
+                        topo: base,
                     };
                     let mut d = Derivatives::default();
                     if eval_node(n, p.u, p.v, ctx, &mut d) {

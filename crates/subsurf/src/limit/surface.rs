@@ -71,7 +71,7 @@ use super::local::{
     HIGH_VALENCE,
 };
 use super::memory::{Budget, BuildError};
-use super::patch::{regular_patch_cells, Net};
+use super::patch::{plain_net, regular_patch_cells, Net};
 use super::tree::{
     by_quadrant, take_corners, Ctx, Kid, Leaf, Query, Scratch, Sink, Tree, TreeCache,
 };
@@ -139,10 +139,12 @@ pub enum EvalError {
 pub(super) enum Node {
     Hole,
     /// A regular quad of the base mesh whose 16 control points are base vertices (every
-    /// patch away from boundaries and creases): their indices, the points gathered from
-    /// the surface's positions ([`Ctx::pos`]) when evaluated. 64 bytes instead of the
-    /// 384 of the points, and nothing to update when the mesh is re-posed.
-    Plain(Box<[u32; 16]>),
+    /// patch away from boundaries and creases): the face's index. Its net is gathered
+    /// from the topology ([`plain_net`]) and its points from the surface's positions
+    /// ([`Ctx::pos`]) when evaluated, so nothing is stored for it (the surface does not
+    /// even keep the node: [`LimitSurface::faces`]), and nothing is updated when the mesh
+    /// is re-posed.
+    Plain(u32),
     /// A bicubic patch: its control points `cp[i][j]` (`i` along `u`).
     Regular(Box<[[[f64; 3]; 4]; 4]>),
     /// A quad that is regular but for one straight semi-sharp crease: closed form.
@@ -183,14 +185,20 @@ impl Node {
     }
 
     /// The control points `cp[i][j]` of a bicubic patch: a [`Node::Regular`]'s, or a
-    /// [`Node::Plain`]'s `pos[verts[4 i + j]]` (`pos` the base mesh's points); `None` for
-    /// any other node.
+    /// [`Node::Plain`]'s `pos[net[4 i + j]]` (`net` from [`plain_net`] on the base
+    /// topology, `pos` the base mesh's points); `None` for any other node.
     #[inline]
-    fn bicubic(&self, pos: &[[f64; 3]]) -> Option<Cow<'_, [[[f64; 3]; 4]; 4]>> {
+    fn bicubic(&self, ctx: Ctx<'_>) -> Option<Cow<'_, [[[f64; 3]; 4]; 4]>> {
         match self {
-            Node::Plain(verts) => Some(Cow::Owned(std::array::from_fn(|i| {
-                std::array::from_fn(|j| pos[verts[4 * i + j] as usize])
-            }))),
+            Node::Plain(f) => {
+                let Some(net) = plain_net(ctx.topo, *f as usize) else {
+                    unreachable!("face {f} was made plain after its net was found")
+                };
+                let pos = ctx.pos;
+                Some(Cow::Owned(std::array::from_fn(|i| {
+                    std::array::from_fn(|j| pos[net[4 * i + j] as usize])
+                })))
+            }
             Node::Regular(cp) => Some(Cow::Borrowed(cp)),
             _ => None,
         }
@@ -266,10 +274,25 @@ pub struct LimitSurface {
     /// What faces share: configuration trees and crease bases, kept when the positions
     /// change.
     shared: Arc<Shared>,
-    /// Per base face, its nodes (one per sub-face; one for quads).
-    nodes: Vec<FaceNodes>,
-    /// Per base face, how its nodes follow the control points.
-    recipes: Vec<Recipe>,
+    /// Per base face, [`PLAIN`] if its surface is a [`Node::Plain`] patch (made from the
+    /// face's index when needed: most faces of most meshes, for which the surface keeps
+    /// these 4 bytes only), else the index of its entry in `built`.
+    faces: Vec<u32>,
+    /// The faces that are not plain, in order: their nodes and how they follow the
+    /// control points.
+    built: Vec<BuiltFace>,
+}
+
+/// [`LimitSurface::faces`] of a face whose surface is a [`Node::Plain`] patch.
+const PLAIN: u32 = u32::MAX;
+
+/// A base face's nodes (one per sub-face; one for quads) and how they follow the control
+/// points.
+#[derive(Clone, Debug)]
+struct BuiltFace {
+    face: u32,
+    nodes: FaceNodes,
+    recipe: Recipe,
 }
 
 impl LimitSurface {
@@ -331,8 +354,8 @@ impl LimitSurface {
                 trees: Arc::new(TreeCache::new(crease_patches)),
                 ..Shared::default()
             }),
-            nodes: Vec::new(),
-            recipes: Vec::new(),
+            faces: Vec::new(),
+            built: Vec::new(),
         };
         Ok(surface)
     }
@@ -389,19 +412,30 @@ impl LimitSurface {
         let level = LevelRef::new(&self.base, &self.pos, &self.shared, &cache, reach);
         let (shared, options) = (&*self.shared, &self.options);
         let stop = AtomicBool::new(false);
-        (self.nodes, self.recipes) = (0..self.base.num_faces())
+        self.built = (0..self.base.num_faces())
             .into_par_iter()
-            .map(|f| {
+            .filter_map(|f| {
                 if stop.load(Ordering::Relaxed) {
-                    return (FaceNodes::Many(Box::new([])), Recipe::Fixed);
+                    return None;
                 }
                 let (nodes, recipe) = build_face(level, shared, f, options);
                 if matches!(recipe, Recipe::Tree(..)) && over(shared.trees.len()) {
                     stop.store(true, Ordering::Relaxed);
                 }
-                (FaceNodes::from(nodes), recipe)
+                let face = f as u32;
+                (!matches!(nodes[..], [Node::Plain(_)])).then(|| BuiltFace {
+                    face,
+                    nodes: nodes.into(),
+                    recipe,
+                })
             })
-            .unzip();
+            .collect();
+        // A stopped build leaves the faces it did not reach plain; the surface is dropped
+        // with its error.
+        self.faces = vec![PLAIN; self.base.num_faces()];
+        for (i, b) in self.built.iter().enumerate() {
+            self.faces[b.face as usize] = i as u32;
+        }
         stop.into_inner()
     }
 
@@ -419,16 +453,15 @@ impl LimitSurface {
         // evaluate their nets again and trees take the new points of their cut-outs, in
         // place; the rest (position-based local refinement) is built again, on the kept
         // shapes of the shared regions.
-        (self.nodes.par_iter_mut().zip(&mut self.recipes))
-            .enumerate()
-            .for_each(|(f, (nodes, recipe))| {
-                if let Recipe::Region(w) = *recipe {
-                    *nodes = region_nodes(level, f, w, options).into();
-                } else if !recipe.update(nodes.as_mut_slice(), pos, options) {
-                    let (fresh, r) = build_face(level, shared, f, options);
-                    (*nodes, *recipe) = (fresh.into(), r);
-                }
-            });
+        self.built.par_iter_mut().for_each(|b| {
+            let f = b.face as usize;
+            if let Recipe::Region(w) = b.recipe {
+                b.nodes = region_nodes(level, f, w, options).into();
+            } else if !b.recipe.update(b.nodes.as_mut_slice(), pos, options) {
+                let (fresh, r) = build_face(level, shared, f, options);
+                (b.nodes, b.recipe) = (fresh.into(), r);
+            }
+        });
     }
 
     /// Number of distinct neighbourhoods ("configurations") of the irregular faces whose
@@ -442,8 +475,8 @@ impl LimitSurface {
     /// [`super::local::HIGH_VALENCE`]), refined from the region's points as evaluation
     /// needs.
     pub(super) fn num_region_faces(&self) -> usize {
-        (self.recipes.iter())
-            .filter(|r| matches!(r, Recipe::Region(_)))
+        (self.built.iter())
+            .filter(|b| matches!(b.recipe, Recipe::Region(_)))
             .count()
     }
 
@@ -454,18 +487,25 @@ impl LimitSurface {
 
     /// Number of base faces.
     pub fn num_faces(&self) -> usize {
-        self.nodes.len()
+        self.faces.len()
+    }
+
+    /// The nodes of face `f` (one per sub-face), if there is such a face.
+    fn face_nodes(&self, f: usize) -> Option<Cow<'_, FaceNodes>> {
+        Some(match *self.faces.get(f)? {
+            PLAIN => Cow::Owned(FaceNodes::One(Node::Plain(f as u32))),
+            i => Cow::Borrowed(&self.built[i as usize].nodes),
+        })
     }
 
     /// Number of sub-faces of face `f` (1 for a quad, `n` for an `n`-gon).
     pub fn num_subfaces(&self, f: usize) -> usize {
-        self.nodes.get(f).map_or(0, |n| n.as_slice().len())
+        self.face_nodes(f).map_or(0, |n| n.as_slice().len())
     }
 
     /// Whether face `f` has a surface (it is not a hole).
     pub fn has_surface(&self, f: usize) -> bool {
-        self.nodes
-            .get(f)
+        self.face_nodes(f)
             .is_some_and(|n| !matches!(n.as_slice().first(), Some(Node::Hole) | None))
     }
 
@@ -512,7 +552,7 @@ impl LimitSurface {
                     *out = Ok(Derivatives::default());
                 }
                 if let Ok(d) = out {
-                    if !eval_node(node, p.u, p.v, self.ctx(order), d) {
+                    if !eval_node(&node, p.u, p.v, self.ctx(order), d) {
                         *out = Err(EvalError::Hole { face: p.face });
                     }
                 }
@@ -525,30 +565,35 @@ impl LimitSurface {
             options: &self.options,
             order,
             pos: &self.pos,
+            topo: &self.base,
         }
     }
 
-    /// The node of `p`'s face and sub-face, after checking `p`.
-    fn node(&self, p: SurfacePoint) -> Result<&Node, EvalError> {
+    /// The node of `p`'s face and sub-face, after checking `p` (made for a plain face,
+    /// borrowed for any other).
+    fn node(&self, p: SurfacePoint) -> Result<Cow<'_, Node>, EvalError> {
         let nodes = self
-            .nodes
-            .get(p.face as usize)
+            .face_nodes(p.face as usize)
             .ok_or(EvalError::NoSuchFace {
                 face: p.face,
-                count: self.nodes.len(),
-            })?
-            .as_slice();
-        let node = nodes
-            .get(p.subface as usize)
-            .ok_or(EvalError::NoSuchSubface {
+                count: self.faces.len(),
+            })?;
+        let sub = p.subface as usize;
+        let size = nodes.as_slice().len();
+        if sub >= size {
+            return Err(EvalError::NoSuchSubface {
                 face: p.face,
                 subface: p.subface,
-                size: nodes.len(),
-            })?;
+                size,
+            });
+        }
         if !(0.0..=1.0).contains(&p.u) || !(0.0..=1.0).contains(&p.v) {
             return Err(EvalError::BadParameter { u: p.u, v: p.v });
         }
-        Ok(node)
+        Ok(match nodes {
+            Cow::Borrowed(nodes) => Cow::Borrowed(&nodes.as_slice()[sub]),
+            Cow::Owned(nodes) => Cow::Owned(nodes.as_slice()[sub].clone()),
+        })
     }
 
     /// Evaluates many points in parallel; results in the same order.
@@ -600,6 +645,7 @@ impl LimitSurface {
             let in_domain =
                 |q: &SurfacePoint| (0.0..=1.0).contains(&q.u) && (0.0..=1.0).contains(&q.v);
             let node = self.node(p).ok();
+            let node = node.as_deref();
             // A patch: all the run's points together, four at a time.
             let run_points = &points[i..i + run];
             let all_in = || run_points.iter().all(in_domain);
@@ -609,7 +655,7 @@ impl LimitSurface {
                         points: run_points,
                         out: &mut out[i..i + run],
                     };
-                    if let Some(cp) = n.bicubic(&self.pos) {
+                    if let Some(cp) = n.bicubic(self.ctx(order)) {
                         bspline::tensor_batch(&cp, regular_bases, order, 1.0, batch);
                     }
                     i += run;
@@ -751,7 +797,9 @@ pub(super) fn build_face(
     }
     if let Some(patch) = PatchNet::new(base, f, shared, options) {
         if let (Net::Plain(verts), None) = (&patch.net, &patch.crease) {
-            return (vec![Node::Plain(Box::new(*verts))], Recipe::Fixed);
+            if plain_net(base, f).as_ref() == Some(verts) {
+                return (vec![Node::Plain(f as u32)], Recipe::Fixed);
+            }
         }
         return (vec![patch.node(level.pos)], Recipe::Patch(Box::new(patch)));
     }
@@ -977,7 +1025,7 @@ fn eval_queries(
     match node {
         Node::Hole => qs.iter().for_each(|q| sink.hole(q.out)),
         Node::Plain(_) | Node::Regular(_) => {
-            if let Some(cp) = node.bicubic(ctx.pos) {
+            if let Some(cp) = node.bicubic(ctx) {
                 let leaf = &mut Leaf { qs, sink };
                 bspline::tensor_batch(&cp, regular_bases, ctx.order, scale, leaf);
             }
@@ -1066,6 +1114,86 @@ mod tests {
 
     /// A wavy 7×7 grid of quads with a crease of sharpness `s` along the grid line
     /// `x = 3` (`vertical`) or `y = 3`, stopping short of the border.
+    /// An `n × m` torus of quads, each face listed from one of its four corners, with the
+    /// quad at `(0, 0)` split into two triangles: the faces that touch them are not plain,
+    /// all the others are.
+    fn rotated_torus(n: u32, m: u32) -> PolyMesh {
+        let mut p = Vec::new();
+        for j in 0..m {
+            for i in 0..n {
+                let (a, b) = (
+                    std::f64::consts::TAU * i as f64 / n as f64,
+                    std::f64::consts::TAU * j as f64 / m as f64,
+                );
+                let r = 2.0 + (0.5 + 0.05 * (3.0 * a).sin()) * b.cos();
+                p.push([r * a.cos(), r * a.sin(), 0.5 * b.sin()]);
+            }
+        }
+        let id = |i: u32, j: u32| (j % m) * n + i % n;
+        let mut faces: Vec<Vec<u32>> = Vec::new();
+        for j in 0..m {
+            for i in 0..n {
+                let q = [id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)];
+                if (i, j) == (0, 0) {
+                    faces.push(vec![q[0], q[1], q[2]]);
+                    faces.push(vec![q[0], q[2], q[3]]);
+                } else {
+                    let r = ((i + 2 * j) % 4) as usize;
+                    faces.push((0..4).map(|k| q[(k + r) % 4]).collect());
+                }
+            }
+        }
+        PolyMesh::from_faces(p, &faces).expect("torus")
+    }
+
+    /// A plain face's net read from the topology ([`plain_net`]) is the one the corner
+    /// walks find ([`regular_patch_cells`]) on every face that has one, listed from any
+    /// corner; the surface keeps nothing for those faces, and evaluates them as before
+    /// (the same points as through their stored control points).
+    #[test]
+    fn plain_faces_are_found_from_the_topology_and_not_stored() {
+        let mesh = rotated_torus(9, 7);
+        let o = Options::default();
+        let (topo, _) = Topology::from_mesh(&mesh, &o).expect("topology");
+        let mut plain = 0;
+        for f in 0..topo.num_faces() {
+            let walked = regular_patch_cells(&topo, f).map(Net::new);
+            match (&walked, plain_net(&topo, f)) {
+                (Some(Net::Plain(w)), Some(t)) => {
+                    assert_eq!(*w, t, "face {f}");
+                    plain += 1;
+                }
+                (Some(Net::Plain(_)), None) => panic!("face {f}: plain net not found"),
+                _ => {}
+            }
+        }
+        // 62 quads; the two triangles and the 8 quads at their corners are not plain.
+        assert_eq!(plain, topo.num_faces() - 2 - 8);
+        let surface = LimitSurface::new(&mesh, o).expect("surface");
+        assert_eq!(surface.built.len(), 10);
+        assert_eq!(surface.faces.iter().filter(|&&i| i == PLAIN).count(), plain);
+        for f in 0..surface.num_faces() {
+            let Some(Net::Plain(net)) = regular_patch_cells(&topo, f).map(Net::new) else {
+                continue;
+            };
+            let cp: [[[f64; 3]; 4]; 4] = std::array::from_fn(|i| {
+                std::array::from_fn(|j| mesh.positions()[net[4 * i + j] as usize])
+            });
+            for (u, v) in [(0.0, 0.0), (0.3, 0.8), (1.0, 0.5), (0.61, 0.07)] {
+                let a = surface.eval(f as u32, u, v).expect("eval");
+                let mut b = Derivatives::default();
+                let node = Node::Regular(Box::new(cp));
+                assert!(eval_node(&node, u, v, surface.ctx(Order::Second), &mut b));
+                for (x, y) in [(a.p, b.p), (a.du, b.du), (a.dv, b.dv), (a.duv, b.duv)] {
+                    assert!(
+                        (0..3).all(|k| (x[k] - y[k]).abs() < 1e-14),
+                        "face {f} at {u}, {v}"
+                    );
+                }
+            }
+        }
+    }
+
     fn creased_grid(s: f32, vertical: bool) -> PolyMesh {
         let n = 8u32;
         let mut p = Vec::new();
@@ -1132,7 +1260,10 @@ mod tests {
                 let slow = LimitSurface::with_high_valence(&mesh, o, HIGH_VALENCE, false)
                     .expect("surface");
                 let creased = (0..fast.num_faces())
-                    .filter(|&f| matches!(fast.nodes[f].as_slice()[0], Node::Crease(_)))
+                    .filter(|&f| {
+                        let nodes = fast.face_nodes(f).expect("a face");
+                        matches!(nodes.as_slice()[0], Node::Crease(_))
+                    })
                     .count();
                 assert!(creased >= 4, "s = {s}: only {creased} single-crease faces");
                 for f in 0..fast.num_faces() {

@@ -381,6 +381,8 @@ pub(super) struct Ctx<'a> {
     /// The base mesh's control points, which [`Node::Plain`](super::surface::Node) patches
     /// (base faces only) gather theirs from.
     pub pos: &'a [[f64; 3]],
+    /// The base mesh's topology, from which those patches find their nets.
+    pub topo: &'a Topology,
 }
 
 /// One point to evaluate: its parameter in the current node, and where its result goes.
