@@ -2,6 +2,7 @@
 //! the checks of estimates against it, the three-step guard of limit surfaces
 //! ([`SurfaceGuard`]), and huge pages for large refinements.
 
+use std::borrow::Cow;
 use std::sync::atomic::{AtomicI64, Ordering};
 
 use subsurf::limit::{BuildError, LimitSurface};
@@ -200,14 +201,15 @@ pub struct SurfaceGuard<'a> {
 impl SurfaceGuard<'_> {
     /// The limit surface of `mesh`, for a job that evaluates points `1 / divisions` of a
     /// face's side apart and needs `reserved` bytes of its own besides.
-    pub fn limit_surface(
+    pub fn limit_surface<'a>(
         &self,
-        mesh: &PolyMesh,
+        mesh: impl Into<Cow<'a, PolyMesh>>,
         options: Options,
         divisions: u32,
         reserved: u64,
     ) -> anyhow::Result<LimitSurface> {
         use anyhow::Context as _;
+        let mesh = mesh.into();
         let limit = self.max.or_else(available);
         let check = |estimate: u64| {
             check_against(
@@ -219,7 +221,7 @@ impl SurfaceGuard<'_> {
                 self.hint,
             )
         };
-        check(LimitSurface::estimate_build_memory(mesh).saturating_add(reserved))?;
+        check(LimitSurface::estimate_build_memory(&mesh).saturating_add(reserved))?;
         let surface = match limit {
             Some(limit) => {
                 match LimitSurface::new_within(mesh, options, limit.saturating_sub(reserved)) {

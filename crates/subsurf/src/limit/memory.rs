@@ -26,6 +26,7 @@
 
 use super::LimitSurface;
 use crate::mesh::{MeshError, PolyMesh};
+use std::borrow::Cow;
 
 /// Bytes taken whatever the mesh: the worker threads' stacks and the allocator's arenas,
 /// which grow in steps of 2–4 MiB (measured: 2.6–4.7 MiB to build the smallest shapes,
@@ -141,17 +142,19 @@ impl LimitSurface {
     /// [`LimitSurface::new`], stopping with [`BuildError::TooLarge`] as soon as the
     /// configurations found would take the estimate over `max_bytes`:
     /// [`LimitSurface::estimate_build_memory`] plus 160 KiB per configuration (built and
-    /// first evaluated). Nothing is kept of a stopped build.
+    /// first evaluated). Nothing is kept of a stopped build. Like [`LimitSurface::new`],
+    /// it takes the mesh or a reference to it.
     ///
     /// # Errors
     /// [`BuildError::Mesh`] if the mesh is invalid, [`BuildError::TooLarge`] over the limit.
-    pub fn new_within(
-        mesh: &PolyMesh,
+    pub fn new_within<'a>(
+        mesh: impl Into<Cow<'a, PolyMesh>>,
         options: crate::mesh::Options,
         max_bytes: u64,
     ) -> Result<Self, BuildError> {
+        let mesh = mesh.into();
         let budget = Budget {
-            fixed: Self::estimate_build_memory(mesh),
+            fixed: Self::estimate_build_memory(&mesh),
             limit: max_bytes,
         };
         if budget.exceeded_by(0) {

@@ -759,7 +759,7 @@ mod tests {
     #[test]
     fn mismatched_surface_is_an_error() {
         let o = Options::default();
-        let s = LimitSurface::new(&cube(), o).unwrap();
+        let s = LimitSurface::new(cube(), o).unwrap();
         let e = tessellate(&s, &mixed(), &o, 2, false).unwrap_err();
         assert!(
             matches!(e, TessellateError::Mismatch { face: 1, .. }),

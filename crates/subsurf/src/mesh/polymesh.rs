@@ -36,6 +36,21 @@ pub struct PolyMesh {
     pub knots: KnotTags,
 }
 
+/// A mesh lent: what [`LimitSurface::new`](crate::limit::LimitSurface::new) copies.
+impl<'a> From<&'a PolyMesh> for std::borrow::Cow<'a, PolyMesh> {
+    fn from(mesh: &'a PolyMesh) -> Self {
+        std::borrow::Cow::Borrowed(mesh)
+    }
+}
+
+/// A mesh given: what [`LimitSurface::new`](crate::limit::LimitSurface::new) takes apart
+/// instead of copying.
+impl From<PolyMesh> for std::borrow::Cow<'_, PolyMesh> {
+    fn from(mesh: PolyMesh) -> Self {
+        std::borrow::Cow::Owned(mesh)
+    }
+}
+
 impl PolyMesh {
     /// Builds a mesh from positions and CSR faces (`face_offsets.len() == faces + 1`,
     /// `face_offsets[0] == 0`, last offset `== face_verts.len()`).
@@ -205,6 +220,17 @@ impl PolyMesh {
             }
         }
         Ok(())
+    }
+
+    /// The mesh's positions, face offsets and face vertices (CSR) and tags, taken apart
+    /// (the knot tags are dropped).
+    pub(crate) fn into_parts(self) -> (Vec<[f64; 3]>, Vec<u32>, Vec<u32>, Tags) {
+        (
+            self.positions,
+            self.face_offsets,
+            self.face_verts,
+            self.tags,
+        )
     }
 
     /// Vertex positions.

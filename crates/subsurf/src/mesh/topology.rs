@@ -181,14 +181,32 @@ impl Topology {
         mesh: &PolyMesh,
         options: &Options,
     ) -> Result<(Self, Vec<TopologyWarning>), MeshError> {
-        let mut t = Self::from_faces(mesh.num_vertices(), mesh.face_offsets(), mesh.face_verts())?;
+        let faces = (mesh.face_offsets().to_vec(), mesh.face_verts().to_vec());
+        Self::from_faces(mesh.num_vertices(), faces)?.tagged(&mesh.tags, options)
+    }
+
+    /// [`Self::from_mesh`] taking the mesh: its face lists become the topology's (no copy),
+    /// and its positions are returned (the warnings are not).
+    pub(crate) fn from_owned_mesh(
+        mesh: PolyMesh,
+        options: &Options,
+    ) -> Result<(Self, Vec<[f64; 3]>), MeshError> {
+        let nv = mesh.num_vertices();
+        let (positions, face_offsets, face_verts, tags) = mesh.into_parts();
+        let (t, _) = Self::from_faces(nv, (face_offsets, face_verts))?.tagged(&tags, options)?;
+        Ok((t, positions))
+    }
+
+    /// The adjacency `self` with `tags` applied, sharpness and rules prepared, and the
+    /// warnings about its faces, edges and vertices.
+    fn tagged(
+        self,
+        tags: &super::Tags,
+        options: &Options,
+    ) -> Result<(Self, Vec<TopologyWarning>), MeshError> {
+        let mut t = self;
         let mut warnings = Vec::new();
-        t.assign_tags(
-            &mesh.tags.creases,
-            &mesh.tags.corners,
-            &mesh.tags.holes,
-            &mut warnings,
-        );
+        t.assign_tags(&tags.creases, &tags.corners, &tags.holes, &mut warnings);
         t.prepare_tags_and_sharpness(options);
         let degenerate: Vec<usize> = (0..t.num_faces())
             .filter(|&f| super::polymesh::repeated_vertex(t.face_vertices(f)).is_some())
@@ -222,12 +240,11 @@ impl Topology {
     }
 
     /// Adjacency only (no tags applied yet), OpenSubdiv's
-    /// `Level::completeTopologyFromFaceVertices`.
-    fn from_faces(
-        num_vertices: usize,
-        face_offsets: &[u32],
-        face_verts: &[u32],
-    ) -> Result<Self, MeshError> {
+    /// `Level::completeTopologyFromFaceVertices`, on the face lists `faces` (offsets and
+    /// vertices, CSR), which become the topology's.
+    fn from_faces(num_vertices: usize, faces: (Vec<u32>, Vec<u32>)) -> Result<Self, MeshError> {
+        let (face_offsets_owned, face_verts_owned) = faces;
+        let (face_offsets, face_verts) = (&face_offsets_owned[..], &face_verts_owned[..]);
         let nv = num_vertices;
         let nf = face_offsets.len().saturating_sub(1);
         to_u32(nv, "the vertex count")?;
@@ -385,8 +402,8 @@ impl Topology {
 
         let mut t = Topology {
             num_vertices: nv as u32,
-            face_offsets: face_offsets.to_vec(),
-            face_verts: face_verts.to_vec(),
+            face_offsets: face_offsets_owned,
+            face_verts: face_verts_owned,
             face_edges,
             face_holes: vec![false; nf],
             edge_verts,
