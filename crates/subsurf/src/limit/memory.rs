@@ -20,9 +20,13 @@
 //! [`LimitSurface::new`] and around evaluating every face, mimalloc as in the binary, one
 //! and two threads) on the 81 OpenSubdiv regression shapes, the repository's examples and
 //! eleven public scans and their triangulations (`BENCHMARKS.md`, "Memory of limit
-//! surfaces"); on meshes of more than 5 000 faces the estimates are 1.7–6.6× the surface's
-//! measured peak, the most on large quad meshes (charged per vertex and face as much as
-//! triangulations, which take four times more).
+//! surfaces"); on meshes of more than 5 000 faces the estimates were 1.7–6.6× the
+//! surface's measured peak, the most on large quad meshes (charged per vertex and face as
+//! much as triangulations, which take four times more). Since plain faces keep nothing
+//! and the freed memory of the build is returned at once, large quad meshes take less
+//! still: `catmark_bishop` refined four times (240 k quads) is estimated at 409 MiB for an
+//! 8 × 8 grid per face and peaks at 61 MiB in `bench --limit-grid 8` (6.7×; the constants
+//! were not lowered, as triangulations still need them).
 
 use super::LimitSurface;
 use crate::mesh::{MeshError, PolyMesh};
@@ -35,7 +39,7 @@ use std::borrow::Cow;
 const FIXED_BYTES: u64 = 24 << 20;
 
 /// Bytes per vertex and per face of the mesh, configurations apart: the surface's copy of
-/// the positions, the base level's topology, a node per face and, for an irregular face,
+/// the positions, the base level's topology, a node per face (but plain ones) and, for an irregular face,
 /// its cut-out's vertices and points (measured: 0.12 KiB on the 240 k quads of
 /// `catmark_bishop` refined four times, 0.3–0.4 KiB on quad meshes refined twice, up to
 /// 0.55 KiB on triangulations).
