@@ -485,8 +485,9 @@ impl LimitSurface {
         &self.pos
     }
 
-    /// Builds the per-face nodes; `true` if it stopped as soon as `over(configurations
-    /// found)`, the faces not built by then left without nodes.
+    /// Builds the per-face nodes (keeping none for plain faces); `true` if it stopped as
+    /// soon as `over(configurations found)`, the faces not built by then left plain (the
+    /// caller then drops the surface).
     fn place_new(&mut self, over: impl Fn(usize) -> bool + Sync) -> bool {
         let cache = RegionCache::default();
         let reach = Reach {
@@ -1199,8 +1200,6 @@ mod tests {
         PolyMesh::from_faces(p, &faces).expect("valid fan")
     }
 
-    /// A wavy 7×7 grid of quads with a crease of sharpness `s` along the grid line
-    /// `x = 3` (`vertical`) or `y = 3`, stopping short of the border.
     /// An `n × m` torus of quads, each face listed from one of its four corners, with the
     /// quad at `(0, 0)` split into two triangles: the faces that touch them are not plain,
     /// all the others are.
@@ -1324,6 +1323,8 @@ mod tests {
         }
     }
 
+    /// A wavy 7×7 grid of quads with a crease of sharpness `s` along the grid line
+    /// `x = 3` (`vertical`) or `y = 3`, stopping short of the border.
     fn creased_grid(s: f32, vertical: bool) -> PolyMesh {
         let n = 8u32;
         let mut p = Vec::new();
