@@ -88,7 +88,7 @@ pub const HIGH_VALENCE: usize = 128;
 /// [`HIGH_VALENCE`]; `high_valence` is its value, or `usize::MAX` in tests).
 pub(super) fn is_high_valence(t: &Topology, v: usize, high_valence: usize) -> bool {
     let n = t.vertex_faces(v).len();
-    let tag = t.vert_tags[v];
+    let tag = t.vert_tags[v].get();
     n > high_valence || (n > high_valence / 4 && (tag.boundary || tag.non_manifold))
 }
 

@@ -26,6 +26,7 @@ pub use tags::{
     SHARPNESS_INFINITE,
 };
 pub use topology::{EdgeTag, Rule, Topology, VertexTag, INVALID};
+pub(crate) use topology::{PackedEdgeTag, PackedVertexTag};
 
 /// The unit cube `[0, 1]³`, six quads oriented outwards: every vertex extraordinary
 /// (valence 3). Shared by the unit tests of several layers.

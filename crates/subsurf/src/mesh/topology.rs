@@ -89,6 +89,97 @@ pub struct EdgeTag {
     pub inf_sharp: bool,
 }
 
+/// An [`EdgeTag`] as a [`Topology`] stores it: its four flags in one byte (bits 0–3:
+/// boundary, non-manifold, semi-sharp, infinitely sharp), a quarter of the struct's size,
+/// which matters at 1–2 edges per refined vertex.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub(crate) struct PackedEdgeTag(u8);
+
+impl PackedEdgeTag {
+    /// The tag.
+    #[inline]
+    pub(crate) fn get(self) -> EdgeTag {
+        let bit = |k: u8| self.0 >> k & 1 == 1;
+        EdgeTag {
+            boundary: bit(0),
+            non_manifold: bit(1),
+            semi_sharp: bit(2),
+            inf_sharp: bit(3),
+        }
+    }
+
+    /// The bits (for [`Topology::structure_key`]).
+    pub(crate) fn bits(self) -> u32 {
+        u32::from(self.0)
+    }
+}
+
+impl From<EdgeTag> for PackedEdgeTag {
+    #[inline]
+    fn from(t: EdgeTag) -> Self {
+        PackedEdgeTag(
+            t.boundary as u8
+                | (t.non_manifold as u8) << 1
+                | (t.semi_sharp as u8) << 2
+                | (t.inf_sharp as u8) << 3,
+        )
+    }
+}
+
+/// A [`VertexTag`] as a [`Topology`] stores it, in two bytes (a quarter of the struct's
+/// size): bits 0–1 the rule, 2–8 the flags in the struct's order.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub(crate) struct PackedVertexTag(u16);
+
+impl PackedVertexTag {
+    /// The tag.
+    #[inline]
+    pub(crate) fn get(self) -> VertexTag {
+        let bit = |k: u16| self.0 >> k & 1 == 1;
+        VertexTag {
+            rule: match self.0 & 3 {
+                0 => Rule::Smooth,
+                1 => Rule::Dart,
+                2 => Rule::Crease,
+                _ => Rule::Corner,
+            },
+            boundary: bit(2),
+            non_manifold: bit(3),
+            sharpened_corner: bit(4),
+            semi_sharp: bit(5),
+            inf_sharp: bit(6),
+            semi_sharp_edges: bit(7),
+            inf_sharp_edges: bit(8),
+        }
+    }
+
+    /// The bits (for [`Topology::structure_key`]).
+    pub(crate) fn bits(self) -> u32 {
+        u32::from(self.0)
+    }
+}
+
+impl From<VertexTag> for PackedVertexTag {
+    #[inline]
+    fn from(t: VertexTag) -> Self {
+        let rule = match t.rule {
+            Rule::Smooth => 0,
+            Rule::Dart => 1,
+            Rule::Crease => 2,
+            Rule::Corner => 3,
+        };
+        PackedVertexTag(
+            rule | (t.boundary as u16) << 2
+                | (t.non_manifold as u16) << 3
+                | (t.sharpened_corner as u16) << 4
+                | (t.semi_sharp as u16) << 5
+                | (t.inf_sharp as u16) << 6
+                | (t.semi_sharp_edges as u16) << 7
+                | (t.inf_sharp_edges as u16) << 8,
+        )
+    }
+}
+
 /// Complete adjacency, tags and sharpness of one level. See the module docs for the layout.
 #[derive(Clone, Debug, Default)]
 pub struct Topology {
@@ -112,8 +203,8 @@ pub struct Topology {
 
     pub(crate) edge_sharpness: Vec<f32>,
     pub(crate) vert_sharpness: Vec<f32>,
-    pub(crate) edge_tags: Vec<EdgeTag>,
-    pub(crate) vert_tags: Vec<VertexTag>,
+    pub(crate) edge_tags: Vec<PackedEdgeTag>,
+    pub(crate) vert_tags: Vec<PackedVertexTag>,
 
     pub(crate) max_valence: u32,
     pub(crate) has_holes: bool,
@@ -218,7 +309,7 @@ impl Topology {
             });
         }
         let nm_edges: Vec<usize> = (0..t.num_edges())
-            .filter(|&e| t.edge_tags[e].non_manifold)
+            .filter(|&e| t.edge_tags[e].get().non_manifold)
             .collect();
         if let Some(&e) = nm_edges.first() {
             let [a, b] = t.edge_verts[e];
@@ -228,7 +319,7 @@ impl Topology {
             });
         }
         let nm_verts: Vec<usize> = (0..t.num_vertices())
-            .filter(|&v| t.vert_tags[v].non_manifold && !t.vertex_faces(v).is_empty())
+            .filter(|&v| t.vert_tags[v].get().non_manifold && !t.vertex_faces(v).is_empty())
             .collect();
         if let Some(&v) = nm_verts.first() {
             warnings.push(TopologyWarning::NonManifoldVertices {
@@ -418,17 +509,25 @@ impl Topology {
             vert_edge_local: Vec::new(),
             edge_sharpness: vec![0.0; ne],
             vert_sharpness: vec![0.0; nv],
-            edge_tags: vec![EdgeTag::default(); ne],
-            vert_tags: vec![VertexTag::default(); nv],
+            edge_tags: vec![PackedEdgeTag::default(); ne],
+            vert_tags: vec![PackedVertexTag::default(); nv],
             max_valence: 0,
             has_holes: false,
             complete: true,
         };
+        let non_manifold_edge = PackedEdgeTag::from(EdgeTag {
+            non_manifold: true,
+            ..EdgeTag::default()
+        });
+        let non_manifold_vertex = PackedVertexTag::from(VertexTag {
+            non_manifold: true,
+            ..VertexTag::default()
+        });
         for e in 0..ne {
             if edge_nonman[e] {
-                t.edge_tags[e].non_manifold = true;
+                t.edge_tags[e] = non_manifold_edge;
                 for v in t.edge_verts[e] {
-                    t.vert_tags[v as usize].non_manifold = true;
+                    t.vert_tags[v as usize] = non_manifold_vertex;
                 }
             }
         }
@@ -443,7 +542,7 @@ impl Topology {
         let mut faces_buf = Vec::new();
         let mut edges_buf = Vec::new();
         for v in 0..self.num_vertices as usize {
-            if self.vert_tags[v].non_manifold {
+            if self.vert_tags[v].get().non_manifold {
                 continue;
             }
             if self.order_vertex(v, &mut faces_buf, &mut edges_buf) {
@@ -452,7 +551,9 @@ impl Topology {
                 let er = range(&self.vert_edge_offsets, v);
                 self.vert_edges[er].copy_from_slice(&edges_buf);
             } else {
-                self.vert_tags[v].non_manifold = true;
+                let mut tag = self.vert_tags[v].get();
+                tag.non_manifold = true;
+                self.vert_tags[v] = tag.into();
             }
         }
     }
@@ -538,7 +639,7 @@ impl Topology {
         // around the others, the locals recorded in face order are still right (a face
         // that repeats a vertex occurs once per corner there).
         for v in 0..nv {
-            if self.vert_tags[v].non_manifold {
+            if self.vert_tags[v].get().non_manifold {
                 continue;
             }
             for i in range(&self.vert_face_offsets, v) {
@@ -606,7 +707,7 @@ impl Topology {
             for v in 0..nv {
                 let ve = self.vertex_edges(v);
                 let interior_manifold =
-                    ve.len() == self.vertex_faces(v).len() && !self.vert_tags[v].non_manifold;
+                    ve.len() == self.vertex_faces(v).len() && !self.vert_tags[v].get().non_manifold;
                 if interior_manifold {
                     continue;
                 }
@@ -623,7 +724,7 @@ impl Topology {
             }
         }
         for e in 0..self.num_edges() {
-            let tag = &mut self.edge_tags[e];
+            let mut tag = self.edge_tags[e].get();
             tag.boundary = self.edge_face_offsets[e + 1] - self.edge_face_offsets[e] < 2;
             if tag.boundary || tag.non_manifold {
                 self.edge_sharpness[e] = crease::SHARPNESS_INFINITE;
@@ -631,12 +732,13 @@ impl Topology {
             let s = self.edge_sharpness[e];
             tag.inf_sharp = crease::is_infinite(s);
             tag.semi_sharp = crease::is_sharp(s) && !tag.inf_sharp;
+            self.edge_tags[e] = tag.into();
         }
         let sharpen_corners = options.boundary == BoundaryInterpolation::EdgeAndCorner;
         for v in 0..nv {
             let (mut boundary, mut inf, mut semi, mut nonman) = (0, 0, 0, 0);
             for &e in self.vertex_edges(v) {
-                let t = self.edge_tags[e as usize];
+                let t = self.edge_tags[e as usize].get();
                 boundary += t.boundary as usize;
                 inf += t.inf_sharp as usize;
                 semi += t.semi_sharp as usize;
@@ -645,7 +747,7 @@ impl Topology {
             let nfaces = self.vertex_faces(v).len();
             let nedges = self.vertex_edges(v).len();
             let topological_corner = nfaces == 1 && nedges == 2;
-            let tag = &mut self.vert_tags[v];
+            let mut tag = self.vert_tags[v].get();
             if topological_corner && sharpen_corners {
                 self.vert_sharpness[v] = crease::SHARPNESS_INFINITE;
                 tag.sharpened_corner = true;
@@ -663,6 +765,7 @@ impl Topology {
             tag.inf_sharp_edges = inf > 0;
             tag.boundary = boundary > 0;
             tag.rule = crease::vertex_rule(s, inf + semi);
+            self.vert_tags[v] = tag.into();
         }
     }
 
@@ -671,7 +774,7 @@ impl Topology {
     /// vertex whose faces form more than one fan.
     pub fn check_manifold(&self) -> Result<(), MeshError> {
         for e in 0..self.num_edges() {
-            if !self.edge_tags[e].non_manifold {
+            if !self.edge_tags[e].get().non_manifold {
                 continue;
             }
             let ef = self.edge_face_list(e);
@@ -696,7 +799,7 @@ impl Topology {
         }
         for v in 0..self.num_vertices() {
             let nf = self.vertex_faces(v).len();
-            if self.vert_tags[v].non_manifold && nf > 0 {
+            if self.vert_tags[v].get().non_manifold && nf > 0 {
                 return Err(MeshError::NonManifoldVertex {
                     vertex: v as u32,
                     faces: nf,
@@ -801,12 +904,12 @@ impl Topology {
     /// Tags of edge `e`.
     #[inline]
     pub fn edge_tag(&self, e: usize) -> EdgeTag {
-        self.edge_tags[e]
+        self.edge_tags[e].get()
     }
     /// Tags of vertex `v`.
     #[inline]
     pub fn vertex_tag(&self, v: usize) -> VertexTag {
-        self.vert_tags[v]
+        self.vert_tags[v].get()
     }
     /// Whether the adjacency beyond faces and edge vertices is present (see
     /// [`crate::refine::TopologyRefiner`]; always true for levels it returns).
@@ -854,28 +957,8 @@ impl Topology {
         list(out, self.vert_edge_local.iter().map(|&x| x as u32));
         list(out, self.edge_sharpness.iter().map(|x| x.to_bits()));
         list(out, self.vert_sharpness.iter().map(|x| x.to_bits()));
-        list(
-            out,
-            self.edge_tags.iter().map(|t| {
-                t.boundary as u32
-                    | (t.non_manifold as u32) << 1
-                    | (t.semi_sharp as u32) << 2
-                    | (t.inf_sharp as u32) << 3
-            }),
-        );
-        list(
-            out,
-            self.vert_tags.iter().map(|t| {
-                t.rule as u32
-                    | (t.boundary as u32) << 2
-                    | (t.non_manifold as u32) << 3
-                    | (t.sharpened_corner as u32) << 4
-                    | (t.semi_sharp as u32) << 5
-                    | (t.inf_sharp as u32) << 6
-                    | (t.semi_sharp_edges as u32) << 7
-                    | (t.inf_sharp_edges as u32) << 8
-            }),
-        );
+        list(out, self.edge_tags.iter().map(|t| t.bits()));
+        list(out, self.vert_tags.iter().map(|t| t.bits()));
         out.extend([
             self.max_valence,
             self.has_holes as u32,
@@ -1051,7 +1134,7 @@ impl Topology {
             // interior manifold vertex, whose face `k` and edge `k` go together, unless
             // the order of its sums of sharpness matters) the subset's first face
             // around `v`.
-            let tag = self.vert_tags[v as usize];
+            let tag = self.vert_tags[v as usize].get();
             let cyclic = !tag.boundary && !tag.non_manifold && faces_v.len() == edges_v.len();
             let start = if canonical && cyclic && !self.sharpness_sums_depend_on_order(v) {
                 faces_v
@@ -1119,5 +1202,50 @@ impl Topology {
             .max()
             .unwrap_or(0);
         (t, verts)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every edge and vertex tag survives being stored packed, and distinct tags are
+    /// stored distinctly.
+    #[test]
+    fn packed_tags_round_trip() {
+        let mut seen = std::collections::HashSet::new();
+        for bits in 0u32..16 {
+            let b = |k: u32| bits >> k & 1 == 1;
+            let t = EdgeTag {
+                boundary: b(0),
+                non_manifold: b(1),
+                semi_sharp: b(2),
+                inf_sharp: b(3),
+            };
+            let packed = PackedEdgeTag::from(t);
+            assert_eq!(packed.get(), t);
+            assert!(seen.insert(packed.bits()));
+        }
+        seen.clear();
+        for rule in [Rule::Smooth, Rule::Dart, Rule::Crease, Rule::Corner] {
+            for bits in 0u32..128 {
+                let b = |k: u32| bits >> k & 1 == 1;
+                let t = VertexTag {
+                    rule,
+                    boundary: b(0),
+                    non_manifold: b(1),
+                    sharpened_corner: b(2),
+                    semi_sharp: b(3),
+                    inf_sharp: b(4),
+                    semi_sharp_edges: b(5),
+                    inf_sharp_edges: b(6),
+                };
+                let packed = PackedVertexTag::from(t);
+                assert_eq!(packed.get(), t);
+                assert!(seen.insert(packed.bits()));
+            }
+        }
+        assert_eq!(PackedVertexTag::default().get(), VertexTag::default());
+        assert_eq!(PackedEdgeTag::default().get(), EdgeTag::default());
     }
 }

@@ -45,7 +45,8 @@ impl Nurss {
     pub fn limit_points(&self) -> Vec<[f64; 3]> {
         let t = &self.topology;
         let nv = t.num_vertices();
-        let needs_fan = (0..nv).any(|v| matches!(t.vert_tags[v].rule, Rule::Smooth | Rule::Dart));
+        let needs_fan =
+            (0..nv).any(|v| matches!(t.vert_tags[v].get().rule, Rule::Smooth | Rule::Dart));
         let child =
             needs_fan.then(|| refine_nurss_step(t, &self.options, &self.knots, &self.points));
         let child_across = child
@@ -60,7 +61,7 @@ impl Nurss {
             if t.vertex_edges(v).is_empty() {
                 return p;
             }
-            match t.vert_tags[v].rule {
+            match t.vert_tags[v].get().rule {
                 Rule::Corner => p,
                 Rule::Crease => crease_limit(t, &own, &self.points, v).unwrap_or(p),
                 Rule::Smooth | Rule::Dart => match (&child, &child_across) {
@@ -99,7 +100,7 @@ fn crease_limit(t: &Topology, own: &[f64], pts: &[[f64; 4]], v: usize) -> Option
         }
     };
     let partner = |q: usize, e: usize| {
-        if t.vert_tags[q].rule != Rule::Crease {
+        if t.vert_tags[q].get().rule != Rule::Crease {
             return own[e];
         }
         t.vertex_edges(q)
@@ -178,7 +179,7 @@ struct FanScratch {
 impl Fan {
     /// The fan of `v` in a level refined at least once (every face around `v` a quad).
     fn gather(t: &Topology, ac: &AcrossValues, pts: &[[f64; 4]], v: usize) -> Option<Fan> {
-        let tag = t.vert_tags[v];
+        let tag = t.vert_tags[v].get();
         let edges = t.vertex_edges(v);
         let faces = t.vertex_faces(v);
         let flocal = t.vertex_face_locals(v);
@@ -222,7 +223,7 @@ impl Fan {
             let sharp = t.edge_sharpness[e] > 0.0;
             fan.sharp.push(sharp);
             let q = fv[at(1)] as usize;
-            let beyond = if sharp && t.vert_tags[q].rule == Rule::Crease {
+            let beyond = if sharp && t.vert_tags[q].get().rule == Rule::Crease {
                 t.vertex_edges(q)
                     .iter()
                     .map(|&x| x as usize)

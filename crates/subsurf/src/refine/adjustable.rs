@@ -55,7 +55,7 @@ pub fn interpolate_adjustable<const D: usize>(
             } else {
                 [false; 2]
             };
-            let child_rule = child.vert_tags[nv + nf + e].rule;
+            let child_rule = child.vert_tags[nv + nf + e].get().rule;
             let m = scheme.edge_mask(
                 options,
                 parent.edge_sharpness[e],
@@ -87,7 +87,7 @@ pub fn interpolate_adjustable<const D: usize>(
             let v = start + i;
             let edges = parent.vertex_edges(v);
             let faces = parent.vertex_faces(v);
-            let ptag = parent.vert_tags[v];
+            let ptag = parent.vert_tags[v].get();
             let p = &src[v];
             if edges.is_empty() {
                 *o = *p;
@@ -125,7 +125,7 @@ pub fn interpolate_adjustable<const D: usize>(
             );
             let ctx = VertexContext {
                 parent_rule: ptag.rule,
-                child_rule: child.vert_tags[v].rule,
+                child_rule: child.vert_tags[v].get().rule,
                 parent_sharpness: parent.vert_sharpness[v],
                 child_sharpness: child.vert_sharpness[v],
                 parent_edges: &pe,

@@ -156,7 +156,7 @@ fn read_side(t: &Topology, k: &NurssKnots, own: &[f64], slot: usize) -> f64 {
 /// edges; boundary: one fewer).
 #[inline]
 fn is_fan(t: &Topology, v: usize) -> bool {
-    let tag = t.vert_tags[v];
+    let tag = t.vert_tags[v].get();
     let (ne, nf) = (t.vertex_edges(v).len(), t.vertex_faces(v).len());
     !tag.non_manifold
         && if tag.boundary {
@@ -237,7 +237,7 @@ pub(crate) fn across_values(t: &Topology, k: &NurssKnots) -> AcrossValues {
 
 /// The sharp edge at `v` other than `e`, if `v` follows the crease rule.
 fn crease_partner(t: &Topology, v: usize, e: usize) -> Option<usize> {
-    if t.vert_tags[v].rule != Rule::Crease {
+    if t.vert_tags[v].get().rule != Rule::Crease {
         return None;
     }
     t.vertex_edges(v)
@@ -322,7 +322,7 @@ pub fn interpolate_nurss<const D: usize>(
         mids[e] = mp;
         let faces = t.edge_face_list(e);
         let mut acc = [0.0; D];
-        if faces.len() == 2 && t.edge_sharpness[e] <= 0.0 && !t.edge_tags[e].non_manifold {
+        if faces.len() == 2 && t.edge_sharpness[e] <= 0.0 && !t.edge_tags[e].get().non_manifold {
             let locals = &t.edge_face_local[t.edge_face_offsets[e] as usize..];
             let sides = |i: usize| {
                 let (f, l) = (faces[i] as usize, locals[i] as usize);
@@ -349,7 +349,7 @@ pub fn interpolate_nurss<const D: usize>(
     for (v, out) in vert_pts.iter_mut().enumerate() {
         let p = &src[v];
         let edges = t.vertex_edges(v);
-        let tag = t.vert_tags[v];
+        let tag = t.vert_tags[v].get();
         *out = *p;
         match tag.rule {
             Rule::Corner => {}

@@ -851,7 +851,7 @@ fn stencil(p: &Topology, c: &Topology, options: &Options, cv: usize, scratch: &m
                     .get(1)
                     .is_some_and(|&f| p.face_vertices(f as usize).len() == 3),
             ];
-            let child_rule = c.vert_tags[cv].rule;
+            let child_rule = c.vert_tags[cv].get().rule;
             let m = catmark::edge_mask(options, sharp, child_rule, faces.len(), tri);
             row.add(a, m.vertex);
             row.add(b, m.vertex);
@@ -870,7 +870,7 @@ fn vertex_stencil(p: &Topology, c: &Topology, options: &Options, v: usize, s: &m
     let edges = p.vertex_edges(v);
     let faces = p.vertex_faces(v);
     let corners = p.vertex_face_locals(v);
-    let ptag = p.vert_tags[v];
+    let ptag = p.vert_tags[v].get();
     let row = &mut s.row;
     if edges.is_empty() {
         row.add(v as u32, 1.0);
@@ -900,7 +900,7 @@ fn vertex_stencil(p: &Topology, c: &Topology, options: &Options, v: usize, s: &m
     );
     let ctx = VertexContext {
         parent_rule: ptag.rule,
-        child_rule: c.vert_tags[v].rule,
+        child_rule: c.vert_tags[v].get().rule,
         parent_sharpness: p.vert_sharpness[v],
         child_sharpness: c.vert_sharpness[v],
         parent_edges: &s.pe,

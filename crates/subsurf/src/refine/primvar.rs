@@ -74,7 +74,7 @@ pub fn interpolate<const D: usize>(
                         .get(1)
                         .is_some_and(|&f| parent.face_vertices(f as usize).len() == 3),
                 ];
-                let child_rule = child.vert_tags[nv + nf + e].rule;
+                let child_rule = child.vert_tags[nv + nf + e].get().rule;
                 let m = catmark::edge_mask(options, sharp, child_rule, faces.len(), tri);
                 for k in 0..D {
                     acc[k] = m.vertex * (pa[k] + pb[k]);
@@ -100,7 +100,7 @@ pub fn interpolate<const D: usize>(
             let v = start + i;
             let edges = parent.vertex_edges(v);
             let faces = parent.vertex_faces(v);
-            let ptag = parent.vert_tags[v];
+            let ptag = parent.vert_tags[v].get();
             let p = &src[v];
             let mut acc = [0.0; D];
             if edges.is_empty() {
@@ -138,7 +138,7 @@ pub fn interpolate<const D: usize>(
             );
             let ctx = VertexContext {
                 parent_rule: ptag.rule,
-                child_rule: child.vert_tags[v].rule,
+                child_rule: child.vert_tags[v].get().rule,
                 parent_sharpness: parent.vert_sharpness[v],
                 child_sharpness: child.vert_sharpness[v],
                 parent_edges: &pe,

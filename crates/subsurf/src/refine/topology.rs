@@ -18,7 +18,9 @@ use std::ops::Range;
 
 use rayon::prelude::*;
 
-use crate::mesh::{CreaseMethod, EdgeTag, Options, Rule, Topology, VertexTag};
+use crate::mesh::{
+    CreaseMethod, EdgeTag, Options, PackedEdgeTag, PackedVertexTag, Rule, Topology, VertexTag,
+};
 use crate::scheme::crease;
 
 /// Rotation of the child quad at `corner` of a parent face of size `n`: child quads of
@@ -309,10 +311,10 @@ fn refine(p: &Topology, options: &Options, full: bool, with_edge_verts: bool) ->
 /// Tags and sharpness of the child edges (OpenSubdiv's `propagateComponentTags` and
 /// `subdivideEdgeSharpness`): edges inside parent faces are smooth; the halves of a parent
 /// edge inherit its tag, and semi-sharp ones decay.
-fn child_edge_tags(p: &Topology, method: CreaseMethod) -> (Vec<EdgeTag>, Vec<f32>) {
+fn child_edge_tags(p: &Topology, method: CreaseMethod) -> (Vec<PackedEdgeTag>, Vec<f32>) {
     let s = p.face_verts.len();
     let ne = p.num_edges();
-    let mut tags = filled(s + 2 * ne, EdgeTag::default());
+    let mut tags = filled(s + 2 * ne, PackedEdgeTag::default());
     let mut sharpness = vec![0.0f32; s + 2 * ne];
     let ranges = chunk_ranges(ne);
     let t = split_pieces(&mut tags[s..], &ranges, |e| 2 * e);
@@ -323,7 +325,7 @@ fn child_edge_tags(p: &Topology, method: CreaseMethod) -> (Vec<EdgeTag>, Vec<f32
             let mut incident = Vec::new();
             let base = range.start;
             for e in range {
-                let tag = p.edge_tags[e];
+                let tag = p.edge_tags[e].get();
                 if tag == EdgeTag::default() {
                     // Smooth, manifold and interior: so are both halves.
                     continue;
@@ -354,7 +356,7 @@ fn child_edge_tags(p: &Topology, method: CreaseMethod) -> (Vec<EdgeTag>, Vec<f32
                         0.0
                     };
                     let i = 2 * (e - base) + k;
-                    t[i] = ctag;
+                    t[i] = ctag.into();
                     sh[i] = cs;
                 }
             }
@@ -367,12 +369,15 @@ fn child_edge_tags(p: &Topology, method: CreaseMethod) -> (Vec<EdgeTag>, Vec<f32
 /// `propagateComponentTags`, `subdivideVertexSharpness`, `reclassifySemisharpVertices`):
 /// vertex children inherit and decay, and are re-classified where sharp features decayed;
 /// face children are smooth; edge children are creases where the edge was sharp.
-fn child_vertex_tags(p: &Topology, edge_tags: &[EdgeTag]) -> (Vec<VertexTag>, Vec<f32>) {
+fn child_vertex_tags(
+    p: &Topology,
+    edge_tags: &[PackedEdgeTag],
+) -> (Vec<PackedVertexTag>, Vec<f32>) {
     let nv = p.num_vertices();
     let nf = p.num_faces();
     let ne = p.num_edges();
     let s = p.face_verts.len();
-    let mut tags = filled(nv + nf + ne, VertexTag::default());
+    let mut tags = filled(nv + nf + ne, PackedVertexTag::default());
     let mut sharpness = vec![0.0f32; nv + nf + ne];
     let (of_verts, rest) = tags.split_at_mut(nv);
     let of_edges = &mut rest[nf..];
@@ -386,7 +391,7 @@ fn child_vertex_tags(p: &Topology, edge_tags: &[EdgeTag]) -> (Vec<VertexTag>, Ve
         |((range, t), sh)| {
             let base = range.start;
             for v in range {
-                let pt = p.vert_tags[v];
+                let pt = p.vert_tags[v].get();
                 if pt == VertexTag::default() {
                     continue;
                 }
@@ -407,7 +412,7 @@ fn child_vertex_tags(p: &Topology, edge_tags: &[EdgeTag]) -> (Vec<VertexTag>, Ve
                 if pt.semi_sharp_edges || decayed {
                     let (mut inf, mut semi) = (0, 0);
                     for (&pe, &l) in p.vertex_edges(v).iter().zip(p.vertex_edge_locals(v)) {
-                        let t = edge_tags[s + 2 * pe as usize + l as usize];
+                        let t = edge_tags[s + 2 * pe as usize + l as usize].get();
                         inf += t.inf_sharp as usize;
                         semi += t.semi_sharp as usize;
                     }
@@ -416,7 +421,7 @@ fn child_vertex_tags(p: &Topology, edge_tags: &[EdgeTag]) -> (Vec<VertexTag>, Ve
                         tag.rule = crease::vertex_rule(0.0, inf + semi);
                     }
                 }
-                t[v - base] = tag;
+                t[v - base] = tag.into();
                 sh[v - base] = cs;
             }
         },
@@ -429,7 +434,7 @@ fn child_vertex_tags(p: &Topology, edge_tags: &[EdgeTag]) -> (Vec<VertexTag>, Ve
     run(ranges.into_iter().zip(t).collect(), |(range, t)| {
         let base = range.start;
         for e in range {
-            let et = p.edge_tags[e];
+            let et = p.edge_tags[e].get();
             if et == EdgeTag::default() {
                 continue;
             }
@@ -446,12 +451,12 @@ fn child_vertex_tags(p: &Topology, edge_tags: &[EdgeTag]) -> (Vec<VertexTag>, Ve
                 ..VertexTag::default()
             };
             if tag.semi_sharp_edges {
-                let count = edge_tags[s + 2 * e].semi_sharp as usize
-                    + edge_tags[s + 2 * e + 1].semi_sharp as usize;
+                let count = edge_tags[s + 2 * e].get().semi_sharp as usize
+                    + edge_tags[s + 2 * e + 1].get().semi_sharp as usize;
                 tag.semi_sharp_edges = count > 0;
                 tag.rule = crease::vertex_rule(0.0, count);
             }
-            t[e - base] = tag;
+            t[e - base] = tag.into();
         }
     });
     (tags, sharpness)
@@ -689,7 +694,7 @@ fn build_relations(p: &Topology, c: &mut Topology) {
             let plocal = &p.edge_face_local[pef[e] as usize..];
             let mut fo = vf_start(e) - fbase;
             let eo = ve_start(e) - ebase;
-            let manifold = !p.edge_tags[e].non_manifold && pfaces.len() <= 2;
+            let manifold = !p.edge_tags[e].get().non_manifold && pfaces.len() <= 2;
             // The two child faces in each parent face: the one at the edge's second vertex
             // in that face first, then the one at its first vertex.
             for (&pf, &i) in pfaces.iter().zip(plocal) {
