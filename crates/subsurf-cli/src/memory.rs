@@ -1,6 +1,7 @@
 //! Memory guards: the limit a job is held to (`--max-memory`, else the memory available),
 //! the checks of estimates against it, the three-step guard of limit surfaces
-//! ([`SurfaceGuard`]), and huge pages for large refinements.
+//! ([`SurfaceGuard`]), and the allocator's settings per job (huge pages for large
+//! refinements, freed memory kept for refinement and returned at once otherwise).
 
 use std::borrow::Cow;
 use std::sync::atomic::{AtomicI64, Ordering};

@@ -39,8 +39,8 @@ use std::borrow::Cow;
 const FIXED_BYTES: u64 = 24 << 20;
 
 /// Bytes per vertex and per face of the mesh, configurations apart: the surface's copy of
-/// the positions, the base level's topology, a node per face (but plain ones) and, for an irregular face,
-/// its cut-out's vertices and points (measured: 0.12 KiB on the 240 k quads of
+/// the positions, the base level's topology, a node per face (but plain ones) and, for an
+/// irregular face, its cut-out's vertices and points (measured: 0.12 KiB on the 240 k quads of
 /// `catmark_bishop` refined four times, 0.3–0.4 KiB on quad meshes refined twice, up to
 /// 0.55 KiB on triangulations).
 const ELEMENT_BYTES: u64 = 768;

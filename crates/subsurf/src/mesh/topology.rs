@@ -18,7 +18,8 @@
 //! OpenSubdiv's ordering (`Vtr::Level::orderVertexFacesAndEdges`), and limit tangents
 //! depend on it.
 //!
-//! Per element there are tags ([`EdgeTag`], [`VertexTag`], a hole flag per face) and
+//! Per element there are tags ([`EdgeTag`], [`VertexTag`], stored packed in 1 and 2 bytes;
+//! a hole flag per face) and
 //! `f32` sharpness values (see [`crate::mesh::tags`] for why `f32`).
 //!
 //! # Construction
@@ -272,8 +273,8 @@ impl Topology {
         mesh: &PolyMesh,
         options: &Options,
     ) -> Result<(Self, Vec<TopologyWarning>), MeshError> {
-        let faces = (mesh.face_offsets().to_vec(), mesh.face_verts().to_vec());
-        Self::from_faces(mesh.num_vertices(), faces)?.tagged(&mesh.tags, options)
+        let (offsets, verts) = (mesh.face_offsets().to_vec(), mesh.face_verts().to_vec());
+        Self::from_faces(mesh.num_vertices(), offsets, verts)?.tagged(&mesh.tags, options)
     }
 
     /// [`Self::from_mesh`] taking the mesh: its face lists become the topology's (no copy),
@@ -284,18 +285,18 @@ impl Topology {
     ) -> Result<(Self, Vec<[f64; 3]>), MeshError> {
         let nv = mesh.num_vertices();
         let (positions, face_offsets, face_verts, tags) = mesh.into_parts();
-        let (t, _) = Self::from_faces(nv, (face_offsets, face_verts))?.tagged(&tags, options)?;
+        let (t, _) = Self::from_faces(nv, face_offsets, face_verts)?.tagged(&tags, options)?;
         Ok((t, positions))
     }
 
     /// The adjacency `self` with `tags` applied, sharpness and rules prepared, and the
     /// warnings about its faces, edges and vertices.
     fn tagged(
-        self,
+        mut self,
         tags: &super::Tags,
         options: &Options,
     ) -> Result<(Self, Vec<TopologyWarning>), MeshError> {
-        let mut t = self;
+        let t = &mut self;
         let mut warnings = Vec::new();
         t.assign_tags(&tags.creases, &tags.corners, &tags.holes, &mut warnings);
         t.prepare_tags_and_sharpness(options);
@@ -327,15 +328,18 @@ impl Topology {
                 first: v as u32,
             });
         }
-        Ok((t, warnings))
+        Ok((self, warnings))
     }
 
     /// Adjacency only (no tags applied yet), OpenSubdiv's
-    /// `Level::completeTopologyFromFaceVertices`, on the face lists `faces` (offsets and
-    /// vertices, CSR), which become the topology's.
-    fn from_faces(num_vertices: usize, faces: (Vec<u32>, Vec<u32>)) -> Result<Self, MeshError> {
-        let (face_offsets_owned, face_verts_owned) = faces;
-        let (face_offsets, face_verts) = (&face_offsets_owned[..], &face_verts_owned[..]);
+    /// `Level::completeTopologyFromFaceVertices`, on the faces `offsets` and `verts` (CSR),
+    /// which become the topology's.
+    fn from_faces(
+        num_vertices: usize,
+        offsets: Vec<u32>,
+        verts: Vec<u32>,
+    ) -> Result<Self, MeshError> {
+        let (face_offsets, face_verts) = (&offsets[..], &verts[..]);
         let nv = num_vertices;
         let nf = face_offsets.len().saturating_sub(1);
         to_u32(nv, "the vertex count")?;
@@ -493,8 +497,8 @@ impl Topology {
 
         let mut t = Topology {
             num_vertices: nv as u32,
-            face_offsets: face_offsets_owned,
-            face_verts: face_verts_owned,
+            face_offsets: offsets,
+            face_verts: verts,
             face_edges,
             face_holes: vec![false; nf],
             edge_verts,
@@ -523,6 +527,7 @@ impl Topology {
             non_manifold: true,
             ..VertexTag::default()
         });
+        // Every tag is still the default: set the flag by replacing it.
         for e in 0..ne {
             if edge_nonman[e] {
                 t.edge_tags[e] = non_manifold_edge;

@@ -19,7 +19,7 @@ use std::ops::Range;
 use rayon::prelude::*;
 
 use crate::mesh::{
-    CreaseMethod, EdgeTag, Options, PackedEdgeTag, PackedVertexTag, Rule, Topology, VertexTag,
+    CreaseMethod, Options, PackedEdgeTag, PackedVertexTag, Rule, Topology, VertexTag,
 };
 use crate::scheme::crease;
 
@@ -325,11 +325,11 @@ fn child_edge_tags(p: &Topology, method: CreaseMethod) -> (Vec<PackedEdgeTag>, V
             let mut incident = Vec::new();
             let base = range.start;
             for e in range {
-                let tag = p.edge_tags[e].get();
-                if tag == EdgeTag::default() {
+                if p.edge_tags[e] == PackedEdgeTag::default() {
                     // Smooth, manifold and interior: so are both halves.
                     continue;
                 }
+                let tag = p.edge_tags[e].get();
                 let ps = p.edge_sharpness[e];
                 for k in 0..2 {
                     let mut ctag = tag;
@@ -391,10 +391,10 @@ fn child_vertex_tags(
         |((range, t), sh)| {
             let base = range.start;
             for v in range {
-                let pt = p.vert_tags[v].get();
-                if pt == VertexTag::default() {
+                if p.vert_tags[v] == PackedVertexTag::default() {
                     continue;
                 }
+                let pt = p.vert_tags[v].get();
                 let mut tag = pt;
                 let cs = if pt.inf_sharp {
                     crease::SHARPNESS_INFINITE
@@ -434,10 +434,10 @@ fn child_vertex_tags(
     run(ranges.into_iter().zip(t).collect(), |(range, t)| {
         let base = range.start;
         for e in range {
-            let et = p.edge_tags[e].get();
-            if et == EdgeTag::default() {
+            if p.edge_tags[e] == PackedEdgeTag::default() {
                 continue;
             }
+            let et = p.edge_tags[e].get();
             let mut tag = VertexTag {
                 non_manifold: et.non_manifold,
                 boundary: et.boundary,
