@@ -197,6 +197,9 @@ pub struct SurfaceGuard<'a> {
     pub max: Option<u64>,
     /// What to do when the evaluation would not fit, as in "use a lower --rate".
     pub hint: &'a str,
+    /// Whether the job evaluates quads only (grids, as `osd-oracle limit` and `benchlimit`
+    /// sample), so that the surface of other faces is not built.
+    pub quads_only: bool,
 }
 
 impl SurfaceGuard<'_> {
@@ -223,22 +226,24 @@ impl SurfaceGuard<'_> {
             )
         };
         check(LimitSurface::estimate_build_memory(&mesh).saturating_add(reserved))?;
-        let surface = match limit {
-            Some(limit) => {
-                match LimitSurface::new_within(mesh, options, limit.saturating_sub(reserved)) {
-                    Err(BuildError::TooLarge { configurations, .. }) => anyhow::bail!(
-                        "{}: {} needs more than {}{}: building the limit surface stopped after \
-                         finding {configurations} distinct neighbourhoods of irregular faces \
-                         (configurations), more than fit",
-                        self.name,
-                        self.what,
-                        size(limit),
-                        which(self.max.is_some()),
-                    ),
-                    built => built.with_context(|| self.name.to_owned())?,
-                }
-            }
-            None => LimitSurface::new(mesh, options).with_context(|| self.name.to_owned())?,
+        let mut builder = LimitSurface::builder(mesh, options);
+        if self.quads_only {
+            builder = builder.faces(|_, verts| verts.len() == 4);
+        }
+        if let Some(limit) = limit {
+            builder = builder.max_bytes(limit.saturating_sub(reserved));
+        }
+        let surface = match builder.build() {
+            Err(BuildError::TooLarge { configurations, .. }) => anyhow::bail!(
+                "{}: {} needs more than {}{}: building the limit surface stopped after \
+                 finding {configurations} distinct neighbourhoods of irregular faces \
+                 (configurations), more than fit",
+                self.name,
+                self.what,
+                size(limit.unwrap_or(u64::MAX)),
+                which(self.max.is_some()),
+            ),
+            built => built.with_context(|| self.name.to_owned())?,
         };
         check(surface.estimate_memory(divisions).saturating_add(reserved))?;
         Ok(surface)
@@ -367,6 +372,7 @@ mod tests {
             what: "sampling".to_owned(),
             max: Some(max),
             hint: "use less",
+            quads_only: false,
         };
         let build = LimitSurface::estimate_build_memory(&mesh) + reserved;
         let e = guard(build - 1)

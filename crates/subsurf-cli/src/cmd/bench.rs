@@ -42,6 +42,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
             what: format!("evaluating a {n}×{n} grid per face"),
             max: args.max_memory,
             hint: "use a smaller --limit-grid",
+            quads_only: true,
         };
         // Besides the surface, each thread's block of points and results.
         let blocks = (u64::from(n) * u64::from(n))
@@ -129,8 +130,8 @@ fn bench_replay(
 }
 
 /// Times evaluating an `n`×`n` grid on every quad face, as `osd-oracle benchlimit` times
-/// OpenSubdiv's `Bfr`: the surface is built once (as `Bfr`'s factory and its cache of
-/// irregular configurations are), and each repetition re-poses it and evaluates every
+/// OpenSubdiv's `Bfr`: the surface of the quads is built once (as `Bfr`'s factory and its
+/// cache of irregular configurations are; other faces are not evaluated, so not built), and each repetition re-poses it and evaluates every
 /// point's position and first derivatives
 /// ([`LimitSurface::update_positions`](subsurf::limit::LimitSurface::update_positions),
 /// [`LimitSurface::eval_many_into`](subsurf::limit::LimitSurface::eval_many_into) with

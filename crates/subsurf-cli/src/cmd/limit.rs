@@ -59,6 +59,7 @@ pub fn run(args: &LimitArgs) -> Result<()> {
         what: format!("sampling a {0}×{0} grid per face", args.grid),
         max: args.max_memory,
         hint: "use a smaller --grid",
+        quads_only: true,
     }
     .limit_surface(
         &input.obj.mesh,

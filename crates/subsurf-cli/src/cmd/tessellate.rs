@@ -176,6 +176,7 @@ pub fn run(args: &TessellateArgs) -> Result<()> {
         what: format!("tessellating at rate {rate}"),
         max: args.max_memory,
         hint: "use a lower --rate",
+        quads_only: false,
     };
     let surface = if verts <= subsurf::limit::MAX_TESSELLATION_VERTICES {
         guard.limit_surface(

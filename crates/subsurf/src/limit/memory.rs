@@ -156,18 +156,7 @@ impl LimitSurface {
         options: crate::mesh::Options,
         max_bytes: u64,
     ) -> Result<Self, BuildError> {
-        let mesh = mesh.into();
-        let budget = Budget {
-            fixed: Self::estimate_build_memory(&mesh),
-            limit: max_bytes,
-        };
-        if budget.exceeded_by(0) {
-            return Err(BuildError::TooLarge {
-                configurations: 0,
-                limit: max_bytes,
-            });
-        }
-        Self::build(mesh, options, budget)
+        Self::builder(mesh, options).max_bytes(max_bytes).build()
     }
 
     /// Estimated bytes of this surface once points `1 / divisions` of a face's side apart

@@ -9,6 +9,7 @@
 //! derivatives, is [`LimitSurface`].
 
 pub mod bspline;
+mod builder;
 mod corner;
 mod crease_patch;
 mod local;
@@ -20,6 +21,7 @@ mod tessellate;
 mod tree;
 
 pub use bspline::{Derivatives, Order};
+pub use builder::SurfaceBuilder;
 pub use memory::BuildError;
 pub use stencil::{LimitStencils, StencilError};
 pub use surface::{EvalError, LimitSurface, SurfacePoint, MAX_DEPTH};

@@ -118,6 +118,14 @@ pub enum EvalError {
         /// Face size (number of sub-faces; 1 for quads).
         size: usize,
     },
+    /// The face was left out of the build ([`SurfaceBuilder::faces`]): no surface.
+    ///
+    /// [`SurfaceBuilder::faces`]: super::SurfaceBuilder::faces
+    #[error("face {face} was not built (the surface was built for chosen faces only)")]
+    NotBuilt {
+        /// Face.
+        face: u32,
+    },
     /// The face is a hole (or excluded by `BoundaryInterpolation::None`): no surface.
     #[error("face {face} is a hole: it has no limit surface")]
     Hole {
@@ -288,7 +296,8 @@ pub struct LimitSurface {
     shared: Arc<Shared>,
     /// Per base face, [`PLAIN`] if its surface is a [`Node::Plain`] patch (made from the
     /// face's index when needed: most faces of most meshes, for which the surface keeps
-    /// these 4 bytes only), else the index of its entry in `built`.
+    /// these 4 bytes only), [`UNBUILT`] if it was left out of the build, else the index of
+    /// its entry in `built`.
     faces: Vec<u32>,
     /// The faces that are not plain, in order: their nodes and how they follow the
     /// control points.
@@ -297,6 +306,13 @@ pub struct LimitSurface {
 
 /// [`LimitSurface::faces`] of a face whose surface is a [`Node::Plain`] patch.
 const PLAIN: u32 = u32::MAX;
+
+/// [`LimitSurface::faces`] of a face left out of the build
+/// ([`SurfaceBuilder::faces`](super::SurfaceBuilder::faces)).
+const UNBUILT: u32 = u32::MAX - 1;
+
+/// Which faces a build builds: called with a face's index and its vertices.
+pub(super) type FaceSelect<'a> = dyn Fn(usize, &[u32]) -> bool + Sync + 'a;
 
 /// A base face's nodes (one per sub-face; one for quads) and how they follow the control
 /// points.
@@ -322,18 +338,21 @@ impl LimitSurface {
         Self::with_high_valence(mesh, options, HIGH_VALENCE, true)
     }
 
-    /// [`LimitSurface::new`], stopped (`TooLarge`) once the configurations found take the
-    /// memory estimate over `budget` (see [`LimitSurface::new_within`]).
+    /// [`LimitSurface::new`] of the faces `select` accepts, stopped (`TooLarge`) once the
+    /// configurations found take the memory estimate over `budget` (see
+    /// [`LimitSurface::builder`]).
     pub(super) fn build(
         mesh: Cow<'_, PolyMesh>,
         options: Options,
-        budget: Budget,
+        budget: Option<Budget>,
+        select: &FaceSelect<'_>,
     ) -> Result<Self, BuildError> {
         let mut surface = Self::unplaced(mesh, options, HIGH_VALENCE, true)?;
-        if surface.place_new(|configurations| budget.exceeded_by(configurations)) {
+        let over = |configurations| budget.is_some_and(|b| b.exceeded_by(configurations));
+        if surface.place_new(over, select) {
             return Err(BuildError::TooLarge {
                 configurations: surface.num_configurations(),
-                limit: budget.limit,
+                limit: budget.map_or(u64::MAX, |b| b.limit),
             });
         }
         Ok(surface)
@@ -349,7 +368,7 @@ impl LimitSurface {
         crease_patches: bool,
     ) -> Result<Self, MeshError> {
         let mut surface = Self::unplaced(mesh.into(), options, high_valence, crease_patches)?;
-        let stopped = surface.place_new(|_| false);
+        let stopped = surface.place_new(|_| false, &|_, _| true);
         debug_assert!(!stopped, "a build without a limit stopped");
         Ok(surface)
     }
@@ -488,7 +507,7 @@ impl LimitSurface {
     /// Builds the per-face nodes (keeping none for plain faces); `true` if it stopped as
     /// soon as `over(configurations found)`, the faces not built by then left plain (the
     /// caller then drops the surface).
-    fn place_new(&mut self, over: impl Fn(usize) -> bool + Sync) -> bool {
+    fn place_new(&mut self, over: impl Fn(usize) -> bool + Sync, select: &FaceSelect<'_>) -> bool {
         let cache = RegionCache::default();
         let reach = Reach {
             high_valence: self.high_valence,
@@ -497,10 +516,15 @@ impl LimitSurface {
         let level = LevelRef::new(&self.base, &self.pos, &self.shared, &cache, reach);
         let (shared, options) = (&*self.shared, &self.options);
         let stop = AtomicBool::new(false);
-        self.built = (0..self.base.num_faces())
+        let base = &*self.base;
+        let chosen: Vec<bool> = (0..base.num_faces())
+            .into_par_iter()
+            .map(|f| select(f, base.face_vertices(f)))
+            .collect();
+        self.built = (0..base.num_faces())
             .into_par_iter()
             .filter_map(|f| {
-                if stop.load(Ordering::Relaxed) {
+                if stop.load(Ordering::Relaxed) || !chosen[f] {
                     return None;
                 }
                 let (nodes, recipe) = build_face(level, shared, f, options);
@@ -517,7 +541,9 @@ impl LimitSurface {
             .collect();
         // A stopped build leaves the faces it did not reach plain; the surface is dropped
         // with its error.
-        self.faces = vec![PLAIN; self.base.num_faces()];
+        self.faces = (chosen.into_iter())
+            .map(|c| if c { PLAIN } else { UNBUILT })
+            .collect();
         for (i, b) in self.built.iter().enumerate() {
             self.faces[b.face as usize] = i as u32;
         }
@@ -575,23 +601,39 @@ impl LimitSurface {
         self.faces.len()
     }
 
-    /// The nodes of face `f` (one per sub-face), if there is such a face.
-    fn face_nodes(&self, f: usize) -> Option<Cow<'_, FaceNodes>> {
-        Some(match *self.faces.get(f)? {
-            PLAIN => Cow::Owned(FaceNodes::One(Node::Plain(f as u32))),
-            i => Cow::Borrowed(&self.built[i as usize].nodes),
+    /// The nodes of face `f` (one per sub-face), if there is such a face and it was built.
+    fn face_nodes(&self, f: usize) -> Result<Cow<'_, FaceNodes>, EvalError> {
+        let face = f as u32;
+        Ok(match self.faces.get(f) {
+            None => {
+                return Err(EvalError::NoSuchFace {
+                    face,
+                    count: self.faces.len(),
+                })
+            }
+            Some(&UNBUILT) => return Err(EvalError::NotBuilt { face }),
+            Some(&PLAIN) => Cow::Owned(FaceNodes::One(Node::Plain(face))),
+            Some(&i) => Cow::Borrowed(&self.built[i as usize].nodes),
         })
     }
 
-    /// Number of sub-faces of face `f` (1 for a quad, `n` for an `n`-gon).
+    /// Number of sub-faces of face `f` (1 for a quad, `n` for an `n`-gon; 0 if there is
+    /// no such face).
     pub fn num_subfaces(&self, f: usize) -> usize {
-        self.face_nodes(f).map_or(0, |n| n.as_slice().len())
+        if f >= self.faces.len() {
+            return 0;
+        }
+        match self.base.face_vertices(f).len() {
+            4 => 1,
+            n => n,
+        }
     }
 
-    /// Whether face `f` has a surface (it is not a hole).
+    /// Whether face `f` has a surface: it exists, is not a hole and was built (see
+    /// [`LimitSurface::builder`]).
     pub fn has_surface(&self, f: usize) -> bool {
         self.face_nodes(f)
-            .is_some_and(|n| !matches!(n.as_slice().first(), Some(Node::Hole) | None))
+            .is_ok_and(|n| !matches!(n.as_slice().first(), Some(Node::Hole) | None))
     }
 
     /// Position and first and second derivatives at `(u, v)` of quad `face` (sub-face 0
@@ -660,12 +702,7 @@ impl LimitSurface {
         if let Some(vertex) = self.invalid {
             return Err(EvalError::InvalidPositions { vertex });
         }
-        let nodes = self
-            .face_nodes(p.face as usize)
-            .ok_or(EvalError::NoSuchFace {
-                face: p.face,
-                count: self.faces.len(),
-            })?;
+        let nodes = self.face_nodes(p.face as usize)?;
         let sub = p.subface as usize;
         let size = nodes.as_slice().len();
         if sub >= size {

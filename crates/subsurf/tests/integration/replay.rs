@@ -8,40 +8,15 @@
 //! `1e-14 ×` the bounding-box diagonal of the input — both on the original positions and
 //! after moving every vertex (the plan does not depend on positions).
 
-use std::path::{Path, PathBuf};
-
 use subsurf::io::obj::read_obj;
 use subsurf::mesh::{Options, PolyMesh};
 use subsurf::refine::{PlanScratch, RefinePlan};
 use subsurf::{subdivide, SubdivideOptions};
 
+use crate::common::{osd_shapes, osd_shapes_dir};
+
 /// Tolerance relative to the input's bounding-box diagonal.
 const REL_TOL: f64 = 1e-14;
-
-fn shapes_dir() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/shapes/osd")
-}
-
-/// Every `*.obj` of the regression shapes, sorted, with its scheme options.
-fn shapes() -> Vec<(String, PolyMesh, Options)> {
-    let mut paths: Vec<PathBuf> = std::fs::read_dir(shapes_dir())
-        .expect("shapes directory")
-        .map(|e| e.expect("directory entry").path())
-        .filter(|p| p.extension().is_some_and(|e| e == "obj"))
-        .collect();
-    paths.sort();
-    assert!(paths.len() >= 80, "expected the 87 OpenSubdiv shapes");
-    paths
-        .iter()
-        .map(|path| {
-            let obj =
-                read_obj(path).unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
-            let name = path.file_stem().unwrap().to_string_lossy().into_owned();
-            let options = obj.options.resolve(Options::default());
-            (name, obj.mesh, options)
-        })
-        .collect()
-}
 
 fn diagonal(p: &[[f64; 3]]) -> f64 {
     let mut lo = [f64::INFINITY; 3];
@@ -108,7 +83,7 @@ fn plan_equals_subdivide_on_all_shapes() {
     let mut failures = Vec::new();
     let mut cases = 0;
     let mut worst = (0.0, String::new());
-    for (name, mesh, options) in shapes() {
+    for (name, mesh, options) in osd_shapes() {
         let mut moved = mesh.clone();
         moved
             .positions_mut()
@@ -144,7 +119,7 @@ fn plan_equals_subdivide_on_all_shapes() {
 }
 
 fn load(name: &str) -> (PolyMesh, Options) {
-    let obj = read_obj(&shapes_dir().join(format!("{name}.obj"))).expect("read shape");
+    let obj = read_obj(&osd_shapes_dir().join(format!("{name}.obj"))).expect("read shape");
     (obj.mesh, obj.options.resolve(Options::default()))
 }
 

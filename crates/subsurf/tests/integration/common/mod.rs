@@ -5,8 +5,10 @@
 pub mod curves;
 pub mod schemes;
 
-use subsurf::io::obj::parse_obj;
-use subsurf::mesh::PolyMesh;
+use std::path::{Path, PathBuf};
+
+use subsurf::io::obj::{parse_obj, read_obj};
+use subsurf::mesh::{Options, PolyMesh};
 
 /// A small deterministic generator (xorshift), so the tests need no extra crate.
 pub struct Rng(pub u64);
@@ -17,6 +19,33 @@ impl Rng {
         self.0 ^= self.0 << 17;
         (self.0 >> 11) as f64 / (1u64 << 53) as f64 - 0.5
     }
+}
+
+/// The directory of OpenSubdiv's regression shapes.
+pub fn osd_shapes_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/shapes/osd")
+}
+
+/// Every `*.obj` of OpenSubdiv's regression shapes, sorted by name, with the scheme
+/// options of its tags.
+pub fn osd_shapes() -> Vec<(String, PolyMesh, Options)> {
+    let mut paths: Vec<PathBuf> = std::fs::read_dir(osd_shapes_dir())
+        .expect("shapes directory")
+        .map(|e| e.expect("directory entry").path())
+        .filter(|p| p.extension().is_some_and(|e| e == "obj"))
+        .collect();
+    paths.sort();
+    assert!(paths.len() >= 80, "expected the 87 OpenSubdiv shapes");
+    paths
+        .iter()
+        .map(|path| {
+            let obj =
+                read_obj(path).unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
+            let name = path.file_stem().unwrap().to_string_lossy().into_owned();
+            let options = obj.options.resolve(Options::default());
+            (name, obj.mesh, options)
+        })
+        .collect()
 }
 
 pub fn cube() -> PolyMesh {
