@@ -38,10 +38,11 @@
 //! tree are built the first time a point needs them (thread-safely, so batched parallel
 //! evaluation shares them). [`LimitSurface::set_positions`] moves the control points and
 //! keeps the trees, so re-evaluating an animated or optimised mesh costs only the per-face
-//! work: a regular face whose control points are vertices reads them from the surface's
-//! positions when evaluated ([`Node::Plain`]), any other face keeps how its nodes follow
-//! the control points ([`Recipe`]: a patch's net with phantom points, a tree face's
-//! cut-out vertices) and is updated in place; faces in shared regions
+//! work: a face that is one patch reads its control points from the surface's positions
+//! when evaluated (a regular face whose control points are vertices: [`Node::Plain`],
+//! made from the topology; at a boundary or single crease: [`Node::Net`], its net as
+//! combinations of vertices), a tree face keeps how its nodes follow the control points
+//! ([`Recipe`]: its cut-out's vertices) and is updated in place; faces in shared regions
 //! keep the regions' shapes (`local::Shape`) and recompute only their points.
 //! [`LimitSurface::eval_many`] evaluates the points of one face together, computing each
 //! tree node's (or region's) points once, and the points of one patch four at a time on
@@ -164,6 +165,13 @@ pub(super) enum Node {
     Plain(u32),
     /// A bicubic patch: its control points `cp[i][j]` (`i` along `u`).
     Regular(Box<[[[f64; 3]; 4]; 4]>),
+    /// A quad of the base mesh that is one patch (regular, or with one straight semi-sharp
+    /// crease) whose control points are combinations of base vertices (phantom points at
+    /// a boundary or crease): its net, whose points are computed from the surface's
+    /// positions ([`Ctx::pos`]) when evaluated, as a [`Node::Plain`]'s are, so nothing is
+    /// updated when the mesh is re-posed (its control points, kept, took 384 bytes more:
+    /// 0.8 MiB on `catmark_pawn` refined four times).
+    Net(Box<PatchNet>),
     /// A quad that is regular but for one straight semi-sharp crease: closed form.
     Crease(Box<CreasePatch>),
     /// An irregular (sub-)face: the tree of its neighbourhood's configuration, shared
@@ -217,6 +225,25 @@ impl Node {
                 })))
             }
             Node::Regular(cp) => Some(Cow::Borrowed(cp)),
+            Node::Net(p) if p.crease.is_none() => Some(Cow::Owned(p.net.eval(ctx.pos))),
+            _ => None,
+        }
+    }
+
+    /// The single-crease patch of a [`Node::Crease`], or of a [`Node::Net`] with a crease
+    /// (its control points from the base mesh's points `ctx.pos`); `None` for any other
+    /// node.
+    #[inline]
+    fn crease_patch(&self, ctx: Ctx<'_>) -> Option<Cow<'_, CreasePatch>> {
+        match self {
+            Node::Crease(p) => Some(Cow::Borrowed(p)),
+            Node::Net(p) => (p.crease.as_ref()).map(|(side, basis)| {
+                Cow::Owned(CreasePatch::from_net(
+                    &p.net.eval(ctx.pos),
+                    *side,
+                    basis.clone(),
+                ))
+            }),
             _ => None,
         }
     }
@@ -775,23 +802,19 @@ impl LimitSurface {
             let run_points = &points[i..i + run];
             let all_in = || run_points.iter().all(in_domain);
             match node {
-                Some(n @ (Node::Plain(_) | Node::Regular(_))) if all_in() => {
+                Some(n @ (Node::Plain(_) | Node::Regular(_) | Node::Crease(_) | Node::Net(_)))
+                    if all_in() =>
+                {
                     let batch = &mut RunBatch {
                         points: run_points,
                         out: &mut out[i..i + run],
                     };
-                    if let Some(cp) = n.bicubic(self.ctx(order)) {
+                    let ctx = self.ctx(order);
+                    if let Some(cp) = n.bicubic(ctx) {
                         bspline::tensor_batch(&cp, regular_bases, order, 1.0, batch);
+                    } else if let Some(c) = n.crease_patch(ctx) {
+                        c.eval_batch(order, 1.0, batch);
                     }
-                    i += run;
-                    continue;
-                }
-                Some(Node::Crease(c)) if all_in() => {
-                    let batch = &mut RunBatch {
-                        points: run_points,
-                        out: &mut out[i..i + run],
-                    };
-                    c.eval_batch(order, 1.0, batch);
                     i += run;
                     continue;
                 }
@@ -926,7 +949,7 @@ pub(super) fn build_face(
                 return (vec![Node::Plain(f as u32)], Recipe::Fixed);
             }
         }
-        return (vec![patch.node(level.pos)], Recipe::Patch(Box::new(patch)));
+        return (vec![Node::Net(Box::new(patch))], Recipe::Fixed);
     }
     match cut_out(base, f, level.reach) {
         Ok(faces) => {
@@ -964,12 +987,9 @@ fn region_nodes(level: LevelRef<'_>, f: usize, w: u32, options: &Options) -> Vec
 /// and allocating only a tree face's new cut-out points).
 #[derive(Clone, Debug)]
 pub(super) enum Recipe {
-    /// Nothing to update: a hole, or a [`Node::Plain`] patch (which reads the positions
-    /// when evaluated).
+    /// Nothing to update: a hole, or a [`Node::Plain`] or [`Node::Net`] patch (which read
+    /// the positions when evaluated).
     Fixed,
-    /// One patch whose control points are combinations of base vertices (boxed: the
-    /// recipe of every face is as large as its largest kind).
-    Patch(Box<PatchNet>),
     /// Through a configuration tree, with the vertices of the face's cut-out.
     Tree(Arc<Tree>, Arc<[u32]>),
     /// Position-based local refinement in the shared region of this vertex: built again
@@ -983,10 +1003,6 @@ impl Recipe {
     fn update(&self, nodes: &mut [Node], pos: &[[f64; 3]], options: &Options) -> bool {
         match (self, nodes) {
             (Recipe::Fixed, _) => true,
-            (Recipe::Patch(patch), [node]) => {
-                patch.update(node, pos);
-                true
-            }
             (Recipe::Tree(tree, verts), nodes) => {
                 let points: Arc<[[f64; 3]]> = verts.iter().map(|&v| pos[v as usize]).collect();
                 let kids = tree.root_kids(options);
@@ -1002,7 +1018,7 @@ impl Recipe {
                             None => return false,
                         },
                         Node::Hole => {}
-                        Node::Plain(_) | Node::Lazy(_) => return false,
+                        Node::Plain(_) | Node::Net(_) | Node::Lazy(_) => return false,
                     }
                 }
                 true
@@ -1013,9 +1029,9 @@ impl Recipe {
 }
 
 /// A base face whose surface is one patch (regular, or with one semi-sharp crease): its
-/// control net as combinations of base vertices, kept so that
-/// [`LimitSurface::set_positions`] evaluates the net again instead of walking the topology
-/// (about 3 000 instructions per face).
+/// control net as combinations of base vertices ([`Node::Net`]), kept so that evaluation
+/// computes the control points from the positions without walking the topology (about
+/// 3 000 instructions per face).
 #[derive(Clone, Debug)]
 pub(super) struct PatchNet {
     net: Net,
@@ -1043,26 +1059,6 @@ impl PatchNet {
             net: Net::new(cells),
             crease,
         })
-    }
-
-    /// The face's node for base positions `pos`.
-    fn node(&self, pos: &[[f64; 3]]) -> Node {
-        let cp = self.net.eval(pos);
-        match &self.crease {
-            None => Node::Regular(Box::new(cp)),
-            Some((side, basis)) => {
-                Node::Crease(Box::new(CreasePatch::from_net(&cp, *side, basis.clone())))
-            }
-        }
-    }
-
-    /// Sets `node` (built by [`Self::node`]) to base positions `pos`, in place.
-    fn update(&self, node: &mut Node, pos: &[[f64; 3]]) {
-        match (node, &self.crease) {
-            (Node::Regular(cp), None) => **cp = self.net.eval(pos),
-            (Node::Crease(p), Some(_)) => p.set_net(&self.net.eval(pos)),
-            (node, _) => *node = self.node(pos),
-        }
     }
 }
 
@@ -1149,13 +1145,14 @@ fn eval_queries(
     let scale = 2f64.powi(depth as i32);
     match node {
         Node::Hole => qs.iter().for_each(|q| sink.hole(q.out)),
-        Node::Plain(_) | Node::Regular(_) => {
+        Node::Plain(_) | Node::Regular(_) | Node::Crease(_) | Node::Net(_) => {
+            let leaf = &mut Leaf { qs, sink };
             if let Some(cp) = node.bicubic(ctx) {
-                let leaf = &mut Leaf { qs, sink };
                 bspline::tensor_batch(&cp, regular_bases, ctx.order, scale, leaf);
+            } else if let Some(p) = node.crease_patch(ctx) {
+                p.eval_batch(ctx.order, scale, leaf);
             }
         }
-        Node::Crease(p) => p.eval_batch(ctx.order, scale, &mut Leaf { qs, sink }),
         Node::Tree(t) => t.tree.eval(&t.pos, t.sub, qs, depth, scratch, ctx, sink),
         Node::Lazy(lz) => {
             // Limit masks give the limit only once no semi-sharp feature is left at the
@@ -1430,7 +1427,7 @@ mod tests {
                 let creased = (0..fast.num_faces())
                     .filter(|&f| {
                         let nodes = fast.face_nodes(f).expect("a face");
-                        matches!(nodes.as_slice()[0], Node::Crease(_))
+                        matches!(&nodes.as_slice()[0], Node::Net(p) if p.crease.is_some())
                     })
                     .count();
                 assert!(creased >= 4, "s = {s}: only {creased} single-crease faces");
