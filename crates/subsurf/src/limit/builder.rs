@@ -5,8 +5,8 @@
 //! quads of a mixed mesh, as OpenSubdiv's `Bfr` benchmarks and `subsurf limit --grid` do;
 //! a region being edited; the faces in view) can build those alone: the surface keeps
 //! nothing for the others and refuses to evaluate them ([`EvalError::NotBuilt`]). On an
-//! all-triangle scan, whose every face is irregular, a surface of no faces takes a tenth
-//! of the memory of a full one (`nefertiti`, 99 938 triangles: 104 → 28 MiB in
+//! all-triangle scan, whose every face is irregular, a surface of no faces takes a fifth
+//! of the memory of a full one (`nefertiti`, 99 938 triangles: 105 → 21 MiB in
 //! `subsurf bench --limit-grid 8`, which evaluates quads only).
 //!
 //! The surface of a face does not depend on which other faces are built: each face's
