@@ -18,12 +18,9 @@
 use std::borrow::Cow;
 
 use super::memory::Budget;
+use super::surface::FaceSelect;
 use super::{BuildError, LimitSurface};
 use crate::mesh::{Options, PolyMesh};
-
-/// Which faces of a [`SurfaceBuilder`] to build: called with a face's index and its
-/// vertices.
-type FaceFilter<'a> = Box<dyn Fn(usize, &[u32]) -> bool + Sync + 'a>;
 
 /// A [`LimitSurface`] to build ([`LimitSurface::builder`]): the mesh and scheme, and
 /// optionally a memory limit ([`Self::max_bytes`]) and the faces to build
@@ -54,7 +51,7 @@ pub struct SurfaceBuilder<'a> {
     mesh: Cow<'a, PolyMesh>,
     options: Options,
     max_bytes: Option<u64>,
-    faces: Option<FaceFilter<'a>>,
+    faces: Option<Box<FaceSelect<'a>>>,
 }
 
 impl std::fmt::Debug for SurfaceBuilder<'_> {

@@ -58,7 +58,7 @@ const CONFIGURATION_LEVEL_BYTES: u64 = 80 << 10;
 /// more for the region's first refinements.
 const REGION_FACE_LEVEL_BYTES: u64 = 48 << 10;
 
-/// Errors of [`LimitSurface::new_within`].
+/// Errors of [`LimitSurface::new_within`] and [`SurfaceBuilder::build`](super::SurfaceBuilder::build).
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum BuildError {
     /// The mesh is invalid.

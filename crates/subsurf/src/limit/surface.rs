@@ -230,6 +230,20 @@ impl Node {
         }
     }
 
+    /// Evaluates `batch` (`depth` levels below the base face: derivatives scaled by
+    /// `scale = 2^depth`) on a node that is one patch (plain, regular, single-crease or a
+    /// base face's net); `false`, evaluating nothing, for any other node.
+    fn eval_patch(&self, ctx: Ctx<'_>, scale: f64, batch: &mut impl Batch) -> bool {
+        if let Some(cp) = self.bicubic(ctx) {
+            bspline::tensor_batch(&cp, regular_bases, ctx.order, scale, batch);
+        } else if let Some(p) = self.crease_patch(ctx) {
+            p.eval_batch(ctx.order, scale, batch);
+        } else {
+            return false;
+        }
+        true
+    }
+
     /// The single-crease patch of a [`Node::Crease`], or of a [`Node::Net`] with a crease
     /// (its control points from the base mesh's points `ctx.pos`); `None` for any other
     /// node.
@@ -801,24 +815,15 @@ impl LimitSurface {
             // A patch: all the run's points together, four at a time.
             let run_points = &points[i..i + run];
             let all_in = || run_points.iter().all(in_domain);
-            match node {
-                Some(n @ (Node::Plain(_) | Node::Regular(_) | Node::Crease(_) | Node::Net(_)))
-                    if all_in() =>
-                {
-                    let batch = &mut RunBatch {
-                        points: run_points,
-                        out: &mut out[i..i + run],
-                    };
-                    let ctx = self.ctx(order);
-                    if let Some(cp) = n.bicubic(ctx) {
-                        bspline::tensor_batch(&cp, regular_bases, order, 1.0, batch);
-                    } else if let Some(c) = n.crease_patch(ctx) {
-                        c.eval_batch(order, 1.0, batch);
-                    }
+            if let Some(n) = node.filter(|_| all_in()) {
+                let batch = &mut RunBatch {
+                    points: run_points,
+                    out: &mut out[i..i + run],
+                };
+                if n.eval_patch(self.ctx(order), 1.0, batch) {
                     i += run;
                     continue;
                 }
-                _ => {}
             }
             let Some(node) = node.filter(|n| matches!(n, Node::Tree(_) | Node::Lazy(_))) else {
                 for k in i..i + run {
@@ -1146,12 +1151,7 @@ fn eval_queries(
     match node {
         Node::Hole => qs.iter().for_each(|q| sink.hole(q.out)),
         Node::Plain(_) | Node::Regular(_) | Node::Crease(_) | Node::Net(_) => {
-            let leaf = &mut Leaf { qs, sink };
-            if let Some(cp) = node.bicubic(ctx) {
-                bspline::tensor_batch(&cp, regular_bases, ctx.order, scale, leaf);
-            } else if let Some(p) = node.crease_patch(ctx) {
-                p.eval_batch(ctx.order, scale, leaf);
-            }
+            node.eval_patch(ctx, scale, &mut Leaf { qs, sink });
         }
         Node::Tree(t) => t.tree.eval(&t.pos, t.sub, qs, depth, scratch, ctx, sink),
         Node::Lazy(lz) => {
