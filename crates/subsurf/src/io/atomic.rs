@@ -141,27 +141,26 @@ impl Drop for RemoveOnDrop {
 mod tests {
     use super::*;
 
-    fn scratch(name: &str) -> PathBuf {
-        let dir =
-            std::env::temp_dir().join(format!("subsurf-atomic-{}-{name}", std::process::id()));
-        let _ = fs::remove_dir_all(&dir);
-        fs::create_dir_all(&dir).unwrap();
-        dir
+    /// An empty directory, removed with everything in it when the guard drops.
+    fn scratch() -> tempfile::TempDir {
+        tempfile::tempdir().unwrap()
     }
 
     #[test]
     fn replaces_a_file_and_leaves_no_temporary() {
-        let dir = scratch("replace");
+        let scratch = scratch();
+        let dir = scratch.path();
         let path = dir.join("out.txt");
         fs::write(&path, "old").unwrap();
         write_atomically(&path, |w| w.write_all(b"new")).unwrap();
         assert_eq!(fs::read_to_string(&path).unwrap(), "new");
-        assert_eq!(fs::read_dir(&dir).unwrap().count(), 1);
+        assert_eq!(fs::read_dir(dir).unwrap().count(), 1);
     }
 
     #[test]
     fn a_failed_write_keeps_the_old_contents() {
-        let dir = scratch("fail");
+        let scratch = scratch();
+        let dir = scratch.path();
         let path = dir.join("out.txt");
         fs::write(&path, "old").unwrap();
         let err = write_atomically(&path, |w| {
@@ -170,14 +169,15 @@ mod tests {
         });
         assert!(err.is_err());
         assert_eq!(fs::read_to_string(&path).unwrap(), "old");
-        assert_eq!(fs::read_dir(&dir).unwrap().count(), 1);
+        assert_eq!(fs::read_dir(dir).unwrap().count(), 1);
     }
 
     #[cfg(unix)]
     #[test]
     fn follows_symbolic_links_and_keeps_permissions() {
         use std::os::unix::fs::PermissionsExt;
-        let dir = scratch("link");
+        let scratch = scratch();
+        let dir = scratch.path();
         let target = dir.join("target.txt");
         fs::write(&target, "old").unwrap();
         fs::set_permissions(&target, fs::Permissions::from_mode(0o640)).unwrap();
@@ -199,7 +199,8 @@ mod tests {
     #[test]
     fn writes_into_a_named_pipe_in_place() {
         use std::os::unix::fs::FileTypeExt;
-        let dir = scratch("fifo");
+        let scratch = scratch();
+        let dir = scratch.path();
         let fifo = dir.join("pipe");
         let made = std::process::Command::new("mkfifo").arg(&fifo).status();
         if !matches!(made, Ok(s) if s.success()) {
@@ -216,8 +217,9 @@ mod tests {
 
     #[test]
     fn a_directory_is_refused() {
-        let dir = scratch("dir");
-        let err = write_atomically(&dir, |w| w.write_all(b"x")).unwrap_err();
+        let scratch = scratch();
+        let dir = scratch.path();
+        let err = write_atomically(dir, |w| w.write_all(b"x")).unwrap_err();
         assert!(err.to_string().contains("is a directory"), "{err}");
     }
 }
