@@ -13,10 +13,13 @@ use super::bspline::Derivatives;
 use super::local::{Local, Reach, Region, HIGH_VALENCE};
 use super::patch::{regular_corner, Sharp};
 use crate::geom::{self, V3};
+use crate::hash::FxHasher;
 use crate::mesh::{Options, Topology};
 use crate::refine::interpolate;
 use crate::scheme::catmark::{self, VertexMask};
-use std::sync::Arc;
+use std::collections::HashMap;
+use std::hash::BuildHasherDefault;
+use std::sync::{Arc, Mutex, OnceLock};
 
 /// How [`CornerLimit::finish`] turns a corner's vectors into `(du, dv)`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -130,7 +133,12 @@ pub(super) fn is_limit_corner(t: &Topology, face: usize, k: usize) -> bool {
 /// subdominant left eigenvectors, found by subspace iteration on sum-free vectors (where
 /// `Sᵀ` leaves out eigenvalue 1). The tangents are returned along the face's edges
 /// projected onto that plane.
-pub(super) fn corner_limit(l: &Local, k: usize, options: &Options) -> CornerLimit {
+pub(super) fn corner_limit(
+    l: &Local,
+    k: usize,
+    options: &Options,
+    sectors: &SectorCache,
+) -> CornerLimit {
     let t = l.topo();
     let pos = l.pos();
     let c = t.face_vertices(l.face)[k] as usize;
@@ -153,7 +161,7 @@ pub(super) fn corner_limit(l: &Local, k: usize, options: &Options) -> CornerLimi
         // One step makes every face a quad; the corner's child has the same limit.
         let n = t.face_vertices(l.face).len();
         let next = l.child(k, options);
-        return corner_limit(&next, if n == 4 { k } else { 0 }, options);
+        return corner_limit(&next, if n == 4 { k } else { 0 }, options, sectors);
     }
     let along = face_edge_dirs(l, k);
     match tag.rule {
@@ -177,21 +185,27 @@ pub(super) fn corner_limit(l: &Local, k: usize, options: &Options) -> CornerLimi
                 }
                 None => pos[c],
             };
-            let d = eigen_corner_settled(l, k, options).unwrap_or(CornerLimit::edges(k, along));
+            let d = eigen_corner_settled(l, k, options, sectors)
+                .unwrap_or(CornerLimit::edges(k, along));
             CornerLimit { p, ..d }
         }
-        _ => eigen_corner_settled(l, k, options).unwrap_or_else(|| smooth_corner(l, k)),
+        _ => eigen_corner_settled(l, k, options, sectors).unwrap_or_else(|| smooth_corner(l, k)),
     }
 }
 
 /// [`eigen_corner`] at corner `k`, refining up to three levels first if the corner's
 /// neighbourhood only becomes self-similar further down (faces that share several
 /// vertices, as around valence-2 vertices, separate after a step).
-fn eigen_corner_settled(l: &Local, k: usize, options: &Options) -> Option<CornerLimit> {
+fn eigen_corner_settled(
+    l: &Local,
+    k: usize,
+    options: &Options,
+    sectors: &SectorCache,
+) -> Option<CornerLimit> {
     let mut owned: Option<Local> = None;
     for _ in 0..4 {
         let cur = owned.as_ref().unwrap_or(l);
-        if let Some(d) = eigen_corner(cur, k, options) {
+        if let Some(d) = eigen_corner(cur, k, options, sectors) {
             return Some(d);
         }
         owned = Some(cur.child(k, options));
@@ -271,14 +285,38 @@ fn sector_ring(t: &Topology, face: usize, k: usize) -> Option<(usize, Vec<u32>)>
 #[derive(Debug)]
 pub(super) struct Eigen {
     ring: Vec<u32>,
+    w: Arc<SectorWeights>,
+}
+
+/// The weights of an eigen-analysis, in the order of its sector's points.
+#[derive(Debug)]
+pub(super) struct SectorWeights {
     l0: Vec<f64>,
     w1: Vec<f64>,
     w2: Vec<f64>,
 }
 
-fn eigen_corner(l: &Local, k: usize, options: &Options) -> Option<CornerLimit> {
+/// Eigen-analyses of corner sectors by the structure of the faces around the corner
+/// ([`Topology::corner_structure_key`], the face and the corner), shared by every corner
+/// of a surface with the same neighbourhood (most darts, crease bends and corners of a
+/// mesh look alike): each is the analysis on those faces alone, with the points of their
+/// sector, or `None` where that fails.
+#[derive(Debug, Default)]
+pub(super) struct SectorCache(Mutex<SectorMap>);
+
+type SectorMap = HashMap<Vec<u32>, Arc<OnceLock<Option<Sector>>>, BuildHasherDefault<FxHasher>>;
+
+/// A cached analysis: the sector's points in the faces around the corner, and weights.
+type Sector = (Vec<u32>, Arc<SectorWeights>);
+
+fn eigen_corner(
+    l: &Local,
+    k: usize,
+    options: &Options,
+    sectors: &SectorCache,
+) -> Option<CornerLimit> {
     let (start, ring) = sector_ring(l.topo(), l.face, k)?;
-    let analyse = || eigen_analysis(l, k, ring, options).map(Arc::new);
+    let analyse = || eigen_analysis(l, k, start, ring, options, sectors).map(Arc::new);
     let e = if l.region.is_shared() {
         let c = l.topo().face_vertices(l.face)[k];
         super::local::cached(&l.region.shape.eigen, (c, start as u32), analyse)
@@ -295,15 +333,15 @@ fn eigen_corner(l: &Local, k: usize, options: &Options) -> Option<CornerLimit> {
         acc
     };
     // (No `l₀` for a high-valence crease vertex, whose caller takes the crease curve's point.)
-    let p = if e.l0.is_empty() {
+    let p = if e.w.l0.is_empty() {
         pos[l.topo().face_vertices(l.face)[k] as usize]
     } else {
-        combine(&e.l0)
+        combine(&e.w.l0)
     };
     Some(CornerLimit {
         p,
-        t1: combine(&e.w1),
-        t2: combine(&e.w2),
+        t1: combine(&e.w.w1),
+        t2: combine(&e.w.w2),
         mode: TangentMode::Plane,
         ..CornerLimit::edges(k, face_edge_dirs(l, k))
     })
@@ -312,37 +350,63 @@ fn eigen_corner(l: &Local, k: usize, options: &Options) -> Option<CornerLimit> {
 /// The subdivision matrix `S` of the sector `ring` of corner `k` and its eigen-analysis.
 ///
 /// The children of the ring's points (the corner's vertex point, the edge points of its
-/// edges, the face points of its faces) depend only on the faces around the corner. In a
-/// shared region (which may be large) `S` is therefore first computed on just those faces,
-/// cut out of the region: the same stencils, so the same matrix, at the cost of the corner's
-/// valence instead of the region's size. Should that fail (the neighbourhood only becomes
-/// self-similar further down, see [`eigen_corner_settled`]), the whole region is used.
-fn eigen_analysis(l: &Local, k: usize, ring: Vec<u32>, options: &Options) -> Option<Eigen> {
-    if l.region.is_shared() {
-        let t = l.topo();
-        let c = t.face_vertices(l.face)[k] as usize;
-        let faces = t.vertex_faces(c);
-        let face = faces.iter().position(|&g| g as usize == l.face)?;
-        let (sub, verts) = t.subset(faces);
-        let pos = verts.iter().map(|&v| l.pos()[v as usize]).collect();
+/// edges, the face points of its faces) depend only on the faces around the corner, and
+/// on the rules of the corner and its edges. `S` is therefore first computed on just those
+/// faces, cut out of the region: the same stencils, so the same matrix, at the cost of the
+/// corner's valence instead of the region's size, and looked up in `sectors` by the
+/// structure of those faces, so that corners alike are analysed once. Should that fail
+/// (the neighbourhood only becomes self-similar further down, see
+/// [`eigen_corner_settled`]), the whole region is used.
+fn eigen_analysis(
+    l: &Local,
+    k: usize,
+    start: usize,
+    ring: Vec<u32>,
+    options: &Options,
+    sectors: &SectorCache,
+) -> Option<Eigen> {
+    let t = l.topo();
+    let c = t.face_vertices(l.face)[k] as usize;
+    let faces = t.vertex_faces(c);
+    let face = faces.iter().position(|&g| g as usize == l.face)?;
+    let (sub, verts) = t.subset(faces);
+    let sub_c = verts.iter().position(|&v| v as usize == c)?;
+    // Keyed by the sector (its first face and the corner in it), which every face of a
+    // sector bounded by sharp edges shares with the same ring.
+    let first = faces.iter().position(|&g| g as usize == start)?;
+    let corner = t.face_vertices(start).iter().position(|&v| v as usize == c)?;
+    let mut key = Vec::new();
+    sub.corner_structure_key(sub_c, &mut key);
+    key.extend([first as u32, corner as u32]);
+    let cell = super::local::cell(&sectors.0, key);
+    let sector = cell.get_or_init(|| {
+        let pos = vec![[0.0; 3]; sub.num_vertices()];
         let tiny = Local {
             region: Arc::new(Region::whole(sub, pos, Reach::default())),
             face,
         };
-        if let Some((_, sub_ring)) = sector_ring(tiny.topo(), face, k) {
-            let mapped: Vec<u32> = sub_ring.iter().map(|&x| verts[x as usize]).collect();
-            if mapped == ring {
-                if let Some(e) = sector_eigen(&tiny, k, sub_ring, options) {
-                    return Some(Eigen { ring, ..e });
-                }
-            }
+        let (_, sub_ring) = sector_ring(tiny.topo(), face, k)?;
+        let w = sector_eigen(&tiny, k, &sub_ring, options)?;
+        Some((sub_ring, Arc::new(w)))
+    });
+    if let Some((sub_ring, w)) = sector {
+        if sub_ring
+            .iter()
+            .map(|&x| verts[x as usize])
+            .eq(ring.iter().copied())
+        {
+            return Some(Eigen { ring, w: w.clone() });
         }
     }
-    sector_eigen(l, k, ring, options)
+    let w = sector_eigen(l, k, &ring, options)?;
+    Some(Eigen {
+        ring,
+        w: Arc::new(w),
+    })
 }
 
 /// [`eigen_analysis`] on the region as it is.
-fn sector_eigen(l: &Local, k: usize, ring: Vec<u32>, options: &Options) -> Option<Eigen> {
+fn sector_eigen(l: &Local, k: usize, ring: &[u32], options: &Options) -> Option<SectorWeights> {
     let t = l.topo();
     let childl = l.child(k, options);
     let child = childl.topo();
@@ -356,7 +420,7 @@ fn sector_eigen(l: &Local, k: usize, ring: Vec<u32>, options: &Options) -> Optio
     let mut cols: Vec<Vec<(usize, f64)>> = Vec::with_capacity(m);
     let mut unit = vec![[0.0]; t.num_vertices()];
     let mut out = vec![[0.0]; child.num_vertices()];
-    for &x in &ring {
+    for &x in ring {
         unit[x as usize] = [1.0];
         interpolate(t, child, options, &unit, &mut out);
         unit[x as usize] = [0.0];
@@ -394,7 +458,7 @@ fn sector_eigen(l: &Local, k: usize, ring: Vec<u32>, options: &Options) -> Optio
         let s = dense();
         subdominant_left_subspace(m, |w, j| (0..m).map(|i| s[i][j] * w[i]).sum())
     };
-    Some(Eigen { ring, l0, w1, w2 })
+    Some(SectorWeights { l0, w1, w2 })
 }
 
 /// `l` with `l S = l`, `Σ l = 1`: solves `(Sᵀ − I) l = 0` with the last equation replaced
@@ -637,6 +701,96 @@ fn project(e: V3, t1: V3, t2: V3) -> V3 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::mesh::{Crease, PolyMesh};
+
+    /// A wavy 8 × 8 grid of quads with infinitely sharp edges that end inside it (darts),
+    /// meet in threes (corners) and turn (crease bends), several of each.
+    fn sharp_grid() -> Topology {
+        let n = 9u32;
+        let p = (0..n * n)
+            .map(|k| {
+                let (x, y) = ((k % n) as f64, (k / n) as f64);
+                [x + 0.1 * y.sin(), y, 0.3 * (0.7 * x + 0.4 * y).sin()]
+            })
+            .collect();
+        let faces: Vec<[u32; 4]> = (0..n - 1)
+            .flat_map(|j| {
+                (0..n - 1).map(move |i| {
+                    [
+                        j * n + i,
+                        j * n + i + 1,
+                        (j + 1) * n + i + 1,
+                        (j + 1) * n + i,
+                    ]
+                })
+            })
+            .collect();
+        let mut mesh = PolyMesh::from_faces(p, &faces).expect("grid");
+        let v = |i: u32, j: u32| j * n + i;
+        let sharp = [
+            (v(1, 1), v(2, 1)),
+            (v(5, 1), v(6, 1)),
+            (v(1, 4), v(2, 4)),
+            (v(2, 4), v(2, 5)),
+            (v(5, 4), v(6, 4)),
+            (v(6, 4), v(6, 5)),
+            (v(4, 4), v(5, 4)),
+            (v(5, 4), v(5, 5)),
+            (v(2, 6), v(3, 6)),
+            (v(6, 6), v(7, 6)),
+        ];
+        for (v0, v1) in sharp {
+            mesh.tags.creases.push(Crease {
+                v0,
+                v1,
+                sharpness: 10.0,
+            });
+        }
+        let options = Options::default();
+        Topology::from_mesh(&mesh, &options).expect("topology").0
+    }
+
+    /// Every analysed corner of the grid gets, through the shared cache, the weights of an
+    /// analysis of its own cut-out, bit for bit, and corners alike share one analysis.
+    #[test]
+    fn cached_sector_analyses_are_those_of_each_corner() {
+        let t = sharp_grid();
+        let options = Options::default();
+        let sectors = SectorCache::default();
+        let mut analysed = 0;
+        for f in 0..t.num_faces() {
+            let Ok(faces) = super::super::local::cut_out(&t, f, Reach::default()) else {
+                unreachable!("no high valence here");
+            };
+            let (sub, verts) = t.subset(&faces);
+            let pos = verts.iter().map(|_| [0.0; 3]).collect();
+            let l = Local {
+                region: Arc::new(Region::whole(sub, pos, Reach::default())),
+                face: 0,
+            };
+            for k in 0..4 {
+                let c = l.topo().face_vertices(0)[k] as usize;
+                if !is_limit_corner(l.topo(), 0, k) || l.topo().vertex_tag(c).boundary {
+                    continue;
+                }
+                let (start, ring) = sector_ring(l.topo(), 0, k).expect("sector");
+                let own = sector_eigen(&l, k, &ring, &options).expect("own analysis");
+                let cached = eigen_analysis(&l, k, start, ring.clone(), &options, &sectors)
+                    .expect("cached analysis");
+                assert_eq!(cached.ring, ring, "face {f} corner {k}");
+                assert_eq!(cached.w.l0, own.l0, "face {f} corner {k}");
+                assert_eq!(cached.w.w1, own.w1, "face {f} corner {k}");
+                assert_eq!(cached.w.w2, own.w2, "face {f} corner {k}");
+                analysed += 1;
+            }
+        }
+        let kept = sectors.0.lock().map(|m| m.len()).unwrap_or(0);
+        assert!(analysed >= 40, "{analysed} corners analysed");
+        assert!(
+            kept * 2 < analysed,
+            "{kept} analyses kept for {analysed} corners"
+        );
+    }
 
     /// The sparse application of `Sᵀ` used above [`HIGH_VALENCE`] gives the subspace of the
     /// dense one: the same sums without their zero terms.

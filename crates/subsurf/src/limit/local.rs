@@ -188,8 +188,8 @@ pub fn cached<T: Clone>(cache: &CornerCache<T>, key: (u32, u32), make: impl FnOn
 
 /// The cell of `key` in a map behind a mutex (a poisoned lock is taken as it is: cells are
 /// only ever inserted).
-fn cell<K: std::hash::Hash + Eq, T>(
-    cache: &Mutex<HashMap<K, Arc<OnceLock<T>>>>,
+pub(super) fn cell<K: std::hash::Hash + Eq, T, S: std::hash::BuildHasher>(
+    cache: &Mutex<HashMap<K, Arc<OnceLock<T>>, S>>,
     key: K,
 ) -> Arc<OnceLock<T>> {
     let mut map = match cache.lock() {
@@ -277,6 +277,13 @@ impl Shape {
         }
     }
 
+    /// A shape to be evaluated with many sets of points (unit vectors, to find an
+    /// evaluation's weights): shared, so that the analyses of its corners and its
+    /// refinements are computed once for all of them.
+    pub fn probed(topo: Topology) -> Arc<Self> {
+        Arc::new(Self::shared(topo, Reach::default(), None))
+    }
+
     /// The shape refined one level: computed once for a shared shape, afresh otherwise.
     fn refined(&self, options: &Options) -> Arc<Shape> {
         let make = || {
@@ -298,11 +305,11 @@ impl Shape {
 impl Region {
     /// A whole level as a region of its own, not shared.
     pub fn whole(topo: Topology, pos: Vec<[f64; 3]>, reach: Reach) -> Self {
-        Self::with_shape(Arc::new(Shape::own(topo, reach)), pos)
+        Self::new(Arc::new(Shape::own(topo, reach)), pos)
     }
 
     /// Shape `shape` with points `pos`.
-    fn with_shape(shape: Arc<Shape>, pos: Vec<[f64; 3]>) -> Self {
+    pub fn new(shape: Arc<Shape>, pos: Vec<[f64; 3]>) -> Self {
         Self {
             shape,
             pos,
@@ -336,7 +343,7 @@ impl Region {
             let child = self.shape.refined(options);
             let mut cpos = vec![[0.0; 3]; child.topo.num_vertices()];
             interpolate(&self.shape.topo, &child.topo, options, &self.pos, &mut cpos);
-            Arc::new(Region::with_shape(child, cpos))
+            Arc::new(Region::new(child, cpos))
         };
         if self.is_shared() {
             self.refined.get_or_init(make).clone()
@@ -428,7 +435,7 @@ pub fn region_cut(level: LevelRef<'_>, f: usize, w: u32) -> Local {
                 .get_or_init(|| Arc::new(vertex_region(level, w)))
                 .clone();
             let pos = shape.verts.iter().map(|&v| level.pos[v as usize]).collect();
-            Arc::new(Region::with_shape(shape, pos))
+            Arc::new(Region::new(shape, pos))
         })
         .clone();
     let faces = &region.shape.faces;

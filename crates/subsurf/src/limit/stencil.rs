@@ -233,6 +233,7 @@ fn face_stencils(
                         order: Order::First,
                         pos: unit,
                         topo: base,
+                        sectors: &shared.sectors,
                     };
                     let mut d = Derivatives::default();
                     if eval_node(n, p.u, p.v, ctx, &mut d) {

@@ -65,7 +65,7 @@
 //! derivatives; second derivatives are zero.
 
 use super::bspline::{self, regular_bases, Batch, Derivatives, Order};
-use super::corner::{corner_limit, is_limit_corner};
+use super::corner::{corner_limit, is_limit_corner, SectorCache};
 use super::crease_patch::{single_crease, CreaseBases, CreaseBasis, CreasePatch};
 use super::local::{
     cut_out, own_cut, region_cut, FaceKind, LevelRef, Local, Reach, RegionCache, ShapeCache,
@@ -734,6 +734,7 @@ impl LimitSurface {
             order,
             pos: &self.pos,
             topo: &self.base,
+            sectors: &self.shared.sectors,
         }
     }
 
@@ -931,6 +932,8 @@ pub(super) struct Shared {
     pub bases: CreaseBases,
     /// Shapes of the base level's shared regions (see [`super::local::Shape`]).
     pub regions: ShapeCache,
+    /// Eigen-analyses of corner sectors (see [`SectorCache`]).
+    pub sectors: SectorCache,
 }
 
 /// The nodes of face `f` of `level` (one per sub-face): a regular patch, a single-crease
@@ -1162,7 +1165,7 @@ fn eval_queries(
             // exact parametric derivatives.
             let stop = |k| is_limit_corner(lz.local.topo(), lz.local.face, k);
             let rest = take_corners(qs, depth, stop, |k, out| {
-                *sink.slot(out) = corner_limit(&lz.local, k, ctx.options).finish();
+                *sink.slot(out) = corner_limit(&lz.local, k, ctx.options, ctx.sectors).finish();
             });
             let qs = &mut qs[..rest];
             if qs.is_empty() {

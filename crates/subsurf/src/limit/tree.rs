@@ -27,9 +27,9 @@
 //! allocated per point.
 
 use super::bspline::{self, Derivatives, Order};
-use super::corner::{corner_limit, is_limit_corner, CornerLimit};
+use super::corner::{corner_limit, is_limit_corner, CornerLimit, SectorCache};
 use super::crease_patch::{single_crease, CreaseBasis, CreasePatch};
-use super::local::{cut_out_unbounded, Local, Reach, Region};
+use super::local::{cut_out_unbounded, Local, Reach, Region, Shape};
 use super::patch::{regular_patch_cells, Cell};
 use super::surface::{quadrant, MAX_DEPTH};
 use crate::hash::FxHasher;
@@ -383,6 +383,8 @@ pub(super) struct Ctx<'a> {
     pub pos: &'a [[f64; 3]],
     /// The base mesh's topology, from which those patches find their nets.
     pub topo: &'a Topology,
+    /// The surface's eigen-analyses of corner sectors.
+    pub sectors: &'a SectorCache,
 }
 
 /// One point to evaluate: its parameter in the current node, and where its result goes.
@@ -479,7 +481,7 @@ fn descend(
         depth,
         |k| node.stop[k],
         |k, out| {
-            *sink.slot(out) = node.corner(k, ctx.options).eval(pos);
+            *sink.slot(out) = node.corner(k, ctx.options, ctx.sectors).eval(pos);
         },
     );
     let qs = &mut qs[..rest];
@@ -663,11 +665,14 @@ impl TNode {
     }
 
     /// The corner analysis at corner `k` as weights (computed the first time).
-    fn corner(&self, k: usize, options: &Options) -> &CornerRows {
+    fn corner(&self, k: usize, options: &Options, sectors: &SectorCache) -> &CornerRows {
         self.corners[k].get_or_init(|| {
             // Three unit control points at a time, one per coordinate: coordinate `c` of
             // each output vector is the weight of the point set to `e_c`.
+            // The probes share one shape, which analyses the corner's sector (and refines
+            // it, where that takes further levels) once for all of them.
             let n = self.topo.num_vertices();
+            let shape = Shape::probed(self.topo.clone());
             let mut weights = vec![[0.0; 5]; n];
             let mut limit = CornerLimit::default();
             for c0 in (0..n).step_by(3) {
@@ -676,10 +681,10 @@ impl TNode {
                     pos[c0 + c][c] = 1.0;
                 }
                 let local = Local {
-                    region: Arc::new(Region::whole(self.topo.clone(), pos, Reach::default())),
+                    region: Arc::new(Region::new(shape.clone(), pos)),
                     face: self.face,
                 };
-                limit = corner_limit(&local, k, options);
+                limit = corner_limit(&local, k, options, sectors);
                 let vs = limit.vectors();
                 for c in 0..3.min(n - c0) {
                     weights[c0 + c] = vs.map(|v| v[c]);

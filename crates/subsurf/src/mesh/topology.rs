@@ -941,10 +941,31 @@ impl Topology {
     /// topologies with equal keys refine identically, level after level. Used to share the
     /// local refinement of one neighbourhood between all faces that have the same one.
     pub(crate) fn structure_key(&self, out: &mut Vec<u32>) {
+        self.structure_key_with(out, |_| true, |_| true);
+    }
+
+    /// [`structure_key`](Self::structure_key) with the tags and sharpness of vertex `c`
+    /// and of its edges only (every other vertex's and edge's written as zeros): of the
+    /// faces around a vertex `c` whose edges are not semi-sharp, all that decides the
+    /// children of `c`, of its edges and of its faces, the points of a corner's
+    /// eigen-analysis (the rules of the other vertices and edges decide only points
+    /// farther out).
+    pub(crate) fn corner_structure_key(&self, c: usize, out: &mut Vec<u32>) {
+        let edges = self.vertex_edges(c);
+        self.structure_key_with(out, |v| v == c, |e| edges.contains(&(e as u32)));
+    }
+
+    fn structure_key_with(
+        &self,
+        out: &mut Vec<u32>,
+        vertex: impl Fn(usize) -> bool,
+        edge: impl Fn(usize) -> bool,
+    ) {
         fn list(out: &mut Vec<u32>, xs: impl ExactSizeIterator<Item = u32>) {
             out.push(xs.len() as u32);
             out.extend(xs);
         }
+        let kept = |keep: bool, x: u32| if keep { x } else { 0 };
         out.push(self.num_vertices);
         list(out, self.face_offsets.iter().copied());
         list(out, self.face_verts.iter().copied());
@@ -960,10 +981,20 @@ impl Topology {
         list(out, self.vert_edge_offsets.iter().copied());
         list(out, self.vert_edges.iter().copied());
         list(out, self.vert_edge_local.iter().map(|&x| x as u32));
-        list(out, self.edge_sharpness.iter().map(|x| x.to_bits()));
-        list(out, self.vert_sharpness.iter().map(|x| x.to_bits()));
-        list(out, self.edge_tags.iter().map(|t| t.bits()));
-        list(out, self.vert_tags.iter().map(|t| t.bits()));
+        let edges = self.edge_sharpness.iter().zip(&self.edge_tags).enumerate();
+        list(
+            out,
+            edges.clone().map(|(e, (x, _))| kept(edge(e), x.to_bits())),
+        );
+        let verts = self.vert_sharpness.iter().zip(&self.vert_tags).enumerate();
+        list(
+            out,
+            verts
+                .clone()
+                .map(|(v, (x, _))| kept(vertex(v), x.to_bits())),
+        );
+        list(out, edges.map(|(e, (_, t))| kept(edge(e), t.bits())));
+        list(out, verts.map(|(v, (_, t))| kept(vertex(v), t.bits())));
         out.extend([
             self.max_valence,
             self.has_holes as u32,
