@@ -374,7 +374,10 @@ fn eigen_analysis(
     // Keyed by the sector (its first face and the corner in it), which every face of a
     // sector bounded by sharp edges shares with the same ring.
     let first = faces.iter().position(|&g| g as usize == start)?;
-    let corner = t.face_vertices(start).iter().position(|&v| v as usize == c)?;
+    let corner = t
+        .face_vertices(start)
+        .iter()
+        .position(|&v| v as usize == c)?;
     let mut key = Vec::new();
     sub.corner_structure_key(sub_c, &mut key);
     key.extend([first as u32, corner as u32]);

@@ -1599,7 +1599,9 @@ mod tests {
     /// after [`LimitSurface::set_positions`] (and evaluations at the old positions, which
     /// fill the caches), every point equals, bit for bit, that of a surface built afresh
     /// at the new positions; and points evaluated together ([`LimitSurface::eval_many`])
-    /// equal points evaluated one by one.
+    /// equal points evaluated one by one, also on a surface that meets them one by one
+    /// from the last, whose trees build the children near a face's first corner only when
+    /// a later point reaches them.
     #[test]
     fn re_posing_equals_a_fresh_surface() {
         let params = [0.0, 0.1, 0.25, 1.0 / 3.0, 0.5, 0.9, 1.0];
@@ -1650,9 +1652,13 @@ mod tests {
             fresh_mesh.positions_mut().copy_from_slice(&moved);
             let fresh = LimitSurface::new(&fresh_mesh, o).expect("surface");
             let (a, b) = (s.eval_many(&points), fresh.eval_many(&points));
+            let late = LimitSurface::new(&fresh_mesh, o).expect("surface");
+            let mut c: Vec<_> = points.iter().rev().map(|&p| late.eval_point(p)).collect();
+            c.reverse();
             let mut moved_points = 0;
             for (k, p) in points.iter().enumerate() {
                 assert_eq!(a[k], b[k], "{what}: re-posed vs fresh at {p:?}");
+                assert_eq!(c[k], b[k], "{what}: one by one from the last at {p:?}");
                 assert_eq!(a[k], s.eval_point(*p), "{what}: together vs alone at {p:?}");
                 if let (Ok(x), Ok(y)) = (&a[k], &before[k]) {
                     moved_points += usize::from(x.p != y.p);

@@ -219,8 +219,16 @@ pub(super) enum Kid {
     /// A single-crease patch ([`CreasePatch`]): its 16 control points as weights on the
     /// node's points, its crease side and basis.
     Crease(Rows, usize, Arc<CreaseBasis>),
-    /// Irregular: the child's cut-out points as weights on the node's points, and its node.
-    Irregular(Rows, Box<TNode>),
+    /// Irregular: the child's cut-out, built when a point first reaches the child (see
+    /// [`TNode::kids`]).
+    Irregular(OnceLock<Box<SubTree>>),
+}
+
+/// An irregular child: its cut-out points as weights on its parent's points, and its node.
+#[derive(Debug)]
+pub(super) struct SubTree {
+    rows: Rows,
+    node: TNode,
 }
 
 impl Kid {
@@ -408,7 +416,7 @@ pub(super) struct Scratch {
 impl Tree {
     /// The root's children (sub-faces of an `n`-gon root; quadrants of a quad).
     pub fn root_kids(&self, options: &Options) -> &[Kid] {
-        self.root.kids(options)
+        self.root.kids(options, |_| false)
     }
 
     /// Evaluates `queries` on the face whose cut-out points are `pos` — on sub-face `sub`
@@ -429,9 +437,10 @@ impl Tree {
         match sub {
             None => descend(&self.root, pos, queries, depth, scratch, ctx, sink),
             Some(j) => {
-                let kids = self.root.kids(ctx.options);
+                let kids = self.root.kids(ctx.options, |k| k == j);
                 // The sub-face is its own parameter domain: depth 0, no rescaling.
-                kid_eval(kids.get(j), pos, queries, 0, scratch, ctx, sink);
+                let kid = kids.get(j).map(|kid| (kid, &self.root, j));
+                kid_eval(kid, pos, queries, 0, scratch, ctx, sink);
             }
         }
     }
@@ -488,10 +497,12 @@ fn descend(
     if qs.is_empty() {
         return;
     }
-    let kids = node.kids(ctx.options);
-    for (k, qs) in by_quadrant(qs).into_iter().enumerate() {
+    let quadrants = by_quadrant(qs);
+    let kids = node.kids(ctx.options, |k| !quadrants[k].is_empty());
+    for (k, qs) in quadrants.into_iter().enumerate() {
         if !qs.is_empty() {
-            kid_eval(kids.get(k), pos, qs, depth + 1, scratch, ctx, sink);
+            let kid = kids.get(k).map(|kid| (kid, node, k));
+            kid_eval(kid, pos, qs, depth + 1, scratch, ctx, sink);
         }
     }
 }
@@ -565,9 +576,9 @@ fn partition<T>(s: &mut [T], first: impl Fn(&T) -> bool) -> usize {
 }
 
 /// Evaluates `qs` (parameters already in the kid's domain) on `kid`, a child at `depth`
-/// of a node with points `pos`.
+/// of a node with points `pos`: `(kid, its parent, its index there)`.
 fn kid_eval(
-    kid: Option<&Kid>,
+    kid: Option<(&Kid, &TNode, usize)>,
     pos: &[[f64; 3]],
     qs: &mut [Query],
     depth: u32,
@@ -576,20 +587,21 @@ fn kid_eval(
     sink: &mut impl Sink,
 ) {
     match kid {
-        None | Some(Kid::Hole) => qs.iter().for_each(|q| sink.hole(q.out)),
-        Some(Kid::Regular(rows)) => {
+        None | Some((Kid::Hole, ..)) => qs.iter().for_each(|q| sink.hole(q.out)),
+        Some((Kid::Regular(rows), ..)) => {
             let cp = rows.patch(pos);
             let scale = 2f64.powi(depth as i32);
             let leaf = &mut Leaf { qs, sink };
             bspline::tensor_batch(&cp, bspline::regular_bases, ctx.order, scale, leaf);
         }
-        Some(kid @ Kid::Crease(..)) => {
+        Some((kid @ Kid::Crease(..), ..)) => {
             if let Some(patch) = kid.crease_patch(pos) {
                 let scale = 2f64.powi(depth as i32);
                 patch.eval_batch(ctx.order, scale, &mut Leaf { qs, sink });
             }
         }
-        Some(Kid::Irregular(rows, node)) => {
+        Some((Kid::Irregular(sub), parent, j)) => {
+            let SubTree { rows, node } = &**sub.get_or_init(|| parent.build_sub(j, ctx.options));
             let d = depth as usize;
             if scratch.levels.len() <= d {
                 scratch.levels.resize_with(d + 1, Vec::new);
@@ -617,15 +629,58 @@ impl TNode {
         }
     }
 
-    /// The children (built the first time).
-    fn kids(&self, options: &Options) -> &[Kid] {
-        self.kids.get_or_init(|| self.build_kids(options))
+    /// The children (built the first time). Of the irregular ones, only those for which
+    /// `wanted(k)` holds get their sub-tree now, the others when a point first reaches
+    /// them ([`Self::build_sub`], which refines this node again): a grid's points
+    /// reach the quadrants they reach every time, and on a face with an irregular corner
+    /// the deepest corner child holds none of them (its corner's point is the parent's).
+    /// Building it anyway took a fifth of the memory of the trees of meshes whose faces
+    /// nearly all have configurations of their own.
+    fn kids(&self, options: &Options, wanted: impl Fn(usize) -> bool) -> &[Kid] {
+        self.kids.get_or_init(|| self.build_kids(options, wanted))
     }
 
-    fn build_kids(&self, options: &Options) -> Box<[Kid]> {
+    /// This node's refinement: the refined cut-out and the weights of its points on this
+    /// node's.
+    fn refine(&self, options: &Options) -> (Topology, Rows) {
+        let child = refine_topology(&self.topo, options, true);
+        let refinement = Rows::refinement(&self.topo, &child, options);
+        (child, refinement)
+    }
+
+    /// The sub-tree of irregular child `j`.
+    fn build_sub(&self, j: usize, options: &Options) -> Box<SubTree> {
+        let (child, refinement) = self.refine(options);
+        let f = self.topo.face_offsets()[self.face] as usize + j;
+        let mut acc = Accumulator::new(self.topo.num_vertices());
+        self.sub_tree(&child, &refinement, f, &mut acc, options)
+    }
+
+    /// The sub-tree of face `f` of `child`, this node's refinement.
+    fn sub_tree(
+        &self,
+        child: &Topology,
+        refinement: &Rows,
+        f: usize,
+        acc: &mut Accumulator,
+        options: &Options,
+    ) -> Box<SubTree> {
+        let faces = cut_out_unbounded(child, f, Reach::new(options).chaikin);
+        let (sub, verts) = child.subset(&faces);
+        let mut rows = Rows::new();
+        for &v in &verts {
+            refinement.add_row_to(v as usize, 1.0, acc);
+            acc.push_into(&mut rows);
+        }
+        Box::new(SubTree {
+            rows: rows.shrunk(),
+            node: TNode::new(sub, 0, self.crease),
+        })
+    }
+
+    fn build_kids(&self, options: &Options, wanted: impl Fn(usize) -> bool) -> Box<[Kid]> {
         let t = &self.topo;
-        let child = refine_topology(t, options, true);
-        let refinement = Rows::refinement(t, &child, options);
+        let (child, refinement) = self.refine(options);
         let first = t.face_offsets()[self.face] as usize;
         let size = t.face_vertices(self.face).len();
         let mut acc = Accumulator::new(t.num_vertices());
@@ -652,14 +707,11 @@ impl TNode {
                 {
                     return Kid::Crease(patch_rows(&cells), side, Arc::new(CreaseBasis::new(s)));
                 }
-                let faces = cut_out_unbounded(&child, f, Reach::new(options).chaikin);
-                let (sub, verts) = child.subset(&faces);
-                let mut rows = Rows::new();
-                for &v in &verts {
-                    refinement.add_row_to(v as usize, 1.0, &mut acc);
-                    acc.push_into(&mut rows);
+                let sub = OnceLock::new();
+                if wanted(f - first) {
+                    let _ = sub.set(self.sub_tree(&child, &refinement, f, &mut acc, options));
                 }
-                Kid::Irregular(rows.shrunk(), Box::new(TNode::new(sub, 0, self.crease)))
+                Kid::Irregular(sub)
             })
             .collect()
     }
