@@ -649,6 +649,8 @@ impl TNode {
     }
 
     /// The sub-tree of irregular child `j`.
+    #[cold]
+    #[inline(never)]
     fn build_sub(&self, j: usize, options: &Options) -> Box<SubTree> {
         let (child, refinement) = self.refine(options);
         let f = self.topo.face_offsets()[self.face] as usize + j;
