@@ -704,31 +704,15 @@ fn project(e: V3, t1: V3, t2: V3) -> V3 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::mesh::{Crease, PolyMesh};
+    use crate::mesh::Crease;
 
     /// A wavy 8 × 8 grid of quads with infinitely sharp edges that end inside it (darts),
     /// meet in threes (corners) and turn (crease bends), several of each.
     fn sharp_grid() -> Topology {
         let n = 9u32;
-        let p = (0..n * n)
-            .map(|k| {
-                let (x, y) = ((k % n) as f64, (k / n) as f64);
-                [x + 0.1 * y.sin(), y, 0.3 * (0.7 * x + 0.4 * y).sin()]
-            })
-            .collect();
-        let faces: Vec<[u32; 4]> = (0..n - 1)
-            .flat_map(|j| {
-                (0..n - 1).map(move |i| {
-                    [
-                        j * n + i,
-                        j * n + i + 1,
-                        (j + 1) * n + i + 1,
-                        (j + 1) * n + i,
-                    ]
-                })
-            })
-            .collect();
-        let mut mesh = PolyMesh::from_faces(p, &faces).expect("grid");
+        let mut mesh = crate::mesh::test_grid(n - 1, n - 1, |x, y| {
+            [x + 0.1 * y.sin(), y, 0.3 * (0.7 * x + 0.4 * y).sin()]
+        });
         let v = |i: u32, j: u32| j * n + i;
         let sharp = [
             (v(1, 1), v(2, 1)),

@@ -1364,30 +1364,13 @@ mod tests {
     /// `x = 3` (`vertical`) or `y = 3`, stopping short of the border.
     fn creased_grid(s: f32, vertical: bool) -> PolyMesh {
         let n = 8u32;
-        let mut p = Vec::new();
-        for j in 0..n {
-            for i in 0..n {
-                let (x, y) = (i as f64, j as f64);
-                p.push([
-                    x + 0.1 * y.sin(),
-                    y + 0.07 * (1.3 * x).cos(),
-                    0.3 * (0.7 * x + 0.4 * y).sin(),
-                ]);
-            }
-        }
-        let faces: Vec<[u32; 4]> = (0..n - 1)
-            .flat_map(|j| {
-                (0..n - 1).map(move |i| {
-                    [
-                        j * n + i,
-                        j * n + i + 1,
-                        (j + 1) * n + i + 1,
-                        (j + 1) * n + i,
-                    ]
-                })
-            })
-            .collect();
-        let mut mesh = PolyMesh::from_faces(p, &faces).expect("grid");
+        let mut mesh = crate::mesh::test_grid(n - 1, n - 1, |x, y| {
+            [
+                x + 0.1 * y.sin(),
+                y + 0.07 * (1.3 * x).cos(),
+                0.3 * (0.7 * x + 0.4 * y).sin(),
+            ]
+        });
         for k in 1..n - 2 {
             let (a, b) = if vertical {
                 (k * n + 3, (k + 1) * n + 3)

@@ -160,25 +160,7 @@ mod tests {
     use crate::mesh::SHARPNESS_INFINITE;
 
     use crate::mesh::test_cube as cube;
-
-    /// An `n × m` grid of unit quads in the plane z = 0, vertex `(i, j)` at index
-    /// `j * (n + 1) + i`, mapped through `f`.
-    fn grid(n: u32, m: u32, f: impl Fn(f64, f64) -> [f64; 3]) -> PolyMesh {
-        let mut p = Vec::new();
-        for j in 0..=m {
-            for i in 0..=n {
-                p.push(f(i as f64, j as f64));
-            }
-        }
-        let idx = |i: u32, j: u32| j * (n + 1) + i;
-        let mut faces = Vec::new();
-        for j in 0..m {
-            for i in 0..n {
-                faces.push([idx(i, j), idx(i + 1, j), idx(i + 1, j + 1), idx(i, j + 1)]);
-            }
-        }
-        PolyMesh::from_faces(p, &faces).unwrap()
-    }
+    use crate::mesh::test_grid as grid;
 
     /// Edges of `creases` as sorted vertex pairs, sorted.
     fn edges(creases: &[Crease]) -> Vec<(u32, u32)> {

@@ -28,6 +28,22 @@ pub use tags::{
 pub use topology::{EdgeTag, Rule, Topology, VertexTag, INVALID};
 pub(crate) use topology::{PackedEdgeTag, PackedVertexTag};
 
+/// An `n × m` grid of unit quads in the plane z = 0, vertex `(i, j)` at index
+/// `j * (n + 1) + i`, mapped through `f`. Shared by the unit tests of several layers.
+#[cfg(test)]
+pub(crate) fn test_grid(n: u32, m: u32, f: impl Fn(f64, f64) -> [f64; 3]) -> PolyMesh {
+    let p = (0..=m)
+        .flat_map(|j| (0..=n).map(move |i| (i as f64, j as f64)))
+        .map(|(x, y)| f(x, y))
+        .collect();
+    let idx = |i: u32, j: u32| j * (n + 1) + i;
+    let faces: Vec<[u32; 4]> = (0..m)
+        .flat_map(|j| (0..n).map(move |i| (i, j)))
+        .map(|(i, j)| [idx(i, j), idx(i + 1, j), idx(i + 1, j + 1), idx(i, j + 1)])
+        .collect();
+    PolyMesh::from_faces(p, &faces).expect("a grid is a valid mesh")
+}
+
 /// The unit cube `[0, 1]³`, six quads oriented outwards: every vertex extraordinary
 /// (valence 3). Shared by the unit tests of several layers.
 #[cfg(test)]
