@@ -946,10 +946,13 @@ impl Topology {
 
     /// [`structure_key`](Self::structure_key) with the tags and sharpness of vertex `c`
     /// and of its edges only (every other vertex's and edge's written as zeros): of the
-    /// faces around a vertex `c` whose edges are not semi-sharp, all that decides the
-    /// children of `c`, of its edges and of its faces, the points of a corner's
-    /// eigen-analysis (the rules of the other vertices and edges decide only points
-    /// farther out).
+    /// faces around a vertex `c` whose edges are not semi-sharp, all that decides one
+    /// step's children of `c`, of its edges and of its faces, the points of a corner's
+    /// eigen-analysis; the rules of the other vertices and edges decide only points
+    /// farther out. (A semi-sharp edge at `c` would not do: under Chaikin's rule its
+    /// midpoint's rule depends on the edges at its far end. Corners are analysed only once
+    /// no semi-sharp edge is left at them, `limit::corner::is_limit_corner`, or 48 levels
+    /// down, where none is left either.)
     pub(crate) fn corner_structure_key(&self, c: usize, out: &mut Vec<u32>) {
         let edges = self.vertex_edges(c);
         self.structure_key_with(out, |v| v == c, |e| edges.contains(&(e as u32)));
