@@ -367,6 +367,18 @@ fn eigen_analysis(
 ) -> Option<Eigen> {
     let t = l.topo();
     let c = t.face_vertices(l.face)[k] as usize;
+    let whole = |ring: Vec<u32>| {
+        let w = sector_eigen(l, k, &ring, options)?;
+        Some(Eigen {
+            ring,
+            w: Arc::new(w),
+        })
+    };
+    // With a semi-sharp edge at the corner (which callers analyse only once none is left,
+    // see `Topology::corner_structure_key`) the faces around it would not be enough.
+    if (t.vertex_edges(c).iter()).any(|&e| t.edge_tag(e as usize).semi_sharp) {
+        return whole(ring);
+    }
     let faces = t.vertex_faces(c);
     let face = faces.iter().position(|&g| g as usize == l.face)?;
     let (sub, verts) = t.subset(faces);
@@ -392,20 +404,17 @@ fn eigen_analysis(
         let w = sector_eigen(&tiny, k, &sub_ring, options)?;
         Some((sub_ring, Arc::new(w)))
     });
-    if let Some((sub_ring, w)) = sector {
-        if sub_ring
-            .iter()
-            .map(|&x| verts[x as usize])
-            .eq(ring.iter().copied())
+    match sector {
+        Some((sub_ring, w))
+            if sub_ring
+                .iter()
+                .map(|&x| verts[x as usize])
+                .eq(ring.iter().copied()) =>
         {
-            return Some(Eigen { ring, w: w.clone() });
+            Some(Eigen { ring, w: w.clone() })
         }
+        _ => whole(ring),
     }
-    let w = sector_eigen(l, k, &ring, options)?;
-    Some(Eigen {
-        ring,
-        w: Arc::new(w),
-    })
 }
 
 /// [`eigen_analysis`] on the region as it is.
