@@ -146,19 +146,44 @@ impl Cell {
 /// The 16 control points of a patch as combinations of vertices, kept to evaluate them
 /// again when the vertices move ([`LimitSurface::set_positions`]) without walking the
 /// topology again: vertex indices when every cell is one vertex (64 bytes; every patch
-/// away from boundaries and creases), else the cells (896 bytes).
+/// away from boundaries and creases); at a boundary or an infinitely sharp crease, the
+/// vertex indices and the sharp sides, the phantom cells made again when evaluated (the
+/// same sums as [`Net::Cells`], in the same order); else (where a phantom cell does not
+/// come out the same, as when a degenerate face repeats a vertex) the cells (896
+/// bytes).
 ///
 /// [`LimitSurface::set_positions`]: super::LimitSurface::set_positions
 #[derive(Clone, Debug)]
 pub(super) enum Net {
     Plain([u32; 16]),
+    /// Vertex `v[4 i + j]` in cell `[i][j]` (0 in a phantom cell), and the sharp sides
+    /// in [`fill_phantoms`]' order.
+    Sided([u32; 16], [bool; 4]),
     Cells(Box<[[Cell; 4]; 4]>),
 }
 
 impl Net {
     pub(super) fn new(cells: [[Cell; 4]; 4]) -> Self {
-        if (cells.iter().flatten()).all(|c| c.len == 1 && c.weights[0] == 1.0) {
-            Net::Plain(std::array::from_fn(|k| cells[k / 4][k % 4].verts[0]))
+        let is_vertex = |c: &Cell| c.len == 1 && c.weights[0] == 1.0;
+        let verts = |keep: &dyn Fn(&Cell) -> bool| -> [u32; 16] {
+            std::array::from_fn(|k| {
+                let c = &cells[k / 4][k % 4];
+                if keep(c) {
+                    c.verts[0]
+                } else {
+                    0
+                }
+            })
+        };
+        if cells.iter().flatten().all(is_vertex) {
+            return Net::Plain(verts(&|_| true));
+        }
+        // A side is sharp where the middle cells beyond it are phantoms; kept as sides if
+        // filling them in again gives these very cells.
+        let sides = [&cells[1][0], &cells[3][1], &cells[1][3], &cells[0][1]].map(|c| !is_vertex(c));
+        let v = verts(&is_vertex);
+        if sided_cells(&v, sides) == cells {
+            Net::Sided(v, sides)
         } else {
             Net::Cells(Box::new(cells))
         }
@@ -171,9 +196,18 @@ impl Net {
             Net::Plain(v) => {
                 std::array::from_fn(|i| std::array::from_fn(|j| pos[v[4 * i + j] as usize]))
             }
+            Net::Sided(v, sides) => sided_cells(v, *sides).map(|col| col.map(|c| c.eval(pos))),
             Net::Cells(c) => c.map(|col| col.map(|c| c.eval(pos))),
         }
     }
+}
+
+/// The cells of a [`Net::Sided`]: vertex `v[4 i + j]` in cell `[i][j]`, then the phantom
+/// cells across the sharp `sides` ([`fill_phantoms`]).
+fn sided_cells(v: &[u32; 16], sides: [bool; 4]) -> [[Cell; 4]; 4] {
+    let mut cells = std::array::from_fn(|i| std::array::from_fn(|j| Cell::vertex(v[4 * i + j])));
+    fill_phantoms(&mut cells, sides);
+    cells
 }
 
 /// The control points of quad `f`, if it is regular (see the module docs), as
@@ -447,5 +481,56 @@ fn fill_phantoms(cp: &mut [[Cell; 4]; 4], sharp: [bool; 4]) {
         if sharp[2] {
             col[3] = ext(&col[2], &col[1]);
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::{Crease, Options};
+
+    /// At a boundary, a boundary corner and along an infinitely sharp crease, a patch's
+    /// net keeps vertex indices and sharp sides, and gives the control points of its
+    /// cells, bit for bit.
+    #[test]
+    fn sided_nets_evaluate_as_their_cells() {
+        let mut mesh = crate::mesh::test_grid(6, 5, |x, y| {
+            [
+                x + 0.1 * y.sin(),
+                y + 0.05 * x * x,
+                0.3 * (0.7 * x + 0.4 * y).sin(),
+            ]
+        });
+        for i in 0..6 {
+            let (v0, v1) = (3 * 7 + i, 3 * 7 + i + 1);
+            mesh.tags.creases.push(Crease {
+                v0,
+                v1,
+                sharpness: 10.0,
+            });
+        }
+        let (t, _) = Topology::from_mesh(&mesh, &Options::default()).expect("topology");
+        let pos = mesh.positions();
+        let (mut sided, mut plain) = (0, 0);
+        for f in 0..t.num_faces() {
+            let Some(cells) = regular_patch_cells(&t, f) else {
+                continue;
+            };
+            let net = Net::new(cells);
+            match net {
+                Net::Plain(_) => plain += 1,
+                Net::Sided(..) => sided += 1,
+                Net::Cells(_) => panic!("face {f}: cells kept"),
+            }
+            assert_eq!(
+                net.eval(pos),
+                cells.map(|col| col.map(|c| c.eval(pos))),
+                "face {f}"
+            );
+        }
+        assert!(
+            sided >= 20 && plain >= 4,
+            "{sided} sided, {plain} plain nets"
+        );
     }
 }
