@@ -330,6 +330,15 @@ impl Region {
         }
     }
 
+    /// The net of face `f`, if the region keeps what its faces are (a shared region) and
+    /// `f` has been found to be a regular patch.
+    pub(super) fn patch_net(&self, f: usize) -> Option<&Net> {
+        match self.shape.kinds.get(f)?.get()?.as_ref() {
+            FaceKind::Patch(net) => Some(net),
+            _ => None,
+        }
+    }
+
     /// Whether this region is shared by many faces (and caches its work).
     pub fn is_shared(&self) -> bool {
         self.shape.shared

@@ -68,8 +68,8 @@ use super::bspline::{self, regular_bases, Batch, Derivatives, Order};
 use super::corner::{corner_limit, is_limit_corner, SectorCache};
 use super::crease_patch::{single_crease, CreaseBases, CreaseBasis, CreasePatch};
 use super::local::{
-    cut_out, own_cut, region_cut, FaceKind, LevelRef, Local, Reach, RegionCache, ShapeCache,
-    HIGH_VALENCE,
+    cut_out, own_cut, region_cut, FaceKind, LevelRef, Local, Reach, Region, RegionCache,
+    ShapeCache, HIGH_VALENCE,
 };
 use super::memory::{Budget, BuildError};
 use super::patch::{plain_net, regular_patch_cells, Net};
@@ -172,6 +172,11 @@ pub(super) enum Node {
     /// updated when the mesh is re-posed (its control points, kept, took 384 bytes more:
     /// 0.8 MiB on `catmark_pawn` refined four times).
     Net(Box<PatchNet>),
+    /// A regular face of a shared region ([`super::local`]): its net is the one the region
+    /// keeps for the face, and its points are computed from the region's when evaluated
+    /// (the region keeps both anyway; its control points, kept, took 384 bytes more: 1.9
+    /// of the 14.6 MB of `catmark_nonman_quadpole360`'s heap).
+    InRegion(Box<Local>),
     /// A quad that is regular but for one straight semi-sharp crease: closed form.
     Crease(Box<CreasePatch>),
     /// An irregular (sub-)face: the tree of its neighbourhood's configuration, shared
@@ -226,6 +231,9 @@ impl Node {
             }
             Node::Regular(cp) => Some(Cow::Borrowed(cp)),
             Node::Net(p) if p.crease.is_none() => Some(Cow::Owned(p.net.eval(ctx.pos))),
+            Node::InRegion(l) => {
+                (l.region.patch_net(l.face)).map(|net| Cow::Owned(net.eval(l.pos())))
+            }
             _ => None,
         }
     }
@@ -987,7 +995,7 @@ fn region_nodes(level: LevelRef<'_>, f: usize, w: u32, options: &Options) -> Vec
     }
     let child = local.region.refined(options);
     let first = local.child_face(0);
-    (0..n).map(|j| node_for(child.level(), first + j)).collect()
+    (0..n).map(|j| node_for(&child, first + j)).collect()
 }
 
 /// How the nodes of a base face follow its control points, so that
@@ -1026,7 +1034,9 @@ impl Recipe {
                             None => return false,
                         },
                         Node::Hole => {}
-                        Node::Plain(_) | Node::Net(_) | Node::Lazy(_) => return false,
+                        Node::Plain(_) | Node::Net(_) | Node::InRegion(_) | Node::Lazy(_) => {
+                            return false
+                        }
                     }
                 }
                 true
@@ -1108,8 +1118,9 @@ fn tree_nodes(
         .collect()
 }
 
-/// The node of face `f` of a level or refined cut-out.
-fn node_for(level: LevelRef<'_>, f: usize) -> Node {
+/// The node of face `f` of a refined cut-out or region.
+fn node_for(region: &Arc<Region>, f: usize) -> Node {
+    let level = region.level();
     let fresh;
     let kind = match level.kinds.get(f) {
         Some(kind) => kind.get_or_init(|| Box::new(FaceKind::find(level, f))),
@@ -1120,6 +1131,10 @@ fn node_for(level: LevelRef<'_>, f: usize) -> Node {
     };
     match kind {
         FaceKind::Hole => Node::Hole,
+        FaceKind::Patch(_) if region.is_shared() => Node::InRegion(Box::new(Local {
+            region: region.clone(),
+            face: f,
+        })),
         FaceKind::Patch(net) => Node::Regular(Box::new(net.eval(level.pos))),
         FaceKind::Region(w) => Node::lazy(region_cut(level, f, *w)),
         FaceKind::Own(faces) => Node::lazy(own_cut(level, faces)),
@@ -1135,7 +1150,7 @@ fn node_for(level: LevelRef<'_>, f: usize) -> Node {
 fn split(l: &Local, options: &Options) -> Box<[Node; 4]> {
     let child = l.region.refined(options);
     let first = l.child_face(0);
-    Box::new([0, 1, 2, 3].map(|j| node_for(child.level(), first + j)))
+    Box::new([0, 1, 2, 3].map(|j| node_for(&child, first + j)))
 }
 
 /// Evaluates `qs` on `node`, `depth` levels below its base face (derivatives are scaled
@@ -1153,7 +1168,7 @@ fn eval_queries(
     let scale = 2f64.powi(depth as i32);
     match node {
         Node::Hole => qs.iter().for_each(|q| sink.hole(q.out)),
-        Node::Plain(_) | Node::Regular(_) | Node::Crease(_) | Node::Net(_) => {
+        Node::Plain(_) | Node::Regular(_) | Node::InRegion(_) | Node::Crease(_) | Node::Net(_) => {
             node.eval_patch(ctx, scale, &mut Leaf { qs, sink });
         }
         Node::Tree(t) => t.tree.eval(&t.pos, t.sub, qs, depth, scratch, ctx, sink),
