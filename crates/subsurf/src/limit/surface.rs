@@ -214,9 +214,10 @@ impl Node {
         }))
     }
 
-    /// The control points `cp[i][j]` of a bicubic patch: a [`Node::Regular`]'s, or a
+    /// The control points `cp[i][j]` of a bicubic patch: a [`Node::Regular`]'s, a
     /// [`Node::Plain`]'s `pos[net[4 i + j]]` (`net` from [`plain_net`] on the base
-    /// topology, `pos` the base mesh's points); `None` for any other node.
+    /// topology, `pos` the base mesh's points), or those of the net of a [`Node::Net`]
+    /// without a crease or a [`Node::InRegion`]; `None` for any other node.
     #[inline]
     fn bicubic(&self, ctx: Ctx<'_>) -> Option<Cow<'_, [[[f64; 3]; 4]; 4]>> {
         match self {
@@ -232,7 +233,13 @@ impl Node {
             Node::Regular(cp) => Some(Cow::Borrowed(cp)),
             Node::Net(p) if p.crease.is_none() => Some(Cow::Owned(p.net.eval(ctx.pos))),
             Node::InRegion(l) => {
-                (l.region.patch_net(l.face)).map(|net| Cow::Owned(net.eval(l.pos())))
+                let Some(net) = l.region.patch_net(l.face) else {
+                    unreachable!(
+                        "face {} of a region was made a patch after its net was found",
+                        l.face
+                    )
+                };
+                Some(Cow::Owned(net.eval(l.pos())))
             }
             _ => None,
         }
