@@ -200,6 +200,16 @@ impl Net {
             Net::Cells(c) => c.map(|col| col.map(|c| c.eval(pos))),
         }
     }
+
+    /// The cells the net stands for.
+    #[cfg(test)]
+    pub(super) fn cells(&self) -> [[Cell; 4]; 4] {
+        match self {
+            Net::Plain(v) => sided_cells(v, [false; 4]),
+            Net::Sided(v, sides) => sided_cells(v, *sides),
+            Net::Cells(c) => **c,
+        }
+    }
 }
 
 /// The cells of a [`Net::Sided`]: vertex `v[4 i + j]` in cell `[i][j]`, then the phantom

@@ -1029,14 +1029,24 @@ impl Recipe {
             (Recipe::Tree(tree, verts), nodes) => {
                 let points: Arc<[[f64; 3]]> = verts.iter().map(|&v| pos[v as usize]).collect();
                 let kids = tree.root_kids(options);
+                // The root's refined points, for the patches of an n-gon's sub-faces.
+                let patches = nodes
+                    .iter()
+                    .any(|n| matches!(n, Node::Regular(_) | Node::Crease(_)));
+                let refined = if patches {
+                    kids.refine(&points)
+                } else {
+                    Vec::new()
+                };
+                let kids = kids.kids();
                 for (j, node) in nodes.iter_mut().enumerate() {
                     match node {
                         Node::Tree(t) => t.pos = points.clone(),
-                        Node::Regular(cp) => match kids.get(j).and_then(|k| k.patch(&points)) {
+                        Node::Regular(cp) => match kids.get(j).and_then(|k| k.patch(&refined)) {
                             Some(p) => **cp = p,
                             None => return false,
                         },
-                        Node::Crease(c) => match kids.get(j).and_then(|k| k.crease_net(&points)) {
+                        Node::Crease(c) => match kids.get(j).and_then(|k| k.crease_net(&refined)) {
                             Some(p) => c.set_net(&p),
                             None => return false,
                         },
@@ -1107,16 +1117,18 @@ fn tree_nodes(
     if count == 1 {
         return vec![node(None)];
     }
-    tree.root_kids(options)
+    let kids = tree.root_kids(options);
+    let refined = kids.refine(&pos);
+    kids.kids()
         .iter()
         .enumerate()
         .map(|(j, kid)| match kid {
             Kid::Hole => Node::Hole,
-            Kid::Regular(_) => match kid.patch(&pos) {
+            Kid::Regular(_) => match kid.patch(&refined) {
                 Some(cp) => Node::Regular(Box::new(cp)),
                 None => node(Some(j)),
             },
-            Kid::Crease(..) => match kid.crease_patch(&pos) {
+            Kid::Crease(..) => match kid.crease_patch(&refined) {
                 Some(p) => Node::Crease(Box::new(p)),
                 None => node(Some(j)),
             },

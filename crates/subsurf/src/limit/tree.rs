@@ -11,13 +11,14 @@
 //!
 //! - per **configuration** (one per distinct cut-out topology, found by
 //!   [`Topology::structure_key`]; most meshes have a few dozen), a [`Tree`] built lazily, as
-//!   deep as evaluated points need: for every node, the cut-out topology of the node and,
-//!   for each of its children, either the 16 control points of its bicubic patch or the
-//!   child's cut-out points, as sparse weights on the node's points; and at each corner
+//!   deep as evaluated points need: for every node, the cut-out topology of the node, the
+//!   points of its refinement that its children read, as sparse weights on the node's
+//!   points ([`Kids`]), and for each child either the net of its bicubic patch on those
+//!   refined points or its own node, whose points are some of them; and at each corner
 //!   where the limit is taken from the corner analysis ([`super::corner`]), that
 //!   analysis's vectors as weights on the node's points;
 //! - per **face**, only its cut-out's positions, which flow down the tree: a batch of points
-//!   on one face computes each node's points once ([`Tree::eval`]).
+//!   on one face computes each node's refined points once ([`Tree::eval`]).
 //!
 //! The weights are those of the very refinement and corner analysis that the
 //! position-based path runs: the refinement's sparse masks (`refine::refinement_rows`,
@@ -30,7 +31,7 @@ use super::bspline::{self, Derivatives, Order};
 use super::corner::{corner_limit, is_limit_corner, CornerLimit, SectorCache};
 use super::crease_patch::{single_crease, CreaseBasis, CreasePatch};
 use super::local::{cut_out_unbounded, Local, Reach, Region, Shape};
-use super::patch::{regular_patch_cells, Cell};
+use super::patch::{regular_patch_cells, Cell, Net};
 use super::surface::{quadrant, MAX_DEPTH};
 use crate::hash::FxHasher;
 use crate::mesh::{Options, Topology};
@@ -63,13 +64,7 @@ impl Rows {
     fn refinement(t: &Topology, child: &Topology, options: &Options) -> Self {
         let mut rows = Rows::new();
         refinement_rows(t, child, options, |cols, weights| {
-            for (&c, &w) in cols.iter().zip(weights) {
-                if w != 0.0 {
-                    rows.cols.push(c);
-                    rows.weights.push(w);
-                }
-            }
-            rows.offsets.push(rows.cols.len() as u32);
+            rows.push_row(cols.iter().copied().zip(weights.iter().copied()));
         });
         rows
     }
@@ -83,12 +78,22 @@ impl Rows {
         self
     }
 
-    /// Adds `w ×` row `r` to `acc`.
-    fn add_row_to(&self, r: usize, w: f64, acc: &mut Accumulator) {
+    /// The terms `(column, weight)` of row `r`.
+    fn row(&self, r: usize) -> impl Iterator<Item = (u32, f64)> + '_ {
         let (a, b) = (self.offsets[r] as usize, self.offsets[r + 1] as usize);
-        for (&c, &x) in self.cols[a..b].iter().zip(&self.weights[a..b]) {
-            acc.add(c, w * x);
+        self.cols[a..b]
+            .iter()
+            .copied()
+            .zip(self.weights[a..b].iter().copied())
+    }
+
+    /// Appends a row of terms `(column, weight)`, zero weights dropped.
+    fn push_row(&mut self, terms: impl IntoIterator<Item = (u32, f64)>) {
+        for (c, w) in terms.into_iter().filter(|&(_, w)| w != 0.0) {
+            self.cols.push(c);
+            self.weights.push(w);
         }
+        self.offsets.push(self.cols.len() as u32);
     }
 
     fn len(&self) -> usize {
@@ -113,13 +118,6 @@ impl Rows {
     fn apply(&self, pos: &[[f64; 3]], out: &mut Vec<[f64; 3]>) {
         out.resize(self.len(), [0.0; 3]);
         self.apply_rows(pos, out);
-    }
-
-    /// The 16 rows of a patch applied to `pos`: `cp[i][j]` is row `4 i + j`.
-    fn patch(&self, pos: &[[f64; 3]]) -> [[[f64; 3]; 4]; 4] {
-        let mut cp = [[[0.0; 3]; 4]; 4];
-        self.apply_rows(pos, cp.as_flattened_mut());
-        cp
     }
 
     /// The first `out.len()` rows applied to `pos`, into `out`: with AVX2 and FMA where the
@@ -167,92 +165,45 @@ impl Rows {
     }
 }
 
-/// A sparse row being summed: a dense array over the node's points, with the columns
-/// touched, so that emptying it costs the row's length, not the node's size.
-struct Accumulator {
-    dense: Vec<f64>,
-    /// Whether a column is in `touched`.
-    seen: Vec<bool>,
-    touched: Vec<u32>,
-}
-
-impl Accumulator {
-    fn new(n: usize) -> Self {
-        Accumulator {
-            dense: vec![0.0; n],
-            seen: vec![false; n],
-            touched: Vec::new(),
-        }
-    }
-
-    #[inline]
-    fn add(&mut self, c: u32, w: f64) {
-        if !std::mem::replace(&mut self.seen[c as usize], true) {
-            self.touched.push(c);
-        }
-        self.dense[c as usize] += w;
-    }
-
-    /// Appends the row (by column, zero weights dropped) to `rows` and empties it.
-    fn push_into(&mut self, rows: &mut Rows) {
-        self.touched.sort_unstable();
-        for &c in &self.touched {
-            self.seen[c as usize] = false;
-            let w = std::mem::take(&mut self.dense[c as usize]);
-            if w != 0.0 {
-                rows.cols.push(c);
-                rows.weights.push(w);
-            }
-        }
-        self.touched.clear();
-        rows.offsets.push(rows.cols.len() as u32);
-    }
-}
-
-/// A child of a tree node.
+/// A child of a tree node, on its parent's refined points ([`Kids::rows`]).
 #[derive(Debug)]
 pub(super) enum Kid {
     /// No surface.
     Hole,
-    /// A bicubic patch: its 16 control points as weights on the node's points.
-    Regular(Rows),
-    /// A single-crease patch ([`CreasePatch`]): its 16 control points as weights on the
-    /// node's points, its crease side and basis.
-    Crease(Rows, usize, Arc<CreaseBasis>),
-    /// Irregular: the child's cut-out, built when a point first reaches the child (see
-    /// [`TNode::kids`]).
-    Irregular(OnceLock<Box<SubTree>>),
-}
-
-/// An irregular child: its cut-out points as weights on its parent's points, and its node.
-#[derive(Debug)]
-pub(super) struct SubTree {
-    rows: Rows,
-    node: TNode,
+    /// A bicubic patch: its net on the refined points.
+    Regular(Net),
+    /// A single-crease patch ([`CreasePatch`]): its net on the refined points, its crease
+    /// side and basis.
+    Crease(Net, usize, Arc<CreaseBasis>),
+    /// Irregular: the child's cut-out, whose points are some of the refined points, built
+    /// when a point first reaches the child (see [`TNode::kids`]).
+    Irregular(OnceLock<Box<TNode>>),
 }
 
 impl Kid {
-    /// The control points of a regular kid whose node's points are `pos`.
-    pub fn patch(&self, pos: &[[f64; 3]]) -> Option<[[[f64; 3]; 4]; 4]> {
+    /// The control points of a regular kid whose parent's refined points are `refined`.
+    pub fn patch(&self, refined: &[[f64; 3]]) -> Option<[[[f64; 3]; 4]; 4]> {
         match self {
-            Kid::Regular(rows) => Some(rows.patch(pos)),
+            Kid::Regular(net) => Some(net.eval(refined)),
             _ => None,
         }
     }
 
-    /// The control net `cp[i][j]` of a crease kid whose node's points are `pos`.
-    pub fn crease_net(&self, pos: &[[f64; 3]]) -> Option<[[[f64; 3]; 4]; 4]> {
+    /// The control net `cp[i][j]` of a crease kid whose parent's refined points are
+    /// `refined`.
+    pub fn crease_net(&self, refined: &[[f64; 3]]) -> Option<[[[f64; 3]; 4]; 4]> {
         match self {
-            Kid::Crease(rows, ..) => Some(rows.patch(pos)),
+            Kid::Crease(net, ..) => Some(net.eval(refined)),
             _ => None,
         }
     }
 
-    /// The single-crease patch of a crease kid whose node's points are `pos`.
-    pub fn crease_patch(&self, pos: &[[f64; 3]]) -> Option<CreasePatch> {
+    /// The single-crease patch of a crease kid whose parent's refined points are
+    /// `refined`.
+    pub fn crease_patch(&self, refined: &[[f64; 3]]) -> Option<CreasePatch> {
         match self {
-            Kid::Crease(rows, side, basis) => Some(CreasePatch::from_net(
-                &rows.patch(pos),
+            Kid::Crease(net, side, basis) => Some(CreasePatch::from_net(
+                &net.eval(refined),
                 *side,
                 basis.clone(),
             )),
@@ -261,23 +212,80 @@ impl Kid {
     }
 }
 
+/// A node's children and the refined points they read.
+///
+/// The points of the node's refinement that any child reads (the vertices of a patch's
+/// net, of an irregular child's cut-out) are computed once per evaluation, as sparse rows
+/// on the node's points; the children read them by index (a patch's cells) or as they are
+/// (a cut-out's points). Composing each child's rows with the refinement instead, as
+/// this did before, repeated the refinement of the points that neighbouring children
+/// share: about twice the weights to keep and to apply (see `BENCHMARKS.md`, "Meshes with
+/// many creases").
+#[derive(Debug)]
+pub(super) struct Kids {
+    /// Row `k`: refined vertex `needed[k]` as weights on the points the node is evaluated
+    /// on (its vertices through [`TNode::cols`]).
+    rows: Rows,
+    /// The vertices of the node's refinement that the children read, in increasing order.
+    needed: Box<[u32]>,
+    /// The children, by sub-face.
+    kids: Box<[Kid]>,
+}
+
+impl Kids {
+    /// The children.
+    pub fn kids(&self) -> &[Kid] {
+        &self.kids
+    }
+
+    /// The refined points of a node evaluated on `pos`, into `out`.
+    pub fn refine_into(&self, pos: &[[f64; 3]], out: &mut Vec<[f64; 3]>) {
+        self.rows.apply(pos, out);
+    }
+
+    /// The refined points of a node evaluated on `pos`.
+    pub fn refine(&self, pos: &[[f64; 3]]) -> Vec<[f64; 3]> {
+        let mut out = Vec::new();
+        self.refine_into(pos, &mut out);
+        out
+    }
+
+    /// Where refined vertex `v` is among the refined points.
+    fn slot(&self, v: u32) -> u32 {
+        slot_of(&self.needed, v)
+    }
+}
+
+/// Where vertex `v` is in `needed` (increasing): a tree lists every vertex its children
+/// read when it builds them, so a missing one is a broken invariant.
+fn slot_of(needed: &[u32], v: u32) -> u32 {
+    match needed.binary_search(&v) {
+        Ok(k) => k as u32,
+        Err(_) => unreachable!("a tree child reads a refined vertex its node does not compute"),
+    }
+}
+
 /// A node: an (irregular) face of a cut-out.
 #[derive(Debug)]
 pub(super) struct TNode {
     topo: Topology,
     face: usize,
+    /// Where each vertex of `topo` is in the points the node is evaluated on: the root's
+    /// are its cut-out's points in order, a child's are some of its parent's refined
+    /// points ([`Kids`]).
+    cols: Box<[u32]>,
     /// Whether single-crease children are [`Kid::Crease`] (else refined further).
     crease: bool,
     /// Corners where the limit comes from [`corner_limit`] ([`is_limit_corner`]).
     stop: [bool; 4],
-    kids: OnceLock<Box<[Kid]>>,
+    kids: OnceLock<Box<Kids>>,
     /// Boxed: most nodes never analyse a corner (only points exactly at one do), and the
     /// four inline took 640 of a node's 1,160 bytes (11 % of the surface on irregular
     /// triangulations, when nearly every triangle had a tree of its own).
     corners: [OnceLock<Box<CornerRows>>; 4],
 }
 
-/// A corner analysis as weights: for each node point, its weights in the five linear
+/// A corner analysis as weights: for each node vertex, its weights in the five linear
 /// vectors of [`CornerLimit`] (`p, a, b, t1, t2`).
 #[derive(Debug)]
 struct CornerRows {
@@ -286,9 +294,11 @@ struct CornerRows {
 }
 
 impl CornerRows {
-    fn eval(&self, pos: &[[f64; 3]]) -> Derivatives {
+    /// The limit at the corner of a node evaluated on `pos`, whose vertices are at `cols`.
+    fn eval(&self, pos: &[[f64; 3]], cols: &[u32]) -> Derivatives {
         let mut v = [[0.0; 3]; 5];
-        for (w, p) in self.weights.iter().zip(pos) {
+        for (w, &c) in self.weights.iter().zip(cols) {
+            let p = pos[c as usize];
             for (vi, &wi) in v.iter_mut().zip(w) {
                 if wi != 0.0 {
                     (0..3).for_each(|k| vi[k] += wi * p[k]);
@@ -365,7 +375,7 @@ impl TreeCache {
             return tree.clone();
         }
         let tree = Arc::new(Tree {
-            root: TNode::new(topo, 0, !self.no_crease_patches),
+            root: TNode::root(topo, !self.no_crease_patches),
         });
         bucket.push(tree.clone());
         self.count.fetch_add(1, Ordering::Relaxed);
@@ -410,12 +420,32 @@ pub(super) struct Query {
 /// descent.
 #[derive(Debug, Default)]
 pub(super) struct Scratch {
+    /// The refined points of the node at each depth.
     levels: Vec<Vec<[f64; 3]>>,
+    /// The refined points of an `n`-gon root (whose sub-faces start at depth 0).
+    root: Vec<[f64; 3]>,
+}
+
+impl Scratch {
+    /// The buffer of the refined points at `depth`, taken out (put it back with
+    /// [`put`](Self::put)).
+    fn take(&mut self, depth: u32) -> Vec<[f64; 3]> {
+        let d = depth as usize;
+        if self.levels.len() <= d {
+            self.levels.resize_with(d + 1, Vec::new);
+        }
+        std::mem::take(&mut self.levels[d])
+    }
+
+    fn put(&mut self, depth: u32, buffer: Vec<[f64; 3]>) {
+        self.levels[depth as usize] = buffer;
+    }
 }
 
 impl Tree {
-    /// The root's children (sub-faces of an `n`-gon root; quadrants of a quad).
-    pub fn root_kids(&self, options: &Options) -> &[Kid] {
+    /// The root's children (sub-faces of an `n`-gon root; quadrants of a quad), which
+    /// read the refined points of its cut-out ([`Kids::refine`]).
+    pub fn root_kids(&self, options: &Options) -> &Kids {
         self.root.kids(options, |_| false)
     }
 
@@ -438,9 +468,12 @@ impl Tree {
             None => descend(&self.root, pos, queries, depth, scratch, ctx, sink),
             Some(j) => {
                 let kids = self.root.kids(ctx.options, |k| k == j);
+                let mut refined = std::mem::take(&mut scratch.root);
+                kids.refine_into(pos, &mut refined);
                 // The sub-face is its own parameter domain: depth 0, no rescaling.
-                let kid = kids.get(j).map(|kid| (kid, &self.root, j));
-                kid_eval(kid, pos, queries, 0, scratch, ctx, sink);
+                let kid = kids.kids.get(j).map(|kid| (kid, &self.root, j));
+                kid_eval(kid, &refined, queries, 0, scratch, ctx, sink);
+                scratch.root = refined;
             }
         }
     }
@@ -474,7 +507,7 @@ impl<S: Sink> bspline::Batch for Leaf<'_, S> {
     }
 }
 
-/// Evaluates `qs` on `node` (at `depth`, points `pos`).
+/// Evaluates `qs` on `node` (at `depth`, evaluated on points `pos`).
 fn descend(
     node: &TNode,
     pos: &[[f64; 3]],
@@ -490,7 +523,8 @@ fn descend(
         depth,
         |k| node.stop[k],
         |k, out| {
-            *sink.slot(out) = node.corner(k, ctx.options, ctx.sectors).eval(pos);
+            let corner = node.corner(k, ctx.options, ctx.sectors);
+            *sink.slot(out) = corner.eval(pos, &node.cols);
         },
     );
     let qs = &mut qs[..rest];
@@ -499,12 +533,15 @@ fn descend(
     }
     let quadrants = by_quadrant(qs);
     let kids = node.kids(ctx.options, |k| !quadrants[k].is_empty());
+    let mut refined = scratch.take(depth);
+    kids.refine_into(pos, &mut refined);
     for (k, qs) in quadrants.into_iter().enumerate() {
         if !qs.is_empty() {
-            let kid = kids.get(k).map(|kid| (kid, node, k));
-            kid_eval(kid, pos, qs, depth + 1, scratch, ctx, sink);
+            let kid = kids.kids.get(k).map(|kid| (kid, node, k));
+            kid_eval(kid, &refined, qs, depth + 1, scratch, ctx, sink);
         }
     }
+    scratch.put(depth, refined);
 }
 
 /// The corner of a node, `depth` levels below its base face, whose limit analysis gives its
@@ -576,10 +613,10 @@ fn partition<T>(s: &mut [T], first: impl Fn(&T) -> bool) -> usize {
 }
 
 /// Evaluates `qs` (parameters already in the kid's domain) on `kid`, a child at `depth`
-/// of a node with points `pos`: `(kid, its parent, its index there)`.
+/// of a node whose refined points are `refined`: `(kid, its parent, its index there)`.
 fn kid_eval(
     kid: Option<(&Kid, &TNode, usize)>,
-    pos: &[[f64; 3]],
+    refined: &[[f64; 3]],
     qs: &mut [Query],
     depth: u32,
     scratch: &mut Scratch,
@@ -588,40 +625,46 @@ fn kid_eval(
 ) {
     match kid {
         None | Some((Kid::Hole, ..)) => qs.iter().for_each(|q| sink.hole(q.out)),
-        Some((Kid::Regular(rows), ..)) => {
-            let cp = rows.patch(pos);
+        Some((Kid::Regular(net), ..)) => {
+            let cp = net.eval(refined);
             let scale = 2f64.powi(depth as i32);
             let leaf = &mut Leaf { qs, sink };
             bspline::tensor_batch(&cp, bspline::regular_bases, ctx.order, scale, leaf);
         }
         Some((kid @ Kid::Crease(..), ..)) => {
-            if let Some(patch) = kid.crease_patch(pos) {
+            if let Some(patch) = kid.crease_patch(refined) {
                 let scale = 2f64.powi(depth as i32);
                 patch.eval_batch(ctx.order, scale, &mut Leaf { qs, sink });
             }
         }
         Some((Kid::Irregular(sub), parent, j)) => {
-            let SubTree { rows, node } = &**sub.get_or_init(|| parent.build_sub(j, ctx.options));
-            let d = depth as usize;
-            if scratch.levels.len() <= d {
-                scratch.levels.resize_with(d + 1, Vec::new);
-            }
-            let mut kpos = std::mem::take(&mut scratch.levels[d]);
-            rows.apply(pos, &mut kpos);
-            descend(node, &kpos, qs, depth, scratch, ctx, sink);
-            scratch.levels[d] = kpos;
+            let node = sub.get_or_init(|| parent.build_sub(j, ctx.options));
+            descend(node, refined, qs, depth, scratch, ctx, sink);
         }
     }
 }
 
+/// What [`TNode::build_kids`] found a child to be, before the refined points are chosen
+/// (a few at a time, while a node is built: not worth boxing the cells).
+#[allow(clippy::large_enum_variant)]
+enum Found {
+    Hole,
+    /// A patch's cells, and a crease patch's side and sharpness.
+    Patch([[Cell; 4]; 4], Option<(usize, f32)>),
+    /// An irregular child's cut-out (faces of the refinement).
+    Irregular(Vec<u32>),
+}
+
 impl TNode {
-    fn new(topo: Topology, face: usize, crease: bool) -> Self {
+    /// Face `face` of `topo`, evaluated on points where its vertices are at `cols`.
+    fn new(topo: Topology, face: usize, crease: bool, cols: Box<[u32]>) -> Self {
         let stop = std::array::from_fn(|k| {
             topo.face_vertices(face).len() == 4 && is_limit_corner(&topo, face, k)
         });
         TNode {
             topo,
             face,
+            cols,
             crease,
             stop,
             kids: OnceLock::new(),
@@ -629,93 +672,129 @@ impl TNode {
         }
     }
 
+    /// The root of a tree: face 0 of cut-out `topo`, evaluated on its points in order.
+    fn root(topo: Topology, crease: bool) -> Self {
+        let cols = (0..topo.num_vertices() as u32).collect();
+        TNode::new(topo, 0, crease, cols)
+    }
+
     /// The children (built the first time). Of the irregular ones, only those for which
-    /// `wanted(k)` holds get their sub-tree now, the others when a point first reaches
+    /// `wanted(k)` holds get their node now, the others when a point first reaches
     /// them ([`Self::build_sub`], which refines this node again): a grid's points
     /// reach the quadrants they reach every time, and on a face with an irregular corner
     /// the deepest corner child holds none of them (its corner's point is the parent's).
     /// Building it anyway took a fifth of the memory of the trees of meshes whose faces
     /// nearly all have configurations of their own.
-    fn kids(&self, options: &Options, wanted: impl Fn(usize) -> bool) -> &[Kid] {
+    fn kids(&self, options: &Options, wanted: impl Fn(usize) -> bool) -> &Kids {
         self.kids.get_or_init(|| self.build_kids(options, wanted))
     }
 
-    /// This node's refinement: the refined cut-out and the weights of its points on this
-    /// node's.
-    fn refine(&self, options: &Options) -> (Topology, Rows) {
-        let child = refine_topology(&self.topo, options, true);
-        let refinement = Rows::refinement(&self.topo, &child, options);
-        (child, refinement)
+    /// Whether sharp rules reach as far as Chaikin's rule lets them (the cut-outs of
+    /// children).
+    fn chaikin(options: &Options) -> bool {
+        Reach::new(options).chaikin
     }
 
-    /// The sub-tree of irregular child `j`.
+    /// The node of irregular child `j`, built after its siblings (refines this node
+    /// again).
     #[cold]
     #[inline(never)]
-    fn build_sub(&self, j: usize, options: &Options) -> Box<SubTree> {
-        let (child, refinement) = self.refine(options);
+    fn build_sub(&self, j: usize, options: &Options) -> Box<TNode> {
+        let child = refine_topology(&self.topo, options, true);
         let f = self.topo.face_offsets()[self.face] as usize + j;
-        let mut acc = Accumulator::new(self.topo.num_vertices());
-        self.sub_tree(&child, &refinement, f, &mut acc, options)
+        let faces = cut_out_unbounded(&child, f, Self::chaikin(options));
+        let needed = match self.kids.get() {
+            Some(kids) => &kids.needed,
+            None => unreachable!("a child is built after its siblings"),
+        };
+        self.sub_node(&child, &faces, needed)
     }
 
-    /// The sub-tree of face `f` of `child`, this node's refinement.
-    fn sub_tree(
-        &self,
-        child: &Topology,
-        refinement: &Rows,
-        f: usize,
-        acc: &mut Accumulator,
-        options: &Options,
-    ) -> Box<SubTree> {
-        let faces = cut_out_unbounded(child, f, Reach::new(options).chaikin);
-        let (sub, verts) = child.subset(&faces);
-        let mut rows = Rows::new();
-        for &v in &verts {
-            refinement.add_row_to(v as usize, 1.0, acc);
-            acc.push_into(&mut rows);
-        }
-        Box::new(SubTree {
-            rows: rows.shrunk(),
-            node: TNode::new(sub, 0, self.crease),
-        })
+    /// The node of the cut-out `faces` of `child`, this node's refinement, whose points
+    /// are the refined vertices `needed`.
+    fn sub_node(&self, child: &Topology, faces: &[u32], needed: &[u32]) -> Box<TNode> {
+        let (sub, verts) = child.subset(faces);
+        let cols = verts.iter().map(|&v| slot_of(needed, v)).collect();
+        Box::new(TNode::new(sub, 0, self.crease, cols))
     }
 
-    fn build_kids(&self, options: &Options, wanted: impl Fn(usize) -> bool) -> Box<[Kid]> {
+    fn build_kids(&self, options: &Options, wanted: impl Fn(usize) -> bool) -> Box<Kids> {
         let t = &self.topo;
-        let (child, refinement) = self.refine(options);
+        let child = refine_topology(t, options, true);
         let first = t.face_offsets()[self.face] as usize;
         let size = t.face_vertices(self.face).len();
-        let mut acc = Accumulator::new(t.num_vertices());
-        (first..first + size)
+        let found: Vec<Found> = (first..first + size)
             .map(|f| {
                 if child.is_hole(f) {
-                    return Kid::Hole;
-                }
-                let mut patch_rows = |cells: &[[Cell; 4]; 4]| {
-                    let mut rows = Rows::new();
-                    for cell in cells.iter().flatten() {
-                        for (&v, &w) in cell.verts.iter().zip(&cell.weights).take(cell.len) {
-                            refinement.add_row_to(v as usize, w, &mut acc);
-                        }
-                        acc.push_into(&mut rows);
-                    }
-                    rows.shrunk()
-                };
-                if let Some(cells) = regular_patch_cells(&child, f) {
-                    return Kid::Regular(patch_rows(&cells));
-                }
-                if let Some((cells, side, s)) =
+                    Found::Hole
+                } else if let Some(cells) = regular_patch_cells(&child, f) {
+                    Found::Patch(cells, None)
+                } else if let Some((cells, side, s)) =
                     single_crease(&child, f, options).filter(|_| self.crease)
                 {
-                    return Kid::Crease(patch_rows(&cells), side, Arc::new(CreaseBasis::new(s)));
+                    Found::Patch(cells, Some((side, s)))
+                } else {
+                    Found::Irregular(cut_out_unbounded(&child, f, Self::chaikin(options)))
                 }
-                let sub = OnceLock::new();
-                if wanted(f - first) {
-                    let _ = sub.set(self.sub_tree(&child, &refinement, f, &mut acc, options));
-                }
-                Kid::Irregular(sub)
             })
-            .collect()
+            .collect();
+        // The refined vertices the children read.
+        let mut needed = Vec::new();
+        for kid in &found {
+            match kid {
+                Found::Hole => {}
+                Found::Patch(cells, _) => needed.extend(
+                    (cells.iter().flatten()).flat_map(|c| c.verts[..c.len].iter().copied()),
+                ),
+                Found::Irregular(faces) => needed.extend(
+                    (faces.iter()).flat_map(|&g| child.face_vertices(g as usize).iter().copied()),
+                ),
+            }
+        }
+        needed.sort_unstable();
+        needed.dedup();
+        let refinement = Rows::refinement(t, &child, options);
+        let mut rows = Rows::new();
+        for &v in &needed {
+            rows.push_row(
+                refinement
+                    .row(v as usize)
+                    .map(|(c, w)| (self.cols[c as usize], w)),
+            );
+        }
+        let mut kids = Kids {
+            rows: rows.shrunk(),
+            needed: needed.into(),
+            kids: Box::default(),
+        };
+        kids.kids = (found.into_iter().enumerate())
+            .map(|(j, kid)| {
+                // The net on the refined points.
+                let net = |cells: [[Cell; 4]; 4]| {
+                    Net::new(cells.map(|row| {
+                        row.map(|mut c| {
+                            (c.verts.iter_mut().take(c.len)).for_each(|v| *v = kids.slot(*v));
+                            c
+                        })
+                    }))
+                };
+                match kid {
+                    Found::Hole => Kid::Hole,
+                    Found::Patch(cells, None) => Kid::Regular(net(cells)),
+                    Found::Patch(cells, Some((side, s))) => {
+                        Kid::Crease(net(cells), side, Arc::new(CreaseBasis::new(s)))
+                    }
+                    Found::Irregular(faces) => {
+                        let sub = OnceLock::new();
+                        if wanted(j) {
+                            let _ = sub.set(self.sub_node(&child, &faces, &kids.needed));
+                        }
+                        Kid::Irregular(sub)
+                    }
+                }
+            })
+            .collect();
+        Box::new(kids)
     }
 
     /// The corner analysis at corner `k` as weights (computed the first time).
@@ -746,5 +825,79 @@ impl TNode {
             }
             Box::new(CornerRows { limit, weights })
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::Crease;
+
+    /// The refined points a node keeps rows for, and each child's reads of them, on every
+    /// face of a grid with creases that end inside it or change sharpness (patches, crease
+    /// patches and irregular children) and on a cube (irregular children only), two
+    /// levels down: every refined point is computed once (`needed` increasing) and read
+    /// by some child, and no child reads past them.
+    #[test]
+    fn children_read_each_refined_point_of_their_node() {
+        let n = 7u32;
+        let mut grid = crate::mesh::test_grid(n - 1, n - 1, |x, y| [x, y, 0.1 * x * y]);
+        let v = |i: u32, j: u32| j * n + i;
+        for (v0, v1, sharpness) in [
+            (v(1, 1), v(2, 1), 10.0),
+            (v(2, 1), v(3, 1), 10.0),
+            (v(3, 1), v(4, 1), 2.0),
+            (v(4, 1), v(5, 1), 2.0),
+            (v(1, 4), v(2, 4), 3.0),
+            (v(2, 4), v(3, 4), 1.0),
+            (v(3, 4), v(4, 4), 1.0),
+        ] {
+            grid.tags.creases.push(Crease { v0, v1, sharpness });
+        }
+        let options = Options::default();
+        let trees = TreeCache::new(true);
+        let mut checked = [0; 3];
+        for mesh in [grid, crate::mesh::test_cube()] {
+            let t = Topology::from_mesh(&mesh, &options).expect("topology").0;
+            for f in 0..t.num_faces() {
+                let Ok(faces) = super::super::local::cut_out(&t, f, Reach::new(&options)) else {
+                    unreachable!("no high valence here");
+                };
+                let tree = trees.get(t.subset_canonical(&faces).0);
+                check_node(&tree.root, 2, &options, &mut checked);
+            }
+        }
+        let [patches, creases, irregular] = checked;
+        assert!(patches > 0 && creases > 0 && irregular > 0, "{checked:?}");
+    }
+
+    fn check_node(node: &TNode, levels: u32, options: &Options, checked: &mut [usize; 3]) {
+        let kids = node.kids(options, |_| true);
+        assert!(kids.needed.windows(2).all(|w| w[0] < w[1]));
+        assert_eq!(kids.rows.len(), kids.needed.len());
+        let mut read = vec![false; kids.needed.len()];
+        for kid in kids.kids() {
+            let slots: Vec<u32> = match kid {
+                Kid::Hole => Vec::new(),
+                Kid::Regular(net) | Kid::Crease(net, ..) => {
+                    checked[usize::from(matches!(kid, Kid::Crease(..)))] += 1;
+                    (net.cells().iter().flatten())
+                        .flat_map(|c| c.verts[..c.len].to_vec())
+                        .collect()
+                }
+                Kid::Irregular(sub) => {
+                    checked[2] += 1;
+                    let sub = sub.get().expect("built, as every child was wanted");
+                    if levels > 1 {
+                        check_node(sub, levels - 1, options, checked);
+                    }
+                    sub.cols.to_vec()
+                }
+            };
+            for s in slots {
+                read[s as usize] = true;
+            }
+        }
+        assert!(read.iter().all(|&r| r), "a refined point no child reads");
     }
 }
