@@ -265,12 +265,17 @@ fn slot_of(needed: &[u32], v: u32) -> u32 {
     }
 }
 
-/// A node: an (irregular) face of a cut-out.
+/// A node: face 0 of a cut-out, irregular.
 #[derive(Debug)]
 pub(super) struct TNode {
-    topo: Topology,
-    face: usize,
-    /// Where each vertex of `topo` is in the points the node is evaluated on: the root's
+    /// The cut-out of a node below the root until its children are built; after that
+    /// it is made again from its parent's when needed ([`Way`]): for a child that a point
+    /// reaches later or a corner analysed later, neither of which a re-posed grid meets.
+    /// Kept, the cut-outs were half of the heap of a surface whose faces nearly all have
+    /// configurations of their own (a grid with creases on a tenth of its edges). The
+    /// root's is [`Tree::topo`].
+    topo: Mutex<Option<Box<Topology>>>,
+    /// Where each vertex of the cut-out is in the points the node is evaluated on: the root's
     /// are its cut-out's points in order, a child's are some of its parent's refined
     /// points ([`Kids`]).
     cols: Box<[u32]>,
@@ -309,10 +314,64 @@ impl CornerRows {
     }
 }
 
-/// The tree of one configuration: its root is the cut-out of a base face.
+/// The tree of one configuration: its root is face 0 of cut-out `topo`.
 #[derive(Debug)]
 pub(super) struct Tree {
+    topo: Topology,
     root: TNode,
+}
+
+/// How a node's cut-out is found: the tree's root cut-out, or the cut-out of child `j` of
+/// a node found so, in that node's refinement.
+#[derive(Clone, Copy, Debug)]
+pub(super) enum Way<'a> {
+    Root(&'a Topology),
+    Child {
+        parent: &'a TNode,
+        up: &'a Way<'a>,
+        j: usize,
+    },
+}
+
+impl Way<'_> {
+    /// Runs `f` on the cut-out of the node this way leads to (`node`), made again from
+    /// the way up if the node no longer keeps it.
+    fn with_topology<R>(
+        &self,
+        node: &TNode,
+        options: &Options,
+        f: impl FnOnce(&Topology) -> R,
+    ) -> R {
+        match *self {
+            Way::Root(t) => f(t),
+            Way::Child { .. } => match lock(&node.topo).as_deref() {
+                Some(t) => f(t),
+                None => f(&self.remade(options)),
+            },
+        }
+    }
+
+    /// The cut-out of the node a [`Way::Child`] leads to, made from its parent's.
+    #[cold]
+    #[inline(never)]
+    fn remade(&self, options: &Options) -> Topology {
+        let Way::Child { parent, up, j } = *self else {
+            unreachable!("the root's cut-out is kept")
+        };
+        up.with_topology(parent, options, |pt| {
+            let child = refine_topology(pt, options, true);
+            let faces = cut_out_unbounded(&child, j, TNode::chaikin(options));
+            child.subset(&faces).0
+        })
+    }
+}
+
+/// `m` locked, also if a thread panicked while holding it (what it guards is set whole).
+fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
+    match m.lock() {
+        Ok(g) => g,
+        Err(poisoned) => poisoned.into_inner(),
+    }
 }
 
 /// Trees by a hash of their root's [`Topology::structure_key`], each bucket compared key
@@ -353,17 +412,14 @@ impl TreeCache {
             key.hash(&mut h);
             h.finish()
         };
-        let lock = || match self.trees.lock() {
-            Ok(m) => m,
-            Err(poisoned) => poisoned.into_inner(),
-        };
+        let lock = || lock(&self.trees);
         // The candidates' keys are computed without the lock (other threads look up
         // meanwhile); a tree added since is looked for again under it.
         let seen = lock().get(&hash).cloned().unwrap_or_default();
         let mut other = Vec::new();
         let same = |tree: &Arc<Tree>, other: &mut Vec<u32>| {
             other.clear();
-            tree.root.topo.structure_key(other);
+            tree.topo.structure_key(other);
             *other == key
         };
         if let Some(tree) = seen.iter().find(|t| same(t, &mut other)) {
@@ -374,9 +430,8 @@ impl TreeCache {
         if let Some(tree) = bucket[seen.len()..].iter().find(|t| same(t, &mut other)) {
             return tree.clone();
         }
-        let tree = Arc::new(Tree {
-            root: TNode::root(topo, !self.no_crease_patches),
-        });
+        let root = TNode::root(&topo, !self.no_crease_patches);
+        let tree = Arc::new(Tree { topo, root });
         bucket.push(tree.clone());
         self.count.fetch_add(1, Ordering::Relaxed);
         tree
@@ -446,7 +501,7 @@ impl Tree {
     /// The root's children (sub-faces of an `n`-gon root; quadrants of a quad), which
     /// read the refined points of its cut-out ([`Kids::refine`]).
     pub fn root_kids(&self, options: &Options) -> &Kids {
-        self.root.kids(options, |_| false)
+        self.root.kids(options, |_| false, &Way::Root(&self.topo))
     }
 
     /// Evaluates `queries` on the face whose cut-out points are `pos` — on sub-face `sub`
@@ -464,14 +519,15 @@ impl Tree {
         ctx: Ctx<'_>,
         sink: &mut impl Sink,
     ) {
+        let way = &Way::Root(&self.topo);
         match sub {
-            None => descend(&self.root, pos, queries, depth, scratch, ctx, sink),
+            None => descend(&self.root, way, pos, queries, depth, scratch, ctx, sink),
             Some(j) => {
-                let kids = self.root.kids(ctx.options, |k| k == j);
+                let kids = self.root.kids(ctx.options, |k| k == j, way);
                 let mut refined = std::mem::take(&mut scratch.root);
                 kids.refine_into(pos, &mut refined);
                 // The sub-face is its own parameter domain: depth 0, no rescaling.
-                let kid = kids.kids.get(j).map(|kid| (kid, &self.root, j));
+                let kid = kids.kids.get(j).map(|kid| (kid, &self.root, way, j));
                 kid_eval(kid, &refined, queries, 0, scratch, ctx, sink);
                 scratch.root = refined;
             }
@@ -507,9 +563,11 @@ impl<S: Sink> bspline::Batch for Leaf<'_, S> {
     }
 }
 
-/// Evaluates `qs` on `node` (at `depth`, evaluated on points `pos`).
+/// Evaluates `qs` on `node` (at `depth`, evaluated on points `pos`; found by `way`).
+#[allow(clippy::too_many_arguments)]
 fn descend(
     node: &TNode,
+    way: &Way<'_>,
     pos: &[[f64; 3]],
     qs: &mut [Query],
     depth: u32,
@@ -523,7 +581,7 @@ fn descend(
         depth,
         |k| node.stop[k],
         |k, out| {
-            let corner = node.corner(k, ctx.options, ctx.sectors);
+            let corner = node.corner(k, ctx.options, ctx.sectors, way);
             *sink.slot(out) = corner.eval(pos, &node.cols);
         },
     );
@@ -532,12 +590,12 @@ fn descend(
         return;
     }
     let quadrants = by_quadrant(qs);
-    let kids = node.kids(ctx.options, |k| !quadrants[k].is_empty());
+    let kids = node.kids(ctx.options, |k| !quadrants[k].is_empty(), way);
     let mut refined = scratch.take(depth);
     kids.refine_into(pos, &mut refined);
     for (k, qs) in quadrants.into_iter().enumerate() {
         if !qs.is_empty() {
-            let kid = kids.kids.get(k).map(|kid| (kid, node, k));
+            let kid = kids.kids.get(k).map(|kid| (kid, node, way, k));
             kid_eval(kid, &refined, qs, depth + 1, scratch, ctx, sink);
         }
     }
@@ -613,9 +671,10 @@ fn partition<T>(s: &mut [T], first: impl Fn(&T) -> bool) -> usize {
 }
 
 /// Evaluates `qs` (parameters already in the kid's domain) on `kid`, a child at `depth`
-/// of a node whose refined points are `refined`: `(kid, its parent, its index there)`.
+/// of a node whose refined points are `refined`: `(kid, its parent, the parent's way,
+/// the kid's index there)`.
 fn kid_eval(
-    kid: Option<(&Kid, &TNode, usize)>,
+    kid: Option<(&Kid, &TNode, &Way<'_>, usize)>,
     refined: &[[f64; 3]],
     qs: &mut [Query],
     depth: u32,
@@ -637,9 +696,10 @@ fn kid_eval(
                 patch.eval_batch(ctx.order, scale, &mut Leaf { qs, sink });
             }
         }
-        Some((Kid::Irregular(sub), parent, j)) => {
-            let node = sub.get_or_init(|| parent.build_sub(j, ctx.options));
-            descend(node, refined, qs, depth, scratch, ctx, sink);
+        Some((Kid::Irregular(sub), parent, up, j)) => {
+            let node = sub.get_or_init(|| parent.build_sub(j, ctx.options, up));
+            let way = Way::Child { parent, up, j };
+            descend(node, &way, refined, qs, depth, scratch, ctx, sink);
         }
     }
 }
@@ -656,14 +716,14 @@ enum Found {
 }
 
 impl TNode {
-    /// Face `face` of `topo`, evaluated on points where its vertices are at `cols`.
-    fn new(topo: Topology, face: usize, crease: bool, cols: Box<[u32]>) -> Self {
+    /// Face 0 of `topo`, evaluated on points where its vertices are at `cols` (the
+    /// cut-out not kept: see [`TNode::topo`]).
+    fn new(topo: &Topology, crease: bool, cols: Box<[u32]>) -> Self {
         let stop = std::array::from_fn(|k| {
-            topo.face_vertices(face).len() == 4 && is_limit_corner(&topo, face, k)
+            topo.face_vertices(0).len() == 4 && is_limit_corner(topo, 0, k)
         });
         TNode {
-            topo,
-            face,
+            topo: Mutex::new(None),
             cols,
             crease,
             stop,
@@ -672,10 +732,11 @@ impl TNode {
         }
     }
 
-    /// The root of a tree: face 0 of cut-out `topo`, evaluated on its points in order.
-    fn root(topo: Topology, crease: bool) -> Self {
+    /// The root of a tree: face 0 of cut-out `topo` (which the tree keeps), evaluated on
+    /// its points in order.
+    fn root(topo: &Topology, crease: bool) -> Self {
         let cols = (0..topo.num_vertices() as u32).collect();
-        TNode::new(topo, 0, crease, cols)
+        TNode::new(topo, crease, cols)
     }
 
     /// The children (built the first time). Of the irregular ones, only those for which
@@ -685,8 +746,13 @@ impl TNode {
     /// the deepest corner child holds none of them (its corner's point is the parent's).
     /// Building it anyway took a fifth of the memory of the trees of meshes whose faces
     /// nearly all have configurations of their own.
-    fn kids(&self, options: &Options, wanted: impl Fn(usize) -> bool) -> &Kids {
-        self.kids.get_or_init(|| self.build_kids(options, wanted))
+    fn kids(&self, options: &Options, wanted: impl Fn(usize) -> bool, way: &Way<'_>) -> &Kids {
+        self.kids.get_or_init(|| {
+            let kids = way.with_topology(self, options, |t| self.build_kids(t, options, wanted));
+            // Built: the cut-out is made again if ever needed (see `topo`).
+            *lock(&self.topo) = None;
+            kids
+        })
     }
 
     /// Whether sharp rules reach as far as Chaikin's rule lets them (the cut-outs of
@@ -699,15 +765,16 @@ impl TNode {
     /// again).
     #[cold]
     #[inline(never)]
-    fn build_sub(&self, j: usize, options: &Options) -> Box<TNode> {
-        let child = refine_topology(&self.topo, options, true);
-        let f = self.topo.face_offsets()[self.face] as usize + j;
-        let faces = cut_out_unbounded(&child, f, Self::chaikin(options));
+    fn build_sub(&self, j: usize, options: &Options, way: &Way<'_>) -> Box<TNode> {
         let needed = match self.kids.get() {
             Some(kids) => &kids.needed,
             None => unreachable!("a child is built after its siblings"),
         };
-        self.sub_node(&child, &faces, needed)
+        way.with_topology(self, options, |t| {
+            let child = refine_topology(t, options, true);
+            let faces = cut_out_unbounded(&child, j, Self::chaikin(options));
+            self.sub_node(&child, &faces, needed)
+        })
     }
 
     /// The node of the cut-out `faces` of `child`, this node's refinement, whose points
@@ -715,15 +782,22 @@ impl TNode {
     fn sub_node(&self, child: &Topology, faces: &[u32], needed: &[u32]) -> Box<TNode> {
         let (sub, verts) = child.subset(faces);
         let cols = verts.iter().map(|&v| slot_of(needed, v)).collect();
-        Box::new(TNode::new(sub, 0, self.crease, cols))
+        let mut node = TNode::new(&sub, self.crease, cols);
+        node.topo = Mutex::new(Some(Box::new(sub)));
+        Box::new(node)
     }
 
-    fn build_kids(&self, options: &Options, wanted: impl Fn(usize) -> bool) -> Box<Kids> {
-        let t = &self.topo;
+    /// The children of this node, whose cut-out is `t`.
+    fn build_kids(
+        &self,
+        t: &Topology,
+        options: &Options,
+        wanted: impl Fn(usize) -> bool,
+    ) -> Box<Kids> {
         let child = refine_topology(t, options, true);
-        let first = t.face_offsets()[self.face] as usize;
-        let size = t.face_vertices(self.face).len();
-        let found: Vec<Found> = (first..first + size)
+        // Face 0's children are the first faces of its refinement.
+        let size = t.face_vertices(0).len();
+        let found: Vec<Found> = (0..size)
             .map(|f| {
                 if child.is_hole(f) {
                     Found::Hole
@@ -798,14 +872,21 @@ impl TNode {
     }
 
     /// The corner analysis at corner `k` as weights (computed the first time).
-    fn corner(&self, k: usize, options: &Options, sectors: &SectorCache) -> &CornerRows {
+    fn corner(
+        &self,
+        k: usize,
+        options: &Options,
+        sectors: &SectorCache,
+        way: &Way<'_>,
+    ) -> &CornerRows {
         self.corners[k].get_or_init(|| {
             // Three unit control points at a time, one per coordinate: coordinate `c` of
             // each output vector is the weight of the point set to `e_c`.
             // The probes share one shape, which analyses the corner's sector (and refines
             // it, where that takes further levels) once for all of them.
-            let n = self.topo.num_vertices();
-            let shape = Shape::probed(self.topo.clone());
+            let topo = way.with_topology(self, options, Topology::clone);
+            let n = topo.num_vertices();
+            let shape = Shape::probed(topo);
             let mut weights = vec![[0.0; 5]; n];
             let mut limit = CornerLimit::default();
             for c0 in (0..n).step_by(3) {
@@ -815,7 +896,7 @@ impl TNode {
                 }
                 let local = Local {
                     region: Arc::new(Region::new(shape.clone(), pos)),
-                    face: self.face,
+                    face: 0,
                 };
                 limit = corner_limit(&local, k, options, sectors);
                 let vs = limit.vectors();
@@ -837,7 +918,8 @@ mod tests {
     /// face of a grid with creases that end inside it or change sharpness (patches, crease
     /// patches and irregular children) and on a cube (irregular children only), two
     /// levels down: every refined point is computed once (`needed` increasing) and read
-    /// by some child, and no child reads past them.
+    /// by some child, no child reads past them, and a node's cut-out, dropped once its
+    /// children are built, is made again as it was.
     #[test]
     fn children_read_each_refined_point_of_their_node() {
         let n = 7u32;
@@ -864,19 +946,41 @@ mod tests {
                     unreachable!("no high valence here");
                 };
                 let tree = trees.get(t.subset_canonical(&faces).0);
-                check_node(&tree.root, 2, &options, &mut checked);
+                check_node(
+                    &tree.root,
+                    &Way::Root(&tree.topo),
+                    2,
+                    &options,
+                    &mut checked,
+                );
             }
         }
         let [patches, creases, irregular] = checked;
         assert!(patches > 0 && creases > 0 && irregular > 0, "{checked:?}");
     }
 
-    fn check_node(node: &TNode, levels: u32, options: &Options, checked: &mut [usize; 3]) {
-        let kids = node.kids(options, |_| true);
+    fn check_node(
+        node: &TNode,
+        way: &Way<'_>,
+        levels: u32,
+        options: &Options,
+        checked: &mut [usize; 3],
+    ) {
+        let kids = node.kids(options, |_| true, way);
+        // Its children built, a node keeps no cut-out; made again, it is the one the
+        // node was built from: as many points, the same corners where the limit is known.
+        assert!(lock(&node.topo).is_none());
+        way.with_topology(node, options, |t| {
+            assert_eq!(t.num_vertices(), node.cols.len());
+            let quad = t.face_vertices(0).len() == 4;
+            for k in 0..4 {
+                assert_eq!(quad && is_limit_corner(t, 0, k), node.stop[k]);
+            }
+        });
         assert!(kids.needed.windows(2).all(|w| w[0] < w[1]));
         assert_eq!(kids.rows.len(), kids.needed.len());
         let mut read = vec![false; kids.needed.len()];
-        for kid in kids.kids() {
+        for (j, kid) in kids.kids().iter().enumerate() {
             let slots: Vec<u32> = match kid {
                 Kid::Hole => Vec::new(),
                 Kid::Regular(net) | Kid::Crease(net, ..) => {
@@ -889,7 +993,12 @@ mod tests {
                     checked[2] += 1;
                     let sub = sub.get().expect("built, as every child was wanted");
                     if levels > 1 {
-                        check_node(sub, levels - 1, options, checked);
+                        let way = Way::Child {
+                            parent: node,
+                            up: way,
+                            j,
+                        };
+                        check_node(sub, &way, levels - 1, options, checked);
                     }
                     sub.cols.to_vec()
                 }
