@@ -41,41 +41,33 @@ use std::hash::{BuildHasherDefault, Hash, Hasher};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, OnceLock};
 
-/// Sparse rows of weights on a node's points (CSR).
+/// Sparse rows of weights (CSR), as a node's refinement is found: each child vertex's
+/// weights on the node's vertices.
 #[derive(Debug, Default)]
-pub(super) struct Rows {
+struct Rows {
     offsets: Vec<u32>,
     cols: Vec<u32>,
     weights: Vec<f64>,
 }
 
 impl Rows {
-    fn new() -> Self {
-        Rows {
-            offsets: vec![0],
-            ..Rows::default()
-        }
-    }
-
     /// The refinement of `t` into `child` (its `refine_topology`): row `c` holds the
     /// weights of child vertex `c` on the vertices of `t` (sparse, from the refinement's
     /// masks: `O(weights)`, where interpolating unit vectors costs `O(vertices²)`, which
     /// dominated building the trees of faces next to vertices of high valence).
     fn refinement(t: &Topology, child: &Topology, options: &Options) -> Self {
-        let mut rows = Rows::new();
+        let mut rows = Rows {
+            offsets: vec![0],
+            ..Rows::default()
+        };
         refinement_rows(t, child, options, |cols, weights| {
-            rows.push_row(cols.iter().copied().zip(weights.iter().copied()));
+            for (&c, &w) in cols.iter().zip(weights).filter(|&(_, &w)| w != 0.0) {
+                rows.cols.push(c);
+                rows.weights.push(w);
+            }
+            rows.offsets.push(rows.cols.len() as u32);
         });
         rows
-    }
-
-    /// The rows without the spare capacity of their growth (a tree keeps them; they were
-    /// a quarter of a surface's memory on meshes of many configurations).
-    fn shrunk(mut self) -> Self {
-        self.offsets.shrink_to_fit();
-        self.cols.shrink_to_fit();
-        self.weights.shrink_to_fit();
-        self
     }
 
     /// The terms `(column, weight)` of row `r`.
@@ -86,26 +78,71 @@ impl Rows {
             .copied()
             .zip(self.weights[a..b].iter().copied())
     }
+}
 
-    /// Appends a row of terms `(column, weight)`, zero weights dropped.
-    fn push_row(&mut self, terms: impl IntoIterator<Item = (u32, f64)>) {
-        for (c, w) in terms.into_iter().filter(|&(_, w)| w != 0.0) {
-            self.cols.push(c);
-            self.weights.push(w);
+/// The rows of a node's refined points ([`Kids`]), each row's weights stored once per
+/// distinct vector of weights: a node's refined points are face, edge and vertex points,
+/// smooth or sharp, whose weights are one of a few vectors (four quarters, the six of a
+/// smooth edge point, the nine of a smooth vertex point of valence 4, ...). Stored with
+/// every term, the weights were two thirds of the rows, and the rows 43 % of the heap of a
+/// surface whose faces nearly all have configurations of their own (a grid with creases on
+/// a tenth of its edges).
+#[derive(Debug, Default)]
+struct NodeRows {
+    /// Row `r`'s columns are `cols[offsets[r]..offsets[r + 1]]`.
+    offsets: Box<[u32]>,
+    cols: Box<[u32]>,
+    /// Row `r`'s weights are `weights[first[r]..]`, as many as its columns.
+    first: Box<[u32]>,
+    weights: Box<[f64]>,
+}
+
+impl NodeRows {
+    /// The rows `rows`, each a sequence of terms `(column, weight)` with nonzero weights.
+    fn new<R: IntoIterator<Item = (u32, f64)>>(rows: impl IntoIterator<Item = R>) -> Self {
+        let (mut offsets, mut cols, mut first, mut weights) = (vec![0], vec![], vec![], vec![]);
+        let mut classes: HashMap<Vec<u64>, u32, BuildHasherDefault<FxHasher>> = HashMap::default();
+        let mut row = Vec::new();
+        for terms in rows {
+            row.clear();
+            for (c, w) in terms {
+                cols.push(c);
+                row.push(w);
+            }
+            offsets.push(cols.len() as u32);
+            let key = row.iter().map(|w| w.to_bits()).collect();
+            let start = *classes.entry(key).or_insert_with(|| {
+                weights.extend_from_slice(&row);
+                (weights.len() - row.len()) as u32
+            });
+            first.push(start);
         }
-        self.offsets.push(self.cols.len() as u32);
+        NodeRows {
+            offsets: offsets.into(),
+            cols: cols.into(),
+            first: first.into(),
+            weights: weights.into(),
+        }
     }
 
     fn len(&self) -> usize {
-        self.offsets.len() - 1
+        self.first.len()
+    }
+
+    /// Row `r`'s columns and weights.
+    #[inline]
+    fn row(&self, r: usize) -> (&[u32], &[f64]) {
+        let (a, b) = (self.offsets[r] as usize, self.offsets[r + 1] as usize);
+        let w = self.first[r] as usize;
+        (&self.cols[a..b], &self.weights[w..w + (b - a)])
     }
 
     /// Row `r` applied to `pos`.
     #[inline]
     fn apply_row(&self, r: usize, pos: &[[f64; 3]]) -> [f64; 3] {
-        let (a, b) = (self.offsets[r] as usize, self.offsets[r + 1] as usize);
+        let (cols, weights) = self.row(r);
         let mut acc = [0.0; 3];
-        for (&c, &w) in self.cols[a..b].iter().zip(&self.weights[a..b]) {
+        for (&c, &w) in cols.iter().zip(weights) {
             let p = &pos[c as usize];
             acc[0] += w * p[0];
             acc[1] += w * p[1];
@@ -114,21 +151,16 @@ impl Rows {
         acc
     }
 
-    /// Every row applied to `pos`, into `out`.
+    /// Every row applied to `pos`, into `out`: with AVX2 and FMA where the processor has
+    /// them (a point's three coordinates in one vector, one multiply-add per weight; the
+    /// descent of a tree spends most of its time here), else
+    /// [`apply_row`](Self::apply_row).
     fn apply(&self, pos: &[[f64; 3]], out: &mut Vec<[f64; 3]>) {
         out.resize(self.len(), [0.0; 3]);
-        self.apply_rows(pos, out);
-    }
-
-    /// The first `out.len()` rows applied to `pos`, into `out`: with AVX2 and FMA where the
-    /// processor has them (a point's three coordinates in one vector, one multiply-add per
-    /// weight; the descent of a tree spends most of its time here), else
-    /// [`apply_row`](Self::apply_row).
-    fn apply_rows(&self, pos: &[[f64; 3]], out: &mut [[f64; 3]]) {
         #[cfg(target_arch = "x86_64")]
         if crate::cpu::has_avx2_fma() {
             // SAFETY: the features were just detected.
-            unsafe { self.apply_rows_avx(pos, out) };
+            unsafe { self.apply_avx(pos, out) };
             return;
         }
         for (r, o) in out.iter_mut().enumerate() {
@@ -136,18 +168,18 @@ impl Rows {
         }
     }
 
-    /// [`apply_rows`](Self::apply_rows) with AVX2 and FMA.
+    /// [`apply`](Self::apply) with AVX2 and FMA, into `out` (one point per row).
     ///
     /// # Safety
     /// The processor has AVX2 and FMA.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,fma")]
-    unsafe fn apply_rows_avx(&self, pos: &[[f64; 3]], out: &mut [[f64; 3]]) {
+    unsafe fn apply_avx(&self, pos: &[[f64; 3]], out: &mut [[f64; 3]]) {
         use std::arch::x86_64::*;
         for (r, o) in out.iter_mut().enumerate() {
-            let (a, b) = (self.offsets[r] as usize, self.offsets[r + 1] as usize);
+            let (cols, weights) = self.row(r);
             let mut acc = _mm256_setzero_pd();
-            for (&c, &w) in self.cols[a..b].iter().zip(&self.weights[a..b]) {
+            for (&c, &w) in cols.iter().zip(weights) {
                 let p = &pos[c as usize];
                 // SAFETY: `p` holds three `f64`: two loaded at its start, one at its end.
                 let x = unsafe {
@@ -225,7 +257,7 @@ impl Kid {
 pub(super) struct Kids {
     /// Row `k`: refined vertex `needed[k]` as weights on the points the node is evaluated
     /// on (its vertices through [`TNode::cols`]).
-    rows: Rows,
+    rows: NodeRows,
     /// The vertices of the node's refinement that the children read, in increasing order.
     needed: Box<[u32]>,
     /// The children, by sub-face.
@@ -828,16 +860,12 @@ impl TNode {
         needed.sort_unstable();
         needed.dedup();
         let refinement = Rows::refinement(t, &child, options);
-        let mut rows = Rows::new();
-        for &v in &needed {
-            rows.push_row(
-                refinement
-                    .row(v as usize)
-                    .map(|(c, w)| (self.cols[c as usize], w)),
-            );
-        }
+        let rows = NodeRows::new(
+            (needed.iter())
+                .map(|&v| (refinement.row(v as usize)).map(|(c, w)| (self.cols[c as usize], w))),
+        );
         let mut kids = Kids {
-            rows: rows.shrunk(),
+            rows,
             needed: needed.into(),
             kids: Box::default(),
         };
