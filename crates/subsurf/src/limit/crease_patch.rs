@@ -134,11 +134,8 @@ pub(super) struct CreaseBases(Mutex<HashMap<u32, Arc<CreaseBasis>>>);
 
 impl CreaseBases {
     pub(super) fn get(&self, s: f32) -> Arc<CreaseBasis> {
-        let mut map = match self.0.lock() {
-            Ok(m) => m,
-            Err(poisoned) => poisoned.into_inner(),
-        };
-        map.entry(s.to_bits())
+        super::lock(&self.0)
+            .entry(s.to_bits())
             .or_insert_with(|| Arc::new(CreaseBasis::new(s)))
             .clone()
     }

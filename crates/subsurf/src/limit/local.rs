@@ -192,11 +192,7 @@ pub(super) fn cell<K: std::hash::Hash + Eq, T, S: std::hash::BuildHasher>(
     cache: &Mutex<HashMap<K, Arc<OnceLock<T>>, S>>,
     key: K,
 ) -> Arc<OnceLock<T>> {
-    let mut map = match cache.lock() {
-        Ok(m) => m,
-        Err(poisoned) => poisoned.into_inner(),
-    };
-    map.entry(key).or_default().clone()
+    super::lock(cache).entry(key).or_default().clone()
 }
 
 /// Regions cut around high-valence vertices of one level, by vertex.

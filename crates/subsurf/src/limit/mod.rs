@@ -143,3 +143,13 @@ pub fn normals(
         })
         .collect()
 }
+
+/// `m` locked, also if a thread panicked while holding it: the limit layer's caches and
+/// cells are only ever filled whole (an entry inserted, a value set), so what a panicking
+/// thread left is consistent.
+fn lock<T>(m: &std::sync::Mutex<T>) -> std::sync::MutexGuard<'_, T> {
+    match m.lock() {
+        Ok(g) => g,
+        Err(poisoned) => poisoned.into_inner(),
+    }
+}

@@ -31,6 +31,7 @@ use super::bspline::{self, Derivatives, Order};
 use super::corner::{corner_limit, is_limit_corner, CornerLimit, SectorCache};
 use super::crease_patch::{single_crease, CreaseBasis, CreasePatch};
 use super::local::{cut_out_unbounded, Local, Reach, Region, Shape};
+use super::lock;
 use super::patch::{regular_patch_cells, Cell, Net};
 use super::surface::{quadrant, MAX_DEPTH};
 use crate::hash::FxHasher;
@@ -391,18 +392,9 @@ impl Way<'_> {
             unreachable!("the root's cut-out is kept")
         };
         up.with_topology(parent, options, |pt| {
-            let child = refine_topology(pt, options, true);
-            let faces = cut_out_unbounded(&child, j, TNode::chaikin(options));
+            let (child, faces) = TNode::child_cut_out(pt, j, options);
             child.subset(&faces).0
         })
-    }
-}
-
-/// `m` locked, also if a thread panicked while holding it (what it guards is set whole).
-fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
-    match m.lock() {
-        Ok(g) => g,
-        Err(poisoned) => poisoned.into_inner(),
     }
 }
 
@@ -444,10 +436,9 @@ impl TreeCache {
             key.hash(&mut h);
             h.finish()
         };
-        let lock = || lock(&self.trees);
         // The candidates' keys are computed without the lock (other threads look up
         // meanwhile); a tree added since is looked for again under it.
-        let seen = lock().get(&hash).cloned().unwrap_or_default();
+        let seen = lock(&self.trees).get(&hash).cloned().unwrap_or_default();
         let mut other = Vec::new();
         let same = |tree: &Arc<Tree>, other: &mut Vec<u32>| {
             other.clear();
@@ -457,7 +448,7 @@ impl TreeCache {
         if let Some(tree) = seen.iter().find(|t| same(t, &mut other)) {
             return tree.clone();
         }
-        let mut map = lock();
+        let mut map = lock(&self.trees);
         let bucket = map.entry(hash).or_default();
         if let Some(tree) = bucket[seen.len()..].iter().find(|t| same(t, &mut other)) {
             return tree.clone();
@@ -803,10 +794,18 @@ impl TNode {
             None => unreachable!("a child is built after its siblings"),
         };
         way.with_topology(self, options, |t| {
-            let child = refine_topology(t, options, true);
-            let faces = cut_out_unbounded(&child, j, Self::chaikin(options));
+            let (child, faces) = Self::child_cut_out(t, j, options);
             self.sub_node(&child, &faces, needed)
         })
+    }
+
+    /// The refinement of cut-out `t` and the cut-out of its child `j` there (faces of the
+    /// refinement): how a child's node is found, when it is built and when it is made
+    /// again ([`Way`]).
+    fn child_cut_out(t: &Topology, j: usize, options: &Options) -> (Topology, Vec<u32>) {
+        let child = refine_topology(t, options, true);
+        let faces = cut_out_unbounded(&child, j, Self::chaikin(options));
+        (child, faces)
     }
 
     /// The node of the cut-out `faces` of `child`, this node's refinement, whose points
