@@ -66,7 +66,7 @@
 
 use super::bspline::{self, regular_bases, Batch, Derivatives, Order};
 use super::corner::{corner_limit, is_limit_corner, SectorCache};
-use super::crease_patch::{single_crease, CreaseBases, CreaseBasis, CreasePatch};
+use super::crease_patch::{single_crease, CreaseBasis, CreasePatch};
 use super::local::{
     cut_out, own_cut, region_cut, FaceKind, LevelRef, Local, Reach, Region, RegionCache,
     ShapeCache, HIGH_VALENCE,
@@ -943,8 +943,6 @@ pub(super) struct Shared {
     /// Configuration trees of irregular faces (also those inside shared regions, see
     /// [`super::local::FaceKind::Tree`]).
     pub trees: Arc<TreeCache>,
-    /// Crease bases by sharpness.
-    pub bases: CreaseBases,
     /// Shapes of the base level's shared regions (see [`super::local::Shape`]).
     pub regions: ShapeCache,
     /// Eigen-analyses of corner sectors (see [`SectorCache`]).
@@ -1089,7 +1087,7 @@ impl PatchNet {
             return None;
         }
         let (cells, side, s) = single_crease(t, f, options)?;
-        let crease = Some((side, shared.bases.get(s)));
+        let crease = Some((side, shared.trees.bases.get(s)));
         Some(PatchNet {
             net: Net::new(cells),
             crease,

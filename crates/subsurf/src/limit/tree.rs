@@ -29,7 +29,7 @@
 
 use super::bspline::{self, Derivatives, Order};
 use super::corner::{corner_limit, is_limit_corner, CornerLimit, SectorCache};
-use super::crease_patch::{single_crease, CreaseBasis, CreasePatch};
+use super::crease_patch::{single_crease, CreaseBases, CreaseBasis, CreasePatch};
 use super::local::{cut_out_unbounded, Local, Reach, Region, Shape};
 use super::lock;
 use super::patch::{regular_patch_cells, Cell, Net};
@@ -41,45 +41,6 @@ use std::collections::HashMap;
 use std::hash::{BuildHasherDefault, Hash, Hasher};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, OnceLock};
-
-/// Sparse rows of weights (CSR), as a node's refinement is found: each child vertex's
-/// weights on the node's vertices.
-#[derive(Debug, Default)]
-struct Rows {
-    offsets: Vec<u32>,
-    cols: Vec<u32>,
-    weights: Vec<f64>,
-}
-
-impl Rows {
-    /// The refinement of `t` into `child` (its `refine_topology`): row `c` holds the
-    /// weights of child vertex `c` on the vertices of `t` (sparse, from the refinement's
-    /// masks: `O(weights)`, where interpolating unit vectors costs `O(vertices²)`, which
-    /// dominated building the trees of faces next to vertices of high valence).
-    fn refinement(t: &Topology, child: &Topology, options: &Options) -> Self {
-        let mut rows = Rows {
-            offsets: vec![0],
-            ..Rows::default()
-        };
-        refinement_rows(t, child, options, |cols, weights| {
-            for (&c, &w) in cols.iter().zip(weights).filter(|&(_, &w)| w != 0.0) {
-                rows.cols.push(c);
-                rows.weights.push(w);
-            }
-            rows.offsets.push(rows.cols.len() as u32);
-        });
-        rows
-    }
-
-    /// The terms `(column, weight)` of row `r`.
-    fn row(&self, r: usize) -> impl Iterator<Item = (u32, f64)> + '_ {
-        let (a, b) = (self.offsets[r] as usize, self.offsets[r + 1] as usize);
-        self.cols[a..b]
-            .iter()
-            .copied()
-            .zip(self.weights[a..b].iter().copied())
-    }
-}
 
 /// The rows of a node's refined points ([`Kids`]), each row's weights stored once per
 /// distinct vector of weights: a node's refined points are face, edge and vertex points,
@@ -99,28 +60,37 @@ struct NodeRows {
 }
 
 impl NodeRows {
-    /// The rows `rows`, each a sequence of terms `(column, weight)` with nonzero weights.
-    fn new<R: IntoIterator<Item = (u32, f64)>>(rows: impl IntoIterator<Item = R>) -> Self {
-        let (mut offsets, mut cols, mut first, mut weights) = (vec![0], vec![], vec![], vec![]);
+    /// The rows of the refinement of `t` into `child` (its `refine_topology`) for the
+    /// child vertices `verts`, with the columns mapped through `cols` (from `t`'s vertices
+    /// to the points the node is evaluated on); zero weights left out.
+    fn refinement(
+        t: &Topology,
+        child: &Topology,
+        options: &Options,
+        verts: &[u32],
+        cols: &[u32],
+    ) -> Self {
+        let mut offsets = vec![0];
+        let (mut all_cols, mut first, mut weights) = (vec![], vec![], vec![]);
         let mut classes: HashMap<Vec<u64>, u32, BuildHasherDefault<FxHasher>> = HashMap::default();
         let mut row = Vec::new();
-        for terms in rows {
+        refinement_rows(t, child, options, verts.iter().copied(), |cs, ws| {
             row.clear();
-            for (c, w) in terms {
-                cols.push(c);
+            for (&c, &w) in cs.iter().zip(ws).filter(|&(_, &w)| w != 0.0) {
+                all_cols.push(cols[c as usize]);
                 row.push(w);
             }
-            offsets.push(cols.len() as u32);
+            offsets.push(all_cols.len() as u32);
             let key = row.iter().map(|w| w.to_bits()).collect();
             let start = *classes.entry(key).or_insert_with(|| {
                 weights.extend_from_slice(&row);
                 (weights.len() - row.len()) as u32
             });
             first.push(start);
-        }
+        });
         NodeRows {
             offsets: offsets.into(),
-            cols: cols.into(),
+            cols: all_cols.into(),
             first: first.into(),
             weights: weights.into(),
         }
@@ -352,13 +322,17 @@ impl CornerRows {
 pub(super) struct Tree {
     topo: Topology,
     root: TNode,
+    /// The crease bases of its crease patches, shared by all trees of a surface (one per
+    /// sharpness: made per patch, they were 6 % of the heap of a grid with random
+    /// sharpness on a tenth of its edges).
+    bases: Arc<CreaseBases>,
 }
 
 /// How a node's cut-out is found: the tree's root cut-out, or the cut-out of child `j` of
 /// a node found so, in that node's refinement.
 #[derive(Clone, Copy, Debug)]
 pub(super) enum Way<'a> {
-    Root(&'a Topology),
+    Root(&'a Tree),
     Child {
         parent: &'a TNode,
         up: &'a Way<'a>,
@@ -376,11 +350,19 @@ impl Way<'_> {
         f: impl FnOnce(&Topology) -> R,
     ) -> R {
         match *self {
-            Way::Root(t) => f(t),
+            Way::Root(tree) => f(&tree.topo),
             Way::Child { .. } => match lock(&node.topo).as_deref() {
                 Some(t) => f(t),
                 None => f(&self.remade(options)),
             },
+        }
+    }
+
+    /// The tree the way starts from.
+    fn tree(&self) -> &Tree {
+        match *self {
+            Way::Root(tree) => tree,
+            Way::Child { up, .. } => up.tree(),
         }
     }
 
@@ -414,6 +396,9 @@ pub(super) struct TreeCache {
     count: AtomicUsize,
     /// Refine single-crease faces further instead of using [`CreasePatch`] (tests compare).
     pub no_crease_patches: bool,
+    /// Crease bases by sharpness, for the crease patches of the trees and of the
+    /// surface's faces.
+    pub bases: Arc<CreaseBases>,
 }
 
 impl TreeCache {
@@ -454,7 +439,8 @@ impl TreeCache {
             return tree.clone();
         }
         let root = TNode::root(&topo, !self.no_crease_patches);
-        let tree = Arc::new(Tree { topo, root });
+        let bases = self.bases.clone();
+        let tree = Arc::new(Tree { topo, root, bases });
         bucket.push(tree.clone());
         self.count.fetch_add(1, Ordering::Relaxed);
         tree
@@ -524,7 +510,7 @@ impl Tree {
     /// The root's children (sub-faces of an `n`-gon root; quadrants of a quad), which
     /// read the refined points of its cut-out ([`Kids::refine`]).
     pub fn root_kids(&self, options: &Options) -> &Kids {
-        self.root.kids(options, |_| false, &Way::Root(&self.topo))
+        self.root.kids(options, |_| false, &Way::Root(self))
     }
 
     /// Evaluates `queries` on the face whose cut-out points are `pos` — on sub-face `sub`
@@ -542,7 +528,7 @@ impl Tree {
         ctx: Ctx<'_>,
         sink: &mut impl Sink,
     ) {
-        let way = &Way::Root(&self.topo);
+        let way = &Way::Root(self);
         match sub {
             None => descend(&self.root, way, pos, queries, depth, scratch, ctx, sink),
             Some(j) => {
@@ -771,7 +757,9 @@ impl TNode {
     /// nearly all have configurations of their own.
     fn kids(&self, options: &Options, wanted: impl Fn(usize) -> bool, way: &Way<'_>) -> &Kids {
         self.kids.get_or_init(|| {
-            let kids = way.with_topology(self, options, |t| self.build_kids(t, options, wanted));
+            let kids = way.with_topology(self, options, |t| {
+                self.build_kids(t, options, wanted, &way.tree().bases)
+            });
             // Built: the cut-out is made again if ever needed (see `topo`).
             *lock(&self.topo) = None;
             kids
@@ -824,6 +812,7 @@ impl TNode {
         t: &Topology,
         options: &Options,
         wanted: impl Fn(usize) -> bool,
+        bases: &CreaseBases,
     ) -> Box<Kids> {
         let child = refine_topology(t, options, true);
         // Face 0's children are the first faces of its refinement.
@@ -858,11 +847,7 @@ impl TNode {
         }
         needed.sort_unstable();
         needed.dedup();
-        let refinement = Rows::refinement(t, &child, options);
-        let rows = NodeRows::new(
-            (needed.iter())
-                .map(|&v| (refinement.row(v as usize)).map(|(c, w)| (self.cols[c as usize], w))),
-        );
+        let rows = NodeRows::refinement(t, &child, options, &needed, &self.cols);
         let mut kids = Kids {
             rows,
             needed: needed.into(),
@@ -883,7 +868,7 @@ impl TNode {
                     Found::Hole => Kid::Hole,
                     Found::Patch(cells, None) => Kid::Regular(net(cells)),
                     Found::Patch(cells, Some((side, s))) => {
-                        Kid::Crease(net(cells), side, Arc::new(CreaseBasis::new(s)))
+                        Kid::Crease(net(cells), side, bases.get(s))
                     }
                     Found::Irregular(faces) => {
                         let sub = OnceLock::new();
@@ -973,13 +958,7 @@ mod tests {
                     unreachable!("no high valence here");
                 };
                 let tree = trees.get(t.subset_canonical(&faces).0);
-                check_node(
-                    &tree.root,
-                    &Way::Root(&tree.topo),
-                    2,
-                    &options,
-                    &mut checked,
-                );
+                check_node(&tree.root, &Way::Root(&tree), 2, &options, &mut checked);
             }
         }
         let [patches, creases, irregular] = checked;

@@ -794,9 +794,9 @@ struct RowScratch {
     ce: Vec<f32>,
 }
 
-/// The refinement of `p` into `c` (its [`refine_topology`]) as sparse rows: for each
-/// vertex of `c` in order, `row(cols, weights)` with its weights on the vertices of `p`,
-/// each vertex once, zero weights included. These are the masks
+/// Rows of the refinement of `p` into `c` (its [`refine_topology`]) as sparse weights: for
+/// each vertex of `verts` (vertices of `c`) in order, `row(cols, weights)` with its weights
+/// on the vertices of `p`, each vertex once, zero weights included. These are the masks
 /// [`interpolate`](super::interpolate) applies (each weight summed with its rounding error
 /// carried, as [`RefinePlan`] does), so applying them gives `interpolate`'s values to
 /// rounding, in `O(weights)` time where interpolating unit vectors would take
@@ -805,13 +805,14 @@ pub(crate) fn refinement_rows(
     p: &Topology,
     c: &Topology,
     options: &Options,
+    verts: impl IntoIterator<Item = u32>,
     mut row: impl FnMut(&[u32], &[f64]),
 ) {
     let mut scratch = RowScratch::default();
     let mut weights = Vec::new();
-    for cv in 0..c.num_vertices() {
+    for cv in verts {
         scratch.row.clear();
-        stencil(p, c, options, cv, &mut scratch);
+        stencil(p, c, options, cv as usize, &mut scratch);
         let r = &scratch.row;
         weights.clear();
         weights.extend((0..r.cols.len()).map(|i| r.weight(i)));
