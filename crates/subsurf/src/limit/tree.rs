@@ -49,14 +49,52 @@ use std::sync::{Arc, Mutex, OnceLock};
 /// every term, the weights were two thirds of the rows, and the rows 43 % of the heap of a
 /// surface whose faces nearly all have configurations of their own (a grid with creases on
 /// a tenth of its edges).
-#[derive(Debug, Default)]
-struct NodeRows {
+///
+/// The indices (columns, where rows start, where their weights start) are 16-bit when they
+/// fit, as they do unless the node's cut-out holds a face or vertex of thousands of
+/// sides: 32-bit, they were half of the rows.
+#[derive(Debug)]
+enum NodeRows {
+    Narrow(RowsOf<u16>),
+    Wide(RowsOf<u32>),
+}
+
+/// [`NodeRows`] with indices of type `I`.
+#[derive(Debug)]
+struct RowsOf<I> {
     /// Row `r`'s columns are `cols[offsets[r]..offsets[r + 1]]`.
-    offsets: Box<[u32]>,
-    cols: Box<[u32]>,
+    offsets: Box<[I]>,
+    cols: Box<[I]>,
     /// Row `r`'s weights are `weights[first[r]..]`, as many as its columns.
-    first: Box<[u32]>,
+    first: Box<[I]>,
     weights: Box<[f64]>,
+}
+
+/// An index type of [`RowsOf`].
+trait Index: Copy {
+    /// `x`, which the caller has checked fits.
+    fn narrow(x: u32) -> Self;
+    fn get(self) -> usize;
+}
+
+impl Index for u16 {
+    fn narrow(x: u32) -> Self {
+        x as u16
+    }
+    #[inline]
+    fn get(self) -> usize {
+        usize::from(self)
+    }
+}
+
+impl Index for u32 {
+    fn narrow(x: u32) -> Self {
+        x
+    }
+    #[inline]
+    fn get(self) -> usize {
+        self as usize
+    }
 }
 
 impl NodeRows {
@@ -88,58 +126,87 @@ impl NodeRows {
             });
             first.push(start);
         });
-        NodeRows {
-            offsets: offsets.into(),
-            cols: all_cols.into(),
-            first: first.into(),
-            weights: weights.into(),
+        NodeRows::new(&offsets, &all_cols, &first, weights)
+    }
+
+    /// The rows of `offsets`, `cols`, `first` and `weights` (see [`RowsOf`]), with 16-bit
+    /// indices if they all fit.
+    fn new(offsets: &[u32], cols: &[u32], first: &[u32], weights: Vec<f64>) -> Self {
+        let fits = |x: &[u32]| x.iter().all(|&x| x <= u32::from(u16::MAX));
+        if fits(offsets) && fits(cols) && fits(first) {
+            NodeRows::Narrow(RowsOf::new(offsets, cols, first, weights))
+        } else {
+            NodeRows::Wide(RowsOf::new(offsets, cols, first, weights))
         }
     }
 
     fn len(&self) -> usize {
-        self.first.len()
+        match self {
+            NodeRows::Narrow(r) => r.first.len(),
+            NodeRows::Wide(r) => r.first.len(),
+        }
     }
 
-    /// Row `r`'s columns and weights.
-    #[inline]
-    fn row(&self, r: usize) -> (&[u32], &[f64]) {
-        let (a, b) = (self.offsets[r] as usize, self.offsets[r + 1] as usize);
-        let w = self.first[r] as usize;
+    /// Every row applied to `pos`, into `out`.
+    fn apply(&self, pos: &[[f64; 3]], out: &mut Vec<[f64; 3]>) {
+        out.resize(self.len(), [0.0; 3]);
+        match self {
+            NodeRows::Narrow(r) => r.apply(pos, out),
+            NodeRows::Wide(r) => r.apply(pos, out),
+        }
+    }
+}
+
+impl<I: Index> RowsOf<I> {
+    /// The rows of `offsets`, `cols`, `first` (see the fields; each fits in `I`) and
+    /// `weights`.
+    fn new(offsets: &[u32], cols: &[u32], first: &[u32], weights: Vec<f64>) -> Self {
+        let map = |x: &[u32]| x.iter().map(|&x| I::narrow(x)).collect();
+        RowsOf {
+            offsets: map(offsets),
+            cols: map(cols),
+            first: map(first),
+            weights: weights.into(),
+        }
+    }
+
+    /// Row `r`'s columns and weights, `r` starting at `cols[a..]` (`offsets[r]`).
+    #[inline(always)]
+    fn row(&self, r: usize, a: usize) -> (&[I], &[f64]) {
+        let b = self.offsets[r + 1].get();
+        let w = self.first[r].get();
         (&self.cols[a..b], &self.weights[w..w + (b - a)])
     }
 
-    /// Row `r` applied to `pos`.
-    #[inline]
-    fn apply_row(&self, r: usize, pos: &[[f64; 3]]) -> [f64; 3] {
-        let (cols, weights) = self.row(r);
-        let mut acc = [0.0; 3];
-        for (&c, &w) in cols.iter().zip(weights) {
-            let p = &pos[c as usize];
-            acc[0] += w * p[0];
-            acc[1] += w * p[1];
-            acc[2] += w * p[2];
-        }
-        acc
-    }
-
-    /// Every row applied to `pos`, into `out`: with AVX2 and FMA where the processor has
-    /// them (a point's three coordinates in one vector, one multiply-add per weight; the
-    /// descent of a tree spends most of its time here), else
-    /// [`apply_row`](Self::apply_row).
-    fn apply(&self, pos: &[[f64; 3]], out: &mut Vec<[f64; 3]>) {
-        out.resize(self.len(), [0.0; 3]);
+    /// Every row applied to `pos`, into `out` (one point per row): with AVX2 and FMA
+    /// where the processor has them (a point's three coordinates in one vector, one
+    /// multiply-add per weight; the descent of a tree spends most of its time here).
+    fn apply(&self, pos: &[[f64; 3]], out: &mut [[f64; 3]]) {
         #[cfg(target_arch = "x86_64")]
         if crate::cpu::has_avx2_fma() {
             // SAFETY: the features were just detected.
             unsafe { self.apply_avx(pos, out) };
             return;
         }
+        self.apply_portable(pos, out);
+    }
+
+    /// [`apply`](Self::apply) without vector instructions.
+    fn apply_portable(&self, pos: &[[f64; 3]], out: &mut [[f64; 3]]) {
+        let mut a = 0;
         for (r, o) in out.iter_mut().enumerate() {
-            *o = self.apply_row(r, pos);
+            let (cols, weights) = self.row(r, a);
+            a += cols.len();
+            let mut acc = [0.0; 3];
+            for (&c, &w) in cols.iter().zip(weights) {
+                let p = &pos[c.get()];
+                (0..3).for_each(|k| acc[k] += w * p[k]);
+            }
+            *o = acc;
         }
     }
 
-    /// [`apply`](Self::apply) with AVX2 and FMA, into `out` (one point per row).
+    /// [`apply`](Self::apply) with AVX2 and FMA.
     ///
     /// # Safety
     /// The processor has AVX2 and FMA.
@@ -147,11 +214,13 @@ impl NodeRows {
     #[target_feature(enable = "avx2,fma")]
     unsafe fn apply_avx(&self, pos: &[[f64; 3]], out: &mut [[f64; 3]]) {
         use std::arch::x86_64::*;
+        let mut a = 0;
         for (r, o) in out.iter_mut().enumerate() {
-            let (cols, weights) = self.row(r);
+            let (cols, weights) = self.row(r, a);
+            a += cols.len();
             let mut acc = _mm256_setzero_pd();
             for (&c, &w) in cols.iter().zip(weights) {
-                let p = &pos[c as usize];
+                let p = &pos[c.get()];
                 // SAFETY: `p` holds three `f64`: two loaded at its start, one at its end.
                 let x = unsafe {
                     let xy = _mm_loadu_pd(p.as_ptr());
@@ -963,6 +1032,64 @@ mod tests {
         }
         let [patches, creases, irregular] = checked;
         assert!(patches > 0 && creases > 0 && irregular > 0, "{checked:?}");
+    }
+
+    /// Rows with 16-bit indices give the points the same rows give with 32-bit ones, and
+    /// the vector path gives those of the portable one (to the rounding of its fused
+    /// multiply-adds); a node of a grid keeps 16-bit rows.
+    #[test]
+    fn narrow_and_wide_rows_agree() {
+        // A face point, an edge point, and a second face point sharing the first's weights.
+        let offsets = [0, 4, 6, 10];
+        let cols = [0, 1, 2, 3, 4, 1, 4, 5, 6, 7];
+        let first = [0, 4, 0];
+        let weights = vec![0.25, 0.25, 0.25, 0.25, 0.5, 0.5];
+        let pos: Vec<[f64; 3]> = (0..8)
+            .map(|i| {
+                let x = f64::from(i);
+                [x, x * x / 7.0, 1.0 / (x + 1.0)]
+            })
+            .collect();
+        let expect = |vs: &[usize], w: f64| -> [f64; 3] {
+            std::array::from_fn(|k| vs.iter().map(|&v| w * pos[v][k]).sum())
+        };
+        let wanted = [
+            expect(&[0, 1, 2, 3], 0.25),
+            expect(&[4, 1], 0.5),
+            expect(&[4, 5, 6, 7], 0.25),
+        ];
+        let narrow = RowsOf::<u16>::new(&offsets, &cols, &first, weights.clone());
+        let wide = RowsOf::<u32>::new(&offsets, &cols, &first, weights);
+        let (mut a, mut b, mut c) = ([[0.0; 3]; 3], [[0.0; 3]; 3], [[0.0; 3]; 3]);
+        narrow.apply(&pos, &mut a);
+        wide.apply(&pos, &mut b);
+        narrow.apply_portable(&pos, &mut c);
+        assert_eq!(a, b);
+        for (got, want) in [a, c].iter().flatten().zip(wanted.iter().chain(&wanted)) {
+            for k in 0..3 {
+                assert!((got[k] - want[k]).abs() <= 1e-15 * want[k].abs().max(1.0));
+            }
+        }
+
+        // A column past 16 bits keeps 32-bit indices.
+        let mut far = pos.clone();
+        far.resize(70_001, [0.0; 3]);
+        far[70_000] = [1.0, 2.0, 3.0];
+        let rows = NodeRows::new(&[0, 2], &[3, 70_000], &[0], vec![0.5, 0.5]);
+        assert!(matches!(rows, NodeRows::Wide(_)));
+        let mut out = Vec::new();
+        rows.apply(&far, &mut out);
+        for k in 0..3 {
+            assert!((out[0][k] - 0.5 * (pos[3][k] + far[70_000][k])).abs() < 1e-15);
+        }
+
+        let grid = crate::mesh::test_grid(4, 4, |x, y| [x, y, 0.0]);
+        let options = Options::default();
+        let t = Topology::from_mesh(&grid, &options).expect("topology").0;
+        let faces = super::super::local::cut_out(&t, 5, Reach::new(&options)).expect("cut-out");
+        let tree = TreeCache::new(true).get(t.subset_canonical(&faces).0);
+        let kids = tree.root_kids(&options);
+        assert!(matches!(kids.rows, NodeRows::Narrow(_)));
     }
 
     fn check_node(
