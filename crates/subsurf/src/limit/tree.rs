@@ -362,19 +362,25 @@ pub(super) struct TNode {
     corners: [OnceLock<Box<CornerRows>>; 4],
 }
 
-/// A corner analysis as weights: for each node vertex, its weights in the five linear
-/// vectors of [`CornerLimit`] (`p, a, b, t1, t2`).
+/// A corner analysis as weights: the five linear vectors of [`CornerLimit`]
+/// (`p, a, b, t1, t2`) as sparse weights on the points the node is evaluated on. Sparse,
+/// as the corner's limit reads only the points near it: stored for every vertex of the
+/// cut-out, the weights were a tenth of the heap of a grid with creases on a tenth of its
+/// edges.
 #[derive(Debug)]
 struct CornerRows {
     limit: CornerLimit,
-    weights: Vec<[f64; 5]>,
+    /// The points read ([`TNode::cols`] of the vertices with a nonzero weight).
+    cols: Box<[u32]>,
+    /// Their weights in the five vectors.
+    weights: Box<[[f64; 5]]>,
 }
 
 impl CornerRows {
-    /// The limit at the corner of a node evaluated on `pos`, whose vertices are at `cols`.
-    fn eval(&self, pos: &[[f64; 3]], cols: &[u32]) -> Derivatives {
+    /// The limit at the corner of a node evaluated on `pos`.
+    fn eval(&self, pos: &[[f64; 3]]) -> Derivatives {
         let mut v = [[0.0; 3]; 5];
-        for (w, &c) in self.weights.iter().zip(cols) {
+        for (w, &c) in self.weights.iter().zip(&*self.cols) {
             let p = pos[c as usize];
             for (vi, &wi) in v.iter_mut().zip(w) {
                 if wi != 0.0 {
@@ -660,7 +666,7 @@ fn descend(
         |k| node.stop[k],
         |k, out| {
             let corner = node.corner(k, ctx.options, ctx.sectors, way);
-            *sink.slot(out) = corner.eval(pos, &node.cols);
+            *sink.slot(out) = corner.eval(pos);
         },
     );
     let qs = &mut qs[..rest];
@@ -985,7 +991,15 @@ impl TNode {
                     weights[c0 + c] = vs.map(|v| v[c]);
                 }
             }
-            Box::new(CornerRows { limit, weights })
+            let (cols, weights): (Vec<u32>, Vec<[f64; 5]>) = (self.cols.iter().zip(weights))
+                .filter(|(_, w)| w.iter().any(|&w| w != 0.0))
+                .map(|(&c, w)| (c, w))
+                .unzip();
+            Box::new(CornerRows {
+                limit,
+                cols: cols.into(),
+                weights: weights.into(),
+            })
         })
     }
 }
