@@ -153,3 +153,33 @@ fn lock<T>(m: &std::sync::Mutex<T>) -> std::sync::MutexGuard<'_, T> {
         Err(poisoned) => poisoned.into_inner(),
     }
 }
+
+/// An index type of the compact tables of configuration trees: 16-bit where the indices
+/// fit (nearly always: a tree node reads a few dozen to a few thousand points), else
+/// 32-bit.
+trait Index: Copy + std::fmt::Debug + PartialEq {
+    /// `x` if it fits.
+    fn narrow(x: u32) -> Option<Self>;
+    /// The index.
+    fn get(self) -> usize;
+}
+
+impl Index for u16 {
+    fn narrow(x: u32) -> Option<Self> {
+        u16::try_from(x).ok()
+    }
+    #[inline]
+    fn get(self) -> usize {
+        usize::from(self)
+    }
+}
+
+impl Index for u32 {
+    fn narrow(x: u32) -> Option<Self> {
+        Some(x)
+    }
+    #[inline]
+    fn get(self) -> usize {
+        self as usize
+    }
+}

@@ -19,6 +19,7 @@
 //! infinitely sharp crease do not influence each other, so each side is such a patch.
 //! This is the construction of OpenSubdiv's regular boundary and corner patches.
 
+use super::Index;
 use crate::mesh::{CreaseMethod, Rule, Topology};
 use crate::scheme::crease;
 
@@ -152,13 +153,17 @@ impl Cell {
 /// come out the same, as when a degenerate face repeats a vertex) the cells (896
 /// bytes).
 ///
+///
+/// The vertex indices are of type `I`: `u32`, or `u16` in configuration trees, whose nets
+/// index a node's refined points ([`Net::narrow`]).
+///
 /// [`LimitSurface::set_positions`]: super::LimitSurface::set_positions
 #[derive(Clone, Debug)]
-pub(super) enum Net {
-    Plain([u32; 16]),
+pub(super) enum Net<I = u32> {
+    Plain([I; 16]),
     /// Vertex `v[4 i + j]` in cell `[i][j]` (0 in a phantom cell), and the sharp sides
     /// in [`fill_phantoms`]' order.
-    Sided([u32; 16], [bool; 4]),
+    Sided([I; 16], [bool; 4]),
     Cells(Box<[[Cell; 4]; 4]>),
 }
 
@@ -189,14 +194,34 @@ impl Net {
         }
     }
 
+    /// The same net with indices of type `J`, if they fit.
+    pub(super) fn narrow<J: Index>(&self) -> Option<Net<J>> {
+        let narrow = |v: &[u32; 16]| -> Option<[J; 16]> {
+            let mut out = [J::narrow(0)?; 16];
+            for (o, &x) in out.iter_mut().zip(v) {
+                *o = J::narrow(x)?;
+            }
+            Some(out)
+        };
+        Some(match self {
+            Net::Plain(v) => Net::Plain(narrow(v)?),
+            Net::Sided(v, sides) => Net::Sided(narrow(v)?, *sides),
+            Net::Cells(c) => Net::Cells(c.clone()),
+        })
+    }
+}
+
+impl<I: Index> Net<I> {
     /// The control points `cp[i][j]` for vertex positions `pos` (`i` along `u`, `j` along
     /// `v`).
     pub(super) fn eval(&self, pos: &[[f64; 3]]) -> [[[f64; 3]; 4]; 4] {
         match self {
             Net::Plain(v) => {
-                std::array::from_fn(|i| std::array::from_fn(|j| pos[v[4 * i + j] as usize]))
+                std::array::from_fn(|i| std::array::from_fn(|j| pos[v[4 * i + j].get()]))
             }
-            Net::Sided(v, sides) => sided_cells(v, *sides).map(|col| col.map(|c| c.eval(pos))),
+            Net::Sided(v, sides) => {
+                sided_cells(&wide(v), *sides).map(|col| col.map(|c| c.eval(pos)))
+            }
             Net::Cells(c) => c.map(|col| col.map(|c| c.eval(pos))),
         }
     }
@@ -205,11 +230,16 @@ impl Net {
     #[cfg(test)]
     pub(super) fn cells(&self) -> [[Cell; 4]; 4] {
         match self {
-            Net::Plain(v) => sided_cells(v, [false; 4]),
-            Net::Sided(v, sides) => sided_cells(v, *sides),
+            Net::Plain(v) => sided_cells(&wide(v), [false; 4]),
+            Net::Sided(v, sides) => sided_cells(&wide(v), *sides),
             Net::Cells(c) => **c,
         }
     }
+}
+
+/// Indices `v` as `u32`.
+fn wide<I: Index>(v: &[I; 16]) -> [u32; 16] {
+    v.map(|x| x.get() as u32)
 }
 
 /// The cells of a [`Net::Sided`]: vertex `v[4 i + j]` in cell `[i][j]`, then the phantom
@@ -498,6 +528,27 @@ fn fill_phantoms(cp: &mut [[Cell; 4]; 4], sharp: [bool; 4]) {
 mod tests {
     use super::*;
     use crate::mesh::{Crease, Options};
+
+    /// A net narrowed to 16-bit indices gives the same control points, sharp sides
+    /// included; one with an index past 16 bits stays as it is.
+    #[test]
+    fn narrow_nets_give_the_same_points() {
+        let pos: Vec<[f64; 3]> = (0..20)
+            .map(|i| {
+                let x = f64::from(i);
+                [x, x.sin(), x * x]
+            })
+            .collect();
+        let v: [u32; 16] = std::array::from_fn(|k| 19 - k as u32);
+        for net in [Net::Plain(v), Net::Sided(v, [true, false, false, true])] {
+            let narrow: Net<u16> = net.narrow().expect("fits");
+            assert_eq!(narrow.eval(&pos), net.eval(&pos));
+            assert_eq!(narrow.cells(), net.cells());
+        }
+        let mut far = v;
+        far[5] = 70_000;
+        assert!(Net::Plain(far).narrow::<u16>().is_none());
+    }
 
     /// At a boundary, a boundary corner and along an infinitely sharp crease, a patch's
     /// net keeps vertex indices and sharp sides, and gives the control points of its
