@@ -82,8 +82,11 @@ impl NodeRows {
         cols: &[u32],
     ) -> Self {
         let mut offsets = vec![0];
-        let (mut all_cols, mut first, mut weights) = (vec![], vec![], vec![]);
-        let mut classes: HashMap<Vec<u64>, u32, BuildHasherDefault<FxHasher>> = HashMap::default();
+        let (mut all_cols, mut first) = (vec![], vec![]);
+        let mut weights: Vec<f64> = Vec::new();
+        // The distinct weight vectors so far, `(start, length)` in `weights`: a node has a
+        // few dozen at most, so a scan finds a row's (a map allocated a key per row).
+        let mut classes: Vec<(u32, u32)> = Vec::new();
         let mut row = Vec::new();
         refinement_rows(t, child, options, verts.iter().copied(), |cs, ws| {
             row.clear();
@@ -92,11 +95,23 @@ impl NodeRows {
                 row.push(w);
             }
             offsets.push(all_cols.len() as u32);
-            let key = row.iter().map(|w| w.to_bits()).collect();
-            let start = *classes.entry(key).or_insert_with(|| {
-                weights.extend_from_slice(&row);
-                (weights.len() - row.len()) as u32
-            });
+            let same = |&&(start, len): &&(u32, u32)| {
+                let class = &weights[start as usize..(start + len) as usize];
+                len as usize == row.len()
+                    && class
+                        .iter()
+                        .zip(&row)
+                        .all(|(a, b)| a.to_bits() == b.to_bits())
+            };
+            let start = match classes.iter().find(same) {
+                Some(&(start, _)) => start,
+                None => {
+                    let start = weights.len() as u32;
+                    weights.extend_from_slice(&row);
+                    classes.push((start, row.len() as u32));
+                    start
+                }
+            };
             first.push(start);
         });
         NodeRows::new(&offsets, &all_cols, &first, weights)
