@@ -1072,7 +1072,11 @@ impl Topology {
             let f = faces[i] as usize;
             let (fv, fe) = (self.face_vertices(f), self.face_edge_list(f));
             let (n, r) = (fv.len(), rotations[i]);
-            (0..n).map(move |k| (fv[(r + k) % n], fe[(r + k) % n]))
+            // `r + k` wraps once at most (without a division: this runs for every corner).
+            (0..n).map(move |k| {
+                let j = if r + k < n { r + k } else { r + k - n };
+                (fv[j], fe[j])
+            })
         };
         // Numbered in order of first appearance.
         let corner_verts = || (0..faces.len()).flat_map(|i| corners(i).map(|(v, _)| v));
@@ -1095,8 +1099,13 @@ impl Topology {
         }
         // The position of a corner in its face, after the face's rotation.
         let local = |lf: u32, k: u16| {
+            let r = rotations[lf as usize];
+            if r == 0 {
+                return k;
+            }
             let n = self.face_vertices(faces[lf as usize] as usize).len();
-            ((k as usize + n - rotations[lf as usize]) % n) as u16
+            let j = k as usize + n - r;
+            (if j < n { j } else { j - n }) as u16
         };
         let mut t = Topology {
             num_vertices: verts.len() as u32,
