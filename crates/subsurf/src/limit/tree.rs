@@ -79,7 +79,7 @@ impl NodeRows {
         child: &Topology,
         options: &Options,
         verts: &[u32],
-        cols: &[u32],
+        cols: &Cols,
     ) -> Self {
         let mut offsets = vec![0];
         let (mut all_cols, mut first) = (vec![], vec![]);
@@ -91,7 +91,7 @@ impl NodeRows {
         refinement_rows(t, child, options, verts.iter().copied(), |cs, ws| {
             row.clear();
             for (&c, &w) in cs.iter().zip(ws).filter(|&(_, &w)| w != 0.0) {
-                all_cols.push(cols[c as usize]);
+                all_cols.push(cols.get(c));
                 row.push(w);
             }
             offsets.push(all_cols.len() as u32);
@@ -375,7 +375,7 @@ pub(super) struct TNode {
     /// Where each vertex of the cut-out is in the points the node is evaluated on: the root's
     /// are its cut-out's points in order, a child's are some of its parent's refined
     /// points ([`Kids`]).
-    cols: Box<[u32]>,
+    cols: Cols,
     /// Whether single-crease children are [`Kid::Crease`] (else refined further).
     crease: bool,
     /// Corners where the limit comes from [`corner_limit`] ([`is_limit_corner`]).
@@ -385,6 +385,44 @@ pub(super) struct TNode {
     /// four inline took 640 of a node's 1,160 bytes (11 % of the surface on irregular
     /// triangulations, when nearly every triangle had a tree of its own).
     corners: [OnceLock<Box<CornerRows>>; 4],
+}
+
+/// [`TNode::cols`]: the identity at the root; below, 16-bit positions when they fit (with
+/// 32-bit ones they were a tenth of the heap of a grid with creases on a tenth of its
+/// edges).
+#[derive(Debug)]
+enum Cols {
+    /// Vertex `i` at `i`, for this many vertices.
+    Identity(u32),
+    Narrow(Box<[u16]>),
+    Wide(Box<[u32]>),
+}
+
+impl Cols {
+    fn new(cols: Vec<u32>) -> Self {
+        match cols.iter().map(|&c| u16::narrow(c)).collect() {
+            Some(narrow) => Cols::Narrow(narrow),
+            None => Cols::Wide(cols.into()),
+        }
+    }
+
+    /// Where vertex `i` is.
+    fn get(&self, i: u32) -> u32 {
+        debug_assert!((i as usize) < self.len(), "a vertex past the cut-out");
+        match self {
+            Cols::Identity(_) => i,
+            Cols::Narrow(c) => u32::from(c[i as usize]),
+            Cols::Wide(c) => c[i as usize],
+        }
+    }
+
+    fn len(&self) -> usize {
+        match self {
+            Cols::Identity(n) => *n as usize,
+            Cols::Narrow(c) => c.len(),
+            Cols::Wide(c) => c.len(),
+        }
+    }
 }
 
 /// A corner analysis as weights: the five linear vectors of [`CornerLimit`]
@@ -827,7 +865,7 @@ enum Found {
 impl TNode {
     /// Face 0 of `topo`, evaluated on points where its vertices are at `cols` (the
     /// cut-out not kept: see [`TNode::topo`]).
-    fn new(topo: &Topology, crease: bool, cols: Box<[u32]>) -> Self {
+    fn new(topo: &Topology, crease: bool, cols: Cols) -> Self {
         let stop = std::array::from_fn(|k| {
             topo.face_vertices(0).len() == 4 && is_limit_corner(topo, 0, k)
         });
@@ -844,8 +882,7 @@ impl TNode {
     /// The root of a tree: face 0 of cut-out `topo` (which the tree keeps), evaluated on
     /// its points in order.
     fn root(topo: &Topology, crease: bool) -> Self {
-        let cols = (0..topo.num_vertices() as u32).collect();
-        TNode::new(topo, crease, cols)
+        TNode::new(topo, crease, Cols::Identity(topo.num_vertices() as u32))
     }
 
     /// The children (built the first time). Of the irregular ones, only those for which
@@ -900,7 +937,7 @@ impl TNode {
     /// are the refined vertices `needed`.
     fn sub_node(&self, child: &Topology, faces: &[u32], needed: &[u32]) -> Box<TNode> {
         let (sub, verts) = child.subset(faces);
-        let cols = verts.iter().map(|&v| slot_of(needed, v)).collect();
+        let cols = Cols::new(verts.iter().map(|&v| slot_of(needed, v)).collect());
         let mut node = TNode::new(&sub, self.crease, cols);
         node.topo = Mutex::new(Some(Box::new(sub)));
         Box::new(node)
@@ -1016,9 +1053,10 @@ impl TNode {
                     weights[c0 + c] = vs.map(|v| v[c]);
                 }
             }
-            let (cols, weights): (Vec<u32>, Vec<[f64; 5]>) = (self.cols.iter().zip(weights))
+            let (cols, weights): (Vec<u32>, Vec<[f64; 5]>) = (0..n as u32)
+                .zip(weights)
                 .filter(|(_, w)| w.iter().any(|&w| w != 0.0))
-                .map(|(&c, w)| (c, w))
+                .map(|(i, w)| (self.cols.get(i), w))
                 .unzip();
             Box::new(CornerRows {
                 limit,
@@ -1172,7 +1210,9 @@ mod tests {
                         };
                         check_node(sub, &way, levels - 1, options, checked);
                     }
-                    sub.cols.to_vec()
+                    (0..sub.cols.len() as u32)
+                        .map(|i| sub.cols.get(i))
+                        .collect()
                 }
             };
             for s in slots {
