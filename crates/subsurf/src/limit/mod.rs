@@ -157,7 +157,7 @@ fn lock<T>(m: &std::sync::Mutex<T>) -> std::sync::MutexGuard<'_, T> {
 /// An index type of the compact tables of configuration trees: 16-bit where the indices
 /// fit (nearly always: a tree node reads a few dozen to a few thousand points), else
 /// 32-bit.
-trait Index: Copy + std::fmt::Debug + PartialEq {
+trait Index: Copy {
     /// `x` if it fits.
     fn narrow(x: u32) -> Option<Self>;
     /// The index.

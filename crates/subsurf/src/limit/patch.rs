@@ -153,7 +153,6 @@ impl Cell {
 /// come out the same, as when a degenerate face repeats a vertex) the cells (896
 /// bytes).
 ///
-///
 /// The vertex indices are of type `I`: `u32`, or `u16` in configuration trees, whose nets
 /// index a node's refined points ([`Net::narrow`]).
 ///
