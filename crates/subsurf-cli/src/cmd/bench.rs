@@ -69,17 +69,12 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     if args.replay {
         return bench_replay(&input, opts.scheme, args.levels, reps, &pool);
     }
-    let mut times = Vec::with_capacity(reps);
     let mut verts = 0;
-    for _ in 0..reps {
-        let t0 = Instant::now();
-        let sub = pool
-            .install(|| subdivide(&input.obj.mesh, &opts))
-            .with_context(|| input.name.clone())?;
-        times.push(t0.elapsed().as_secs_f64());
+    let times = time_reps(&pool, reps, || {
+        let sub = subdivide(&input.obj.mesh, &opts).with_context(|| input.name.clone())?;
         verts = sub.mesh.num_vertices();
-    }
-    times.sort_by(f64::total_cmp);
+        Ok(sub)
+    })?;
     println!(
         "subsurf refine level={} verts={} threads={} median_s={:.6} min_s={:.6}",
         args.levels,
@@ -109,13 +104,10 @@ fn bench_replay(
     let build = t0.elapsed().as_secs_f64();
     let mut out = Vec::new();
     let mut scratch = PlanScratch::default();
-    let mut times = Vec::with_capacity(reps);
-    for _ in 0..reps {
-        let t0 = Instant::now();
-        pool.install(|| plan.apply_into(mesh.positions(), &mut out, &mut scratch));
-        times.push(t0.elapsed().as_secs_f64());
-    }
-    times.sort_by(f64::total_cmp);
+    let times = time_reps(pool, reps, || {
+        plan.apply_into(mesh.positions(), &mut out, &mut scratch);
+        Ok(())
+    })?;
     println!(
         "subsurf replay level={levels} verts={} threads={} median_s={:.6} min_s={:.6} (plan built in {build:.6}s) weights={} patches={} plan_mib={}",
         out.len(),
@@ -191,20 +183,15 @@ fn bench_limit(
     // (`catmark_nonman_quadpole360`: 6.2 ms a repetition with freed memory returned at
     // once, 4.2 ms kept, at the same peak).
     crate::memory::keep_freed_memory(true);
-    let mut times = Vec::with_capacity(reps);
-    for _ in 0..reps {
-        let t0 = Instant::now();
-        sink += pool
-            .install(|| {
-                // Re-posed in place, to the same points (as an animation writing its next
-                // frame into the surface would).
-                surface.update_positions(|_| {})?;
-                Ok::<_, subsurf::mesh::MeshError>(eval_all(&surface, &faces))
-            })
+    let times = time_reps(pool, reps, || {
+        // Re-posed in place, to the same points (as an animation writing its next frame
+        // into the surface would).
+        surface
+            .update_positions(|_| {})
             .with_context(|| name.clone())?;
-        times.push(t0.elapsed().as_secs_f64());
-    }
-    times.sort_by(f64::total_cmp);
+        sink += eval_all(&surface, &faces);
+        Ok(())
+    })?;
     println!(
         "subsurf limit points={} threads={} median_s={:.6} min_s={:.6} cold_s={cold:.6} configurations={} (sink {sink:.3})",
         faces.len() as u64 * (n * n) as u64,
@@ -214,6 +201,28 @@ fn bench_limit(
         surface.num_configurations(),
     );
     Ok(())
+}
+
+/// The seconds of `reps` runs of `rep`, sorted, each result dropped after its time is
+/// taken. All run inside `pool` after one hand-over to it: handing each over, the times
+/// included waking the pool's thread (tens of microseconds, more than the whole work of
+/// a small mesh's limit grid: `catmark_pyramid` measured 23 µs against `Bfr`'s 16).
+fn time_reps<T>(
+    pool: &rayon::ThreadPool,
+    reps: usize,
+    mut rep: impl FnMut() -> Result<T> + Send,
+) -> Result<Vec<f64>> {
+    pool.install(|| {
+        let mut times = Vec::with_capacity(reps);
+        for _ in 0..reps {
+            let t0 = Instant::now();
+            let result = rep()?;
+            times.push(t0.elapsed().as_secs_f64());
+            drop(result);
+        }
+        times.sort_by(f64::total_cmp);
+        Ok(times)
+    })
 }
 
 /// Bytes per point of [`bench_limit`]'s blocks: the point and its result.
