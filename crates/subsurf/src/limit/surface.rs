@@ -64,7 +64,7 @@
 //! cross product is the exact limit normal) but their lengths are not parametric
 //! derivatives; second derivatives are zero.
 
-use super::bspline::{self, regular_bases, Batch, Derivatives, Order};
+use super::bspline::{self, Batch, Derivatives, Order, RegularBases};
 use super::corner::{corner_limit, is_limit_corner, SectorCache};
 use super::crease_patch::{single_crease, CreaseBasis, CreasePatch};
 use super::local::{
@@ -250,7 +250,7 @@ impl Node {
     /// base face's net); `false`, evaluating nothing, for any other node.
     fn eval_patch(&self, ctx: Ctx<'_>, scale: f64, batch: &mut impl Batch) -> bool {
         if let Some(cp) = self.bicubic(ctx) {
-            bspline::tensor_batch(&cp, regular_bases, ctx.order, scale, batch);
+            bspline::tensor_batch(&cp, RegularBases, ctx.order, scale, batch);
         } else if let Some(p) = self.crease_patch(ctx) {
             p.eval_batch(ctx.order, scale, batch);
         } else {

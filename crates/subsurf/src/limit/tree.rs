@@ -835,7 +835,7 @@ fn kid_eval(
             let cp = net.eval(refined);
             let scale = 2f64.powi(depth as i32);
             let leaf = &mut Leaf { qs, sink };
-            bspline::tensor_batch(&cp, bspline::regular_bases, ctx.order, scale, leaf);
+            bspline::tensor_batch(&cp, bspline::RegularBases, ctx.order, scale, leaf);
         }
         Some((kid @ Kid::Crease(..), ..)) => {
             if let Some(patch) = kid.crease_patch(refined) {
