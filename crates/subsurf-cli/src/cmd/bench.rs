@@ -206,7 +206,8 @@ fn bench_limit(
 /// The seconds of `reps` runs of `rep`, sorted, each result dropped after its time is
 /// taken. All run inside `pool` after one hand-over to it: handing each over, the times
 /// included waking the pool's thread (tens of microseconds, more than the whole work of
-/// a small mesh's limit grid: `catmark_pyramid` measured 23 µs against `Bfr`'s 16).
+/// a small mesh's limit grid: `catmark_pyramid` measured 30 µs against `Bfr`'s 14, 7 µs
+/// now).
 fn time_reps<T>(
     pool: &rayon::ThreadPool,
     reps: usize,
