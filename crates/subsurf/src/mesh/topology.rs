@@ -1085,15 +1085,14 @@ impl Topology {
         let (vmap, verts) = SubsetMap::numbering(corner_verts(), self.num_vertices(), n);
         let (emap, edges) = SubsetMap::numbering(corner_edges(), self.edge_verts.len(), n);
         let (fmap, _) = SubsetMap::numbering(faces.iter().copied(), self.num_faces(), n);
-        let lookup = |map: &SubsetMap, x: u32| map.get(x);
         let mut face_offsets = Vec::with_capacity(faces.len() + 1);
         face_offsets.push(0u32);
         let mut face_verts = Vec::new();
         let mut face_edges = Vec::new();
         for i in 0..faces.len() {
             for (v, e) in corners(i) {
-                face_verts.push(lookup(&vmap, v).unwrap_or(0));
-                face_edges.push(lookup(&emap, e).unwrap_or(0));
+                face_verts.push(vmap.get(v).unwrap_or(0));
+                face_edges.push(emap.get(e).unwrap_or(0));
             }
             face_offsets.push(face_verts.len() as u32);
         }
@@ -1119,7 +1118,7 @@ impl Topology {
         };
         t.edge_verts = edges
             .iter()
-            .map(|&e| self.edge_verts[e as usize].map(|v| lookup(&vmap, v).unwrap_or(0)))
+            .map(|&e| self.edge_verts[e as usize].map(|v| vmap.get(v).unwrap_or(0)))
             .collect();
         t.edge_sharpness = edges
             .iter()
@@ -1130,7 +1129,7 @@ impl Topology {
         for &e in &edges {
             let r = range(&self.edge_face_offsets, e as usize);
             for i in r {
-                if let Some(lf) = lookup(&fmap, self.edge_faces[i]) {
+                if let Some(lf) = fmap.get(self.edge_faces[i]) {
                     t.edge_faces.push(lf);
                     t.edge_face_local.push(local(lf, self.edge_face_local[i]));
                 }
@@ -1158,7 +1157,7 @@ impl Topology {
             let start = if canonical && cyclic && !self.sharpness_sums_depend_on_order(v) {
                 faces_v
                     .clone()
-                    .filter_map(|i| lookup(&fmap, self.vert_faces[i]).map(|lf| (lf, i)))
+                    .filter_map(|i| fmap.get(self.vert_faces[i]).map(|lf| (lf, i)))
                     .min()
                     .map_or(0, |(_, i)| i - faces_v.start)
             } else {
@@ -1170,14 +1169,14 @@ impl Topology {
                 (a..r.end).chain(r.start..a)
             };
             for i in from(&faces_v) {
-                if let Some(lf) = lookup(&fmap, self.vert_faces[i]) {
+                if let Some(lf) = fmap.get(self.vert_faces[i]) {
                     t.vert_faces.push(lf);
                     t.vert_face_local.push(local(lf, self.vert_face_local[i]));
                 }
             }
             t.vert_face_offsets.push(t.vert_faces.len() as u32);
             for i in from(&edges_v) {
-                if let Some(le) = lookup(&emap, self.vert_edges[i]) {
+                if let Some(le) = emap.get(self.vert_edges[i]) {
                     t.vert_edges.push(le);
                     t.vert_edge_local.push(self.vert_edge_local[i]);
                 }
