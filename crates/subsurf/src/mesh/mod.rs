@@ -12,6 +12,7 @@
 mod crease_angle;
 mod error;
 mod options;
+mod packed;
 mod polymesh;
 mod tags;
 mod topology;
@@ -19,6 +20,7 @@ mod topology;
 pub use crease_angle::{crease_by_angle, CreaseAngleError};
 pub use error::{MeshError, TopologyWarning};
 pub use options::{BoundaryInterpolation, CreaseMethod, Options, TriangleSubdivision};
+pub(crate) use packed::PackedTopology;
 pub(crate) use polymesh::check_coordinates;
 pub use polymesh::{PolyMesh, MAX_COORDINATE};
 pub use tags::{

@@ -113,6 +113,11 @@ impl PackedEdgeTag {
     pub(crate) fn bits(self) -> u32 {
         u32::from(self.0)
     }
+
+    /// The tag whose [`bits`](Self::bits) are `bits` (`mesh::packed`).
+    pub(crate) fn from_bits(bits: u32) -> Self {
+        Self(bits as _)
+    }
 }
 
 impl From<EdgeTag> for PackedEdgeTag {
@@ -157,6 +162,11 @@ impl PackedVertexTag {
     /// The bits (for [`Topology::structure_key`]).
     pub(crate) fn bits(self) -> u32 {
         u32::from(self.0)
+    }
+
+    /// The tag whose [`bits`](Self::bits) are `bits` (`mesh::packed`).
+    pub(crate) fn from_bits(bits: u32) -> Self {
+        Self(bits as _)
     }
 }
 
