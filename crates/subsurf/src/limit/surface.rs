@@ -193,9 +193,46 @@ pub(super) enum Node {
 pub(super) struct TreeFace {
     tree: Arc<Tree>,
     /// The points of the face's cut-out (the tree's root).
-    pos: Arc<[[f64; 3]]>,
+    points: CutPoints,
     /// The sub-face of an `n`-gon, `None` for a quad.
     sub: Option<usize>,
+}
+
+/// The points of a [`TreeFace`]'s cut-out.
+#[derive(Clone, Debug)]
+enum CutPoints {
+    /// Vertices of the base mesh, whose positions are read from the control points when
+    /// the face is evaluated ([`Ctx::pos`]): shared with the face's [`Recipe`], and
+    /// nothing to update when the positions change. Kept as positions, they were 6 % of
+    /// the heap of a grid with creases on a tenth of its edges.
+    Base(Arc<[u32]>),
+    /// Positions: a face of a refined cut-out or region, whose points only it holds.
+    Own(Arc<[[f64; 3]]>),
+}
+
+impl TreeFace {
+    /// Evaluates `qs` (see [`Tree::eval`]), the cut-out's points gathered into `scratch`
+    /// if they are base vertices.
+    fn eval(
+        &self,
+        qs: &mut [Query],
+        depth: u32,
+        scratch: &mut Scratch,
+        ctx: Ctx<'_>,
+        sink: &mut impl Sink,
+    ) {
+        match &self.points {
+            CutPoints::Own(pos) => self.tree.eval(pos, self.sub, qs, depth, scratch, ctx, sink),
+            CutPoints::Base(verts) => {
+                let mut pos = scratch.take_cut();
+                pos.clear();
+                pos.extend(verts.iter().map(|&v| ctx.pos[v as usize]));
+                self.tree
+                    .eval(&pos, self.sub, qs, depth, scratch, ctx, sink);
+                scratch.put_cut(pos);
+            }
+        }
+    }
 }
 
 /// An irregular node: the cut-out around it and, once built, its children at the corners
@@ -1025,13 +1062,13 @@ impl Recipe {
         match (self, nodes) {
             (Recipe::Fixed, _) => true,
             (Recipe::Tree(tree, verts), nodes) => {
-                let points: Arc<[[f64; 3]]> = verts.iter().map(|&v| pos[v as usize]).collect();
                 let kids = tree.root_kids(options);
                 // The root's refined points, for the patches of an n-gon's sub-faces.
                 let patches = nodes
                     .iter()
                     .any(|n| matches!(n, Node::Regular(_) | Node::Crease(_)));
                 let refined = if patches {
+                    let points: Vec<[f64; 3]> = verts.iter().map(|&v| pos[v as usize]).collect();
                     kids.refine(&points)
                 } else {
                     Vec::new()
@@ -1039,7 +1076,9 @@ impl Recipe {
                 let kids = kids.kids();
                 for (j, node) in nodes.iter_mut().enumerate() {
                     match node {
-                        Node::Tree(t) => t.pos = points.clone(),
+                        // Reads its points from the control points.
+                        Node::Tree(t) if matches!(t.points, CutPoints::Base(_)) => {}
+                        Node::Tree(_) => return false,
                         Node::Regular(cp) => match kids.get(j).and_then(|k| k.patch(&refined)) {
                             Some(p) => **cp = p,
                             None => return false,
@@ -1095,20 +1134,20 @@ impl PatchNet {
     }
 }
 
-/// The `count` nodes of a face evaluated through `tree` (one for a quad, one per sub-face
-/// of an `n`-gon), whose cut-out has the vertices `verts` of a level with positions `pos`.
+/// The `count` nodes of a base face evaluated through `tree` (one for a quad, one per
+/// sub-face of an `n`-gon), whose cut-out has the base vertices `verts`, at positions
+/// `pos` (those the surface is evaluated with, [`Ctx::pos`]).
 fn tree_nodes(
     tree: &Arc<Tree>,
-    verts: &[u32],
+    verts: &Arc<[u32]>,
     pos: &[[f64; 3]],
     count: usize,
     options: &Options,
 ) -> Vec<Node> {
-    let pos: Arc<[[f64; 3]]> = verts.iter().map(|&v| pos[v as usize]).collect();
     let node = |sub: Option<usize>| {
         Node::Tree(Box::new(TreeFace {
             tree: tree.clone(),
-            pos: pos.clone(),
+            points: CutPoints::Base(verts.clone()),
             sub,
         }))
     };
@@ -1116,6 +1155,7 @@ fn tree_nodes(
         return vec![node(None)];
     }
     let kids = tree.root_kids(options);
+    let pos: Vec<[f64; 3]> = verts.iter().map(|&v| pos[v as usize]).collect();
     let refined = kids.refine(&pos);
     kids.kids()
         .iter()
@@ -1157,7 +1197,7 @@ fn node_for(region: &Arc<Region>, f: usize) -> Node {
         FaceKind::Own(faces) => Node::lazy(own_cut(level, faces)),
         FaceKind::Tree(tree, verts) => Node::Tree(Box::new(TreeFace {
             tree: tree.clone(),
-            pos: verts.iter().map(|&v| level.pos[v as usize]).collect(),
+            points: CutPoints::Own(verts.iter().map(|&v| level.pos[v as usize]).collect()),
             sub: None,
         })),
     }
@@ -1188,7 +1228,7 @@ fn eval_queries(
         Node::Plain(_) | Node::Regular(_) | Node::InRegion(_) | Node::Crease(_) | Node::Net(_) => {
             node.eval_patch(ctx, scale, &mut Leaf { qs, sink });
         }
-        Node::Tree(t) => t.tree.eval(&t.pos, t.sub, qs, depth, scratch, ctx, sink),
+        Node::Tree(t) => t.eval(qs, depth, scratch, ctx, sink),
         Node::Lazy(lz) => {
             // Limit masks give the limit only once no semi-sharp feature is left at the
             // corner (sharpness still to decay changes the rules of later levels). A

@@ -627,6 +627,8 @@ pub(super) struct Scratch {
     levels: Vec<Vec<[f64; 3]>>,
     /// The refined points of an `n`-gon root (whose sub-faces start at depth 0).
     root: Vec<[f64; 3]>,
+    /// The points of a base face's cut-out.
+    cut: Vec<[f64; 3]>,
 }
 
 impl Scratch {
@@ -642,6 +644,16 @@ impl Scratch {
 
     fn put(&mut self, depth: u32, buffer: Vec<[f64; 3]>) {
         self.levels[depth as usize] = buffer;
+    }
+
+    /// The buffer of a cut-out's points, taken out (put it back with
+    /// [`put_cut`](Self::put_cut)).
+    pub fn take_cut(&mut self) -> Vec<[f64; 3]> {
+        std::mem::take(&mut self.cut)
+    }
+
+    pub fn put_cut(&mut self, buffer: Vec<[f64; 3]>) {
+        self.cut = buffer;
     }
 }
 
