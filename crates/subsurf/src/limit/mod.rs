@@ -154,14 +154,24 @@ fn lock<T>(m: &std::sync::Mutex<T>) -> std::sync::MutexGuard<'_, T> {
     }
 }
 
-/// An index type of the compact tables of configuration trees: 16-bit where the indices
-/// fit (nearly always: a tree node reads a few dozen to a few thousand points), else
-/// 32-bit.
+/// An index type of the compact tables of configuration trees: 8-bit or 16-bit where the
+/// indices fit (nearly always: a tree node reads a few dozen to a few thousand points),
+/// else 32-bit.
 trait Index: Copy {
     /// `x` if it fits.
     fn narrow(x: u32) -> Option<Self>;
     /// The index.
     fn get(self) -> usize;
+}
+
+impl Index for u8 {
+    fn narrow(x: u32) -> Option<Self> {
+        u8::try_from(x).ok()
+    }
+    #[inline]
+    fn get(self) -> usize {
+        usize::from(self)
+    }
 }
 
 impl Index for u16 {

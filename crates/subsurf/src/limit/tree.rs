@@ -50,11 +50,15 @@ use std::sync::{Arc, Mutex, OnceLock};
 /// surface whose faces nearly all have configurations of their own (a grid with creases on
 /// a tenth of its edges).
 ///
-/// The indices (columns, where rows start, where their weights start) are 16-bit when they
-/// fit, as they do unless the node's cut-out holds a face or vertex of thousands of
-/// sides: 32-bit, they were half of the rows.
+/// The indices (columns, where rows start, where their weights start) are 8-bit when they
+/// fit, as they do on nearly every node (a cut-out of a few dozen points, its refinement
+/// read through a couple of hundred terms: on a grid with creases on a tenth of its edges,
+/// at most 24 columns and 140 terms), else 16-bit unless the node's cut-out holds a face
+/// or vertex of thousands of sides. 32-bit, they were half of the rows; 16-bit, they were
+/// still two thirds of the rows and a sixth of the heap of that grid.
 #[derive(Debug)]
 enum NodeRows {
+    Tiny(RowsOf<u8>),
     Narrow(RowsOf<u16>),
     Wide(RowsOf<u32>),
 }
@@ -117,20 +121,24 @@ impl NodeRows {
         NodeRows::new(&offsets, &all_cols, &first, weights)
     }
 
-    /// The rows of `offsets`, `cols`, `first` and `weights` (see [`RowsOf`]), with 16-bit
-    /// indices if they all fit.
+    /// The rows of `offsets`, `cols`, `first` and `weights` (see [`RowsOf`]), with the
+    /// narrowest indices they all fit.
     fn new(offsets: &[u32], cols: &[u32], first: &[u32], weights: Vec<f64>) -> Self {
-        match RowsOf::new(offsets, cols, first, &weights) {
-            Some(rows) => NodeRows::Narrow(rows),
-            None => NodeRows::Wide(
+        if let Some(rows) = RowsOf::new(offsets, cols, first, &weights) {
+            NodeRows::Tiny(rows)
+        } else if let Some(rows) = RowsOf::new(offsets, cols, first, &weights) {
+            NodeRows::Narrow(rows)
+        } else {
+            NodeRows::Wide(
                 RowsOf::new(offsets, cols, first, &weights)
                     .unwrap_or_else(|| unreachable!("32-bit indices fit")),
-            ),
+            )
         }
     }
 
     fn len(&self) -> usize {
         match self {
+            NodeRows::Tiny(r) => r.first.len(),
             NodeRows::Narrow(r) => r.first.len(),
             NodeRows::Wide(r) => r.first.len(),
         }
@@ -140,6 +148,7 @@ impl NodeRows {
     fn apply(&self, pos: &[[f64; 3]], out: &mut Vec<[f64; 3]>) {
         out.resize(self.len(), [0.0; 3]);
         match self {
+            NodeRows::Tiny(r) => r.apply(pos, out),
             NodeRows::Narrow(r) => r.apply(pos, out),
             NodeRows::Wide(r) => r.apply(pos, out),
         }
@@ -1124,11 +1133,12 @@ mod tests {
         assert!(patches > 0 && creases > 0 && irregular > 0, "{checked:?}");
     }
 
-    /// Rows with 16-bit indices give the points the same rows give with 32-bit ones, and
-    /// the vector path gives those of the portable one (to the rounding of its fused
-    /// multiply-adds); a node of a grid keeps 16-bit rows.
+    /// Rows with 8-bit and 16-bit indices give the points the same rows give with 32-bit
+    /// ones, and the vector path gives those of the portable one (to the rounding of its
+    /// fused multiply-adds); a node of a grid keeps 8-bit rows, a node reading a point past
+    /// 8 or 16 bits wider ones.
     #[test]
-    fn narrow_and_wide_rows_agree() {
+    fn rows_of_every_width_agree() {
         // A face point, an edge point, and a second face point sharing the first's weights.
         let offsets = [0, 4, 6, 10];
         let cols = [0, 1, 2, 3, 4, 1, 4, 5, 6, 7];
@@ -1148,29 +1158,37 @@ mod tests {
             expect(&[4, 1], 0.5),
             expect(&[4, 5, 6, 7], 0.25),
         ];
+        let tiny = RowsOf::<u8>::new(&offsets, &cols, &first, &weights).expect("fits");
         let narrow = RowsOf::<u16>::new(&offsets, &cols, &first, &weights).expect("fits");
         let wide = RowsOf::<u32>::new(&offsets, &cols, &first, &weights).expect("fits");
         let (mut a, mut b, mut c) = ([[0.0; 3]; 3], [[0.0; 3]; 3], [[0.0; 3]; 3]);
+        let mut d = a;
         narrow.apply(&pos, &mut a);
         wide.apply(&pos, &mut b);
         narrow.apply_portable(&pos, &mut c);
+        tiny.apply(&pos, &mut d);
         assert_eq!(a, b);
+        assert_eq!(a, d);
         for (got, want) in [a, c].iter().flatten().zip(wanted.iter().chain(&wanted)) {
             for k in 0..3 {
                 assert!((got[k] - want[k]).abs() <= 1e-15 * want[k].abs().max(1.0));
             }
         }
 
-        // A column past 16 bits keeps 32-bit indices.
-        let mut far = pos.clone();
-        far.resize(70_001, [0.0; 3]);
-        far[70_000] = [1.0, 2.0, 3.0];
-        let rows = NodeRows::new(&[0, 2], &[3, 70_000], &[0], vec![0.5, 0.5]);
-        assert!(matches!(rows, NodeRows::Wide(_)));
-        let mut out = Vec::new();
-        rows.apply(&far, &mut out);
-        for k in 0..3 {
-            assert!((out[0][k] - 0.5 * (pos[3][k] + far[70_000][k])).abs() < 1e-15);
+        // A column past 8 bits keeps 16-bit indices, one past 16 bits 32-bit ones.
+        for far_col in [300, 70_000] {
+            let mut far = pos.clone();
+            far.resize(far_col + 1, [0.0; 3]);
+            far[far_col] = [1.0, 2.0, 3.0];
+            let rows = NodeRows::new(&[0, 2], &[3, far_col as u32], &[0], vec![0.5, 0.5]);
+            let wide = matches!(rows, NodeRows::Wide(_));
+            assert_eq!(wide, far_col > 65_535, "column {far_col}");
+            assert!(!matches!(rows, NodeRows::Tiny(_)), "column {far_col}");
+            let mut out = Vec::new();
+            rows.apply(&far, &mut out);
+            for k in 0..3 {
+                assert!((out[0][k] - 0.5 * (pos[3][k] + far[far_col][k])).abs() < 1e-15);
+            }
         }
 
         let grid = crate::mesh::test_grid(4, 4, |x, y| [x, y, 0.0]);
@@ -1179,7 +1197,7 @@ mod tests {
         let faces = super::super::local::cut_out(&t, 5, Reach::new(&options)).expect("cut-out");
         let tree = TreeCache::new(true).get(t.subset_canonical(&faces).0);
         let kids = tree.root_kids(&options);
-        assert!(matches!(kids.rows, NodeRows::Narrow(_)));
+        assert!(matches!(kids.rows, NodeRows::Tiny(_)));
     }
 
     fn check_node(
