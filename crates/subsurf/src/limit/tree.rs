@@ -250,13 +250,13 @@ pub(super) enum Kid {
     Irregular(OnceLock<Box<TNode>>),
 }
 
-/// The net of a patch child: 16-bit indices of its parent's refined points, unless there
-/// are more of those (a node holding a face of thousands of sides). With 32-bit ones
-/// a child took 96 bytes, and the children were 14 % of the heap of a grid with creases on
-/// a tenth of its edges; now 56.
+/// The net of a patch child: 8-bit indices of its parent's refined points, unless there
+/// are more of those (a node holding a vertex of high valence). With 32-bit ones a child
+/// took 96 bytes, and the children were 14 % of the heap of a grid with creases on a
+/// tenth of its edges; with 16-bit ones 56, now 40.
 #[derive(Debug)]
 pub(super) enum KidNet {
-    Narrow(Net<u16>),
+    Narrow(Net<u8>),
     Wide(Box<Net>),
 }
 
@@ -1198,6 +1198,23 @@ mod tests {
         let tree = TreeCache::new(true).get(t.subset_canonical(&faces).0);
         let kids = tree.root_kids(&options);
         assert!(matches!(kids.rows, NodeRows::Tiny(_)));
+    }
+
+    /// A patch child's net keeps 8-bit indices when its parent has at most 256 refined
+    /// points, else 32-bit ones, to the same control points.
+    #[test]
+    fn kid_nets_of_both_widths_agree() {
+        let refined: Vec<[f64; 3]> = (0..400)
+            .map(|i| [f64::from(i), f64::from(i % 7), 1.0])
+            .collect();
+        for top in [255, 399] {
+            let verts: [u32; 16] = std::array::from_fn(|k| top - 3 * k as u32);
+            let net = Net::Plain(verts);
+            let want = net.eval(&refined);
+            let kid = KidNet::new(net);
+            assert_eq!(matches!(kid, KidNet::Wide(_)), top > 255);
+            assert_eq!(kid.eval(&refined), want);
+        }
     }
 
     fn check_node(
