@@ -157,13 +157,17 @@ impl Reader<'_> {
         }
         let (data, rest) = self.0.split_at(len as usize * bytes);
         self.0 = rest;
-        (data.chunks_exact(bytes))
-            .map(|c| {
-                let mut le = [0; 4];
-                le[..bytes].copy_from_slice(c);
-                u32::from_le_bytes(le)
-            })
-            .collect()
+        // One loop per width (the roots of trees are unpacked often: a loop copying each
+        // entry's bytes was 6 % of a first evaluation of the creased grids).
+        match bytes {
+            1 => data.iter().map(|&b| u32::from(b)).collect(),
+            2 => (data.chunks_exact(2))
+                .map(|c| u32::from(u16::from_le_bytes([c[0], c[1]])))
+                .collect(),
+            _ => (data.chunks_exact(4))
+                .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+                .collect(),
+        }
     }
 }
 
