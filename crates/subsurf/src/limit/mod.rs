@@ -164,25 +164,22 @@ trait Index: Copy {
     fn get(self) -> usize;
 }
 
-impl Index for u8 {
-    fn narrow(x: u32) -> Option<Self> {
-        u8::try_from(x).ok()
-    }
-    #[inline]
-    fn get(self) -> usize {
-        usize::from(self)
-    }
+/// [`Index`] for unsigned types narrower than `u32`.
+macro_rules! narrow_index {
+    ($($t:ty),*) => {$(
+        impl Index for $t {
+            fn narrow(x: u32) -> Option<Self> {
+                <$t>::try_from(x).ok()
+            }
+            #[inline]
+            fn get(self) -> usize {
+                usize::from(self)
+            }
+        }
+    )*};
 }
 
-impl Index for u16 {
-    fn narrow(x: u32) -> Option<Self> {
-        u16::try_from(x).ok()
-    }
-    #[inline]
-    fn get(self) -> usize {
-        usize::from(self)
-    }
-}
+narrow_index!(u8, u16);
 
 impl Index for u32 {
     fn narrow(x: u32) -> Option<Self> {

@@ -661,6 +661,7 @@ impl Scratch {
         std::mem::take(&mut self.cut)
     }
 
+    /// Puts back the buffer [`take_cut`](Self::take_cut) took out.
     pub fn put_cut(&mut self, buffer: Vec<[f64; 3]>) {
         self.cut = buffer;
     }
