@@ -230,7 +230,15 @@ mod tests {
                 seen.push((key(&top), packed));
             }
         }
-        assert!(seen.iter().any(|(k, _)| seen.iter().any(|(l, _)| k == l)));
+        // Some faces share a configuration (the pairs above compared equal ones too).
+        let distinct: std::collections::HashSet<&PackedTopology> =
+            seen.iter().map(|(_, p)| p).collect();
+        assert!(
+            distinct.len() < seen.len(),
+            "{} of {}",
+            distinct.len(),
+            seen.len()
+        );
     }
 
     #[test]
