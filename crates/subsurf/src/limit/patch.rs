@@ -153,7 +153,7 @@ impl Cell {
 /// come out the same, as when a degenerate face repeats a vertex) the cells (896
 /// bytes).
 ///
-/// The vertex indices are of type `I`: `u32`, or `u16` in configuration trees, whose nets
+/// The vertex indices are of type `I`: `u32`, or `u8` in configuration trees, whose nets
 /// index a node's refined points ([`Net::narrow`]).
 ///
 /// [`LimitSurface::set_positions`]: super::LimitSurface::set_positions
@@ -528,8 +528,8 @@ mod tests {
     use super::*;
     use crate::mesh::{Crease, Options};
 
-    /// A net narrowed to 16-bit indices gives the same control points, sharp sides
-    /// included; one with an index past 16 bits stays as it is.
+    /// A net narrowed to 8-bit indices (as configuration trees keep them) gives the same
+    /// control points, sharp sides included; one with an index past 8 bits stays as it is.
     #[test]
     fn narrow_nets_give_the_same_points() {
         let pos: Vec<[f64; 3]> = (0..20)
@@ -540,13 +540,13 @@ mod tests {
             .collect();
         let v: [u32; 16] = std::array::from_fn(|k| 19 - k as u32);
         for net in [Net::Plain(v), Net::Sided(v, [true, false, false, true])] {
-            let narrow: Net<u16> = net.narrow().expect("fits");
+            let narrow: Net<u8> = net.narrow().expect("fits");
             assert_eq!(narrow.eval(&pos), net.eval(&pos));
             assert_eq!(narrow.cells(), net.cells());
         }
         let mut far = v;
-        far[5] = 70_000;
-        assert!(Net::Plain(far).narrow::<u16>().is_none());
+        far[5] = 300;
+        assert!(Net::Plain(far).narrow::<u8>().is_none());
     }
 
     /// At a boundary, a boundary corner and along an infinitely sharp crease, a patch's

@@ -509,6 +509,18 @@ impl Way<'_> {
         }
     }
 
+    /// The cut-out of `node`, owned: unpacked at the root, made again from the way up if
+    /// the node no longer keeps it (no copy of a cut-out made for the call).
+    fn topology(&self, node: &TNode, options: &Options) -> Topology {
+        match *self {
+            Way::Root(tree) => tree.topo.unpack(),
+            Way::Child { .. } => match lock(&node.topo).as_deref() {
+                Some(t) => t.clone(),
+                None => self.remade(options),
+            },
+        }
+    }
+
     /// The tree the way starts from.
     fn tree(&self) -> &Tree {
         match *self {
@@ -902,8 +914,8 @@ impl TNode {
         }
     }
 
-    /// The root of a tree: face 0 of cut-out `topo` (which the tree keeps), evaluated on
-    /// its points in order.
+    /// The root of a tree: face 0 of cut-out `topo` (which the tree keeps packed),
+    /// evaluated on its points in order.
     fn root(topo: &Topology, crease: bool) -> Self {
         TNode::new(topo, crease, Cols::Identity(topo.num_vertices() as u32))
     }
@@ -1056,7 +1068,7 @@ impl TNode {
             // each output vector is the weight of the point set to `e_c`.
             // The probes share one shape, which analyses the corner's sector (and refines
             // it, where that takes further levels) once for all of them.
-            let topo = way.with_topology(self, options, Topology::clone);
+            let topo = way.topology(self, options);
             let n = topo.num_vertices();
             let shape = Shape::probed(topo);
             let mut weights = vec![[0.0; 5]; n];
