@@ -58,6 +58,12 @@ pub const HUGE_PAGES_FROM: u64 = 128 << 20;
 /// memory stays committed, for reuse, before it is returned to the system (0: at once).
 const MI_OPTION_PURGE_DELAY: libmimalloc_sys::mi_option_t = 15;
 
+// `mimalloc.h` lists the purge delay between these two options, which the bindings name.
+const _: () = assert!(
+    MI_OPTION_PURGE_DELAY == libmimalloc_sys::mi_option_eager_commit_delay + 1
+        && MI_OPTION_PURGE_DELAY + 1 == libmimalloc_sys::mi_option_use_numa_nodes
+);
+
 /// How long refinement keeps freed memory for reuse, in milliseconds, unless the
 /// environment sets `MIMALLOC_PURGE_DELAY`: 1 s (mimalloc 2's own default is 10 ms).
 ///

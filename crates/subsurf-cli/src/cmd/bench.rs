@@ -29,8 +29,8 @@ pub fn run(args: &BenchArgs) -> Result<()> {
             .resolve(Options::default()),
         ..SubdivideOptions::default()
     };
-    // This thread is the pool's first: one thread fewer (a small job's peak memory was
-    // 0.2-0.5 MiB lower), and no hand-over to a worker before each repetition.
+    // This thread is the pool's first: one thread fewer (a small job's peak memory is
+    // 0.2-0.5 MiB lower), and no hand-over to a worker before the repetitions.
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(args.threads)
         .use_current_thread()
@@ -207,8 +207,8 @@ fn bench_limit(
 }
 
 /// The seconds of `reps` runs of `rep`, sorted, each result dropped after its time is
-/// taken. All run inside `pool` (whose first thread is the caller's): handed over to a
-/// worker each, the times included waking it (tens of microseconds, more than the whole
+/// taken. All run inside `pool`, whose first thread is the caller's: handed over to a
+/// worker one by one, the times included waking it (tens of microseconds, more than the whole
 /// work of a small mesh's limit grid: `catmark_pyramid` measured 30 µs against `Bfr`'s
 /// 14, 7 µs now).
 fn time_reps<T>(
