@@ -64,6 +64,29 @@ impl Output {
         }
     }
 
+    /// Fails early when a file of at least `bytes` cannot fit in the space free on its file
+    /// system (Linux `statvfs`; elsewhere, and for standard output, nothing is checked):
+    /// `NAME: WHAT writes at least X MiB to OUT, more than the Y MiB free there; HINT`.
+    /// For jobs that stream their output, which their memory guard no longer bounds.
+    pub fn check_space(&self, name: &str, what: &str, bytes: u64, hint: &str) -> Result<()> {
+        let Self::File(path) = self else {
+            return Ok(());
+        };
+        let dir = match path.parent() {
+            Some(d) if !d.as_os_str().is_empty() => d,
+            _ => Path::new("."),
+        };
+        match free_space(dir) {
+            Some(free) if bytes > free => bail!(
+                "{name}: {what} writes at least {} to {}, more than the {} free there; {hint}",
+                crate::memory::size(bytes),
+                path.display(),
+                crate::memory::size(free),
+            ),
+            _ => Ok(()),
+        }
+    }
+
     /// Writes with `write`. A file is written to a temporary file first and renamed into
     /// place, so on error nothing (or the previous file) is at the destination.
     pub fn write<F>(&self, write: F) -> Result<()>
@@ -81,4 +104,28 @@ impl Output {
                 .with_context(|| format!("cannot write {}", path.display())),
         }
     }
+}
+
+/// Bytes free to an unprivileged writer on the file system of `dir` (`statvfs`'s
+/// `f_bavail × f_frsize`), if known.
+#[cfg(target_os = "linux")]
+fn free_space(dir: &Path) -> Option<u64> {
+    use std::os::unix::ffi::OsStrExt;
+    let c = std::ffi::CString::new(dir.as_os_str().as_bytes()).ok()?;
+    let mut st = std::mem::MaybeUninit::<libc::statvfs>::uninit();
+    // SAFETY: `c` is NUL-terminated and `st` is writable; `statvfs` fills it on success.
+    let st = unsafe {
+        if libc::statvfs(c.as_ptr(), st.as_mut_ptr()) != 0 {
+            return None;
+        }
+        st.assume_init()
+    };
+    #[allow(clippy::useless_conversion)] // The field types differ between targets.
+    u64::from(st.f_bavail).checked_mul(u64::from(st.f_frsize))
+}
+
+/// Not known here: nothing is checked.
+#[cfg(not(target_os = "linux"))]
+fn free_space(_dir: &Path) -> Option<u64> {
+    None
 }

@@ -9,8 +9,17 @@ use crate::input::Input;
 use crate::output::Output;
 use crate::LimitArgs;
 
-/// Bytes per output row held until the file is written (measured: 214 at 6 million rows).
+/// Bytes per output row held until its block is written (measured: 214 at 6 million rows).
 const BYTES_PER_ROW: u64 = 256;
+
+/// Bytes of the shortest output row (`0 0 0 0 0 0 0 0 0 0 0 0`): a file of fewer bytes per
+/// row than this cannot be, so a job whose rows times this exceed the free space is refused.
+const MIN_BYTES_PER_ROW: u64 = 24;
+
+/// Grid points per block of faces evaluated together (in parallel) and then written: only
+/// one block's rows are held as text (about 1 MiB), where holding all of them made
+/// `catmark_pawn` with `--grid 5` peak at 10.3 MiB (`osd-oracle limit`: 6.7).
+const POINTS_PER_BLOCK: usize = 4096;
 
 /// The faces a grid is sampled on, in order: every quad with a surface (not a hole), as
 /// `osd-oracle limit` and `benchlimit` sample.
@@ -53,58 +62,71 @@ pub fn run(args: &LimitArgs) -> Result<()> {
         .scheme
         .over(input.obj.options)
         .resolve(Options::default());
-    // Memory: the surface, then every row as text until all are written.
+    let n = args.grid as usize;
+    let faces_per_block = (POINTS_PER_BLOCK / (n * n)).max(1);
+    let what = format!("sampling a {0}×{0} grid per face", args.grid);
+    let hint = "use a smaller --grid";
+    // The rows are streamed: neither memory nor the whole output bounds them, the disk does.
+    let samples = crate::memory::grid_samples(&input.obj.mesh, args.grid);
+    out.check_space(
+        &input.name,
+        &what,
+        samples.saturating_mul(MIN_BYTES_PER_ROW),
+        hint,
+    )?;
+    // Memory: the surface, then one block's rows as text.
+    let held = samples
+        .min((faces_per_block * n * n) as u64)
+        .saturating_mul(BYTES_PER_ROW);
     let surface = crate::memory::SurfaceGuard {
         name: &input.name,
-        what: format!("sampling a {0}×{0} grid per face", args.grid),
+        what,
         max: args.max_memory,
-        hint: "use a smaller --grid",
+        hint,
         quads_only: true,
     }
-    .limit_surface(
-        &input.obj.mesh,
-        options,
-        args.grid,
-        crate::memory::grid_samples(&input.obj.mesh, args.grid).saturating_mul(BYTES_PER_ROW),
-    )?;
-    let n = args.grid as usize;
-    // One face's rows at a time, in parallel over faces, written in face order: the face's
-    // points evaluated together (`eval_many_into`, which computes each tree node's points
-    // once and a patch's four points at a time), position and first derivatives only.
+    .limit_surface(&input.obj.mesh, options, args.grid, held)?;
+    // One face's rows at a time, in parallel over the faces of a block, written in face
+    // order: the face's points evaluated together (`eval_many_into`, which computes each
+    // tree node's points once and a patch's four points at a time), position and first
+    // derivatives only. An error stops the output at its block: a file is then not
+    // written at all, standard output has the blocks before it.
     let faces = grid_faces(&surface);
-    let rows: Vec<Result<String>> = {
-        use rayon::prelude::*;
-        faces
-            .par_iter()
-            .map_init(
-                || (Vec::new(), Vec::new()),
-                |(points, results), &f| {
-                    points.clear();
-                    points.extend(grid(f, n));
-                    surface.eval_many_into(points, Order::First, results);
-                    let mut s = String::new();
-                    for (p, d) in points.iter().zip(results.iter()) {
-                        let d = d
-                            .as_ref()
-                            .map_err(Clone::clone)
-                            .with_context(|| format!("{}: face {f}", input.name))?;
-                        use std::fmt::Write as _;
-                        let _ = write!(s, "{f} {} {}", p.u, p.v);
-                        for x in d.p.iter().chain(&d.du).chain(&d.dv) {
-                            let _ = write!(s, " {x}");
-                        }
-                        s.push('\n');
-                    }
-                    Ok(s)
-                },
-            )
-            .collect()
+    let face_rows = |points: &mut Vec<SurfacePoint>, results: &mut Vec<_>, f: u32| {
+        points.clear();
+        points.extend(grid(f, n));
+        surface.eval_many_into(points, Order::First, results);
+        let mut s = String::new();
+        for (p, d) in points.iter().zip(results.iter()) {
+            let d = d
+                .as_ref()
+                .map_err(Clone::clone)
+                .with_context(|| format!("{}: face {f}", input.name))?;
+            use std::fmt::Write as _;
+            let _ = write!(s, "{f} {} {}", p.u, p.v);
+            for x in d.p.iter().chain(&d.du).chain(&d.dv) {
+                let _ = write!(s, " {x}");
+            }
+            s.push('\n');
+        }
+        Ok::<_, anyhow::Error>(s)
     };
     out.write(|w| {
-        for r in &rows {
-            match r {
-                Ok(s) => w.write_all(s.as_bytes())?,
-                Err(e) => return Err(std::io::Error::other(format!("{e:#}"))),
+        use rayon::prelude::*;
+        let mut rows = Vec::new();
+        for block in faces.chunks(faces_per_block) {
+            block
+                .par_iter()
+                .map_init(
+                    || (Vec::new(), Vec::new()),
+                    |(points, results), &f| face_rows(points, results, f),
+                )
+                .collect_into_vec(&mut rows);
+            for r in &rows {
+                match r {
+                    Ok(s) => w.write_all(s.as_bytes())?,
+                    Err(e) => return Err(std::io::Error::other(format!("{e:#}"))),
+                }
             }
         }
         Ok(())
