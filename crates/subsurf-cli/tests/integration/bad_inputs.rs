@@ -583,8 +583,8 @@ fn memory_guards_without_a_cap() {
         let args: Vec<String> = case.iter().map(|s| s.to_string()).collect();
         let run = run_limited(dir.path(), &args, None);
         assert_eq!(run.code, Some(1), "{args:?}: {}", run.stderr);
-        let memory = run.stderr.contains("needs about")
-            && run.stderr.contains("(the memory available)");
+        let memory =
+            run.stderr.contains("needs about") && run.stderr.contains("(the memory available)");
         let disk = case[0] == "limit"
             && run.stderr.contains("writes at least")
             && run.stderr.contains("free there; use a smaller --grid");
