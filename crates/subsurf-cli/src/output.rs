@@ -42,10 +42,7 @@ impl Output {
         if path.is_dir() {
             bail!("cannot write {}: it is a directory", path.display());
         }
-        let dir = match path.parent() {
-            Some(d) if !d.as_os_str().is_empty() => d,
-            _ => Path::new("."),
-        };
+        let dir = directory(path);
         match fs::metadata(dir) {
             Ok(m) if m.is_dir() => Ok(()),
             Ok(_) => bail!(
@@ -72,11 +69,7 @@ impl Output {
         let Self::File(path) = self else {
             return Ok(());
         };
-        let dir = match path.parent() {
-            Some(d) if !d.as_os_str().is_empty() => d,
-            _ => Path::new("."),
-        };
-        match free_space(dir) {
+        match free_space(directory(path)) {
             Some(free) if bytes > free => bail!(
                 "{name}: {what} writes at least {} to {}, more than the {} free there; {hint}",
                 crate::memory::size(bytes),
@@ -103,6 +96,14 @@ impl Output {
             Self::File(path) => write_atomically(path, |w| write(w))
                 .with_context(|| format!("cannot write {}", path.display())),
         }
+    }
+}
+
+/// The directory a file `path` is written in (`.` for a bare file name).
+fn directory(path: &Path) -> &Path {
+    match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
     }
 }
 
