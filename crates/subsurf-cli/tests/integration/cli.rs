@@ -650,3 +650,61 @@ fn demo_fails_when_the_directory_is_a_file() {
     assert_code(&o, 1);
     assert!(stderr(&o).contains("taken"), "{}", stderr(&o));
 }
+
+/// `limit` evaluates and writes its rows in blocks of faces: on a mesh of several blocks
+/// (144 faces, 81 points each: three blocks), the file and standard output hold every
+/// face's grid once, in face order and `osd-oracle limit`'s layout, at the library's
+/// limit points and derivatives.
+#[test]
+fn limit_rows_of_every_block_in_face_order() {
+    let n = 12;
+    let mut obj = String::new();
+    for j in 0..=n {
+        for i in 0..=n {
+            let (x, y) = (f64::from(i), f64::from(j));
+            obj.push_str(&format!(
+                "v {x} {y} {}\n",
+                (0.7 * x).sin() * (0.4 * y).cos()
+            ));
+        }
+    }
+    for j in 0..n {
+        for i in 0..n {
+            let a = j * (n + 1) + i + 1;
+            obj.push_str(&format!("f {a} {} {} {}\n", a + 1, a + n + 2, a + n + 1));
+        }
+    }
+    let dir = dir_with(&[("wavy.obj", &obj)]);
+    let o = run_in(
+        dir.path(),
+        &["limit", "wavy.obj", "--grid", "9", "-o", "out.tsv"],
+    );
+    assert_code(&o, 0);
+    let file = fs::read_to_string(dir.path().join("out.tsv")).expect("out.tsv");
+    let o = run_in(dir.path(), &["limit", "wavy.obj", "--grid", "9", "-o", "-"]);
+    assert_code(&o, 0);
+    assert_eq!(stdout(&o), file, "standard output and the file differ");
+
+    let mesh = subsurf::io::obj::parse_obj(obj.as_bytes(), "wavy.obj")
+        .expect("parse")
+        .mesh;
+    let surface = subsurf::limit::LimitSurface::new(&mesh, subsurf::mesh::Options::default())
+        .expect("surface");
+    let rows: Vec<&str> = file.lines().collect();
+    assert_eq!(rows.len(), 144 * 81);
+    for (r, row) in rows.iter().enumerate() {
+        let x: Vec<f64> = row
+            .split_whitespace()
+            .map(|t| t.parse().expect("number"))
+            .collect();
+        let (face, k) = ((r / 81) as u32, r % 81);
+        let (u, v) = ((k / 9) as f64 / 8.0, (k % 9) as f64 / 8.0);
+        assert_eq!(x[..3], [f64::from(face), u, v], "row {r}");
+        let d = surface.eval(face, u, v).expect("eval");
+        let want = d.p.iter().chain(&d.du).chain(&d.dv);
+        for (got, want) in x[3..].iter().zip(want) {
+            assert!((got - want).abs() <= 1e-12, "row {r}: {got} against {want}");
+        }
+        assert_eq!(x.len(), 12, "row {r}");
+    }
+}
