@@ -6,8 +6,9 @@
 # Why: the kernel maps a program's code 64 KiB at a time around each page it touches
 # ("fault-around"), so code spread over the whole 4 MB binary is almost all resident even
 # when a job runs 1 MB of it. On small meshes that code is most of the process's memory:
-# grouped, the peak resident memory of `subsurf bench catmark_cube.obj --limit-grid 8` falls
-# from about 7.0 to 4.9 MiB (osd-oracle benchlimit: 5.4 MiB).
+# grouped, the peak resident memory of `subsurf bench catmark_cube.obj --limit-grid 8
+# --threads 1` falls from 6.5 to 4.5 MiB (osd-oracle benchlimit: 5.3 MiB; BENCHMARKS.md,
+# "Repetitions and small jobs under OpenSubdiv's peak").
 #
 # Usage: scripts/hot-text.sh           regenerate the list (builds the release binary, runs
 #                                      the jobs below under callgrind: about a minute)

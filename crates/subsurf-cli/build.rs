@@ -4,8 +4,8 @@
 //! The kernel maps a program's code 64 KiB at a time around each page it touches, so with
 //! the functions spread over the whole binary nearly all of its ~4 MB is resident even when
 //! a job runs 1 MB of it; on small meshes that is most of a process's peak memory. Grouped,
-//! `subsurf bench catmark_cube.obj --limit-grid 8 --threads 1` peaks at 4.8–5.2 MiB instead
-//! of 6.6–7.0 (`osd-oracle benchlimit`: 5.2–5.4).
+//! `subsurf bench catmark_cube.obj --limit-grid 8 --threads 1` peaks at 4.5 MiB instead of
+//! 6.5 (`osd-oracle benchlimit`: 5.3; `scripts/hot-text.sh` says how the list is made).
 //!
 //! The list is a hint. Only LLD (Rust's default linker on x86-64 Linux) takes it, so this
 //! script first links an empty program with the same target, linker and flags, and passes

@@ -77,13 +77,13 @@ pub const REFINEMENT_PURGE_DELAY_MS: i64 = 1000;
 /// The allocator's purge delay for refinement, which [`for_refinement`] sets:
 /// [`REFINEMENT_PURGE_DELAY_MS`], or the `MIMALLOC_PURGE_DELAY` of the environment;
 /// [`UNCHANGED`] where the start-up constructor does not run (not Linux).
-static PURGE_DELAY_AT_START: AtomicI64 = AtomicI64::new(UNCHANGED);
+static KEPT_PURGE_DELAY: AtomicI64 = AtomicI64::new(UNCHANGED);
 
-/// [`PURGE_DELAY_AT_START`] before the constructor: the option was never changed.
+/// [`KEPT_PURGE_DELAY`] before the constructor: the option was never changed.
 const UNCHANGED: i64 = i64::MIN;
 
 /// Whether the allocator keeps freed memory for reuse (mimalloc's purge delay at
-/// [`PURGE_DELAY_AT_START`]) or returns it to the system at once (a delay of 0).
+/// [`KEPT_PURGE_DELAY`]) or returns it to the system at once (a delay of 0).
 ///
 /// Refinement frees each level's buffers and allocates the next, larger, ones: kept
 /// memory is reused without faulting pages in again (returned at once, each repetition
@@ -94,10 +94,10 @@ const UNCHANGED: i64 = i64::MIN;
 /// `catmark_pawn` refined four times, 150 k quads: 71 MiB kept, 65 MiB returned, at
 /// the same speed).
 pub fn keep_freed_memory(keep: bool) {
-    let delay = match PURGE_DELAY_AT_START.load(Ordering::Relaxed) {
+    let delay = match KEPT_PURGE_DELAY.load(Ordering::Relaxed) {
         UNCHANGED => return,
         _ if !keep => 0,
-        at_start => at_start,
+        kept => kept,
     };
     // SAFETY: setting an option of the allocator is one store into its table of options,
     // allowed at any time and from any thread (mimalloc reads them as it purges).
@@ -139,7 +139,7 @@ pub static ALLOCATOR_AT_START: extern "C" fn() = {
         } else {
             REFINEMENT_PURGE_DELAY_MS
         };
-        PURGE_DELAY_AT_START.store(delay, Ordering::Relaxed);
+        KEPT_PURGE_DELAY.store(delay, Ordering::Relaxed);
         keep_freed_memory(false);
     }
     start
@@ -323,14 +323,18 @@ mod tests {
     #[cfg(target_os = "linux")]
     #[test]
     fn the_allocator_is_set_for_limit_jobs_from_the_start_and_for_refinement_on_request() {
-        let at_start = PURGE_DELAY_AT_START.load(Ordering::Relaxed);
-        assert_ne!(at_start, UNCHANGED, "the constructor did not run");
+        let kept = KEPT_PURGE_DELAY.load(Ordering::Relaxed);
+        assert_ne!(kept, UNCHANGED, "the constructor did not run");
         if std::env::var_os("MIMALLOC_PURGE_DELAY").is_none() {
-            assert_eq!(at_start, REFINEMENT_PURGE_DELAY_MS);
+            assert_eq!(kept, REFINEMENT_PURGE_DELAY_MS);
         }
-        assert_eq!(purge_delay(), 0, "freed memory is kept from the start");
+        assert_eq!(
+            purge_delay(),
+            0,
+            "freed memory is returned at once from the start"
+        );
         keep_freed_memory(true);
-        assert_eq!(purge_delay(), at_start);
+        assert_eq!(purge_delay(), kept);
         keep_freed_memory(false);
         assert_eq!(purge_delay(), 0);
         let Some(start) = thp_enabled() else {
@@ -342,11 +346,7 @@ mod tests {
         huge_pages(false);
         assert_eq!(thp_enabled(), Some(false));
         for_refinement(HUGE_PAGES_FROM - 1);
-        assert_eq!(
-            purge_delay(),
-            at_start,
-            "refinement does not keep freed memory"
-        );
+        assert_eq!(purge_delay(), kept, "refinement does not keep freed memory");
         assert_eq!(
             thp_enabled(),
             Some(false),

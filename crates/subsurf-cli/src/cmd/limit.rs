@@ -18,7 +18,7 @@ const MIN_BYTES_PER_ROW: u64 = 24;
 
 /// Grid points per block of faces evaluated together (in parallel) and then written: only
 /// one block's rows are held as text (about 1 MiB), where holding all of them made
-/// `catmark_pawn` with `--grid 5` peak at 10.3 MiB (`osd-oracle limit`: 6.7).
+/// `catmark_pawn` with `--grid 5` peak at 9.9 MiB (`osd-oracle limit`: 6.6).
 const POINTS_PER_BLOCK: usize = 4096;
 
 /// The faces a grid is sampled on, in order: every quad with a surface (not a hole), as
