@@ -447,7 +447,7 @@ pub fn fill_control_mesh(curves: &[BSplineCurve<3>], bulge: f64) -> Result<PolyM
         .collect();
     let len = ring.len();
     let mut spokes = Vec::new();
-    if len % 2 == 0 && len > 4 {
+    if len.is_multiple_of(2) && len > 4 {
         let c = pos.len() as u32;
         pos.push(gp);
         for i in (1..len).step_by(2) {

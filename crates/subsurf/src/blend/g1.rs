@@ -456,7 +456,7 @@ pub fn fill_g1(
         }
     }
     let mut spokes = Vec::new();
-    if m % 2 == 0 && m > 4 {
+    if m.is_multiple_of(2) && m > 4 {
         let c = pos.len() as u32;
         pos.push(gp);
         for i in (0..m).step_by(2) {

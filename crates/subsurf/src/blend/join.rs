@@ -181,7 +181,7 @@ pub fn blend_control_mesh(patches: &[BSplineSurface<3>]) -> Result<BlendMesh, Bl
     // The middle: ring = row −1 of the band, in band order.
     let ring: Vec<u32> = band.iter().map(|col| col[0]).collect();
     let mut spoke = Vec::new();
-    if m % 2 == 0 && m > 4 {
+    if m.is_multiple_of(2) && m > 4 {
         let c = pos.len() as u32;
         let mut centre = [0.0; 3];
         for &w in &ring {

@@ -32,7 +32,7 @@ pub fn bernstein_derivative(n: usize, i: usize, t: f64, k: usize) -> f64 {
     let falling: f64 = (0..k).map(|j| (n - j) as f64).product();
     let mut s = 0.0;
     for j in 0..=k {
-        let sign = if (k - j) % 2 == 0 { 1.0 } else { -1.0 };
+        let sign = if (k - j).is_multiple_of(2) { 1.0 } else { -1.0 };
         s += sign * binomial(k, j) * bernstein(n - k, i as isize - j as isize, t);
     }
     falling * s

@@ -84,7 +84,7 @@ impl<const D: usize> BSplineCurve<D> {
         }
         let p = points.len() - 1;
         let mut k = vec![0.0; p + 1];
-        k.extend(std::iter::repeat(1.0).take(p + 1));
+        k.extend(std::iter::repeat_n(1.0, p + 1));
         Self::new(KnotVector::new(p, k)?, points)
     }
 

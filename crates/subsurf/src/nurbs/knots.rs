@@ -158,7 +158,7 @@ impl KnotVector {
         let spans = num_points - degree;
         let mut k = vec![0.0; degree + 1];
         k.extend((1..spans).map(|i| i as f64 / spans as f64));
-        k.extend(std::iter::repeat(1.0).take(degree + 1));
+        k.extend(std::iter::repeat_n(1.0, degree + 1));
         Self::new(degree, k)
     }
 
@@ -192,13 +192,13 @@ impl KnotVector {
         check_degree(degree)?;
         let pad = if clamped { degree } else { 0 };
         let mut knots = Vec::with_capacity(intervals.len() + 1 + 2 * pad);
-        knots.extend(std::iter::repeat(0.0).take(pad + 1));
+        knots.extend(std::iter::repeat_n(0.0, pad + 1));
         let mut t = 0.0;
         for &d in intervals {
             t += d;
             knots.push(t);
         }
-        knots.extend(std::iter::repeat(t).take(pad));
+        knots.extend(std::iter::repeat_n(t, pad));
         Self::new(degree, knots)
     }
 

@@ -483,7 +483,7 @@ fn build_relations(p: &Topology, c: &mut Topology) {
         } else {
             let i = ce - s;
             let e = i / 2;
-            if i % 2 == 0 {
+            if i.is_multiple_of(2) {
                 2 * su + 2 * pef[e]
             } else {
                 2 * su + pef[e] + pef[e + 1]

@@ -193,7 +193,7 @@ pub(crate) fn solve_cyclic(c: &[f64]) -> Vec<f64> {
         for k in 1..n {
             a[k] = c[k] - a[k - 1];
         }
-        let alt = |k: usize| if k % 2 == 0 { 1.0 } else { -1.0 };
+        let alt = |k: usize| if k.is_multiple_of(2) { 1.0 } else { -1.0 };
         let m = (0..n).map(|k| alt(k) * a[k]).sum::<f64>() / n as f64;
         for k in 0..n {
             a[k] -= m * alt(k);

@@ -457,7 +457,7 @@ fn knots(
                 } else {
                     degree
                 };
-                k.extend(std::iter::repeat(b).take(times));
+                k.extend(std::iter::repeat_n(b, times));
             }
             k
         }
