@@ -15,3 +15,17 @@ pub(crate) fn has_avx2_fma() -> bool {
         false
     }
 }
+
+/// Whether the processor has AVX-512F (and AVX2 and FMA, which every processor with it
+/// has; detected once and cached by the standard library; always `false` off x86-64).
+#[inline]
+pub(crate) fn has_avx512f() -> bool {
+    #[cfg(target_arch = "x86_64")]
+    {
+        std::is_x86_feature_detected!("avx512f") && has_avx2_fma()
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        false
+    }
+}
