@@ -835,6 +835,75 @@ mod tests {
         assert_eq!(w, expect);
     }
 
+    /// The AVX2 kernel for positions computes the portable kernel's sums within rounding
+    /// (it fuses multiply-adds, the portable one does not), at depths 2 and 3, writing
+    /// exactly the owned points (a point is owned unless its index plus the patch's
+    /// number is a multiple of 3, 5 or 7, by patch).
+    #[test]
+    fn avx_kernel_agrees() {
+        fn check<const N: usize, const NN: usize>(depth: u32) {
+            let w: [[f64; 4]; N] = weights(depth).try_into().unwrap();
+            let src: Vec<[f64; 3]> = (0..64)
+                .map(|i| {
+                    let x = f64::from(i);
+                    [
+                        (0.9 * x).sin() * 2.5,
+                        (0.4 * x).cos() - 0.05 * x,
+                        1.0 / (2.0 + x),
+                    ]
+                })
+                .collect();
+            let ctrl: Vec<[u32; 16]> = (0..6u32)
+                .map(|p| std::array::from_fn(|i| (7 * p + 5 * i as u32) % 64))
+                .collect();
+            let grids: Vec<u32> = (0..ctrl.len() * NN)
+                .map(|i| {
+                    let (p, j) = (i / NN, i % NN);
+                    let skip = [3, 5, 7][p % 3];
+                    if (j + p) % skip == 0 {
+                        NOT_OWNED
+                    } else {
+                        i as u32
+                    }
+                })
+                .collect();
+            let n_out = ctrl.len() * NN;
+            let run = |which: u8| {
+                let mut out = vec![[f64::NAN; 3]; n_out];
+                let dst = SharedOut(out.as_mut_ptr());
+                let (s, o) = (src.as_ptr().cast(), dst.0.cast());
+                // SAFETY: indices in bounds; the AVX2 kernel only where the processor has
+                // its features.
+                unsafe {
+                    match which {
+                        0 => {
+                            for (c, g) in ctrl.iter().zip(grids.chunks_exact(NN)) {
+                                kernel::<N, NN, 3>(&w, &src, c, g.try_into().unwrap(), &dst);
+                            }
+                        }
+                        _ => patches_avx::<N, NN>(&w, s, &ctrl, &grids, o),
+                    }
+                }
+                out
+            };
+            let portable = run(0);
+            let owned = grids.iter().filter(|&&o| o != NOT_OWNED).count();
+            assert_eq!(portable.iter().filter(|p| !p[0].is_nan()).count(), owned);
+            if !has_avx2_fma() {
+                return;
+            }
+            let avx = run(1);
+            for (i, (a, b)) in avx.iter().zip(&portable).enumerate() {
+                for c in 0..3 {
+                    let same = a[c].is_nan() && b[c].is_nan() || (a[c] - b[c]).abs() < 1e-14;
+                    assert!(same, "depth {depth} point {i}: {a:?} against {b:?}");
+                }
+            }
+        }
+        check::<5, 25>(2);
+        check::<9, 81>(3);
+    }
+
     /// Every row is a partition of unity and reproduces the parameter of its point (cubic
     /// B-splines reproduce linear functions).
     #[test]
