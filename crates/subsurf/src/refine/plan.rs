@@ -19,8 +19,8 @@
 //! rest: faces at non-manifold vertices, at semi-sharp edges under Chaikin's rule, at
 //! valences above 16, and faces whose ring is shared by fewer than four faces (0.05 % of
 //! the output of `catmark_bishop` at level 6). Re-posing is 10–20× faster than
-//! [`subdivide`](crate::subdivide) on quad meshes, 5–17× on all-triangle ones (5–9× at
-//! levels 3–4 of irregular triangulations such as scans; see [`RefinePlan`] for numbers).
+//! [`subdivide`](crate::subdivide) on quad meshes, 9–17× on all-triangle ones such as
+//! scans, with AVX-512 (5–9× at levels 2–4 with AVX2 only; see [`RefinePlan`] for numbers).
 //!
 //! # Storage
 //! Most rows share their weights with many others: every smooth edge point between two
@@ -124,11 +124,12 @@ const PAR_MIN_ROWS: usize = 16 * 1024;
 /// 0.73 s for OpenSubdiv's `RefineUniform` + `PrimvarRefiner`) and 14–18× on two;
 /// `catmark_pawn` 16–20× at levels 5 and 6. All-triangle meshes (`catmark_bishop` with
 /// each quad split in two, where one level makes every vertex and face centre
-/// extraordinary; the same split of its level 2, 30 k triangles): 8–10× at level 5 and
-/// 14–17× at level 6 on one thread, 6.2–6.3× at level 2 and 9.6–13× at level 3 (12× at
-/// level 3 on a 124 k-triangle model); public scans and CAD parts (5–100 k triangles, not
-/// in the repository) 4.9–8.8× at levels 3 and 4, where every patch is a ring patch with
-/// two extraordinary corners. Building the plan for bishop at level 6 took 0.4–1.6 s (one
+/// extraordinary; the same split of its level 2, 30 k triangles): 10.9× at level 5 and
+/// 14.6× at level 6 on one thread, 8.9–12.1× at level 2 and 12.2× at level 3; public scans
+/// and CAD parts (5–124 k triangles, not in the repository) 10–14× at levels 2–4 (2T
+/// 11–16×), where every patch is a ring patch with one or two extraordinary corners. Those
+/// figures are with the AVX-512 ring kernel (this machine has it); with AVX2 only, the
+/// triangles were 6.2–8.5× at level 2, 8–13× at levels 3 and 4. Building the plan for bishop at level 6 took 0.4–1.6 s (one
 /// thread). With sparse rows only (before patches) the bishop apply took 0.05–0.06 s.
 ///
 /// The plan covers positions of every vertex of the last level, in
