@@ -840,6 +840,7 @@ mod tests {
     /// exactly the owned points (a point is owned unless its index plus the patch's
     /// number is a multiple of 3, 5 or 7, by patch).
     #[test]
+    #[cfg(target_arch = "x86_64")]
     fn avx_kernel_agrees() {
         fn check<const N: usize, const NN: usize>(depth: u32) {
             let w: [[f64; 4]; N] = weights(depth).try_into().unwrap();

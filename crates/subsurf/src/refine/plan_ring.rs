@@ -994,6 +994,7 @@ mod tests {
     /// one of quads and triangles with corners of valence 3 to 6, and an open one with a
     /// pentagon and corners on its boundary.
     #[test]
+    #[cfg(target_arch = "x86_64")]
     fn vector_kernels_agree() {
         let options = Options::default();
         // A cube (corners 0–7) with its top split in two triangles and one side in four
