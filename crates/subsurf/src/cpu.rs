@@ -5,6 +5,7 @@
 /// Whether the processor has AVX2 and FMA (detected once and cached by the standard
 /// library; always `false` off x86-64).
 #[inline]
+#[cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
 pub(crate) fn has_avx2_fma() -> bool {
     #[cfg(target_arch = "x86_64")]
     {
@@ -19,6 +20,7 @@ pub(crate) fn has_avx2_fma() -> bool {
 /// Whether the processor has AVX-512F (and AVX2 and FMA, which every processor with it
 /// has; detected once and cached by the standard library; always `false` off x86-64).
 #[inline]
+#[cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
 pub(crate) fn has_avx512f() -> bool {
     #[cfg(target_arch = "x86_64")]
     {
