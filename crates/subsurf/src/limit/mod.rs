@@ -15,6 +15,7 @@ mod crease_patch;
 mod local;
 mod memory;
 pub(crate) mod patch;
+mod rows;
 mod stencil;
 mod surface;
 mod tessellate;

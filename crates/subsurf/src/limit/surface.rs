@@ -1126,7 +1126,7 @@ impl PatchNet {
             return None;
         }
         let (cells, side, s) = single_crease(t, f, options)?;
-        let crease = Some((side, shared.trees.bases.get(s)));
+        let crease = Some((side, shared.trees.pools.bases.get(s)));
         Some(PatchNet {
             net: Net::new(cells),
             crease,

@@ -32,208 +32,16 @@ use super::corner::{corner_limit, is_limit_corner, CornerLimit, SectorCache};
 use super::crease_patch::{single_crease, CreaseBases, CreaseBasis, CreasePatch};
 use super::local::{cut_out_unbounded, Local, Reach, Region, Shape};
 use super::patch::{regular_patch_cells, Cell, Net};
+use super::rows::{NodeRows, WeightPool};
 use super::surface::{quadrant, MAX_DEPTH};
 use super::{lock, Index};
 use crate::hash::FxHasher;
 use crate::mesh::{Options, PackedTopology, Topology};
-use crate::refine::{refine_topology, refinement_rows};
+use crate::refine::refine_topology;
 use std::collections::HashMap;
 use std::hash::{BuildHasherDefault, Hash, Hasher};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, OnceLock};
-
-/// The rows of a node's refined points ([`Kids`]), each row's weights stored once per
-/// distinct vector of weights: a node's refined points are face, edge and vertex points,
-/// smooth or sharp, whose weights are one of a few vectors (four quarters, the six of a
-/// smooth edge point, the nine of a smooth vertex point of valence 4, ...). Stored with
-/// every term, the weights were two thirds of the rows, and the rows 43 % of the heap of a
-/// surface whose faces nearly all have configurations of their own (a grid with creases on
-/// a tenth of its edges).
-///
-/// The indices (columns, where rows start, where their weights start) are 8-bit when they
-/// fit, as they do on nearly every node (a cut-out of a few dozen points, its refinement
-/// read through a couple of hundred terms: on a grid with creases on a tenth of its edges,
-/// at most 24 columns and 140 terms), else 16-bit unless the node's cut-out holds a face
-/// or vertex of thousands of sides. 32-bit, they were half of the rows; 16-bit, they were
-/// still two thirds of the rows and a sixth of the heap of that grid.
-#[derive(Debug)]
-enum NodeRows {
-    Tiny(RowsOf<u8>),
-    Narrow(RowsOf<u16>),
-    Wide(RowsOf<u32>),
-}
-
-/// [`NodeRows`] with indices of type `I`.
-#[derive(Debug)]
-struct RowsOf<I> {
-    /// Row `r`'s columns are `cols[offsets[r]..offsets[r + 1]]`.
-    offsets: Box<[I]>,
-    cols: Box<[I]>,
-    /// Row `r`'s weights are `weights[first[r]..]`, as many as its columns.
-    first: Box<[I]>,
-    weights: Box<[f64]>,
-}
-
-impl NodeRows {
-    /// The rows of the refinement of `t` into `child` (its `refine_topology`) for the
-    /// child vertices `verts`, with the columns mapped through `cols` (from `t`'s vertices
-    /// to the points the node is evaluated on); zero weights left out.
-    fn refinement(
-        t: &Topology,
-        child: &Topology,
-        options: &Options,
-        verts: &[u32],
-        cols: &Cols,
-    ) -> Self {
-        let mut offsets = vec![0];
-        let (mut all_cols, mut first) = (vec![], vec![]);
-        let mut weights: Vec<f64> = Vec::new();
-        // The distinct weight vectors so far, `(start, length)` in `weights`: a node has a
-        // few dozen at most, so a scan finds a row's (a map allocated a key per row).
-        let mut classes: Vec<(u32, u32)> = Vec::new();
-        let mut row = Vec::new();
-        refinement_rows(t, child, options, verts.iter().copied(), |cs, ws| {
-            row.clear();
-            for (&c, &w) in cs.iter().zip(ws).filter(|&(_, &w)| w != 0.0) {
-                all_cols.push(cols.get(c));
-                row.push(w);
-            }
-            offsets.push(all_cols.len() as u32);
-            let same = |&&(start, len): &&(u32, u32)| {
-                let class = &weights[start as usize..(start + len) as usize];
-                len as usize == row.len()
-                    && class
-                        .iter()
-                        .zip(&row)
-                        .all(|(a, b)| a.to_bits() == b.to_bits())
-            };
-            let start = match classes.iter().find(same) {
-                Some(&(start, _)) => start,
-                None => {
-                    let start = weights.len() as u32;
-                    weights.extend_from_slice(&row);
-                    classes.push((start, row.len() as u32));
-                    start
-                }
-            };
-            first.push(start);
-        });
-        NodeRows::new(&offsets, &all_cols, &first, weights)
-    }
-
-    /// The rows of `offsets`, `cols`, `first` and `weights` (see [`RowsOf`]), with the
-    /// narrowest indices they all fit.
-    fn new(offsets: &[u32], cols: &[u32], first: &[u32], weights: Vec<f64>) -> Self {
-        if let Some(rows) = RowsOf::new(offsets, cols, first, &weights) {
-            NodeRows::Tiny(rows)
-        } else if let Some(rows) = RowsOf::new(offsets, cols, first, &weights) {
-            NodeRows::Narrow(rows)
-        } else {
-            NodeRows::Wide(
-                RowsOf::new(offsets, cols, first, &weights)
-                    .unwrap_or_else(|| unreachable!("32-bit indices fit")),
-            )
-        }
-    }
-
-    fn len(&self) -> usize {
-        match self {
-            NodeRows::Tiny(r) => r.first.len(),
-            NodeRows::Narrow(r) => r.first.len(),
-            NodeRows::Wide(r) => r.first.len(),
-        }
-    }
-
-    /// Every row applied to `pos`, into `out`.
-    fn apply(&self, pos: &[[f64; 3]], out: &mut Vec<[f64; 3]>) {
-        out.resize(self.len(), [0.0; 3]);
-        match self {
-            NodeRows::Tiny(r) => r.apply(pos, out),
-            NodeRows::Narrow(r) => r.apply(pos, out),
-            NodeRows::Wide(r) => r.apply(pos, out),
-        }
-    }
-}
-
-impl<I: Index> RowsOf<I> {
-    /// The rows of `offsets`, `cols`, `first` (see the fields) and `weights`, if the
-    /// indices fit in `I`.
-    fn new(offsets: &[u32], cols: &[u32], first: &[u32], weights: &[f64]) -> Option<Self> {
-        let map = |x: &[u32]| -> Option<Box<[I]>> { x.iter().map(|&x| I::narrow(x)).collect() };
-        Some(RowsOf {
-            offsets: map(offsets)?,
-            cols: map(cols)?,
-            first: map(first)?,
-            weights: weights.into(),
-        })
-    }
-
-    /// Row `r`'s columns and weights, `r` starting at `cols[a..]` (`offsets[r]`).
-    #[inline(always)]
-    fn row(&self, r: usize, a: usize) -> (&[I], &[f64]) {
-        let b = self.offsets[r + 1].get();
-        let w = self.first[r].get();
-        (&self.cols[a..b], &self.weights[w..w + (b - a)])
-    }
-
-    /// Every row applied to `pos`, into `out` (one point per row): with AVX2 and FMA
-    /// where the processor has them (a point's three coordinates in one vector, one
-    /// multiply-add per weight; the descent of a tree spends most of its time here).
-    fn apply(&self, pos: &[[f64; 3]], out: &mut [[f64; 3]]) {
-        #[cfg(target_arch = "x86_64")]
-        if crate::cpu::has_avx2_fma() {
-            // SAFETY: the features were just detected.
-            unsafe { self.apply_avx(pos, out) };
-            return;
-        }
-        self.apply_portable(pos, out);
-    }
-
-    /// [`apply`](Self::apply) without vector instructions.
-    fn apply_portable(&self, pos: &[[f64; 3]], out: &mut [[f64; 3]]) {
-        let mut a = 0;
-        for (r, o) in out.iter_mut().enumerate() {
-            let (cols, weights) = self.row(r, a);
-            a += cols.len();
-            let mut acc = [0.0; 3];
-            for (&c, &w) in cols.iter().zip(weights) {
-                let p = &pos[c.get()];
-                (0..3).for_each(|k| acc[k] += w * p[k]);
-            }
-            *o = acc;
-        }
-    }
-
-    /// [`apply`](Self::apply) with AVX2 and FMA.
-    ///
-    /// # Safety
-    /// The processor has AVX2 and FMA.
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2,fma")]
-    unsafe fn apply_avx(&self, pos: &[[f64; 3]], out: &mut [[f64; 3]]) {
-        use std::arch::x86_64::*;
-        let mut a = 0;
-        for (r, o) in out.iter_mut().enumerate() {
-            let (cols, weights) = self.row(r, a);
-            a += cols.len();
-            let mut acc = _mm256_setzero_pd();
-            for (&c, &w) in cols.iter().zip(weights) {
-                let p = &pos[c.get()];
-                // SAFETY: `p` holds three `f64`: two loaded at its start, one at its end.
-                let x = unsafe {
-                    let xy = _mm_loadu_pd(p.as_ptr());
-                    let z = _mm_load_sd(p.as_ptr().add(2));
-                    _mm256_insertf128_pd::<1>(_mm256_castpd128_pd256(xy), z)
-                };
-                acc = _mm256_fmadd_pd(_mm256_set1_pd(w), x, acc);
-            }
-            let mut lanes = [0.0; 4];
-            // SAFETY: `lanes` holds four `f64`.
-            unsafe { _mm256_storeu_pd(lanes.as_mut_ptr(), acc) };
-            *o = [lanes[0], lanes[1], lanes[2]];
-        }
-    }
-}
 
 /// A child of a tree node, on its parent's refined points ([`Kids::rows`]).
 #[derive(Debug)]
@@ -327,13 +135,17 @@ impl Kid {
 /// this did before, repeated the refinement of the points that neighbouring children
 /// share: about twice the weights to keep and to apply (see `BENCHMARKS.md`, "Meshes with
 /// many creases").
+///
+/// The vertices of the node's refinement that the children read (`needed`, increasing:
+/// [`TNode::find_kids`]) are not kept: a child reads its `k`th refined point as slot `k`,
+/// and a child built later finds them again as it refines the node again
+/// ([`TNode::build_sub`]). Kept, they were 8 % of the heap of a grid with creases on a
+/// tenth of its edges.
 #[derive(Debug)]
 pub(super) struct Kids {
     /// Row `k`: refined vertex `needed[k]` as weights on the points the node is evaluated
     /// on (its vertices through [`TNode::cols`]).
     rows: NodeRows,
-    /// The vertices of the node's refinement that the children read, in increasing order.
-    needed: Box<[u32]>,
     /// The children, by sub-face.
     kids: Box<[Kid]>,
 }
@@ -354,11 +166,6 @@ impl Kids {
         let mut out = Vec::new();
         self.refine_into(pos, &mut out);
         out
-    }
-
-    /// Where refined vertex `v` is among the refined points.
-    fn slot(&self, v: u32) -> u32 {
-        slot_of(&self.needed, v)
     }
 }
 
@@ -389,11 +196,12 @@ pub(super) struct TNode {
     crease: bool,
     /// Corners where the limit comes from [`corner_limit`] ([`is_limit_corner`]).
     stop: [bool; 4],
-    kids: OnceLock<Box<Kids>>,
-    /// Boxed: most nodes never analyse a corner (only points exactly at one do), and the
-    /// four inline took 640 of a node's 1,160 bytes (11 % of the surface on irregular
-    /// triangulations, when nearly every triangle had a tree of its own).
-    corners: [OnceLock<Box<CornerRows>>; 4],
+    kids: OnceLock<Kids>,
+    /// Made when a corner is first analysed: most nodes never analyse one (only points
+    /// exactly at a corner where the limit is taken do). Inline, the four took 640 of a
+    /// node's 1,160 bytes (11 % of the surface on irregular triangulations, when nearly
+    /// every triangle had a tree of its own); each boxed, still 64 of 136.
+    corners: OnceLock<Box<[OnceLock<CornerRows>; 4]>>,
 }
 
 /// [`TNode::cols`]: the identity at the root; below, 16-bit positions when they fit (with
@@ -473,10 +281,19 @@ pub(super) struct Tree {
     /// a tenth of its edges (6,800 configurations); packed, they take a fifth of that.
     topo: PackedTopology,
     root: TNode,
-    /// The crease bases of its crease patches, shared by all trees of a surface (one per
-    /// sharpness: made per patch, they were 6 % of the heap of a grid with random
-    /// sharpness on a tenth of its edges).
-    bases: Arc<CreaseBases>,
+    /// What it shares with the other trees of its surface.
+    pools: Arc<Pools>,
+}
+
+/// What the trees of one surface share.
+#[derive(Debug, Default)]
+pub(super) struct Pools {
+    /// The crease bases of crease patches, one per sharpness (made per patch, they were
+    /// 6 % of the heap of a grid with random sharpness on a tenth of its edges); the
+    /// surface's own crease faces use them too.
+    pub bases: CreaseBases,
+    /// The weights of the nodes' rows.
+    weights: WeightPool,
 }
 
 /// How a node's cut-out is found: the tree's root cut-out, or the cut-out of child `j` of
@@ -556,9 +373,8 @@ pub(super) struct TreeCache {
     count: AtomicUsize,
     /// Refine single-crease faces further instead of using [`CreasePatch`] (tests compare).
     pub no_crease_patches: bool,
-    /// Crease bases by sharpness, for the crease patches of the trees and of the
-    /// surface's faces.
-    pub bases: Arc<CreaseBases>,
+    /// What the trees share (the surface's faces use its crease bases too).
+    pub pools: Arc<Pools>,
 }
 
 impl TreeCache {
@@ -595,11 +411,10 @@ impl TreeCache {
             return tree.clone();
         }
         let root = TNode::root(&topo, !self.no_crease_patches);
-        let bases = self.bases.clone();
         let tree = Arc::new(Tree {
             topo: packed,
             root,
-            bases,
+            pools: self.pools.clone(),
         });
         bucket.push(tree.clone());
         self.count.fetch_add(1, Ordering::Relaxed);
@@ -930,7 +745,7 @@ impl TNode {
     fn kids(&self, options: &Options, wanted: impl Fn(usize) -> bool, way: &Way<'_>) -> &Kids {
         self.kids.get_or_init(|| {
             let kids = way.with_topology(self, options, |t| {
-                self.build_kids(t, options, wanted, &way.tree().bases)
+                self.build_kids(t, options, wanted, &way.tree().pools)
             });
             // Built: the cut-out is made again if ever needed (see `topo`).
             *lock(&self.topo) = None;
@@ -945,23 +760,22 @@ impl TNode {
     }
 
     /// The node of irregular child `j`, built after its siblings (refines this node
-    /// again).
+    /// again, and finds again the refined points its children read).
     #[cold]
     #[inline(never)]
     fn build_sub(&self, j: usize, options: &Options, way: &Way<'_>) -> Box<TNode> {
-        let needed = match self.kids.get() {
-            Some(kids) => &kids.needed,
-            None => unreachable!("a child is built after its siblings"),
-        };
         way.with_topology(self, options, |t| {
-            let (child, faces) = Self::child_cut_out(t, j, options);
-            self.sub_node(&child, &faces, needed)
+            let child = refine_topology(t, options, true);
+            let (found, needed) = self.find_kids(t, &child, options);
+            match &found[j] {
+                Found::Irregular(faces) => self.sub_node(&child, faces, &needed),
+                _ => unreachable!("child {j} was irregular when its siblings were built"),
+            }
         })
     }
 
     /// The refinement of cut-out `t` and the cut-out of its child `j` there (faces of the
-    /// refinement): how a child's node is found, when it is built and when it is made
-    /// again ([`Way`]).
+    /// refinement): how a child's cut-out is made again ([`Way`]).
     fn child_cut_out(t: &Topology, j: usize, options: &Options) -> (Topology, Vec<u32>) {
         let child = refine_topology(t, options, true);
         let faces = cut_out_unbounded(&child, j, Self::chaikin(options));
@@ -978,33 +792,32 @@ impl TNode {
         Box::new(node)
     }
 
-    /// The children of this node, whose cut-out is `t`.
-    fn build_kids(
+    /// What each child of this node (face 0 of cut-out `t`) is in `t`'s refinement
+    /// `child`, and the refined vertices the children read, in increasing order (the
+    /// node's refined points, [`Kids`]).
+    fn find_kids(
         &self,
         t: &Topology,
+        child: &Topology,
         options: &Options,
-        wanted: impl Fn(usize) -> bool,
-        bases: &CreaseBases,
-    ) -> Box<Kids> {
-        let child = refine_topology(t, options, true);
+    ) -> (Vec<Found>, Vec<u32>) {
         // Face 0's children are the first faces of its refinement.
         let size = t.face_vertices(0).len();
         let found: Vec<Found> = (0..size)
             .map(|f| {
                 if child.is_hole(f) {
                     Found::Hole
-                } else if let Some(cells) = regular_patch_cells(&child, f) {
+                } else if let Some(cells) = regular_patch_cells(child, f) {
                     Found::Patch(cells, None)
                 } else if let Some((cells, side, s)) =
-                    single_crease(&child, f, options).filter(|_| self.crease)
+                    single_crease(child, f, options).filter(|_| self.crease)
                 {
                     Found::Patch(cells, Some((side, s)))
                 } else {
-                    Found::Irregular(cut_out_unbounded(&child, f, Self::chaikin(options)))
+                    Found::Irregular(cut_out_unbounded(child, f, Self::chaikin(options)))
                 }
             })
             .collect();
-        // The refined vertices the children read.
         let mut needed = Vec::new();
         for kid in &found {
             match kid {
@@ -1019,19 +832,29 @@ impl TNode {
         }
         needed.sort_unstable();
         needed.dedup();
-        let rows = NodeRows::refinement(t, &child, options, &needed, &self.cols);
-        let mut kids = Kids {
-            rows,
-            needed: needed.into(),
-            kids: Box::default(),
-        };
-        kids.kids = (found.into_iter().enumerate())
+        (found, needed)
+    }
+
+    /// The children of this node, whose cut-out is `t`.
+    fn build_kids(
+        &self,
+        t: &Topology,
+        options: &Options,
+        wanted: impl Fn(usize) -> bool,
+        pools: &Pools,
+    ) -> Kids {
+        let child = refine_topology(t, options, true);
+        let (found, needed) = self.find_kids(t, &child, options);
+        let cols = |c| self.cols.get(c);
+        let rows = NodeRows::refinement(t, &child, options, &needed, cols, &pools.weights);
+        let kids = (found.into_iter().enumerate())
             .map(|(j, kid)| {
                 // The net on the refined points.
                 let net = |cells: [[Cell; 4]; 4]| {
                     KidNet::new(Net::new(cells.map(|row| {
                         row.map(|mut c| {
-                            (c.verts.iter_mut().take(c.len)).for_each(|v| *v = kids.slot(*v));
+                            (c.verts.iter_mut().take(c.len))
+                                .for_each(|v| *v = slot_of(&needed, *v));
                             c
                         })
                     })))
@@ -1040,19 +863,19 @@ impl TNode {
                     Found::Hole => Kid::Hole,
                     Found::Patch(cells, None) => Kid::Regular(net(cells)),
                     Found::Patch(cells, Some((side, s))) => {
-                        Kid::Crease(net(cells), side as u8, bases.get(s))
+                        Kid::Crease(net(cells), side as u8, pools.bases.get(s))
                     }
                     Found::Irregular(faces) => {
                         let sub = OnceLock::new();
                         if wanted(j) {
-                            let _ = sub.set(self.sub_node(&child, &faces, &kids.needed));
+                            let _ = sub.set(self.sub_node(&child, &faces, &needed));
                         }
                         Kid::Irregular(sub)
                     }
                 }
             })
             .collect();
-        Box::new(kids)
+        Kids { rows, kids }
     }
 
     /// The corner analysis at corner `k` as weights (computed the first time).
@@ -1063,7 +886,7 @@ impl TNode {
         sectors: &SectorCache,
         way: &Way<'_>,
     ) -> &CornerRows {
-        self.corners[k].get_or_init(|| {
+        self.corners.get_or_init(Box::default)[k].get_or_init(|| {
             // Three unit control points at a time, one per coordinate: coordinate `c` of
             // each output vector is the weight of the point set to `e_c`.
             // The probes share one shape, which analyses the corner's sector (and refines
@@ -1093,11 +916,11 @@ impl TNode {
                 .filter(|(_, w)| w.iter().any(|&w| w != 0.0))
                 .map(|(i, w)| (self.cols.get(i), w))
                 .unzip();
-            Box::new(CornerRows {
+            CornerRows {
                 limit,
                 cols: cols.into(),
                 weights: weights.into(),
-            })
+            }
         })
     }
 }
@@ -1146,71 +969,38 @@ mod tests {
         assert!(patches > 0 && creases > 0 && irregular > 0, "{checked:?}");
     }
 
-    /// Rows with 8-bit and 16-bit indices give the points the same rows give with 32-bit
-    /// ones, and the vector path gives those of the portable one (to the rounding of its
-    /// fused multiply-adds); a node of a grid keeps 8-bit rows, a node reading a point past
-    /// 8 or 16 bits wider ones.
+    /// A node of a grid keeps rows with 8-bit indices, and nodes with the same classes
+    /// of weights share them: the cut-outs of every interior face of a 6 × 6 grid, and of
+    /// the faces next to a crease, make a handful of distinct arrays of weights.
     #[test]
-    fn rows_of_every_width_agree() {
-        // A face point, an edge point, and a second face point sharing the first's weights.
-        let offsets = [0, 4, 6, 10];
-        let cols = [0, 1, 2, 3, 4, 1, 4, 5, 6, 7];
-        let first = [0, 4, 0];
-        let weights = vec![0.25, 0.25, 0.25, 0.25, 0.5, 0.5];
-        let pos: Vec<[f64; 3]> = (0..8)
-            .map(|i| {
-                let x = f64::from(i);
-                [x, x * x / 7.0, 1.0 / (x + 1.0)]
-            })
-            .collect();
-        let expect = |vs: &[usize], w: f64| -> [f64; 3] {
-            std::array::from_fn(|k| vs.iter().map(|&v| w * pos[v][k]).sum())
-        };
-        let wanted = [
-            expect(&[0, 1, 2, 3], 0.25),
-            expect(&[4, 1], 0.5),
-            expect(&[4, 5, 6, 7], 0.25),
-        ];
-        let tiny = RowsOf::<u8>::new(&offsets, &cols, &first, &weights).expect("fits");
-        let narrow = RowsOf::<u16>::new(&offsets, &cols, &first, &weights).expect("fits");
-        let wide = RowsOf::<u32>::new(&offsets, &cols, &first, &weights).expect("fits");
-        let (mut a, mut b, mut c) = ([[0.0; 3]; 3], [[0.0; 3]; 3], [[0.0; 3]; 3]);
-        let mut d = a;
-        narrow.apply(&pos, &mut a);
-        wide.apply(&pos, &mut b);
-        narrow.apply_portable(&pos, &mut c);
-        tiny.apply(&pos, &mut d);
-        assert_eq!(a, b);
-        assert_eq!(a, d);
-        for (got, want) in [a, c].iter().flatten().zip(wanted.iter().chain(&wanted)) {
-            for k in 0..3 {
-                assert!((got[k] - want[k]).abs() <= 1e-15 * want[k].abs().max(1.0));
-            }
-        }
-
-        // A column past 8 bits keeps 16-bit indices, one past 16 bits 32-bit ones.
-        for far_col in [300, 70_000] {
-            let mut far = pos.clone();
-            far.resize(far_col + 1, [0.0; 3]);
-            far[far_col] = [1.0, 2.0, 3.0];
-            let rows = NodeRows::new(&[0, 2], &[3, far_col as u32], &[0], vec![0.5, 0.5]);
-            let wide = matches!(rows, NodeRows::Wide(_));
-            assert_eq!(wide, far_col > 65_535, "column {far_col}");
-            assert!(!matches!(rows, NodeRows::Tiny(_)), "column {far_col}");
-            let mut out = Vec::new();
-            rows.apply(&far, &mut out);
-            for k in 0..3 {
-                assert!((out[0][k] - 0.5 * (pos[3][k] + far[far_col][k])).abs() < 1e-15);
-            }
-        }
-
-        let grid = crate::mesh::test_grid(4, 4, |x, y| [x, y, 0.0]);
+    fn grid_nodes_keep_tiny_rows_and_share_weights() {
+        let mut grid = crate::mesh::test_grid(6, 6, |x, y| [x, y, 0.0]);
+        grid.tags.creases.push(Crease {
+            v0: 8,
+            v1: 9,
+            sharpness: 2.5,
+        });
         let options = Options::default();
         let t = Topology::from_mesh(&grid, &options).expect("topology").0;
-        let faces = super::super::local::cut_out(&t, 5, Reach::new(&options)).expect("cut-out");
-        let tree = TreeCache::new(true).get(t.subset_canonical(&faces).0);
-        let kids = tree.root_kids(&options);
-        assert!(matches!(kids.rows, NodeRows::Tiny(_)));
+        let trees = TreeCache::new(true);
+        let mut arrays = Vec::new();
+        for f in [7, 8, 9, 14, 15, 16, 21] {
+            let faces = super::super::local::cut_out(&t, f, Reach::new(&options)).expect("cut-out");
+            let tree = trees.get(t.subset_canonical(&faces).0);
+            let kids = tree.root_kids(&options);
+            assert!(matches!(kids.rows, NodeRows::Tiny(_)));
+            arrays.push(kids.rows.weights().clone());
+        }
+        let pool = &trees.pools.weights;
+        assert!(
+            pool.len() < arrays.len(),
+            "{} arrays for {} nodes",
+            pool.len(),
+            arrays.len()
+        );
+        let distinct: std::collections::HashSet<*const f64> =
+            arrays.iter().map(|a| a.as_ptr()).collect();
+        assert_eq!(distinct.len(), pool.len());
     }
 
     /// A patch child's net keeps 8-bit indices when its parent has at most 256 refined
@@ -1248,9 +1038,13 @@ mod tests {
                 assert_eq!(quad && is_limit_corner(t, 0, k), node.stop[k]);
             }
         });
-        assert!(kids.needed.windows(2).all(|w| w[0] < w[1]));
-        assert_eq!(kids.rows.len(), kids.needed.len());
-        let mut read = vec![false; kids.needed.len()];
+        let needed = way.with_topology(node, options, |t| {
+            node.find_kids(t, &refine_topology(t, options, true), options)
+                .1
+        });
+        assert!(needed.windows(2).all(|w| w[0] < w[1]));
+        assert_eq!(kids.rows.len(), needed.len());
+        let mut read = vec![false; needed.len()];
         for (j, kid) in kids.kids().iter().enumerate() {
             let slots: Vec<u32> = match kid {
                 Kid::Hole => Vec::new(),
