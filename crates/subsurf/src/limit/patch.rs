@@ -216,7 +216,14 @@ impl<I: Index> Net<I> {
     pub(super) fn eval(&self, pos: &[[f64; 3]]) -> [[[f64; 3]; 4]; 4] {
         match self {
             Net::Plain(v) => {
-                std::array::from_fn(|i| std::array::from_fn(|j| pos[v[4 * i + j].get()]))
+                // A loop of copies: nested `array::from_fn` built each point in a
+                // temporary and read it back across two stores (a stalled store
+                // forward per point, a quarter of evaluating a tree of creases).
+                let mut cp = [[[0.0; 3]; 4]; 4];
+                for (c, &k) in cp.as_flattened_mut().iter_mut().zip(v) {
+                    *c = pos[k.get()];
+                }
+                cp
             }
             Net::Sided(v, sides) => {
                 sided_cells(&wide(v), *sides).map(|col| col.map(|c| c.eval(pos)))
