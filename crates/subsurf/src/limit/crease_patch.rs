@@ -116,12 +116,15 @@ impl CreaseBasis {
             (&self.last, y / h)
         };
         let (b, d, dd) = basis(t);
+        // `h` is a power of two: multiplying by its inverse is dividing by it, bit for
+        // bit, without a division per term.
+        let (inv, inv2) = (1.0 / h, 1.0 / (h * h));
         let mut out = ([0.0; 4], [0.0; 4], [0.0; 4]);
         for (k, row) in m.iter().enumerate() {
             for r in 0..4 {
                 out.0[r] += b[k] * row[r];
-                out.1[r] += d[k] * row[r] / h;
-                out.2[r] += dd[k] * row[r] / (h * h);
+                out.1[r] += d[k] * row[r] * inv;
+                out.2[r] += dd[k] * row[r] * inv2;
             }
         }
         out
@@ -168,15 +171,18 @@ impl CreasePatch {
     /// Sets the control net `cp[i][j]` (`i` along `u`), keeping the side and the basis.
     pub fn set_net(&mut self, cp: &[[[f64; 3]; 4]; 4]) {
         // cp[i][j]: i along u, j along v. Map to net[a][m].
-        let side = self.side;
-        self.net = std::array::from_fn(|a| {
-            std::array::from_fn(|m| match side {
-                0 => cp[a][m],
-                2 => cp[a][3 - m],
-                3 => cp[m][a],
-                _ => cp[3 - m][a],
-            })
-        });
+        // Plain loops of copies: nested `array::from_fn` built each point in a temporary
+        // and read it back across two stores (a stalled store forward per point).
+        for (a, row) in self.net.iter_mut().enumerate() {
+            for (m, p) in row.iter_mut().enumerate() {
+                *p = match self.side {
+                    0 => cp[a][m],
+                    2 => cp[a][3 - m],
+                    3 => cp[m][a],
+                    _ => cp[3 - m][a],
+                };
+            }
+        }
     }
 
     /// Position and derivatives (of `order`) at every point of `batch`, the derivatives

@@ -262,10 +262,13 @@ impl Node {
                 let Some(net) = plain_net(ctx.topo, *f as usize) else {
                     unreachable!("face {f} was made plain after its net was found")
                 };
-                let pos = ctx.pos;
-                Some(Cow::Owned(std::array::from_fn(|i| {
-                    std::array::from_fn(|j| pos[net[4 * i + j] as usize])
-                })))
+                // A loop of copies (nested `array::from_fn` stalled a store forward per
+                // point, see `Net::eval`).
+                let mut cp = [[[0.0; 3]; 4]; 4];
+                for (c, &v) in cp.as_flattened_mut().iter_mut().zip(&net) {
+                    *c = ctx.pos[v as usize];
+                }
+                Some(Cow::Owned(cp))
             }
             Node::Regular(cp) => Some(Cow::Borrowed(cp)),
             Node::Net(p) if p.crease.is_none() => Some(Cow::Owned(p.net.eval(ctx.pos))),
