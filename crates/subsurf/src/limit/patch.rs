@@ -22,6 +22,7 @@
 use super::Index;
 use crate::mesh::{CreaseMethod, Rule, Topology};
 use crate::scheme::crease;
+use std::sync::OnceLock;
 
 /// Which edges and vertices the patch tests treat as infinitely sharp: those that are
 /// (sharpness ≥ 10, boundary and non-manifold edges) and, for a bounded number of
@@ -148,8 +149,9 @@ impl Cell {
 /// again when the vertices move ([`LimitSurface::set_positions`]) without walking the
 /// topology again: vertex indices when every cell is one vertex (64 bytes; every patch
 /// away from boundaries and creases); at a boundary or an infinitely sharp crease, the
-/// vertex indices and the sharp sides, the phantom cells made again when evaluated (the
-/// same sums as [`Net::Cells`], in the same order); else (where a phantom cell does not
+/// vertex indices and the sharp sides, the phantom cells evaluated from a table of
+/// their terms per set of sharp sides ([`sided_terms`]: the same sums as [`Net::Cells`],
+/// in the same order); else (where a phantom cell does not
 /// come out the same, as when a degenerate face repeats a vertex) the cells (896
 /// bytes).
 ///
@@ -186,7 +188,7 @@ impl Net {
         // filling them in again gives these very cells.
         let sides = [&cells[1][0], &cells[3][1], &cells[1][3], &cells[0][1]].map(|c| !is_vertex(c));
         let v = verts(&is_vertex);
-        if sided_cells(&v, sides) == cells {
+        if table_cells(&v, sides) == cells {
             Net::Sided(v, sides)
         } else {
             Net::Cells(Box::new(cells))
@@ -226,7 +228,18 @@ impl<I: Index> Net<I> {
                 cp
             }
             Net::Sided(v, sides) => {
-                sided_cells(&wide(v), *sides).map(|col| col.map(|c| c.eval(pos)))
+                // As `Cell::eval` on each cell (`Net::new` checked that the table's
+                // terms are the cells'), without making the cells.
+                let mut cp = [[[0.0; 3]; 4]; 4];
+                for (c, t) in cp.as_flattened_mut().iter_mut().zip(sided_terms(*sides)) {
+                    let mut acc = [0.0; 3];
+                    for (&k, &w) in t.at.iter().zip(&t.weights).take(usize::from(t.len)) {
+                        let p = &pos[v[usize::from(k)].get()];
+                        (0..3).for_each(|d| acc[d] += w * p[d]);
+                    }
+                    *c = acc;
+                }
+                cp
             }
             Net::Cells(c) => c.map(|col| col.map(|c| c.eval(pos))),
         }
@@ -237,15 +250,68 @@ impl<I: Index> Net<I> {
     pub(super) fn cells(&self) -> [[Cell; 4]; 4] {
         match self {
             Net::Plain(v) => sided_cells(&wide(v), [false; 4]),
-            Net::Sided(v, sides) => sided_cells(&wide(v), *sides),
+            Net::Sided(v, sides) => table_cells(&wide(v), *sides),
             Net::Cells(c) => **c,
         }
     }
 }
 
 /// Indices `v` as `u32`.
+#[cfg(test)]
 fn wide<I: Index>(v: &[I; 16]) -> [u32; 16] {
     v.map(|x| x.get() as u32)
+}
+
+/// The terms of one cell of a [`Net::Sided`]: weights on entries `at` of its vertex list.
+#[derive(Clone, Copy, Debug, Default)]
+struct Terms {
+    at: [u8; 4],
+    weights: [f64; 4],
+    len: u8,
+}
+
+/// The terms of the cells of a [`Net::Sided`] with sharp `sides`, cell `[i][j]` at
+/// `4 i + j`: those of [`sided_cells`] on the vertex list `0, 1, …, 15`, made once per
+/// set of sides. They are those of a net's own cells unless two of the vertices a phantom
+/// cell combines are the same (the cell then has fewer terms), which [`Net::new`] checks
+/// ([`table_cells`]). Making the 16 cells (900 bytes) at each evaluation was a fifth of
+/// the evaluation of a shape with boundaries through its trees (`catmark_edgeonly`).
+fn sided_terms(sides: [bool; 4]) -> &'static [Terms; 16] {
+    static TABLE: OnceLock<[[Terms; 16]; 16]> = OnceLock::new();
+    let table = TABLE.get_or_init(|| {
+        std::array::from_fn(|set| {
+            let sides = std::array::from_fn(|b| set >> b & 1 == 1);
+            let cells = sided_cells(&std::array::from_fn(|k| k as u32), sides);
+            std::array::from_fn(|k| {
+                let c = &cells[k / 4][k % 4];
+                Terms {
+                    at: c.verts.map(|v| v as u8),
+                    weights: c.weights,
+                    len: c.len as u8,
+                }
+            })
+        })
+    });
+    let set = (0..4).filter(|&b| sides[b]).fold(0, |set, b| set | 1 << b);
+    &table[set]
+}
+
+/// The cells [`sided_terms`] stands for with the vertex list `v`.
+fn table_cells(v: &[u32; 16], sides: [bool; 4]) -> [[Cell; 4]; 4] {
+    let terms = sided_terms(sides);
+    std::array::from_fn(|i| {
+        std::array::from_fn(|j| {
+            let t = &terms[4 * i + j];
+            let mut c = Cell {
+                len: usize::from(t.len),
+                ..Cell::default()
+            };
+            for n in 0..c.len {
+                (c.verts[n], c.weights[n]) = (v[usize::from(t.at[n])], t.weights[n]);
+            }
+            c
+        })
+    })
 }
 
 /// The cells of a [`Net::Sided`]: vertex `v[4 i + j]` in cell `[i][j]`, then the phantom
@@ -599,5 +665,42 @@ mod tests {
             sided >= 20 && plain >= 4,
             "{sided} sided, {plain} plain nets"
         );
+    }
+
+    /// Under every set of sharp sides, a net of distinct vertices is kept as its sides
+    /// and evaluates bit for bit as its cells; one whose phantom cell combines a vertex
+    /// with itself (a degenerate face) keeps its cells, as the table's terms are not its
+    /// cells' there.
+    #[test]
+    fn sided_terms_are_the_cells_of_every_set_of_sides() {
+        let pos: Vec<[f64; 3]> = (0..20)
+            .map(|i| {
+                let x = f64::from(i) * 0.37;
+                [x.sin(), x.cos() * 3.0, -x]
+            })
+            .collect();
+        let v: [u32; 16] = std::array::from_fn(|k| 3 + k as u32);
+        for set in 1..16 {
+            let sides: [bool; 4] = std::array::from_fn(|b| set >> b & 1 == 1);
+            let cells = sided_cells(&v, sides);
+            let net = Net::new(cells);
+            assert!(
+                matches!(net, Net::Sided(_, s) if s == sides),
+                "sides {sides:?}"
+            );
+            let want = cells.map(|col| col.map(|c| c.eval(&pos)));
+            assert_eq!(net.eval(&pos), want, "sides {sides:?}");
+            let narrow: Net<u8> = net.narrow().expect("fits");
+            assert_eq!(narrow.eval(&pos), want, "sides {sides:?}");
+        }
+        // Side 3 sharp: cell [0][1] is 2 v[5] - v[9]; with v[9] = v[5] it is v[5] alone.
+        let mut same = v;
+        same[9] = same[5];
+        let sides = [false, false, false, true];
+        let cells = sided_cells(&same, sides);
+        assert_eq!(cells[0][1].len, 1);
+        let net = Net::new(cells);
+        assert!(matches!(net, Net::Cells(_)));
+        assert_eq!(net.eval(&pos), cells.map(|col| col.map(|c| c.eval(&pos))));
     }
 }
