@@ -969,6 +969,81 @@ mod tests {
         assert!(patches > 0 && creases > 0 && irregular > 0, "{checked:?}");
     }
 
+    /// A child whose node is built after its siblings (by a point that reaches it later)
+    /// is the node built with them: the same points read from its parent's refined points,
+    /// the same corners where the limit is known, and the same children below. On every
+    /// face of a grid with creases that end inside it or change sharpness, and of a cube.
+    #[test]
+    fn children_built_later_are_those_built_with_their_siblings() {
+        let n = 7u32;
+        let mut grid = crate::mesh::test_grid(n - 1, n - 1, |x, y| [x, y, 0.1 * x * y]);
+        let v = |i: u32, j: u32| j * n + i;
+        for (v0, v1, sharpness) in [
+            (v(1, 1), v(2, 1), 10.0),
+            (v(2, 1), v(3, 1), 2.0),
+            (v(1, 4), v(2, 4), 3.0),
+            (v(2, 4), v(3, 4), 1.0),
+        ] {
+            grid.tags.creases.push(Crease { v0, v1, sharpness });
+        }
+        let options = Options::default();
+        let (now, later) = (TreeCache::new(true), TreeCache::new(true));
+        let (mut compared, mut seen) = (0, std::collections::HashSet::new());
+        for mesh in [grid, crate::mesh::test_cube()] {
+            let t = Topology::from_mesh(&mesh, &options).expect("topology").0;
+            for f in 0..t.num_faces() {
+                let faces = super::super::local::cut_out(&t, f, Reach::new(&options))
+                    .expect("no high valence here");
+                let (a, b) = (
+                    now.get(t.subset_canonical(&faces).0),
+                    later.get(t.subset_canonical(&faces).0),
+                );
+                if !seen.insert(Arc::as_ptr(&b)) {
+                    continue; // A configuration met before.
+                }
+                let (way_a, way_b) = (Way::Root(&a), Way::Root(&b));
+                let kids_a = a.root.kids(&options, |_| true, &way_a);
+                let kids_b = b.root.kids(&options, |_| false, &way_b);
+                for (j, (ka, kb)) in kids_a.kids().iter().zip(kids_b.kids()).enumerate() {
+                    let (Kid::Irregular(sa), Kid::Irregular(sb)) = (ka, kb) else {
+                        continue;
+                    };
+                    assert!(
+                        sb.get().is_none(),
+                        "face {f}: child {j} built with its siblings"
+                    );
+                    let na = sa.get().expect("built with its siblings");
+                    let nb = sb.get_or_init(|| b.root.build_sub(j, &options, &way_b));
+                    let cols = |n: &TNode| {
+                        (0..n.cols.len() as u32)
+                            .map(|i| n.cols.get(i))
+                            .collect::<Vec<_>>()
+                    };
+                    assert_eq!(cols(na), cols(nb), "face {f}, child {j}");
+                    assert_eq!(na.stop, nb.stop, "face {f}, child {j}");
+                    let up_a = Way::Child {
+                        parent: &a.root,
+                        up: &way_a,
+                        j,
+                    };
+                    let up_b = Way::Child {
+                        parent: &b.root,
+                        up: &way_b,
+                        j,
+                    };
+                    let (ga, gb) = (
+                        na.kids(&options, |_| true, &up_a),
+                        nb.kids(&options, |_| true, &up_b),
+                    );
+                    assert_eq!(ga.rows.len(), gb.rows.len(), "face {f}, child {j}");
+                    assert_eq!(format!("{:?}", ga.kids()), format!("{:?}", gb.kids()));
+                    compared += 1;
+                }
+            }
+        }
+        assert!(compared >= 10, "{compared} children compared");
+    }
+
     /// A node of a grid keeps rows with 8-bit indices, and nodes with the same classes
     /// of weights share them: the cut-outs of every interior face of a 6 × 6 grid, and of
     /// the faces next to a crease, make a handful of distinct arrays of weights.
