@@ -26,7 +26,7 @@
 //! Layers, bottom-up (see `ARCHITECTURE.md`): [`mesh`] (polygon meshes and their adjacency),
 //! [`scheme`] (subdivision weights only), [`refine`] (topology refinement once, then fast
 //! application to any primvar), [`limit`] (limit masks), [`io`] (files), and the one-call
-//! facade [`subdivide`]. [`nurss`] is non-uniform Catmull-Clark (knot intervals on edges,
+//! facade [`subdivide`](fn@subdivide). [`nurss`] is non-uniform Catmull-Clark (knot intervals on edges,
 //! rational weights), on the same topology refinement.
 //!
 //! # Speed: choose the global allocator

@@ -199,7 +199,7 @@ pub fn nurss_refine_once(mesh: &PolyMesh) -> Result<PolyMesh, BlendError> {
 /// One Catmull-Clark step of `mesh` (OpenSubdiv's rules; intervals are ignored).
 ///
 /// # Errors
-/// [`BlendError::Subdivide`] from [`crate::subdivide`].
+/// [`BlendError::Subdivide`] from [`crate::subdivide`](fn@crate::subdivide).
 pub fn catmark_refine_once(mesh: &PolyMesh) -> Result<PolyMesh, BlendError> {
     let opts = crate::SubdivideOptions {
         levels: 1,

@@ -92,7 +92,7 @@ impl<'a> SurfaceBuilder<'a> {
     /// every face). The surface of a face built is the same as in a surface of every
     /// face; the others have no surface ([`LimitSurface::has_surface`] is false, and
     /// evaluating them is [`EvalError::NotBuilt`](super::EvalError::NotBuilt)) and cost 4
-    /// bytes each; [`tessellate`](super::tessellate) leaves them out as it leaves holes.
+    /// bytes each; [`tessellate`](fn@super::tessellate) leaves them out as it leaves holes.
     /// `select` is called once per face, from several threads.
     pub fn faces(mut self, select: impl Fn(usize, &[u32]) -> bool + Sync + 'a) -> Self {
         self.faces = Some(Box::new(select));

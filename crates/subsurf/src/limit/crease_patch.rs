@@ -6,7 +6,7 @@
 //! sharpness 0, no infinitely sharp edge), and whose only sharp edges at those corners are
 //! the three edges of one grid line of its 4×4 control net through one of its sides (the
 //! side and its two straight extensions), all with the same semi-sharp sharpness `s`, with
-//! [`CreaseMethod::Uniform`](crate::mesh::CreaseMethod::Uniform). (Edges further out do not
+//! [`CreaseMethod::Uniform`]. (Edges further out do not
 //! shape `f`'s surface; see [`super::local`].) OpenSubdiv's regression shapes
 //! `catmark_pawn` and `catmark_bishop` are mostly such faces (sharpness-6 rings).
 //!

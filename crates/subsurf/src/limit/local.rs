@@ -100,7 +100,7 @@ pub struct Reach {
     /// in tests: every face on its own).
     pub high_valence: usize,
     /// Semi-sharp edges decay by Chaikin's rule
-    /// ([`CreaseMethod::Chaikin`](crate::mesh::CreaseMethod::Chaikin)).
+    /// ([`CreaseMethod::Chaikin`]).
     pub chaikin: bool,
 }
 

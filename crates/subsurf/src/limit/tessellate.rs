@@ -337,7 +337,7 @@ struct Grid {
     /// (`1 ≤ k < r`, at `k / r` from `edge_vertices[0]` to `[1]`) is `edge[e] + k - 1`.
     edge: Vec<u32>,
     /// Per base face, the output vertex of its first interior sample (see
-    /// [`Grid::interior`]).
+    /// [`Grid::number`], which pushes them row by row).
     face: Vec<u32>,
     /// Per output vertex, where its owner evaluates it.
     points: Vec<SurfacePoint>,

@@ -15,7 +15,7 @@
 //!   [`Nurss::homogeneous`], and written out with [`Nurss::to_mesh`] (intervals and weights
 //!   as [`KnotTags`], so refining `a` then `b` levels equals refining `a + b`).
 //! - [`Nurss::limit_points`]: the limit position of every vertex of the current level.
-//! - [`subdivide`]: the one-call facade, like [`crate::subdivide`].
+//! - [`subdivide`]: the one-call facade, like [`crate::subdivide`](fn@crate::subdivide).
 //! - [`tessellate`](fn@tessellate): a watertight sampling of the limit surface through refinement (limit
 //!   points of level `L` for rate `2^L`), with mesh normals.
 //!
@@ -339,7 +339,7 @@ impl Nurss {
     }
 
     /// The current level as a [`PolyMesh`]: hole faces left out unless `keep_holes` (then
-    /// tagged), remaining sharpness as crease and corner tags (as [`crate::subdivide`]
+    /// tagged), remaining sharpness as crease and corner tags (as [`crate::subdivide`](fn@crate::subdivide)
     /// writes them), and [`PolyMesh::knots`] holding every interval that is not 1 (of edges of
     /// written faces) and, for a rational mesh, every weight.
     pub fn to_mesh(&self, keep_holes: bool) -> PolyMesh {

@@ -19,7 +19,7 @@
 //! rest: faces at non-manifold vertices, at semi-sharp edges under Chaikin's rule, at
 //! valences above 16, and faces whose ring is shared by fewer than four faces (0.05 % of
 //! the output of `catmark_bishop` at level 6). Re-posing is 10–20× faster than
-//! [`subdivide`](crate::subdivide) on quad meshes, 9–17× on all-triangle ones such as
+//! [`subdivide`](fn@crate::subdivide) on quad meshes, 9–17× on all-triangle ones such as
 //! scans, with AVX-512 (5–9× at levels 2–4 with AVX2 only; see [`RefinePlan`] for numbers).
 //!
 //! # Storage
@@ -50,7 +50,7 @@
 //! # Accuracy
 //! The plan computes the same linear map as [`interpolate`](super::interpolate), but sums
 //! in a different order (folded face points, merged columns), so its results agree with
-//! [`subdivide`](crate::subdivide) to rounding, not bit for bit: within 1e-14 of the size
+//! [`subdivide`](fn@crate::subdivide) to rounding, not bit for bit: within 1e-14 of the size
 //! of the mesh (its bounding-box diagonal) on all of OpenSubdiv's regression shapes at
 //! levels 1–3 (at most 2.1e-15 measured; `tests/integration/replay.rs`). Merged weights are summed
 //! with their rounding errors, and each row adds its smallest terms first, so that a
@@ -106,7 +106,7 @@ const PAR_MIN_ROWS: usize = 16 * 1024;
 /// ```
 ///
 /// # Cost
-/// Building a plan refines the topology once (as [`subdivide`](crate::subdivide) does),
+/// Building a plan refines the topology once (as [`subdivide`](fn@crate::subdivide) does),
 /// computes every mask of the sparse rows once, finds the patches and builds one matrix
 /// per shape of ring: 2–10× the time of one `subdivide` (parallel, like it; measured in
 /// one process each, which allocates all its memory fresh: `catmark_bishop` level 6
@@ -133,7 +133,7 @@ const PAR_MIN_ROWS: usize = 16 * 1024;
 /// thread). With sparse rows only (before patches) the bishop apply took 0.05–0.06 s.
 ///
 /// The plan covers positions of every vertex of the last level, in
-/// [`subdivide`](crate::subdivide)'s order (including vertices used only by hole faces);
+/// [`subdivide`](fn@crate::subdivide)'s order (including vertices used only by hole faces);
 /// it does not move them to the limit surface.
 #[derive(Clone, Debug)]
 pub struct RefinePlan {
@@ -195,7 +195,7 @@ pub struct PlanScratch<const D: usize = 3> {
 impl RefinePlan {
     /// Builds the plan that maps the positions of `mesh` (or any values at its vertices)
     /// to those of its uniform refinement to `levels`, with the scheme `options` and the
-    /// mesh's tags, exactly as [`subdivide`](crate::subdivide) would refine it.
+    /// mesh's tags, exactly as [`subdivide`](fn@crate::subdivide) would refine it.
     ///
     /// # Errors
     /// [`MeshError`] for an invalid mesh or tags, or when the last level would exceed

@@ -1,4 +1,4 @@
-//! Ring patches of a [`RefinePlan`](super::RefinePlan): the last levels of a face whose
+//! Ring patches of a [`RefinePlan`]: the last levels of a face whose
 //! corners are manifold vertices of any valence (inside or on a boundary, smooth or
 //! sharp), computed from the points of its 1-ring by one fixed matrix per shape of ring
 //! and sharpness, as regular patches are computed from 16 points by the bicubic kernel
@@ -61,7 +61,7 @@
 //! # The matrix
 //! It is computed by refining the 1-ring itself: a mesh of the key's faces
 //! ([`Kernel::new`]) refined `d` levels by a plan of sparse rows only (the masks of all
-//! refinement, [`RefinePlan`](super::RefinePlan) without patches), applied to the unit
+//! refinement, [`RefinePlan`] without patches), applied to the unit
 //! vectors of its points; each row is then the refined value at one vertex on the
 //! template's face 0 (rows grouped as [`Kernel::new`] says). No mask is written twice, so
 //! the matrix cannot disagree with the rows. The template's own boundary rules act only

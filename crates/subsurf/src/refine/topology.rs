@@ -179,7 +179,7 @@ pub(crate) fn refine_topology(p: &Topology, options: &Options, full: bool) -> To
 
 /// [`refine_topology`] with `full == false` and without the child's edge → vertices
 /// relation (`edge_verts` is left empty, so `num_edges()` is 0, while edge tags and
-/// sharpness are there): for the last level of [`subdivide`](crate::subdivide), whose only
+/// sharpness are there): for the last level of [`subdivide`](fn@crate::subdivide), whose only
 /// use of child edge vertices is the output's crease tags, which it reads from the parent
 /// (the child edge `S + 2e + k` joins `V + F + e` and the end `k` of parent edge `e`;
 /// the edges inside parent faces are never sharp). This saves 8 bytes per child edge

@@ -2,7 +2,7 @@
 //!
 //! [`render`] draws a mesh's exact limit surface (sampled with
 //! [`tessellate`](crate::limit::tessellate), normals and curvature from the exact limit
-//! derivatives) or a refined control mesh (from [`subdivide`](crate::subdivide)) into an
+//! derivatives) or a refined control mesh (from [`subdivide`](fn@crate::subdivide)) into an
 //! [`RgbImage`], shaded, as reflection lines ([`Paint::Zebra`]), coloured by curvature
 //! ([`Paint::Curvature`], with a colour bar) or by base face ([`Paint::Faces`]), optionally
 //! with the control mesh drawn on top.
