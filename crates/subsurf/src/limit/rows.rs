@@ -216,17 +216,16 @@ impl<I: Index> RowsOf<I> {
     unsafe fn apply_avx(&self, pos: &[[f64; 3]], out: &mut [[f64; 3]]) {
         use std::arch::x86_64::*;
         let (starts, first, cols) = self.parts();
+        // The three coordinates of a point in one masked load (the fourth lane zero, and
+        // never read from memory).
+        let xyz = _mm256_setr_epi64x(-1, -1, -1, 0);
         for (r, o) in out.iter_mut().enumerate() {
             let (a, b, w) = (starts[r].get(), starts[r + 1].get(), first[r].get());
             let mut acc = _mm256_setzero_pd();
             for (&c, &w) in cols[a..b].iter().zip(&self.weights[w..w + (b - a)]) {
                 let p = &pos[c.get()];
-                // SAFETY: `p` holds three `f64`: two loaded at its start, one at its end.
-                let x = unsafe {
-                    let xy = _mm_loadu_pd(p.as_ptr());
-                    let z = _mm_load_sd(p.as_ptr().add(2));
-                    _mm256_insertf128_pd::<1>(_mm256_castpd128_pd256(xy), z)
-                };
+                // SAFETY: `p` holds three `f64`, the lanes the mask loads.
+                let x = unsafe { _mm256_maskload_pd(p.as_ptr(), xyz) };
                 acc = _mm256_fmadd_pd(_mm256_set1_pd(w), x, acc);
             }
             let mut lanes = [0.0; 4];
