@@ -930,14 +930,10 @@ mod tests {
     use super::*;
     use crate::mesh::Crease;
 
-    /// The refined points a node keeps rows for, and each child's reads of them, on every
-    /// face of a grid with creases that end inside it or change sharpness (patches, crease
-    /// patches and irregular children) and on a cube (irregular children only), two
-    /// levels down: every refined point is computed once (`needed` increasing) and read
-    /// by some child, no child reads past them, and a node's cut-out, dropped once its
-    /// children are built, is made again as it was.
-    #[test]
-    fn children_read_each_refined_point_of_their_node() {
+    /// A 6 × 6 grid with creases that end inside it or change sharpness (infinitely sharp,
+    /// then 2; 3, then 1), and a cube: faces with patch, crease-patch and irregular
+    /// children.
+    fn creased_grid_and_cube() -> [crate::mesh::PolyMesh; 2] {
         let n = 7u32;
         let mut grid = crate::mesh::test_grid(n - 1, n - 1, |x, y| [x, y, 0.1 * x * y]);
         let v = |i: u32, j: u32| j * n + i;
@@ -952,10 +948,21 @@ mod tests {
         ] {
             grid.tags.creases.push(Crease { v0, v1, sharpness });
         }
+        [grid, crate::mesh::test_cube()]
+    }
+
+    /// The refined points a node keeps rows for, and each child's reads of them, on every
+    /// face of a grid with creases that end inside it or change sharpness (patches, crease
+    /// patches and irregular children) and on a cube (irregular children only), two
+    /// levels down: every refined point is computed once (`needed` increasing) and read
+    /// by some child, no child reads past them, and a node's cut-out, dropped once its
+    /// children are built, is made again as it was.
+    #[test]
+    fn children_read_each_refined_point_of_their_node() {
         let options = Options::default();
         let trees = TreeCache::new(true);
         let mut checked = [0; 3];
-        for mesh in [grid, crate::mesh::test_cube()] {
+        for mesh in creased_grid_and_cube() {
             let t = Topology::from_mesh(&mesh, &options).expect("topology").0;
             for f in 0..t.num_faces() {
                 let Ok(faces) = super::super::local::cut_out(&t, f, Reach::new(&options)) else {
@@ -975,21 +982,10 @@ mod tests {
     /// face of a grid with creases that end inside it or change sharpness, and of a cube.
     #[test]
     fn children_built_later_are_those_built_with_their_siblings() {
-        let n = 7u32;
-        let mut grid = crate::mesh::test_grid(n - 1, n - 1, |x, y| [x, y, 0.1 * x * y]);
-        let v = |i: u32, j: u32| j * n + i;
-        for (v0, v1, sharpness) in [
-            (v(1, 1), v(2, 1), 10.0),
-            (v(2, 1), v(3, 1), 2.0),
-            (v(1, 4), v(2, 4), 3.0),
-            (v(2, 4), v(3, 4), 1.0),
-        ] {
-            grid.tags.creases.push(Crease { v0, v1, sharpness });
-        }
         let options = Options::default();
         let (now, later) = (TreeCache::new(true), TreeCache::new(true));
         let (mut compared, mut seen) = (0, std::collections::HashSet::new());
-        for mesh in [grid, crate::mesh::test_cube()] {
+        for mesh in creased_grid_and_cube() {
             let t = Topology::from_mesh(&mesh, &options).expect("topology").0;
             for f in 0..t.num_faces() {
                 let faces = super::super::local::cut_out(&t, f, Reach::new(&options))
