@@ -76,8 +76,7 @@ impl NodeRows {
             }
             starts.push(all_cols.len() as u32);
             let same = |&(start, len): &(u32, u32)| {
-                let class = &found[start as usize..(start + len) as usize];
-                len as usize == row.len() && bits_equal(class, &row)
+                bits_equal(&found[start as usize..(start + len) as usize], &row)
             };
             let class = classes.iter().position(same).unwrap_or_else(|| {
                 classes.push((found.len() as u32, row.len() as u32));
