@@ -157,22 +157,25 @@ pub(super) fn corner_limit(
     if smooth {
         return smooth_corner(l, k);
     }
-    if !all_quads {
+    let n = t.face_vertices(l.face).len();
+    let corner = tag.rule == crate::mesh::Rule::Corner;
+    if corner && n == 4 {
+        // The vertex stays put; the limit curves along the face's sides leave it toward
+        // the neighbouring vertices (cubic B-spline end condition). Read on the face
+        // alone, whatever the other faces at the corner are (a face's cut-out holds only
+        // its own sectors at such a vertex: `local`, "Corners").
+        return CornerLimit {
+            p: pos[c],
+            ..CornerLimit::edges(k, face_edge_dirs(l, k))
+        };
+    }
+    if corner || !all_quads {
         // One step makes every face a quad; the corner's child has the same limit.
-        let n = t.face_vertices(l.face).len();
         let next = l.child(k, options);
         return corner_limit(&next, if n == 4 { k } else { 0 }, options, sectors);
     }
     let along = face_edge_dirs(l, k);
     match tag.rule {
-        crate::mesh::Rule::Corner => {
-            // The vertex stays put; the limit curves along the face's sides leave it toward
-            // the neighbouring vertices (cubic B-spline end condition).
-            CornerLimit {
-                p: pos[c],
-                ..CornerLimit::edges(k, along)
-            }
-        }
         crate::mesh::Rule::Crease => {
             // The crease curve is the cubic B-spline of the crease polygon: its limit point is
             // ⅔ c + ⅙ (a + b) whatever lies around it. The tangent plane of the face's side

@@ -31,6 +31,22 @@
 //! high-valence vertex lies within two rings of it, the far ends of `g`'s edges within
 //! three, and the faces around them within four.
 //!
+//! # Corners: sectors only
+//! At an infinitely sharp vertex `v` (tagged so, or made so as a non-manifold vertex) the
+//! corner rule holds at every level: `v` stays put and reads no face. What then reaches
+//! `f`'s children from around `v` are the edge points of the edges at `v` that are not
+//! infinitely sharp (from their two faces) and the face points of those faces, and
+//! nothing crosses an infinitely sharp edge (its points are midpoints, its children
+//! sharp). So the cut-out holds, at such a corner, only `f`'s *sector* there: the faces
+//! reached from `f` around `v` across edges that are not infinitely sharp (boundary and
+//! non-manifold edges are). The children of the sector are the sector of `f`'s child at
+//! `v`'s child, so this holds at every level; the limit at `v` itself is read from `f`
+//! alone ([`super::corner`]). Not when a semi-sharp edge meets `v`: its decay (Chaikin's
+//! rule) and whether it still softens the corner read every edge at `v`. Around a
+//! non-manifold vertex, whose faces all reach it, this is what keeps cut-outs small: in
+//! OpenSubdiv's `catmark_nonman_quadpole360` each of 360 faces has a sector of two, where
+//! the region of the whole pole (below) kept 10 MB of refined topology.
+//!
 //! # High valence: shared regions
 //! Around a vertex `w` of valence `n` every face's 1-ring holds all `n` faces of `w`, so
 //! one cut-out per face would cost `O(n²)` time and memory unless the faces share their
@@ -87,9 +103,29 @@ pub const HIGH_VALENCE: usize = 128;
 /// Whether vertex `v` of `t` has too many faces for per-face cut-outs (see
 /// [`HIGH_VALENCE`]; `high_valence` is its value, or `usize::MAX` in tests).
 pub(super) fn is_high_valence(t: &Topology, v: usize, high_valence: usize) -> bool {
-    let n = t.vertex_faces(v).len();
-    let tag = t.vert_tags[v].get();
-    n > high_valence || (n > high_valence / 4 && (tag.boundary || tag.non_manifold))
+    t.vertex_faces(v).len() > fan_limit(t, v, high_valence)
+}
+
+/// The most faces of `v` (or of one face's sectors at `v`, see [`is_sectored`]) that a
+/// face's own cut-out takes: `high_valence`, a quarter of it on a boundary or at a
+/// non-manifold vertex.
+fn fan_limit(t: &Topology, v: usize, high_valence: usize) -> usize {
+    let tag = t.vertex_tag(v);
+    if tag.boundary || tag.non_manifold {
+        high_valence / 4
+    } else {
+        high_valence
+    }
+}
+
+/// Whether a face's cut-out needs only the face's own sectors at vertex `v` (module docs,
+/// "Corners"): `v` is infinitely sharp, so its rule is the corner rule at every level, no
+/// semi-sharp edge meets it (whose decay and softening read every edge at `v`), and an
+/// infinitely sharp edge (a boundary or non-manifold one included) may bound a sector
+/// (without one, the sector is every face of `v`).
+fn is_sectored(t: &Topology, v: usize) -> bool {
+    let tag = t.vertex_tag(v);
+    tag.inf_sharp && !tag.semi_sharp_edges && (tag.inf_sharp_edges || tag.non_manifold)
 }
 
 /// How far the cut-outs of a level reach: where faces share regions, and whether they
@@ -460,19 +496,29 @@ pub fn region_cut(level: LevelRef<'_>, f: usize, w: u32) -> Local {
 
 /// Faces of the cut-out of `f` ([`cut_out_unbounded`]), `f` first, each once; `Err(w)`
 /// as soon as a vertex `w` of more than `reach.high_valence` faces is met among the
-/// 1-ring's vertices (any such vertex gives a region that holds the cut-out). The faces
-/// added for Chaikin's rule are not checked: a high-valence vertex among them costs its
-/// faces in this cut-out, and the region of such a vertex would not hold the cut-outs of
-/// all faces that reach it so.
+/// 1-ring's vertices (any such vertex gives a region that holds the cut-out). Where
+/// [`is_sectored`], it is the sector at that vertex of the face met that counts. The
+/// faces added for Chaikin's rule are not checked: a high-valence vertex among them costs
+/// its faces in this cut-out, and the region of such a vertex would not hold the cut-outs
+/// of all faces that reach it so.
 pub(super) fn cut_out(t: &Topology, f: usize, reach: Reach) -> Result<Vec<u32>, u32> {
-    let big = |v: u32| is_high_valence(t, v as usize, reach.high_valence);
-    if let Some(&w) = t.face_vertices(f).iter().find(|&&v| big(v)) {
-        return Err(w);
+    let hv = reach.high_valence;
+    // Whether corner `k` of face `g` reaches too many faces: all of its vertex's, or
+    // `g`'s sector there where [`is_sectored`] (walked only if the vertex has too many).
+    let big = |g: usize, k: usize| {
+        let v = t.face_vertices(g)[k] as usize;
+        is_high_valence(t, v, hv)
+            && (!is_sectored(t, v) || sector(t, g, k, fan_limit(t, v, hv)).is_none())
+    };
+    let corners = 0..t.face_vertices(f).len();
+    if let Some(k) = corners.clone().find(|&k| big(f, k)) {
+        return Err(t.face_vertices(f)[k]);
     }
-    let mut faces = ring_faces(t, f);
+    let mut faces = ring_faces(t, f, hv)?;
     for &g in &faces[1..] {
-        if let Some(&w) = t.face_vertices(g as usize).iter().find(|&&v| big(v)) {
-            return Err(w);
+        let g = g as usize;
+        if let Some(k) = (0..t.face_vertices(g).len()).find(|&k| big(g, k)) {
+            return Err(t.face_vertices(g)[k]);
         }
     }
     if reach.chaikin {
@@ -482,11 +528,13 @@ pub(super) fn cut_out(t: &Topology, f: usize, reach: Reach) -> Result<Vec<u32>, 
 }
 
 /// The faces whose topology and points determine the surface over face `f` and its local
-/// refinement, `f` first, each once: its 1-ring, and with `chaikin`, after it the faces
-/// around the far end of each semi-sharp edge at a corner (module docs, "Chaikin's
-/// rule").
+/// refinement, `f` first, each once: its 1-ring (with only its sectors at a corner where
+/// [`is_sectored`]), and with `chaikin`, after it the faces around the far end of each
+/// semi-sharp edge at a corner (module docs, "Chaikin's rule").
 pub(super) fn cut_out_unbounded(t: &Topology, f: usize, chaikin: bool) -> Vec<u32> {
-    let mut faces = ring_faces(t, f);
+    let Ok(mut faces) = ring_faces(t, f, usize::MAX) else {
+        unreachable!("no sector has more than usize::MAX faces")
+    };
     if chaikin {
         add_far_ends(t, f, &mut faces);
     }
@@ -502,17 +550,98 @@ fn add_face(g: u32, faces: &mut Vec<u32>) {
 
 /// Faces of the 1-ring of `f`, `f` first: around each corner from `f` on, so that faces
 /// whose neighbourhoods differ only by where a corner's cycle starts list them in the same
-/// order (see `Topology::subset_canonical`).
-fn ring_faces(t: &Topology, f: usize) -> Vec<u32> {
+/// order (see `Topology::subset_canonical`). At a corner where [`is_sectored`], only the
+/// faces of `f`'s sector there ([`sector`]); `Err` with that corner if they are more
+/// than [`fan_limit`] allows with `high_valence`.
+fn ring_faces(t: &Topology, f: usize, high_valence: usize) -> Result<Vec<u32>, u32> {
     let mut faces = vec![f as u32];
-    for &v in t.face_vertices(f) {
+    for (k, &v) in t.face_vertices(f).iter().enumerate() {
+        if is_sectored(t, v as usize) {
+            let limit = fan_limit(t, v as usize, high_valence);
+            for g in sector(t, f, k, limit).ok_or(v)? {
+                add_face(g, &mut faces);
+            }
+            continue;
+        }
         let around = t.vertex_faces(v as usize);
         let start = around.iter().position(|&g| g == f as u32).unwrap_or(0);
         for &g in around[start..].iter().chain(&around[..start]) {
             add_face(g, &mut faces);
         }
     }
-    faces
+    Ok(faces)
+}
+
+/// The faces of the sector of `f` at its corner `k`, vertex `v`, in the order met: the
+/// corners at `v` reached from `f`'s by crossing, repeatedly, an edge at `v` that is not
+/// infinitely sharp (nor, therefore, a boundary or a non-manifold edge) into the other of
+/// its two faces, at the corner that edge bounds there. Such edges join the corners at
+/// `v` in paths and cycles, so the walk goes one way from `f` until a sharp edge or back
+/// to `f`, then the other way: `O(sector)`, and the list depends on the sector's shape
+/// alone. Where an edge does not tell the corner (an edge from `v` to itself, two faces
+/// running it the same way, or a walk longer than `v` has corners), all of `v`'s faces
+/// instead. `None` if more than `limit` corners (or, in that fallback, faces).
+fn sector(t: &Topology, f: usize, k: usize, limit: usize) -> Option<Vec<u32>> {
+    let v = t.face_vertices(f)[k];
+    let around = t.vertex_faces(v as usize);
+    // The corner of the other face of edge `e` of face `g` that `e` bounds, if it is
+    // crossed and tells one; `Err` if it is crossed and does not.
+    let across = |g: usize, e: u32| -> Result<Option<(usize, usize)>, ()> {
+        if t.edge_tag(e as usize).inf_sharp {
+            return Ok(None);
+        }
+        let h = match *t.edge_face_list(e as usize) {
+            [a, b] if a != b => (if a as usize == g { b } else { a }) as usize,
+            _ => return Err(()),
+        };
+        let (hv, he) = (t.face_vertices(h), t.face_edge_list(h));
+        let n = hv.len();
+        let mut at = (0..n).filter(|&j| hv[j] == v && (he[j] == e || he[(j + n - 1) % n] == e));
+        match (at.next(), at.next()) {
+            (Some(j), None) => Ok(Some((h, j))),
+            _ => Err(()),
+        }
+    };
+    let mut corners = vec![(f, k)];
+    let walked = (|| -> Result<bool, ()> {
+        // First across the edges entering `v` (`enter`), then across those leaving it.
+        for enter in [true, false] {
+            let (mut g, mut i) = (f, k);
+            loop {
+                let (gv, ge) = (t.face_vertices(g), t.face_edge_list(g));
+                let e = ge[if enter {
+                    (i + gv.len() - 1) % gv.len()
+                } else {
+                    i
+                }];
+                let Some((h, j)) = across(g, e)? else { break };
+                if (h, j) == (f, k) {
+                    // Round `v` and back: the whole cycle, walked one way.
+                    return Ok(true);
+                }
+                corners.push((h, j));
+                if corners.len() > limit {
+                    return Ok(false);
+                }
+                if corners.len() > around.len() {
+                    return Err(());
+                }
+                // In `h` (oriented as `g`) the edge crossed leaves `v` if it entered it in
+                // `g`; the walk goes on across the other edge at that corner.
+                let (hv, he) = (t.face_vertices(h), t.face_edge_list(h));
+                if (he[(j + hv.len() - 1) % hv.len()] == e) == enter {
+                    return Err(());
+                }
+                (g, i) = (h, j);
+            }
+        }
+        Ok(true)
+    })();
+    match walked {
+        Ok(true) => Some(corners.iter().map(|&(g, _)| g as u32).collect()),
+        Ok(false) => None,
+        Err(()) => (around.len() <= limit).then(|| around.to_vec()),
+    }
 }
 
 /// Appends to the 1-ring `faces` of `f` the faces around the far end `w` of each

@@ -1281,7 +1281,7 @@ pub(super) fn eval_node(node: &Node, u: f64, v: f64, ctx: Ctx<'_>, out: &mut Der
 mod tests {
     use super::*;
     use crate::geom;
-    use crate::mesh::{BoundaryInterpolation, Options};
+    use crate::mesh::{BoundaryInterpolation, Corner, Crease, Options};
 
     /// A fan of `n` faces around vertex 0 (quads, or triangles when `tri`), closed or open
     /// (one gap), on a wavy surface so that nothing is planar or symmetric.
@@ -1650,6 +1650,50 @@ mod tests {
                 assert!(compared > 500, "{what}: only {compared} points");
             }
         }
+    }
+
+    /// At an infinitely sharp vertex a face's cut-out holds only its own sector (the faces
+    /// between infinitely sharp edges): around a corner of `HIGH_VALENCE + 7` quads split
+    /// by sharp spokes into sectors of five, with a triangle in one sector, every face
+    /// gets a small cut-out, and the surface equals that of shared regions refined with
+    /// positions (which hold every face of the corner), corners included. A semi-sharp
+    /// spoke (whose decay reads every edge at the vertex) puts the faces back in a region.
+    #[test]
+    fn sectors_at_sharp_corners_equal_shared_regions() {
+        let n = HIGH_VALENCE + 7;
+        let params = [0.0, 0.25, 0.5, 0.9, 1.0];
+        let mut mesh = fan(n, false, true);
+        // One face of the fan becomes a triangle (its outer vertex dropped).
+        let mut faces: Vec<Vec<u32>> = mesh.faces().map(|f| f.to_vec()).collect();
+        faces[2].remove(2);
+        mesh = PolyMesh::from_faces(mesh.positions().to_vec(), &faces).expect("fan");
+        mesh.tags.corners.push(Corner {
+            vertex: 0,
+            sharpness: 10.0,
+        });
+        for i in (0..n as u32).step_by(5) {
+            mesh.tags.creases.push(Crease {
+                v0: 0,
+                v1: 1 + i,
+                sharpness: 10.0,
+            });
+        }
+        let o = Options::default();
+        let (t, _) = Topology::from_mesh(&mesh, &o).expect("topology");
+        for f in 0..n {
+            let faces = cut_out(&t, f, Reach::new(&o)).expect("a cut-out of its own");
+            // Its sector at the centre (five faces), and up to three faces around each
+            // of its other corners.
+            assert!(faces.len() <= 9, "face {f}: {} faces", faces.len());
+        }
+        let sectors = LimitSurface::new(&mesh, o).expect("surface");
+        let regions = LimitSurface::with_high_valence(&mesh, o, 0, false).expect("surface");
+        let compared = assert_agree(&sectors, &regions, (&params, 1), (1e-12, 1.0), "sectors");
+        assert!(compared > 3000, "only {compared} points");
+
+        mesh.tags.creases[1].sharpness = 2.5;
+        let (t, _) = Topology::from_mesh(&mesh, &o).expect("topology");
+        assert_eq!(cut_out(&t, 0, Reach::new(&o)), Err(0));
     }
 
     /// Re-posing keeps what depends on the topology alone (configuration trees, the shapes
