@@ -227,10 +227,16 @@ impl<I: Index> RowsOf<I> {
                 let x = unsafe { _mm256_maskload_pd(p.as_ptr(), xyz) };
                 acc = _mm256_fmadd_pd(_mm256_set1_pd(w), x, acc);
             }
-            let mut lanes = [0.0; 4];
-            // SAFETY: `lanes` holds four `f64`.
-            unsafe { _mm256_storeu_pd(lanes.as_mut_ptr(), acc) };
-            *o = [lanes[0], lanes[1], lanes[2]];
+            // Straight from the register to the point: through an array on the stack, the
+            // next row's loads could wait on that store wherever a point's address had
+            // the same low 12 bits as the array's (4K aliasing), so the time depended on
+            // where the stack happened to lie (`catmark_chaikin1`: 0.16 or 0.26 ms from
+            // one process to the next).
+            // SAFETY: `o` holds three `f64`: two stored, then the third.
+            unsafe {
+                _mm_storeu_pd(o.as_mut_ptr(), _mm256_castpd256_pd128(acc));
+                _mm_store_sd(o.as_mut_ptr().add(2), _mm256_extractf128_pd::<1>(acc));
+            }
         }
     }
 }
