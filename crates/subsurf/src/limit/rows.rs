@@ -230,8 +230,8 @@ impl<I: Index> RowsOf<I> {
             // Straight from the register to the point: through an array on the stack, the
             // next row's loads could wait on that store wherever a point's address had
             // the same low 12 bits as the array's (4K aliasing), so the time depended on
-            // where the stack happened to lie (`catmark_chaikin1`: 0.16 or 0.26 ms from
-            // one process to the next).
+            // where the stack happened to lie (`catmark_chaikin1`, address randomisation
+            // off: 0.16 or 0.26 ms a repetition, by the size of the environment).
             // SAFETY: `o` holds three `f64`: two stored, then the third.
             unsafe {
                 _mm_storeu_pd(o.as_mut_ptr(), _mm256_castpd256_pd128(acc));
