@@ -42,7 +42,9 @@
 //! non-manifold edges are). The children of the sector are the sector of `f`'s child at
 //! `v`'s child, so this holds at every level; the limit at `v` itself is read from `f`
 //! alone ([`super::corner`]). Not when a semi-sharp edge meets `v`: its decay (Chaikin's
-//! rule) and whether it still softens the corner read every edge at `v`. Around a
+//! rule) and whether it still softens the corner read every edge at `v`; and without an
+//! infinitely sharp edge at `v` (nor a non-manifold `v`) the sector is all of `v`'s
+//! faces, which are then taken as at any vertex ([`is_sectored`]). Around a
 //! non-manifold vertex, whose faces all reach it, this is what keeps cut-outs small: in
 //! OpenSubdiv's `catmark_nonman_quadpole360` each of 360 faces has a sector of two, where
 //! the region of the whole pole (below) kept 10 MB of refined topology.
@@ -510,9 +512,11 @@ pub(super) fn cut_out(t: &Topology, f: usize, reach: Reach) -> Result<Vec<u32>, 
         is_high_valence(t, v, hv)
             && (!is_sectored(t, v) || sector(t, g, k, fan_limit(t, v, hv)).is_none())
     };
-    let corners = 0..t.face_vertices(f).len();
-    if let Some(k) = corners.clone().find(|&k| big(f, k)) {
-        return Err(t.face_vertices(f)[k]);
+    // The corners first; the sectors of those where [`is_sectored`] are walked, and
+    // bounded, as the ring is listed.
+    let plain_big = |&&v: &&u32| !is_sectored(t, v as usize) && is_high_valence(t, v as usize, hv);
+    if let Some(&w) = t.face_vertices(f).iter().find(plain_big) {
+        return Err(w);
     }
     let mut faces = ring_faces(t, f, hv)?;
     for &g in &faces[1..] {
