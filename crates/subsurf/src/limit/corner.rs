@@ -124,10 +124,15 @@ pub(super) fn is_limit_corner(t: &Topology, face: usize, k: usize) -> bool {
 /// Limit position and tangents at corner `k` of the cut-out's face (see the module docs).
 ///
 /// A smooth interior vertex whose faces are quads has exact limit masks (Halstead et al.
-/// 1993), used as they are. Any other vertex (crease, corner, dart, valence 2,
-/// non-manifold) is analysed numerically: with `R` the control points of the vertex's
-/// sector (the faces around it between infinitely sharp edges, containing the face), one
-/// step maps `R` to the same configuration one level down, `R' = S R`. The limit position
+/// 1993), used as they are. Under the corner rule (an infinitely sharp vertex, a
+/// non-manifold one included, or three infinitely sharp edges or more) the vertex is its
+/// own limit and no tangent plane is taken: a quad's corner returns the vertex and the
+/// face's two sides at it ([`TangentMode::Edges`]), read on the face alone whatever the
+/// other faces at the vertex are (a face that is not a quad is read on its child quad at
+/// that corner). Any other vertex (crease, dart, valence 2, non-manifold crease) is
+/// analysed numerically: with `R` the control points of the vertex's sector (the faces
+/// around it between infinitely sharp edges, containing the face), one step maps `R` to
+/// the same configuration one level down, `R' = S R`. The limit position
 /// is `l₀ · R` with `l₀` the left eigenvector of `S` for eigenvalue 1 (`l₀ · 1 = 1`); the
 /// tangent plane is spanned by `L · R` for `L` the invariant subspace of the two
 /// subdominant left eigenvectors, found by subspace iteration on sum-free vectors (where
