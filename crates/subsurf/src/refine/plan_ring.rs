@@ -748,7 +748,7 @@ unsafe fn ring_patches_avx(
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx")]
 #[inline]
-unsafe fn store_four(
+pub(super) unsafe fn store_four(
     x: std::arch::x86_64::__m256d,
     y: std::arch::x86_64::__m256d,
     z: std::arch::x86_64::__m256d,
