@@ -766,8 +766,11 @@ pub(super) unsafe fn store_four(
         _mm256_extractf128_pd::<1>(xy13),
     ];
     for (l, &o) in rows.iter().enumerate() {
-        // Points not owned are written to `scratch`: a select, not a branch that the
-        // pattern of owned points would mispredict.
+        // Points not owned are written to `scratch`, a select of the address. The
+        // compiler, which sees that `scratch` is never read, may still branch around a
+        // store instead: measured, that is faster than forcing the selects (4–25 %, see
+        // `BENCHMARKS.md`, "Regular patches with AVX-512"); the pattern of owned points
+        // is predicted well.
         let q = if o == NOT_OWNED {
             scratch.as_mut_ptr()
         } else {
