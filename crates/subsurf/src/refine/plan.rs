@@ -114,22 +114,25 @@ const PAR_MIN_ROWS: usize = 16 * 1024;
 /// 0.23–0.32 s). Applying it does no topology work and no mask
 /// computation: the first levels are sparse products, which read 4 bytes per weight and
 /// gather the parent values; the last two or three levels are the patch kernels, which
-/// read 16 control points (or a face's ring) and write the vertices on their face. They are bound
-/// by memory: each output vertex is written once, but its cache line is read first.
+/// read 16 control points (or a face's ring) and write the vertices on their face. Each
+/// output vertex is written once, but its cache line is read first: on `catmark_bishop`
+/// at level 6 about a fifth of an apply waits on memory, the rest is the kernels'
+/// arithmetic (see `refine/plan_patches.rs`).
 ///
 /// Measured on a shared 2-core virtual machine (`scripts/bench-vs-osd.sh`, medians of 7
 /// repetitions in three interleaved rounds; `BENCHMARKS.md`), full refinement /
 /// re-posing with the same threads: `catmark_bishop` to level 6 (3.8 M output vertices)
-/// 14–16× on one thread (one apply 0.012–0.014 s against 0.18–0.20 s for `subdivide` and
-/// 0.73 s for OpenSubdiv's `RefineUniform` + `PrimvarRefiner`) and 14–18× on two;
+/// 14–17× on one thread (one apply 0.009–0.014 s against 0.16–0.20 s for `subdivide` and
+/// 0.55–0.73 s for OpenSubdiv's `RefineUniform` + `PrimvarRefiner`) and 14–18× on two;
 /// `catmark_pawn` 16–20× at levels 5 and 6. All-triangle meshes (`catmark_bishop` with
 /// each quad split in two, where one level makes every vertex and face centre
-/// extraordinary; the same split of its level 2, 30 k triangles): 10.9× at level 5 and
-/// 14.6× at level 6 on one thread, 8.9–12.1× at level 2 and 12.2× at level 3; public scans
-/// and CAD parts (5–124 k triangles, not in the repository) 10–14× at levels 2–4 (2T
-/// 11–16×), where every patch is a ring patch with one or two extraordinary corners. Those
-/// figures are with the AVX-512 ring kernel (this machine has it); with AVX2 only, the
-/// triangles were 6.2–8.5× at level 2, 8–13× at levels 3 and 4. Building the plan for bishop at level 6 took 0.4–1.6 s (one
+/// extraordinary; the same split of its level 2, 30 k triangles): 10.6–11.4× at level 5
+/// and 14.6–19.5× at level 6 on one thread, 8.9–12.1× at level 2 and 12.2–13.0× at level
+/// 3; public scans and CAD parts (5–124 k triangles, not in the repository) 10–14× at
+/// levels 2–4 (2T 11–16×), where every patch is a ring patch with one or two
+/// extraordinary corners. Those figures are with the AVX-512 patch kernels (this machine
+/// has AVX-512); with AVX2 only, the triangles were 6.2–8.5× at level 2, 8–13× at levels
+/// 3 and 4. Building the plan for bishop at level 6 took 0.4–1.6 s (one
 /// thread). With sparse rows only (before patches) the bishop apply took 0.05–0.06 s.
 ///
 /// The plan covers positions of every vertex of the last level, in
