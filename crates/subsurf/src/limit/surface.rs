@@ -74,7 +74,7 @@ use super::local::{
 use super::memory::{Budget, BuildError};
 use super::patch::{plain_net, regular_patch_cells, Net};
 use super::tree::{
-    by_quadrant, take_corners, Ctx, Kid, Leaf, Query, Scratch, Sink, Tree, TreeCache,
+    by_quadrant, scale_at, take_corners, Ctx, Kid, Leaf, Query, Scratch, Sink, Tree, TreeCache,
 };
 use crate::mesh::{MeshError, Options, PolyMesh, Topology};
 use rayon::prelude::*;
@@ -1225,7 +1225,7 @@ fn eval_queries(
     ctx: Ctx<'_>,
     sink: &mut impl Sink,
 ) {
-    let scale = 2f64.powi(depth as i32);
+    let scale = scale_at(depth);
     match node {
         Node::Hole => qs.iter().for_each(|q| sink.hole(q.out)),
         Node::Plain(_) | Node::Regular(_) | Node::InRegion(_) | Node::Crease(_) | Node::Net(_) => {

@@ -683,13 +683,13 @@ fn kid_eval(
         None | Some((Kid::Hole, ..)) => qs.iter().for_each(|q| sink.hole(q.out)),
         Some((Kid::Regular(net), ..)) => {
             let cp = net.eval(refined);
-            let scale = 2f64.powi(depth as i32);
+            let scale = scale_at(depth);
             let leaf = &mut Leaf { qs, sink };
             bspline::tensor_batch(&cp, bspline::RegularBases, ctx.order, scale, leaf);
         }
         Some((kid @ Kid::Crease(..), ..)) => {
             if let Some(patch) = kid.crease_patch(refined) {
-                let scale = 2f64.powi(depth as i32);
+                let scale = scale_at(depth);
                 patch.eval_batch(ctx.order, scale, &mut Leaf { qs, sink });
             }
         }
@@ -699,6 +699,14 @@ fn kid_eval(
             descend(node, &way, refined, qs, depth, scratch, ctx, sink);
         }
     }
+}
+
+/// `2^depth`, the scale of the derivatives of a sub-patch `depth` levels below its face,
+/// exactly (`depth ≤ MAX_DEPTH < 64`); without a call (`powi` is one to a library
+/// routine, 0.75 % of `catmark_chaikin1`'s evaluation).
+pub(super) fn scale_at(depth: u32) -> f64 {
+    debug_assert!(depth < 64);
+    (1u64 << depth) as f64
 }
 
 /// What [`TNode::build_kids`] found a child to be, before the refined points are chosen
