@@ -170,8 +170,13 @@ fn bench_limit(
                 BLOCK.with_borrow_mut(|(points, out)| {
                     points.clear();
                     points.extend(block.iter().flat_map(|&face| super::limit::grid(face, n)));
+                    // Kept at the largest block's size (the last block is smaller).
+                    if out.len() < points.len() {
+                        out.resize(points.len(), Ok(Derivatives::default()));
+                    }
+                    let out = &mut out[..points.len()];
                     // Position and first derivatives, as `Bfr::Surface::Evaluate(uv, P, Du, Dv)`.
-                    surface.eval_many_into(points, Order::First, out);
+                    surface.eval_many_to(points, Order::First, out);
                     out.iter()
                         .filter_map(|r| r.as_ref().ok())
                         .map(|d| d.p[0])

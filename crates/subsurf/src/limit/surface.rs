@@ -839,9 +839,26 @@ impl LimitSurface {
         order: Order,
         out: &mut Vec<Result<Derivatives, EvalError>>,
     ) {
+        out.resize(points.len(), Ok(Derivatives::default()));
+        self.eval_many_to(points, order, out);
+    }
+
+    /// [`Self::eval_many_into`] into a slice of the same length as `points` (every entry
+    /// is overwritten): a buffer kept at the largest size of a series of calls with
+    /// different numbers of points is not filled again when a call needs more than the
+    /// last.
+    ///
+    /// # Panics
+    /// If `out.len() != points.len()`.
+    pub fn eval_many_to(
+        &self,
+        points: &[SurfacePoint],
+        order: Order,
+        out: &mut [Result<Derivatives, EvalError>],
+    ) {
         /// Points per parallel task.
         const CHUNK: usize = 256;
-        out.resize(points.len(), Ok(Derivatives::default()));
+        assert_eq!(out.len(), points.len(), "one result per point");
         out.par_chunks_mut(CHUNK)
             .zip(points.par_chunks(CHUNK))
             .for_each_init(Buffers::default, |bufs, (out, points)| {
