@@ -1774,6 +1774,11 @@ mod tests {
             let late = LimitSurface::new(&fresh_mesh, o).expect("surface");
             let mut c: Vec<_> = points.iter().rev().map(|&p| late.eval_point(p)).collect();
             c.reverse();
+            // Into a slice of a longer buffer holding other results: every entry replaced.
+            let stale = Err(EvalError::BadParameter { u: 2.0, v: -1.0 });
+            let mut kept = vec![stale; points.len() + 5];
+            s.eval_many_to(&points, Order::Second, &mut kept[..points.len()]);
+            assert_eq!(kept[..points.len()], a[..], "{what}: into a slice");
             let mut moved_points = 0;
             for (k, p) in points.iter().enumerate() {
                 assert_eq!(a[k], b[k], "{what}: re-posed vs fresh at {p:?}");
@@ -1788,6 +1793,20 @@ mod tests {
                 "{what}: the surface did not move"
             );
         }
+    }
+
+    /// `eval_many_to` wants one result per point.
+    #[test]
+    #[should_panic(expected = "one result per point")]
+    fn eval_many_to_checks_its_slice() {
+        let s = LimitSurface::new(crate::mesh::test_cube(), Options::default()).expect("cube");
+        let p = SurfacePoint {
+            face: 0,
+            subface: 0,
+            u: 0.5,
+            v: 0.5,
+        };
+        s.eval_many_to(&[p, p], Order::First, &mut [Ok(Derivatives::default())]);
     }
 
     /// The faces around a pole whose neighbourhoods differ only by where the pole's cycle

@@ -86,7 +86,7 @@ use rayon::prelude::*;
 
 use super::plan_ring::{descendants, ring_net, Kernel, RingGroup, RingNet};
 #[cfg(target_arch = "x86_64")]
-use crate::cpu::has_avx2_fma;
+use crate::cpu::{has_avx2_fma, has_avx512f};
 use crate::limit::patch::{refinement_patch_cells, Cell, Sharp};
 use crate::mesh::{CreaseMethod, Options, Topology};
 
@@ -654,7 +654,7 @@ unsafe fn patches<const N: usize, const NN: usize, const D: usize>(
     if D == 3 && has_avx2_fma() {
         // SAFETY: the features were just detected; `D == 3`; the caller's bounds.
         unsafe {
-            if crate::cpu::has_avx512f() {
+            if has_avx512f() {
                 patches_avx512::<N, NN>(w, src.as_ptr().cast(), ctrl, grids, out.0.cast());
             } else {
                 patches_avx::<N, NN>(w, src.as_ptr().cast(), ctrl, grids, out.0.cast());
@@ -835,9 +835,9 @@ unsafe fn store_point(out: *mut f64, o: u32, v: std::arch::x86_64::__m256d) {
 ///
 /// [`patches_avx`] holds one point per 256-bit vector (a lane of four unused), and its
 /// pass along `v` broadcasts four weights and does four multiply-adds per point; here it
-/// is twelve multiply-adds (with their broadcasts folded in) per eight points. Measured (one thread, medians of 11 or 21
-/// applications, seven interleaved processes, with the prefetch of [`prefetch_ctrl`] in
-/// both): `catmark_bishop` level 6 10.0 → 8.8 ms (two threads 5.8 → 4.9), `catmark_pawn`
+/// is twelve multiply-adds (with their broadcasts folded in) per eight points. Measured
+/// (one thread, medians of 11 or 21 applications, seven interleaved processes, with the
+/// prefetch of [`prefetch_ctrl`] in both): `catmark_bishop` level 6 10.0 → 8.8 ms (two threads 5.8 → 4.9), `catmark_pawn`
 /// level 6 6.0 → 5.3 ms, the large input at level 4 9.5 → 8.3 ms, the all-triangle
 /// `catmark_bishop` at level 5 4.6 → 4.3 ms. Compiling [`patches_avx`] itself with
 /// AVX-512 enabled (32 registers, broadcasts folded into the multiply-adds) was slower:
@@ -1065,7 +1065,7 @@ mod tests {
                     assert!(same, "depth {depth} point {i}: {a:?} against {b:?}");
                 }
             }
-            if !crate::cpu::has_avx512f() {
+            if !has_avx512f() {
                 return;
             }
             let bits = |p: &Vec<[f64; 3]>| -> Vec<[u64; 3]> {
