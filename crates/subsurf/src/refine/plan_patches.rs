@@ -854,7 +854,7 @@ unsafe fn patches_avx512<const N: usize, const NN: usize>(
     grids: &[u32],
     out: *mut f64,
 ) {
-    use super::plan_ring::store_four;
+    use super::plan_ring::{any_owned, store_eight};
     use std::arch::x86_64::*;
     const LANES: usize = 8;
     let rows = N.min(LANES);
@@ -869,7 +869,6 @@ unsafe fn patches_avx512<const N: usize, const NN: usize>(
             }
             _mm512_loadu_pd(a.as_ptr())
         });
-        let halves = |v: __m512d| [_mm512_castpd512_pd256(v), _mm512_extractf64x4_pd::<1>(v)];
         for (k, (c, g)) in ctrl.iter().zip(grids.chunks_exact(NN)).enumerate() {
             prefetch_next::<3>(grids, k, NN, out);
             prefetch_ctrl(ctrl, k, src);
@@ -891,8 +890,7 @@ unsafe fn patches_avx512<const N: usize, const NN: usize>(
                 for (x, to) in to.iter_mut().enumerate().take(rows) {
                     *to = g[x * N + y];
                 }
-                let owned = |r: &[u32]| r[0] & r[1] & r[2] & r[3] != NOT_OWNED;
-                let (low, high) = (owned(&to[..4]), owned(&to[4..]));
+                let (low, high) = (any_owned(&to[..4]), any_owned(&to[4..]));
                 if !(low || high) {
                     continue;
                 }
@@ -902,13 +900,7 @@ unsafe fn patches_avx512<const N: usize, const NN: usize>(
                     let a = _mm512_fmadd_pd(_mm512_set1_pd(wy[2]), t[2][l], a);
                     _mm512_fmadd_pd(_mm512_set1_pd(wy[3]), t[3][l], a)
                 });
-                let ([x0, x1], [y0, y1], [z0, z1]) = (halves(vx), halves(vy), halves(vz));
-                if low {
-                    store_four(x0, y0, z0, &to[..4], out, &mut scratch);
-                }
-                if high {
-                    store_four(x1, y1, z1, &to[4..], out, &mut scratch);
-                }
+                store_eight(vx, vy, vz, &to, [low, high], out, &mut scratch);
             }
             // Row 8 (depth 3), one point at a time as in `patches_avx`.
             for x in LANES..N {

@@ -698,9 +698,7 @@ unsafe fn ring_patches_avx(
                 local[2][s] = *q.add(2);
             }
             for (group, rows) in g.chunks(LANES).enumerate() {
-                // Whether any of four rows is owned, without a branch per row.
-                let owned = |r: &[u32]| r[0] & r[1] & r[2] & r[3] != NOT_OWNED;
-                let (low, high) = (owned(&rows[..4]), owned(&rows[4..]));
+                let (low, high) = (any_owned(&rows[..4]), any_owned(&rows[4..]));
                 if !(low || high) {
                     continue;
                 }
@@ -739,6 +737,41 @@ unsafe fn ring_patches_avx(
     }
 }
 
+/// Whether any of the four rows `r` is owned (all bits of their `&` are set only if none
+/// is), without a branch per row.
+#[inline]
+pub(super) fn any_owned(r: &[u32]) -> bool {
+    r[0] & r[1] & r[2] & r[3] != NOT_OWNED
+}
+
+/// Writes eight rows of `(x, y, z)` (one row per lane of 512-bit vectors) with
+/// [`store_four`], each half of four rows where `halves` says.
+///
+/// # Safety
+/// As [`store_four`]; the processor has AVX-512F.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+#[inline]
+pub(super) unsafe fn store_eight(
+    x: std::arch::x86_64::__m512d,
+    y: std::arch::x86_64::__m512d,
+    z: std::arch::x86_64::__m512d,
+    rows: &[u32],
+    halves: [bool; 2],
+    out: *mut f64,
+    scratch: &mut [f64; 3],
+) {
+    use std::arch::x86_64::*;
+    let split = |v: __m512d| [_mm512_castpd512_pd256(v), _mm512_extractf64x4_pd::<1>(v)];
+    let (x, y, z) = (split(x), split(y), split(z));
+    for h in 0..2 {
+        if halves[h] {
+            // SAFETY: the caller's.
+            unsafe { store_four(x[h], y[h], z[h], &rows[4 * h..4 * h + 4], out, scratch) };
+        }
+    }
+}
+
 /// Writes four rows of `(x, y, z)` (one row per lane) to their output vertices `rows`,
 /// rows not owned to `scratch`: from (x, y, z) by row to rows of (x, y), (z).
 ///
@@ -748,7 +781,7 @@ unsafe fn ring_patches_avx(
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx")]
 #[inline]
-pub(super) unsafe fn store_four(
+unsafe fn store_four(
     x: std::arch::x86_64::__m256d,
     y: std::arch::x86_64::__m256d,
     z: std::arch::x86_64::__m256d,
@@ -846,11 +879,7 @@ unsafe fn ring_patches_avx512(
                     }
                 }
                 let [x, y, z] = acc;
-                let halves =
-                    |v: __m512d| [_mm512_castpd512_pd256(v), _mm512_extractf64x4_pd::<1>(v)];
-                let ([x0, x1], [y0, y1], [z0, z1]) = (halves(x), halves(y), halves(z));
-                store_four(x0, y0, z0, &rows[..4], out, &mut scratch);
-                store_four(x1, y1, z1, &rows[4..], out, &mut scratch);
+                store_eight(x, y, z, rows, [true; 2], out, &mut scratch);
             }
         }
     }
