@@ -216,22 +216,29 @@ impl<I: Index> Net<I> {
     /// The control points `cp[i][j]` for vertex positions `pos` (`i` along `u`, `j` along
     /// `v`).
     pub(super) fn eval(&self, pos: &[[f64; 3]]) -> [[[f64; 3]; 4]; 4] {
+        let mut cp = [[[0.0; 3]; 4]; 4];
+        self.eval_into(pos, &mut cp);
+        cp
+    }
+
+    /// [`eval`](Self::eval) into `cp`, every point overwritten: where the net is not
+    /// inlined into its caller, a returned net was copied again (`memmove`, 2–5 % of
+    /// evaluating a tree of creases).
+    pub(super) fn eval_into(&self, pos: &[[f64; 3]], cp: &mut [[[f64; 3]; 4]; 4]) {
+        let cp = cp.as_flattened_mut();
         match self {
             Net::Plain(v) => {
                 // A loop of copies: nested `array::from_fn` built each point in a
                 // temporary and read it back across two stores (a stalled store
                 // forward per point, a quarter of evaluating a tree of creases).
-                let mut cp = [[[0.0; 3]; 4]; 4];
-                for (c, &k) in cp.as_flattened_mut().iter_mut().zip(v) {
+                for (c, &k) in cp.iter_mut().zip(v) {
                     *c = pos[k.get()];
                 }
-                cp
             }
             Net::Sided(v, sides) => {
                 // As `Cell::eval` on each cell (`Net::new` checked that the table's
                 // terms are the cells'), without making the cells.
-                let mut cp = [[[0.0; 3]; 4]; 4];
-                for (c, t) in cp.as_flattened_mut().iter_mut().zip(sided_terms(*sides)) {
+                for (c, t) in cp.iter_mut().zip(sided_terms(*sides)) {
                     let mut acc = [0.0; 3];
                     for (&k, &w) in t.at.iter().zip(&t.weights).take(usize::from(t.len)) {
                         let p = &pos[v[usize::from(k)].get()];
@@ -239,9 +246,12 @@ impl<I: Index> Net<I> {
                     }
                     *c = acc;
                 }
-                cp
             }
-            Net::Cells(c) => c.map(|col| col.map(|c| c.eval(pos))),
+            Net::Cells(cells) => {
+                for (c, cell) in cp.iter_mut().zip(cells.as_flattened()) {
+                    *c = cell.eval(pos);
+                }
+            }
         }
     }
 

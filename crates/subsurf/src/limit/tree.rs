@@ -78,9 +78,16 @@ impl KidNet {
 
     /// The control points for refined points `refined` (see [`Net::eval`]).
     fn eval(&self, refined: &[[f64; 3]]) -> [[[f64; 3]; 4]; 4] {
+        let mut cp = [[[0.0; 3]; 4]; 4];
+        self.eval_into(refined, &mut cp);
+        cp
+    }
+
+    /// [`eval`](Self::eval) into `cp` (see [`Net::eval_into`]).
+    fn eval_into(&self, refined: &[[f64; 3]], cp: &mut [[[f64; 3]; 4]; 4]) {
         match self {
-            KidNet::Narrow(net) => net.eval(refined),
-            KidNet::Wide(net) => net.eval(refined),
+            KidNet::Narrow(net) => net.eval_into(refined, cp),
+            KidNet::Wide(net) => net.eval_into(refined, cp),
         }
     }
 
@@ -682,7 +689,8 @@ fn kid_eval(
     match kid {
         None | Some((Kid::Hole, ..)) => qs.iter().for_each(|q| sink.hole(q.out)),
         Some((Kid::Regular(net), ..)) => {
-            let cp = net.eval(refined);
+            let mut cp = [[[0.0; 3]; 4]; 4];
+            net.eval_into(refined, &mut cp);
             let scale = scale_at(depth);
             let leaf = &mut Leaf { qs, sink };
             bspline::tensor_batch(&cp, bspline::RegularBases, ctx.order, scale, leaf);
