@@ -332,6 +332,7 @@ unsafe fn group_of<I: Index, const L: usize>(
     pos: &[[f64; 3]],
     out: &mut [[f64; 3]],
 ) {
+    use crate::cpu::{load3, store3};
     use std::arch::x86_64::*;
     let mut ws = [_mm256_setzero_pd(); L];
     for (v, &w) in ws.iter_mut().zip(w) {
@@ -341,11 +342,17 @@ unsafe fn group_of<I: Index, const L: usize>(
         let mut acc = _mm256_setzero_pd();
         for (k, &w) in ws.iter().enumerate() {
             // SAFETY: the row has `L + 1` indices; its columns are below `pos.len()`.
-            let x = unsafe { load_point(pos.get_unchecked(row.get_unchecked(k + 1).get())) };
+            let x = unsafe { load3(pos.get_unchecked(row.get_unchecked(k + 1).get()).as_ptr()) };
             acc = _mm256_fmadd_pd(w, x, acc);
         }
         // SAFETY: the slot is below `out.len()`.
-        unsafe { store_point(out.get_unchecked_mut(row.get_unchecked(0).get()), acc) };
+        unsafe {
+            store3(
+                out.get_unchecked_mut(row.get_unchecked(0).get())
+                    .as_mut_ptr(),
+                acc,
+            )
+        };
     }
 }
 
@@ -356,50 +363,17 @@ unsafe fn group_of<I: Index, const L: usize>(
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
 unsafe fn group_any<I: Index>(w: &[f64], rows: &[I], pos: &[[f64; 3]], out: &mut [[f64; 3]]) {
+    use crate::cpu::{load3, store3};
     use std::arch::x86_64::*;
     for row in rows.chunks_exact(w.len() + 1) {
         let mut acc = _mm256_setzero_pd();
         for (&c, &w) in row[1..].iter().zip(w) {
             // SAFETY: the columns are below `pos.len()`.
-            let x = unsafe { load_point(pos.get_unchecked(c.get())) };
+            let x = unsafe { load3(pos.get_unchecked(c.get()).as_ptr()) };
             acc = _mm256_fmadd_pd(_mm256_set1_pd(w), x, acc);
         }
         // SAFETY: the slot is below `out.len()`.
-        unsafe { store_point(out.get_unchecked_mut(row[0].get()), acc) };
-    }
-}
-
-/// The three coordinates of a point in one masked load (the fourth lane zero, and never
-/// read from memory).
-///
-/// # Safety
-/// The processor has AVX2.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-#[inline]
-unsafe fn load_point(p: &[f64; 3]) -> std::arch::x86_64::__m256d {
-    use std::arch::x86_64::*;
-    // SAFETY: `p` holds three `f64`, the lanes the mask loads.
-    unsafe { _mm256_maskload_pd(p.as_ptr(), _mm256_setr_epi64x(-1, -1, -1, 0)) }
-}
-
-/// Stores the first three lanes of `x` into `o`: straight from the register to the
-/// point. Through an array on the stack, the next row's loads could wait on that store
-/// wherever a point's address had the same low 12 bits as the array's (4K aliasing), so
-/// the time depended on where the stack happened to lie (`catmark_chaikin1`, address
-/// randomisation off: 0.16 or 0.26 ms a repetition, by the size of the environment).
-///
-/// # Safety
-/// The processor has AVX.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx")]
-#[inline]
-unsafe fn store_point(o: &mut [f64; 3], x: std::arch::x86_64::__m256d) {
-    use std::arch::x86_64::*;
-    // SAFETY: `o` holds three `f64`: two stored, then the third.
-    unsafe {
-        _mm_storeu_pd(o.as_mut_ptr(), _mm256_castpd256_pd128(x));
-        _mm_store_sd(o.as_mut_ptr().add(2), _mm256_extractf128_pd::<1>(x));
+        unsafe { store3(out.get_unchecked_mut(row[0].get()).as_mut_ptr(), acc) };
     }
 }
 

@@ -816,13 +816,8 @@ unsafe fn combine(w: &[f64; 4], q: [std::arch::x86_64::__m256d; 4]) -> std::arch
 #[target_feature(enable = "avx")]
 #[inline]
 unsafe fn store_point(out: *mut f64, o: u32, v: std::arch::x86_64::__m256d) {
-    use std::arch::x86_64::*;
     // SAFETY: three doubles in bounds (the caller's).
-    unsafe {
-        let p = out.add(3 * o as usize);
-        _mm_storeu_pd(p, _mm256_castpd256_pd128(v));
-        _mm_store_sd(p.add(2), _mm256_extractf128_pd::<1>(v));
-    }
+    unsafe { crate::cpu::store3(out.add(3 * o as usize), v) }
 }
 
 /// [`patches_avx`] with AVX-512, by component: lane `x` of a 512-bit vector holds grid
