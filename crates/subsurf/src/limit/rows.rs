@@ -49,12 +49,15 @@ pub(super) enum NodeRows {
 pub(super) struct RowsOf<I> {
     /// Number of rows, `n`: the points computed.
     len: u32,
-    /// One past the largest column: the fewest points the rows read.
+    /// One past the last `f64` the rows read: three times the fewest points they read.
     reach: u32,
     /// In one allocation (three took a fifth more memory than the indices themselves):
     /// the number of groups `g`; per group its row length `l` and its number of rows;
     /// then the rows of each group in turn, each as `l + 1` indices: the slot it
-    /// computes, then its columns. Group `k` reads class `k`.
+    /// computes, then its columns. Group `k` reads class `k`. Slots and columns are
+    /// offsets in `f64`, three times the point's index, which the kernel adds to the
+    /// points' address as they are (a multiply by three per term less: 4 % of
+    /// `catmark_chaikin1`); no node of the grids with creases needs wider indices for it.
     index: Box<[I]>,
     /// The node's classes, one after the other, from [`WeightPool::intern`]: every class
     /// a row of the node reads, so the groups' lengths say where each starts.
@@ -197,8 +200,8 @@ fn grouped(starts: &[u32], cols: &[u32], class: &[u32], lengths: &[u32]) -> Vec<
         let k = class[r] as usize;
         debug_assert_eq!(cols_of(r).len(), lengths[k] as usize, "row {r}'s length");
         index[2 + 2 * k] += 1;
-        index.push(r as u32);
-        index.extend_from_slice(cols_of(r));
+        index.push(3 * r as u32);
+        index.extend(cols_of(r).iter().map(|&c| 3 * c));
     }
     index
 }
@@ -222,8 +225,8 @@ impl<I: Index> RowsOf<I> {
         for (w, l, these) in rows.groups() {
             terms += w.len();
             for row in these.chunks_exact(l + 1) {
-                assert!(row[0].get() < len as usize, "a slot past the rows");
-                reach = (row[1..].iter()).fold(reach, |r, c| r.max(c.get() + 1));
+                assert!(row[0].get() + 3 <= 3 * len as usize, "a slot past the rows");
+                reach = (row[1..].iter()).fold(reach, |r, c| r.max(c.get() + 3));
             }
         }
         let groups = rows.index[0].get();
@@ -260,14 +263,15 @@ impl<I: Index> RowsOf<I> {
     /// If `pos` holds fewer points than the rows read, or `out` is not one per row.
     pub fn apply(&self, pos: &[[f64; 3]], out: &mut [[f64; 3]]) {
         assert!(
-            self.reach as usize <= pos.len() && out.len() == self.len as usize,
+            self.reach as usize <= 3 * pos.len() && out.len() == self.len as usize,
             "rows applied to too few points, or into the wrong number"
         );
         #[cfg(target_arch = "x86_64")]
         if crate::cpu::has_avx2_fma() {
             for (w, l, rows) in self.groups() {
-                // SAFETY: the features were just detected; every column is below
-                // `reach` and every slot below `len` (both checked above; see `new`).
+                // SAFETY: the features were just detected; every column's three `f64`
+                // are below `reach`, every slot's below `3 len` (both checked above and
+                // in `new`).
                 unsafe { group_avx(w, l, rows, pos, out) };
             }
             return;
@@ -277,14 +281,15 @@ impl<I: Index> RowsOf<I> {
 
     /// [`apply`](Self::apply) without vector instructions.
     pub fn apply_portable(&self, pos: &[[f64; 3]], out: &mut [[f64; 3]]) {
+        let (pos, out) = (pos.as_flattened(), out.as_flattened_mut());
         for (w, l, rows) in self.groups() {
             for row in rows.chunks_exact(l + 1) {
                 let mut acc = [0.0; 3];
                 for (&c, &w) in row[1..].iter().zip(w) {
-                    let p = &pos[c.get()];
+                    let p = &pos[c.get()..c.get() + 3];
                     (0..3).for_each(|k| acc[k] += w * p[k]);
                 }
-                out[row[0].get()] = acc;
+                out[row[0].get()..row[0].get() + 3].copy_from_slice(&acc);
             }
         }
     }
@@ -295,8 +300,9 @@ impl<I: Index> RowsOf<I> {
 /// 8), in a loop of that length ([`group_of`]).
 ///
 /// # Safety
-/// The processor has AVX2 and FMA; `rows` holds rows of `l + 1` indices, the slot first
-/// (below `out.len()`), then the columns (below `pos.len()`); `w` holds `l` weights.
+/// The processor has AVX2 and FMA; `rows` holds rows of `l + 1` offsets ([`RowsOf::index`]),
+/// the slot first (of a point of `out`), then the columns (of points of `pos`); `w` holds
+/// `l` weights.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
 unsafe fn group_avx<I: Index>(
@@ -338,21 +344,19 @@ unsafe fn group_of<I: Index, const L: usize>(
     for (v, &w) in ws.iter_mut().zip(w) {
         *v = _mm256_set1_pd(w);
     }
+    let (pos, out) = (
+        pos.as_flattened().as_ptr(),
+        out.as_flattened_mut().as_mut_ptr(),
+    );
     for row in rows.chunks_exact(L + 1) {
         let mut acc = _mm256_setzero_pd();
         for (k, &w) in ws.iter().enumerate() {
-            // SAFETY: the row has `L + 1` indices; its columns are below `pos.len()`.
-            let x = unsafe { load3(pos.get_unchecked(row.get_unchecked(k + 1).get()).as_ptr()) };
+            // SAFETY: the row has `L + 1` indices; its columns are points of `pos`.
+            let x = unsafe { load3(pos.add(row.get_unchecked(k + 1).get())) };
             acc = _mm256_fmadd_pd(w, x, acc);
         }
-        // SAFETY: the slot is below `out.len()`.
-        unsafe {
-            store3(
-                out.get_unchecked_mut(row.get_unchecked(0).get())
-                    .as_mut_ptr(),
-                acc,
-            )
-        };
+        // SAFETY: the slot is a point of `out`.
+        unsafe { store3(out.add(row.get_unchecked(0).get()), acc) };
     }
 }
 
@@ -365,15 +369,19 @@ unsafe fn group_of<I: Index, const L: usize>(
 unsafe fn group_any<I: Index>(w: &[f64], rows: &[I], pos: &[[f64; 3]], out: &mut [[f64; 3]]) {
     use crate::cpu::{load3, store3};
     use std::arch::x86_64::*;
+    let (pos, out) = (
+        pos.as_flattened().as_ptr(),
+        out.as_flattened_mut().as_mut_ptr(),
+    );
     for row in rows.chunks_exact(w.len() + 1) {
         let mut acc = _mm256_setzero_pd();
         for (&c, &w) in row[1..].iter().zip(w) {
-            // SAFETY: the columns are below `pos.len()`.
-            let x = unsafe { load3(pos.get_unchecked(c.get()).as_ptr()) };
+            // SAFETY: the columns are points of `pos`.
+            let x = unsafe { load3(pos.add(c.get())) };
             acc = _mm256_fmadd_pd(_mm256_set1_pd(w), x, acc);
         }
-        // SAFETY: the slot is below `out.len()`.
-        unsafe { store3(out.get_unchecked_mut(row[0].get()).as_mut_ptr(), acc) };
+        // SAFETY: the slot is a point of `out`.
+        unsafe { store3(out.add(row[0].get()), acc) };
     }
 }
 
