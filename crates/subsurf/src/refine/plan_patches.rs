@@ -68,7 +68,9 @@
 //! applied by units of one or more runs ([`ring_span`]), each key's patches of a unit
 //! together, so that a key's matrix is read once for several patches: with many keys
 //! (110 on a 20 k-triangle scan at depth 3) one run held two or three patches of each,
-//! and grouping runs made its re-posing 10–13 % faster on one thread.
+//! and grouping runs made its re-posing 10–13 % faster on one thread. At depth 2 a
+//! triangle's (any non-quad's) patch goes to a matrix of just the rows it owns
+//! ([`RingGroups`]), so its groups of rows are full.
 //!
 //! # Numbering
 //! Where a patch's refined vertices go follows from [`refine_topology`]'s child numbering
@@ -84,7 +86,7 @@ use std::ops::Range;
 
 use rayon::prelude::*;
 
-use super::plan_ring::{descendants, ring_net, Kernel, RingGroup, RingNet};
+use super::plan_ring::{descendants, ring_net, Kernel, RingGroup, RingGroups, RingNet};
 #[cfg(target_arch = "x86_64")]
 use crate::cpu::{has_avx2_fma, has_avx512f};
 use crate::limit::patch::{refinement_patch_cells, Cell, Sharp};
@@ -105,7 +107,7 @@ const RING_PATCHES_PER_KEY: usize = 8;
 /// valences: 110 on a 20 k-triangle scan, about 7 KiB each at depth 3) and runs of
 /// [`RUN`] faces, each key had two or three patches per run and the matrices, together
 /// larger than the cache, were read again for every few patches.
-fn ring_span(runs: usize, keys: usize, patches: usize) -> usize {
+pub(super) fn ring_span(runs: usize, keys: usize, patches: usize) -> usize {
     (RING_PATCHES_PER_KEY * keys * runs)
         .div_ceil(patches.max(1))
         .clamp(1, runs.max(1))
@@ -410,13 +412,6 @@ impl PatchLayer {
                 Some((k, kernels[k].as_ref()?.grid(&ring.verts, &walk)?))
             })
             .collect();
-        let span = ring_span(
-            runs,
-            kernels.iter().flatten().count(),
-            ring_grids.iter().flatten().count(),
-        );
-        let mut groups: Vec<Option<RingGroup>> =
-            kernels.into_iter().map(|k| k.map(RingGroup::new)).collect();
         // Each patch with its grid, and a ring patch with its key.
         let found: Vec<(u32, Net, Vec<u32>, usize)> = (found.into_iter().zip(ring_grids))
             .filter_map(|((f, net, grid), ring)| match (net, ring) {
@@ -429,6 +424,7 @@ impl PatchLayer {
         let mut out = Vec::with_capacity(found.iter().map(|(_, _, g, _)| g.len()).sum());
         let (mut edge_nets, mut edge_out) = (Vec::new(), Vec::new());
         let (mut ctrl_run, mut edge_run) = (Vec::new(), Vec::new());
+        let mut ring_groups = RingGroups::new(&kernels);
         for (f, net, mut grid, key) in found {
             let run = f / RUN as u32;
             let mut any = false;
@@ -443,11 +439,7 @@ impl PatchLayer {
             }
             match net {
                 _ if !any => {}
-                Net::Ring(ring) => {
-                    if let Some(group) = &mut groups[key] {
-                        group.push(run / span as u32, &ring.verts, &grid);
-                    }
-                }
+                Net::Ring(ring) => ring_groups.push(key, run, &ring.verts, &grid),
                 Net::Plain(c) => {
                     ctrl.push(c);
                     out.extend_from_slice(&grid);
@@ -460,14 +452,7 @@ impl PatchLayer {
                 }
             }
         }
-        let mut rings: Vec<RingGroup> = groups
-            .into_iter()
-            .flatten()
-            .filter(|g| g.len() > 0)
-            .collect();
-        rings
-            .iter_mut()
-            .for_each(|g| g.set_runs(runs.div_ceil(span)));
+        let (rings, span) = ring_groups.finish(runs);
         let mut layer = PatchLayer {
             depth,
             source,

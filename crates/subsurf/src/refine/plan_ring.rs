@@ -82,10 +82,11 @@
 use crate::mesh::{Corner, Crease, Options, PolyMesh, Topology};
 
 use super::plan::RefinePlan;
-use super::plan_patches::{grid_indices, prefetch_next, Runs, SharedOut, NOT_OWNED};
+use super::plan_patches::{grid_indices, prefetch_next, ring_span, Runs, SharedOut, NOT_OWNED};
 use super::topology::{refine_topology, rot};
 #[cfg(target_arch = "x86_64")]
 use crate::cpu::{has_avx2_fma, has_avx512f};
+use std::collections::HashMap;
 
 /// Largest valence of a corner of a ring patch. Higher valences are rare and stay with
 /// the sparse rows.
@@ -345,8 +346,11 @@ pub(super) struct Kernel {
     /// Number of rows: the vertices on the face, and the padding (to fours per class of
     /// owners on a non-quad, see [`by_owner`], and to a multiple of [`LANES`]).
     rows: usize,
-    /// For each entry of [`descendants`] (with repetitions), its row.
+    /// For each entry of [`descendants`] (with repetitions), its row (empty in a
+    /// [`Kernel::subset`]).
     row_of: Vec<u16>,
+    /// Whether the rows are grouped by owners ([`Kernel::by_owner`]).
+    by_owner: bool,
     /// Group `g`'s terms are `starts[g]..starts[g + 1]`.
     starts: Vec<u32>,
     /// The weights of each term, one per row of its group.
@@ -388,7 +392,8 @@ impl Kernel {
         // `LANES / 2` rows (the kernel skips a half group none of whose rows its face
         // owns), and within a class groups grown greedily from the vertex that depends on
         // the fewest ring points by the vertex that adds the fewest.
-        let mut rows: Vec<Option<u32>> = if mesh.face(0).len() == 4 {
+        let owners = mesh.face(0).len() != 4;
+        let mut rows: Vec<Option<u32>> = if !owners {
             grid_indices(&levels, 0)?.into_iter().map(Some).collect()
         } else {
             let support = |v: u32| {
@@ -413,6 +418,7 @@ impl Kernel {
             points,
             rows: rows.len(),
             row_of,
+            by_owner: owners,
             starts: vec![0],
             weights: Vec::new(),
             slots: Vec::new(),
@@ -452,6 +458,53 @@ impl Kernel {
         let mut sorted: Vec<u32> = grid.iter().copied().filter(|&g| g != NOT_OWNED).collect();
         sorted.sort_unstable();
         sorted.windows(2).all(|w| w[0] != w[1]).then_some(grid)
+    }
+
+    /// Whether the rows are grouped by the faces that can own them ([`by_owner`]: the
+    /// kernel of a face that is not a quad), so that a face's rows are worth packing
+    /// into a kernel of their own ([`Kernel::subset`]).
+    pub(super) fn by_owner(&self) -> bool {
+        self.by_owner
+    }
+
+    /// The kernel of rows `rows` of this one only (in that order, by groups of
+    /// [`LANES`], the last padded with empty rows), for the faces that own just those
+    /// ([`RingGroups`]).
+    ///
+    /// Each row keeps its nonzero terms in the same order (of ring points); its group may
+    /// add others of weight zero, which leave a finite sum as it is (test
+    /// `owned_rows_give_the_same_points`).
+    pub(super) fn subset(&self, rows: &[u16]) -> Kernel {
+        let mut kernel = Kernel {
+            points: self.points,
+            rows: rows.len().next_multiple_of(LANES),
+            row_of: Vec::new(),
+            by_owner: self.by_owner,
+            starts: vec![0],
+            weights: Vec::new(),
+            slots: Vec::new(),
+        };
+        // Row `r`'s weight on ring point `s`: its lane of its group's term on `s`.
+        let weight = |r: u16, s: u32| {
+            let (g, lane) = (usize::from(r) / LANES, usize::from(r) % LANES);
+            let terms = self.starts[g] as usize..self.starts[g + 1] as usize;
+            (self.slots[terms.clone()].binary_search(&s))
+                .map_or(0.0, |t| self.weights[terms.start + t][lane])
+        };
+        for group in rows.chunks(LANES) {
+            for s in 0..self.points as u32 {
+                let mut w = [0.0; LANES];
+                for (w, &r) in w.iter_mut().zip(group) {
+                    *w = weight(r, s);
+                }
+                if w.iter().any(|&w| w != 0.0) {
+                    kernel.weights.push(w);
+                    kernel.slots.push(s);
+                }
+            }
+            kernel.starts.push(kernel.weights.len() as u32);
+        }
+        kernel
     }
 
     /// The nonzero entries `(ring point, weight)` of row `r`.
@@ -537,6 +590,84 @@ fn greedy_groups(mut left: Vec<(u32, u64)>) -> Vec<Option<u32>> {
     rows
 }
 
+/// Most rows of a kernel whose patches get kernels of the rows they own
+/// ([`RingGroups`]): 24 at depth 2 on a triangle. Past that (depth 3 and more), packing
+/// a patch's rows saves a smaller share of its groups, and the more numerous matrices
+/// cost more than that saves (`catmark_bishop_l2_tri` at level 3, 6–10 % slower).
+const SUBSET_ROWS: usize = 4 * LANES;
+
+/// The ring patches of a layer as they are claimed, in groups of one kernel each. A patch
+/// whose key's kernel is grouped by owners and has at most [`SUBSET_ROWS`] rows goes to
+/// the kernel of the rows it owns ([`Kernel::subset`]), made once per key and set of
+/// rows, its grid those rows' vertices; the others to their key's kernel.
+///
+/// On an all-triangle mesh at depth 2 a face owns its inside, the sides it claims and the
+/// corners it claims, 12 of its 24 rows on average, which its key's groups of owners
+/// spread over 2.4 groups of eight and a kernel of their own packs into 2.1:
+/// `catmark_bishop_l2_tri` at level 2, 1.19 → 0.99 ms a re-posing on one thread.
+pub(super) struct RingGroups<'a> {
+    /// The kernel of each key (`None`: the key's faces are left to the rows).
+    kernels: &'a [Option<Kernel>],
+    /// The group of each key and set of owned rows (empty: the key's kernel).
+    index: HashMap<(usize, Vec<u16>), usize>,
+    groups: Vec<RingGroup>,
+}
+
+impl<'a> RingGroups<'a> {
+    pub(super) fn new(kernels: &'a [Option<Kernel>]) -> Self {
+        RingGroups {
+            kernels,
+            index: HashMap::new(),
+            groups: Vec::new(),
+        }
+    }
+
+    /// Adds a patch of key `k` in run `run` (not before those already added) with ring
+    /// points `verts` and grid `grid` (its [`Kernel::grid`], the rows it does not own set
+    /// to [`NOT_OWNED`]).
+    pub(super) fn push(&mut self, k: usize, run: u32, verts: &[u32], grid: &[u32]) {
+        let Some(kernel) = &self.kernels[k] else {
+            return;
+        };
+        let rows: Vec<u16> = if kernel.by_owner() && kernel.rows <= SUBSET_ROWS {
+            (0..grid.len() as u16)
+                .filter(|&r| grid[usize::from(r)] != NOT_OWNED)
+                .collect()
+        } else {
+            Vec::new()
+        };
+        let packed: Vec<u32>;
+        let grid = if rows.is_empty() {
+            grid
+        } else {
+            let mut owned: Vec<u32> = rows.iter().map(|&r| grid[usize::from(r)]).collect();
+            owned.resize(rows.len().next_multiple_of(LANES), NOT_OWNED);
+            packed = owned;
+            &packed
+        };
+        let groups = &mut self.groups;
+        let g = *self.index.entry((k, rows)).or_insert_with_key(|(_, rows)| {
+            groups.push(RingGroup::new(if rows.is_empty() {
+                kernel.clone()
+            } else {
+                kernel.subset(rows)
+            }));
+            groups.len() - 1
+        });
+        groups[g].push(run, verts, grid);
+    }
+
+    /// The groups of a layer of `runs` runs, indexed by units of work, and the runs per
+    /// unit ([`ring_span`]).
+    pub(super) fn finish(self, runs: usize) -> (Vec<RingGroup>, usize) {
+        let patches = self.groups.iter().map(RingGroup::len).sum();
+        let span = ring_span(runs, self.groups.len(), patches);
+        let mut groups = self.groups;
+        groups.iter_mut().for_each(|g| g.set_runs(runs, span));
+        (groups, span)
+    }
+}
+
 /// The ring patches of one key in one [`PatchLayer`](super::plan_patches::PatchLayer).
 #[derive(Clone, Debug)]
 pub(super) struct RingGroup {
@@ -570,9 +701,12 @@ impl RingGroup {
         self.run_of.push(run);
     }
 
-    /// Indexes the patches by run, once all are added.
-    pub(super) fn set_runs(&mut self, runs: usize) {
-        self.runs = Runs::new(&std::mem::take(&mut self.run_of), runs);
+    /// Indexes the patches by unit of work of `span` runs, once all are added (of `runs`
+    /// runs).
+    pub(super) fn set_runs(&mut self, runs: usize, span: usize) {
+        let units: Vec<u32> = self.run_of.iter().map(|r| r / span as u32).collect();
+        self.run_of = Vec::new();
+        self.runs = Runs::new(&units, runs.div_ceil(span));
     }
 
     /// Number of patches.
@@ -1020,18 +1154,10 @@ mod tests {
         }
     }
 
-    /// The vector kernels compute the portable loop's sums: AVX2 and AVX-512 bit for bit
-    /// alike (same terms in the same order, each fused), and both within rounding of the
-    /// portable loop (which does not fuse), on every ring patch of two meshes: a closed
-    /// one of quads and triangles with corners of valence 3 to 6, and an open one with a
-    /// pentagon and corners on its boundary.
-    #[test]
-    #[cfg(target_arch = "x86_64")]
-    fn vector_kernels_agree() {
-        let options = Options::default();
-        // A cube (corners 0–7) with its top split in two triangles and one side in four
-        // around a centre (8).
-        let closed: Vec<Vec<u32>> = vec![
+    /// A cube (corners 0–7) with its top split in two triangles and one side in four
+    /// around a centre (8).
+    fn cube_with_triangles() -> Vec<Vec<u32>> {
+        vec![
             vec![0, 3, 2, 1],
             vec![4, 5, 6],
             vec![4, 6, 7],
@@ -1042,7 +1168,104 @@ mod tests {
             vec![1, 2, 6, 5],
             vec![2, 3, 7, 6],
             vec![3, 0, 4, 7],
-        ];
+        ]
+    }
+
+    /// A triangle that owns only some of its rows gets a kernel of those rows at depth 2
+    /// (`RingGroups`, `Kernel::subset`), which writes the very bits its key's kernel
+    /// writes at those vertices, and nothing else; a quad, and a triangle at depth 3,
+    /// keep their key's kernel.
+    #[test]
+    fn owned_rows_give_the_same_points() {
+        let options = Options::default();
+        let t = topology(&cube_with_triangles(), &options);
+        let base: Vec<[f64; 3]> = (0..t.num_vertices())
+            .map(|i| {
+                let x = i as f64;
+                [
+                    (0.7 * x).sin() * 3.1 + 5.0,
+                    (1.3 * x).cos() + 0.1 * x + 2.0,
+                    1.0 / (1.0 + x),
+                ]
+            })
+            .collect();
+        let mut subsets = 0;
+        for depth in [2u32, 3] {
+            let mut levels = vec![t.clone()];
+            while levels.len() < depth as usize + 1 {
+                let child = refine_topology(&levels[levels.len() - 1], &options, true);
+                levels.push(child);
+            }
+            let n_out = levels[depth as usize].num_vertices();
+            let run = |groups: &[RingGroup]| {
+                let mut out = vec![[f64::NAN; 3]; n_out];
+                for g in groups {
+                    // SAFETY: the grids' indices are in bounds of the refined level.
+                    unsafe { g.apply(0, &base, &SharedOut(out.as_mut_ptr())) };
+                }
+                out.iter().map(|p| p.map(f64::to_bits)).collect::<Vec<_>>()
+            };
+            for f in 0..t.num_faces() {
+                let Some(ring) = ring_net(&t, f, false) else {
+                    continue;
+                };
+                let k = Kernel::new(&ring.key, depth, &options).unwrap();
+                let mut walk = Vec::new();
+                descendants(&levels[..depth as usize], f, ring.start, &mut walk).unwrap();
+                let Some(grid) = k.grid(&ring.verts, &walk) else {
+                    continue;
+                };
+                assert_eq!(k.by_owner(), t.face_vertices(f).len() != 4, "face {f}");
+                let by_owner = k.by_owner();
+                let kernels = [Some(k)];
+                // The key's kernel itself, every row it owns.
+                let mut full = RingGroup::new(kernels[0].clone().unwrap());
+                full.push(0, &ring.verts, &grid);
+                full.set_runs(1, 1);
+                let want = run(&[full]);
+                // Every third owned row, then all but the first eleven.
+                let owned: Vec<usize> = (0..grid.len()).filter(|&r| grid[r] != NOT_OWNED).collect();
+                let keep: [&dyn Fn(usize) -> bool; 2] = [&|i| i % 3 == 0, &|i| i >= 11];
+                for keep in keep {
+                    let mut part = grid.clone();
+                    for (i, &r) in owned.iter().enumerate() {
+                        if !keep(i) {
+                            part[r] = NOT_OWNED;
+                        }
+                    }
+                    let kept = part.iter().filter(|&&o| o != NOT_OWNED).count();
+                    let mut groups = RingGroups::new(&kernels);
+                    groups.push(0, 0, &ring.verts, &part);
+                    let (groups, _) = groups.finish(1);
+                    assert_eq!(groups.len(), 1);
+                    if by_owner && grid.len() <= SUBSET_ROWS {
+                        assert_eq!(groups[0].kernel.rows, kept.next_multiple_of(LANES));
+                        subsets += 1;
+                    } else {
+                        assert_eq!(groups[0].kernel.rows, grid.len());
+                    }
+                    let got = run(&groups);
+                    let unwritten = [f64::NAN.to_bits(); 3];
+                    for (v, (g, w)) in got.iter().zip(&want).enumerate() {
+                        let mine = part.contains(&(v as u32));
+                        assert_eq!(*g, if mine { *w } else { unwritten }, "face {f} vertex {v}");
+                    }
+                }
+            }
+        }
+        assert!(subsets >= 12, "{subsets} subsets");
+    }
+
+    /// The vector kernels compute the portable loop's sums: AVX2 and AVX-512 bit for bit
+    /// alike (same terms in the same order, each fused), and both within rounding of the
+    /// portable loop (which does not fuse), on every ring patch of two meshes: a closed
+    /// one of quads and triangles with corners of valence 3 to 6, and an open one with a
+    /// pentagon and corners on its boundary.
+    #[test]
+    #[cfg(target_arch = "x86_64")]
+    fn vector_kernels_agree() {
+        let options = Options::default();
+        let closed = cube_with_triangles();
         let mut open: Vec<Vec<u32>> = one_ev_ring(5)
             .iter()
             .enumerate()
@@ -1092,7 +1315,7 @@ mod tests {
                     };
                     let mut group = RingGroup::new(k);
                     group.push(0, &ring.verts, &grid);
-                    group.set_runs(1);
+                    group.set_runs(1, 1);
                     let run = |out: &mut Vec<[f64; 3]>, kernel: u8| {
                         let shared = SharedOut(out.as_mut_ptr());
                         let (src, o) = (base.as_ptr().cast(), shared.0.cast());
