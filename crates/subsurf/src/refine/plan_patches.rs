@@ -101,7 +101,8 @@ const RUN: usize = 256;
 const RING_PATCHES_PER_KEY: usize = 8;
 
 /// Runs per unit of work of a layer with `runs` runs and `patches` ring patches of
-/// `keys` keys: enough for [`RING_PATCHES_PER_KEY`] patches of each key on average. A
+/// `keys` keys (matrices: a key's, or one of the rows some of its patches own, see
+/// [`RingGroups`]): enough for [`RING_PATCHES_PER_KEY`] patches of each key on average. A
 /// unit applies each key's patches together, so that its matrix is read from memory
 /// once per unit; with many keys (an all-triangle base mesh has one per triple of corner
 /// valences: 110 on a 20 k-triangle scan, about 7 KiB each at depth 3) and runs of

@@ -1171,6 +1171,49 @@ mod tests {
         ]
     }
 
+    /// A ring patch of a test mesh: its depth, the number of vertices of the level it
+    /// writes, its face, ring, key's kernel and grid.
+    struct TestPatch {
+        depth: u32,
+        n_out: usize,
+        f: usize,
+        ring: RingNet,
+        kernel: Kernel,
+        grid: Vec<u32>,
+    }
+
+    /// Every ring patch of `t` at depths 2 and 3 whose walk repeats where its key's does.
+    fn ring_patches(t: &Topology, options: &Options) -> Vec<TestPatch> {
+        let mut patches = Vec::new();
+        for depth in [2u32, 3] {
+            let mut levels = vec![t.clone()];
+            while levels.len() < depth as usize + 1 {
+                let child = refine_topology(&levels[levels.len() - 1], options, true);
+                levels.push(child);
+            }
+            let n_out = levels[depth as usize].num_vertices();
+            for f in 0..t.num_faces() {
+                let Some(ring) = ring_net(t, f, false) else {
+                    continue;
+                };
+                let kernel = Kernel::new(&ring.key, depth, options).unwrap();
+                let mut walk = Vec::new();
+                descendants(&levels[..depth as usize], f, ring.start, &mut walk).unwrap();
+                if let Some(grid) = kernel.grid(&ring.verts, &walk) {
+                    patches.push(TestPatch {
+                        depth,
+                        n_out,
+                        f,
+                        ring,
+                        kernel,
+                        grid,
+                    });
+                }
+            }
+        }
+        patches
+    }
+
     /// A triangle that owns only some of its rows gets a kernel of those rows at depth 2
     /// (`RingGroups`, `Kernel::subset`), which writes the very bits its key's kernel
     /// writes at those vertices, and nothing else; a quad, and a triangle at depth 3,
@@ -1190,66 +1233,56 @@ mod tests {
             })
             .collect();
         let mut subsets = 0;
-        for depth in [2u32, 3] {
-            let mut levels = vec![t.clone()];
-            while levels.len() < depth as usize + 1 {
-                let child = refine_topology(&levels[levels.len() - 1], &options, true);
-                levels.push(child);
-            }
-            let n_out = levels[depth as usize].num_vertices();
+        for p in ring_patches(&t, &options) {
+            let (f, grid) = (p.f, &p.grid);
             let run = |groups: &[RingGroup]| {
-                let mut out = vec![[f64::NAN; 3]; n_out];
+                let mut out = vec![[f64::NAN; 3]; p.n_out];
                 for g in groups {
                     // SAFETY: the grids' indices are in bounds of the refined level.
                     unsafe { g.apply(0, &base, &SharedOut(out.as_mut_ptr())) };
                 }
                 out.iter().map(|p| p.map(f64::to_bits)).collect::<Vec<_>>()
             };
-            for f in 0..t.num_faces() {
-                let Some(ring) = ring_net(&t, f, false) else {
-                    continue;
-                };
-                let k = Kernel::new(&ring.key, depth, &options).unwrap();
-                let mut walk = Vec::new();
-                descendants(&levels[..depth as usize], f, ring.start, &mut walk).unwrap();
-                let Some(grid) = k.grid(&ring.verts, &walk) else {
-                    continue;
-                };
-                assert_eq!(k.by_owner(), t.face_vertices(f).len() != 4, "face {f}");
-                let by_owner = k.by_owner();
-                let kernels = [Some(k)];
-                // The key's kernel itself, every row it owns.
-                let mut full = RingGroup::new(kernels[0].clone().unwrap());
-                full.push(0, &ring.verts, &grid);
-                full.set_runs(1, 1);
-                let want = run(&[full]);
-                // Every third owned row, then all but the first eleven.
-                let owned: Vec<usize> = (0..grid.len()).filter(|&r| grid[r] != NOT_OWNED).collect();
-                let keep: [&dyn Fn(usize) -> bool; 2] = [&|i| i % 3 == 0, &|i| i >= 11];
-                for keep in keep {
-                    let mut part = grid.clone();
-                    for (i, &r) in owned.iter().enumerate() {
-                        if !keep(i) {
-                            part[r] = NOT_OWNED;
-                        }
+            assert_eq!(
+                p.kernel.by_owner(),
+                t.face_vertices(f).len() != 4,
+                "face {f}"
+            );
+            let packs = p.kernel.by_owner() && grid.len() <= SUBSET_ROWS;
+            let kernels = [Some(p.kernel)];
+            // The key's kernel itself, every row it owns.
+            let mut full = RingGroup::new(kernels[0].clone().unwrap());
+            full.push(0, &p.ring.verts, grid);
+            full.set_runs(1, 1);
+            let want = run(&[full]);
+            // Every third owned row, then all but the first eleven.
+            let owned: Vec<usize> = (0..grid.len()).filter(|&r| grid[r] != NOT_OWNED).collect();
+            let keep: [&dyn Fn(usize) -> bool; 2] = [&|i| i % 3 == 0, &|i| i >= 11];
+            for keep in keep {
+                let mut part = grid.clone();
+                for (i, &r) in owned.iter().enumerate() {
+                    if !keep(i) {
+                        part[r] = NOT_OWNED;
                     }
-                    let kept = part.iter().filter(|&&o| o != NOT_OWNED).count();
-                    let mut groups = RingGroups::new(&kernels);
-                    groups.push(0, 0, &ring.verts, &part);
-                    let (groups, _) = groups.finish(1);
-                    assert_eq!(groups.len(), 1);
-                    if by_owner && grid.len() <= SUBSET_ROWS {
-                        assert_eq!(groups[0].kernel.rows, kept.next_multiple_of(LANES));
-                        subsets += 1;
-                    } else {
-                        assert_eq!(groups[0].kernel.rows, grid.len());
-                    }
-                    let got = run(&groups);
-                    let unwritten = [f64::NAN.to_bits(); 3];
-                    for (v, (g, w)) in got.iter().zip(&want).enumerate() {
-                        let mine = part.contains(&(v as u32));
-                        assert_eq!(*g, if mine { *w } else { unwritten }, "face {f} vertex {v}");
-                    }
+                }
+                let kept = part.iter().filter(|&&o| o != NOT_OWNED).count();
+                let mut groups = RingGroups::new(&kernels);
+                groups.push(0, 0, &p.ring.verts, &part);
+                let (groups, _) = groups.finish(1);
+                assert_eq!(groups.len(), 1);
+                if packs {
+                    assert_eq!(groups[0].kernel.rows, kept.next_multiple_of(LANES));
+                    subsets += 1;
+                } else {
+                    assert_eq!(groups[0].kernel.rows, grid.len());
+                }
+                let got = run(&groups);
+                let unwritten = [f64::NAN.to_bits(); 3];
+                for (v, (g, w)) in got.iter().zip(&want).enumerate() {
+                    let mine = part.contains(&(v as u32));
+                    let depth = p.depth;
+                    let want = if mine { *w } else { unwritten };
+                    assert_eq!(*g, want, "face {f} depth {depth} vertex {v}");
                 }
             }
         }
@@ -1296,91 +1329,67 @@ mod tests {
                     ]
                 })
                 .collect();
-            for depth in [2u32, 3] {
-                let mut levels = vec![t.clone()];
-                while levels.len() < depth as usize + 1 {
-                    let child = refine_topology(&levels[levels.len() - 1], &options, true);
-                    levels.push(child);
-                }
-                let n_out = levels[depth as usize].num_vertices();
-                for f in 0..t.num_faces() {
-                    let Some(ring) = ring_net(&t, f, false) else {
-                        continue;
-                    };
-                    let k = Kernel::new(&ring.key, depth, &options).unwrap();
-                    let mut walk = Vec::new();
-                    descendants(&levels[..depth as usize], f, ring.start, &mut walk).unwrap();
-                    let Some(grid) = k.grid(&ring.verts, &walk) else {
-                        continue;
-                    };
-                    let mut group = RingGroup::new(k);
-                    group.push(0, &ring.verts, &grid);
-                    group.set_runs(1, 1);
-                    let run = |out: &mut Vec<[f64; 3]>, kernel: u8| {
-                        let shared = SharedOut(out.as_mut_ptr());
-                        let (src, o) = (base.as_ptr().cast(), shared.0.cast());
-                        let (ctrl, g) = (&group.ctrl[..], &group.out[..]);
-                        // SAFETY: the grid's indices are in bounds of the refined level; the
-                        // vector kernels only where the processor has their features.
-                        unsafe {
-                            match kernel {
-                                0 => {
-                                    // The portable loop, one component at a time.
-                                    for c in 0..3 {
-                                        let one: Vec<[f64; 1]> =
-                                            base.iter().map(|p| [p[c]]).collect();
-                                        let mut res = vec![[f64::NAN]; n_out];
-                                        group.apply(0, &one, &SharedOut(res.as_mut_ptr()));
-                                        for (o, r) in out.iter_mut().zip(&res) {
-                                            o[c] = r[0];
-                                        }
+            for p in ring_patches(&t, &options) {
+                let (depth, n_out, f, ring, grid) = (p.depth, p.n_out, p.f, &p.ring, &p.grid);
+                let mut group = RingGroup::new(p.kernel);
+                group.push(0, &ring.verts, grid);
+                group.set_runs(1, 1);
+                let run = |out: &mut Vec<[f64; 3]>, kernel: u8| {
+                    let shared = SharedOut(out.as_mut_ptr());
+                    let (src, o) = (base.as_ptr().cast(), shared.0.cast());
+                    let (ctrl, g) = (&group.ctrl[..], &group.out[..]);
+                    // SAFETY: the grid's indices are in bounds of the refined level; the
+                    // vector kernels only where the processor has their features.
+                    unsafe {
+                        match kernel {
+                            0 => {
+                                // The portable loop, one component at a time.
+                                for c in 0..3 {
+                                    let one: Vec<[f64; 1]> = base.iter().map(|p| [p[c]]).collect();
+                                    let mut res = vec![[f64::NAN]; n_out];
+                                    group.apply(0, &one, &SharedOut(res.as_mut_ptr()));
+                                    for (o, r) in out.iter_mut().zip(&res) {
+                                        o[c] = r[0];
                                     }
                                 }
-                                1 => ring_patches_avx(
-                                    &group.kernel,
-                                    ring.verts.len(),
-                                    src,
-                                    ctrl,
-                                    g,
-                                    o,
-                                ),
-                                _ => ring_patches_avx512(
-                                    &group.kernel,
-                                    ring.verts.len(),
-                                    src,
-                                    ctrl,
-                                    g,
-                                    o,
-                                ),
                             }
+                            1 => ring_patches_avx(&group.kernel, ring.verts.len(), src, ctrl, g, o),
+                            _ => ring_patches_avx512(
+                                &group.kernel,
+                                ring.verts.len(),
+                                src,
+                                ctrl,
+                                g,
+                                o,
+                            ),
                         }
+                    }
+                };
+                let mut portable = vec![[f64::NAN; 3]; n_out];
+                run(&mut portable, 0);
+                let written = portable.iter().filter(|p| !p[0].is_nan()).count();
+                assert!(written > 0, "face {f} depth {depth}");
+                patches += 1;
+                if !has_avx2_fma() {
+                    continue;
+                }
+                let mut avx = vec![[f64::NAN; 3]; n_out];
+                run(&mut avx, 1);
+                for (i, (a, b)) in avx.iter().zip(&portable).enumerate() {
+                    for c in 0..3 {
+                        assert!(
+                            a[c].to_bits() == b[c].to_bits() || (a[c] - b[c]).abs() < 1e-14,
+                            "face {f} depth {depth} vertex {i}: {a:?} against {b:?}"
+                        );
+                    }
+                }
+                if has_avx512f() {
+                    let mut avx512 = vec![[f64::NAN; 3]; n_out];
+                    run(&mut avx512, 2);
+                    let bits = |v: &Vec<[f64; 3]>| -> Vec<[u64; 3]> {
+                        v.iter().map(|p| p.map(f64::to_bits)).collect()
                     };
-                    let mut portable = vec![[f64::NAN; 3]; n_out];
-                    run(&mut portable, 0);
-                    let written = portable.iter().filter(|p| !p[0].is_nan()).count();
-                    assert!(written > 0, "face {f} depth {depth}");
-                    patches += 1;
-                    if !has_avx2_fma() {
-                        continue;
-                    }
-                    let mut avx = vec![[f64::NAN; 3]; n_out];
-                    run(&mut avx, 1);
-                    for (i, (a, b)) in avx.iter().zip(&portable).enumerate() {
-                        for c in 0..3 {
-                            assert!(
-                                a[c].to_bits() == b[c].to_bits() || (a[c] - b[c]).abs() < 1e-14,
-                                "face {f} depth {depth} vertex {i}: {a:?} against {b:?}"
-                            );
-                        }
-                    }
-                    if has_avx512f() {
-                        let mut avx512 = vec![[f64::NAN; 3]; n_out];
-                        run(&mut avx512, 2);
-                        let bits = |v: &Vec<[f64; 3]>| -> Vec<[u64; 3]> {
-                            v.iter().map(|p| p.map(f64::to_bits)).collect()
-                        };
-                        assert_eq!(bits(&avx512), bits(&avx), "face {f} depth {depth}");
-                    }
+                    assert_eq!(bits(&avx512), bits(&avx), "face {f} depth {depth}");
                 }
             }
         }
