@@ -604,7 +604,7 @@ mod tests {
                 let fields = |d: &Derivatives| [d.p, d.du, d.dv, d.duu, d.duv, d.dvv];
                 for (a, b) in fields(got).iter().zip(&fields(&want)) {
                     for k in 0..3 {
-                        assert!((a[k] - b[k]).abs() < 1e-13, "({u}, {v}): {a:?} vs {b:?}");
+                        assert!((a[k] - b[k]).abs() < 1e-14, "({u}, {v}): {a:?} vs {b:?}");
                     }
                 }
             }
