@@ -69,7 +69,7 @@ use std::ops::Range;
 
 use rayon::prelude::*;
 
-use super::plan_patches::{Claims, PatchLayer};
+use super::plan_patches::{Claims, PatchLayer, BASE_RING_DEPTH, QUAD_DEPTH};
 use super::topology::{refine_topology, run, split_pieces};
 use crate::mesh::{
     MeshError, Options, PolyMesh, Rule, Topology, TopologyWarning, TriangleSubdivision,
@@ -148,7 +148,8 @@ pub struct RefinePlan {
     warnings: Vec<TopologyWarning>,
 }
 
-/// The last `d` levels of a plan (`d` = [`PATCH_DEPTH`], or fewer for fewer levels),
+/// The last `d` levels of a plan (`d` = [`QUAD_DEPTH`], or fewer for fewer levels;
+/// [`BASE_RING_DEPTH`] for four levels of a mesh with faces that are not quads),
 /// from the values of level `a = L − d` (the last fully computed one):
 /// - [`PatchLayer`]s write the output vertices over the patches (regular and edge quads,
 ///   ring patches) of levels `a` (depth
@@ -164,11 +165,6 @@ struct Tail {
     layers: Vec<PatchLayer>,
     num_out: usize,
 }
-
-/// Levels refined inside a patch (at most): 3 gives 81 vertices per patch from 16
-/// control points. (On `catmark_bishop` 93 % of the quads of level 3 are patches, 97 % of
-/// level 4; deeper patches would cover less and need more of the sparse rows.)
-const PATCH_DEPTH: u32 = 3;
 
 /// One level's sparse matrix: child vertex `i` = Σ weights × parent vertices.
 #[derive(Clone, Debug)]
@@ -204,10 +200,12 @@ impl RefinePlan {
     /// [`MeshError`] for an invalid mesh or tags, or when the last level would exceed
     /// 32-bit indices.
     pub fn new(mesh: &PolyMesh, options: Options, levels: u32) -> Result<Self, MeshError> {
-        Self::build(mesh, options, levels, PATCH_DEPTH)
+        Self::build(mesh, options, levels, BASE_RING_DEPTH)
     }
 
-    /// [`new`](Self::new) with patches of at most `max_depth` levels (none below 2).
+    /// [`new`](Self::new) with patches of at most `max_depth` levels (none below 2; past
+    /// [`QUAD_DEPTH`], only on the base mesh's faces that are not quads, when it refines
+    /// [`BASE_RING_DEPTH`] levels).
     pub(super) fn build(
         mesh: &PolyMesh,
         options: Options,
@@ -232,10 +230,15 @@ impl RefinePlan {
             });
         }
         let (mut level, warnings) = Topology::from_mesh(mesh, &options)?;
-        let depth = if levels >= 2 && max_depth >= 2 {
-            max_depth.min(levels)
-        } else {
+        let depth = if levels < 2 || max_depth < 2 {
             0
+        } else if levels == BASE_RING_DEPTH
+            && max_depth >= BASE_RING_DEPTH
+            && (0..mesh.num_faces()).any(|f| mesh.face(f).len() != 4)
+        {
+            BASE_RING_DEPTH
+        } else {
+            max_depth.min(levels).min(QUAD_DEPTH)
         };
         let full = levels - depth;
         let mut steps = Vec::with_capacity(full as usize);
@@ -1020,17 +1023,18 @@ mod tests {
         (obj, options)
     }
 
-    /// Builds plans of regression shape `name` to levels 2..=4 with patches of depth 2 and
-    /// 3 (see [`check_mesh_patches`]).
+    /// Builds plans of regression shape `name` to levels 2..=4 with patches of depth 2, 3
+    /// and 4 (see [`check_mesh_patches`]).
     fn check_patches(name: &str) -> (usize, usize) {
         let (obj, options) = shape(name);
         check_mesh_patches(&obj.mesh, options, name)
     }
 
-    /// Builds plans of `mesh` to levels 2..=4 with patches of depth 2 and 3, checks that
-    /// they compute the same vertices as plans of sparse rows only (to rounding), and
-    /// returns the numbers of patches with phantom points (edge patches) and of ring
-    /// patches over all of them.
+    /// Builds plans of `mesh` to levels 2..=4 with patches of depth 2, 3 and 4 (ring
+    /// patches on the base mesh's faces that are not quads, at level 4), checks that they
+    /// compute the same vertices as plans of sparse rows only (to rounding), and returns
+    /// the numbers of patches with phantom points (edge patches) and of ring patches over
+    /// all of them.
     fn check_mesh_patches(mesh: &PolyMesh, options: Options, name: &str) -> (usize, usize) {
         let pos = mesh.positions();
         let (lo, hi) = mesh.bounding_box().unwrap();
@@ -1039,7 +1043,7 @@ mod tests {
         for levels in 2..=4 {
             let rows = RefinePlan::build(mesh, options, levels, 0).unwrap();
             let want = rows.apply(pos);
-            for depth in 2..=3 {
+            for depth in 2..=BASE_RING_DEPTH {
                 let plan = RefinePlan::build(mesh, options, levels, depth).unwrap();
                 // (A face is a patch once its corners are smooth or regular: on every
                 // level of a mesh without sharp features.)
@@ -1255,8 +1259,9 @@ mod tests {
 
     /// An all-triangle mesh (`catmark_bishop` with each quad split in two, and its
     /// creases and holes dropped) is covered by ring patches at every level: its
-    /// triangles from the base level on, the quads of level 1 with two extraordinary
-    /// corners, those of level 2 with one. Few vertices are left to the rows.
+    /// triangles from the base level on (four levels deep when the plan refines four),
+    /// the quads of level 1 with two extraordinary corners, those of level 2 with one.
+    /// Few vertices are left to the rows.
     #[test]
     fn triangle_meshes_are_ring_patches() {
         let (obj, _) = shape("catmark_bishop");
@@ -1274,6 +1279,13 @@ mod tests {
         for levels in 2..=5 {
             let plan = RefinePlan::new(&tri, Options::default(), levels).unwrap();
             let tail = plan.tail.as_ref().unwrap();
+            let depths: Vec<u32> = tail.layers.iter().map(|l| l.depth()).collect();
+            let first = levels.min(3) + u32::from(levels == 4);
+            assert_eq!(
+                depths,
+                (2..=first).rev().collect::<Vec<_>>(),
+                "level {levels}"
+            );
             let rows = tail.out_rows.len() as f64 / tail.num_out as f64;
             // Measured: 8.9 %, 2.5 %, 0.6 %, 0.15 % at levels 2 to 5 (the faces at the
             // poles of valence above 16 and their children, and at level 2 the triangles

@@ -124,10 +124,35 @@ const MIN_RING_FACES: usize = 4;
 /// The grid point for "written elsewhere".
 pub(super) const NOT_OWNED: u32 = u32::MAX;
 
+/// Deepest patches on quads: 3 gives 81 vertices per patch from 16 control points. (On
+/// `catmark_bishop` 93 % of the quads of level 3 are patches, 97 % of level 4; deeper
+/// patches would cover less and need more of the sparse rows.)
+pub(super) const QUAD_DEPTH: u32 = 3;
+
+/// Depth of the ring patches on the faces of the base mesh that are not quads (triangles,
+/// n-gons) when a plan refines exactly this many levels; a layer of this depth holds
+/// those patches only, and the quads go one level down (at most [`QUAD_DEPTH`]).
+///
+/// Why: at depth 3 on level 1, each of a triangle's three quads has a ring of its own
+/// (18 points at valence 6, two of its corners being extraordinary), and its rows read
+/// most of them; the triangle's own 1-ring has 12 points, which every row of a depth-4
+/// matrix reads at most. On the all-triangle `cow` (5 804 triangles) an output vertex
+/// costs 13.1 multiply-adds per component at depth 4 against 19.1 at depth 3 (counting
+/// the zeros of the groups of eight rows). Measured (one thread, medians of 11–21
+/// applications in three interleaved rounds, 2026-11-23): refined four levels, `cow`
+/// 3.91 → 3.09 ms, `spot` 3.99 → 2.90 ms, `homer` 8.5 → 6.0 ms, `rocker-arm` 15.0 →
+/// 11.7 ms, the 30 k-triangle `catmark_bishop_l2_tri` 20.6 → 15.3 ms; `catmark_bishop`
+/// (quads) unchanged. A quad's ring at an extraordinary corner is no smaller than its
+/// children's, so quads keep [`QUAD_DEPTH`]. Five levels of a triangle would be 817 rows
+/// per key (78 KiB at 12 points, about 80 keys on a scan), where depth 3 on level 2 finds
+/// half of the quads regular, at 8 multiply-adds per vertex in the bicubic kernel.
+pub(super) const BASE_RING_DEPTH: u32 = 4;
+
 /// All patches of one depth, on one level.
 #[derive(Clone, Debug)]
 pub(super) struct PatchLayer {
-    /// Levels refined within each patch (2 or 3).
+    /// Levels refined within each patch (2 or 3; [`BASE_RING_DEPTH`] for a layer of ring
+    /// patches on the base mesh's faces that are not quads).
     depth: u32,
     /// Which level's values the control indices refer to (see [`RefinePlan`]'s tail):
     /// 0 for the fully computed level, `s ≥ 1` for the `s`-th subset level.
@@ -360,9 +385,10 @@ fn cell_verts(c: &Cell) -> &[u32] {
 }
 
 impl PatchLayer {
-    /// The patches of depth `levels.len()` on the quads of `levels[0]` (refined with
-    /// `options`): every quad that can be one and writes at least one output vertex not
-    /// yet in `claims` (which it then claims).
+    /// The patches of depth `levels.len()` on the faces of `levels[0]` (refined with
+    /// `options`): every face that can be one and writes at least one output vertex not
+    /// yet in `claims` (which it then claims). Past [`QUAD_DEPTH`], only the faces that
+    /// are not quads ([`BASE_RING_DEPTH`]).
     pub(super) fn build(
         levels: &[Topology],
         source: usize,
@@ -379,6 +405,9 @@ impl PatchLayer {
             .into_par_iter()
             .with_min_len(RUN)
             .filter_map(|f| {
+                if depth > QUAD_DEPTH && t.face_vertices(f).len() == 4 {
+                    return None;
+                }
                 let net = patch_controls(t, f, sharp, chaikin)?;
                 let grid = match net {
                     Net::Ring(_) => Vec::new(),
@@ -486,6 +515,12 @@ impl PatchLayer {
         ];
     }
 
+    /// Levels refined within each patch.
+    #[cfg(test)]
+    pub(super) fn depth(&self) -> u32 {
+        self.depth
+    }
+
     /// Every source vertex that the patches read (with repetitions).
     pub(super) fn control_vertices(&self) -> impl Iterator<Item = u32> + '_ {
         let edge = self.edge_nets.iter().flatten().flat_map(cell_verts);
@@ -536,29 +571,33 @@ impl PatchLayer {
     /// Writes every owned grid point of every patch into `out`, from the values `src`
     /// of the patches' level.
     pub(super) fn apply<const D: usize>(&self, src: &[[f64; D]], out: &mut [[f64; D]]) {
+        // Every index the kernels use is in bounds (they do not check each one).
+        assert!(self.bounds[0] <= src.len() && self.bounds[1] <= out.len());
+        let dst = SharedOut(out.as_mut_ptr());
         match self.depth {
-            2 => self.run::<5, 25, D>(src, out),
-            3 => self.run::<9, 81, D>(src, out),
+            2 => self.run(src, &dst, |r| self.plain_and_edge::<5, 25, D>(r, src, &dst)),
+            3 => self.run(src, &dst, |r| self.plain_and_edge::<9, 81, D>(r, src, &dst)),
+            // Ring patches only (`build`).
+            BASE_RING_DEPTH => self.run(src, &dst, |_| {}),
             d => unreachable!("patch depth {d}"),
         }
     }
 
-    fn run<const N: usize, const NN: usize, const D: usize>(
+    /// Runs `plain` on every run of faces and the ring patches of each unit of work.
+    fn run<const D: usize>(
         &self,
         src: &[[f64; D]],
-        out: &mut [[f64; D]],
+        dst: &SharedOut<[f64; D]>,
+        plain: impl Fn(usize) + Sync,
     ) {
-        // Every index the kernels use is in bounds (they do not check each one).
-        assert!(self.bounds[0] <= src.len() && self.bounds[1] <= out.len());
-        let w: &[[f64; 4]; N] = self.w.as_slice().try_into().expect("kernel size");
-        let dst = SharedOut(out.as_mut_ptr());
         let body = |unit: usize| {
             for r in unit * self.span..((unit + 1) * self.span).min(self.runs) {
-                self.plain_and_edge::<N, NN, D>(r, w, src, &dst);
+                plain(r);
             }
             for group in &self.rings {
-                // SAFETY: as above.
-                unsafe { group.apply(unit, src, &dst) };
+                // SAFETY: indices checked by `apply`; each output written once
+                // (`SharedOut`).
+                unsafe { group.apply(unit, src, dst) };
             }
         };
         let units = self.runs.div_ceil(self.span);
@@ -573,16 +612,16 @@ impl PatchLayer {
     fn plain_and_edge<const N: usize, const NN: usize, const D: usize>(
         &self,
         r: usize,
-        w: &[[f64; 4]; N],
         src: &[[f64; D]],
         dst: &SharedOut<[f64; D]>,
     ) {
+        let w: &[[f64; 4]; N] = self.w.as_slice().try_into().expect("kernel size");
         let run = self.ctrl_runs.range(r);
         let (ctrl, grids) = (
             &self.ctrl[run.clone()],
             &self.out[run.start * NN..run.end * NN],
         );
-        // SAFETY: indices checked by `run`; each output written once (`SharedOut`).
+        // SAFETY: indices checked by `apply`; each output written once (`SharedOut`).
         unsafe { patches::<N, NN, D>(w, src, ctrl, grids, dst) };
         // Edge patches: the nets of up to `LOCAL` patches evaluated into an array on
         // the stack (nothing is allocated), then the same kernel over it.

@@ -1118,7 +1118,7 @@ mod tests {
             let faces = one_ev_ring(n);
             let t = topology(&faces, &options);
             let ring = ring_net(&t, 0, false).unwrap();
-            for depth in [2u32, 3] {
+            for depth in [2u32, 3, 4] {
                 let k = Kernel::new(&ring.key, depth, &options).unwrap();
                 assert_eq!(k.points, 2 * n + 8);
                 let side = (1usize << depth) + 1;
@@ -1185,7 +1185,7 @@ mod tests {
     /// Every ring patch of `t` at depths 2 and 3 whose walk repeats where its key's does.
     fn ring_patches(t: &Topology, options: &Options) -> Vec<TestPatch> {
         let mut patches = Vec::new();
-        for depth in [2u32, 3] {
+        for depth in [2u32, 3, 4] {
             let mut levels = vec![t.clone()];
             while levels.len() < depth as usize + 1 {
                 let child = refine_topology(&levels[levels.len() - 1], options, true);
@@ -1405,7 +1405,7 @@ mod tests {
         let t = topology(&OCTAHEDRON, &options);
         let ring = ring_net(&t, 0, false).unwrap();
         assert_eq!(ring.verts.len(), 6);
-        for depth in [2u32, 3] {
+        for depth in [2u32, 3, 4] {
             let k = Kernel::new(&ring.key, depth, &options).unwrap();
             let h = 1usize << (depth - 1);
             let rows = 3 * (h + 1) * (h + 1) - 3 * (h + 1) + 1;
