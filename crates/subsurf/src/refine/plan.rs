@@ -20,7 +20,8 @@
 //! valences above 16, and faces whose ring is shared by fewer than four faces (0.05 % of
 //! the output of `catmark_bishop` at level 6). Re-posing is 10–20× faster than
 //! [`subdivide`](fn@crate::subdivide) on quad meshes, 9–17× on all-triangle ones such as
-//! scans, with AVX-512 (5–9× at levels 2–4 with AVX2 only; see [`RefinePlan`] for numbers).
+//! scans, with AVX-512 (5–9× at levels 2–4 with AVX2 only, measured before the base
+//! mesh's triangles got patches four levels deep; see [`RefinePlan`] for numbers).
 //!
 //! # Storage
 //! Most rows share their weights with many others: every smooth edge point between two
@@ -44,8 +45,8 @@
 //! points (at a boundary or crease) stores its 16 cells instead, 896 bytes; a ring
 //! patch 4 bytes per point of its ring (`2n + 8` for a quad with one corner of valence
 //! `n`) and 4 bytes per vertex on it (81 on a quad at depth 3, padded to whole groups of
-//! eight; 61 on a triangle, padded to 72: fours by the faces that can own them, see
-//! `refine/plan_ring.rs`); its ring's matrix is stored once.
+//! eight; 61 on a triangle, padded to 72 by fours of the faces that can own them, see
+//! `refine/plan_ring.rs`, and 217 at depth 4); its ring's matrix is stored once.
 //!
 //! # Accuracy
 //! The plan computes the same linear map as [`interpolate`](super::interpolate), but sums
@@ -128,9 +129,11 @@ const PAR_MIN_ROWS: usize = 16 * 1024;
 /// each quad split in two, where one level makes every vertex and face centre
 /// extraordinary; the same split of its level 2, 30 k triangles): 10.6–11.4× at level 5
 /// and 14.6–19.5× at level 6 on one thread, 8.9–12.1× at level 2 and 12.2–13.0× at level
-/// 3; public scans and CAD parts (5–124 k triangles, not in the repository) 10–14× at
-/// levels 2–4 (2T 11–16×), where every patch is a ring patch with one or two
-/// extraordinary corners. Those figures are with the AVX-512 patch kernels (this machine
+/// 3, 15.4× at level 4; public scans and CAD parts (6–124 k triangles, not in the
+/// repository) 10.5–15× at levels 2–4 on one thread (12–18× on two), but for the CAD
+/// part `rocker-arm` at level 3, 8.8× on one thread (12× on two), where every patch is a
+/// ring patch: on a base triangle, or on a quad with one or two extraordinary corners.
+/// Those figures are with the AVX-512 patch kernels (this machine
 /// has AVX-512); with AVX2 only, the triangles were 6.2–8.5× at level 2, 8–13× at levels
 /// 3 and 4. Building the plan for bishop at level 6 took 0.4–1.6 s (one
 /// thread). With sparse rows only (before patches) the bishop apply took 0.05–0.06 s.
