@@ -20,8 +20,8 @@
 //! valences above 16, and faces whose ring is shared by fewer than four faces (0.05 % of
 //! the output of `catmark_bishop` at level 6). Re-posing is 10–20× faster than
 //! [`subdivide`](fn@crate::subdivide) on quad meshes, 9–17× on all-triangle ones such as
-//! scans, with AVX-512 (5–9× at levels 2–4 with AVX2 only, measured before the base
-//! mesh's triangles got patches four levels deep; see [`RefinePlan`] for numbers).
+//! scans, with AVX-512 (7–12× at levels 2–5 with AVX2 only; see [`RefinePlan`] for
+//! numbers).
 //!
 //! # Storage
 //! Most rows share their weights with many others: every smooth edge point between two
@@ -133,9 +133,11 @@ const PAR_MIN_ROWS: usize = 16 * 1024;
 /// repository) 10.5–15× at levels 2–4 on one thread (12–18× on two), but for the CAD
 /// part `rocker-arm` at level 3, 8.8× on one thread (12× on two), where every patch is a
 /// ring patch: on a base triangle, or on a quad with one or two extraordinary corners.
-/// Those figures are with the AVX-512 patch kernels (this machine
-/// has AVX-512); with AVX2 only, the triangles were 6.2–8.5× at level 2, 8–13× at levels
-/// 3 and 4. Building the plan for bishop at level 6 took 0.4–1.6 s (one
+/// Those figures are with the AVX-512 patch kernels (this machine has AVX-512). With
+/// AVX2 only (the AVX-512 kernels switched off in a test build, one thread), quad meshes
+/// are 6–9 % slower to re-pose (`catmark_bishop` 12.1× at level 5, 16.9× at level 6) and
+/// all-triangle ones 20–40 %: 7.1–8.9× at levels 2–5 (`ogre` and `rocker-arm` lowest),
+/// 10.2× on the large one at level 3 and 11.8× on `homer` at level 4. Building the plan for bishop at level 6 took 0.4–1.6 s (one
 /// thread). With sparse rows only (before patches) the bishop apply took 0.05–0.06 s.
 ///
 /// The plan covers positions of every vertex of the last level, in
