@@ -137,8 +137,9 @@ const PAR_MIN_ROWS: usize = 16 * 1024;
 /// AVX2 only (the AVX-512 kernels switched off in a test build, one thread), quad meshes
 /// are 6–9 % slower to re-pose (`catmark_bishop` 12.1× at level 5, 16.9× at level 6) and
 /// all-triangle ones 20–40 %: 7.1–8.9× at levels 2–5 (`ogre` and `rocker-arm` lowest),
-/// 10.2× on the large one at level 3 and 11.8× on `homer` at level 4. Building the plan for bishop at level 6 took 0.4–1.6 s (one
-/// thread). With sparse rows only (before patches) the bishop apply took 0.05–0.06 s.
+/// 10.2× on the large one at level 3 and 11.8× on `homer` at level 4. Building the plan
+/// for bishop at level 6 took 0.4–1.6 s (one thread). With sparse rows only (before
+/// patches) the bishop apply took 0.05–0.06 s.
 ///
 /// The plan covers positions of every vertex of the last level, in
 /// [`subdivide`](fn@crate::subdivide)'s order (including vertices used only by hole faces);
