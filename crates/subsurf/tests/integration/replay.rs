@@ -224,19 +224,21 @@ fn patches_for_any_width() {
 /// The estimate a caller checks before building errs high, and grows with the output.
 #[test]
 fn memory_estimate_covers_the_plan() {
-    let (mesh, _) = load("catmark_pawn");
     let options = Options::default();
-    for levels in 1..=4 {
-        let plan = RefinePlan::new(&mesh, options, levels).unwrap();
-        let estimate = RefinePlan::estimate_memory(&mesh, levels);
-        let output = (24 * plan.num_vertices()) as u64;
-        assert!(
-            estimate > plan.memory_bytes() as u64 + output,
-            "level {levels}"
-        );
-        assert!(RefinePlan::estimate_memory(&mesh, levels + 1) > 3 * estimate);
+    // Quads, and triangles (whose ring patches refine four levels at once at level 4).
+    for mesh in [load("catmark_pawn").0, scrambled_triangle_torus(12)] {
+        for levels in 1..=4 {
+            let plan = RefinePlan::new(&mesh, options, levels).unwrap();
+            let estimate = RefinePlan::estimate_memory(&mesh, levels);
+            let output = (24 * plan.num_vertices()) as u64;
+            assert!(
+                estimate > plan.memory_bytes() as u64 + output,
+                "level {levels}"
+            );
+            assert!(RefinePlan::estimate_memory(&mesh, levels + 1) > 3 * estimate);
+        }
+        assert_eq!(RefinePlan::estimate_memory(&mesh, 40), u64::MAX);
     }
-    assert_eq!(RefinePlan::estimate_memory(&mesh, 40), u64::MAX);
 }
 
 #[test]
