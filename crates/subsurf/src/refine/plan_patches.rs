@@ -114,11 +114,12 @@ pub(super) fn ring_span(runs: usize, keys: usize, patches: usize) -> usize {
         .clamp(1, runs.max(1))
 }
 
-/// Fewest faces of a layer that share a ring (a key of `refine/plan_ring.rs`) for its
-/// matrix to be built: building one refines its ring and applies the result to each of
-/// the ring's points (measured for a 20-point ring: 0.1 ms at depth 2, 0.5 ms at depth
-/// 3), which the sparse rows of a face cost in microseconds. A mesh whose every face has its own
-/// ring (mixed face sizes around every vertex) would otherwise build one matrix per face.
+/// Fewest faces of a layer that share a ring (a key of `refine/plan_ring.rs`), each with
+/// a vertex that no deeper layer wrote, for its matrix to be built: building one refines
+/// its ring and applies the result to each of the ring's points (measured for a 20-point
+/// ring: 0.1 ms at depth 2, 0.5 ms at depth 3), which the sparse rows of a face cost in
+/// microseconds. A mesh whose every face has its own ring (mixed face sizes around every
+/// vertex) would otherwise build one matrix per face.
 const MIN_RING_FACES: usize = 4;
 
 /// The grid point for "written elsewhere".
@@ -399,8 +400,11 @@ impl PatchLayer {
         let sharp = Sharp::for_levels(depth, options.crease_method);
         let chaikin = options.crease_method == CreaseMethod::Chaikin;
         let t = &levels[0];
-        // Regular and edge patches with their grids; ring patches get theirs below, once
-        // the matrix of their key says which vertices repeat.
+        // Regular and edge patches with their grids, ring patches with their
+        // `descendants` (their grids below, once the matrix of their key says which
+        // vertices repeat); not the faces whose every vertex a deeper layer claimed (at
+        // level 4 of a triangle mesh, every quad of level 1), nor their keys' matrices.
+        let seen = &claims.0;
         let found: Vec<(u32, Net, Vec<u32>)> = (0..t.num_faces())
             .into_par_iter()
             .with_min_len(RUN)
@@ -409,11 +413,16 @@ impl PatchLayer {
                     return None;
                 }
                 let net = patch_controls(t, f, sharp, chaikin)?;
-                let grid = match net {
-                    Net::Ring(_) => Vec::new(),
+                let verts = match &net {
+                    Net::Ring(ring) => {
+                        let mut walk = Vec::new();
+                        descendants(levels, f, ring.start, &mut walk)?;
+                        walk
+                    }
                     _ => grid_indices(levels, f)?,
                 };
-                Some((f as u32, net, grid))
+                let open = verts.iter().any(|&v| !seen[v as usize]);
+                open.then_some((f as u32, net, verts))
             })
             .collect();
         let runs = t.num_faces().div_ceil(RUN);
@@ -434,12 +443,10 @@ impl PatchLayer {
             .collect();
         let ring_grids: Vec<Option<(usize, Vec<u32>)>> = (found.par_iter())
             .with_min_len(RUN)
-            .map(|(f, net, _)| {
+            .map(|(_, net, walk)| {
                 let Net::Ring(ring) = net else { return None };
                 let k = keys.binary_search(&ring.key.as_slice()).ok()?;
-                let mut walk = Vec::new();
-                descendants(levels, *f as usize, ring.start, &mut walk)?;
-                Some((k, kernels[k].as_ref()?.grid(&ring.verts, &walk)?))
+                Some((k, kernels[k].as_ref()?.grid(&ring.verts, walk)?))
             })
             .collect();
         // Each patch with its grid, and a ring patch with its key.
