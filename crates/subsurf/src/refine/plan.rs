@@ -273,7 +273,7 @@ impl RefinePlan {
     /// applying it once, saturating at `u64::MAX`: twice [`estimate_memory`] of a
     /// refinement to the same level (building holds the last four levels at once; the
     /// measured peak of `subsurf bench --replay` on `catmark_bishop` to level 6 is
-    /// ~125 bytes per output face, the estimate 320). Check it before [`new`](Self::new)
+    /// ~120 bytes per output face, the estimate 320). Check it before [`new`](Self::new)
     /// to refuse a level that would not fit instead of failing to allocate.
     ///
     /// [`estimate_memory`]: crate::estimate_memory
