@@ -65,6 +65,10 @@ pub(super) struct RowsOf<I> {
 }
 
 impl NodeRows {
+    /// The rows of the refinement of `t` into `child` (its `refine_topology`) for the
+    /// child vertices `verts`, with each column `c` (a vertex of `t`) mapped to `cols(c)`,
+    /// the point the node is evaluated on; zero weights left out. The weights are
+    /// interned in `pool`.
     pub fn refinement(
         t: &Topology,
         child: &Topology,

@@ -423,20 +423,29 @@ impl Kernel {
             weights: Vec::new(),
             slots: Vec::new(),
         };
+        kernel.push_groups(&rows, |g, s| {
+            g.map_or(0.0, |g| columns[s as usize][g as usize][0])
+        });
+        Some(kernel)
+    }
+
+    /// Appends the groups of `rows` ([`LANES`] at a time, the last one shorter if so),
+    /// row `r`'s weight on ring point `s` being `weight(r, s)`: each group's terms are
+    /// the ring points, in order, on which any of its rows has a weight other than zero.
+    fn push_groups<R: Copy>(&mut self, rows: &[R], weight: impl Fn(R, u32) -> f64) {
         for group in rows.chunks(LANES) {
-            for (s, column) in columns.iter().enumerate() {
+            for s in 0..self.points as u32 {
                 let mut w = [0.0; LANES];
-                for (w, &g) in w.iter_mut().zip(group) {
-                    *w = g.map_or(0.0, |g| column[g as usize][0]);
+                for (w, &r) in w.iter_mut().zip(group) {
+                    *w = weight(r, s);
                 }
                 if w.iter().any(|&w| w != 0.0) {
-                    kernel.weights.push(w);
-                    kernel.slots.push(s as u32);
+                    self.weights.push(w);
+                    self.slots.push(s);
                 }
             }
-            kernel.starts.push(kernel.weights.len() as u32);
+            self.starts.push(self.weights.len() as u32);
         }
-        Some(kernel)
     }
 
     /// The output vertex of each row, padded with [`NOT_OWNED`], of a face with ring
@@ -491,19 +500,7 @@ impl Kernel {
             (self.slots[terms.clone()].binary_search(&s))
                 .map_or(0.0, |t| self.weights[terms.start + t][lane])
         };
-        for group in rows.chunks(LANES) {
-            for s in 0..self.points as u32 {
-                let mut w = [0.0; LANES];
-                for (w, &r) in w.iter_mut().zip(group) {
-                    *w = weight(r, s);
-                }
-                if w.iter().any(|&w| w != 0.0) {
-                    kernel.weights.push(w);
-                    kernel.slots.push(s);
-                }
-            }
-            kernel.starts.push(kernel.weights.len() as u32);
-        }
+        kernel.push_groups(rows, weight);
         kernel
     }
 
