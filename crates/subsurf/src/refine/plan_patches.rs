@@ -68,8 +68,10 @@
 //! applied by units of one or more runs ([`ring_span`]), each key's patches of a unit
 //! together, so that a key's matrix is read once for several patches: with many keys
 //! (110 on a 20 k-triangle scan at depth 3) one run held two or three patches of each,
-//! and grouping runs made its re-posing 10–13 % faster on one thread. At depth 2 a
-//! triangle's (any non-quad's) patch goes to a matrix of just the rows it owns
+//! and grouping runs made its re-posing 10–13 % faster on one thread. The ring points
+//! and grids of a layer's ring patches are stored in that order, unit by unit and key by
+//! key within a unit ([`RingPatches`]), so that applying reads them as one stream. At
+//! depth 2 a triangle's (any non-quad's) patch goes to a matrix of just the rows it owns
 //! ([`RingGroups`]), so its groups of rows are full.
 //!
 //! # Numbering
@@ -86,7 +88,7 @@ use std::ops::Range;
 
 use rayon::prelude::*;
 
-use super::plan_ring::{descendants, ring_net, Kernel, RingGroup, RingGroups, RingNet};
+use super::plan_ring::{descendants, ring_net, Kernel, RingGroups, RingNet, RingPatches};
 #[cfg(target_arch = "x86_64")]
 use crate::cpu::{has_avx2_fma, has_avx512f};
 use crate::limit::patch::{refinement_patch_cells, Cell, Sharp};
@@ -177,8 +179,8 @@ pub(super) struct PatchLayer {
     edge_out: Vec<u32>,
     /// Where the edge patches of each run start.
     edge_runs: Runs,
-    /// The ring patches (`refine/plan_ring.rs`), by key.
-    pub(super) rings: Vec<RingGroup>,
+    /// The ring patches (`refine/plan_ring.rs`).
+    pub(super) rings: RingPatches,
     /// The kernel's matrix `W`, one row of four weights per grid column.
     w: Vec<[f64; 4]>,
     /// One more than the largest control index, and than the largest output index.
@@ -514,7 +516,7 @@ impl PatchLayer {
         self.bounds = [
             self.control_vertices().map(end).max().unwrap_or(0),
             (self.out.iter().chain(&self.edge_out))
-                .chain(self.rings.iter().flat_map(|g| &g.out))
+                .chain(&self.rings.out)
                 .filter(|&&o| o != NOT_OWNED)
                 .map(|&o| end(o))
                 .max()
@@ -531,15 +533,13 @@ impl PatchLayer {
     /// Every source vertex that the patches read (with repetitions).
     pub(super) fn control_vertices(&self) -> impl Iterator<Item = u32> + '_ {
         let edge = self.edge_nets.iter().flatten().flat_map(cell_verts);
-        let rings = self.rings.iter().flat_map(|g| &g.ctrl);
+        let rings = &self.rings.ctrl;
         self.ctrl.iter().flatten().chain(edge).chain(rings).copied()
     }
 
     /// Number of patches.
     pub(super) fn len(&self) -> usize {
-        self.ctrl.len()
-            + self.edge_nets.len()
-            + self.rings.iter().map(RingGroup::len).sum::<usize>()
+        self.ctrl.len() + self.edge_nets.len() + self.rings.len()
     }
 
     /// Bytes held.
@@ -550,11 +550,7 @@ impl PatchLayer {
             + self.edge_runs.memory_bytes()
             + std::mem::size_of::<[Cell; 16]>() * self.edge_nets.len()
             + 4 * self.edge_out.len()
-            + self
-                .rings
-                .iter()
-                .map(RingGroup::memory_bytes)
-                .sum::<usize>()
+            + self.rings.memory_bytes()
             + 32 * self.w.len()
     }
 
@@ -569,7 +565,7 @@ impl PatchLayer {
                 *v = map[*v as usize];
             }
         }
-        for c in self.rings.iter_mut().flat_map(|g| &mut g.ctrl) {
+        for c in &mut self.rings.ctrl {
             *c = map[*c as usize];
         }
         self.set_bounds();
@@ -601,11 +597,8 @@ impl PatchLayer {
             for r in unit * self.span..((unit + 1) * self.span).min(self.runs) {
                 plain(r);
             }
-            for group in &self.rings {
-                // SAFETY: indices checked by `apply`; each output written once
-                // (`SharedOut`).
-                unsafe { group.apply(unit, src, dst) };
-            }
+            // SAFETY: indices checked by `apply`; each output written once (`SharedOut`).
+            unsafe { self.rings.apply(unit, src, dst) };
         };
         let units = self.runs.div_ceil(self.span);
         if units <= 1 || rayon::current_num_threads() == 1 {

@@ -593,10 +593,10 @@ fn greedy_groups(mut left: Vec<(u32, u64)>) -> Vec<Option<u32>> {
 /// cost more than that saves (`catmark_bishop_l2_tri` at level 3, 6–10 % slower).
 const SUBSET_ROWS: usize = 4 * LANES;
 
-/// The ring patches of a layer as they are claimed, in groups of one kernel each. A patch
-/// whose key's kernel is grouped by owners and has at most [`SUBSET_ROWS`] rows goes to
-/// the kernel of the rows it owns ([`Kernel::subset`]), made once per key and set of
-/// rows, its grid those rows' vertices; the others to their key's kernel.
+/// The ring patches of a layer as they are claimed, by matrix. A patch whose key's
+/// kernel is grouped by owners and has at most [`SUBSET_ROWS`] rows goes to the kernel of
+/// the rows it owns ([`Kernel::subset`]), made once per key and set of rows, its grid
+/// those rows' vertices; the others to their key's kernel.
 ///
 /// On an all-triangle mesh at depth 2 a face owns its inside, the sides it claims and the
 /// corners it claims, 12 of its 24 rows on average, which its key's groups of owners
@@ -608,6 +608,17 @@ pub(super) struct RingGroups<'a> {
     /// The group of each key and set of owned rows (empty: the key's kernel).
     index: HashMap<(usize, Vec<u16>), usize>,
     groups: Vec<RingGroup>,
+}
+
+/// The patches of one matrix, in the order they were claimed.
+struct RingGroup {
+    kernel: Kernel,
+    /// The ring points of each patch, in the key's order.
+    ctrl: Vec<u32>,
+    /// The output vertex of each row of each patch, or [`NOT_OWNED`].
+    out: Vec<u32>,
+    /// The run of faces of each patch (not decreasing).
+    run_of: Vec<u32>,
 }
 
 impl<'a> RingGroups<'a> {
@@ -633,127 +644,187 @@ impl<'a> RingGroups<'a> {
         } else {
             Vec::new()
         };
-        let packed: Vec<u32>;
-        let grid = if rows.is_empty() {
-            grid
-        } else {
+        // The grid of the rows the patch owns, if they get a kernel of their own.
+        let packed = (!rows.is_empty()).then(|| {
             let mut owned: Vec<u32> = rows.iter().map(|&r| grid[usize::from(r)]).collect();
             owned.resize(rows.len().next_multiple_of(LANES), NOT_OWNED);
-            packed = owned;
-            &packed
-        };
+            owned
+        });
         let groups = &mut self.groups;
         let g = *self.index.entry((k, rows)).or_insert_with_key(|(_, rows)| {
-            groups.push(RingGroup::new(if rows.is_empty() {
-                kernel.clone()
-            } else {
-                kernel.subset(rows)
-            }));
+            groups.push(RingGroup {
+                kernel: if rows.is_empty() {
+                    kernel.clone()
+                } else {
+                    kernel.subset(rows)
+                },
+                ctrl: Vec::new(),
+                out: Vec::new(),
+                run_of: Vec::new(),
+            });
             groups.len() - 1
         });
-        groups[g].push(run, verts, grid);
+        let group = &mut groups[g];
+        group.ctrl.extend_from_slice(verts);
+        group
+            .out
+            .extend_from_slice(packed.as_deref().unwrap_or(grid));
+        group.run_of.push(run);
     }
 
-    /// The groups of a layer of `runs` runs, indexed by units of work, and the runs per
-    /// unit ([`ring_span`]).
-    pub(super) fn finish(self, runs: usize) -> (Vec<RingGroup>, usize) {
-        let patches = self.groups.iter().map(RingGroup::len).sum();
-        let span = ring_span(runs, self.groups.len(), patches);
-        let mut groups = self.groups;
-        groups.iter_mut().for_each(|g| g.set_runs(runs, span));
-        (groups, span)
+    /// The ring patches of a layer of `runs` runs, laid out by unit of work, and the runs
+    /// per unit ([`ring_span`]).
+    pub(super) fn finish(self, runs: usize) -> (RingPatches, usize) {
+        let groups = self.groups;
+        let patches = groups.iter().map(|g| g.run_of.len()).sum();
+        let span = ring_span(runs, groups.len(), patches);
+        let units = runs.div_ceil(span);
+        let (ctrl, out) =
+            (groups.iter()).fold((0, 0), |(c, o), g| (c + g.ctrl.len(), o + g.out.len()));
+        let mut laid = RingPatches {
+            kernels: Vec::with_capacity(groups.len()),
+            ctrl: Vec::with_capacity(ctrl),
+            out: Vec::with_capacity(out),
+            segments: Vec::new(),
+            units: Runs::default(),
+        };
+        // Each group's patches of each unit in turn (a group's runs do not decrease).
+        let mut next = vec![0; groups.len()];
+        let mut unit_of = Vec::new();
+        for unit in 0..units {
+            let end_run = ((unit + 1) * span) as u32;
+            for (g, group) in groups.iter().enumerate() {
+                let start = next[g];
+                let end = start + group.run_of[start..].partition_point(|&r| r < end_run);
+                if end == start {
+                    continue;
+                }
+                next[g] = end;
+                let (points, rows) = (group.kernel.points, group.kernel.rows);
+                laid.segments.push(Segment {
+                    kernel: g as u32,
+                    patches: (end - start) as u32,
+                    ctrl: laid.ctrl.len(),
+                    out: laid.out.len(),
+                });
+                laid.ctrl
+                    .extend_from_slice(&group.ctrl[start * points..end * points]);
+                laid.out
+                    .extend_from_slice(&group.out[start * rows..end * rows]);
+                unit_of.push(unit as u32);
+            }
+        }
+        laid.units = Runs::new(&unit_of, units);
+        laid.kernels = groups.into_iter().map(|g| g.kernel).collect();
+        (laid, span)
     }
 }
 
-/// The ring patches of one key in one [`PatchLayer`](super::plan_patches::PatchLayer).
-#[derive(Clone, Debug)]
-pub(super) struct RingGroup {
-    kernel: Kernel,
-    /// The ring points of each patch, in the key's order.
+/// The patches of one matrix in one unit of work of a [`RingPatches`].
+#[derive(Clone, Copy, Debug)]
+struct Segment {
+    /// The matrix, in [`RingPatches::kernels`].
+    kernel: u32,
+    /// Number of patches.
+    patches: u32,
+    /// Where their ring points start in [`RingPatches::ctrl`].
+    ctrl: usize,
+    /// Where their grids start in [`RingPatches::out`].
+    out: usize,
+}
+
+/// The ring patches of one [`PatchLayer`](super::plan_patches::PatchLayer), in the order
+/// they are applied: by unit of work ([`ring_span`]), within a unit by matrix, each
+/// matrix's patches in the order they were claimed (the order of the faces).
+///
+/// Why one array in that order rather than one per matrix: applying reads the ring
+/// points and grids of the patches once each, and read in order they come in as the
+/// processor's prefetchers fetch a stream. One array per matrix had a unit jump from
+/// matrix to matrix, a new stream every few patches; on a scan with corners of many
+/// valences (`nefertiti`, 100 k triangles, 2 752 matrices at level 2) the first lines of
+/// each were missed, and a re-posing took twice as long per output vertex as on a scan
+/// with few matrices (`ogre`).
+#[derive(Clone, Debug, Default)]
+pub(super) struct RingPatches {
+    /// The matrices.
+    kernels: Vec<Kernel>,
+    /// The ring points of each patch, in its key's order.
     pub(super) ctrl: Vec<u32>,
     /// The output vertex of each row of each patch, or [`NOT_OWNED`].
     pub(super) out: Vec<u32>,
-    /// The run of faces of each patch, while the layer is built.
-    run_of: Vec<u32>,
-    /// Where the patches of each run start.
-    runs: Runs,
+    /// The patches of one matrix and unit each, by unit.
+    segments: Vec<Segment>,
+    /// Where the segments of each unit start.
+    units: Runs,
 }
 
-impl RingGroup {
-    pub(super) fn new(kernel: Kernel) -> Self {
-        RingGroup {
-            kernel,
-            ctrl: Vec::new(),
-            out: Vec::new(),
-            run_of: Vec::new(),
-            runs: Runs::default(),
-        }
-    }
-
-    /// Adds a patch of run `run` (not before those already added) with ring points
-    /// `verts` and output vertices `grid` (checked by [`Kernel::grid`]).
-    pub(super) fn push(&mut self, run: u32, verts: &[u32], grid: &[u32]) {
-        self.ctrl.extend_from_slice(verts);
-        self.out.extend_from_slice(grid);
-        self.run_of.push(run);
-    }
-
-    /// Indexes the patches by unit of work of `span` runs, once all are added (of `runs`
-    /// runs).
-    pub(super) fn set_runs(&mut self, runs: usize, span: usize) {
-        let units: Vec<u32> = self.run_of.iter().map(|r| r / span as u32).collect();
-        self.run_of = Vec::new();
-        self.runs = Runs::new(&units, runs.div_ceil(span));
-    }
-
+impl RingPatches {
     /// Number of patches.
     pub(super) fn len(&self) -> usize {
-        self.ctrl.len() / self.kernel.points.max(1)
+        self.segments.iter().map(|s| s.patches as usize).sum()
     }
 
     /// Bytes held.
     pub(super) fn memory_bytes(&self) -> usize {
-        self.kernel.memory_bytes()
-            + 4 * self.ctrl.len()
-            + 4 * self.out.len()
-            + self.runs.memory_bytes()
+        self.kernels.iter().map(Kernel::memory_bytes).sum::<usize>()
+            + 4 * (self.ctrl.len() + self.out.len())
+            + std::mem::size_of::<Segment>() * self.segments.len()
+            + self.units.memory_bytes()
     }
 
-    /// Writes the owned grid points of the patches of run `r` into `out`, from the values
-    /// `src` of the patches' level.
+    /// Writes the owned grid points of the patches of unit `unit` into `out`, from the
+    /// values `src` of the patches' level.
+    ///
+    /// # Safety
+    /// As [`Kernel::apply`].
+    pub(super) unsafe fn apply<const D: usize>(
+        &self,
+        unit: usize,
+        src: &[[f64; D]],
+        out: &SharedOut<[f64; D]>,
+    ) {
+        for s in &self.segments[self.units.range(unit)] {
+            let k = &self.kernels[s.kernel as usize];
+            let n = s.patches as usize;
+            let ctrl = &self.ctrl[s.ctrl..s.ctrl + n * k.points];
+            let grids = &self.out[s.out..s.out + n * k.rows];
+            // SAFETY: the caller's.
+            unsafe { k.apply(src, ctrl, grids, out) };
+        }
+    }
+}
+
+impl Kernel {
+    /// Writes the owned grid points of the patches with ring points `ctrl` (the kernel's
+    /// number of points each) and grids `grids` (its number of rows each) into `out`,
+    /// from the values `src` of the patches' level.
     ///
     /// # Safety
     /// Every control index is in bounds of `src`, every grid index is [`NOT_OWNED`] or in
     /// bounds of `out`, and no other thread writes the same output indices.
     pub(super) unsafe fn apply<const D: usize>(
         &self,
-        r: usize,
         src: &[[f64; D]],
+        ctrl: &[u32],
+        grids: &[u32],
         out: &SharedOut<[f64; D]>,
     ) {
-        let (points, nn) = (self.kernel.points, self.kernel.rows);
-        let run = self.runs.range(r);
-        if run.is_empty() {
-            // Most keys have no patch in a given run (an all-triangle mesh has dozens).
-            return;
-        }
-        let ctrl = &self.ctrl[run.start * points..run.end * points];
-        let grids = &self.out[run.start * nn..run.end * nn];
+        let (points, nn) = (self.points, self.rows);
         #[cfg(target_arch = "x86_64")]
         if D == 3 && has_avx512f() {
             let src = src.as_ptr().cast();
             // SAFETY: the features were just detected; `D == 3`; the caller's bounds.
-            unsafe { ring_patches_avx512(&self.kernel, points, src, ctrl, grids, out.0.cast()) };
+            unsafe { ring_patches_avx512(self, points, src, ctrl, grids, out.0.cast()) };
             return;
         }
         #[cfg(target_arch = "x86_64")]
         if D == 3 && has_avx2_fma() {
             let src = src.as_ptr().cast();
             // SAFETY: the features were just detected; `D == 3`; the caller's bounds.
-            unsafe { ring_patches_avx(&self.kernel, points, src, ctrl, grids, out.0.cast()) };
+            unsafe { ring_patches_avx(self, points, src, ctrl, grids, out.0.cast()) };
             return;
         }
-        let k = &self.kernel;
+        let k = self;
         // The control points by component: `local[c][s]`.
         let mut local = [[0.0; MAX_POINTS]; D];
         for (p, (c, g)) in ctrl
@@ -793,12 +864,12 @@ impl RingGroup {
     }
 }
 
-/// [`RingGroup::apply`] for positions, with AVX2 and FMA (as the regular patches'
+/// [`Kernel::apply`] for positions, with AVX2 and FMA (as the regular patches'
 /// `patches_avx`): the control points split by component, and for each group of
 /// [`LANES`] rows six independent sums (two vectors of rows × three components).
 ///
 /// # Safety
-/// As [`RingGroup::apply`], with `src` and `out` pointing at `[f64; 3]` values; the
+/// As [`Kernel::apply`], with `src` and `out` pointing at `[f64; 3]` values; the
 /// processor has AVX2 and FMA.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
@@ -1232,12 +1303,9 @@ mod tests {
         let mut subsets = 0;
         for p in ring_patches(&t, &options) {
             let (f, grid) = (p.f, &p.grid);
-            let run = |groups: &[RingGroup]| {
+            let run = |apply: &dyn Fn(&SharedOut<[f64; 3]>)| {
                 let mut out = vec![[f64::NAN; 3]; p.n_out];
-                for g in groups {
-                    // SAFETY: the grids' indices are in bounds of the refined level.
-                    unsafe { g.apply(0, &base, &SharedOut(out.as_mut_ptr())) };
-                }
+                apply(&SharedOut(out.as_mut_ptr()));
                 out.iter().map(|p| p.map(f64::to_bits)).collect::<Vec<_>>()
             };
             assert_eq!(
@@ -1248,10 +1316,9 @@ mod tests {
             let packs = p.kernel.by_owner() && grid.len() <= SUBSET_ROWS;
             let kernels = [Some(p.kernel)];
             // The key's kernel itself, every row it owns.
-            let mut full = RingGroup::new(kernels[0].clone().unwrap());
-            full.push(0, &p.ring.verts, grid);
-            full.set_runs(1, 1);
-            let want = run(&[full]);
+            let full = kernels[0].as_ref().unwrap();
+            // SAFETY: the grid's indices are in bounds of the refined level.
+            let want = run(&|out| unsafe { full.apply(&base, &p.ring.verts, grid, out) });
             // Every third owned row, then all but the first eleven.
             let owned: Vec<usize> = (0..grid.len()).filter(|&r| grid[r] != NOT_OWNED).collect();
             let keep: [&dyn Fn(usize) -> bool; 2] = [&|i| i % 3 == 0, &|i| i >= 11];
@@ -1265,15 +1332,16 @@ mod tests {
                 let kept = part.iter().filter(|&&o| o != NOT_OWNED).count();
                 let mut groups = RingGroups::new(&kernels);
                 groups.push(0, 0, &p.ring.verts, &part);
-                let (groups, _) = groups.finish(1);
-                assert_eq!(groups.len(), 1);
+                let (patches, _) = groups.finish(1);
+                assert_eq!((patches.kernels.len(), patches.len()), (1, 1));
                 if packs {
-                    assert_eq!(groups[0].kernel.rows, kept.next_multiple_of(LANES));
+                    assert_eq!(patches.kernels[0].rows, kept.next_multiple_of(LANES));
                     subsets += 1;
                 } else {
-                    assert_eq!(groups[0].kernel.rows, grid.len());
+                    assert_eq!(patches.kernels[0].rows, grid.len());
                 }
-                let got = run(&groups);
+                // SAFETY: as above.
+                let got = run(&|out| unsafe { patches.apply(0, &base, out) });
                 let unwritten = [f64::NAN.to_bits(); 3];
                 for (v, (g, w)) in got.iter().zip(&want).enumerate() {
                     let mine = part.contains(&(v as u32));
@@ -1328,13 +1396,11 @@ mod tests {
                 .collect();
             for p in ring_patches(&t, &options) {
                 let (depth, n_out, f, ring, grid) = (p.depth, p.n_out, p.f, &p.ring, &p.grid);
-                let mut group = RingGroup::new(p.kernel);
-                group.push(0, &ring.verts, grid);
-                group.set_runs(1, 1);
+                let k = &p.kernel;
                 let run = |out: &mut Vec<[f64; 3]>, kernel: u8| {
                     let shared = SharedOut(out.as_mut_ptr());
                     let (src, o) = (base.as_ptr().cast(), shared.0.cast());
-                    let (ctrl, g) = (&group.ctrl[..], &group.out[..]);
+                    let (ctrl, g) = (&ring.verts[..], &grid[..]);
                     // SAFETY: the grid's indices are in bounds of the refined level; the
                     // vector kernels only where the processor has their features.
                     unsafe {
@@ -1344,21 +1410,14 @@ mod tests {
                                 for c in 0..3 {
                                     let one: Vec<[f64; 1]> = base.iter().map(|p| [p[c]]).collect();
                                     let mut res = vec![[f64::NAN]; n_out];
-                                    group.apply(0, &one, &SharedOut(res.as_mut_ptr()));
+                                    k.apply(&one, ctrl, g, &SharedOut(res.as_mut_ptr()));
                                     for (o, r) in out.iter_mut().zip(&res) {
                                         o[c] = r[0];
                                     }
                                 }
                             }
-                            1 => ring_patches_avx(&group.kernel, ring.verts.len(), src, ctrl, g, o),
-                            _ => ring_patches_avx512(
-                                &group.kernel,
-                                ring.verts.len(),
-                                src,
-                                ctrl,
-                                g,
-                                o,
-                            ),
+                            1 => ring_patches_avx(k, ring.verts.len(), src, ctrl, g, o),
+                            _ => ring_patches_avx512(k, ring.verts.len(), src, ctrl, g, o),
                         }
                     }
                 };
