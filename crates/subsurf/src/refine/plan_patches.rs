@@ -478,7 +478,7 @@ impl PatchLayer {
             }
             match net {
                 _ if !any => {}
-                Net::Ring(ring) => ring_groups.push(key, run, &ring.verts, &grid),
+                Net::Ring(ring) => ring_groups.push(key, run, ring.verts, grid),
                 Net::Plain(c) => {
                     ctrl.push(c);
                     out.extend_from_slice(&grid);

@@ -605,20 +605,24 @@ const SUBSET_ROWS: usize = 4 * LANES;
 pub(super) struct RingGroups<'a> {
     /// The kernel of each key (`None`: the key's faces are left to the rows).
     kernels: &'a [Option<Kernel>],
-    /// The group of each key and set of owned rows (empty: the key's kernel).
+    /// The matrix of each key and set of owned rows (empty: the key's kernel).
     index: HashMap<(usize, Vec<u16>), usize>,
-    groups: Vec<RingGroup>,
+    /// The matrices.
+    matrices: Vec<Kernel>,
+    /// The patches, in the order they were claimed.
+    patches: Vec<Claimed>,
 }
 
-/// The patches of one matrix, in the order they were claimed.
-struct RingGroup {
-    kernel: Kernel,
-    /// The ring points of each patch, in the key's order.
-    ctrl: Vec<u32>,
-    /// The output vertex of each row of each patch, or [`NOT_OWNED`].
-    out: Vec<u32>,
-    /// The run of faces of each patch (not decreasing).
-    run_of: Vec<u32>,
+/// A ring patch as [`RingGroups`] holds it until the layer's patches are laid out.
+struct Claimed {
+    /// Its matrix, in [`RingGroups::matrices`].
+    matrix: u32,
+    /// Its run of faces.
+    run: u32,
+    /// Its ring points.
+    verts: Vec<u32>,
+    /// The output vertex of each row of its matrix, or [`NOT_OWNED`].
+    grid: Vec<u32>,
 }
 
 impl<'a> RingGroups<'a> {
@@ -626,14 +630,15 @@ impl<'a> RingGroups<'a> {
         RingGroups {
             kernels,
             index: HashMap::new(),
-            groups: Vec::new(),
+            matrices: Vec::new(),
+            patches: Vec::new(),
         }
     }
 
     /// Adds a patch of key `k` in run `run` (not before those already added) with ring
     /// points `verts` and grid `grid` (its [`Kernel::grid`], the rows it does not own set
     /// to [`NOT_OWNED`]).
-    pub(super) fn push(&mut self, k: usize, run: u32, verts: &[u32], grid: &[u32]) {
+    pub(super) fn push(&mut self, k: usize, run: u32, verts: Vec<u32>, grid: Vec<u32>) {
         let Some(kernel) = &self.kernels[k] else {
             return;
         };
@@ -645,77 +650,68 @@ impl<'a> RingGroups<'a> {
             Vec::new()
         };
         // The grid of the rows the patch owns, if they get a kernel of their own.
-        let packed = (!rows.is_empty()).then(|| {
+        let grid = if rows.is_empty() {
+            grid
+        } else {
             let mut owned: Vec<u32> = rows.iter().map(|&r| grid[usize::from(r)]).collect();
             owned.resize(rows.len().next_multiple_of(LANES), NOT_OWNED);
             owned
-        });
-        let groups = &mut self.groups;
-        let g = *self.index.entry((k, rows)).or_insert_with_key(|(_, rows)| {
-            groups.push(RingGroup {
-                kernel: if rows.is_empty() {
-                    kernel.clone()
-                } else {
-                    kernel.subset(rows)
-                },
-                ctrl: Vec::new(),
-                out: Vec::new(),
-                run_of: Vec::new(),
+        };
+        let matrices = &mut self.matrices;
+        let m = *self.index.entry((k, rows)).or_insert_with_key(|(_, rows)| {
+            matrices.push(if rows.is_empty() {
+                kernel.clone()
+            } else {
+                kernel.subset(rows)
             });
-            groups.len() - 1
+            matrices.len() - 1
         });
-        let group = &mut groups[g];
-        group.ctrl.extend_from_slice(verts);
-        group
-            .out
-            .extend_from_slice(packed.as_deref().unwrap_or(grid));
-        group.run_of.push(run);
+        self.patches.push(Claimed {
+            matrix: m as u32,
+            run,
+            verts,
+            grid,
+        });
     }
 
     /// The ring patches of a layer of `runs` runs, laid out by unit of work, and the runs
     /// per unit ([`ring_span`]).
     pub(super) fn finish(self, runs: usize) -> (RingPatches, usize) {
-        let groups = self.groups;
-        let patches = groups.iter().map(|g| g.run_of.len()).sum();
-        let span = ring_span(runs, groups.len(), patches);
+        let RingGroups {
+            matrices,
+            mut patches,
+            ..
+        } = self;
+        let span = ring_span(runs, matrices.len(), patches.len());
         let units = runs.div_ceil(span);
-        let (ctrl, out) =
-            (groups.iter()).fold((0, 0), |(c, o), g| (c + g.ctrl.len(), o + g.out.len()));
+        // By unit, then by matrix, each matrix's patches in the order they were claimed.
+        let segment = |p: &Claimed| (p.run / span as u32, p.matrix);
+        patches.sort_by_key(segment);
+        let ctrl = patches.iter().map(|p| p.verts.len()).sum();
+        let out = patches.iter().map(|p| p.grid.len()).sum();
         let mut laid = RingPatches {
-            kernels: Vec::with_capacity(groups.len()),
+            kernels: matrices,
             ctrl: Vec::with_capacity(ctrl),
             out: Vec::with_capacity(out),
             segments: Vec::new(),
             units: Runs::default(),
         };
-        // Each group's patches of each unit in turn (a group's runs do not decrease).
-        let mut next = vec![0; groups.len()];
         let mut unit_of = Vec::new();
-        for unit in 0..units {
-            let end_run = ((unit + 1) * span) as u32;
-            for (g, group) in groups.iter().enumerate() {
-                let start = next[g];
-                let end = start + group.run_of[start..].partition_point(|&r| r < end_run);
-                if end == start {
-                    continue;
-                }
-                next[g] = end;
-                let (points, rows) = (group.kernel.points, group.kernel.rows);
-                laid.segments.push(Segment {
-                    kernel: g as u32,
-                    patches: (end - start) as u32,
-                    ctrl: laid.ctrl.len(),
-                    out: laid.out.len(),
-                });
-                laid.ctrl
-                    .extend_from_slice(&group.ctrl[start * points..end * points]);
-                laid.out
-                    .extend_from_slice(&group.out[start * rows..end * rows]);
-                unit_of.push(unit as u32);
+        for same in patches.chunk_by(|a, b| segment(a) == segment(b)) {
+            let (unit, matrix) = segment(&same[0]);
+            laid.segments.push(Segment {
+                kernel: matrix,
+                patches: same.len() as u32,
+                ctrl: laid.ctrl.len(),
+                out: laid.out.len(),
+            });
+            unit_of.push(unit);
+            for p in same {
+                laid.ctrl.extend_from_slice(&p.verts);
+                laid.out.extend_from_slice(&p.grid);
             }
         }
         laid.units = Runs::new(&unit_of, units);
-        laid.kernels = groups.into_iter().map(|g| g.kernel).collect();
         (laid, span)
     }
 }
@@ -1331,7 +1327,7 @@ mod tests {
                 }
                 let kept = part.iter().filter(|&&o| o != NOT_OWNED).count();
                 let mut groups = RingGroups::new(&kernels);
-                groups.push(0, 0, &p.ring.verts, &part);
+                groups.push(0, 0, p.ring.verts.clone(), part.clone());
                 let (patches, _) = groups.finish(1);
                 assert_eq!((patches.kernels.len(), patches.len()), (1, 1));
                 if packs {
