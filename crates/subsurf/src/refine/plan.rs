@@ -130,9 +130,10 @@ const PAR_MIN_ROWS: usize = 16 * 1024;
 /// extraordinary; the same split of its level 2, 30 k triangles): 10.6–11.4× at level 5
 /// and 14.6–19.5× at level 6 on one thread, 8.9–12.1× at level 2 and 12.2–13.0× at level
 /// 3, 15.4× at level 4; public scans and CAD parts (6–124 k triangles, not in the
-/// repository) 10.5–15× at levels 2–4 on one thread (12–18× on two), but for the CAD
-/// part `rocker-arm` at level 3, 8.8× on one thread (12× on two), where every patch is a
-/// ring patch: on a base triangle, or on a quad with one or two extraordinary corners.
+/// repository) 10.5–15× at levels 2–4 on one thread (12–19× on two), but for the CAD
+/// part `rocker-arm` at level 3, 9.1× on one thread (12× on two), and the scan
+/// `nefertiti` at level 2, 9.6× (12× on two), where every patch is a ring patch of one of
+/// thousands of matrices.
 /// Those figures are with the AVX-512 patch kernels (this machine has AVX-512). With
 /// AVX2 only (the AVX-512 kernels switched off in a test build, one thread), quad meshes
 /// are 6–9 % slower to re-pose (`catmark_bishop` 12.1× at level 5, 16.9× at level 6) and
