@@ -69,10 +69,10 @@
 //! together, so that a key's matrix is read once for several patches: with many keys
 //! (110 on a 20 k-triangle scan at depth 3) one run held two or three patches of each,
 //! and grouping runs made its re-posing 10–13 % faster on one thread. The ring points
-//! and grids of a layer's ring patches are stored in that order, unit by unit and key by
-//! key within a unit ([`RingPatches`]), so that applying reads them as one stream. At
-//! depth 2 a triangle's (any non-quad's) patch goes to a matrix of just the rows it owns
-//! ([`RingGroups`]), so its groups of rows are full.
+//! and grids of a layer's ring patches are stored in that order, unit by unit and
+//! matrix by matrix within a unit ([`RingPatches`]), so that applying reads them as one
+//! stream. At depth 2 a triangle's (any non-quad's) patch goes to a matrix of just the
+//! rows it owns ([`RingGroups`]), so its groups of rows are full.
 //!
 //! # Numbering
 //! Where a patch's refined vertices go follows from [`refine_topology`]'s child numbering
