@@ -811,14 +811,14 @@ impl Kernel {
         if D == 3 && has_avx512f() {
             let src = src.as_ptr().cast();
             // SAFETY: the features were just detected; `D == 3`; the caller's bounds.
-            unsafe { ring_patches_avx512(self, points, src, ctrl, grids, out.0.cast()) };
+            unsafe { ring_patches_avx512(self, src, ctrl, grids, out.0.cast()) };
             return;
         }
         #[cfg(target_arch = "x86_64")]
         if D == 3 && has_avx2_fma() {
             let src = src.as_ptr().cast();
             // SAFETY: the features were just detected; `D == 3`; the caller's bounds.
-            unsafe { ring_patches_avx(self, points, src, ctrl, grids, out.0.cast()) };
+            unsafe { ring_patches_avx(self, src, ctrl, grids, out.0.cast()) };
             return;
         }
         let k = self;
@@ -872,14 +872,13 @@ impl Kernel {
 #[target_feature(enable = "avx2,fma")]
 unsafe fn ring_patches_avx(
     k: &Kernel,
-    points: usize,
     src: *const f64,
     ctrl: &[u32],
     grids: &[u32],
     out: *mut f64,
 ) {
     use std::arch::x86_64::*;
-    let nn = k.rows;
+    let (points, nn) = (k.points, k.rows);
     let mut local = [[0.0; MAX_POINTS]; 3];
     let mut scratch = [0.0f64; 3];
     // SAFETY (whole body): the caller's bounds; slots are below `points ≤ MAX_POINTS`.
@@ -1046,14 +1045,13 @@ unsafe fn store_four(
 #[target_feature(enable = "avx512f,avx2,fma")]
 unsafe fn ring_patches_avx512(
     k: &Kernel,
-    points: usize,
     src: *const f64,
     ctrl: &[u32],
     grids: &[u32],
     out: *mut f64,
 ) {
     use std::arch::x86_64::*;
-    let nn = k.rows;
+    let (points, nn) = (k.points, k.rows);
     let mut scratch = [0.0f64; 3];
     // SAFETY (whole body): the caller's bounds; slots are below `points ≤ MAX_POINTS`.
     unsafe {
@@ -1413,8 +1411,8 @@ mod tests {
                                     }
                                 }
                             }
-                            1 => ring_patches_avx(k, ring.verts.len(), src, ctrl, g, o),
-                            _ => ring_patches_avx512(k, ring.verts.len(), src, ctrl, g, o),
+                            1 => ring_patches_avx(k, src, ctrl, g, o),
+                            _ => ring_patches_avx512(k, src, ctrl, g, o),
                         }
                     }
                 };
