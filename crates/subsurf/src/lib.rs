@@ -75,6 +75,7 @@ mod geom;
 mod hash;
 mod info;
 mod mixed;
+mod repose;
 mod subdivide;
 
 /// The README's examples, compiled and run as doc tests.
@@ -84,6 +85,7 @@ struct ReadmeDoctests;
 
 pub use info::{mesh_info, MeshInfo};
 pub use mixed::{Mixed, MixedSurface};
+pub use repose::{PoseError, Reposer};
 pub use subdivide::{
     estimate_memory, subdivide, subdivide_with_progress, Error, SubdivideOptions, Subdivision,
 };

@@ -238,6 +238,13 @@ impl PolyMesh {
         &self.positions
     }
 
+    /// The position buffer itself, for writers that fill it whole
+    /// ([`RefinePlan::apply_into`](crate::refine::RefinePlan::apply_into)); its length must
+    /// stay the number of vertices.
+    pub(crate) fn positions_vec_mut(&mut self) -> &mut Vec<[f64; 3]> {
+        &mut self.positions
+    }
+
     /// Mutable vertex positions (topology stays fixed).
     pub fn positions_mut(&mut self) -> &mut [[f64; 3]] {
         &mut self.positions
