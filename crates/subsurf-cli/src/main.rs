@@ -81,6 +81,10 @@ enum Command {
     /// Sample the exact limit surface on a watertight grid; write OBJ, PLY or STL.
     #[command(after_help = TESSELLATE_EXAMPLES)]
     Tessellate(TessellateArgs),
+    /// Refine a base mesh once, then each pose (the base's vertices moved) with a re-posing
+    /// plan; write each refined pose as OBJ.
+    #[command(after_help = cmd::repose::REPOSE_EXAMPLES)]
+    Repose(cmd::repose::ReposeArgs),
     /// Time uniform refinement (topology + positions, no output), like `osd-oracle bench`.
     #[command(after_help = BENCH_EXAMPLES)]
     Bench(BenchArgs),
@@ -536,6 +540,7 @@ fn main() -> ExitCode {
         Command::Subdivide(args) => cmd::subdivide::run(args),
         Command::Info(args) => cmd::info::run(args),
         Command::Demo(args) => cmd::demo::run(args),
+        Command::Repose(args) => cmd::repose::run(args),
         Command::Bench(args) => cmd::bench::run(args),
         Command::Limit(args) => cmd::limit::run(args),
         Command::Tessellate(args) => cmd::tessellate::run(args),

@@ -12,6 +12,7 @@ pub mod limit;
 pub mod nurbs;
 pub mod regularity;
 pub mod render;
+pub mod repose;
 pub mod spline;
 pub mod subdivide;
 pub mod tessellate;

@@ -20,5 +20,6 @@ mod nurbs_files;
 mod nurss;
 mod regularity;
 mod render;
+mod repose;
 mod spline;
 mod tessellate;

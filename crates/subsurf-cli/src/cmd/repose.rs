@@ -1,0 +1,205 @@
+//! `subsurf repose`: refine a base mesh once, then write the refined mesh of each pose
+//! (the same faces, other positions) with one application of a re-posing plan per pose.
+
+use std::collections::HashSet;
+use std::path::{Path, PathBuf};
+
+use anyhow::{bail, Context, Result};
+use clap::Args;
+use subsurf::io::obj::{write_obj, WriteOptions};
+use subsurf::mesh::Options;
+use subsurf::refine::RefinePlan;
+use subsurf::{PoseError, Reposer, SubdivideOptions};
+
+use crate::input::Input;
+use crate::output::Output;
+use crate::SchemeArgs;
+
+/// Help text after the options of `subsurf repose`.
+pub const REPOSE_EXAMPLES: &str = "\
+The base mesh's faces, tags (creases, corners, holes) and scheme hold for every pose. A pose
+is an OBJ file with the base mesh's vertices moved: it repeats the base mesh's faces (same
+vertices, same order; its tags are not read) or has no faces at all ('v' lines only, as a
+point cache). Each refined pose is written to DIR under the pose's file name, each file
+complete or not at all; the first pose that cannot be read or does not match stops the run.
+The positions are those 'subsurf subdivide' writes for the pose, to rounding (1e-14 of the
+mesh's size). Refining a pose costs a tenth of a full refinement or less; writing the OBJ
+text then takes most of the time (the library's Reposer skips that).
+
+Examples:
+  subsurf repose rest.obj frames/f0001.obj frames/f0002.obj -o refined -l 3
+  subsurf repose rest.obj frames/*.obj -o refined -l 2 --boundary edge-and-corner";
+
+/// Arguments of `subsurf repose`.
+#[derive(Debug, Args)]
+pub struct ReposeArgs {
+    /// The base mesh (OBJ): faces, tags and scheme of every pose ('-' reads standard input).
+    #[arg(value_name = "BASE")]
+    pub base: PathBuf,
+    /// Poses: OBJ files with the base mesh's vertices moved.
+    #[arg(value_name = "POSE", required = true)]
+    pub poses: Vec<PathBuf>,
+    /// Directory the refined poses are written to, each under its pose's file name.
+    #[arg(short, long = "output-dir", value_name = "DIR")]
+    pub output_dir: PathBuf,
+    /// Number of refinement levels.
+    #[arg(short, long, value_name = "N", default_value_t = 2)]
+    pub levels: u32,
+    #[command(flatten)]
+    pub scheme: SchemeArgs,
+    /// Keep hole faces in the output (tagged as holes) instead of leaving them out.
+    #[arg(long)]
+    pub keep_holes: bool,
+    /// Refuse to start when the estimated memory exceeds this (suffixes K, M, G, T: powers
+    /// of 1024) [default: the memory the system reports as available].
+    #[arg(long, value_name = "BYTES", value_parser = crate::parse_bytes)]
+    pub max_memory: Option<u64>,
+    /// Print no warnings.
+    #[arg(short, long)]
+    pub quiet: bool,
+}
+
+/// Runs `subsurf repose`.
+pub fn run(args: &ReposeArgs) -> Result<()> {
+    let outputs = output_paths(args)?;
+    let base = Input::read_surface(&args.base)?;
+    if subsurf::nurss::has_knots(&base.obj.mesh) {
+        bail!(
+            "{}: knot interval or weight tags (t interval, t sideinterval, t weight): \
+             repose refines with Catmull-Clark only; refine each pose with \
+             'subsurf subdivide --scheme nurss'",
+            base.name
+        );
+    }
+    let opts = SubdivideOptions {
+        levels: args.levels,
+        scheme: args
+            .scheme
+            .over(base.obj.options)
+            .resolve(Options::default()),
+        limit: false,
+        keep_holes: args.keep_holes,
+        max_memory: None,
+    };
+    let mesh = &base.obj.mesh;
+    let estimate = subsurf::estimate_memory(mesh, &opts)
+        .saturating_add(RefinePlan::estimate_memory(mesh, opts.levels));
+    let what = format!("refining to level {} and planning re-posing", opts.levels);
+    crate::memory::check(
+        &base.name,
+        &what,
+        estimate,
+        args.max_memory,
+        "use a lower level",
+    )?;
+    crate::memory::for_refinement(estimate);
+    let mut reposer = Reposer::new(mesh, &opts).with_context(|| base.name.clone())?;
+    if !args.quiet {
+        for w in base.unsupported_tag_warnings() {
+            eprintln!("warning: {w}");
+        }
+        for w in reposer.warnings() {
+            eprintln!("warning: {}", base.warning(w));
+        }
+    }
+    let s = &opts.scheme;
+    for (pose, out) in args.poses.iter().zip(&outputs) {
+        let input = Input::read(pose)?;
+        let refined = reposer
+            .pose_mesh(&input.obj.mesh)
+            .map_err(|e| pose_error(&input, &base, &e))?;
+        let comment = format!(
+            "subsurf repose -l {} --boundary {} --crease-method {}{} {} {}",
+            opts.levels,
+            s.boundary,
+            s.crease_method,
+            if s.triangles == subsurf::mesh::TriangleSubdivision::Smooth {
+                " --smooth-triangles"
+            } else {
+                ""
+            },
+            base.name,
+            input.name
+        );
+        let write_opts = WriteOptions {
+            normals: None,
+            scheme: Some(opts.scheme),
+            comment: Some(&comment),
+        };
+        Output::File(out.clone()).write(|mut w| write_obj(&mut w, refined, &write_opts))?;
+    }
+    Ok(())
+}
+
+/// The output file of each pose: `DIR/<its file name>`. Fails before any work when `DIR`
+/// is not a directory, two poses have the same file name, or an output would replace the
+/// base mesh or a pose.
+fn output_paths(args: &ReposeArgs) -> Result<Vec<PathBuf>> {
+    let dir = &args.output_dir;
+    if !dir.is_dir() {
+        bail!(
+            "cannot write to {}: not a directory (create it first)",
+            dir.display()
+        );
+    }
+    let inputs: HashSet<PathBuf> = std::iter::once(&args.base)
+        .chain(&args.poses)
+        .filter_map(|p| p.canonicalize().ok())
+        .collect();
+    let mut names = HashSet::new();
+    for pose in &args.poses {
+        if pose == Path::new("-") {
+            bail!("poses are read from files; standard input ('-') can be the base mesh only");
+        }
+        let Some(name) = pose.file_name() else {
+            bail!("{}: not a file name", pose.display());
+        };
+        if !names.insert(name) {
+            bail!(
+                "two poses are named {}: their outputs in {} would replace each other",
+                Path::new(name).display(),
+                dir.display()
+            );
+        }
+    }
+    let mut outputs = Vec::with_capacity(args.poses.len());
+    for pose in &args.poses {
+        // Every pose has a file name (checked above).
+        let out = dir.join(pose.file_name().unwrap_or_default());
+        if out.canonicalize().is_ok_and(|o| inputs.contains(&o)) {
+            bail!(
+                "{}: the output for pose {} would replace an input; write to another directory",
+                out.display(),
+                pose.display()
+            );
+        }
+        outputs.push(out);
+    }
+    Ok(outputs)
+}
+
+/// `e` in the pose file's terms: faces and vertices numbered from 1, with the line of a
+/// face where there is one.
+fn pose_error(pose: &Input, base: &Input, e: &PoseError) -> anyhow::Error {
+    match e {
+        PoseError::Face { face } => {
+            let at = |input: &Input| match input.obj.face_line(*face) {
+                Some(l) => format!("{}:{l}", input.name),
+                None => input.name.clone(),
+            };
+            anyhow::anyhow!(
+                "{}: face {} is not the base mesh's face {} ({}): a pose repeats the base \
+                 mesh's faces, in the same order, or has none",
+                at(pose),
+                face + 1,
+                face + 1,
+                at(base)
+            )
+        }
+        PoseError::Mesh(m) => match pose.obj.describe_error(m) {
+            (Some(l), message) => anyhow::anyhow!("{}:{l}: {message}", pose.name),
+            (None, message) => anyhow::anyhow!("{}: {message}", pose.name),
+        },
+        e => anyhow::anyhow!("{}: {e} ({})", pose.name, base.name),
+    }
+}

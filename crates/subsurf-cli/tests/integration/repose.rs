@@ -1,0 +1,175 @@
+//! End-to-end tests of `subsurf repose BASE POSE... -o DIR`.
+
+use crate::common;
+use common::*;
+
+use std::fs;
+
+/// The bundled cube with creases (tags `t crease`).
+const CUBE_CREASE: &str = include_str!("../../../../examples/meshes/cube-crease.obj");
+
+/// `obj` with each vertex moved (a shear, a stretch and a wobble that depends on `t`):
+/// every other line is kept as it is.
+fn moved(obj: &str, t: f64) -> String {
+    let mut i = 0;
+    obj.lines()
+        .map(|l| match l.strip_prefix("v ") {
+            Some(rest) => {
+                let c: Vec<f64> = rest
+                    .split_whitespace()
+                    .map(|t| t.parse().expect("coordinate"))
+                    .collect();
+                i += 1;
+                let w = (1.3 * i as f64 + t).sin();
+                format!(
+                    "v {} {} {}\n",
+                    c[0] + t * c[2],
+                    (1.0 + t) * c[1] + 0.2 * w,
+                    c[2] - 0.1 * w * w
+                )
+            }
+            None => format!("{l}\n"),
+        })
+        .collect()
+}
+
+/// The `v` lines of `obj` only (a point cache).
+fn points_only(obj: &str) -> String {
+    obj.lines()
+        .filter(|l| l.starts_with("v "))
+        .map(|l| format!("{l}\n"))
+        .collect()
+}
+
+/// The positions and the `f` lines of an OBJ text.
+fn parse(obj: &str) -> (Vec<[f64; 3]>, Vec<&str>) {
+    let positions = (obj.lines())
+        .filter_map(|l| l.strip_prefix("v "))
+        .map(|rest| {
+            let c: Vec<f64> = rest
+                .split_whitespace()
+                .map(|t| t.parse().expect("coordinate"))
+                .collect();
+            [c[0], c[1], c[2]]
+        })
+        .collect();
+    let faces = obj.lines().filter(|l| l.starts_with("f ")).collect();
+    (positions, faces)
+}
+
+/// Each refined pose is what `subsurf subdivide` writes for the pose with the base mesh's
+/// tags: the same faces, the positions to rounding. The hut has a hexagon and triangles
+/// (patches on rings), the cube semi-sharp creases that only the base mesh carries when
+/// its poses are point caches.
+#[test]
+fn poses_are_what_subdivide_writes() {
+    for (base, levels) in [(HUT, "3"), (CUBE_CREASE, "4"), (GRID, "2")] {
+        let posed = [moved(base, 0.3), moved(base, 1.1)];
+        let dir = dir_with(&[
+            ("base.obj", base),
+            ("a.obj", &posed[0]),
+            ("b.obj", &points_only(&posed[1])),
+            ("b-full.obj", &posed[1]),
+        ]);
+        fs::create_dir(dir.path().join("out")).expect("out dir");
+        let o = run_in(
+            dir.path(),
+            &[
+                "repose", "base.obj", "a.obj", "b.obj", "-o", "out", "-l", levels,
+            ],
+        );
+        assert_code(&o, 0);
+        assert!(o.stdout.is_empty(), "stdout: {}", stdout(&o));
+        assert_eq!(listing(&dir.path().join("out")), ["a.obj", "b.obj"]);
+        for (name, reference) in [("a.obj", "a.obj"), ("b.obj", "b-full.obj")] {
+            let o = run_in(
+                dir.path(),
+                &["subdivide", reference, "-o", "full.obj", "-l", levels, "-q"],
+            );
+            assert_code(&o, 0);
+            let full = fs::read_to_string(dir.path().join("full.obj")).expect("full");
+            let repose = fs::read_to_string(dir.path().join("out").join(name)).expect("pose");
+            let ((p, f), (q, g)) = (parse(&repose), parse(&full));
+            assert_eq!(f, g, "{name}: faces");
+            assert_eq!(p.len(), q.len(), "{name}: vertices");
+            for (a, b) in p.iter().zip(&q) {
+                assert!(
+                    (0..3).all(|i| (a[i] - b[i]).abs() < 1e-13),
+                    "{name}: {a:?} against {b:?}"
+                );
+            }
+        }
+    }
+}
+
+/// A pose that does not match stops the run with an error naming it (and, for a face,
+/// its line); the poses before it are written whole, nothing is written for it.
+#[test]
+fn a_pose_that_does_not_match_is_an_error() {
+    let good = moved(HUT, 0.5);
+    // Face 3 (line 20) turned: the same vertices, another first corner.
+    let turned = good.replacen("f 2 3 9 8", "f 3 9 8 2", 1);
+    assert_ne!(turned, good);
+    let short = points_only(&good)
+        .lines()
+        .skip(1)
+        .map(|l| format!("{l}\n"))
+        .collect::<String>();
+    let dir = dir_with(&[
+        ("hut.obj", HUT),
+        ("good.obj", &good),
+        ("turned.obj", &turned),
+        ("short.obj", &short),
+    ]);
+    fs::create_dir(dir.path().join("out")).expect("out dir");
+    let o = run_in(
+        dir.path(),
+        &["repose", "hut.obj", "good.obj", "turned.obj", "-o", "out"],
+    );
+    assert_code(&o, 1);
+    let err = stderr(&o);
+    assert!(
+        err.contains("turned.obj:20: face 3 is not the base mesh's face 3 (hut.obj:20)"),
+        "{err}"
+    );
+    assert_eq!(listing(&dir.path().join("out")), ["good.obj"]);
+    let o = run_in(dir.path(), &["repose", "hut.obj", "short.obj", "-o", "out"]);
+    assert_code(&o, 1);
+    assert!(
+        stderr(&o).contains("short.obj: the pose has 12 vertices, the base mesh 13"),
+        "{}",
+        stderr(&o)
+    );
+}
+
+/// Mistakes in the command line fail before any work, naming what is wrong.
+#[test]
+fn outputs_that_cannot_be_written_are_refused_first() {
+    let dir = dir_with(&[("hut.obj", HUT), ("a.obj", &moved(HUT, 0.2))]);
+    fs::create_dir(dir.path().join("sub")).expect("sub dir");
+    fs::write(dir.path().join("sub").join("a.obj"), moved(HUT, 0.4)).expect("second pose");
+    for (args, message) in [
+        (
+            &["repose", "hut.obj", "a.obj", "-o", "missing"][..],
+            "cannot write to missing: not a directory",
+        ),
+        (
+            &["repose", "hut.obj", "a.obj", "sub/a.obj", "-o", "sub"][..],
+            "two poses are named a.obj",
+        ),
+        (
+            &["repose", "hut.obj", "sub/a.obj", "-o", "sub"][..],
+            "would replace an input",
+        ),
+        (
+            &["repose", "hut.obj", "-", "-o", "sub"][..],
+            "standard input ('-') can be the base mesh only",
+        ),
+    ] {
+        let o = run_in(dir.path(), args);
+        assert_code(&o, 1);
+        assert!(stderr(&o).contains(message), "{args:?}: {}", stderr(&o));
+    }
+    assert_eq!(listing(dir.path()), ["a.obj", "hut.obj", "sub"]);
+    assert_eq!(listing(&dir.path().join("sub")), ["a.obj"]);
+}
