@@ -22,7 +22,9 @@ const HOLES_PER_LINE: usize = 1000;
 ///
 /// Coordinates are printed with Rust's shortest round-trip representation of `f64` (never
 /// in exponent form), sharpness with that of `f32`: reading the file back gives
-/// bit-identical values. Output goes to `w` in chunks of 64 KiB; wrap it in a
+/// bit-identical values. Output goes to `w` in chunks of 64 KiB or more (the `v` and `vn`
+/// lines of large meshes are formatted in parallel on the current rayon pool, in blocks
+/// of 4096 points, and written in order); wrap `w` in a
 /// [`BufWriter`](std::io::BufWriter) only if small writes are expensive anyway.
 ///
 /// # Errors
