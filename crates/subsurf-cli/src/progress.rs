@@ -14,7 +14,8 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 /// How long a job runs before its bar is drawn.
 const DELAY: Duration = Duration::from_secs(1);
-const TEMPLATE: &str = "{spinner} {msg} [{bar:30}] {pos}/{len} levels ({elapsed})";
+/// The bar's template; `{unit}` is replaced by what it counts.
+const TEMPLATE: &str = "{spinner} {msg} [{bar:30}] {pos}/{len} {unit} ({elapsed})";
 
 /// The progress of one job (read, refine `levels` times, write).
 pub struct Progress {
@@ -27,9 +28,13 @@ impl Progress {
     /// A bar for `levels` refinement levels, shown after [`DELAY`] unless `quiet` is set
     /// or stderr is not a terminal.
     pub fn new(levels: u32, quiet: bool) -> Self {
-        let bar =
-            ProgressBar::with_draw_target(Some(u64::from(levels)), ProgressDrawTarget::hidden());
-        let style = ProgressStyle::with_template(TEMPLATE)
+        Self::counting(u64::from(levels), "levels", quiet)
+    }
+
+    /// A bar for `len` steps of what `unit` names ("poses"), shown as [`new`](Self::new)'s.
+    pub fn counting(len: u64, unit: &str, quiet: bool) -> Self {
+        let bar = ProgressBar::with_draw_target(Some(len), ProgressDrawTarget::hidden());
+        let style = ProgressStyle::with_template(&TEMPLATE.replace("{unit}", unit))
             .unwrap_or_else(|_| ProgressStyle::default_bar())
             .progress_chars("=> ");
         bar.set_style(style);
@@ -56,6 +61,11 @@ impl Progress {
     pub fn level_done(&self, done: u32, levels: u32) {
         self.bar.set_length(u64::from(levels));
         self.bar.set_position(u64::from(done));
+    }
+
+    /// One more step done (of a [`counting`](Self::counting) bar).
+    pub fn step_done(&self) {
+        self.bar.inc(1);
     }
 
     /// Prints `warning: {msg}` on stderr, clearing the bar while doing so.

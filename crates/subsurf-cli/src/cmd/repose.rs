@@ -13,6 +13,7 @@ use subsurf::{PoseError, Reposer, SubdivideOptions};
 
 use crate::input::Input;
 use crate::output::Output;
+use crate::progress::Progress;
 use crate::SchemeArgs;
 
 /// Help text after the options of `subsurf repose`.
@@ -54,7 +55,7 @@ pub struct ReposeArgs {
     /// of 1024) [default: the memory the system reports as available].
     #[arg(long, value_name = "BYTES", value_parser = crate::parse_bytes)]
     pub max_memory: Option<u64>,
-    /// Print no warnings.
+    /// Print no warnings and no progress bar.
     #[arg(short, long)]
     pub quiet: bool,
 }
@@ -94,16 +95,18 @@ pub fn run(args: &ReposeArgs) -> Result<()> {
     )?;
     crate::memory::for_refinement(estimate);
     let mut reposer = Reposer::new(mesh, &opts).with_context(|| base.name.clone())?;
+    let progress = Progress::counting(args.poses.len() as u64, "poses", args.quiet);
     if !args.quiet {
         for w in base.unsupported_tag_warnings() {
-            eprintln!("warning: {w}");
+            progress.warn(&w);
         }
         for w in reposer.warnings() {
-            eprintln!("warning: {}", base.warning(w));
+            progress.warn(&base.warning(w));
         }
     }
     let s = &opts.scheme;
     for (pose, out) in args.poses.iter().zip(&outputs) {
+        progress.set_message(format!("re-posing {}", pose.display()));
         let input = Input::read(pose)?;
         let refined = reposer
             .pose_mesh(&input.obj.mesh)
@@ -127,6 +130,7 @@ pub fn run(args: &ReposeArgs) -> Result<()> {
             comment: Some(&comment),
         };
         Output::File(out.clone()).write(|mut w| write_obj(&mut w, refined, &write_opts))?;
+        progress.step_done();
     }
     Ok(())
 }
