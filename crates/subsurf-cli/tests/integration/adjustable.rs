@@ -9,18 +9,7 @@ use std::path::Path;
 
 /// The `v` lines of an OBJ file, parsed.
 fn vertices(path: &Path) -> Vec<[f64; 3]> {
-    fs::read_to_string(path)
-        .expect("output written")
-        .lines()
-        .filter_map(|l| l.strip_prefix("v "))
-        .map(|l| {
-            let n: Vec<f64> = l
-                .split_whitespace()
-                .map(|x| x.parse().expect("number"))
-                .collect();
-            [n[0], n[1], n[2]]
-        })
-        .collect()
+    positions(&fs::read_to_string(path).expect("output written"))
 }
 
 fn max_diff(a: &[[f64; 3]], b: &[[f64; 3]]) -> f64 {

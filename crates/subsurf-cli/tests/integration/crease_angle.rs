@@ -17,20 +17,6 @@ const CORNERS: [[f64; 3]; 8] = [
     [-1.0, 1.0, 1.0],
 ];
 
-/// The `v` positions of an OBJ text.
-fn positions(obj: &str) -> Vec<[f64; 3]> {
-    obj.lines()
-        .filter_map(|l| l.strip_prefix("v "))
-        .map(|rest| {
-            let c: Vec<f64> = rest
-                .split_whitespace()
-                .map(|t| t.parse().expect("coordinate"))
-                .collect();
-            [c[0], c[1], c[2]]
-        })
-        .collect()
-}
-
 /// Runs `subsurf subdivide cube.obj -o out.obj <extra>` on `input`, expecting success, and
 /// returns the output file's text.
 fn subdivide(input: &str, extra: &[&str]) -> String {

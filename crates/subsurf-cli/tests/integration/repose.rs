@@ -43,18 +43,8 @@ fn points_only(obj: &str) -> String {
 
 /// The positions and the `f` lines of an OBJ text.
 fn parse(obj: &str) -> (Vec<[f64; 3]>, Vec<&str>) {
-    let positions = (obj.lines())
-        .filter_map(|l| l.strip_prefix("v "))
-        .map(|rest| {
-            let c: Vec<f64> = rest
-                .split_whitespace()
-                .map(|t| t.parse().expect("coordinate"))
-                .collect();
-            [c[0], c[1], c[2]]
-        })
-        .collect();
     let faces = obj.lines().filter(|l| l.starts_with("f ")).collect();
-    (positions, faces)
+    (positions(obj), faces)
 }
 
 /// Each refined pose is what `subsurf subdivide` writes for the pose with the base mesh's

@@ -14,6 +14,20 @@ pub const HUT: &str = include_str!("../../../../../examples/meshes/hut.obj");
 /// The bundled 4 × 4 grid of quads.
 pub const GRID: &str = include_str!("../../../../../examples/meshes/grid.obj");
 
+/// The positions of the `v` lines of an OBJ text.
+pub fn positions(obj: &str) -> Vec<[f64; 3]> {
+    obj.lines()
+        .filter_map(|l| l.strip_prefix("v "))
+        .map(|rest| {
+            let c: Vec<f64> = rest
+                .split_whitespace()
+                .map(|t| t.parse().expect("coordinate"))
+                .collect();
+            [c[0], c[1], c[2]]
+        })
+        .collect()
+}
+
 /// Lines of `obj` whose first word is `prefix` (`v`, `vn`, `f`, ...).
 pub fn count_records(obj: &str, prefix: &str) -> usize {
     obj.lines()
