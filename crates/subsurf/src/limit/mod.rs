@@ -46,14 +46,9 @@ pub fn limit_points<const D: usize>(
     pos: &mut [[f64; D]],
     mut tangents: Option<Tangents<'_, D>>,
 ) {
-    let mut pm = VertexMask::default();
-    let (mut t1m, mut t2m) = (VertexMask::default(), VertexMask::default());
-    let mut sharp = Vec::new();
-    let mut opposite = Vec::new();
-    let mut ends = Vec::new();
+    let mut masks = VertexMasks::default();
     for v in 0..level.num_vertices() {
-        let edges = level.vertex_edges(v);
-        if edges.is_empty() {
+        if !masks.load(level, v, tangents.is_some()) {
             pos[v] = src[v];
             if let Some((t1, t2)) = tangents.as_mut() {
                 t1[v] = [0.0; D];
@@ -61,58 +56,86 @@ pub fn limit_points<const D: usize>(
             }
             continue;
         }
+        pos[v] = masks.apply(&masks.position, v, src);
+        if let Some((t1, t2)) = tangents.as_mut() {
+            t1[v] = masks.apply(&masks.tangents[0], v, src);
+            t2[v] = masks.apply(&masks.tangents[1], v, src);
+        }
+    }
+}
+
+/// The limit masks of one vertex ([`catmark::limit_position_mask`],
+/// [`catmark::limit_tangent_masks`]) and the points they weigh: the vertex, the far ends of
+/// its edges and the corners of its faces opposite it.
+#[derive(Default)]
+pub(crate) struct VertexMasks {
+    /// The limit position's mask.
+    pub(crate) position: VertexMask,
+    /// The two limit tangents' masks (loaded with `tangents`).
+    pub(crate) tangents: [VertexMask; 2],
+    sharp: Vec<f32>,
+    ends: Vec<u32>,
+    opposite: Vec<u32>,
+}
+
+impl VertexMasks {
+    /// Loads the masks of vertex `v` of `level` (the tangents' too with `tangents`);
+    /// `false` for an isolated vertex, which has none (its limit is itself).
+    pub(crate) fn load(&mut self, level: &Topology, v: usize, tangents: bool) -> bool {
+        let edges = level.vertex_edges(v);
+        if edges.is_empty() {
+            return false;
+        }
         let faces = level.vertex_faces(v);
         let rule = level.vertex_tag(v).rule;
-        sharp.clear();
-        sharp.extend(edges.iter().map(|&e| level.edge_sharpness(e as usize)));
-        ends.clear();
-        ends.extend(level.vertex_neighbours(v));
-        opposite.clear();
-        opposite.extend(
-            faces
-                .iter()
+        self.sharp.clear();
+        (self.sharp).extend(edges.iter().map(|&e| level.edge_sharpness(e as usize)));
+        self.ends.clear();
+        self.ends.extend(level.vertex_neighbours(v));
+        self.opposite.clear();
+        self.opposite.extend(
+            (faces.iter())
                 .zip(level.vertex_face_locals(v))
                 .map(|(&f, &l)| {
                     let fv = level.face_vertices(f as usize);
                     fv[(l as usize + 2) % fv.len()]
                 }),
         );
-        catmark::limit_position_mask(rule, &sharp, faces.len(), &mut pm);
-        pos[v] = apply(&pm, &src[v], &ends, &opposite, src);
-        if let Some((t1, t2)) = tangents.as_mut() {
-            catmark::limit_tangent_masks(rule, &sharp, faces.len(), &mut t1m, &mut t2m);
-            t1[v] = apply(&t1m, &src[v], &ends, &opposite, src);
-            t2[v] = apply(&t2m, &src[v], &ends, &opposite, src);
+        catmark::limit_position_mask(rule, &self.sharp, faces.len(), &mut self.position);
+        if tangents {
+            let [t1, t2] = &mut self.tangents;
+            catmark::limit_tangent_masks(rule, &self.sharp, faces.len(), t1, t2);
         }
+        true
     }
-}
 
-fn apply<const D: usize>(
-    m: &VertexMask,
-    centre: &[f64; D],
-    ends: &[u32],
-    opposite: &[u32],
-    src: &[[f64; D]],
-) -> [f64; D] {
-    let mut acc = [0.0; D];
-    if m.has_faces {
-        for (&x, &w) in opposite.iter().zip(&m.faces) {
+    /// The weights of mask `m` (one of this vertex `v`'s), as `add(point, weight)`: the
+    /// faces' opposite corners, the edges' far ends, then the vertex.
+    pub(crate) fn weights(&self, m: &VertexMask, v: usize, mut add: impl FnMut(u32, f64)) {
+        if m.has_faces {
+            for (&x, &w) in self.opposite.iter().zip(&m.faces) {
+                add(x, w);
+            }
+        }
+        if m.has_edges {
+            for (&x, &w) in self.ends.iter().zip(&m.edges) {
+                add(x, w);
+            }
+        }
+        add(v as u32, m.vertex);
+    }
+
+    /// Mask `m` of vertex `v` applied to the values `src` (the [`weights`](Self::weights)
+    /// in their order).
+    fn apply<const D: usize>(&self, m: &VertexMask, v: usize, src: &[[f64; D]]) -> [f64; D] {
+        let mut acc = [0.0; D];
+        self.weights(m, v, |x, w| {
             for k in 0..D {
                 acc[k] += w * src[x as usize][k];
             }
-        }
+        });
+        acc
     }
-    if m.has_edges {
-        for (&x, &w) in ends.iter().zip(&m.edges) {
-            for k in 0..D {
-                acc[k] += w * src[x as usize][k];
-            }
-        }
-    }
-    for k in 0..D {
-        acc[k] += m.vertex * centre[k];
-    }
-    acc
 }
 
 /// Unit normals `t₁ × t₂ / |t₁ × t₂|`. Where the tangents are degenerate (a vertex whose
@@ -125,24 +148,45 @@ pub fn normals(
     t1: &[[f64; 3]],
     t2: &[[f64; 3]],
 ) -> Vec<[f64; 3]> {
-    (0..level.num_vertices())
-        .map(|v| {
-            // Tangents that are (nearly) parallel give no plane: fall back below.
-            let (a, b) = (
-                geom::normalize_or_zero(t1[v]),
-                geom::normalize_or_zero(t2[v]),
-            );
-            if geom::norm(&geom::cross(&a, &b)) > 1e-12 {
-                return geom::unit_cross(&a, &b);
-            }
+    let mut out = vec![[0.0; 3]; level.num_vertices()];
+    normals_into(
+        |v| level.vertex_faces(v),
+        |f| level.face_vertices(f),
+        pos,
+        t1,
+        t2,
+        &mut out,
+    );
+    out
+}
+
+/// [`normals`] into `out` (one per vertex), the faces of vertex `v` being `vertex_faces(v)`
+/// and the vertices of face `f` `face_vertices(f)`.
+pub(crate) fn normals_into<'a>(
+    vertex_faces: impl Fn(usize) -> &'a [u32],
+    face_vertices: impl Fn(usize) -> &'a [u32],
+    pos: &[[f64; 3]],
+    t1: &[[f64; 3]],
+    t2: &[[f64; 3]],
+    out: &mut [[f64; 3]],
+) {
+    for (v, n) in out.iter_mut().enumerate() {
+        // Tangents that are (nearly) parallel give no plane: fall back below.
+        let (a, b) = (
+            geom::normalize_or_zero(t1[v]),
+            geom::normalize_or_zero(t2[v]),
+        );
+        *n = if geom::norm(&geom::cross(&a, &b)) > 1e-12 {
+            geom::unit_cross(&a, &b)
+        } else {
             let mut acc = [0.0; 3];
-            for &f in level.vertex_faces(v) {
-                let n = geom::newell_normal(pos, level.face_vertices(f as usize));
+            for &f in vertex_faces(v) {
+                let n = geom::newell_normal(pos, face_vertices(f as usize));
                 (0..3).for_each(|k| acc[k] += n[k]);
             }
             geom::normalize_or_zero(acc)
-        })
-        .collect()
+        };
+    }
 }
 
 /// `m` locked, also if a thread panicked while holding it: the limit layer's caches and
