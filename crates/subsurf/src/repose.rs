@@ -7,9 +7,17 @@
 //! 10–20× less than refining again (`BENCHMARKS.md`), and gives the positions
 //! [`subdivide`] would give on the moved mesh, to rounding (within 1e-14 of the mesh's
 //! size; see the plan's accuracy notes).
+//!
+//! With [`SubdivideOptions::limit`], the limit positions and normals too: the limit masks
+//! of the refined level ([`crate::limit::limit_points`], OpenSubdiv's
+//! `PrimvarRefiner::Limit`) are linear in its positions, so they are stored as three sparse
+//! matrices (position, two tangents) applied after the plan, and each normal is
+//! `t₁ × t₂ / |t₁ × t₂|` ([`crate::limit::normals`], with its fallback to the faces'
+//! normals where the tangents are degenerate).
 
-use crate::mesh::{check_coordinates, MeshError, PolyMesh, TopologyWarning};
-use crate::refine::{PlanScratch, RefinePlan};
+use crate::limit::{normals_into, VertexMasks};
+use crate::mesh::{check_coordinates, MeshError, PolyMesh, Topology, TopologyWarning};
+use crate::refine::{refine_topology, PlanScratch, RefinePlan, SparseRows};
 use crate::subdivide::{estimate_memory, subdivide, Error, SubdivideOptions};
 
 /// A subdivision that can be re-posed: the refined mesh of a base mesh, recomputed for new
@@ -50,6 +58,113 @@ pub struct Reposer {
     plan: RefinePlan,
     scratch: PlanScratch<3>,
     warnings: Vec<TopologyWarning>,
+    /// With [`SubdivideOptions::limit`]: the limit positions and normals.
+    limit: Option<Box<LimitMap>>,
+}
+
+/// The limit positions and normals of a refined level as maps of the positions of the
+/// plan's last level (the refined level itself, or, for a base mesh with faces other than
+/// quads refined 0 levels, one level more, whose first vertices are the base mesh's; as
+/// [`subdivide`]'s `limit_in_place`).
+#[derive(Clone, Debug)]
+struct LimitMap {
+    /// Limit positions, one row per vertex of the refined mesh.
+    position: SparseRows,
+    /// The two limit tangents, as `position`.
+    tangents: [SparseRows; 2],
+    /// The faces of each vertex of the refined level, holes included, and
+    vertex_faces: Lists,
+    /// the vertices of each face, for the normals at degenerate tangents.
+    face_verts: Lists,
+    /// The positions of the plan's last level, the tangents and the normals (buffers kept
+    /// from pose to pose).
+    level: Vec<[f64; 3]>,
+    t: [Vec<[f64; 3]>; 2],
+    normals: Vec<[f64; 3]>,
+}
+
+/// Lists of indices, one after the other (CSR).
+#[derive(Clone, Debug)]
+struct Lists {
+    offsets: Vec<u32>,
+    items: Vec<u32>,
+}
+
+impl Lists {
+    /// The lists `list(0)`, …, `list(n − 1)`.
+    fn new<'a>(n: usize, list: impl Fn(usize) -> &'a [u32]) -> Self {
+        let mut offsets = Vec::with_capacity(n + 1);
+        let mut items = Vec::new();
+        offsets.push(0);
+        for i in 0..n {
+            items.extend_from_slice(list(i));
+            offsets.push(items.len() as u32);
+        }
+        Lists { offsets, items }
+    }
+
+    /// List `i`.
+    fn get(&self, i: usize) -> &[u32] {
+        &self.items[self.offsets[i] as usize..self.offsets[i + 1] as usize]
+    }
+}
+
+impl LimitMap {
+    /// The maps of the first `n` vertices of `rows` (full adjacency), the normals' faces
+    /// from `faces` (the refined level), and the current normals `normals`.
+    fn new(rows: &Topology, faces: &Topology, normals: Vec<[f64; 3]>) -> Self {
+        let n = faces.num_vertices();
+        thread_local! {
+            static MASKS: std::cell::RefCell<VertexMasks> = Default::default();
+        }
+        // Row `v` of mask `k` (0: position, 1 and 2: tangents); an isolated vertex keeps
+        // its position and has no tangents.
+        let rows_of = |k: usize| {
+            SparseRows::new(n, |v, add| {
+                MASKS.with_borrow_mut(|m| {
+                    if !m.load(rows, v, k > 0) {
+                        if k == 0 {
+                            add(v as u32, 1.0);
+                        }
+                        return;
+                    }
+                    let mask = if k == 0 {
+                        &m.position
+                    } else {
+                        &m.tangents[k - 1]
+                    };
+                    m.weights(mask, v, &mut *add);
+                })
+            })
+        };
+        LimitMap {
+            position: rows_of(0),
+            tangents: [rows_of(1), rows_of(2)],
+            vertex_faces: Lists::new(n, |v| faces.vertex_faces(v)),
+            face_verts: Lists::new(faces.num_faces(), |f| faces.face_vertices(f)),
+            level: Vec::new(),
+            t: [vec![[0.0; 3]; n], vec![[0.0; 3]; n]],
+            normals,
+        }
+    }
+
+    /// Limit positions into `pos` and the normals into `self.normals`, from the positions
+    /// in `self.level`.
+    fn apply(&mut self, pos: &mut [[f64; 3]]) {
+        self.position.apply(&self.level, pos);
+        for (m, t) in self.tangents.iter().zip(&mut self.t) {
+            m.apply(&self.level, t);
+        }
+        let (vf, fv) = (&self.vertex_faces, &self.face_verts);
+        normals_into(
+            |v| vf.get(v),
+            |f| fv.get(f),
+            pos,
+            &self.t[0],
+            &self.t[1],
+            &mut self.normals,
+        );
+    }
 }
 
 /// Why a pose was rejected by [`Reposer::pose`] or [`Reposer::pose_mesh`]. Faces and
@@ -95,14 +210,13 @@ impl Reposer {
     /// result. The base mesh's tags (creases, corners, holes) and `opts.scheme` hold for
     /// every pose.
     ///
+    /// With `opts.limit`, each pose gives the limit positions and the limit normals
+    /// ([`normals`](Self::normals)), as [`subdivide`] does.
+    ///
     /// # Errors
     /// As [`subdivide`], the memory estimate ([`Error::TooLarge`]) counting the plan too
-    /// ([`RefinePlan::estimate_memory`]); [`Error::LimitNotReposable`] when `opts.limit` is
-    /// set (the plan computes refined positions, not limit positions and normals).
+    /// ([`RefinePlan::estimate_memory`]).
     pub fn new(base: &PolyMesh, opts: &SubdivideOptions) -> Result<Self, Error> {
-        if opts.limit {
-            return Err(Error::LimitNotReposable);
-        }
         if let Some(limit) = opts.max_memory {
             let estimate = estimate_memory(base, opts)
                 .saturating_add(RefinePlan::estimate_memory(base, opts.levels));
@@ -115,8 +229,31 @@ impl Reposer {
             }
         }
         let sub = subdivide(base, opts)?;
-        let plan = RefinePlan::new(base, opts.scheme, opts.levels)?;
-        debug_assert_eq!(plan.num_vertices(), sub.mesh.num_vertices());
+        // Limit masks need quads around each vertex: on a base mesh with other faces,
+        // refined 0 levels, they are taken one level further down (as `subdivide` does).
+        let ngons = (0..base.num_faces()).any(|f| base.face(f).len() != 4);
+        let plan_levels = if opts.limit && opts.levels == 0 && ngons {
+            1
+        } else {
+            opts.levels
+        };
+        let plan = RefinePlan::new(base, opts.scheme, plan_levels)?;
+        let limit = match sub.normals {
+            Some(normals) => {
+                let (mut level, _) = Topology::from_mesh(base, &opts.scheme)?;
+                for _ in 0..opts.levels {
+                    level = refine_topology(&level, &opts.scheme, true);
+                }
+                let map = if plan_levels > opts.levels {
+                    let rows = refine_topology(&level, &opts.scheme, true);
+                    LimitMap::new(&rows, &level, normals)
+                } else {
+                    LimitMap::new(&level, &level, normals)
+                };
+                Some(Box::new(map))
+            }
+            None => None,
+        };
         Ok(Self {
             base_offsets: base.face_offsets().to_vec(),
             base_verts: base.face_verts().to_vec(),
@@ -124,6 +261,7 @@ impl Reposer {
             plan,
             scratch: PlanScratch::default(),
             warnings: sub.warnings,
+            limit,
         })
     }
 
@@ -143,8 +281,15 @@ impl Reposer {
             });
         }
         check_coordinates(positions)?;
-        self.plan
-            .apply_into(positions, self.mesh.positions_vec_mut(), &mut self.scratch);
+        match &mut self.limit {
+            None => {
+                (self.plan).apply_into(positions, self.mesh.positions_vec_mut(), &mut self.scratch)
+            }
+            Some(limit) => {
+                (self.plan).apply_into(positions, &mut limit.level, &mut self.scratch);
+                limit.apply(self.mesh.positions_mut());
+            }
+        }
         Ok(&self.mesh)
     }
 
@@ -177,6 +322,12 @@ impl Reposer {
     /// The refined mesh, with the positions of the last pose (at first, the base mesh's).
     pub fn mesh(&self) -> &PolyMesh {
         &self.mesh
+    }
+
+    /// The limit normals of the last pose, one per vertex of [`mesh`](Self::mesh), when
+    /// the options asked for the limit ([`SubdivideOptions::limit`]).
+    pub fn normals(&self) -> Option<&[[f64; 3]]> {
+        self.limit.as_ref().map(|l| l.normals.as_slice())
     }
 
     /// The plan applied to each pose.
@@ -309,26 +460,67 @@ mod tests {
         );
     }
 
+    /// With `limit`, each pose gives `subdivide`'s limit positions and normals: on the grid
+    /// (a hole, a semi-sharp crease), a hexagonal hut with triangles at levels 0 (its limit
+    /// masks one level down) and 2, and at two poses each.
     #[test]
-    fn limit_and_memory_are_refused() {
-        let base = grid();
-        let limit = SubdivideOptions {
-            levels: 2,
-            limit: true,
-            ..Default::default()
+    fn limit_poses_match_subdivide() {
+        let hut = {
+            let mut p: Vec<[f64; 3]> = (0..6)
+                .map(|i| {
+                    let a = i as f64 * std::f64::consts::FRAC_PI_3;
+                    [a.cos(), a.sin(), 0.0]
+                })
+                .collect();
+            let top: Vec<[f64; 3]> = p.iter().map(|q| [q[0], q[1], 1.0]).collect();
+            p.extend(top);
+            p.push([0.0, 0.0, 1.8]);
+            let mut faces: Vec<Vec<u32>> = vec![(0..6).rev().collect()];
+            for i in 0..6u32 {
+                let j = (i + 1) % 6;
+                faces.push(vec![i, j, j + 6, i + 6]);
+                faces.push(vec![i + 6, j + 6, 12]);
+            }
+            PolyMesh::from_faces(p, &faces).unwrap()
         };
-        assert_eq!(
-            Reposer::new(&base, &limit).unwrap_err(),
-            Error::LimitNotReposable
-        );
+        for (base, levels) in [(grid(), 2), (grid(), 3), (hut.clone(), 0), (hut, 2)] {
+            let opts = SubdivideOptions {
+                levels,
+                limit: true,
+                ..Default::default()
+            };
+            let mut reposer = Reposer::new(&base, &opts).unwrap();
+            for t in [0.7, 1.9] {
+                let mut mesh = base.clone();
+                mesh.positions_mut().copy_from_slice(&moved(&base, t));
+                let full = subdivide(&mesh, &opts).unwrap();
+                let posed = reposer.pose(mesh.positions()).unwrap();
+                assert_eq!(posed.face_verts(), full.mesh.face_verts());
+                for (a, b) in posed.positions().iter().zip(full.mesh.positions()) {
+                    assert!((0..3).all(|i| (a[i] - b[i]).abs() < 1e-13), "{a:?} {b:?}");
+                }
+                let normals = reposer.normals().unwrap();
+                let expected = full.normals.unwrap();
+                assert_eq!(normals.len(), expected.len());
+                for (a, b) in normals.iter().zip(&expected) {
+                    assert!((0..3).all(|i| (a[i] - b[i]).abs() < 1e-12), "{a:?} {b:?}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn memory_is_refused() {
         let small = SubdivideOptions {
             levels: 4,
             max_memory: Some(1000),
             ..Default::default()
         };
         assert!(matches!(
-            Reposer::new(&base, &small),
+            Reposer::new(&grid(), &small),
             Err(Error::TooLarge { levels: 4, .. })
         ));
+        let plain = Reposer::new(&grid(), &SubdivideOptions::default()).unwrap();
+        assert!(plain.normals().is_none());
     }
 }

@@ -49,12 +49,6 @@ pub enum Error {
         /// Allowed bytes.
         limit: u64,
     },
-    /// [`Reposer`](crate::Reposer) was asked for limit positions, which its plan does not
-    /// compute ([`SubdivideOptions::limit`]).
-    #[error(
-        "re-posing computes refined positions, not limit positions: leave out the limit option"
-    )]
-    LimitNotReposable,
 }
 
 /// Bytes per face of the last level held at once by [`subdivide`]: the child's faces, edge
