@@ -24,8 +24,9 @@ vertices, same order; its tags are not read) or has no faces at all ('v' lines o
 point cache). Each refined pose is written to DIR under the pose's file name, each file
 complete or not at all; the first pose that cannot be read or does not match stops the run.
 The positions are those 'subsurf subdivide' writes for the pose, to rounding (1e-14 of the
-mesh's size). Refining a pose costs a tenth of a full refinement or less; writing the OBJ
-text then takes most of the time (the library's Reposer skips that).
+mesh's size); with --limit, the limit positions and normals too (the limit masks applied
+as sparse matrices after the plan). Refining a pose costs a tenth of a full refinement or
+less; writing the OBJ text then takes most of the time (the library's Reposer skips that).
 
 Examples:
   subsurf repose rest.obj frames/f0001.obj frames/f0002.obj -o refined -l 3
@@ -48,6 +49,10 @@ pub struct ReposeArgs {
     pub levels: u32,
     #[command(flatten)]
     pub scheme: SchemeArgs,
+    /// Move the last level's vertices to the limit surface and write limit normals (as
+    /// `subdivide --limit`).
+    #[arg(long)]
+    pub limit: bool,
     /// Keep hole faces in the output (tagged as holes) instead of leaving them out.
     #[arg(long)]
     pub keep_holes: bool,
@@ -78,7 +83,7 @@ pub fn run(args: &ReposeArgs) -> Result<()> {
             .scheme
             .over(base.obj.options)
             .resolve(Options::default()),
-        limit: false,
+        limit: args.limit,
         keep_holes: args.keep_holes,
         max_memory: None,
     };
@@ -108,27 +113,27 @@ pub fn run(args: &ReposeArgs) -> Result<()> {
     for (pose, out) in args.poses.iter().zip(&outputs) {
         progress.set_message(format!("re-posing {}", pose.display()));
         let input = Input::read(pose)?;
-        let refined = reposer
+        reposer
             .pose_mesh(&input.obj.mesh)
             .map_err(|e| pose_error(&input, &base, &e))?;
+        let smooth = s.triangles == subsurf::mesh::TriangleSubdivision::Smooth;
         let comment = format!(
-            "subsurf repose -l {} --boundary {} --crease-method {}{} {} {}",
+            "subsurf repose -l {} --boundary {} --crease-method {}{}{}{} {} {}",
             opts.levels,
             s.boundary,
             s.crease_method,
-            if s.triangles == subsurf::mesh::TriangleSubdivision::Smooth {
-                " --smooth-triangles"
-            } else {
-                ""
-            },
+            if smooth { " --smooth-triangles" } else { "" },
+            if opts.limit { " --limit" } else { "" },
+            if opts.keep_holes { " --keep-holes" } else { "" },
             base.name,
             input.name
         );
         let write_opts = WriteOptions {
-            normals: None,
+            normals: reposer.normals(),
             scheme: Some(opts.scheme),
             comment: Some(&comment),
         };
+        let refined = reposer.mesh();
         Output::File(out.clone()).write(|mut w| write_obj(&mut w, refined, &write_opts))?;
         progress.step_done();
     }

@@ -92,6 +92,58 @@ fn poses_are_what_subdivide_writes() {
     }
 }
 
+/// With `--limit`, the limit positions and normals `subsurf subdivide --limit` writes.
+#[test]
+fn limit_poses_are_what_subdivide_writes() {
+    let pose = moved(HUT, 0.6);
+    let dir = dir_with(&[("hut.obj", HUT), ("pose.obj", &pose)]);
+    fs::create_dir(dir.path().join("out")).expect("out dir");
+    let o = run_in(
+        dir.path(),
+        &[
+            "repose", "hut.obj", "pose.obj", "-o", "out", "-l", "2", "--limit",
+        ],
+    );
+    assert_code(&o, 0);
+    let o = run_in(
+        dir.path(),
+        &[
+            "subdivide",
+            "pose.obj",
+            "-o",
+            "full.obj",
+            "-l",
+            "2",
+            "--limit",
+            "-q",
+        ],
+    );
+    assert_code(&o, 0);
+    let read = |p: &str| fs::read_to_string(dir.path().join(p)).expect("output");
+    let (repose, full) = (read("out/pose.obj"), read("full.obj"));
+    let normals = |obj: &str| -> Vec<[f64; 3]> {
+        let vn: String = (obj.lines())
+            .filter_map(|l| l.strip_prefix("vn "))
+            .map(|l| format!("v {l}\n"))
+            .collect();
+        positions(&vn)
+    };
+    for (a, b) in [
+        (positions(&repose), positions(&full)),
+        (normals(&repose), normals(&full)),
+    ] {
+        assert_eq!(a.len(), b.len());
+        assert!(!a.is_empty());
+        for (p, q) in a.iter().zip(&b) {
+            assert!(
+                (0..3).all(|i| (p[i] - q[i]).abs() < 1e-12),
+                "{p:?} against {q:?}"
+            );
+        }
+    }
+    assert_eq!(parse(&repose).1, parse(&full).1, "faces");
+}
+
 /// A pose that does not match stops the run with an error naming it (and, for a face,
 /// its line); the poses before it are written whole, nothing is written for it.
 #[test]
