@@ -35,7 +35,6 @@ mod topology;
 
 pub use adjustable::interpolate_adjustable;
 pub(crate) use plan::refinement_rows;
-pub(crate) use plan::SparseRows;
 pub use plan::{PlanScratch, RefinePlan};
 pub use primvar::interpolate;
 pub(crate) use topology::{refine_topology, refine_topology_for_output};

@@ -531,32 +531,6 @@ fn set_len<const D: usize>(v: &mut Vec<[f64; D]>, n: usize) {
     }
 }
 
-/// A sparse matrix given row by row, stored and applied as the plan's levels are (rows by
-/// classes of equal weights, each weight summed with its rounding error carried, terms
-/// added smallest first): for linear maps of a level other than refinement, such as its
-/// limit masks (`crate::repose`).
-#[derive(Clone, Debug)]
-pub(crate) struct SparseRows(Step);
-
-impl SparseRows {
-    /// The matrix of `rows` rows, row `r` being the weights `row(r, add)` adds with
-    /// `add(column, weight)` (a column added twice gets the sum).
-    pub(crate) fn new(rows: usize, row: impl Fn(usize, &mut dyn FnMut(u32, f64)) + Sync) -> Self {
-        SparseRows(Step::from_rows(rows, |r, scratch| {
-            row(r, &mut |c, w| scratch.row.add(c, w))
-        }))
-    }
-
-    /// `dst = M × src` (`dst` has one value per row).
-    ///
-    /// # Panics
-    /// If `dst` does not have one value per row, or a column is out of bounds of `src`.
-    pub(crate) fn apply<const D: usize>(&self, src: &[[f64; D]], dst: &mut [[f64; D]]) {
-        assert_eq!(dst.len(), self.0.row_class.len(), "one value per row");
-        self.0.apply(src, dst);
-    }
-}
-
 impl Step {
     /// `dst = S × src`.
     fn apply<const D: usize>(&self, src: &[[f64; D]], dst: &mut [[f64; D]]) {
@@ -625,21 +599,13 @@ impl Step {
     /// `None`) on the vertices of `p`, one row per vertex in that order.
     fn build(p: &Topology, c: &Topology, options: &Options, only: Option<&[u32]>) -> Step {
         let rows = only.map_or(c.num_vertices(), <[u32]>::len);
-        Step::from_rows(rows, |r, scratch| {
-            let cv = only.map_or(r, |o| o[r] as usize);
-            stencil(p, c, options, cv, scratch);
-        })
-    }
-
-    /// The matrix of `rows` rows, row `r` being what `fill(r, scratch)` adds to
-    /// `scratch.row` (cleared before each row).
-    fn from_rows(rows: usize, fill: impl Fn(usize, &mut RowScratch) + Sync) -> Step {
         let nblocks = rows.div_ceil(BLOCK);
         let make = |scratch: &mut RowScratch, b: usize| {
             let mut block = Block::new(BLOCK.min(rows - b * BLOCK));
             for r in b * BLOCK..((b + 1) * BLOCK).min(rows) {
+                let cv = only.map_or(r, |o| o[r] as usize);
                 scratch.row.clear();
-                fill(r, scratch);
+                stencil(p, c, options, cv, scratch);
                 block.push(&scratch.row, &mut scratch.sorted, &mut scratch.bits);
             }
             block
