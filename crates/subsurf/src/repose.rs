@@ -10,14 +10,15 @@
 //!
 //! With [`SubdivideOptions::limit`], the limit positions and normals too: the limit masks
 //! of the refined level ([`crate::limit::limit_points`], OpenSubdiv's
-//! `PrimvarRefiner::Limit`) are linear in its positions, so they are stored as three sparse
-//! matrices (position, two tangents) applied after the plan, and each normal is
+//! `PrimvarRefiner::Limit`) are linear in its positions, so they are stored as rows of
+//! weights (position and two tangents per point, `limit::VertexLimitRows`) applied after
+//! the plan, and each normal is
 //! `t₁ × t₂ / |t₁ × t₂|` ([`crate::limit::normals`], with its fallback to the faces'
 //! normals where the tangents are degenerate).
 
-use crate::limit::{normals_into, VertexMasks};
+use crate::limit::{normals_into, VertexLimitRows};
 use crate::mesh::{check_coordinates, MeshError, PolyMesh, Topology, TopologyWarning};
-use crate::refine::{refine_topology, PlanScratch, RefinePlan, SparseRows};
+use crate::refine::{refine_topology, PlanScratch, RefinePlan};
 use crate::subdivide::{estimate_memory, subdivide, Error, SubdivideOptions};
 
 /// A subdivision that can be re-posed: the refined mesh of a base mesh, recomputed for new
@@ -68,10 +69,8 @@ pub struct Reposer {
 /// [`subdivide`]'s `limit_in_place`).
 #[derive(Clone, Debug)]
 struct LimitMap {
-    /// Limit positions, one row per vertex of the refined mesh.
-    position: SparseRows,
-    /// The two limit tangents, as `position`.
-    tangents: [SparseRows; 2],
+    /// Limit positions and tangents, one row per vertex of the refined mesh.
+    rows: VertexLimitRows,
     /// The faces of each vertex of the refined level, holes included, and
     vertex_faces: Lists,
     /// the vertices of each face, for the normals at degenerate tangents.
@@ -114,32 +113,8 @@ impl LimitMap {
     /// from `faces` (the refined level), and the current normals `normals`.
     fn new(rows: &Topology, faces: &Topology, normals: Vec<[f64; 3]>) -> Self {
         let n = faces.num_vertices();
-        thread_local! {
-            static MASKS: std::cell::RefCell<VertexMasks> = Default::default();
-        }
-        // Row `v` of mask `k` (0: position, 1 and 2: tangents); an isolated vertex keeps
-        // its position and has no tangents.
-        let rows_of = |k: usize| {
-            SparseRows::new(n, |v, add| {
-                MASKS.with_borrow_mut(|m| {
-                    if !m.load(rows, v, k > 0) {
-                        if k == 0 {
-                            add(v as u32, 1.0);
-                        }
-                        return;
-                    }
-                    let mask = if k == 0 {
-                        &m.position
-                    } else {
-                        &m.tangents[k - 1]
-                    };
-                    m.weights(mask, v, &mut *add);
-                })
-            })
-        };
         LimitMap {
-            position: rows_of(0),
-            tangents: [rows_of(1), rows_of(2)],
+            rows: VertexLimitRows::new(rows, n),
             vertex_faces: Lists::new(n, |v| faces.vertex_faces(v)),
             face_verts: Lists::new(faces.num_faces(), |f| faces.face_vertices(f)),
             level: Vec::new(),
@@ -151,10 +126,8 @@ impl LimitMap {
     /// Limit positions into `pos` and the normals into `self.normals`, from the positions
     /// in `self.level`.
     fn apply(&mut self, pos: &mut [[f64; 3]]) {
-        self.position.apply(&self.level, pos);
-        for (m, t) in self.tangents.iter().zip(&mut self.t) {
-            m.apply(&self.level, t);
-        }
+        let [t1, t2] = &mut self.t;
+        self.rows.apply(&self.level, pos, t1, t2);
         let (vf, fv) = (&self.vertex_faces, &self.face_verts);
         normals_into(
             |v| vf.get(v),
