@@ -25,7 +25,7 @@ point cache). Each refined pose is written to DIR under the pose's file name, ea
 complete or not at all; the first pose that cannot be read or does not match stops the run.
 The positions are those 'subsurf subdivide' writes for the pose, to rounding (1e-14 of the
 mesh's size); with --limit, the limit positions and normals too (the limit masks applied
-as sparse matrices after the plan). Refining a pose costs a tenth of a full refinement or
+as rows of weights after the plan). Refining a pose costs a tenth of a full refinement or
 less; writing the OBJ text then takes most of the time (the library's Reposer skips that).
 
 Examples:
