@@ -184,7 +184,8 @@ impl Reposer {
     /// every pose.
     ///
     /// With `opts.limit`, each pose gives the limit positions and the limit normals
-    /// ([`normals`](Self::normals)), as [`subdivide`] does.
+    /// ([`normals`](Self::normals)), as [`subdivide`] does; building then refines the
+    /// topology once more, with the last level's full adjacency, for its limit masks.
     ///
     /// # Errors
     /// As [`subdivide`], the memory estimate ([`Error::TooLarge`]) counting the plan too
