@@ -109,24 +109,17 @@ pub fn run(args: &ReposeArgs) -> Result<()> {
             progress.warn(&base.warning(w));
         }
     }
-    let s = &opts.scheme;
     for (pose, out) in args.poses.iter().zip(&outputs) {
         progress.set_message(format!("re-posing {}", pose.display()));
         let input = Input::read(pose)?;
         reposer
             .pose_mesh(&input.obj.mesh)
             .map_err(|e| pose_error(&input, &base, &e))?;
-        let smooth = s.triangles == subsurf::mesh::TriangleSubdivision::Smooth;
-        let comment = format!(
-            "subsurf repose -l {} --boundary {} --crease-method {}{}{}{} {} {}",
-            opts.levels,
-            s.boundary,
-            s.crease_method,
-            if smooth { " --smooth-triangles" } else { "" },
-            if opts.limit { " --limit" } else { "" },
-            if opts.keep_holes { " --keep-holes" } else { "" },
-            base.name,
-            input.name
+        let comment = super::subdivide::command_line_of(
+            "repose",
+            &opts,
+            "",
+            &format!("{} {}", base.name, input.name),
         );
         let write_opts = WriteOptions {
             normals: reposer.normals(),

@@ -230,9 +230,20 @@ pub fn command_line(opts: &SubdivideOptions, input: &str) -> String {
 
 /// [`command_line`] with `flags` (if not empty) before the input.
 fn command_line_with(opts: &SubdivideOptions, flags: &str, input: &str) -> String {
+    command_line_of("subdivide", opts, flags, input)
+}
+
+/// The command line of subcommand `command` that refines `inputs` with `opts` (levels,
+/// scheme, `--limit`, `--keep-holes`), `flags` (if not empty) before the inputs.
+pub fn command_line_of(
+    command: &str,
+    opts: &SubdivideOptions,
+    flags: &str,
+    inputs: &str,
+) -> String {
     let s = &opts.scheme;
     let mut line = format!(
-        "subsurf subdivide -l {} --boundary {} --crease-method {}",
+        "subsurf {command} -l {} --boundary {} --crease-method {}",
         opts.levels, s.boundary, s.crease_method
     );
     if s.triangles == TriangleSubdivision::Smooth {
@@ -249,7 +260,7 @@ fn command_line_with(opts: &SubdivideOptions, flags: &str, input: &str) -> Strin
         line.push_str(flags);
     }
     line.push(' ');
-    line.push_str(input);
+    line.push_str(inputs);
     line
 }
 
