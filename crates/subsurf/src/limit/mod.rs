@@ -128,9 +128,11 @@ impl VertexMasks {
     }
 
     /// The points of vertex `v` in the order of [`weights`](Self::weights), each with its
-    /// weights in the position's mask and the two tangents' (loaded with `tangents`; 0
-    /// where a mask does not weigh the point), as `add(point, [position, t₁, t₂])`.
+    /// weights in the position's mask and the two tangents' (0 where a mask does not weigh
+    /// the point), as `add(point, [position, t₁, t₂])`. The masks must have been loaded
+    /// for `v` with `tangents` (else the tangents' are another vertex's).
     pub(crate) fn terms(&self, v: usize, mut add: impl FnMut(u32, [f64; 3])) {
+        debug_assert_eq!(self.tangents[0].edges.len(), self.ends.len());
         let [p, t1, t2] = [&self.position, &self.tangents[0], &self.tangents[1]];
         let face = |m: &VertexMask, i: usize| if m.has_faces { m.faces[i] } else { 0.0 };
         let edge = |m: &VertexMask, i: usize| if m.has_edges { m.edges[i] } else { 0.0 };
@@ -159,7 +161,19 @@ impl VertexMasks {
 /// Unit normals `t₁ × t₂ / |t₁ × t₂|`. Where the tangents are degenerate (a vertex whose
 /// limit tangent plane the masks cannot give, e.g. a crease folded back on itself), the
 /// normal of the vertex's faces at this level (sum of their Newell normals) is used; an
-/// isolated vertex gets `[0, 0, 0]`.
+/// isolated vertex gets `[0, 0, 0]`, and so does a vertex whose faces' normals cancel
+/// (faces back to back).
+///
+/// Degenerate means parallel to within rounding, not only exactly: the masks' terms
+/// cancel (to zero, or to tangents that are parallel, on exact positions), and what is
+/// left is noise of about 1e-16 of the largest coordinate `c` of `pos`. So the tangents
+/// are taken for parallel when the sine of their angle is under 1e-12, or under 1e-12 `c`
+/// over the length of either (each tangent's direction is known to no better). Among the
+/// faces, those whose Newell normal is shorter than 1e-12 `c²` (no area) are left out,
+/// and faces' normals whose sum is under 1e-12 of the sum of their lengths give none. So
+/// positions that differ by rounding (a re-posing plan's and a refinement's,
+/// [`crate::Reposer`]) give the same normals; with exact tests, the noise of cancelled
+/// tangents gave normals in any direction.
 pub fn normals(
     level: &Topology,
     pos: &[[f64; 3]],
@@ -178,6 +192,10 @@ pub fn normals(
     out
 }
 
+/// Relative size under which [`normals`] takes a tangent, an angle or a sum of face normals
+/// for cancelled.
+const CANCELLED: f64 = 1e-12;
+
 /// [`normals`] into `out` (one per vertex), the faces of vertex `v` being `vertex_faces(v)`
 /// and the vertices of face `f` `face_vertices(f)`.
 pub(crate) fn normals_into<'a>(
@@ -188,33 +206,51 @@ pub(crate) fn normals_into<'a>(
     t2: &[[f64; 3]],
     out: &mut [[f64; 3]],
 ) {
+    let largest = pos.iter().flatten().fold(0.0f64, |m, &x| m.max(x.abs()));
+    let small = CANCELLED * largest * largest;
+    // `2 (C c)²`, `C` = [`CANCELLED`]: see the angle test below.
+    let noise = 2.0 * (CANCELLED * largest).powi(2);
     let normal = |(v, n): (usize, &mut [f64; 3])| {
         let (a, b) = (t1[v], t2[v]);
-        // Tangents of moderate length (nearly all): `|â × b̂| = |a × b| / (|a| |b|)`, so the
-        // test and the normal take one square root and one division, where the robust
-        // path below takes three and a dozen (a third of re-posing's limit pass). Their
-        // squares neither overflow nor underflow in this range.
         let (aa, bb) = (geom::dot(&a, &a), geom::dot(&b, &b));
         if (1e-150..1e150).contains(&aa) && (1e-150..1e150).contains(&bb) {
+            // Tangents of moderate length (nearly all; their squares neither overflow nor
+            // underflow here): `sin θ = |a × b| / (|a| |b|)`. A tangent's direction is
+            // known to about `C c / |t|` (its terms cancel down to it), so the tangents
+            // span a plane when `sin θ > C` and `sin θ > C c (1/|a| + 1/|b|)`, the second
+            // tested through its bound `|a × b|² > 2 (C c)² (|a|² + |b|²)`. One square root
+            // and one division, where the scaled path below takes three and a dozen (45 %
+            // of re-posing's limit pass).
             let c = geom::cross(&a, &b);
             let cc = geom::dot(&c, &c);
-            if cc > 1e-24 * aa * bb {
+            if cc > CANCELLED * CANCELLED * aa * bb && cc > noise * (aa + bb) {
                 let s = 1.0 / cc.sqrt();
                 *n = [c[0] * s, c[1] * s, c[2] * s];
                 return;
             }
-        }
-        // Tangents that are (nearly) parallel give no plane: fall back below.
-        let (a, b) = (geom::normalize_or_zero(a), geom::normalize_or_zero(b));
-        *n = if geom::norm(&geom::cross(&a, &b)) > 1e-12 {
-            geom::unit_cross(&a, &b)
         } else {
-            let mut acc = [0.0; 3];
-            for &f in vertex_faces(v) {
-                let n = geom::newell_normal(pos, face_vertices(f as usize));
-                (0..3).for_each(|k| acc[k] += n[k]);
+            // Tiny or huge tangents (a mesh at 1e-200 or 1e200): scaled first.
+            let (a, b) = (geom::normalize_or_zero(a), geom::normalize_or_zero(b));
+            if geom::norm(&geom::cross(&a, &b)) > CANCELLED {
+                *n = geom::unit_cross(&a, &b);
+                return;
             }
+        }
+        // Tangents that are (nearly) parallel or cancelled give no plane: the faces'.
+        let (mut acc, mut lengths) = ([0.0; 3], 0.0);
+        for &f in vertex_faces(v) {
+            let n = geom::newell_normal(pos, face_vertices(f as usize));
+            let length = geom::norm(&n);
+            // A face of no area (its limit points on a line) has a normal of noise.
+            if length > small {
+                (0..3).for_each(|k| acc[k] += n[k]);
+                lengths += length;
+            }
+        }
+        *n = if geom::norm(&acc) > CANCELLED * lengths {
             geom::normalize_or_zero(acc)
+        } else {
+            [0.0; 3]
         };
     };
     if out.len() < 16 * 1024 || rayon::current_num_threads() == 1 {
