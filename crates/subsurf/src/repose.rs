@@ -16,7 +16,7 @@
 //! `t₁ × t₂ / |t₁ × t₂|` ([`crate::limit::normals`], with its fallback to the faces'
 //! normals where the tangents are degenerate).
 
-use crate::limit::{normals_into, VertexLimitRows};
+use crate::limit::{largest_coordinate, normals_into, VertexLimitRows};
 use crate::mesh::{check_coordinates, MeshError, PolyMesh, Topology, TopologyWarning};
 use crate::refine::{refine_topology, PlanScratch, RefinePlan};
 use crate::subdivide::{estimate_memory, subdivide, Error, SubdivideOptions};
@@ -124,15 +124,15 @@ impl LimitMap {
     }
 
     /// Limit positions into `pos` and the normals into `self.normals`, from the positions
-    /// in `self.level`.
-    fn apply(&mut self, pos: &mut [[f64; 3]]) {
+    /// in `self.level`, those of the base mesh being `base` (which bound the level's).
+    fn apply(&mut self, pos: &mut [[f64; 3]], base: &[[f64; 3]]) {
         let [t1, t2] = &mut self.t;
         self.rows.apply(&self.level, pos, t1, t2);
         let (vf, fv) = (&self.vertex_faces, &self.face_verts);
         normals_into(
             |v| vf.get(v),
             |f| fv.get(f),
-            pos,
+            (pos, largest_coordinate(base)),
             &self.t[0],
             &self.t[1],
             &mut self.normals,
@@ -261,7 +261,7 @@ impl Reposer {
             }
             Some(limit) => {
                 (self.plan).apply_into(positions, &mut limit.level, &mut self.scratch);
-                limit.apply(self.mesh.positions_mut());
+                limit.apply(self.mesh.positions_mut(), positions);
             }
         }
         Ok(&self.mesh)

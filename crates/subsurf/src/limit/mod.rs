@@ -184,7 +184,7 @@ pub fn normals(
     normals_into(
         |v| level.vertex_faces(v),
         |f| level.face_vertices(f),
-        pos,
+        (pos, largest_coordinate(pos)),
         t1,
         t2,
         &mut out,
@@ -192,21 +192,29 @@ pub fn normals(
     out
 }
 
+/// The largest magnitude of a coordinate of `points` (0 for none).
+pub(crate) fn largest_coordinate(points: &[[f64; 3]]) -> f64 {
+    (points.iter()).fold(0.0f64, |m, p| {
+        m.max(p[0].abs()).max(p[1].abs()).max(p[2].abs())
+    })
+}
+
 /// Relative size under which [`normals`] takes a tangent, an angle or a sum of face normals
 /// for cancelled.
 const CANCELLED: f64 = 1e-12;
 
 /// [`normals`] into `out` (one per vertex), the faces of vertex `v` being `vertex_faces(v)`
-/// and the vertices of face `f` `face_vertices(f)`.
+/// and the vertices of face `f` `face_vertices(f)`; `(pos, largest)` the positions and
+/// their [`largest_coordinate`], or any bound above it not much larger (the base mesh's:
+/// refinement and limits are convex combinations of its points).
 pub(crate) fn normals_into<'a>(
     vertex_faces: impl Fn(usize) -> &'a [u32] + Sync,
     face_vertices: impl Fn(usize) -> &'a [u32] + Sync,
-    pos: &[[f64; 3]],
+    (pos, largest): (&[[f64; 3]], f64),
     t1: &[[f64; 3]],
     t2: &[[f64; 3]],
     out: &mut [[f64; 3]],
 ) {
-    let largest = pos.iter().flatten().fold(0.0f64, |m, &x| m.max(x.abs()));
     let small = CANCELLED * largest * largest;
     // `2 (C c)²`, `C` = [`CANCELLED`]: see the angle test below.
     let noise = 2.0 * (CANCELLED * largest).powi(2);
