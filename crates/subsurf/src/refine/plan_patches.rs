@@ -102,17 +102,34 @@ const RUN: usize = 256;
 /// Ring patches per key and unit of work that [`ring_span`] aims at.
 const RING_PATCHES_PER_KEY: usize = 8;
 
+/// Fewest units of work a layer is cut into when it has that many runs, whatever its ring
+/// patches ask for ([`ring_span`]): the units are what the threads share.
+///
+/// Why: a layer's plain and edge patches are applied with its ring patches, unit by unit
+/// (module docs), so the units a few ring patches asked for held all the rest too. The
+/// regular 63 × 63 terrain grid `canyon` has four ring patches, at its corners (smooth
+/// valence-2 vertices), of one key; eight per key made the whole layer one unit, and
+/// re-posing it on two threads took as long as on one (level 5: 7.4 ms on either). With
+/// at least 8 units (one thread, then two, medians of three interleaved processes of 21
+/// applications, 2026-11-24): `canyon` level 5 on two threads 7.35 → 4.15 ms; the scan
+/// `nefertiti` level 2 (2 752 matrices, 5 units before) 5.76 → 6.03 ms on one thread and
+/// 3.36 → 2.79 ms on two; `rocker-arm`, `cow`, `ogre` and the all-triangle
+/// `catmark_bishop` within ±4 %. At least 16 units: `nefertiti` 6.38 and 3.18 ms.
+const MIN_UNITS: usize = 8;
+
 /// Runs per unit of work of a layer with `runs` runs and `patches` ring patches of
 /// `keys` keys (matrices: a key's, or one of the rows some of its patches own, see
-/// [`RingGroups`]): enough for [`RING_PATCHES_PER_KEY`] patches of each key on average. A
-/// unit applies each key's patches together, so that its matrix is read from memory
-/// once per unit; with many keys (an all-triangle base mesh has one per triple of corner
-/// valences: 110 on a 20 k-triangle scan, about 7 KiB each at depth 3) and runs of
-/// [`RUN`] faces, each key had two or three patches per run and the matrices, together
-/// larger than the cache, were read again for every few patches.
+/// [`RingGroups`]): enough for [`RING_PATCHES_PER_KEY`] patches of each key on average,
+/// as long as that leaves [`MIN_UNITS`] units. A unit applies each key's patches
+/// together, so that its matrix is read from memory once per unit; with many keys (an
+/// all-triangle base mesh has one per triple of corner valences: 110 on a 20 k-triangle
+/// scan, about 7 KiB each at depth 3) and runs of [`RUN`] faces, each key had two or
+/// three patches per run and the matrices, together larger than the cache, were read
+/// again for every few patches.
 pub(super) fn ring_span(runs: usize, keys: usize, patches: usize) -> usize {
     (RING_PATCHES_PER_KEY * keys * runs)
         .div_ceil(patches.max(1))
+        .min(runs / MIN_UNITS)
         .clamp(1, runs.max(1))
 }
 
@@ -979,23 +996,37 @@ mod tests {
     use super::*;
 
     /// Units of work hold at least `RING_PATCHES_PER_KEY` ring patches per key on
-    /// average (but the last, which may be shorter), and never fewer than one run or
-    /// more than all.
+    /// average (but the last, which may be shorter), unless that would leave fewer than
+    /// `MIN_UNITS` units; never fewer than one run or more than all.
     #[test]
     fn ring_units_hold_several_patches_per_key() {
         // 20 k triangles in 79 runs: 110 keys need 4 runs per unit, 10 keys one.
         assert_eq!(ring_span(79, 110, 20_000), 4);
         assert_eq!(ring_span(79, 10, 20_000), 1);
-        assert_eq!(ring_span(3, 500, 700), 3);
+        assert_eq!(ring_span(3, 500, 700), 1);
         assert_eq!(ring_span(0, 0, 0), 1);
-        for (runs, keys, patches) in [(79, 110, 20_000), (1000, 37, 250_000), (18, 218, 4608)] {
+        // A regular grid of 63 × 63 quads with four ring patches at its corners, and
+        // a scan with a matrix for every 36 faces: 8 and 9 units.
+        assert_eq!(ring_span(16, 1, 4), 2);
+        assert_eq!(ring_span(391, 2752, 99_938), 48);
+        for (runs, keys, patches) in [
+            (79, 110, 20_000),
+            (1000, 37, 250_000),
+            (18, 218, 4608),
+            (16, 1, 4),
+            (391, 2752, 99_938),
+            (3, 500, 700),
+        ] {
             let span = ring_span(runs, keys, patches);
             // Per key and unit of `span` full runs (the last unit may be shorter).
             let per_key = patches as f64 / keys as f64 * span as f64 / runs as f64;
+            let units = runs.div_ceil(span);
+            let capped = span == (runs / MIN_UNITS).max(1);
             assert!(
-                per_key >= RING_PATCHES_PER_KEY as f64 || span == runs,
+                per_key >= RING_PATCHES_PER_KEY as f64 || capped,
                 "{per_key}"
             );
+            assert!(units >= MIN_UNITS.min(runs), "{units}");
         }
     }
 
