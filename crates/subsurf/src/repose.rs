@@ -4,7 +4,8 @@
 //! [`Reposer`] refines the base mesh once with [`subdivide`] (the refined faces and tags,
 //! which do not depend on the positions) and builds a [`RefinePlan`] (the linear map from
 //! base positions to refined ones). Each new pose then costs one application of the plan,
-//! 10–20× less than refining again (`BENCHMARKS.md`), and gives the positions
+//! 10–20× less than refining again (8–11× on all-triangle scans and random semi-sharp
+//! creases refined 2–3 levels; `BENCHMARKS.md`), and gives the positions
 //! [`subdivide`] would give on the moved mesh, to rounding (within 1e-14 of the mesh's
 //! size; see the plan's accuracy notes).
 //!
@@ -51,9 +52,8 @@ use crate::subdivide::{estimate_memory, subdivide, Error, SubdivideOptions};
 /// ```
 #[derive(Clone, Debug)]
 pub struct Reposer {
-    /// The base mesh's faces (CSR), which a posed mesh must repeat ([`Reposer::pose_mesh`]).
-    base_offsets: Vec<u32>,
-    base_verts: Vec<u32>,
+    /// The base mesh's faces, which a posed mesh must repeat ([`Reposer::pose_mesh`]).
+    base_faces: Lists,
     /// The refined mesh, with the positions of the last pose.
     mesh: PolyMesh,
     plan: RefinePlan,
@@ -100,6 +100,11 @@ impl Lists {
             offsets.push(items.len() as u32);
         }
         Lists { offsets, items }
+    }
+
+    /// The number of lists.
+    fn len(&self) -> usize {
+        self.offsets.len() - 1
     }
 
     /// List `i`.
@@ -192,8 +197,7 @@ impl Reposer {
     /// ([`RefinePlan::estimate_memory`]).
     pub fn new(base: &PolyMesh, opts: &SubdivideOptions) -> Result<Self, Error> {
         if let Some(limit) = opts.max_memory {
-            let estimate = estimate_memory(base, opts)
-                .saturating_add(RefinePlan::estimate_memory(base, opts.levels));
+            let estimate = Self::estimate_memory(base, opts);
             if estimate > limit {
                 return Err(Error::TooLarge {
                     levels: opts.levels,
@@ -229,8 +233,7 @@ impl Reposer {
             None => None,
         };
         Ok(Self {
-            base_offsets: base.face_offsets().to_vec(),
-            base_verts: base.face_verts().to_vec(),
+            base_faces: Lists::new(base.num_faces(), |f| base.face(f)),
             mesh: sub.mesh,
             plan,
             scratch: PlanScratch::default(),
@@ -276,21 +279,27 @@ impl Reposer {
     /// its faces are not the base mesh's; as [`pose`](Self::pose).
     pub fn pose_mesh(&mut self, posed: &PolyMesh) -> Result<&PolyMesh, PoseError> {
         if posed.num_faces() > 0 {
-            let expected = self.base_offsets.len() - 1;
+            let expected = self.base_faces.len();
             if posed.num_faces() != expected {
                 return Err(PoseError::FaceCount {
                     expected,
                     found: posed.num_faces(),
                 });
             }
-            let base = |f: usize| {
-                &self.base_verts[self.base_offsets[f] as usize..self.base_offsets[f + 1] as usize]
-            };
-            if let Some(face) = (0..expected).find(|&f| posed.face(f) != base(f)) {
+            let base = &self.base_faces;
+            if let Some(face) = (0..expected).find(|&f| posed.face(f) != base.get(f)) {
                 return Err(PoseError::Face { face });
             }
         }
         self.pose(posed.positions())
+    }
+
+    /// Estimated peak memory in bytes of [`new`](Self::new) and the first pose, saturating
+    /// at `u64::MAX`: [`estimate_memory`] of the refinement plus
+    /// [`RefinePlan::estimate_memory`]. `new` refuses to start above
+    /// [`SubdivideOptions::max_memory`]; check it first to say so in your own terms.
+    pub fn estimate_memory(base: &PolyMesh, opts: &SubdivideOptions) -> u64 {
+        estimate_memory(base, opts).saturating_add(RefinePlan::estimate_memory(base, opts.levels))
     }
 
     /// The refined mesh, with the positions of the last pose (at first, the base mesh's).

@@ -8,7 +8,6 @@ use anyhow::{bail, Context, Result};
 use clap::Args;
 use subsurf::io::obj::{write_obj, WriteOptions};
 use subsurf::mesh::Options;
-use subsurf::refine::RefinePlan;
 use subsurf::{PoseError, Reposer, SubdivideOptions};
 
 use crate::input::Input;
@@ -88,8 +87,7 @@ pub fn run(args: &ReposeArgs) -> Result<()> {
         max_memory: None,
     };
     let mesh = &base.obj.mesh;
-    let estimate = subsurf::estimate_memory(mesh, &opts)
-        .saturating_add(RefinePlan::estimate_memory(mesh, opts.levels));
+    let estimate = Reposer::estimate_memory(mesh, &opts);
     let what = format!("refining to level {} and planning re-posing", opts.levels);
     crate::memory::check(
         &base.name,

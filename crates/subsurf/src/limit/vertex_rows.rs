@@ -65,11 +65,17 @@ impl VertexLimitRows {
             row.retain(|(_, w)| w.iter().any(|&w| w != 0.0));
             bits.clear();
             bits.extend(row.iter().flat_map(|(_, w)| w.map(f64::to_bits)));
-            let class = *ids.entry(bits.clone()).or_insert_with(|| {
-                rows.weights.extend(row.iter().map(|&(_, w)| w));
-                rows.class_offsets.push(rows.weights.len() as u32);
-                (rows.class_offsets.len() - 2) as u32
-            });
+            // Most rows repeat a class already seen: look it up without copying the key.
+            let class = match ids.get(&bits) {
+                Some(&class) => class,
+                None => {
+                    rows.weights.extend(row.iter().map(|&(_, w)| w));
+                    rows.class_offsets.push(rows.weights.len() as u32);
+                    let class = (rows.class_offsets.len() - 2) as u32;
+                    ids.insert(bits.clone(), class);
+                    class
+                }
+            };
             rows.class.push(class);
             rows.cols.extend(row.iter().map(|&(x, _)| x));
             rows.offsets.push(rows.cols.len() as u32);
