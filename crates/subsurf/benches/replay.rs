@@ -4,7 +4,9 @@
 //!
 //! Run with `cargo bench -p subsurf --bench replay`. Throughput is in output vertices per
 //! second. Building the plan is benched too (`replay_l5/build`), since it is paid once per
-//! topology.
+//! topology. `replay_mixed_l5` does the same for mixed subdivision (the shape-adjustable
+//! scheme with `c = 0.3` on every level, whose plan is sparse rows only, and on the first
+//! level only, with Catmull-Clark's patches below) against [`subdivide_mixed`].
 
 use std::path::PathBuf;
 use std::time::Duration;
@@ -13,7 +15,8 @@ use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use subsurf::io::obj::read_obj;
 use subsurf::mesh::{Options, PolyMesh};
 use subsurf::refine::{PlanScratch, RefinePlan};
-use subsurf::{subdivide, SubdivideOptions};
+use subsurf::scheme::adjustable::Adjustable;
+use subsurf::{subdivide, subdivide_mixed, Mixed, SubdivideOptions};
 
 /// The allocator of the `subsurf` binary, so that the full refinement compared with is the
 /// one `subsurf bench` measures (see the crate docs, "Speed: choose the global allocator").
@@ -81,5 +84,46 @@ fn replay_level5(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, replay_level5);
+fn replay_mixed_level5(c: &mut Criterion) {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .expect("cannot start a rayon thread pool");
+    let (mesh, scheme) = load(SHAPE);
+    let opts = SubdivideOptions {
+        levels: LEVELS,
+        scheme,
+        ..SubdivideOptions::default()
+    };
+    let adjustable = Adjustable::new(0.3).expect("c in [0, 1]");
+    let mut group = c.benchmark_group("replay_mixed_l5");
+    group
+        .sample_size(10)
+        .warm_up_time(Duration::from_secs(1))
+        .measurement_time(Duration::from_secs(5));
+    for (what, steps) in [("every_level", u32::MAX), ("first_level", 1)] {
+        let mixed = Mixed {
+            scheme: adjustable,
+            steps,
+        };
+        let plan = pool
+            .install(|| RefinePlan::new_mixed(&mesh, scheme, LEVELS, mixed))
+            .expect("plan failed");
+        group.throughput(Throughput::Elements(plan.num_vertices() as u64));
+        let mut out = Vec::new();
+        let mut scratch = PlanScratch::default();
+        group.bench_function(format!("apply/{what}/{SHAPE}"), |b| {
+            b.iter(|| pool.install(|| plan.apply_into(mesh.positions(), &mut out, &mut scratch)))
+        });
+        group.bench_function(format!("subdivide/{what}/{SHAPE}"), |b| {
+            b.iter(|| {
+                pool.install(|| subdivide_mixed(&mesh, &opts, mixed))
+                    .expect("subdivide failed")
+            })
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, replay_level5, replay_mixed_level5);
 criterion_main!(benches);

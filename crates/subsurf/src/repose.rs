@@ -7,7 +7,8 @@
 //! 10–20× less than refining again (8–11× on all-triangle scans and random semi-sharp
 //! creases refined 2–3 levels; `BENCHMARKS.md`), and gives the positions
 //! [`subdivide`] would give on the moved mesh, to rounding (within 1e-14 of the mesh's
-//! size; see the plan's accuracy notes).
+//! size; see the plan's accuracy notes). [`Reposer::new_mixed`] does the same for mixed
+//! subdivision ([`subdivide_mixed`]: the shape-adjustable scheme on the first levels).
 //!
 //! With [`SubdivideOptions::limit`], the limit positions and normals too: the limit masks
 //! of the refined level ([`crate::limit::limit_points`], OpenSubdiv's
@@ -19,8 +20,9 @@
 
 use crate::limit::{largest_coordinate, normals_into, VertexLimitRows};
 use crate::mesh::{check_coordinates, MeshError, PolyMesh, Topology, TopologyWarning};
+use crate::mixed::Mixed;
 use crate::refine::{refine_topology, PlanScratch, RefinePlan};
-use crate::subdivide::{estimate_memory, subdivide, Error, SubdivideOptions};
+use crate::subdivide::{estimate_memory, subdivide, subdivide_mixed, Error, SubdivideOptions};
 
 /// A subdivision that can be re-posed: the refined mesh of a base mesh, recomputed for new
 /// base positions with a [`RefinePlan`] instead of a full refinement.
@@ -196,6 +198,53 @@ impl Reposer {
     /// As [`subdivide`], the memory estimate ([`Error::TooLarge`]) counting the plan too
     /// ([`RefinePlan::estimate_memory`]).
     pub fn new(base: &PolyMesh, opts: &SubdivideOptions) -> Result<Self, Error> {
+        Self::build(base, opts, None)
+    }
+
+    /// [`new`](Self::new) for mixed subdivision: each pose is refined as
+    /// [`subdivide_mixed`] refines it, the first `mixed.steps` levels with the
+    /// shape-adjustable masks ([`RefinePlan::new_mixed`]).
+    ///
+    /// ```
+    /// use subsurf::mesh::PolyMesh;
+    /// use subsurf::scheme::adjustable::Adjustable;
+    /// use subsurf::{subdivide_mixed, Mixed, Reposer, SubdivideOptions};
+    ///
+    /// let corners: Vec<[f64; 3]> = (0..8)
+    ///     .map(|i| [(i & 1) as f64, (i >> 1 & 1) as f64, (i >> 2) as f64])
+    ///     .collect();
+    /// let faces = [[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]];
+    /// let cube = PolyMesh::from_faces(corners.clone(), &faces)?;
+    /// let opts = SubdivideOptions { levels: 3, ..Default::default() };
+    /// // Closer to the control mesh than Catmull-Clark: c = 0.2 at every level.
+    /// let mixed = Mixed::all(Adjustable::new(0.2)?);
+    /// let mut reposer = Reposer::new_mixed(&cube, &opts, mixed)?;
+    ///
+    /// let stretched: Vec<[f64; 3]> = corners.iter().map(|p| [2.0 * p[0], p[1], p[2]]).collect();
+    /// let posed = reposer.pose(&stretched)?.clone();
+    /// let full = subdivide_mixed(&PolyMesh::from_faces(stretched, &faces)?, &opts, mixed)?.mesh;
+    /// for (a, b) in posed.positions().iter().zip(full.positions()) {
+    ///     assert!((0..3).all(|i| (a[i] - b[i]).abs() < 1e-14));
+    /// }
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    ///
+    /// # Errors
+    /// As [`new`](Self::new).
+    pub fn new_mixed(
+        base: &PolyMesh,
+        opts: &SubdivideOptions,
+        mixed: Mixed,
+    ) -> Result<Self, Error> {
+        Self::build(base, opts, Some(mixed))
+    }
+
+    /// [`new`](Self::new), with the adjustable masks on the levels `mixed` says.
+    fn build(
+        base: &PolyMesh,
+        opts: &SubdivideOptions,
+        mixed: Option<Mixed>,
+    ) -> Result<Self, Error> {
         if let Some(limit) = opts.max_memory {
             let estimate = Self::estimate_memory(base, opts);
             if estimate > limit {
@@ -206,7 +255,10 @@ impl Reposer {
                 });
             }
         }
-        let sub = subdivide(base, opts)?;
+        let sub = match mixed {
+            Some(m) => subdivide_mixed(base, opts, m)?,
+            None => subdivide(base, opts)?,
+        };
         // Limit masks need quads around each vertex: on a base mesh with other faces,
         // refined 0 levels, they are taken one level further down (as `subdivide` does).
         let ngons = (0..base.num_faces()).any(|f| base.face(f).len() != 4);
@@ -215,7 +267,14 @@ impl Reposer {
         } else {
             opts.levels
         };
-        let plan = RefinePlan::new(base, opts.scheme, plan_levels)?;
+        let plan = match mixed {
+            // The level that limit masks may add is Catmull-Clark's, as in `subdivide_mixed`.
+            Some(m) => {
+                let steps = m.steps.min(opts.levels);
+                RefinePlan::new_mixed(base, opts.scheme, plan_levels, Mixed { steps, ..m })?
+            }
+            None => RefinePlan::new(base, opts.scheme, plan_levels)?,
+        };
         let limit = match sub.normals {
             Some(normals) => {
                 let (mut level, _) = Topology::from_mesh(base, &opts.scheme)?;

@@ -23,6 +23,24 @@
 //! scans, with AVX-512 (7–12× at levels 2–5 with AVX2 only; see [`RefinePlan`] for
 //! numbers).
 //!
+//! # Schemes
+//! The shape-adjustable scheme with parameter `c` ([`crate::scheme::adjustable`], seed
+//! 003) changes weights only, never the topology, numbering or sharpness decay, so its
+//! refinement is linear in the positions too. [`RefinePlan::new_mixed`] builds the plan
+//! of mixed subdivision ([`subdivide_mixed`](crate::subdivide_mixed): the adjustable
+//! masks on the first `k` levels, then Catmull-Clark): its sparse rows take each level's
+//! masks from that level's scheme. Its patches carry over as well: on a regular grid the
+//! adjustable masks are the tensor product of the curve scheme `(c/4, 1 − c/2, c/4)`,
+//! `(½, ½)`, which has the cubic B-spline's support, so a regular patch's kernel is the
+//! same `W P Wᵀ` with `W` computed from that curve rule; the phantom points across sharp
+//! sides still give the crease rule, `(1 − c/2) v + (c/4)(e_a + e_b)` along the side
+//! (derived in `refine/plan_patches.rs`); and a ring's matrix is computed by refining its
+//! template with the same masks. The patches of one plan all apply one scheme: every
+//! level adjusted, or the patches start below the last adjusted level. Re-posing
+//! `catmark_bishop` at level 5 with `c = 0.3` on every level took 5.1 ms with sparse rows
+//! only and 1.5 ms with patches, 18× less than `subdivide_mixed` (`benches/replay.rs`;
+//! `BENCHMARKS.md`).
+//!
 //! # Storage
 //! Most rows share their weights with many others: every smooth edge point between two
 //! quads has the same six weights, every smooth valence-4 vertex point the same nine. Each
@@ -75,6 +93,8 @@ use super::topology::{refine_topology, run, split_pieces};
 use crate::mesh::{
     MeshError, Options, PolyMesh, Rule, Topology, TopologyWarning, TriangleSubdivision,
 };
+use crate::mixed::Mixed;
+use crate::scheme::adjustable::Adjustable;
 use crate::scheme::catmark::{self, VertexContext, VertexMask, VertexMaskScratch};
 
 /// Rows per block: the unit of parallel work when applying a step, and of building it.
@@ -207,17 +227,58 @@ impl RefinePlan {
     /// [`MeshError`] for an invalid mesh or tags, or when the last level would exceed
     /// 32-bit indices.
     pub fn new(mesh: &PolyMesh, options: Options, levels: u32) -> Result<Self, MeshError> {
-        Self::build(mesh, options, levels, BASE_RING_DEPTH)
+        Self::build(mesh, options, levels, BASE_RING_DEPTH, None)
+    }
+
+    /// The plan of mixed subdivision: as [`new`](Self::new), but the first `mixed.steps`
+    /// levels apply the shape-adjustable masks with parameter `mixed.scheme`, as
+    /// [`subdivide_mixed`](crate::subdivide_mixed) refines (see "Schemes" in the module
+    /// documentation).
+    ///
+    /// ```
+    /// use subsurf::mesh::{Options, PolyMesh};
+    /// use subsurf::refine::RefinePlan;
+    /// use subsurf::scheme::adjustable::Adjustable;
+    /// use subsurf::{subdivide_mixed, Mixed, SubdivideOptions};
+    ///
+    /// let mut quad = PolyMesh::from_faces(
+    ///     vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]],
+    ///     &[[0u32, 1, 2, 3]],
+    /// )?;
+    /// // c = 0.3 for the first two of four levels, then Catmull-Clark.
+    /// let mixed = Mixed { scheme: Adjustable::new(0.3)?, steps: 2 };
+    /// let plan = RefinePlan::new_mixed(&quad, Options::default(), 4, mixed)?;
+    /// quad.positions_mut()[2][2] = 1.0;
+    /// let moved = plan.apply(quad.positions());
+    /// let opts = SubdivideOptions { levels: 4, ..Default::default() };
+    /// let full = subdivide_mixed(&quad, &opts, mixed)?;
+    /// for (a, b) in moved.iter().zip(full.mesh.positions()) {
+    ///     assert!((0..3).all(|k| (a[k] - b[k]).abs() < 1e-14));
+    /// }
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    ///
+    /// # Errors
+    /// As [`new`](Self::new).
+    pub fn new_mixed(
+        mesh: &PolyMesh,
+        options: Options,
+        levels: u32,
+        mixed: Mixed,
+    ) -> Result<Self, MeshError> {
+        Self::build(mesh, options, levels, BASE_RING_DEPTH, Some(mixed))
     }
 
     /// [`new`](Self::new) with patches of at most `max_depth` levels (none below 2; past
     /// [`QUAD_DEPTH`], only on the base mesh's faces that are not quads, when it refines
-    /// [`BASE_RING_DEPTH`] levels).
+    /// [`BASE_RING_DEPTH`] levels), and the adjustable masks on the first levels that
+    /// `mixed` says (patches only below them).
     pub(super) fn build(
         mesh: &PolyMesh,
         options: Options,
         levels: u32,
         max_depth: u32,
+        mixed: Option<Mixed>,
     ) -> Result<Self, MeshError> {
         mesh.validate()?;
         // Vertices of the last level ≤ ~4 × its faces + base vertices: keep that in u32.
@@ -237,21 +298,36 @@ impl RefinePlan {
             });
         }
         let (mut level, warnings) = Topology::from_mesh(mesh, &options)?;
-        let depth = if levels < 2 || max_depth < 2 {
+        // Levels with the adjustable masks. The patches of the last levels all apply one
+        // scheme's masks: so either every level is adjusted, or the patches start below
+        // the last adjusted level.
+        let adjusted = mixed.map_or(0, |m| m.steps.min(levels));
+        let scheme = |l: u32| match mixed {
+            Some(m) if l <= adjusted => m.scheme,
+            _ => Adjustable::CATMULL_CLARK,
+        };
+        let one_scheme = adjusted == 0 || adjusted == levels;
+        let patch_levels = if one_scheme {
+            levels
+        } else {
+            levels - adjusted
+        };
+        let depth = if patch_levels < 2 || max_depth < 2 {
             0
-        } else if levels == BASE_RING_DEPTH
+        } else if one_scheme
+            && levels == BASE_RING_DEPTH
             && max_depth >= BASE_RING_DEPTH
             && (0..mesh.num_faces()).any(|f| mesh.face(f).len() != 4)
         {
             BASE_RING_DEPTH
         } else {
-            max_depth.min(levels).min(QUAD_DEPTH)
+            max_depth.min(patch_levels).min(QUAD_DEPTH)
         };
         let full = levels - depth;
         let mut steps = Vec::with_capacity(full as usize);
         for l in 1..=full {
             let child = refine_topology(&level, &options, l < levels);
-            steps.push(Step::build(&level, &child, &options, None));
+            steps.push(Step::build(&level, &child, &options, None, scheme(l)));
             level = child;
         }
         let tail = (depth > 0).then(|| {
@@ -260,7 +336,7 @@ impl RefinePlan {
                 let child = refine_topology(&tops[tops.len() - 1], &options, l < levels);
                 tops.push(child);
             }
-            Tail::build(&tops, &options)
+            Tail::build(&tops, &options, scheme(levels))
         });
         Ok(Self {
             steps,
@@ -409,13 +485,15 @@ impl RefinePlan {
 
 impl Tail {
     /// The tail that refines `tops[0]` to `tops[d]` (`d = tops.len() − 1 ≥ 2`), `tops`
-    /// being consecutive levels.
-    fn build(tops: &[Topology], options: &Options) -> Tail {
+    /// being consecutive levels, with the masks of `scheme` on all of them.
+    fn build(tops: &[Topology], options: &Options, scheme: Adjustable) -> Tail {
         let d = tops.len() - 1;
         let mut claims = Claims::new(tops[d].num_vertices());
         let mut layers: Vec<PatchLayer> = (2..=d)
             .rev()
-            .map(|depth| PatchLayer::build(&tops[d - depth..d], d - depth, &mut claims, options))
+            .map(|depth| {
+                PatchLayer::build(&tops[d - depth..d], d - depth, &mut claims, options, scheme)
+            })
             .collect();
         // From the last level down: the rows that are needed, and the vertices they read.
         let mut rows = claims.unclaimed();
@@ -423,7 +501,7 @@ impl Tail {
         let mut subsets = Vec::with_capacity(d);
         for s in (1..=d).rev() {
             let (p, c) = (&tops[s - 1], &tops[s]);
-            let mut step = Step::build(p, c, options, Some(&rows));
+            let mut step = Step::build(p, c, options, Some(&rows), scheme);
             if s > 1 {
                 let mut used = vec![false; p.num_vertices()];
                 for &col in &step.cols {
@@ -596,8 +674,15 @@ impl Step {
     }
 
     /// The weights of the vertices `only` of `c` (the refinement of `p`; all of them when
-    /// `None`) on the vertices of `p`, one row per vertex in that order.
-    fn build(p: &Topology, c: &Topology, options: &Options, only: Option<&[u32]>) -> Step {
+    /// `None`) on the vertices of `p`, one row per vertex in that order, with the masks of
+    /// `scheme` (Catmull-Clark's when it is [`Adjustable::CATMULL_CLARK`]).
+    fn build(
+        p: &Topology,
+        c: &Topology,
+        options: &Options,
+        only: Option<&[u32]>,
+        scheme: Adjustable,
+    ) -> Step {
         let rows = only.map_or(c.num_vertices(), <[u32]>::len);
         let nblocks = rows.div_ceil(BLOCK);
         let make = |scratch: &mut RowScratch, b: usize| {
@@ -605,7 +690,7 @@ impl Step {
             for r in b * BLOCK..((b + 1) * BLOCK).min(rows) {
                 let cv = only.map_or(r, |o| o[r] as usize);
                 scratch.row.clear();
-                stencil(p, c, options, cv, scratch);
+                stencil(p, c, options, scheme, cv, scratch);
                 block.push(&scratch.row, &mut scratch.sorted, &mut scratch.bits);
             }
             block
@@ -804,6 +889,8 @@ struct RowScratch {
     bits: Vec<u64>,
     mask: VertexMask,
     mask_scratch: VertexMaskScratch,
+    /// The child-rule mask of the adjustable scheme's blends.
+    child_mask: VertexMask,
     pe: Vec<f32>,
     ce: Vec<f32>,
 }
@@ -826,7 +913,14 @@ pub(crate) fn refinement_rows(
     let mut weights = Vec::new();
     for cv in verts {
         scratch.row.clear();
-        stencil(p, c, options, cv as usize, &mut scratch);
+        stencil(
+            p,
+            c,
+            options,
+            Adjustable::CATMULL_CLARK,
+            cv as usize,
+            &mut scratch,
+        );
         let r = &scratch.row;
         weights.clear();
         weights.extend((0..r.cols.len()).map(|i| r.weight(i)));
@@ -834,14 +928,23 @@ pub(crate) fn refinement_rows(
     }
 }
 
-/// The row of child vertex `cv`: the masks of [`interpolate`](super::interpolate), with
-/// face points expanded into their vertices.
-fn stencil(p: &Topology, c: &Topology, options: &Options, cv: usize, scratch: &mut RowScratch) {
+/// The row of child vertex `cv`: the masks of [`interpolate`](super::interpolate) (of
+/// [`interpolate_adjustable`](super::interpolate_adjustable) with `scheme`, unless it is
+/// [`Adjustable::CATMULL_CLARK`]), with face points expanded into their vertices.
+fn stencil(
+    p: &Topology,
+    c: &Topology,
+    options: &Options,
+    scheme: Adjustable,
+    cv: usize,
+    scratch: &mut RowScratch,
+) {
     let nv = p.num_vertices();
     let nf = p.num_faces();
+    let cc = scheme == Adjustable::CATMULL_CLARK;
     let row = &mut scratch.row;
     if cv < nv {
-        vertex_stencil(p, c, options, cv, scratch);
+        vertex_stencil(p, c, options, scheme, cv, scratch);
     } else if cv < nv + nf {
         row.add_face(p, cv - nv, 0, 1.0);
     } else {
@@ -851,7 +954,7 @@ fn stencil(p: &Topology, c: &Topology, options: &Options, cv: usize, scratch: &m
         let locals = &p.edge_face_local[p.edge_face_offsets[e] as usize..];
         let sharp = p.edge_sharpness[e];
         let tri_option = options.triangles == TriangleSubdivision::Smooth;
-        if sharp <= 0.0 && faces.len() == 2 && !tri_option {
+        if cc && sharp <= 0.0 && faces.len() == 2 && !tri_option {
             row.add(a, 0.25);
             row.add(b, 0.25);
             for (&f, &i) in faces.iter().zip(locals) {
@@ -867,7 +970,11 @@ fn stencil(p: &Topology, c: &Topology, options: &Options, cv: usize, scratch: &m
                     .is_some_and(|&f| p.face_vertices(f as usize).len() == 3),
             ];
             let child_rule = c.vert_tags[cv].get().rule;
-            let m = catmark::edge_mask(options, sharp, child_rule, faces.len(), tri);
+            let m = if cc {
+                catmark::edge_mask(options, sharp, child_rule, faces.len(), tri)
+            } else {
+                scheme.edge_mask(options, sharp, child_rule, faces.len(), tri)
+            };
             row.add(a, m.vertex);
             row.add(b, m.vertex);
             if !m.is_crease() {
@@ -880,12 +987,20 @@ fn stencil(p: &Topology, c: &Topology, options: &Options, cv: usize, scratch: &m
     }
 }
 
-/// The row of the child of parent vertex `v`.
-fn vertex_stencil(p: &Topology, c: &Topology, options: &Options, v: usize, s: &mut RowScratch) {
+/// The row of the child of parent vertex `v` ([`stencil`]).
+fn vertex_stencil(
+    p: &Topology,
+    c: &Topology,
+    options: &Options,
+    scheme: Adjustable,
+    v: usize,
+    s: &mut RowScratch,
+) {
     let edges = p.vertex_edges(v);
     let faces = p.vertex_faces(v);
     let corners = p.vertex_face_locals(v);
     let ptag = p.vert_tags[v].get();
+    let cc = scheme == Adjustable::CATMULL_CLARK;
     let row = &mut s.row;
     if edges.is_empty() {
         row.add(v as u32, 1.0);
@@ -893,13 +1008,18 @@ fn vertex_stencil(p: &Topology, c: &Topology, options: &Options, v: usize, s: &m
     }
     if matches!(ptag.rule, Rule::Smooth | Rule::Dart) {
         let n = edges.len() as f64;
-        let w = 1.0 / (n * n);
-        row.add(v as u32, (n - 2.0) / n);
+        let (vw, ew, fw) = if cc {
+            let w = 1.0 / (n * n);
+            ((n - 2.0) / n, w, w)
+        } else {
+            scheme.smooth_vertex_weights(edges.len())
+        };
+        row.add(v as u32, vw);
         for x in p.vertex_neighbours(v) {
-            row.add(x, w);
+            row.add(x, ew);
         }
         for (&f, &j) in faces.iter().zip(corners) {
-            row.add_face(p, f as usize, j as usize, w);
+            row.add_face(p, f as usize, j as usize, fw);
         }
         return;
     }
@@ -922,12 +1042,12 @@ fn vertex_stencil(p: &Topology, c: &Topology, options: &Options, v: usize, s: &m
         child_edges: &s.ce,
         num_faces: faces.len(),
     };
-    catmark::vertex_mask(
-        options.crease_method,
-        &ctx,
-        &mut s.mask,
-        &mut s.mask_scratch,
-    );
+    if cc {
+        let method = options.crease_method;
+        catmark::vertex_mask(method, &ctx, &mut s.mask, &mut s.mask_scratch);
+    } else {
+        scheme.vertex_mask(options.crease_method, &ctx, &mut s.mask, &mut s.child_mask);
+    }
     let mask = &s.mask;
     row.add(v as u32, mask.vertex);
     if mask.has_edges {
@@ -998,7 +1118,7 @@ mod tests {
         let (obj, options) = shape("catmark_pole360");
         for levels in 1..=3 {
             // Sparse rows only (patches are not near the pole; see `patches_match_rows`).
-            let plan = RefinePlan::build(&obj.mesh, options, levels, 0).unwrap();
+            let plan = RefinePlan::build(&obj.mesh, options, levels, 0, None).unwrap();
             let exact = apply_dd(&plan, obj.mesh.positions());
             let got = plan.apply(obj.mesh.positions());
             let opts = crate::SubdivideOptions {
@@ -1048,10 +1168,10 @@ mod tests {
         let size = (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f64>().sqrt();
         let (mut edge_patches, mut ring_patches) = (0, 0);
         for levels in 2..=4 {
-            let rows = RefinePlan::build(mesh, options, levels, 0).unwrap();
+            let rows = RefinePlan::build(mesh, options, levels, 0, None).unwrap();
             let want = rows.apply(pos);
             for depth in 2..=BASE_RING_DEPTH {
-                let plan = RefinePlan::build(mesh, options, levels, depth).unwrap();
+                let plan = RefinePlan::build(mesh, options, levels, depth, None).unwrap();
                 // (A face is a patch once its corners are smooth or regular: on every
                 // level of a mesh without sharp features.)
                 assert!(
@@ -1354,7 +1474,7 @@ mod tests {
     #[test]
     fn classes_are_shared() {
         let (obj, _) = shape("catmark_torus");
-        let plan = RefinePlan::build(&obj.mesh, Options::default(), 3, 0).unwrap();
+        let plan = RefinePlan::build(&obj.mesh, Options::default(), 3, 0, None).unwrap();
         let last = plan.steps.last().unwrap();
         // Regular quads: face points, smooth edge points and valence-4 vertex points.
         assert_eq!(last.class_offsets.len() - 1, 3);

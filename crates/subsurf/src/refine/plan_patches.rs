@@ -45,6 +45,18 @@
 //! patches ("edge patches" here) evaluate their phantom points into a local net first, then
 //! run the same kernel.
 //!
+//! # The shape-adjustable scheme
+//! With parameter `c` ([`crate::scheme::adjustable`]) the masks of a regular grid are the
+//! tensor product of the curve rules `p'₂ᵢ = (c/4) pᵢ₋₁ + (1 − c/2) pᵢ + (c/4) pᵢ₊₁` and
+//! `p'₂ᵢ₊₁ = (pᵢ + pᵢ₊₁)/2` (`c = ½`: the cubic B-spline), whose supports are the cubic
+//! B-spline's: four control points still give the span's points at every level, and
+//! [`weights`] computes `W` from these rules. The phantom points work for any `c`: on the
+//! row `P₁, P₀, 2 P₀ − P₁` the vertex rule gives `(c/4) P₁ + (1 − c/2) P₀ + (c/4)(2 P₀ −
+//! P₁) = P₀` and the edge rule the phantom `(3 P₀ − P₁)/2` as before, so along the side
+//! the tensor product applies `(c/4, 1 − c/2, c/4)` and the midpoint, the adjustable
+//! scheme's crease rules; its corners stay fixed. `tests/integration/replay.rs` compares
+//! such plans with [`subdivide_mixed`](crate::subdivide_mixed) on every regression shape.
+//!
 //! A semi-sharp crease or corner is such a sharp side for the `d` levels of a patch when it
 //! keeps the crease rules through all of them: with the uniform decay, sharpness at least
 //! `d` ([`Sharp::for_levels`](crate::limit::patch::Sharp::for_levels) says why). The
@@ -93,6 +105,7 @@ use super::plan_ring::{descendants, ring_net, Kernel, RingGroups, RingNet, RingP
 use crate::cpu::{has_avx2_fma, has_avx512f};
 use crate::limit::patch::{refinement_patch_cells, Cell, Sharp};
 use crate::mesh::{CreaseMethod, Options, Topology};
+use crate::scheme::adjustable::Adjustable;
 
 /// Faces of a layer's level per run: the unit of parallel work. A run applies all its
 /// patches, of every kind, before the next: neighbouring patches share cache lines of the
@@ -251,9 +264,13 @@ impl Claims {
 }
 
 /// The matrix `W` of depth `d` (module docs): row `k` holds the weights of the point at
-/// parameter `k/2ᵈ` on the control points at `−1, 0, 1, 2`.
-pub(super) fn weights(d: u32) -> Vec<[f64; 4]> {
-    // Points as (parameter × 2^d, weights); all values are exact dyadic rationals.
+/// parameter `k/2ᵈ` on the control points at `−1, 0, 1, 2`, for the curve scheme of
+/// `scheme` (vertex points `(c/4) pᵢ₋₁ + (1 − c/2) pᵢ + (c/4) pᵢ₊₁`, edge points
+/// `(pᵢ + pᵢ₊₁)/2`; the cubic B-spline's `(1, 6, 1)/8` for Catmull-Clark, `c = ½`).
+pub(super) fn weights(d: u32, scheme: Adjustable) -> Vec<[f64; 4]> {
+    let [side, centre, _] = scheme.curve_even_weights();
+    // Points as (parameter × 2^d, weights); for Catmull-Clark all values are exact dyadic
+    // rationals.
     let scale = 1i64 << d;
     let mut pts: Vec<(i64, [f64; 4])> = (0..4)
         .map(|k| {
@@ -270,8 +287,8 @@ pub(super) fn weights(d: u32) -> Vec<[f64; 4]> {
         for i in 0..pts.len() {
             if i > 0 && i + 1 < pts.len() {
                 let (x, ref p) = pts[i];
-                let side = lerp(&pts[i - 1].1, &pts[i + 1].1, 0.125, 0.125);
-                next.push((x, lerp(p, &side, 0.75, 1.0)));
+                let side = lerp(&pts[i - 1].1, &pts[i + 1].1, side, side);
+                next.push((x, lerp(p, &side, centre, 1.0)));
             }
             if i + 1 < pts.len() {
                 let x = (pts[i].0 + pts[i + 1].0) / 2;
@@ -406,14 +423,15 @@ fn cell_verts(c: &Cell) -> &[u32] {
 
 impl PatchLayer {
     /// The patches of depth `levels.len()` on the faces of `levels[0]` (refined with
-    /// `options`): every face that can be one and writes at least one output vertex not
-    /// yet in `claims` (which it then claims). Past [`QUAD_DEPTH`], only the faces that
-    /// are not quads ([`BASE_RING_DEPTH`]).
+    /// `options` and the masks of `scheme`): every face that can be one and writes at
+    /// least one output vertex not yet in `claims` (which it then claims). Past
+    /// [`QUAD_DEPTH`], only the faces that are not quads ([`BASE_RING_DEPTH`]).
     pub(super) fn build(
         levels: &[Topology],
         source: usize,
         claims: &mut Claims,
         options: &Options,
+        scheme: Adjustable,
     ) -> Self {
         let depth = levels.len() as u32;
         let sharp = Sharp::for_levels(depth, options.crease_method);
@@ -458,7 +476,9 @@ impl PatchLayer {
         let counts: Vec<usize> = keys.chunk_by(|a, b| a == b).map(<[_]>::len).collect();
         keys.dedup();
         let kernels: Vec<Option<Kernel>> = (keys.par_iter().zip(counts))
-            .map(|(key, n)| (n >= MIN_RING_FACES).then(|| Kernel::new(key, depth, options))?)
+            .map(|(key, n)| {
+                (n >= MIN_RING_FACES).then(|| Kernel::new(key, depth, options, scheme))?
+            })
             .collect();
         let ring_grids: Vec<Option<(usize, Vec<u32>)>> = (found.par_iter())
             .with_min_len(RUN)
@@ -521,7 +541,7 @@ impl PatchLayer {
             edge_out,
             edge_runs: Runs::new(&edge_run, runs),
             rings,
-            w: weights(depth),
+            w: weights(depth, scheme),
             bounds: [0, 0],
         };
         layer.set_bounds();
@@ -1033,7 +1053,7 @@ mod tests {
     /// The kernel rows of depth 2 are the composed subdivision masks worked out by hand.
     #[test]
     fn depth_two_weights() {
-        let w = weights(2);
+        let w = weights(2, Adjustable::CATMULL_CLARK);
         let expect = [
             [5.0 / 32.0, 22.0 / 32.0, 5.0 / 32.0, 0.0],
             [1.0 / 16.0, 10.0 / 16.0, 5.0 / 16.0, 0.0],
@@ -1053,7 +1073,9 @@ mod tests {
     #[cfg(target_arch = "x86_64")]
     fn avx_kernel_agrees() {
         fn check<const N: usize, const NN: usize>(depth: u32) {
-            let w: [[f64; 4]; N] = weights(depth).try_into().unwrap();
+            let w: [[f64; 4]; N] = weights(depth, Adjustable::CATMULL_CLARK)
+                .try_into()
+                .unwrap();
             let src: Vec<[f64; 3]> = (0..64)
                 .map(|i| {
                     let x = f64::from(i);
@@ -1124,20 +1146,29 @@ mod tests {
     }
 
     /// Every row is a partition of unity and reproduces the parameter of its point (cubic
-    /// B-splines reproduce linear functions).
+    /// B-splines reproduce linear functions, and so does the adjustable scheme's curve
+    /// rule for any `c`): exactly for Catmull-Clark (dyadic weights), to rounding
+    /// otherwise. `c = 0` is the control polygon: the points of the span lie on `p₀p₁`.
     #[test]
     fn weights_reproduce_linear_functions() {
-        for d in 1..=4 {
-            let w = weights(d);
-            assert_eq!(w.len(), (1 << d) + 1);
-            for (k, row) in w.iter().enumerate() {
-                assert_eq!(row.iter().sum::<f64>(), 1.0);
-                let t: f64 = row
-                    .iter()
-                    .zip([-1.0, 0.0, 1.0, 2.0])
-                    .map(|(w, x)| w * x)
-                    .sum();
-                assert_eq!(t, k as f64 / (1 << d) as f64);
+        for c in [0.5, 0.0, 0.3, 0.8] {
+            let scheme = Adjustable::new(c).unwrap();
+            let tol = if c == 0.5 { 0.0 } else { 1e-15 };
+            for d in 1..=4 {
+                let w = weights(d, scheme);
+                assert_eq!(w.len(), (1 << d) + 1);
+                for (k, row) in w.iter().enumerate() {
+                    assert!((row.iter().sum::<f64>() - 1.0).abs() <= tol, "c {c}");
+                    let t: f64 = row
+                        .iter()
+                        .zip([-1.0, 0.0, 1.0, 2.0])
+                        .map(|(w, x)| w * x)
+                        .sum();
+                    assert!((t - k as f64 / (1 << d) as f64).abs() <= tol, "c {c}");
+                    if c == 0.0 {
+                        assert_eq!([row[0], row[3]], [0.0, 0.0], "c 0, depth {d}");
+                    }
+                }
             }
         }
     }

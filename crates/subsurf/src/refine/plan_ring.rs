@@ -80,6 +80,8 @@
 //! [`refine_topology`]: super::topology::refine_topology
 
 use crate::mesh::{Corner, Crease, Options, PolyMesh, Topology};
+use crate::mixed::Mixed;
+use crate::scheme::adjustable::Adjustable;
 
 use super::plan::RefinePlan;
 use super::plan_patches::{grid_indices, prefetch_next, ring_span, Runs, SharedOut, NOT_OWNED};
@@ -360,13 +362,19 @@ pub(super) struct Kernel {
 }
 
 impl Kernel {
-    /// The matrix of ring `key` for `depth` levels, refined with `options` (module docs).
-    /// `None` if the template cannot be built or refined as a mesh of its own (the faces
-    /// are then left to the sparse rows).
-    pub(super) fn new(key: &[u32], depth: u32, options: &Options) -> Option<Kernel> {
+    /// The matrix of ring `key` for `depth` levels, refined with `options` and the masks
+    /// of `scheme` (module docs). `None` if the template cannot be built or refined as a
+    /// mesh of its own (the faces are then left to the sparse rows).
+    pub(super) fn new(
+        key: &[u32],
+        depth: u32,
+        options: &Options,
+        scheme: Adjustable,
+    ) -> Option<Kernel> {
         let mesh = template(key)?;
         let points = mesh.num_vertices();
-        let plan = RefinePlan::build(&mesh, *options, depth, 0).ok()?;
+        let mixed = (scheme != Adjustable::CATMULL_CLARK).then(|| Mixed::all(scheme));
+        let plan = RefinePlan::build(&mesh, *options, depth, 0, mixed).ok()?;
         let (mut level, _) = Topology::from_mesh(&mesh, options).ok()?;
         let mut levels = Vec::with_capacity(depth as usize);
         for _ in 1..depth {
@@ -1182,7 +1190,7 @@ mod tests {
             let t = topology(&faces, &options);
             let ring = ring_net(&t, 0, false).unwrap();
             for depth in [2u32, 3, 4] {
-                let k = Kernel::new(&ring.key, depth, &options).unwrap();
+                let k = Kernel::new(&ring.key, depth, &options, Adjustable::CATMULL_CLARK).unwrap();
                 assert_eq!(k.points, 2 * n + 8);
                 let side = (1usize << depth) + 1;
                 assert_eq!(k.rows, (side * side).next_multiple_of(LANES));
@@ -1259,7 +1267,8 @@ mod tests {
                 let Some(ring) = ring_net(t, f, false) else {
                     continue;
                 };
-                let kernel = Kernel::new(&ring.key, depth, options).unwrap();
+                let kernel =
+                    Kernel::new(&ring.key, depth, options, Adjustable::CATMULL_CLARK).unwrap();
                 let mut walk = Vec::new();
                 descendants(&levels[..depth as usize], f, ring.start, &mut walk).unwrap();
                 if let Some(grid) = kernel.grid(&ring.verts, &walk) {
@@ -1457,7 +1466,7 @@ mod tests {
         let ring = ring_net(&t, 0, false).unwrap();
         assert_eq!(ring.verts.len(), 6);
         for depth in [2u32, 3, 4] {
-            let k = Kernel::new(&ring.key, depth, &options).unwrap();
+            let k = Kernel::new(&ring.key, depth, &options, Adjustable::CATMULL_CLARK).unwrap();
             let h = 1usize << (depth - 1);
             let rows = 3 * (h + 1) * (h + 1) - 3 * (h + 1) + 1;
             assert_eq!(

@@ -7,12 +7,15 @@
 //! 3 (and 4 on shapes with faces that are not quads, whose ring patches then refine four
 //! levels at once), `plan.apply` must equal the positions of [`subdivide`], index for index, within
 //! `1e-14 ×` the bounding-box diagonal of the input — both on the original positions and
-//! after moving every vertex (the plan does not depend on positions).
+//! after moving every vertex (the plan does not depend on positions). The same holds for
+//! the plans of mixed subdivision (the shape-adjustable scheme on the first levels) against
+//! [`subdivide_mixed`], and for [`subsurf::Reposer`] with the limit.
 
 use subsurf::io::obj::read_obj;
 use subsurf::mesh::{Options, PolyMesh};
 use subsurf::refine::{PlanScratch, RefinePlan};
-use subsurf::{subdivide, SubdivideOptions};
+use subsurf::scheme::adjustable::Adjustable;
+use subsurf::{subdivide, subdivide_mixed, Mixed, SubdivideOptions};
 
 use crate::common::{osd_shapes, osd_shapes_dir};
 
@@ -119,6 +122,57 @@ fn plan_equals_subdivide_on_all_shapes() {
         worst.1
     );
     assert!(cases >= 560);
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// Mixed subdivision (the shape-adjustable masks on the first levels, then Catmull-Clark)
+/// re-posed on every regression shape: `RefinePlan::new_mixed` equals `subdivide_mixed`
+/// within `1e-14 ×` the diagonal at levels 1–4, with `c` = 0 (the bilinear refinement of
+/// the control mesh), 0.3 and 0.8, adjusted at every level (the plan's patches then apply
+/// the adjustable masks), at the first one and at the first two (Catmull-Clark's patches
+/// compute the last levels).
+#[test]
+fn mixed_plan_equals_subdivide_mixed_on_all_shapes() {
+    let mut failures = Vec::new();
+    let mut cases = 0;
+    let schemes = [(0.0, u32::MAX), (0.3, 1), (0.8, 2), (0.3, u32::MAX)];
+    let mut patches = [0; 4];
+    for (name, mesh, options) in osd_shapes() {
+        let mut moved = mesh.clone();
+        moved
+            .positions_mut()
+            .copy_from_slice(&deform(mesh.positions()));
+        for (i, (c, steps)) in schemes.into_iter().enumerate() {
+            let mixed = Mixed {
+                scheme: Adjustable::new(c).expect("c in [0, 1]"),
+                steps,
+            };
+            for levels in 1..=4 {
+                let plan = RefinePlan::new_mixed(&mesh, options, levels, mixed).expect("plan");
+                patches[i] += plan.num_patches();
+                for (what, m) in [("original", &mesh), ("moved", &moved)] {
+                    let opts = SubdivideOptions {
+                        levels,
+                        scheme: options,
+                        ..SubdivideOptions::default()
+                    };
+                    let want = subdivide_mixed(m, &opts, mixed).expect("subdivide_mixed");
+                    let got = plan.apply(m.positions());
+                    let tol = REL_TOL * diagonal(m.positions());
+                    let (d, at) = max_diff(&got, want.mesh.positions());
+                    if d > tol || d.is_nan() {
+                        failures.push(format!(
+                            "{name} c {c} steps {steps} level {levels} {what}: vertex {at} \
+                             differs by {d:e} (tolerance {tol:e})"
+                        ));
+                    }
+                    cases += 1;
+                }
+            }
+        }
+    }
+    assert!(cases >= 2500, "{cases} cases");
+    assert!(patches.iter().all(|&n| n > 1000), "patches {patches:?}");
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 
@@ -377,6 +431,61 @@ fn reposer_limit_equals_subdivide_on_all_shapes() {
             let mut reposer = subsurf::Reposer::new(&mesh, &opts).expect("reposer");
             for (what, m) in [("moved", &moved), ("original", &mesh)] {
                 let want = subdivide(m, &opts).expect("subdivide");
+                let got = reposer
+                    .pose(m.positions())
+                    .expect("pose")
+                    .positions()
+                    .to_vec();
+                let tol = REL_TOL * diagonal(m.positions());
+                let (d, at) = max_diff(&got, want.mesh.positions());
+                if d > tol || d.is_nan() {
+                    failures.push(format!(
+                        "{name} level {levels} {what}: vertex {at} differs by {d:e}"
+                    ));
+                }
+                let normals = reposer.normals().expect("normals");
+                let (d, at) = max_diff(normals, want.normals.as_deref().expect("normals"));
+                if d > 1e-9 || d.is_nan() {
+                    failures.push(format!(
+                        "{name} level {levels} {what}: normal {at} differs by {d:e}"
+                    ));
+                }
+                cases += 1;
+            }
+        }
+    }
+    assert!(cases >= 480, "{cases} cases");
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// `Reposer::new_mixed` with the limit gives `subdivide_mixed`'s limit positions and
+/// normals on every regression shape at levels 0–2 (`c = 0.3` on the first level; at level
+/// 0 the limit is Catmull-Clark's, and on shapes with faces other than quads the plan then
+/// refines one Catmull-Clark level for the limit masks), as `Reposer::new` does for
+/// Catmull-Clark above.
+#[test]
+fn mixed_reposer_limit_equals_subdivide_mixed_on_all_shapes() {
+    let mixed = Mixed {
+        scheme: Adjustable::new(0.3).expect("c in [0, 1]"),
+        steps: 1,
+    };
+    let mut failures = Vec::new();
+    let mut cases = 0;
+    for (name, mesh, options) in osd_shapes() {
+        let mut moved = mesh.clone();
+        moved
+            .positions_mut()
+            .copy_from_slice(&deform(mesh.positions()));
+        for levels in 0..=2 {
+            let opts = SubdivideOptions {
+                levels,
+                scheme: options,
+                limit: true,
+                ..SubdivideOptions::default()
+            };
+            let mut reposer = subsurf::Reposer::new_mixed(&mesh, &opts, mixed).expect("reposer");
+            for (what, m) in [("moved", &moved), ("original", &mesh)] {
+                let want = subdivide_mixed(m, &opts, mixed).expect("subdivide_mixed");
                 let got = reposer
                     .pose(m.positions())
                     .expect("pose")
