@@ -424,12 +424,12 @@ pub enum SchemeKind {
 pub struct AdjustArgs {
     /// Shape parameter of the adjustable scheme, in [0, 1]: 0.5 is Catmull-Clark, smaller
     /// stays closer to the control mesh (0: the mesh itself), larger moves away from it
-    /// (subdivide: with --scheme adjustable; tessellate, render: the mixed limit surface,
+    /// (subdivide, repose: with --scheme adjustable; tessellate, render: the mixed limit surface,
     /// and render --control-mesh then draws the c-refined mesh; g2: its G2 surface).
     #[arg(long = "c", value_name = "C", allow_negative_numbers = true, value_parser = cmd::adjustable::parse_c)]
     pub c: Option<f64>,
     /// Use the adjustable scheme for the first K steps only, then Catmull-Clark (mixed
-    /// subdivision) [default: subdivide: every level; tessellate, render, g2: 1].
+    /// subdivision) [default: subdivide, repose: every level; tessellate, render, g2: 1].
     #[arg(long, value_name = "K", requires = "c")]
     pub adjust_steps: Option<u32>,
 }

@@ -13,11 +13,13 @@ use subsurf::{PoseError, Reposer, SubdivideOptions};
 use crate::input::Input;
 use crate::output::Output;
 use crate::progress::Progress;
-use crate::SchemeArgs;
+use crate::{AdjustArgs, SchemeArgs, SchemeKind};
 
 /// Help text after the options of `subsurf repose`.
 pub const REPOSE_EXAMPLES: &str = "\
-The base mesh's faces, tags (creases, corners, holes) and scheme hold for every pose. A pose
+The base mesh's faces, tags (creases, corners, holes) and scheme (Catmull-Clark, or the
+adjustable one with --scheme adjustable --c C [--adjust-steps K], as 'subsurf subdivide'
+refines) hold for every pose. A pose
 is an OBJ file with the base mesh's vertices moved: it repeats the base mesh's faces (same
 vertices, same order; its tags are not read) or has no faces at all ('v' lines only, as a
 point cache). Each refined pose is written to DIR under the pose's file name, each file
@@ -29,7 +31,8 @@ less; writing the OBJ text then takes most of the time (the library's Reposer sk
 
 Examples:
   subsurf repose rest.obj frames/f0001.obj frames/f0002.obj -o refined -l 3
-  subsurf repose rest.obj frames/*.obj -o refined -l 2 --boundary edge-and-corner";
+  subsurf repose rest.obj frames/*.obj -o refined -l 2 --boundary edge-and-corner
+  subsurf repose rest.obj frames/*.obj -o refined -l 3 --scheme adjustable --c 0.3";
 
 /// Arguments of `subsurf repose`.
 #[derive(Debug, Args)]
@@ -48,6 +51,12 @@ pub struct ReposeArgs {
     pub levels: u32,
     #[command(flatten)]
     pub scheme: SchemeArgs,
+    /// Subdivision scheme [default: catmull-clark; a base mesh with knot interval or weight
+    /// tags needs --scheme catmull-clark, which ignores them, since NURSS is not re-posed].
+    #[arg(long = "scheme", id = "scheme_kind", value_name = "SCHEME", value_enum)]
+    pub scheme_kind: Option<SchemeKind>,
+    #[command(flatten)]
+    pub adjust: AdjustArgs,
     /// Move the last level's vertices to the limit surface and write limit normals (as
     /// `subdivide --limit`).
     #[arg(long)]
@@ -68,14 +77,23 @@ pub struct ReposeArgs {
 pub fn run(args: &ReposeArgs) -> Result<()> {
     let outputs = output_paths(args)?;
     let base = Input::read_surface(&args.base)?;
-    if subsurf::nurss::has_knots(&base.obj.mesh) {
-        bail!(
+    let knots = subsurf::nurss::has_knots(&base.obj.mesh);
+    match args.scheme_kind {
+        Some(SchemeKind::Nurss) => bail!(
+            "--scheme nurss: repose refines with Catmull-Clark or the adjustable scheme; \
+             refine each pose with 'subsurf subdivide --scheme nurss'"
+        ),
+        None if knots => bail!(
             "{}: knot interval or weight tags (t interval, t sideinterval, t weight): \
-             repose refines with Catmull-Clark only; refine each pose with \
-             'subsurf subdivide --scheme nurss'",
+             repose refines with Catmull-Clark or the adjustable scheme, not NURSS; refine \
+             each pose with 'subsurf subdivide --scheme nurss', or ignore the tags with \
+             --scheme catmull-clark",
             base.name
-        );
+        ),
+        _ => {}
     }
+    let kind = args.scheme_kind.unwrap_or(SchemeKind::CatmullClark);
+    let mixed = super::adjustable::for_subdivide(kind, &args.adjust);
     let opts = SubdivideOptions {
         levels: args.levels,
         scheme: args
@@ -97,7 +115,12 @@ pub fn run(args: &ReposeArgs) -> Result<()> {
         "use a lower level",
     )?;
     crate::memory::for_refinement(estimate);
-    let mut reposer = Reposer::new(mesh, &opts).with_context(|| base.name.clone())?;
+    let reposer = match mixed {
+        Some(m) => Reposer::new_mixed(mesh, &opts, m),
+        None => Reposer::new(mesh, &opts),
+    };
+    let mut reposer = reposer.with_context(|| base.name.clone())?;
+    let flags = mixed.map_or_else(String::new, |m| super::adjustable::flags(m, opts.levels));
     let progress = Progress::counting(args.poses.len() as u64, "poses", args.quiet);
     if !args.quiet {
         for w in base.unsupported_tag_warnings() {
@@ -116,7 +139,7 @@ pub fn run(args: &ReposeArgs) -> Result<()> {
         let comment = super::subdivide::command_line_of(
             "repose",
             &opts,
-            "",
+            &flags,
             &format!("{} {}", base.name, input.name),
         );
         let write_opts = WriteOptions {

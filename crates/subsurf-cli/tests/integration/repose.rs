@@ -215,3 +215,128 @@ fn outputs_that_cannot_be_written_are_refused_first() {
     assert_eq!(listing(dir.path()), ["a.obj", "hut.obj", "sub"]);
     assert_eq!(listing(&dir.path().join("sub")), ["a.obj"]);
 }
+
+/// With the adjustable scheme (`--scheme adjustable --c C [--adjust-steps K]`), each
+/// refined pose is what `subsurf subdivide` writes with the same flags: every level
+/// adjusted, the first one only (Catmull-Clark's patches after it), and with `--limit`.
+#[test]
+fn adjustable_poses_are_what_subdivide_writes() {
+    let flag_sets: [&[&str]; 3] = [
+        &["--scheme", "adjustable", "--c", "0.3"],
+        &[
+            "--scheme",
+            "adjustable",
+            "--c",
+            "0.8",
+            "--adjust-steps",
+            "1",
+        ],
+        &["--scheme", "adjustable", "--c", "0.2", "--limit"],
+    ];
+    for (base, levels) in [(HUT, "3"), (CUBE_CREASE, "4")] {
+        for flags in flag_sets {
+            let pose = moved(base, 0.7);
+            let dir = dir_with(&[("base.obj", base), ("pose.obj", &pose)]);
+            fs::create_dir(dir.path().join("out")).expect("out dir");
+            let with = |args: &[&'static str]| -> Vec<&str> {
+                let mut v = args.to_vec();
+                v.extend_from_slice(&["-l", levels]);
+                v.extend_from_slice(flags);
+                v
+            };
+            let o = run_in(
+                dir.path(),
+                &with(&["repose", "base.obj", "pose.obj", "-o", "out"]),
+            );
+            assert_code(&o, 0);
+            let o = run_in(
+                dir.path(),
+                &with(&["subdivide", "pose.obj", "-o", "full.obj", "-q"]),
+            );
+            assert_code(&o, 0);
+            let read = |p: &str| fs::read_to_string(dir.path().join(p)).expect("output");
+            let (repose, full) = (read("out/pose.obj"), read("full.obj"));
+            let ((p, f), (q, g)) = (parse(&repose), parse(&full));
+            assert_eq!(f, g, "{flags:?}: faces");
+            assert_eq!(p.len(), q.len(), "{flags:?}: vertices");
+            for (a, b) in p.iter().zip(&q) {
+                assert!(
+                    (0..3).all(|i| (a[i] - b[i]).abs() < 1e-13),
+                    "{flags:?}: {a:?} against {b:?}"
+                );
+            }
+            // The header says how the pose was refined.
+            assert!(
+                repose.contains(&flags[..4].join(" ")),
+                "{flags:?}: {repose:.300}"
+            );
+        }
+    }
+}
+
+/// NURSS is not re-posed: `--scheme nurss`, or a base mesh with knot tags and no
+/// `--scheme`, is an error that says what to do; `--c` needs `--scheme adjustable` (a
+/// usage error).
+#[test]
+fn schemes_that_are_not_reposed_are_refused() {
+    let knots = include_str!("../../../../examples/meshes/nurss-grid.obj");
+    let dir = dir_with(&[
+        ("hut.obj", HUT),
+        ("a.obj", &moved(HUT, 0.2)),
+        ("knots.obj", knots),
+    ]);
+    fs::create_dir(dir.path().join("out")).expect("out dir");
+    for (args, code, message) in [
+        (
+            &[
+                "repose", "hut.obj", "a.obj", "-o", "out", "--scheme", "nurss",
+            ][..],
+            1,
+            "--scheme nurss: repose refines with Catmull-Clark or the adjustable scheme",
+        ),
+        (
+            &["repose", "knots.obj", "knots.obj", "-o", "out"][..],
+            1,
+            "knots.obj: knot interval or weight tags",
+        ),
+        (
+            &["repose", "hut.obj", "a.obj", "-o", "out", "--c", "0.3"][..],
+            2,
+            "--c and --adjust-steps need --scheme adjustable",
+        ),
+        (
+            &[
+                "repose",
+                "hut.obj",
+                "a.obj",
+                "-o",
+                "out",
+                "--scheme",
+                "adjustable",
+            ][..],
+            2,
+            "--scheme adjustable needs --c C",
+        ),
+    ] {
+        let o = run_in(dir.path(), args);
+        assert_code(&o, code);
+        assert!(stderr(&o).contains(message), "{args:?}: {}", stderr(&o));
+    }
+    assert!(listing(&dir.path().join("out")).is_empty());
+    // With --scheme catmull-clark the knot tags are ignored, as `subdivide` ignores them.
+    let o = run_in(
+        dir.path(),
+        &[
+            "repose",
+            "knots.obj",
+            "knots.obj",
+            "-o",
+            "out",
+            "--scheme",
+            "catmull-clark",
+            "-q",
+        ],
+    );
+    assert_code(&o, 0);
+    assert_eq!(listing(&dir.path().join("out")), ["knots.obj"]);
+}
