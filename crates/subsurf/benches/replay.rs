@@ -4,9 +4,9 @@
 //!
 //! Run with `cargo bench -p subsurf --bench replay`. Throughput is in output vertices per
 //! second. Building the plan is benched too (`replay_l5/build`), since it is paid once per
-//! topology. `replay_mixed_l5` does the same for mixed subdivision (the shape-adjustable
-//! scheme with `c = 0.3` on every level, whose plan is sparse rows only, and on the first
-//! level only, with Catmull-Clark's patches below) against [`subdivide_mixed`].
+//! topology. `replay_mixed_l5` does the same for mixed subdivision against
+//! [`subdivide_mixed`]: the shape-adjustable scheme with `c = 0.3` on every level, on the
+//! first level only, and on the first four, then Catmull-Clark.
 
 use std::path::PathBuf;
 use std::time::Duration;
@@ -101,7 +101,11 @@ fn replay_mixed_level5(c: &mut Criterion) {
         .sample_size(10)
         .warm_up_time(Duration::from_secs(1))
         .measurement_time(Duration::from_secs(5));
-    for (what, steps) in [("every_level", u32::MAX), ("first_level", 1)] {
+    for (what, steps) in [
+        ("every_level", u32::MAX),
+        ("first_level", 1),
+        ("four_levels", 4),
+    ] {
         let mixed = Mixed {
             scheme: adjustable,
             steps,

@@ -35,8 +35,9 @@
 //! same `W P Wᵀ` with `W` computed from that curve rule; the phantom points across sharp
 //! sides still give the crease rule, `(1 − c/2) v + (c/4)(e_a + e_b)` along the side
 //! (derived in `refine/plan_patches.rs`); and a ring's matrix is computed by refining its
-//! template with the same masks. The patches of one plan all apply one scheme: every
-//! level adjusted, or the patches start below the last adjusted level. Re-posing
+//! template with the same masks. Each of these composes the levels it spans, each level
+//! with its own scheme's rules, so a patch may span the last adjusted levels and the
+//! first Catmull-Clark ones. Re-posing
 //! `catmark_bishop` at level 5 with `c = 0.3` on every level took 5.1 ms with sparse rows
 //! only and 1.5 ms with patches, 18× less than `subdivide_mixed` (`benches/replay.rs`;
 //! `BENCHMARKS.md`).
@@ -272,7 +273,7 @@ impl RefinePlan {
     /// [`new`](Self::new) with patches of at most `max_depth` levels (none below 2; past
     /// [`QUAD_DEPTH`], only on the base mesh's faces that are not quads, when it refines
     /// [`BASE_RING_DEPTH`] levels), and the adjustable masks on the first levels that
-    /// `mixed` says (patches only below them).
+    /// `mixed` says.
     pub(super) fn build(
         mesh: &PolyMesh,
         options: Options,
@@ -298,36 +299,22 @@ impl RefinePlan {
             });
         }
         let (mut level, warnings) = Topology::from_mesh(mesh, &options)?;
-        // Levels with the adjustable masks. The patches of the last levels all apply one
-        // scheme's masks: so either every level is adjusted, or the patches start below
-        // the last adjusted level.
-        let adjusted = mixed.map_or(0, |m| m.steps.min(levels));
-        let scheme = |l: u32| match mixed {
-            Some(m) if l <= adjusted => m.scheme,
-            _ => Adjustable::CATMULL_CLARK,
-        };
-        let one_scheme = adjusted == 0 || adjusted == levels;
-        let patch_levels = if one_scheme {
-            levels
-        } else {
-            levels - adjusted
-        };
-        let depth = if patch_levels < 2 || max_depth < 2 {
+        let mixed = mixed.unwrap_or(Mixed::CATMULL_CLARK);
+        let depth = if levels < 2 || max_depth < 2 {
             0
-        } else if one_scheme
-            && levels == BASE_RING_DEPTH
+        } else if levels == BASE_RING_DEPTH
             && max_depth >= BASE_RING_DEPTH
             && (0..mesh.num_faces()).any(|f| mesh.face(f).len() != 4)
         {
             BASE_RING_DEPTH
         } else {
-            max_depth.min(patch_levels).min(QUAD_DEPTH)
+            max_depth.min(levels).min(QUAD_DEPTH)
         };
         let full = levels - depth;
         let mut steps = Vec::with_capacity(full as usize);
         for l in 1..=full {
             let child = refine_topology(&level, &options, l < levels);
-            steps.push(Step::build(&level, &child, &options, None, scheme(l)));
+            steps.push(Step::build(&level, &child, &options, None, mixed.step(l)));
             level = child;
         }
         let tail = (depth > 0).then(|| {
@@ -336,7 +323,7 @@ impl RefinePlan {
                 let child = refine_topology(&tops[tops.len() - 1], &options, l < levels);
                 tops.push(child);
             }
-            Tail::build(&tops, &options, scheme(levels))
+            Tail::build(&tops, &options, mixed.after(full))
         });
         Ok(Self {
             steps,
@@ -485,14 +472,16 @@ impl RefinePlan {
 
 impl Tail {
     /// The tail that refines `tops[0]` to `tops[d]` (`d = tops.len() − 1 ≥ 2`), `tops`
-    /// being consecutive levels, with the masks of `scheme` on all of them.
-    fn build(tops: &[Topology], options: &Options, scheme: Adjustable) -> Tail {
+    /// being consecutive levels, step `s` (from 1) with the masks of `mixed.step(s)`.
+    fn build(tops: &[Topology], options: &Options, mixed: Mixed) -> Tail {
         let d = tops.len() - 1;
         let mut claims = Claims::new(tops[d].num_vertices());
         let mut layers: Vec<PatchLayer> = (2..=d)
             .rev()
             .map(|depth| {
-                PatchLayer::build(&tops[d - depth..d], d - depth, &mut claims, options, scheme)
+                let start = d - depth;
+                let mixed = mixed.after(start as u32);
+                PatchLayer::build(&tops[start..d], start, &mut claims, options, mixed)
             })
             .collect();
         // From the last level down: the rows that are needed, and the vertices they read.
@@ -501,7 +490,7 @@ impl Tail {
         let mut subsets = Vec::with_capacity(d);
         for s in (1..=d).rev() {
             let (p, c) = (&tops[s - 1], &tops[s]);
-            let mut step = Step::build(p, c, options, Some(&rows), scheme);
+            let mut step = Step::build(p, c, options, Some(&rows), mixed.step(s as u32));
             if s > 1 {
                 let mut used = vec![false; p.num_vertices()];
                 for &col in &step.cols {

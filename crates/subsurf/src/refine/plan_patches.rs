@@ -105,7 +105,7 @@ use super::plan_ring::{descendants, ring_net, Kernel, RingGroups, RingNet, RingP
 use crate::cpu::{has_avx2_fma, has_avx512f};
 use crate::limit::patch::{refinement_patch_cells, Cell, Sharp};
 use crate::mesh::{CreaseMethod, Options, Topology};
-use crate::scheme::adjustable::Adjustable;
+use crate::mixed::Mixed;
 
 /// Faces of a layer's level per run: the unit of parallel work. A run applies all its
 /// patches, of every kind, before the next: neighbouring patches share cache lines of the
@@ -264,11 +264,11 @@ impl Claims {
 }
 
 /// The matrix `W` of depth `d` (module docs): row `k` holds the weights of the point at
-/// parameter `k/2ᵈ` on the control points at `−1, 0, 1, 2`, for the curve scheme of
-/// `scheme` (vertex points `(c/4) pᵢ₋₁ + (1 − c/2) pᵢ + (c/4) pᵢ₊₁`, edge points
-/// `(pᵢ + pᵢ₊₁)/2`; the cubic B-spline's `(1, 6, 1)/8` for Catmull-Clark, `c = ½`).
-pub(super) fn weights(d: u32, scheme: Adjustable) -> Vec<[f64; 4]> {
-    let [side, centre, _] = scheme.curve_even_weights();
+/// parameter `k/2ᵈ` on the control points at `−1, 0, 1, 2`, step `s` (from 1) with the
+/// curve rules of `mixed.step(s)` (vertex points `(c/4) pᵢ₋₁ + (1 − c/2) pᵢ + (c/4) pᵢ₊₁`,
+/// edge points `(pᵢ + pᵢ₊₁)/2`; the cubic B-spline's `(1, 6, 1)/8` for Catmull-Clark,
+/// `c = ½`).
+pub(super) fn weights(d: u32, mixed: Mixed) -> Vec<[f64; 4]> {
     // Points as (parameter × 2^d, weights); for Catmull-Clark all values are exact dyadic
     // rationals.
     let scale = 1i64 << d;
@@ -282,7 +282,8 @@ pub(super) fn weights(d: u32, scheme: Adjustable) -> Vec<[f64; 4]> {
     let lerp = |a: &[f64; 4], b: &[f64; 4], wa: f64, wb: f64| -> [f64; 4] {
         std::array::from_fn(|k| wa * a[k] + wb * b[k])
     };
-    for _ in 0..d {
+    for step in 1..=d {
+        let [side, centre, _] = mixed.step(step).curve_even_weights();
         let mut next = Vec::with_capacity(2 * pts.len());
         for i in 0..pts.len() {
             if i > 0 && i + 1 < pts.len() {
@@ -423,15 +424,16 @@ fn cell_verts(c: &Cell) -> &[u32] {
 
 impl PatchLayer {
     /// The patches of depth `levels.len()` on the faces of `levels[0]` (refined with
-    /// `options` and the masks of `scheme`): every face that can be one and writes at
-    /// least one output vertex not yet in `claims` (which it then claims). Past
-    /// [`QUAD_DEPTH`], only the faces that are not quads ([`BASE_RING_DEPTH`]).
+    /// `options`, step `s` from `levels[0]` with the masks of `mixed.step(s)`): every face
+    /// that can be one and writes at least one output vertex not yet in `claims` (which
+    /// it then claims). Past [`QUAD_DEPTH`], only the faces that are not quads
+    /// ([`BASE_RING_DEPTH`]).
     pub(super) fn build(
         levels: &[Topology],
         source: usize,
         claims: &mut Claims,
         options: &Options,
-        scheme: Adjustable,
+        mixed: Mixed,
     ) -> Self {
         let depth = levels.len() as u32;
         let sharp = Sharp::for_levels(depth, options.crease_method);
@@ -477,7 +479,7 @@ impl PatchLayer {
         keys.dedup();
         let kernels: Vec<Option<Kernel>> = (keys.par_iter().zip(counts))
             .map(|(key, n)| {
-                (n >= MIN_RING_FACES).then(|| Kernel::new(key, depth, options, scheme))?
+                (n >= MIN_RING_FACES).then(|| Kernel::new(key, depth, options, mixed))?
             })
             .collect();
         let ring_grids: Vec<Option<(usize, Vec<u32>)>> = (found.par_iter())
@@ -541,7 +543,7 @@ impl PatchLayer {
             edge_out,
             edge_runs: Runs::new(&edge_run, runs),
             rings,
-            w: weights(depth, scheme),
+            w: weights(depth, mixed),
             bounds: [0, 0],
         };
         layer.set_bounds();
@@ -1053,7 +1055,7 @@ mod tests {
     /// The kernel rows of depth 2 are the composed subdivision masks worked out by hand.
     #[test]
     fn depth_two_weights() {
-        let w = weights(2, Adjustable::CATMULL_CLARK);
+        let w = weights(2, Mixed::CATMULL_CLARK);
         let expect = [
             [5.0 / 32.0, 22.0 / 32.0, 5.0 / 32.0, 0.0],
             [1.0 / 16.0, 10.0 / 16.0, 5.0 / 16.0, 0.0],
@@ -1073,9 +1075,7 @@ mod tests {
     #[cfg(target_arch = "x86_64")]
     fn avx_kernel_agrees() {
         fn check<const N: usize, const NN: usize>(depth: u32) {
-            let w: [[f64; 4]; N] = weights(depth, Adjustable::CATMULL_CLARK)
-                .try_into()
-                .unwrap();
+            let w: [[f64; 4]; N] = weights(depth, Mixed::CATMULL_CLARK).try_into().unwrap();
             let src: Vec<[f64; 3]> = (0..64)
                 .map(|i| {
                     let x = f64::from(i);
@@ -1152,7 +1152,7 @@ mod tests {
     #[test]
     fn weights_reproduce_linear_functions() {
         for c in [0.5, 0.0, 0.3, 0.8] {
-            let scheme = Adjustable::new(c).unwrap();
+            let scheme = Mixed::all(crate::scheme::adjustable::Adjustable::new(c).unwrap());
             let tol = if c == 0.5 { 0.0 } else { 1e-15 };
             for d in 1..=4 {
                 let w = weights(d, scheme);

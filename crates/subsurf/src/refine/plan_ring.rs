@@ -61,7 +61,8 @@
 //! # The matrix
 //! It is computed by refining the 1-ring itself: a mesh of the key's faces
 //! ([`Kernel::new`]) refined `d` levels by a plan of sparse rows only (the masks of all
-//! refinement, [`RefinePlan`] without patches), applied to the unit
+//! refinement, [`RefinePlan`] without patches; each level with the masks of its scheme,
+//! Catmull-Clark's or the shape-adjustable one's), applied to the unit
 //! vectors of its points; each row is then the refined value at one vertex on the
 //! template's face 0 (rows grouped as [`Kernel::new`] says). No mask is written twice, so
 //! the matrix cannot disagree with the rows. The template's own boundary rules act only
@@ -81,7 +82,6 @@
 
 use crate::mesh::{Corner, Crease, Options, PolyMesh, Topology};
 use crate::mixed::Mixed;
-use crate::scheme::adjustable::Adjustable;
 
 use super::plan::RefinePlan;
 use super::plan_patches::{grid_indices, prefetch_next, ring_span, Runs, SharedOut, NOT_OWNED};
@@ -362,19 +362,13 @@ pub(super) struct Kernel {
 }
 
 impl Kernel {
-    /// The matrix of ring `key` for `depth` levels, refined with `options` and the masks
-    /// of `scheme` (module docs). `None` if the template cannot be built or refined as a
-    /// mesh of its own (the faces are then left to the sparse rows).
-    pub(super) fn new(
-        key: &[u32],
-        depth: u32,
-        options: &Options,
-        scheme: Adjustable,
-    ) -> Option<Kernel> {
+    /// The matrix of ring `key` for `depth` levels, refined with `options`, step `s` with
+    /// the masks of `mixed.step(s)` (module docs). `None` if the template cannot be built
+    /// or refined as a mesh of its own (the faces are then left to the sparse rows).
+    pub(super) fn new(key: &[u32], depth: u32, options: &Options, mixed: Mixed) -> Option<Kernel> {
         let mesh = template(key)?;
         let points = mesh.num_vertices();
-        let mixed = (scheme != Adjustable::CATMULL_CLARK).then(|| Mixed::all(scheme));
-        let plan = RefinePlan::build(&mesh, *options, depth, 0, mixed).ok()?;
+        let plan = RefinePlan::build(&mesh, *options, depth, 0, Some(mixed)).ok()?;
         let (mut level, _) = Topology::from_mesh(&mesh, options).ok()?;
         let mut levels = Vec::with_capacity(depth as usize);
         for _ in 1..depth {
@@ -1190,7 +1184,7 @@ mod tests {
             let t = topology(&faces, &options);
             let ring = ring_net(&t, 0, false).unwrap();
             for depth in [2u32, 3, 4] {
-                let k = Kernel::new(&ring.key, depth, &options, Adjustable::CATMULL_CLARK).unwrap();
+                let k = Kernel::new(&ring.key, depth, &options, Mixed::CATMULL_CLARK).unwrap();
                 assert_eq!(k.points, 2 * n + 8);
                 let side = (1usize << depth) + 1;
                 assert_eq!(k.rows, (side * side).next_multiple_of(LANES));
@@ -1267,8 +1261,7 @@ mod tests {
                 let Some(ring) = ring_net(t, f, false) else {
                     continue;
                 };
-                let kernel =
-                    Kernel::new(&ring.key, depth, options, Adjustable::CATMULL_CLARK).unwrap();
+                let kernel = Kernel::new(&ring.key, depth, options, Mixed::CATMULL_CLARK).unwrap();
                 let mut walk = Vec::new();
                 descendants(&levels[..depth as usize], f, ring.start, &mut walk).unwrap();
                 if let Some(grid) = kernel.grid(&ring.verts, &walk) {
@@ -1466,7 +1459,7 @@ mod tests {
         let ring = ring_net(&t, 0, false).unwrap();
         assert_eq!(ring.verts.len(), 6);
         for depth in [2u32, 3, 4] {
-            let k = Kernel::new(&ring.key, depth, &options, Adjustable::CATMULL_CLARK).unwrap();
+            let k = Kernel::new(&ring.key, depth, &options, Mixed::CATMULL_CLARK).unwrap();
             let h = 1usize << (depth - 1);
             let rows = 3 * (h + 1) * (h + 1) - 3 * (h + 1) + 1;
             assert_eq!(
