@@ -276,7 +276,7 @@ struct VertexBlock<'a> {
 /// are the vertex's faces in face order, `corners` the edges entering and leaving it in
 /// each, `edges` the number of its edges. So the order needs no reads of other faces
 /// and edges, which on a large mesh lie anywhere in memory (the walk's cache misses were
-/// most of the base level's topology: on a 1.6 M-quad scan, 39 % of a refinement to
+/// most of the base level's topology: on a 1.2 M-quad scan, 39 % of a refinement to
 /// level 1).
 ///
 /// It is that order when no face holds the vertex twice, no edge enters it (or leaves
@@ -683,9 +683,9 @@ impl Topology {
     /// order) with [`order_corners`], and their edges' ends come from `ends` (which end
     /// of each edge the vertex is, in the order the edges were found); the others by the
     /// walk of [`order_vertex`](Self::order_vertex). The walk reads faces and edges
-    /// anywhere in memory: on a 1.6 M-quad mesh, refinement to level 1 took 0.49 s on one
-    /// thread with the walk everywhere (39 % of it in this pass), 0.29 s now, and 0.33 →
-    /// 0.22 s on two (OpenSubdiv 0.89 s).
+    /// anywhere in memory: on a 1.2 M-quad mesh, refinement to level 1 took 0.47 s on one
+    /// thread with the walk everywhere (39 % of it in this pass), 0.28 s now, and 0.32 →
+    /// 0.22 s on two (OpenSubdiv 0.91 s; `BENCHMARKS.md`).
     fn orient_vertices(&mut self, mut corners: Vec<[u32; 2]>, mut ends: Vec<u8>) {
         let nv = self.num_vertices as usize;
         let mut faces = std::mem::take(&mut self.vert_faces);
