@@ -7,7 +7,8 @@
 #
 # Meshes: catmark_bishop and catmark_pawn from crates/subsurf/tests/shapes/osd at LEVELS,
 # a "large" input (catmark_bishop refined twice by `subsurf subdivide -l 2`) at
-# LARGE_LEVELS, and every EXTRA.obj at LEVELS.
+# LARGE_LEVELS, a "huge" one (refined five times: 0.96 M quads, as users bring scans and
+# film assets) at HUGE_LEVELS, and every EXTRA.obj at LEVELS.
 #
 # Environment:
 #   REPS=7              repetitions per process (each tool prints its median)
@@ -16,6 +17,7 @@
 #                       per-process medians, which damps bursts of load from other processes
 #   LEVELS="5 6"        levels for the small meshes and the extra ones
 #   LARGE_LEVELS="3 4"  levels for the large input
+#   HUGE_LEVELS="1"     levels for the huge input (empty: skip it)
 #   SCALING_LEVELS="3 4 5 6"  levels of the time-per-output-vertex table (catmark_bishop;
 #                       empty: skip that table)
 #   REPLAY_LEVELS="6"   levels of the re-posing table (catmark_bishop, catmark_pawn, the extra
@@ -48,13 +50,14 @@ REPS="${REPS:-7}"
 ROUNDS="${ROUNDS:-3}"
 LEVELS="${LEVELS:-5 6}"
 LARGE_LEVELS="${LARGE_LEVELS:-3 4}"
+HUGE_LEVELS="${HUGE_LEVELS-1}"
 SCALING_LEVELS="${SCALING_LEVELS-3 4 5 6}"
 REPLAY_LEVELS="${REPLAY_LEVELS-6}"
 LARGE_TRI_LEVELS="${LARGE_TRI_LEVELS-2 3}"
 LIMIT_GRID="${LIMIT_GRID-8}"
 
 case "${1:-}" in
-  -h|--help) sed -n '2,30p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+  -h|--help) sed -n '2,41p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
 esac
 for extra in "$@"; do
   [ -r "$extra" ] || { echo "bench-vs-osd: cannot read $extra" >&2; exit 1; }
@@ -122,6 +125,12 @@ runs=(
   "$shapes/catmark_pawn.obj|catmark_pawn|$LEVELS"
   "$large|catmark_bishop_l2 (large)|$LARGE_LEVELS"
 )
+if [ -n "$HUGE_LEVELS" ]; then
+  huge="$work/catmark_bishop_l5.obj"
+  log "writing the huge input (catmark_bishop refined to level 5)"
+  "$subsurf" subdivide --quiet -l 5 "$shapes/catmark_bishop.obj" -o "$huge"
+  runs+=("$huge|catmark_bishop_l5 (huge)|$HUGE_LEVELS")
+fi
 for extra in "$@"; do
   runs+=("$extra|$(basename "$extra" .obj)|$LEVELS")
 done
