@@ -42,7 +42,9 @@ fn load(name: &str) -> (PolyMesh, Options) {
     (obj.mesh, options)
 }
 
-fn replay_level5(c: &mut Criterion) {
+/// A one-thread pool, [`SHAPE`] with its scheme options, and the options of its
+/// refinement to [`LEVELS`].
+fn setup() -> (rayon::ThreadPool, PolyMesh, Options, SubdivideOptions) {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(1)
         .build()
@@ -53,6 +55,11 @@ fn replay_level5(c: &mut Criterion) {
         scheme,
         ..SubdivideOptions::default()
     };
+    (pool, mesh, scheme, opts)
+}
+
+fn replay_level5(c: &mut Criterion) {
+    let (pool, mesh, scheme, opts) = setup();
     let plan = pool
         .install(|| RefinePlan::new(&mesh, scheme, LEVELS))
         .expect("plan failed");
@@ -85,16 +92,7 @@ fn replay_level5(c: &mut Criterion) {
 }
 
 fn replay_mixed_level5(c: &mut Criterion) {
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(1)
-        .build()
-        .expect("cannot start a rayon thread pool");
-    let (mesh, scheme) = load(SHAPE);
-    let opts = SubdivideOptions {
-        levels: LEVELS,
-        scheme,
-        ..SubdivideOptions::default()
-    };
+    let (pool, mesh, scheme, opts) = setup();
     let adjustable = Adjustable::new(0.3).expect("c in [0, 1]");
     let mut group = c.benchmark_group("replay_mixed_l5");
     group

@@ -35,9 +35,9 @@
 //! same `W P Wᵀ` with `W` computed from that curve rule; the phantom points across sharp
 //! sides still give the crease rule, `(1 − c/2) v + (c/4)(e_a + e_b)` along the side
 //! (derived in `refine/plan_patches.rs`); and a ring's matrix is computed by refining its
-//! template with the same masks. Each of these composes the levels it spans, each level
-//! with its own scheme's rules, so a patch may span the last adjusted levels and the
-//! first Catmull-Clark ones. Re-posing
+//! template with the same masks. A patch composes the levels it spans, each with its own
+//! scheme's rules, so it may span the last adjusted levels and the first Catmull-Clark
+//! ones. Re-posing
 //! `catmark_bishop` at level 5 with `c = 0.3` on every level took 5.1 ms with sparse rows
 //! only and 1.5 ms with patches, 18× less than `subdivide_mixed` (`benches/replay.rs`;
 //! `BENCHMARKS.md`).

@@ -412,59 +412,13 @@ fn many_ring_shapes_in_units_of_several_runs() {
 /// from a refinement's by rounding, so this holds only because normals take tangents that
 /// cancel to rounding noise for parallel (`limit::normals`): on the non-manifold and
 /// valence-2 shapes, exact tests gave normals of noise, in any direction.
+///
+/// The same for mixed subdivision, `Reposer::new_mixed` against `subdivide_mixed` (`c =
+/// 0.3` on the first level; at level 0 the limit is Catmull-Clark's, and on shapes with
+/// faces other than quads the plan then refines one Catmull-Clark level for the limit
+/// masks).
 #[test]
 fn reposer_limit_equals_subdivide_on_all_shapes() {
-    let mut failures = Vec::new();
-    let mut cases = 0;
-    for (name, mesh, options) in osd_shapes() {
-        let mut moved = mesh.clone();
-        moved
-            .positions_mut()
-            .copy_from_slice(&deform(mesh.positions()));
-        for levels in 0..=2 {
-            let opts = SubdivideOptions {
-                levels,
-                scheme: options,
-                limit: true,
-                ..SubdivideOptions::default()
-            };
-            let mut reposer = subsurf::Reposer::new(&mesh, &opts).expect("reposer");
-            for (what, m) in [("moved", &moved), ("original", &mesh)] {
-                let want = subdivide(m, &opts).expect("subdivide");
-                let got = reposer
-                    .pose(m.positions())
-                    .expect("pose")
-                    .positions()
-                    .to_vec();
-                let tol = REL_TOL * diagonal(m.positions());
-                let (d, at) = max_diff(&got, want.mesh.positions());
-                if d > tol || d.is_nan() {
-                    failures.push(format!(
-                        "{name} level {levels} {what}: vertex {at} differs by {d:e}"
-                    ));
-                }
-                let normals = reposer.normals().expect("normals");
-                let (d, at) = max_diff(normals, want.normals.as_deref().expect("normals"));
-                if d > 1e-9 || d.is_nan() {
-                    failures.push(format!(
-                        "{name} level {levels} {what}: normal {at} differs by {d:e}"
-                    ));
-                }
-                cases += 1;
-            }
-        }
-    }
-    assert!(cases >= 480, "{cases} cases");
-    assert!(failures.is_empty(), "{}", failures.join("\n"));
-}
-
-/// `Reposer::new_mixed` with the limit gives `subdivide_mixed`'s limit positions and
-/// normals on every regression shape at levels 0–2 (`c = 0.3` on the first level; at level
-/// 0 the limit is Catmull-Clark's, and on shapes with faces other than quads the plan then
-/// refines one Catmull-Clark level for the limit masks), as `Reposer::new` does for
-/// Catmull-Clark above.
-#[test]
-fn mixed_reposer_limit_equals_subdivide_mixed_on_all_shapes() {
     let mixed = Mixed {
         scheme: Adjustable::new(0.3).expect("c in [0, 1]"),
         steps: 1,
@@ -476,16 +430,24 @@ fn mixed_reposer_limit_equals_subdivide_mixed_on_all_shapes() {
         moved
             .positions_mut()
             .copy_from_slice(&deform(mesh.positions()));
-        for levels in 0..=2 {
+        for (levels, mixed) in (0..=2).flat_map(|l| [(l, None), (l, Some(mixed))]) {
             let opts = SubdivideOptions {
                 levels,
                 scheme: options,
                 limit: true,
                 ..SubdivideOptions::default()
             };
-            let mut reposer = subsurf::Reposer::new_mixed(&mesh, &opts, mixed).expect("reposer");
+            let mut reposer = match mixed {
+                Some(m) => subsurf::Reposer::new_mixed(&mesh, &opts, m),
+                None => subsurf::Reposer::new(&mesh, &opts),
+            }
+            .expect("reposer");
             for (what, m) in [("moved", &moved), ("original", &mesh)] {
-                let want = subdivide_mixed(m, &opts, mixed).expect("subdivide_mixed");
+                let want = match mixed {
+                    Some(mixed) => subdivide_mixed(m, &opts, mixed),
+                    None => subdivide(m, &opts),
+                }
+                .expect("subdivide");
                 let got = reposer
                     .pose(m.positions())
                     .expect("pose")
@@ -495,20 +457,20 @@ fn mixed_reposer_limit_equals_subdivide_mixed_on_all_shapes() {
                 let (d, at) = max_diff(&got, want.mesh.positions());
                 if d > tol || d.is_nan() {
                     failures.push(format!(
-                        "{name} level {levels} {what}: vertex {at} differs by {d:e}"
+                        "{name} level {levels} {what} {mixed:?}: vertex {at} differs by {d:e}"
                     ));
                 }
                 let normals = reposer.normals().expect("normals");
                 let (d, at) = max_diff(normals, want.normals.as_deref().expect("normals"));
                 if d > 1e-9 || d.is_nan() {
                     failures.push(format!(
-                        "{name} level {levels} {what}: normal {at} differs by {d:e}"
+                        "{name} level {levels} {what} {mixed:?}: normal {at} differs by {d:e}"
                     ));
                 }
                 cases += 1;
             }
         }
     }
-    assert!(cases >= 480, "{cases} cases");
+    assert!(cases >= 960, "{cases} cases");
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
