@@ -4,8 +4,9 @@
 //! [`Reposer`] refines the base mesh once with [`subdivide`] (the refined faces and tags,
 //! which do not depend on the positions) and builds a [`RefinePlan`] (the linear map from
 //! base positions to refined ones). Each new pose then costs one application of the plan,
-//! 10–20× less than refining again (8–11× on all-triangle scans and random semi-sharp
-//! creases refined 2–3 levels; `BENCHMARKS.md`), and gives the positions
+//! 10–20× less than refining again (7.7–11× on one thread, 10–17× on two, on all-triangle
+//! scans and random semi-sharp creases refined 2–3 levels; `BENCHMARKS.md`), and gives
+//! the positions
 //! [`subdivide`] would give on the moved mesh, to rounding (within 1e-14 of the mesh's
 //! size; see the plan's accuracy notes). [`Reposer::new_mixed`] does the same for mixed
 //! subdivision ([`subdivide_mixed`]: the shape-adjustable scheme on the first levels).
