@@ -573,7 +573,6 @@ impl Topology {
             vert_edges[o..o + len].copy_from_slice(&bucket[b0..b0 + len]);
             edge_ends[o..o + len].copy_from_slice(&bucket_end[b0..b0 + len]);
         }
-        drop(bucket);
         drop(bucket_end);
 
         // Edge → faces, in face order.
@@ -605,8 +604,10 @@ impl Topology {
         let mut vert_faces = vec![0u32; face_verts.len()];
         let mut vert_face_local = vec![0u16; face_verts.len()];
         // The edges entering and leaving each vertex in each of its faces, for
-        // `orient_vertices` (read here in face order, not there face by face).
-        let mut corners = vec![[0u32; 2]; face_verts.len()];
+        // `orient_vertices` (read here in face order, not there face by face), in the
+        // buckets' array: two entries per face-vertex, as many as it has.
+        let (corners, _) = bucket.as_chunks_mut::<2>();
+        debug_assert_eq!(corners.len(), face_verts.len());
         let mut fill = vert_face_offsets[..nv].to_vec();
         for f in 0..nf {
             let r = range(face_offsets, f);
@@ -686,7 +687,7 @@ impl Topology {
     /// anywhere in memory: on a 1.2 M-quad mesh, refinement to level 1 took 0.47 s on one
     /// thread with the walk everywhere (39 % of it in this pass), 0.28 s now, and 0.32 →
     /// 0.22 s on two (OpenSubdiv 0.91 s; `BENCHMARKS.md`).
-    fn orient_vertices(&mut self, mut corners: Vec<[u32; 2]>, mut ends: Vec<u8>) {
+    fn orient_vertices(&mut self, corners: &mut [[u32; 2]], mut ends: Vec<u8>) {
         let nv = self.num_vertices as usize;
         let mut faces = std::mem::take(&mut self.vert_faces);
         let mut face_local = std::mem::take(&mut self.vert_face_local);
@@ -697,7 +698,7 @@ impl Topology {
         let (fo, eo) = (&this.vert_face_offsets, &this.vert_edge_offsets);
         let blocks: Vec<VertexBlock> = (split_blocks(&mut faces, fo).into_iter())
             .zip(split_blocks(&mut face_local, fo))
-            .zip(split_blocks(&mut corners, fo))
+            .zip(split_blocks(corners, fo))
             .zip(split_blocks(&mut edges, eo))
             .zip(split_blocks(&mut edge_local, eo))
             .zip(split_blocks(&mut ends, eo))
