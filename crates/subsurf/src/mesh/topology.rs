@@ -1536,6 +1536,50 @@ mod tests {
         }
     }
 
+    /// On every vertex of `t` where the order follows from the corners ([`order_corners`],
+    /// given the vertex's corners in face order as `from_faces` lists them), checks that
+    /// it is the walk's ([`Topology::order_vertex`]); returns on how many of them it does.
+    fn check_corner_order(t: &Topology, name: &str) -> usize {
+        let mut order = Vec::new();
+        let mut by_corners = 0;
+        for v in 0..t.num_vertices() {
+            let mut records: Vec<(u32, u16)> = (t.vertex_faces(v).iter().copied())
+                .zip(t.vertex_face_locals(v).iter().copied())
+                .collect();
+            records.sort_unstable();
+            let faces: Vec<u32> = records.iter().map(|r| r.0).collect();
+            let corners: Vec<[u32; 2]> = (records.iter())
+                .map(|&(f, l)| {
+                    let fe = t.face_edge_list(f as usize);
+                    let (n, l) = (fe.len(), usize::from(l));
+                    [fe[(l + n - 1) % n], fe[l]]
+                })
+                .collect();
+            let ne = t.vertex_edges(v).len();
+            if !order_corners(&faces, &corners, ne, &mut order) {
+                continue;
+            }
+            by_corners += 1;
+            let (mut walk_faces, mut walk_edges) = (Vec::new(), Vec::new());
+            let lists = (faces.as_slice(), t.vertex_edges(v));
+            assert!(
+                t.order_vertex(v, lists, &mut walk_faces, &mut walk_edges),
+                "{name} vertex {v}"
+            );
+            let mut edges: Vec<u32> = order.iter().map(|&k| corners[k][1]).collect();
+            if ne > faces.len() {
+                edges.push(corners[order[order.len() - 1]][0]);
+            }
+            let ordered: Vec<u32> = order.iter().map(|&k| faces[k]).collect();
+            assert_eq!(
+                (ordered, edges),
+                (walk_faces, walk_edges),
+                "{name} vertex {v}"
+            );
+        }
+        by_corners
+    }
+
     /// Where a vertex's order follows from its corners ([`order_corners`]), it is the
     /// walk's ([`Topology::order_vertex`]), on every vertex of every regression shape
     /// (boundaries, holes, n-gons, non-manifold fins, bowties, faces that repeat a vertex)
@@ -1566,54 +1610,33 @@ mod tests {
                 }
             })
             .collect();
-        meshes.push((
-            "turned".into(),
-            PolyMesh::from_faces(vec![[0.0; 3]; 25], &grid).unwrap(),
-        ));
+        let turned = PolyMesh::from_faces(vec![[0.0; 3]; 25], &grid).unwrap();
+        meshes.push(("turned".into(), turned));
         assert!(meshes.len() > 80);
         let (mut by_corners, mut vertices) = (0, 0);
-        let mut order = Vec::new();
         for (name, mesh) in &meshes {
             let t = Topology::from_mesh(mesh, &Options::default()).unwrap().0;
-            for v in 0..t.num_vertices() {
-                // The vertex's corners in face order, as `from_faces` lists them.
-                let mut records: Vec<(u32, u16)> = (t.vertex_faces(v).iter().copied())
-                    .zip(t.vertex_face_locals(v).iter().copied())
-                    .collect();
-                records.sort_unstable();
-                let faces: Vec<u32> = records.iter().map(|r| r.0).collect();
-                let corners: Vec<[u32; 2]> = (records.iter())
-                    .map(|&(f, l)| {
-                        let fe = t.face_edge_list(f as usize);
-                        let (n, l) = (fe.len(), usize::from(l));
-                        [fe[(l + n - 1) % n], fe[l]]
-                    })
-                    .collect();
-                let ne = t.vertex_edges(v).len();
-                vertices += 1;
-                if !order_corners(&faces, &corners, ne, &mut order) {
-                    continue;
-                }
-                by_corners += 1;
-                let (mut walk_faces, mut walk_edges) = (Vec::new(), Vec::new());
-                let lists = (faces.as_slice(), t.vertex_edges(v));
-                assert!(
-                    t.order_vertex(v, lists, &mut walk_faces, &mut walk_edges),
-                    "{name} {v}"
-                );
-                let mut edges: Vec<u32> = order.iter().map(|&k| corners[k][1]).collect();
-                if ne > faces.len() {
-                    edges.push(corners[order[order.len() - 1]][0]);
-                }
-                let ordered: Vec<u32> = order.iter().map(|&k| faces[k]).collect();
-                assert_eq!(
-                    (ordered, edges),
-                    (walk_faces, walk_edges),
-                    "{name} vertex {v}"
-                );
-            }
+            by_corners += check_corner_order(&t, name);
+            vertices += t.num_vertices();
         }
         assert!(by_corners * 10 > vertices * 9, "{by_corners} of {vertices}");
+    }
+
+    proptest::proptest! {
+        /// The same on random meshes of a few faces over a few vertices: faces of 3 to 5
+        /// corners on any vertices (repeated ones too), so that edges with three or more
+        /// faces, bowties, faces turned against their neighbours and faces that repeat a
+        /// vertex are common.
+        #[test]
+        fn corner_order_is_the_walks_on_random_meshes(
+            faces in proptest::collection::vec(
+                proptest::collection::vec(0u32..7, 3..=5), 1..10)
+        ) {
+            let mesh = PolyMesh::from_faces(vec![[0.0; 3]; 7], &faces).unwrap();
+            if let Ok((t, _)) = Topology::from_mesh(&mesh, &Options::default()) {
+                check_corner_order(&t, &format!("{faces:?}"));
+            }
+        }
     }
 
     /// The base level's vertex relations, built in blocks of vertices, are those that
