@@ -1623,6 +1623,10 @@ mod tests {
     }
 
     proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig {
+            failure_persistence: None,
+            ..proptest::prelude::ProptestConfig::default()
+        })]
         /// The same on random meshes of a few faces over a few vertices: faces of 3 to 5
         /// corners on any vertices (repeated ones too), so that edges with three or more
         /// faces, bowties, faces turned against their neighbours and faces that repeat a
