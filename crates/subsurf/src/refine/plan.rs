@@ -19,8 +19,9 @@
 //! rest: faces at non-manifold vertices, at semi-sharp edges under Chaikin's rule, at
 //! valences above 16, and faces whose ring is shared by fewer than four faces (0.05 % of
 //! the output of `catmark_bishop` at level 6). Re-posing is 10–20× faster than
-//! [`subdivide`](fn@crate::subdivide) on quad meshes, 9–17× on all-triangle ones such as
-//! scans, with AVX-512 (7–12× at levels 2–5 with AVX2 only; see [`RefinePlan`] for
+//! [`subdivide`](fn@crate::subdivide) on quad meshes, 7.7–17× on all-triangle ones such
+//! as scans (the least at level 2, on one thread), with AVX-512 (7–12× at levels 2–5
+//! with AVX2 only, before the base level's topology got faster; see [`RefinePlan`] for
 //! numbers).
 //!
 //! # Schemes
@@ -154,7 +155,10 @@ const PAR_MIN_ROWS: usize = 16 * 1024;
 /// repository) 10.5–15× at levels 2–4 on one thread (12–19× on two), but for the CAD
 /// part `rocker-arm` at level 3, 9.1× on one thread (12× on two), and the scan
 /// `nefertiti` at level 2, 9.6× (12× on two), where every patch is a ring patch of one of
-/// thousands of matrices.
+/// thousands of matrices. Since the base level's topology orders its vertices from their
+/// corners (2026-11-24), full refinement of scans at low levels is faster and these
+/// ratios lower, the applies unchanged: `nefertiti` at level 2 7.7× on one thread (10.2×
+/// on two), `cow` 9.5×, `ogre` 10.9×.
 /// Those figures are with the AVX-512 patch kernels (this machine has AVX-512). With
 /// AVX2 only (the AVX-512 kernels switched off in a test build, one thread), quad meshes
 /// are 6–9 % slower to re-pose (`catmark_bishop` 12.1× at level 5, 16.9× at level 6) and
