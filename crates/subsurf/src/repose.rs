@@ -9,7 +9,9 @@
 //! the positions
 //! [`subdivide`] would give on the moved mesh, to rounding (within 1e-14 of the mesh's
 //! size; see the plan's accuracy notes). [`Reposer::new_mixed`] does the same for mixed
-//! subdivision ([`subdivide_mixed`]: the shape-adjustable scheme on the first levels).
+//! subdivision ([`subdivide_mixed`]: the shape-adjustable scheme on the first levels),
+//! [`Reposer::new_nurss`] for non-uniform subdivision ([`crate::nurss::subdivide`]: knot
+//! intervals, and rational weights, which stay with their vertices from pose to pose).
 //!
 //! With [`SubdivideOptions::limit`], the limit positions and normals too: the limit masks
 //! of the refined level ([`crate::limit::limit_points`], OpenSubdiv's
@@ -22,8 +24,11 @@
 use crate::limit::{largest_coordinate, normals_into, VertexLimitRows};
 use crate::mesh::{check_coordinates, MeshError, PolyMesh, Topology, TopologyWarning};
 use crate::mixed::Mixed;
+use crate::nurss::NurssOptions;
 use crate::refine::{refine_topology, PlanScratch, RefinePlan};
-use crate::subdivide::{estimate_memory, subdivide, subdivide_mixed, Error, SubdivideOptions};
+use crate::subdivide::{
+    estimate_memory, subdivide, subdivide_mixed, Error, SubdivideOptions, Subdivision,
+};
 
 /// A subdivision that can be re-posed: the refined mesh of a base mesh, recomputed for new
 /// base positions with a [`RefinePlan`] instead of a full refinement.
@@ -64,6 +69,45 @@ pub struct Reposer {
     warnings: Vec<TopologyWarning>,
     /// With [`SubdivideOptions::limit`]: the limit positions and normals.
     limit: Option<Box<LimitMap>>,
+    /// For a rational NURSS mesh: the plan maps homogeneous points.
+    rational: Option<Box<Homogeneous>>,
+}
+
+/// The scheme a [`Reposer`] refines with.
+#[derive(Clone, Copy, Debug)]
+enum Scheme {
+    CatmullClark,
+    Mixed(Mixed),
+    Nurss,
+}
+
+/// The weights of a rational base mesh, and the homogeneous points `(w x, w y, w z, w)`
+/// of the base and refined levels (buffers kept from pose to pose).
+#[derive(Clone, Debug)]
+struct Homogeneous {
+    weights: Vec<f64>,
+    base: Vec<[f64; 4]>,
+    level: Vec<[f64; 4]>,
+    scratch: PlanScratch<4>,
+}
+
+impl Homogeneous {
+    /// Writes into `out` the positions of `plan` applied to the points `positions` with
+    /// their weights: the homogeneous points refined, then divided by their weight (as
+    /// [`Nurss::positions`](crate::nurss::Nurss::positions)).
+    fn apply(&mut self, plan: &RefinePlan, positions: &[[f64; 3]], out: &mut [[f64; 3]]) {
+        self.base.clear();
+        self.base.extend(
+            positions
+                .iter()
+                .zip(&self.weights)
+                .map(|(p, &w)| [w * p[0], w * p[1], w * p[2], w]),
+        );
+        plan.apply_into(&self.base, &mut self.level, &mut self.scratch);
+        for (o, h) in out.iter_mut().zip(&self.level) {
+            *o = [h[0] / h[3], h[1] / h[3], h[2] / h[3]];
+        }
+    }
 }
 
 /// The limit positions and normals of a refined level as maps of the positions of the
@@ -199,7 +243,7 @@ impl Reposer {
     /// As [`subdivide`], the memory estimate ([`Error::TooLarge`]) counting the plan too
     /// ([`RefinePlan::estimate_memory`]).
     pub fn new(base: &PolyMesh, opts: &SubdivideOptions) -> Result<Self, Error> {
-        Self::build(base, opts, None)
+        Self::build(base, opts, Scheme::CatmullClark)
     }
 
     /// [`new`](Self::new) for mixed subdivision: each pose is refined as
@@ -237,17 +281,61 @@ impl Reposer {
         opts: &SubdivideOptions,
         mixed: Mixed,
     ) -> Result<Self, Error> {
-        Self::build(base, opts, Some(mixed))
+        Self::build(base, opts, Scheme::Mixed(mixed))
     }
 
-    /// [`new`](Self::new), with the adjustable masks on the levels `mixed` says.
-    fn build(
-        base: &PolyMesh,
-        opts: &SubdivideOptions,
-        mixed: Option<Mixed>,
-    ) -> Result<Self, Error> {
+    /// [`new`](Self::new) for non-uniform subdivision (NURSS, seed 001): each pose is
+    /// refined as [`crate::nurss::subdivide`] refines it, with the base mesh's knot
+    /// intervals ([`RefinePlan::new_nurss`]). A rational base mesh (weight tags) keeps its
+    /// weights: a pose moves the points, each keeps the weight of its vertex; the refined
+    /// mesh keeps the refined intervals and weights as tags ([`PolyMesh::knots`]).
+    ///
+    /// ```
+    /// use subsurf::mesh::{EdgeInterval, PolyMesh};
+    /// use subsurf::nurss::{subdivide, NurssOptions};
+    /// use subsurf::{Reposer, SubdivideOptions};
+    ///
+    /// let corners: Vec<[f64; 3]> = (0..8)
+    ///     .map(|i| [(i & 1) as f64, (i >> 1 & 1) as f64, (i >> 2) as f64])
+    ///     .collect();
+    /// let faces = [[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]];
+    /// let mut cube = PolyMesh::from_faces(corners.clone(), &faces)?;
+    /// // Edges along x three times as long in parameter as the others.
+    /// for [a, b] in [[0, 1], [2, 3], [4, 5], [6, 7]] {
+    ///     cube.knots.intervals.push(EdgeInterval { v0: a, v1: b, interval: 3.0 });
+    /// }
+    /// let opts = SubdivideOptions { levels: 3, ..Default::default() };
+    /// let mut reposer = Reposer::new_nurss(&cube, &opts)?;
+    ///
+    /// let stretched: Vec<[f64; 3]> = corners.iter().map(|p| [2.0 * p[0], p[1], p[2]]).collect();
+    /// let posed = reposer.pose(&stretched)?.clone();
+    /// let mut moved = cube.clone();
+    /// moved.positions_mut().copy_from_slice(&stretched);
+    /// let full = subdivide(&moved, &NurssOptions { levels: 3, ..Default::default() })?.mesh;
+    /// for (a, b) in posed.positions().iter().zip(full.positions()) {
+    ///     assert!((0..3).all(|i| (a[i] - b[i]).abs() < 1e-14));
+    /// }
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    ///
+    /// # Errors
+    /// As [`crate::nurss::subdivide`] ([`Error::Nurss`]: bad knot tags, semi-sharp
+    /// creases) and the memory estimate ([`Error::TooLarge`]); [`Error::NurssLimit`] with
+    /// [`SubdivideOptions::limit`].
+    pub fn new_nurss(base: &PolyMesh, opts: &SubdivideOptions) -> Result<Self, Error> {
+        Self::build(base, opts, Scheme::Nurss)
+    }
+
+    /// [`new`](Self::new), with the masks of `scheme`.
+    fn build(base: &PolyMesh, opts: &SubdivideOptions, scheme: Scheme) -> Result<Self, Error> {
+        if opts.limit && matches!(scheme, Scheme::Nurss) {
+            return Err(Error::NurssLimit);
+        }
         if let Some(limit) = opts.max_memory {
-            let estimate = Self::estimate_memory(base, opts);
+            let estimate = match scheme {
+                Scheme::Nurss => Self::estimate_memory_nurss(base, opts),
+                _ => Self::estimate_memory(base, opts),
+            };
             if estimate > limit {
                 return Err(Error::TooLarge {
                     levels: opts.levels,
@@ -256,9 +344,23 @@ impl Reposer {
                 });
             }
         }
-        let sub = match mixed {
-            Some(m) => subdivide_mixed(base, opts, m)?,
-            None => subdivide(base, opts)?,
+        let sub = match scheme {
+            Scheme::CatmullClark => subdivide(base, opts)?,
+            Scheme::Mixed(m) => subdivide_mixed(base, opts, m)?,
+            Scheme::Nurss => {
+                let nurss_opts = NurssOptions {
+                    levels: opts.levels,
+                    scheme: opts.scheme,
+                    limit: false,
+                    keep_holes: opts.keep_holes,
+                };
+                let s = crate::nurss::subdivide(base, &nurss_opts)?;
+                Subdivision {
+                    mesh: s.mesh,
+                    warnings: s.warnings,
+                    normals: None,
+                }
+            }
         };
         // Limit masks need quads around each vertex: on a base mesh with other faces,
         // refined 0 levels, they are taken one level further down (as `subdivide` does).
@@ -268,14 +370,29 @@ impl Reposer {
         } else {
             opts.levels
         };
-        let plan = match mixed {
+        let plan = match scheme {
+            Scheme::CatmullClark => RefinePlan::new(base, opts.scheme, plan_levels)?,
             // The level that limit masks may add is Catmull-Clark's, as in `subdivide_mixed`.
-            Some(m) => {
+            Scheme::Mixed(m) => {
                 let steps = m.steps.min(opts.levels);
                 RefinePlan::new_mixed(base, opts.scheme, plan_levels, Mixed { steps, ..m })?
             }
-            None => RefinePlan::new(base, opts.scheme, plan_levels)?,
+            Scheme::Nurss => RefinePlan::new_nurss(base, opts.scheme, plan_levels)?,
         };
+        let rational =
+            (matches!(scheme, Scheme::Nurss) && !base.knots.weights.is_empty()).then(|| {
+                let mut weights = vec![1.0; base.num_vertices()];
+                // A later tag of the same vertex wins, as in `Nurss::new`.
+                for w in &base.knots.weights {
+                    weights[w.vertex as usize] = w.weight;
+                }
+                Box::new(Homogeneous {
+                    weights,
+                    base: Vec::new(),
+                    level: Vec::new(),
+                    scratch: PlanScratch::default(),
+                })
+            });
         let limit = match sub.normals {
             Some(normals) => {
                 let (mut level, _) = Topology::from_mesh(base, &opts.scheme)?;
@@ -299,6 +416,7 @@ impl Reposer {
             scratch: PlanScratch::default(),
             warnings: sub.warnings,
             limit,
+            rational,
         })
     }
 
@@ -318,11 +436,12 @@ impl Reposer {
             });
         }
         check_coordinates(positions)?;
-        match &mut self.limit {
-            None => {
+        match (&mut self.limit, &mut self.rational) {
+            (None, None) => {
                 (self.plan).apply_into(positions, self.mesh.positions_vec_mut(), &mut self.scratch)
             }
-            Some(limit) => {
+            (None, Some(h)) => h.apply(&self.plan, positions, self.mesh.positions_mut()),
+            (Some(limit), _) => {
                 (self.plan).apply_into(positions, &mut limit.level, &mut self.scratch);
                 limit.apply(self.mesh.positions_mut(), positions);
             }
@@ -360,6 +479,15 @@ impl Reposer {
     /// [`SubdivideOptions::max_memory`]; check it first to say so in your own terms.
     pub fn estimate_memory(base: &PolyMesh, opts: &SubdivideOptions) -> u64 {
         estimate_memory(base, opts).saturating_add(RefinePlan::estimate_memory(base, opts.levels))
+    }
+
+    /// [`estimate_memory`](Self::estimate_memory) of [`new_nurss`](Self::new_nurss): NURSS
+    /// refinement keeps every level complete and refines homogeneous points (twice
+    /// [`estimate_memory`] of Catmull-Clark's), and the plan is sparse rows on every level
+    /// ([`RefinePlan::estimate_memory`] covers them).
+    pub fn estimate_memory_nurss(base: &PolyMesh, opts: &SubdivideOptions) -> u64 {
+        (estimate_memory(base, opts).saturating_mul(2))
+            .saturating_add(RefinePlan::estimate_memory(base, opts.levels))
     }
 
     /// The refined mesh, with the positions of the last pose (at first, the base mesh's).

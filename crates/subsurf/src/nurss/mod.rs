@@ -18,6 +18,9 @@
 //! - [`subdivide`]: the one-call facade, like [`crate::subdivide`](fn@crate::subdivide).
 //! - [`tessellate`](fn@tessellate): a watertight sampling of the limit surface through refinement (limit
 //!   points of level `L` for rate `2^L`), with mesh normals.
+//! - Re-posing (new positions of the same mesh, refined without refining again):
+//!   [`crate::Reposer::new_nurss`], and the plan underneath,
+//!   [`crate::refine::RefinePlan::new_nurss`].
 //!
 //! The weights are in [`crate::scheme::nurss`], the application to a level in
 //! [`crate::refine::nurss`] (which documents how intervals are read, boundaries and sharp
@@ -63,6 +66,8 @@ use crate::mesh::{
     SideInterval, Tags, Topology, TopologyWarning, VertexWeight,
 };
 use crate::refine::nurss::{refine_nurss_step, NurssKnots};
+use crate::refine::plan::check_size;
+use crate::refine::RefinePlan;
 
 pub use limit::LIMIT_TOLERANCE;
 pub use tessellate::tessellate;
@@ -273,6 +278,11 @@ impl Nurss {
         })
     }
 
+    /// The topology, knot intervals and base-mesh warnings of the current level.
+    pub(crate) fn into_parts(self) -> (Topology, NurssKnots, Vec<TopologyWarning>) {
+        (self.topology, self.knots, self.warnings)
+    }
+
     /// Refines one level (auxiliary side intervals are used, then dropped).
     pub fn step(&mut self) {
         let (child, points, knots) =
@@ -442,6 +452,52 @@ impl Nurss {
         m.tags = tags;
         m.knots = knots;
         m
+    }
+}
+
+impl RefinePlan {
+    /// The plan of non-uniform Catmull-Clark subdivision (NURSS, seed 001): as
+    /// [`new`](Self::new), with the knot intervals of `mesh` ([`PolyMesh::knots`]), as
+    /// [`Nurss`] refines it. Every level is sparse rows: their weights
+    /// depend on the intervals, so no fixed kernel applies (see "Schemes" in
+    /// [`crate::refine::plan`]).
+    ///
+    /// A mesh with weights (`t weight` tags) is rational: NURSS refines its homogeneous
+    /// points `(w x, w y, w z, w)`, and so must the plan; divide by the last coordinate
+    /// after applying it ([`Reposer::new_nurss`](crate::Reposer::new_nurss) does both).
+    ///
+    /// ```
+    /// use subsurf::mesh::{EdgeInterval, Options, PolyMesh};
+    /// use subsurf::nurss::{subdivide, NurssOptions};
+    /// use subsurf::refine::RefinePlan;
+    ///
+    /// let mut quad = PolyMesh::from_faces(
+    ///     vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]],
+    ///     &[[0u32, 1, 2, 3]],
+    /// )?;
+    /// quad.knots.intervals.push(EdgeInterval { v0: 0, v1: 1, interval: 3.0 });
+    /// let plan = RefinePlan::new_nurss(&quad, Options::default(), 3)?;
+    /// quad.positions_mut()[2][2] = 1.0;
+    /// let moved = plan.apply(quad.positions());
+    /// let opts = NurssOptions { levels: 3, ..Default::default() };
+    /// let full = subdivide(&quad, &opts)?.mesh;
+    /// for (a, b) in moved.iter().zip(full.positions()) {
+    ///     assert!((0..3).all(|k| (a[k] - b[k]).abs() < 1e-14));
+    /// }
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    ///
+    /// # Errors
+    /// As [`Nurss::new`](crate::nurss::Nurss::new) (bad knot tags, semi-sharp creases, an
+    /// invalid mesh), and [`MeshError::TooLarge`] (in [`NurssError::Mesh`]) when the last
+    /// level would exceed 32-bit indices.
+    pub fn new_nurss(mesh: &PolyMesh, options: Options, levels: u32) -> Result<Self, NurssError> {
+        mesh.validate()?;
+        check_size(mesh, levels)?;
+        let (level, knots, warnings) = Nurss::new(mesh, &options)?.into_parts();
+        Ok(RefinePlan::from_nurss(
+            level, knots, options, levels, warnings,
+        ))
     }
 }
 

@@ -3,6 +3,10 @@
 //! child level. The child topology is Catmull-Clark's (`refine_topology`), so child
 //! vertices, edges and faces are numbered exactly as for Catmull-Clark (OpenSubdiv's order).
 //!
+//! A step's weights depend on the topology and the intervals only: `NurssMasks` computes
+//! them once per level; [`interpolate_nurss`] applies them to data, and re-posing plans
+//! ([`crate::refine::RefinePlan::new_nurss`]) store them as rows.
+//!
 //! # How the rules read intervals
 //! - *Side intervals.* Inside face `f`, edge `j` of the face reads [`NurssKnots::side`]: the
 //!   auxiliary interval of that side when the level has them (the base mesh only, seed 001
@@ -253,6 +257,331 @@ fn axpy<const D: usize>(acc: &mut [f64; D], w: f64, x: &[f64; D]) {
     }
 }
 
+/// The rule of an edge point.
+#[derive(Clone, Copy, Debug)]
+enum EdgeRule {
+    /// `m M + f₀ F₀ + f₁ F₁`: the edge's midpoint `M` (its [`NurssMasks::mid`] weights) and
+    /// the points of its two faces (Sederberg et al. §4, the edge point of a smooth edge).
+    Smooth { m: f64, faces: [f64; 2] },
+    /// `c₀ A + c₁ B` on the edge's ends: the cubic B-spline curve's edge point along a
+    /// chain of sharp edges (boundary, non-manifold or infinitely sharp).
+    Curve([f64; 2]),
+}
+
+/// The rule of a vertex point.
+#[derive(Clone, Copy, Debug)]
+enum VertexRule {
+    /// The vertex stays (a corner, an isolated or boundary vertex, a vertex whose star is
+    /// not one fan, a crease vertex without exactly two sharp edges).
+    Keep,
+    /// `c₀ Q₀ + c₁ V + c₂ Q₁` along a crease, `Q₀` and `Q₁` the far ends of its two sharp
+    /// edges (the curve's vertex point).
+    Curve { ends: [u32; 2], w: [f64; 3] },
+    /// `w V + Σᵢ mᵢ Mᵢ + fᵢ Fᵢ` over its edges' midpoints and its faces' points, the `mᵢ`
+    /// and `fᵢ` in [`NurssMasks`]' `vert_mid` and `vert_face` at the vertex's edge and face
+    /// slots (Sederberg et al. §4, the vertex point).
+    Smooth(f64),
+}
+
+/// Every weight of one NURSS step on a level: what [`interpolate_nurss`] applies to vertex
+/// data, computed once from the level's topology and knot intervals (and nothing else:
+/// the step is linear in the data). [`apply`](Self::apply) refines data with them;
+/// [`row`](Self::row) gives one child vertex's weights on the parent vertices, the rows of
+/// a re-posing plan ([`crate::refine::RefinePlan::new_nurss`]).
+///
+/// The rules are those of the [module documentation](self), with the weights of
+/// [`crate::scheme::nurss`]: face points on their face's vertices; edge midpoints `M` on
+/// the edge's ends; edge points on `M` and their faces' points (or the curve rule);
+/// vertex points on themselves, their edges' `M` and their faces' points (or the curve
+/// rule, or the vertex itself).
+pub(crate) struct NurssMasks {
+    /// The weight of each face-vertex slot in its face's point.
+    face: Vec<f64>,
+    /// The weights of each edge's midpoint `M` on its two ends.
+    mid: Vec<[f64; 2]>,
+    edge: Vec<EdgeRule>,
+    vertex: Vec<VertexRule>,
+    /// The weights of [`VertexRule::Smooth`] on the midpoints of the vertex's edges, at
+    /// their slots of `vert_edges` (zero elsewhere).
+    vert_mid: Vec<f64>,
+    /// The same on the points of its faces, at their slots of `vert_faces`.
+    vert_face: Vec<f64>,
+}
+
+impl NurssMasks {
+    /// The masks of refining `parent` (complete, without semi-sharp edges or vertices)
+    /// with the intervals `knots`.
+    pub(crate) fn new(parent: &Topology, knots: &NurssKnots) -> Self {
+        let t = parent;
+        let (nv, nf, ne) = (t.num_vertices(), t.num_faces(), t.num_edges());
+        let eff = effective_knots(knots);
+        let knots = &eff;
+        let ac = across_values(t, knots);
+
+        let mut face = vec![0.0; t.face_verts.len()];
+        let (mut d, mut a0, mut a1, mut w) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        for f in 0..nf {
+            let o = t.face_offsets[f] as usize;
+            let n = t.face_offsets[f + 1] as usize - o;
+            d.clear();
+            a0.clear();
+            a1.clear();
+            for j in 0..n {
+                d.push(knots.side(t, f, j));
+                a0.push(ac.slot[o + j][0]);
+                a1.push(ac.slot[o + (j + 1) % n][1]);
+            }
+            face_weights(&d, &a0, &a1, &mut w);
+            face[o..o + n].copy_from_slice(&w);
+        }
+
+        let mut mid = Vec::with_capacity(ne);
+        let mut edge = Vec::with_capacity(ne);
+        for e in 0..ne {
+            let [a, b] = t.edge_verts[e];
+            mid.push(midpoint_weights(ac.own[e], ac.edge[e][0], ac.edge[e][1]));
+            let faces = t.edge_face_list(e);
+            edge.push(
+                if faces.len() == 2
+                    && t.edge_sharpness[e] <= 0.0
+                    && !t.edge_tags[e].get().non_manifold
+                {
+                    let locals = &t.edge_face_local[t.edge_face_offsets[e] as usize..];
+                    let sides = |i: usize| {
+                        let (f, l) = (faces[i] as usize, locals[i] as usize);
+                        let n = t.face_vertices(f).len();
+                        [knots.side(t, f, l + n - 1), knots.side(t, f, l + 1)]
+                    };
+                    let [m, l, r] = edge_weights(sides(0), sides(1));
+                    EdgeRule::Smooth { m, faces: [l, r] }
+                } else {
+                    let d = ac.own[e];
+                    let before = crease_partner(t, a as usize, e).map_or(d, |x| ac.own[x]);
+                    let after = crease_partner(t, b as usize, e).map_or(d, |x| ac.own[x]);
+                    EdgeRule::Curve(curve_edge_weights(before, d, after))
+                },
+            );
+        }
+
+        let mut vertex = Vec::with_capacity(nv);
+        let mut vert_mid = vec![0.0; t.vert_edges.len()];
+        let mut vert_face = vec![0.0; t.vert_faces.len()];
+        let (mut ring, mut wm, mut wf) = (Vec::new(), Vec::new(), Vec::new());
+        for v in 0..nv {
+            let edges = t.vertex_edges(v);
+            let tag = t.vert_tags[v].get();
+            let rule = match tag.rule {
+                Rule::Corner => VertexRule::Keep,
+                _ if edges.is_empty() => VertexRule::Keep,
+                Rule::Crease => {
+                    let mut sharp = edges
+                        .iter()
+                        .map(|&e| e as usize)
+                        .filter(|&e| t.edge_sharpness[e] > 0.0);
+                    match (sharp.next(), sharp.next(), sharp.next()) {
+                        (Some(e1), Some(e2), None) => {
+                            let other = |e: usize| {
+                                let [x, y] = t.edge_verts[e];
+                                if x as usize == v {
+                                    y
+                                } else {
+                                    x
+                                }
+                            };
+                            let (q1, q2) = (other(e1), other(e2));
+                            let (d1, d2) = (ac.own[e1], ac.own[e2]);
+                            let d0 = crease_partner(t, q1 as usize, e1).map_or(d1, |x| ac.own[x]);
+                            let d3 = crease_partner(t, q2 as usize, e2).map_or(d2, |x| ac.own[x]);
+                            VertexRule::Curve {
+                                ends: [q1, q2],
+                                w: curve_vertex_weights([d0, d1, d2, d3]),
+                            }
+                        }
+                        _ => VertexRule::Keep,
+                    }
+                }
+                Rule::Smooth | Rule::Dart if tag.boundary || !is_fan(t, v) => VertexRule::Keep,
+                Rule::Smooth | Rule::Dart => {
+                    let faces = t.vertex_faces(v);
+                    let flocal = t.vertex_face_locals(v);
+                    let n = edges.len();
+                    let side = |f: usize, entering: bool| {
+                        read_side(
+                            t,
+                            knots,
+                            &ac.own,
+                            side_slot(t, faces[f], flocal[f], entering),
+                        )
+                    };
+                    ring.clear();
+                    for i in 0..n {
+                        ring.push(RingIntervals {
+                            minus2: side((i + n - 2) % n, false),
+                            minus1: side((i + n - 1) % n, false),
+                            plus1: side(i, true),
+                            plus2: side((i + 1) % n, true),
+                        });
+                    }
+                    let wv = vertex_weights(&ring, &mut wm, &mut wf);
+                    let eo = t.vert_edge_offsets[v] as usize;
+                    let fo = t.vert_face_offsets[v] as usize;
+                    vert_mid[eo..eo + n].copy_from_slice(&wm[..n]);
+                    vert_face[fo..fo + n].copy_from_slice(&wf[..n]);
+                    VertexRule::Smooth(wv)
+                }
+            };
+            vertex.push(rule);
+        }
+        NurssMasks {
+            face,
+            mid,
+            edge,
+            vertex,
+            vert_mid,
+            vert_face,
+        }
+    }
+
+    /// Refines `src` (values at the vertices of `t`, the level of [`new`](Self::new)) into
+    /// `dst` (the child's vertices), as [`interpolate_nurss`] describes.
+    pub(crate) fn apply<const D: usize>(
+        &self,
+        t: &Topology,
+        src: &[[f64; D]],
+        dst: &mut [[f64; D]],
+    ) {
+        let (nv, nf, ne) = (t.num_vertices(), t.num_faces(), t.num_edges());
+        let (vert_pts, rest) = dst.split_at_mut(nv);
+        let (face_pts, edge_pts) = rest.split_at_mut(nf);
+
+        for (f, out) in face_pts.iter_mut().enumerate() {
+            let r = t.face_offsets[f] as usize..t.face_offsets[f + 1] as usize;
+            let mut acc = [0.0; D];
+            for (&v, &w) in t.face_verts[r.clone()].iter().zip(&self.face[r]) {
+                axpy(&mut acc, w, &src[v as usize]);
+            }
+            *out = acc;
+        }
+        let face_pts: &[[f64; D]] = face_pts;
+
+        // Edge midpoints M (read by edge and vertex points) and edge points.
+        let mut mids = vec![[0.0; D]; ne];
+        for e in 0..ne {
+            let [a, b] = t.edge_verts[e];
+            let (pa, pb) = (&src[a as usize], &src[b as usize]);
+            let [m0, m1] = self.mid[e];
+            let mut mp = [0.0; D];
+            axpy(&mut mp, m0, pa);
+            axpy(&mut mp, m1, pb);
+            mids[e] = mp;
+            let mut acc = [0.0; D];
+            match self.edge[e] {
+                EdgeRule::Smooth { m, faces: [l, r] } => {
+                    let faces = t.edge_face_list(e);
+                    axpy(&mut acc, m, &mp);
+                    axpy(&mut acc, l, &face_pts[faces[0] as usize]);
+                    axpy(&mut acc, r, &face_pts[faces[1] as usize]);
+                }
+                EdgeRule::Curve([c0, c1]) => {
+                    axpy(&mut acc, c0, pa);
+                    axpy(&mut acc, c1, pb);
+                }
+            }
+            edge_pts[e] = acc;
+        }
+
+        for (v, out) in vert_pts.iter_mut().enumerate() {
+            let p = &src[v];
+            *out = match self.vertex[v] {
+                VertexRule::Keep => *p,
+                VertexRule::Curve { ends: [q1, q2], w } => {
+                    let mut acc = [0.0; D];
+                    axpy(&mut acc, w[0], &src[q1 as usize]);
+                    axpy(&mut acc, w[1], p);
+                    axpy(&mut acc, w[2], &src[q2 as usize]);
+                    acc
+                }
+                VertexRule::Smooth(wv) => {
+                    let (eo, fo) = (
+                        t.vert_edge_offsets[v] as usize,
+                        t.vert_face_offsets[v] as usize,
+                    );
+                    let faces = t.vertex_faces(v);
+                    let mut acc = [0.0; D];
+                    axpy(&mut acc, wv, p);
+                    for (i, &e) in t.vertex_edges(v).iter().enumerate() {
+                        axpy(&mut acc, self.vert_mid[eo + i], &mids[e as usize]);
+                        axpy(
+                            &mut acc,
+                            self.vert_face[fo + i],
+                            &face_pts[faces[i] as usize],
+                        );
+                    }
+                    acc
+                }
+            };
+        }
+    }
+
+    /// The weights of child vertex `cv` (numbered as [`interpolate_nurss`]'s `dst`) on the
+    /// vertices of `t`, face points and midpoints expanded: `add(vertex, weight)` for each
+    /// term, a vertex possibly several times (the caller sums them).
+    pub(crate) fn row(&self, t: &Topology, cv: usize, mut add: impl FnMut(u32, f64)) {
+        let (nv, nf) = (t.num_vertices(), t.num_faces());
+        let face = |add: &mut dyn FnMut(u32, f64), f: usize, w: f64| {
+            let r = t.face_offsets[f] as usize..t.face_offsets[f + 1] as usize;
+            for (&v, &wv) in t.face_verts[r.clone()].iter().zip(&self.face[r]) {
+                add(v, w * wv);
+            }
+        };
+        let mid = |add: &mut dyn FnMut(u32, f64), e: usize, w: f64| {
+            let ([a, b], [m0, m1]) = (t.edge_verts[e], self.mid[e]);
+            add(a, w * m0);
+            add(b, w * m1);
+        };
+        if cv < nv {
+            let v = cv;
+            match self.vertex[v] {
+                VertexRule::Keep => add(v as u32, 1.0),
+                VertexRule::Curve { ends: [q1, q2], w } => {
+                    add(q1, w[0]);
+                    add(v as u32, w[1]);
+                    add(q2, w[2]);
+                }
+                VertexRule::Smooth(wv) => {
+                    let (eo, fo) = (
+                        t.vert_edge_offsets[v] as usize,
+                        t.vert_face_offsets[v] as usize,
+                    );
+                    let faces = t.vertex_faces(v);
+                    add(v as u32, wv);
+                    for (i, &e) in t.vertex_edges(v).iter().enumerate() {
+                        mid(&mut add, e as usize, self.vert_mid[eo + i]);
+                        face(&mut add, faces[i] as usize, self.vert_face[fo + i]);
+                    }
+                }
+            }
+        } else if cv < nv + nf {
+            face(&mut add, cv - nv, 1.0);
+        } else {
+            let e = cv - nv - nf;
+            match self.edge[e] {
+                EdgeRule::Smooth { m, faces: [l, r] } => {
+                    let faces = t.edge_face_list(e);
+                    mid(&mut add, e, m);
+                    face(&mut add, faces[0] as usize, l);
+                    face(&mut add, faces[1] as usize, r);
+                }
+                EdgeRule::Curve([c0, c1]) => {
+                    let [a, b] = t.edge_verts[e];
+                    add(a, c0);
+                    add(b, c1);
+                }
+            }
+        }
+    }
+}
+
 /// Refines `src` (values at the vertices of `parent`, e.g. positions, or homogeneous
 /// `(w x, w y, w z, w)` for a rational mesh) one NURSS step into `dst` (values at the
 /// vertices of the Catmull-Clark child of `parent`: vertex points first, then face points,
@@ -281,143 +610,7 @@ pub fn interpolate_nurss<const D: usize>(
             "one side interval per face side"
         );
     }
-    let eff = effective_knots(knots);
-    let knots = &eff;
-    let ac = across_values(t, knots);
-    let (vert_pts, rest) = dst.split_at_mut(nv);
-    let (face_pts, edge_pts) = rest.split_at_mut(nf);
-
-    // Face points.
-    let (mut d, mut a0, mut a1, mut w) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
-    for (f, out) in face_pts.iter_mut().enumerate() {
-        let fv = t.face_vertices(f);
-        let o = t.face_offsets[f] as usize;
-        let n = fv.len();
-        d.clear();
-        a0.clear();
-        a1.clear();
-        for j in 0..n {
-            d.push(knots.side(t, f, j));
-            a0.push(ac.slot[o + j][0]);
-            a1.push(ac.slot[o + (j + 1) % n][1]);
-        }
-        face_weights(&d, &a0, &a1, &mut w);
-        let mut acc = [0.0; D];
-        for (&v, &wi) in fv.iter().zip(&w) {
-            axpy(&mut acc, wi, &src[v as usize]);
-        }
-        *out = acc;
-    }
-    let face_pts: &[[f64; D]] = face_pts;
-
-    // Edge midpoints M (read by edge and vertex points) and edge points.
-    let mut mids = vec![[0.0; D]; ne];
-    for e in 0..ne {
-        let [a, b] = t.edge_verts[e];
-        let (pa, pb) = (&src[a as usize], &src[b as usize]);
-        let m = midpoint_weights(ac.own[e], ac.edge[e][0], ac.edge[e][1]);
-        let mut mp = [0.0; D];
-        axpy(&mut mp, m[0], pa);
-        axpy(&mut mp, m[1], pb);
-        mids[e] = mp;
-        let faces = t.edge_face_list(e);
-        let mut acc = [0.0; D];
-        if faces.len() == 2 && t.edge_sharpness[e] <= 0.0 && !t.edge_tags[e].get().non_manifold {
-            let locals = &t.edge_face_local[t.edge_face_offsets[e] as usize..];
-            let sides = |i: usize| {
-                let (f, l) = (faces[i] as usize, locals[i] as usize);
-                let n = t.face_vertices(f).len();
-                [knots.side(t, f, l + n - 1), knots.side(t, f, l + 1)]
-            };
-            let [wm, wl, wr] = edge_weights(sides(0), sides(1));
-            axpy(&mut acc, wm, &mp);
-            axpy(&mut acc, wl, &face_pts[faces[0] as usize]);
-            axpy(&mut acc, wr, &face_pts[faces[1] as usize]);
-        } else {
-            let d = ac.own[e];
-            let before = crease_partner(t, a as usize, e).map_or(d, |x| ac.own[x]);
-            let after = crease_partner(t, b as usize, e).map_or(d, |x| ac.own[x]);
-            let c = curve_edge_weights(before, d, after);
-            axpy(&mut acc, c[0], pa);
-            axpy(&mut acc, c[1], pb);
-        }
-        edge_pts[e] = acc;
-    }
-
-    // Vertex points.
-    let (mut ring, mut wm, mut wf) = (Vec::new(), Vec::new(), Vec::new());
-    for (v, out) in vert_pts.iter_mut().enumerate() {
-        let p = &src[v];
-        let edges = t.vertex_edges(v);
-        let tag = t.vert_tags[v].get();
-        *out = *p;
-        match tag.rule {
-            Rule::Corner => {}
-            _ if edges.is_empty() => {}
-            Rule::Crease => {
-                let sharp: Vec<usize> = edges
-                    .iter()
-                    .map(|&e| e as usize)
-                    .filter(|&e| t.edge_sharpness[e] > 0.0)
-                    .collect();
-                let [e1, e2] = match sharp[..] {
-                    [x, y] => [x, y],
-                    _ => continue,
-                };
-                let other = |e: usize| {
-                    let [x, y] = t.edge_verts[e];
-                    if x as usize == v {
-                        y as usize
-                    } else {
-                        x as usize
-                    }
-                };
-                let (q1, q2) = (other(e1), other(e2));
-                let (d1, d2) = (ac.own[e1], ac.own[e2]);
-                let d0 = crease_partner(t, q1, e1).map_or(d1, |x| ac.own[x]);
-                let d3 = crease_partner(t, q2, e2).map_or(d2, |x| ac.own[x]);
-                let c = curve_vertex_weights([d0, d1, d2, d3]);
-                let mut acc = [0.0; D];
-                axpy(&mut acc, c[0], &src[q1]);
-                axpy(&mut acc, c[1], p);
-                axpy(&mut acc, c[2], &src[q2]);
-                *out = acc;
-            }
-            Rule::Smooth | Rule::Dart => {
-                let faces = t.vertex_faces(v);
-                let flocal = t.vertex_face_locals(v);
-                let n = edges.len();
-                if tag.boundary || !is_fan(t, v) {
-                    continue;
-                }
-                let side = |f: usize, entering: bool| {
-                    read_side(
-                        t,
-                        knots,
-                        &ac.own,
-                        side_slot(t, faces[f], flocal[f], entering),
-                    )
-                };
-                ring.clear();
-                for i in 0..n {
-                    ring.push(RingIntervals {
-                        minus2: side((i + n - 2) % n, false),
-                        minus1: side((i + n - 1) % n, false),
-                        plus1: side(i, true),
-                        plus2: side((i + 1) % n, true),
-                    });
-                }
-                let wv = vertex_weights(&ring, &mut wm, &mut wf);
-                let mut acc = [0.0; D];
-                axpy(&mut acc, wv, p);
-                for i in 0..n {
-                    axpy(&mut acc, wm[i], &mids[edges[i] as usize]);
-                    axpy(&mut acc, wf[i], &face_pts[faces[i] as usize]);
-                }
-                *out = acc;
-            }
-        }
-    }
+    NurssMasks::new(t, knots).apply(t, src, dst);
 }
 
 /// The knot intervals of the child of `parent` (no side intervals: they exist on the base

@@ -43,6 +43,17 @@
 //! only and 1.5 ms with patches, 18× less than `subdivide_mixed` (`benches/replay.rs`;
 //! `BENCHMARKS.md`).
 //!
+//! Non-uniform subdivision (NURSS, seed 001; [`RefinePlan::new_nurss`]) is linear in the
+//! (homogeneous) points too: its weights depend on the knot intervals, which refinement
+//! computes level by level from the base mesh's, never on the positions. Its plan is
+//! sparse rows on every level, each the row of `refine::nurss`'s masks (the same weights
+//! [`interpolate_nurss`](super::nurss::interpolate_nurss) applies, computed once per level with
+//! face points and edge midpoints expanded into parent vertices). No patch kernel applies:
+//! with unequal intervals the regular grid is a non-uniform B-spline, whose weights vary
+//! from quad to quad. `catmark_bishop` (creases infinitely sharp, intervals 1–3) at level
+//! 5: 6.5 ms against 150 ms for [`nurss::subdivide`](crate::nurss::subdivide) (23×), the
+//! plan built in 0.21 s.
+//!
 //! # Storage
 //! Most rows share their weights with many others: every smooth edge point between two
 //! quads has the same six weights, every smooth valence-4 vertex point the same nine. Each
@@ -90,6 +101,7 @@ use std::ops::Range;
 
 use rayon::prelude::*;
 
+use super::nurss::{child_knots, NurssKnots, NurssMasks};
 use super::plan_patches::{Claims, PatchLayer, BASE_RING_DEPTH, QUAD_DEPTH};
 use super::topology::{refine_topology, run, split_pieces};
 use crate::mesh::{
@@ -274,6 +286,39 @@ impl RefinePlan {
         Self::build(mesh, options, levels, BASE_RING_DEPTH, Some(mixed))
     }
 
+    /// The plan of NURSS refinement from the complete level `level` (the base level of a
+    /// [`Nurss`](crate::nurss::Nurss), whose warnings are `warnings`) with the intervals
+    /// `knots`, `levels` times: sparse rows of [`NurssMasks`] on every level
+    /// ([`new_nurss`](Self::new_nurss) checks the mesh and reads its tags).
+    pub(crate) fn from_nurss(
+        mut level: Topology,
+        mut knots: NurssKnots,
+        options: Options,
+        levels: u32,
+        warnings: Vec<TopologyWarning>,
+    ) -> Self {
+        let num_base = level.num_vertices();
+        let mut steps = Vec::with_capacity(levels as usize);
+        for l in 1..=levels {
+            let child = refine_topology(&level, &options, l < levels);
+            let masks = NurssMasks::new(&level, &knots);
+            let p = &level;
+            steps.push(Step::from_rows(child.num_vertices(), None, |cv, s| {
+                masks.row(p, cv, |v, w| s.row.add(v, w))
+            }));
+            if l < levels {
+                knots = child_knots(&level, &knots);
+            }
+            level = child;
+        }
+        Self {
+            steps,
+            tail: None,
+            num_base,
+            warnings,
+        }
+    }
+
     /// [`new`](Self::new) with patches of at most `max_depth` levels (none below 2; past
     /// [`QUAD_DEPTH`], only on the base mesh's faces that are not quads, when it refines
     /// [`BASE_RING_DEPTH`] levels), and the adjustable masks on the first levels that
@@ -286,22 +331,7 @@ impl RefinePlan {
         mixed: Option<Mixed>,
     ) -> Result<Self, MeshError> {
         mesh.validate()?;
-        // Vertices of the last level ≤ ~4 × its faces + base vertices: keep that in u32.
-        let s = mesh.face_verts().len() as u64;
-        let faces = match levels {
-            0 => mesh.num_faces() as u64,
-            l if 2 * (l as u64 - 1) >= 64 => u64::MAX,
-            l => s.saturating_mul(1u64 << (2 * (l - 1))),
-        };
-        if faces
-            .saturating_mul(4)
-            .saturating_add(mesh.num_vertices() as u64)
-            >= u32::MAX as u64
-        {
-            return Err(MeshError::TooLarge {
-                what: format!("level {levels} ({faces} faces)"),
-            });
-        }
+        check_size(mesh, levels)?;
         let (mut level, warnings) = Topology::from_mesh(mesh, &options)?;
         let mixed = mixed.unwrap_or(Mixed::CATMULL_CLARK);
         let depth = if levels < 2 || max_depth < 2 {
@@ -472,6 +502,27 @@ impl RefinePlan {
         scratch.a = cur;
         scratch.b = spare;
     }
+}
+
+/// Fails unless the vertices of level `levels` of `mesh` (at most about 4 × its faces plus
+/// the base vertices) can be numbered in `u32`.
+pub(crate) fn check_size(mesh: &PolyMesh, levels: u32) -> Result<(), MeshError> {
+    let s = mesh.face_verts().len() as u64;
+    let faces = match levels {
+        0 => mesh.num_faces() as u64,
+        l if 2 * (l as u64 - 1) >= 64 => u64::MAX,
+        l => s.saturating_mul(1u64 << (2 * (l - 1))),
+    };
+    if faces
+        .saturating_mul(4)
+        .saturating_add(mesh.num_vertices() as u64)
+        >= u32::MAX as u64
+    {
+        return Err(MeshError::TooLarge {
+            what: format!("level {levels} ({faces} faces)"),
+        });
+    }
+    Ok(())
 }
 
 impl Tail {
@@ -677,13 +728,25 @@ impl Step {
         scheme: Adjustable,
     ) -> Step {
         let rows = only.map_or(c.num_vertices(), <[u32]>::len);
+        Step::from_rows(rows, only, |cv, scratch| {
+            stencil(p, c, options, scheme, cv, scratch)
+        })
+    }
+
+    /// The step of `rows` child vertices (`only`, or `0..rows`), the row of child vertex
+    /// `cv` added to `scratch.row` by `stencil(cv, scratch)`.
+    fn from_rows(
+        rows: usize,
+        only: Option<&[u32]>,
+        stencil: impl Fn(usize, &mut RowScratch) + Sync,
+    ) -> Step {
         let nblocks = rows.div_ceil(BLOCK);
         let make = |scratch: &mut RowScratch, b: usize| {
             let mut block = Block::new(BLOCK.min(rows - b * BLOCK));
             for r in b * BLOCK..((b + 1) * BLOCK).min(rows) {
                 let cv = only.map_or(r, |o| o[r] as usize);
                 scratch.row.clear();
-                stencil(p, c, options, scheme, cv, scratch);
+                stencil(cv, scratch);
                 block.push(&scratch.row, &mut scratch.sorted, &mut scratch.bits);
             }
             block

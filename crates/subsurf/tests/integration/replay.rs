@@ -12,12 +12,15 @@
 //! [`subdivide_mixed`], and for [`subsurf::Reposer`] with the limit.
 
 use subsurf::io::obj::read_obj;
-use subsurf::mesh::{Options, PolyMesh};
+use subsurf::mesh::{
+    EdgeInterval, KnotTags, Options, PolyMesh, SideInterval, VertexWeight, SHARPNESS_INFINITE,
+};
+use subsurf::nurss::{self, NurssOptions};
 use subsurf::refine::{PlanScratch, RefinePlan};
 use subsurf::scheme::adjustable::Adjustable;
 use subsurf::{subdivide, subdivide_mixed, Mixed, SubdivideOptions};
 
-use crate::common::{osd_shapes, osd_shapes_dir};
+use crate::common::{osd_shapes, osd_shapes_dir, Rng};
 
 /// Tolerance relative to the input's bounding-box diagonal.
 const REL_TOL: f64 = 1e-14;
@@ -174,6 +177,167 @@ fn mixed_plan_equals_subdivide_mixed_on_all_shapes() {
     assert!(cases >= 2500, "{cases} cases");
     assert!(patches.iter().all(|&n| n > 1000), "patches {patches:?}");
     assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// `mesh` with random knot tags: an interval on every edge (a tenth of them zero, which
+/// makes sharp features), auxiliary intervals on a fifth of the face sides, and, if
+/// `rational`, a weight in [0.5, 2] on every vertex; semi-sharp creases and corners made
+/// infinitely sharp (NURSS has no semi-sharp rule).
+fn with_knots(mesh: &PolyMesh, seed: u64, rational: bool) -> PolyMesh {
+    let mut rng = Rng(seed | 1);
+    let mut m = mesh.clone();
+    let mut k = KnotTags::default();
+    let faces: Vec<Vec<u32>> = m.faces().map(<[u32]>::to_vec).collect();
+    for (f, fv) in faces.iter().enumerate() {
+        for i in 0..fv.len() {
+            let (v0, v1) = (fv[i], fv[(i + 1) % fv.len()]);
+            if v0 == v1 {
+                continue; // a degenerate edge, which no tag can name
+            }
+            let interval = if rng.next() < -0.4 {
+                0.0
+            } else {
+                1.6 + 3.0 * rng.next()
+            };
+            k.intervals.push(EdgeInterval { v0, v1, interval });
+            if rng.next() < -0.3 {
+                let interval = 1.6 + 3.0 * rng.next();
+                k.side_intervals.push(SideInterval {
+                    face: f as u32,
+                    v0,
+                    v1,
+                    interval,
+                });
+            }
+        }
+    }
+    if rational {
+        for vertex in 0..m.num_vertices() as u32 {
+            let weight = 1.25 + 1.5 * rng.next();
+            k.weights.push(VertexWeight { vertex, weight });
+        }
+    }
+    m.knots = k;
+    for c in &mut m.tags.creases {
+        if c.sharpness > 0.0 {
+            c.sharpness = c.sharpness.max(SHARPNESS_INFINITE);
+        }
+    }
+    for c in &mut m.tags.corners {
+        if c.sharpness > 0.0 {
+            c.sharpness = c.sharpness.max(SHARPNESS_INFINITE);
+        }
+    }
+    m
+}
+
+/// Non-uniform subdivision (NURSS, seed 001) re-posed on every regression shape, with
+/// random knot intervals (zero ones included), auxiliary side intervals, and rational
+/// weights on every other shape: `RefinePlan::new_nurss` applied to the homogeneous points
+/// `(w x, w y, w z, w)`, divided by `w`, equals `nurss::subdivide` within `1e-14 ×` the
+/// diagonal at levels 1–3, before and after moving the vertices.
+#[test]
+fn nurss_plan_equals_nurss_subdivide_on_all_shapes() {
+    let mut failures = Vec::new();
+    let (mut cases, mut rational_cases) = (0, 0);
+    for (i, (name, mesh, options)) in osd_shapes().into_iter().enumerate() {
+        let rational = i % 2 == 1;
+        let mesh = with_knots(&mesh, 1000 + i as u64, rational);
+        let mut moved = mesh.clone();
+        moved
+            .positions_mut()
+            .copy_from_slice(&deform(mesh.positions()));
+        for levels in 1..=3 {
+            let plan = match RefinePlan::new_nurss(&mesh, options, levels) {
+                Ok(plan) => plan,
+                Err(e) => panic!("{name} level {levels}: {e}"),
+            };
+            assert_eq!(plan.num_patches(), 0);
+            for (what, m) in [("original", &mesh), ("moved", &moved)] {
+                let opts = NurssOptions {
+                    levels,
+                    scheme: options,
+                    ..NurssOptions::default()
+                };
+                let want = nurss::subdivide(m, &opts).expect("nurss::subdivide");
+                let mut w = vec![1.0; m.num_vertices()];
+                for t in &m.knots.weights {
+                    w[t.vertex as usize] = t.weight;
+                }
+                let homogeneous: Vec<[f64; 4]> = (m.positions().iter().zip(&w))
+                    .map(|(p, &w)| [w * p[0], w * p[1], w * p[2], w])
+                    .collect();
+                let got: Vec<[f64; 3]> = (plan.apply(&homogeneous).iter())
+                    .map(|h| [h[0] / h[3], h[1] / h[3], h[2] / h[3]])
+                    .collect();
+                let tol = REL_TOL * diagonal(m.positions());
+                let (d, at) = max_diff(&got, want.mesh.positions());
+                if d > tol || d.is_nan() {
+                    failures.push(format!(
+                        "{name} level {levels} {what} (rational: {rational}): vertex {at} \
+                         differs by {d:e} (tolerance {tol:e})"
+                    ));
+                }
+                cases += 1;
+                rational_cases += usize::from(rational);
+            }
+        }
+    }
+    assert!(cases >= 500 && rational_cases >= 240, "{cases} cases");
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// `Reposer::new_nurss` poses a rational mesh as `nurss::subdivide` refines it, pose
+/// after pose (the weights stay with the vertices), and keeps the refined intervals and
+/// weights as tags; it refuses the limit and semi-sharp creases with typed errors.
+#[test]
+fn nurss_reposer_poses_rational_meshes() {
+    let (bishop, options) = load("catmark_bishop");
+    let mesh = with_knots(&bishop, 7, true);
+    let opts = SubdivideOptions {
+        levels: 2,
+        scheme: options,
+        ..SubdivideOptions::default()
+    };
+    let mut reposer = subsurf::Reposer::new_nurss(&mesh, &opts).expect("reposer");
+    let nurss_opts = NurssOptions {
+        levels: 2,
+        scheme: options,
+        ..NurssOptions::default()
+    };
+    let mut m = mesh.clone();
+    for pose in 0..3 {
+        if pose > 0 {
+            let next = deform(m.positions());
+            m.positions_mut().copy_from_slice(&next);
+        }
+        let want = nurss::subdivide(&m, &nurss_opts)
+            .expect("nurss::subdivide")
+            .mesh;
+        let got = reposer.pose(m.positions()).expect("pose");
+        let (d, at) = max_diff(got.positions(), want.positions());
+        assert!(
+            d <= REL_TOL * diagonal(m.positions()),
+            "pose {pose}: vertex {at} differs by {d:e}"
+        );
+        assert_eq!(got.face_verts(), want.face_verts());
+        assert_eq!(
+            got.knots, want.knots,
+            "pose {pose}: refined intervals and weights"
+        );
+    }
+    let limit = SubdivideOptions {
+        limit: true,
+        ..opts.clone()
+    };
+    assert_eq!(
+        subsurf::Reposer::new_nurss(&mesh, &limit).err(),
+        Some(subsurf::Error::NurssLimit)
+    );
+    assert!(matches!(
+        subsurf::Reposer::new_nurss(&bishop, &opts),
+        Err(subsurf::Error::Nurss(nurss::NurssError::SemiSharp { .. }))
+    ));
 }
 
 fn load(name: &str) -> (PolyMesh, Options) {
