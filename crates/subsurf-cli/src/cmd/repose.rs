@@ -17,22 +17,26 @@ use crate::{AdjustArgs, SchemeArgs, SchemeKind};
 
 /// Help text after the options of `subsurf repose`.
 pub const REPOSE_EXAMPLES: &str = "\
-The base mesh's faces, tags (creases, corners, holes) and scheme (Catmull-Clark, or the
-adjustable one with --scheme adjustable --c C [--adjust-steps K], as 'subsurf subdivide'
-refines) hold for every pose. A pose
+The base mesh's faces, tags (creases, corners, holes, knot intervals, weights) and scheme
+(Catmull-Clark; the adjustable one with --scheme adjustable --c C [--adjust-steps K]; NURSS
+with --scheme nurss, the default for a base mesh with knot interval or weight tags; as
+'subsurf subdivide' refines) hold for every pose. A rational base mesh's weights stay with
+its vertices. A pose
 is an OBJ file with the base mesh's vertices moved: it repeats the base mesh's faces (same
 vertices, same order; its tags are not read) or has no faces at all ('v' lines only, as a
 point cache). Each refined pose is written to DIR under the pose's file name, each file
 complete or not at all; the first pose that cannot be read or does not match stops the run.
 The positions are those 'subsurf subdivide' writes for the pose, to rounding (1e-14 of the
 mesh's size); with --limit, the limit positions and normals too (the limit masks applied
-as rows of weights after the plan). Refining a pose costs a tenth of a full refinement or
+as rows of weights after the plan; not for NURSS, whose limit points are iterated on the
+data). Refining a pose costs a tenth of a full refinement or
 less; writing the OBJ text then takes most of the time (the library's Reposer skips that).
 
 Examples:
   subsurf repose rest.obj frames/f0001.obj frames/f0002.obj -o refined -l 3
   subsurf repose rest.obj frames/*.obj -o refined -l 2 --boundary edge-and-corner
-  subsurf repose rest.obj frames/*.obj -o refined -l 3 --scheme adjustable --c 0.3";
+  subsurf repose rest.obj frames/*.obj -o refined -l 3 --scheme adjustable --c 0.3
+  subsurf repose knots.obj frames/*.obj -o refined -l 3 --scheme nurss";
 
 /// Arguments of `subsurf repose`.
 #[derive(Debug, Args)]
@@ -51,8 +55,8 @@ pub struct ReposeArgs {
     pub levels: u32,
     #[command(flatten)]
     pub scheme: SchemeArgs,
-    /// Subdivision scheme [default: catmull-clark; a base mesh with knot interval or weight
-    /// tags needs --scheme catmull-clark, which ignores them, since NURSS is not re-posed].
+    /// Subdivision scheme [default: nurss when the base mesh has knot interval or weight
+    /// tags, else catmull-clark].
     #[arg(long = "scheme", id = "scheme_kind", value_name = "SCHEME", value_enum)]
     pub scheme_kind: Option<SchemeKind>,
     #[command(flatten)]
@@ -77,23 +81,16 @@ pub struct ReposeArgs {
 pub fn run(args: &ReposeArgs) -> Result<()> {
     let outputs = output_paths(args)?;
     let base = Input::read_surface(&args.base)?;
-    let knots = subsurf::nurss::has_knots(&base.obj.mesh);
-    match args.scheme_kind {
-        Some(SchemeKind::Nurss) => bail!(
-            "--scheme nurss: repose refines with Catmull-Clark or the adjustable scheme; \
-             refine each pose with 'subsurf subdivide --scheme nurss'"
-        ),
-        None if knots => bail!(
-            "{}: knot interval or weight tags (t interval, t sideinterval, t weight): \
-             repose refines with Catmull-Clark or the adjustable scheme, not NURSS; refine \
-             each pose with 'subsurf subdivide --scheme nurss', or ignore the tags with \
-             --scheme catmull-clark",
-            base.name
-        ),
-        _ => {}
-    }
-    let kind = args.scheme_kind.unwrap_or(SchemeKind::CatmullClark);
+    let progress = Progress::counting(args.poses.len() as u64, "poses", args.quiet);
+    let kind = super::subdivide::scheme_kind(args.scheme_kind, &base, &progress, args.quiet);
     let mixed = super::adjustable::for_subdivide(kind, &args.adjust);
+    if kind == SchemeKind::Nurss && args.limit {
+        bail!(
+            "--limit with --scheme nurss: NURSS limit points are iterated on each pose's \
+             positions, not re-posed; re-pose the refined positions (without --limit), or \
+             run 'subsurf subdivide --scheme nurss --limit' on each pose"
+        );
+    }
     let opts = SubdivideOptions {
         levels: args.levels,
         scheme: args
@@ -105,7 +102,11 @@ pub fn run(args: &ReposeArgs) -> Result<()> {
         max_memory: None,
     };
     let mesh = &base.obj.mesh;
-    let estimate = Reposer::estimate_memory(mesh, &opts);
+    let estimate = if kind == SchemeKind::Nurss {
+        Reposer::estimate_memory_nurss(mesh, &opts)
+    } else {
+        Reposer::estimate_memory(mesh, &opts)
+    };
     let what = format!("refining to level {} and planning re-posing", opts.levels);
     crate::memory::check(
         &base.name,
@@ -115,13 +116,17 @@ pub fn run(args: &ReposeArgs) -> Result<()> {
         "use a lower level",
     )?;
     crate::memory::for_refinement(estimate);
-    let reposer = match mixed {
-        Some(m) => Reposer::new_mixed(mesh, &opts, m),
-        None => Reposer::new(mesh, &opts),
+    let reposer = match (kind, mixed) {
+        (SchemeKind::Nurss, _) => Reposer::new_nurss(mesh, &opts),
+        (_, Some(m)) => Reposer::new_mixed(mesh, &opts, m),
+        (_, None) => Reposer::new(mesh, &opts),
     };
     let mut reposer = reposer.with_context(|| base.name.clone())?;
-    let flags = mixed.map_or_else(String::new, |m| super::adjustable::flags(m, opts.levels));
-    let progress = Progress::counting(args.poses.len() as u64, "poses", args.quiet);
+    let flags = match (kind, mixed) {
+        (SchemeKind::Nurss, _) => "--scheme nurss".to_owned(),
+        (_, Some(m)) => super::adjustable::flags(m, opts.levels),
+        (_, None) => String::new(),
+    };
     if !args.quiet {
         for w in base.unsupported_tag_warnings() {
             progress.warn(&w);

@@ -43,7 +43,7 @@ pub fn run(args: &SubdivideArgs) -> Result<()> {
         add_angle_creases(&mut input, &opts.scheme, angle, args.sharpness)?;
         flags = format!("--crease-angle {angle} --sharpness {}", args.sharpness);
     }
-    let kind = scheme_kind(args, &input, &progress);
+    let kind = scheme_kind(args.scheme_kind, &input, &progress, args.quiet);
     let mixed = super::adjustable::for_subdivide(kind, &args.adjust);
     if kind == SchemeKind::Nurss {
         return run_nurss(args, &input, &opts, &flags, &out, &progress);
@@ -61,13 +61,18 @@ pub fn run(args: &SubdivideArgs) -> Result<()> {
     write(&out, &sub, &opts, &comment, &progress)
 }
 
-/// The scheme: `--scheme` when given, else NURSS for a file with knot tags (with a note on
-/// stderr unless `--quiet`), else Catmull-Clark.
-fn scheme_kind(args: &SubdivideArgs, input: &Input, progress: &Progress) -> SchemeKind {
-    match args.scheme_kind {
+/// The scheme: `--scheme` (`given`) when given, else NURSS for a file with knot tags (with
+/// a note on stderr unless `quiet`), else Catmull-Clark.
+pub fn scheme_kind(
+    given: Option<SchemeKind>,
+    input: &Input,
+    progress: &Progress,
+    quiet: bool,
+) -> SchemeKind {
+    match given {
         Some(kind) => kind,
         None if subsurf::nurss::has_knots(&input.obj.mesh) => {
-            if !args.quiet {
+            if !quiet {
                 progress.note(&format!(
                     "{} has knot interval or weight tags: refining with --scheme nurss \
                      (--scheme catmull-clark ignores them)",

@@ -274,30 +274,85 @@ fn adjustable_poses_are_what_subdivide_writes() {
     }
 }
 
-/// NURSS is not re-posed: `--scheme nurss`, or a base mesh with knot tags and no
-/// `--scheme`, is an error that says what to do; `--c` needs `--scheme adjustable` (a
-/// usage error).
+/// NURSS (`--scheme nurss`, and the default for a base mesh with knot tags): each refined
+/// pose is what `subsurf subdivide` writes for the pose with the base mesh's knot
+/// intervals, faces and tags alike, positions to rounding; with rational weights too
+/// (`t weight`, which stay with their vertices).
+#[test]
+fn nurss_poses_are_what_subdivide_writes() {
+    let knots = include_str!("../../../../examples/meshes/nurss-grid.obj");
+    let rational = format!("{knots}t weight 1/1/0 12 2.5\nt weight 1/1/0 6 0.5\n");
+    for (base, flags) in [
+        (knots, &[][..]),
+        (knots, &["--scheme", "nurss"][..]),
+        (&rational[..], &[][..]),
+    ] {
+        let pose = moved(base, 0.7);
+        let dir = dir_with(&[("base.obj", base), ("pose.obj", &pose)]);
+        fs::create_dir(dir.path().join("out")).expect("out dir");
+        let with = |args: &[&'static str]| -> Vec<&str> {
+            let mut v = args.to_vec();
+            v.extend_from_slice(&["-l", "3"]);
+            v.extend_from_slice(flags);
+            v
+        };
+        let o = run_in(
+            dir.path(),
+            &with(&["repose", "base.obj", "pose.obj", "-o", "out"]),
+        );
+        assert_code(&o, 0);
+        let o = run_in(
+            dir.path(),
+            &with(&["subdivide", "pose.obj", "-o", "full.obj", "-q"]),
+        );
+        assert_code(&o, 0);
+        let read = |p: &str| fs::read_to_string(dir.path().join(p)).expect("output");
+        let (repose, full) = (read("out/pose.obj"), read("full.obj"));
+        let ((p, _), (q, _)) = (parse(&repose), parse(&full));
+        // Faces and tags (the refined intervals and weights) are the same lines.
+        let not_v = |t: &str| -> Vec<String> {
+            (t.lines())
+                .filter(|l| !l.starts_with("v ") && !l.starts_with('#'))
+                .map(str::to_owned)
+                .collect()
+        };
+        assert_eq!(not_v(&repose), not_v(&full), "{flags:?}: faces and tags");
+        assert!(repose.contains("t interval"), "{flags:?}: no intervals");
+        assert_eq!(p.len(), q.len(), "{flags:?}: vertices");
+        for (a, b) in p.iter().zip(&q) {
+            assert!(
+                (0..3).all(|i| (a[i] - b[i]).abs() < 1e-13),
+                "{flags:?}: {a:?} against {b:?}"
+            );
+        }
+        assert!(repose.contains("--scheme nurss"), "{repose:.300}");
+    }
+}
+
+/// What cannot be re-posed is an error that says what to do: the limit of NURSS, a
+/// semi-sharp crease under NURSS; `--c` needs `--scheme adjustable` (a usage error).
 #[test]
 fn schemes_that_are_not_reposed_are_refused() {
     let knots = include_str!("../../../../examples/meshes/nurss-grid.obj");
     let dir = dir_with(&[
         ("hut.obj", HUT),
         ("a.obj", &moved(HUT, 0.2)),
+        ("cube.obj", CUBE_CREASE),
         ("knots.obj", knots),
     ]);
     fs::create_dir(dir.path().join("out")).expect("out dir");
     for (args, code, message) in [
         (
-            &[
-                "repose", "hut.obj", "a.obj", "-o", "out", "--scheme", "nurss",
-            ][..],
+            &["repose", "knots.obj", "knots.obj", "-o", "out", "--limit"][..],
             1,
-            "--scheme nurss: repose refines with Catmull-Clark or the adjustable scheme",
+            "--limit with --scheme nurss: NURSS limit points are iterated",
         ),
         (
-            &["repose", "knots.obj", "knots.obj", "-o", "out"][..],
+            &[
+                "repose", "cube.obj", "cube.obj", "-o", "out", "--scheme", "nurss",
+            ][..],
             1,
-            "knots.obj: knot interval or weight tags",
+            "cube.obj: the crease on edge",
         ),
         (
             &["repose", "hut.obj", "a.obj", "-o", "out", "--c", "0.3"][..],
