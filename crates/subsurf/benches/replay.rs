@@ -6,14 +6,17 @@
 //! second. Building the plan is benched too (`replay_l5/build`), since it is paid once per
 //! topology. `replay_mixed_l5` does the same for mixed subdivision against
 //! [`subdivide_mixed`]: the shape-adjustable scheme with `c = 0.3` on every level, on the
-//! first level only, and on the first four, then Catmull-Clark.
+//! first level only, and on the first four, then Catmull-Clark. `replay_nurss_l5` does it
+//! for non-uniform subdivision against [`nurss::subdivide`]: the bishop with its creases
+//! infinitely sharp and an interval of 1–3 on every edge.
 
 use std::path::PathBuf;
 use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use subsurf::io::obj::read_obj;
-use subsurf::mesh::{Options, PolyMesh};
+use subsurf::mesh::{EdgeInterval, Options, PolyMesh, SHARPNESS_INFINITE};
+use subsurf::nurss::{self, NurssOptions};
 use subsurf::refine::{PlanScratch, RefinePlan};
 use subsurf::scheme::adjustable::Adjustable;
 use subsurf::{subdivide, subdivide_mixed, Mixed, SubdivideOptions};
@@ -127,5 +130,66 @@ fn replay_mixed_level5(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, replay_level5, replay_mixed_level5);
+/// `catmark_bishop` for non-uniform subdivision: its creases infinitely sharp (NURSS has
+/// no semi-sharp rule) and a knot interval on every edge, 1, 1.5, 2, 2.5 or 3 by the
+/// edge's ends.
+fn nurss_bishop(mesh: &PolyMesh) -> PolyMesh {
+    let mut m = mesh.clone();
+    for c in &mut m.tags.creases {
+        c.sharpness = SHARPNESS_INFINITE;
+    }
+    let faces: Vec<Vec<u32>> = m.faces().map(<[u32]>::to_vec).collect();
+    for f in &faces {
+        for i in 0..f.len() {
+            let (v0, v1) = (f[i], f[(i + 1) % f.len()]);
+            let interval = 1.0 + 0.5 * ((7 * v0.min(v1) + 13 * v0.max(v1)) % 5) as f64;
+            m.knots.intervals.push(EdgeInterval { v0, v1, interval });
+        }
+    }
+    m
+}
+
+fn replay_nurss_level5(c: &mut Criterion) {
+    let (pool, mesh, scheme, _) = setup();
+    let mesh = nurss_bishop(&mesh);
+    let plan = pool
+        .install(|| RefinePlan::new_nurss(&mesh, scheme, LEVELS))
+        .expect("plan failed");
+    let opts = NurssOptions {
+        levels: LEVELS,
+        scheme,
+        ..NurssOptions::default()
+    };
+    let mut group = c.benchmark_group("replay_nurss_l5");
+    group
+        .sample_size(10)
+        .warm_up_time(Duration::from_secs(1))
+        .measurement_time(Duration::from_secs(5))
+        .throughput(Throughput::Elements(plan.num_vertices() as u64));
+    let mut out = Vec::new();
+    let mut scratch = PlanScratch::default();
+    group.bench_function(format!("apply/{SHAPE}"), |b| {
+        b.iter(|| pool.install(|| plan.apply_into(mesh.positions(), &mut out, &mut scratch)))
+    });
+    group.bench_function(format!("subdivide/{SHAPE}"), |b| {
+        b.iter(|| {
+            pool.install(|| nurss::subdivide(&mesh, &opts))
+                .expect("subdivide failed")
+        })
+    });
+    group.bench_function(format!("build/{SHAPE}"), |b| {
+        b.iter(|| {
+            pool.install(|| RefinePlan::new_nurss(&mesh, scheme, LEVELS))
+                .expect("plan failed")
+        })
+    });
+    group.finish();
+}
+
+criterion_group!(
+    benches,
+    replay_level5,
+    replay_mixed_level5,
+    replay_nurss_level5
+);
 criterion_main!(benches);
