@@ -649,9 +649,13 @@ pub fn refine_nurss_step<const D: usize>(
     knots: &NurssKnots,
     src: &[[f64; D]],
 ) -> (Topology, Vec<[f64; D]>, NurssKnots) {
-    let child = refine_topology(parent, options, true);
-    let mut dst = vec![[0.0; D]; child.num_vertices()];
+    // The values first: their masks are freed before the child topology is built, so they
+    // do not add to the peak.
+    let t = parent;
+    let mut dst = vec![[0.0; D]; t.num_vertices() + t.num_faces() + t.num_edges()];
     interpolate_nurss(parent, knots, src, &mut dst);
+    let child = refine_topology(parent, options, true);
+    debug_assert_eq!(child.num_vertices(), dst.len());
     let k = child_knots(parent, knots);
     (child, dst, k)
 }
