@@ -216,6 +216,47 @@ fn outputs_that_cannot_be_written_are_refused_first() {
     assert_eq!(listing(&dir.path().join("sub")), ["a.obj"]);
 }
 
+/// The OBJ texts of `base` moved (`moved(base, 0.7)`) and refined `levels` times with
+/// `flags`, by `repose` (with `base` as the base mesh) and by `subdivide`.
+fn repose_and_subdivide(
+    base: &str,
+    levels: &'static str,
+    flags: &[&'static str],
+) -> (String, String) {
+    let pose = moved(base, 0.7);
+    let dir = dir_with(&[("base.obj", base), ("pose.obj", &pose)]);
+    fs::create_dir(dir.path().join("out")).expect("out dir");
+    let with = |args: &[&'static str]| -> Vec<&str> {
+        let mut v = args.to_vec();
+        v.extend_from_slice(&["-l", levels]);
+        v.extend_from_slice(flags);
+        v
+    };
+    let o = run_in(
+        dir.path(),
+        &with(&["repose", "base.obj", "pose.obj", "-o", "out"]),
+    );
+    assert_code(&o, 0);
+    let o = run_in(
+        dir.path(),
+        &with(&["subdivide", "pose.obj", "-o", "full.obj", "-q"]),
+    );
+    assert_code(&o, 0);
+    let read = |p: &str| fs::read_to_string(dir.path().join(p)).expect("output");
+    (read("out/pose.obj"), read("full.obj"))
+}
+
+/// `p` and `q` have as many positions, each within 1e-13 of the other's.
+fn assert_same_positions(p: &[[f64; 3]], q: &[[f64; 3]], flags: &[&str]) {
+    assert_eq!(p.len(), q.len(), "{flags:?}: vertices");
+    for (a, b) in p.iter().zip(q) {
+        assert!(
+            (0..3).all(|i| (a[i] - b[i]).abs() < 1e-13),
+            "{flags:?}: {a:?} against {b:?}"
+        );
+    }
+}
+
 /// With the adjustable scheme (`--scheme adjustable --c C [--adjust-steps K]`), each
 /// refined pose is what `subsurf subdivide` writes with the same flags: every level
 /// adjusted, the first one only (Catmull-Clark's patches after it), and with `--limit`.
@@ -235,36 +276,10 @@ fn adjustable_poses_are_what_subdivide_writes() {
     ];
     for (base, levels) in [(HUT, "3"), (CUBE_CREASE, "4")] {
         for flags in flag_sets {
-            let pose = moved(base, 0.7);
-            let dir = dir_with(&[("base.obj", base), ("pose.obj", &pose)]);
-            fs::create_dir(dir.path().join("out")).expect("out dir");
-            let with = |args: &[&'static str]| -> Vec<&str> {
-                let mut v = args.to_vec();
-                v.extend_from_slice(&["-l", levels]);
-                v.extend_from_slice(flags);
-                v
-            };
-            let o = run_in(
-                dir.path(),
-                &with(&["repose", "base.obj", "pose.obj", "-o", "out"]),
-            );
-            assert_code(&o, 0);
-            let o = run_in(
-                dir.path(),
-                &with(&["subdivide", "pose.obj", "-o", "full.obj", "-q"]),
-            );
-            assert_code(&o, 0);
-            let read = |p: &str| fs::read_to_string(dir.path().join(p)).expect("output");
-            let (repose, full) = (read("out/pose.obj"), read("full.obj"));
+            let (repose, full) = repose_and_subdivide(base, levels, flags);
             let ((p, f), (q, g)) = (parse(&repose), parse(&full));
             assert_eq!(f, g, "{flags:?}: faces");
-            assert_eq!(p.len(), q.len(), "{flags:?}: vertices");
-            for (a, b) in p.iter().zip(&q) {
-                assert!(
-                    (0..3).all(|i| (a[i] - b[i]).abs() < 1e-13),
-                    "{flags:?}: {a:?} against {b:?}"
-                );
-            }
+            assert_same_positions(&p, &q, flags);
             // The header says how the pose was refined.
             assert!(
                 repose.contains(&flags[..4].join(" ")),
@@ -287,27 +302,7 @@ fn nurss_poses_are_what_subdivide_writes() {
         (knots, &["--scheme", "nurss"][..]),
         (&rational[..], &[][..]),
     ] {
-        let pose = moved(base, 0.7);
-        let dir = dir_with(&[("base.obj", base), ("pose.obj", &pose)]);
-        fs::create_dir(dir.path().join("out")).expect("out dir");
-        let with = |args: &[&'static str]| -> Vec<&str> {
-            let mut v = args.to_vec();
-            v.extend_from_slice(&["-l", "3"]);
-            v.extend_from_slice(flags);
-            v
-        };
-        let o = run_in(
-            dir.path(),
-            &with(&["repose", "base.obj", "pose.obj", "-o", "out"]),
-        );
-        assert_code(&o, 0);
-        let o = run_in(
-            dir.path(),
-            &with(&["subdivide", "pose.obj", "-o", "full.obj", "-q"]),
-        );
-        assert_code(&o, 0);
-        let read = |p: &str| fs::read_to_string(dir.path().join(p)).expect("output");
-        let (repose, full) = (read("out/pose.obj"), read("full.obj"));
+        let (repose, full) = repose_and_subdivide(base, "3", flags);
         let ((p, _), (q, _)) = (parse(&repose), parse(&full));
         // Faces and tags (the refined intervals and weights) are the same lines.
         let not_v = |t: &str| -> Vec<String> {
@@ -318,13 +313,7 @@ fn nurss_poses_are_what_subdivide_writes() {
         };
         assert_eq!(not_v(&repose), not_v(&full), "{flags:?}: faces and tags");
         assert!(repose.contains("t interval"), "{flags:?}: no intervals");
-        assert_eq!(p.len(), q.len(), "{flags:?}: vertices");
-        for (a, b) in p.iter().zip(&q) {
-            assert!(
-                (0..3).all(|i| (a[i] - b[i]).abs() < 1e-13),
-                "{flags:?}: {a:?} against {b:?}"
-            );
-        }
+        assert_same_positions(&p, &q, flags);
         assert!(repose.contains("--scheme nurss"), "{repose:.300}");
     }
 }
