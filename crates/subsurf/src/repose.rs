@@ -381,13 +381,8 @@ impl Reposer {
         };
         let rational =
             (matches!(scheme, Scheme::Nurss) && !base.knots.weights.is_empty()).then(|| {
-                let mut weights = vec![1.0; base.num_vertices()];
-                // A later tag of the same vertex wins, as in `Nurss::new`.
-                for w in &base.knots.weights {
-                    weights[w.vertex as usize] = w.weight;
-                }
                 Box::new(Homogeneous {
-                    weights,
+                    weights: crate::nurss::vertex_weights(base),
                     base: Vec::new(),
                     level: Vec::new(),
                     scratch: PlanScratch::default(),

@@ -170,10 +170,7 @@ impl Nurss {
             }
             Some(sides)
         };
-        let mut weights = vec![1.0; mesh.num_vertices()];
-        for w in &mesh.knots.weights {
-            weights[w.vertex as usize] = w.weight;
-        }
+        let weights = vertex_weights(mesh);
         let rational = !mesh.knots.weights.is_empty();
         let points = mesh
             .positions()
@@ -499,6 +496,16 @@ impl RefinePlan {
             level, knots, options, levels, warnings,
         ))
     }
+}
+
+/// The weight of every vertex of `mesh`: its `t weight` tag (the last one, if several),
+/// else 1.
+pub(crate) fn vertex_weights(mesh: &PolyMesh) -> Vec<f64> {
+    let mut weights = vec![1.0; mesh.num_vertices()];
+    for w in &mesh.knots.weights {
+        weights[w.vertex as usize] = w.weight;
+    }
+    weights
 }
 
 #[inline]

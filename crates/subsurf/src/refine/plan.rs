@@ -300,16 +300,18 @@ impl RefinePlan {
         let num_base = level.num_vertices();
         let mut steps = Vec::with_capacity(levels as usize);
         for l in 1..=levels {
-            let child = refine_topology(&level, &options, l < levels);
             let masks = NurssMasks::new(&level, &knots);
+            // A vertex per parent vertex, face and edge (`refine_topology`'s numbering).
+            let rows = level.num_vertices() + level.num_faces() + level.num_edges();
             let p = &level;
-            steps.push(Step::from_rows(child.num_vertices(), None, |cv, s| {
+            steps.push(Step::from_rows(rows, None, |cv, s| {
                 masks.row(p, cv, |v, w| s.row.add(v, w))
             }));
+            drop(masks);
             if l < levels {
                 knots = child_knots(&level, &knots);
+                level = refine_topology(&level, &options, true);
             }
-            level = child;
         }
         Self {
             steps,
