@@ -116,6 +116,7 @@ pub fn run(args: &ReposeArgs) -> Result<()> {
         "use a lower level",
     )?;
     crate::memory::for_refinement(estimate);
+    progress.set_message(format!("refining {} and planning re-posing", base.name));
     let reposer = match (kind, mixed) {
         (SchemeKind::Nurss, _) => Reposer::new_nurss(mesh, &opts),
         (_, Some(m)) => Reposer::new_mixed(mesh, &opts, m),
