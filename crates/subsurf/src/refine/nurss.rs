@@ -35,7 +35,10 @@
 //! Semi-sharp creases have no NURSS counterpart: callers reject them (see
 //! [`crate::nurss::Nurss::new`]); zero intervals make sharp features instead.
 
+use rayon::prelude::*;
+
 use super::refine_topology;
+use super::topology::{chunk_ranges, collect, parallel, run, split_pieces, CHUNK};
 use crate::mesh::{Options, Rule, Topology};
 use crate::scheme::nurss::{
     curve_edge_weights, curve_vertex_weights, edge_weights, face_edge_interval, face_weights,
@@ -250,6 +253,15 @@ fn crease_partner(t: &Topology, v: usize, e: usize) -> Option<usize> {
         .find(|&x| x != e && t.edge_sharpness[x] > 0.0)
 }
 
+/// `f(i, &mut out[i])` for every `i`, in parallel over chunks when `out` is large.
+fn fill<T: Send>(out: &mut [T], f: impl Fn(usize, &mut T) + Sync + Send) {
+    if parallel(out.len()) {
+        (out.par_iter_mut().with_min_len(CHUNK).enumerate()).for_each(|(i, o)| f(i, o));
+    } else {
+        out.iter_mut().enumerate().for_each(|(i, o)| f(i, o));
+    }
+}
+
 #[inline]
 fn axpy<const D: usize>(acc: &mut [f64; D], w: f64, x: &[f64; D]) {
     for c in 0..D {
@@ -260,7 +272,7 @@ fn axpy<const D: usize>(acc: &mut [f64; D], w: f64, x: &[f64; D]) {
 /// The rule of an edge point.
 #[derive(Clone, Copy, Debug)]
 enum EdgeRule {
-    /// `m M + f₀ F₀ + f₁ F₁`: the edge's midpoint `M` (its [`NurssMasks::mid`] weights) and
+    /// `m M + f₀ F₀ + f₁ F₁`: the edge's midpoint `M` (its weights in `NurssMasks::mid`) and
     /// the points of its two faces (Sederberg et al. §4, the edge point of a smooth edge).
     Smooth { m: f64, faces: [f64; 2] },
     /// `c₀ A + c₁ B` on the edge's ends: the cubic B-spline curve's edge point along a
@@ -310,7 +322,8 @@ pub(crate) struct NurssMasks {
 
 impl NurssMasks {
     /// The masks of refining `parent` (complete, without semi-sharp edges or vertices)
-    /// with the intervals `knots`.
+    /// with the intervals `knots`. In parallel over blocks of faces, edges and vertices
+    /// when the level is large (the same weights on any number of threads).
     pub(crate) fn new(parent: &Topology, knots: &NurssKnots) -> Self {
         let t = parent;
         let (nv, nf, ne) = (t.num_vertices(), t.num_faces(), t.num_edges());
@@ -319,119 +332,132 @@ impl NurssMasks {
         let ac = across_values(t, knots);
 
         let mut face = vec![0.0; t.face_verts.len()];
-        let (mut d, mut a0, mut a1, mut w) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
-        for f in 0..nf {
-            let o = t.face_offsets[f] as usize;
-            let n = t.face_offsets[f + 1] as usize - o;
-            d.clear();
-            a0.clear();
-            a1.clear();
-            for j in 0..n {
-                d.push(knots.side(t, f, j));
-                a0.push(ac.slot[o + j][0]);
-                a1.push(ac.slot[o + (j + 1) % n][1]);
+        let ranges = chunk_ranges(nf);
+        let pieces = split_pieces(&mut face, &ranges, |f| t.face_offsets[f] as usize);
+        run(ranges.into_iter().zip(pieces).collect(), |(r, piece)| {
+            let base = t.face_offsets[r.start] as usize;
+            let (mut d, mut a0, mut a1, mut w) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+            for f in r {
+                let o = t.face_offsets[f] as usize;
+                let n = t.face_offsets[f + 1] as usize - o;
+                d.clear();
+                a0.clear();
+                a1.clear();
+                for j in 0..n {
+                    d.push(knots.side(t, f, j));
+                    a0.push(ac.slot[o + j][0]);
+                    a1.push(ac.slot[o + (j + 1) % n][1]);
+                }
+                face_weights(&d, &a0, &a1, &mut w);
+                piece[o - base..o - base + n].copy_from_slice(&w);
             }
-            face_weights(&d, &a0, &a1, &mut w);
-            face[o..o + n].copy_from_slice(&w);
-        }
+        });
 
-        let mut mid = Vec::with_capacity(ne);
-        let mut edge = Vec::with_capacity(ne);
-        for e in 0..ne {
+        let mid = collect(ne, |e| {
+            midpoint_weights(ac.own[e], ac.edge[e][0], ac.edge[e][1])
+        });
+        let edge = collect(ne, |e| {
             let [a, b] = t.edge_verts[e];
-            mid.push(midpoint_weights(ac.own[e], ac.edge[e][0], ac.edge[e][1]));
             let faces = t.edge_face_list(e);
-            edge.push(
-                if faces.len() == 2
-                    && t.edge_sharpness[e] <= 0.0
-                    && !t.edge_tags[e].get().non_manifold
-                {
-                    let locals = &t.edge_face_local[t.edge_face_offsets[e] as usize..];
-                    let sides = |i: usize| {
-                        let (f, l) = (faces[i] as usize, locals[i] as usize);
-                        let n = t.face_vertices(f).len();
-                        [knots.side(t, f, l + n - 1), knots.side(t, f, l + 1)]
-                    };
-                    let [m, l, r] = edge_weights(sides(0), sides(1));
-                    EdgeRule::Smooth { m, faces: [l, r] }
-                } else {
-                    let d = ac.own[e];
-                    let before = crease_partner(t, a as usize, e).map_or(d, |x| ac.own[x]);
-                    let after = crease_partner(t, b as usize, e).map_or(d, |x| ac.own[x]);
-                    EdgeRule::Curve(curve_edge_weights(before, d, after))
-                },
-            );
-        }
+            if faces.len() == 2 && t.edge_sharpness[e] <= 0.0 && !t.edge_tags[e].get().non_manifold
+            {
+                let locals = &t.edge_face_local[t.edge_face_offsets[e] as usize..];
+                let sides = |i: usize| {
+                    let (f, l) = (faces[i] as usize, locals[i] as usize);
+                    let n = t.face_vertices(f).len();
+                    [knots.side(t, f, l + n - 1), knots.side(t, f, l + 1)]
+                };
+                let [m, l, r] = edge_weights(sides(0), sides(1));
+                EdgeRule::Smooth { m, faces: [l, r] }
+            } else {
+                let d = ac.own[e];
+                let before = crease_partner(t, a as usize, e).map_or(d, |x| ac.own[x]);
+                let after = crease_partner(t, b as usize, e).map_or(d, |x| ac.own[x]);
+                EdgeRule::Curve(curve_edge_weights(before, d, after))
+            }
+        });
 
-        let mut vertex = Vec::with_capacity(nv);
+        let mut vertex = vec![VertexRule::Keep; nv];
         let mut vert_mid = vec![0.0; t.vert_edges.len()];
         let mut vert_face = vec![0.0; t.vert_faces.len()];
-        let (mut ring, mut wm, mut wf) = (Vec::new(), Vec::new(), Vec::new());
-        for v in 0..nv {
-            let edges = t.vertex_edges(v);
-            let tag = t.vert_tags[v].get();
-            let rule = match tag.rule {
-                Rule::Corner => VertexRule::Keep,
-                _ if edges.is_empty() => VertexRule::Keep,
-                Rule::Crease => {
-                    let mut sharp = edges
-                        .iter()
-                        .map(|&e| e as usize)
-                        .filter(|&e| t.edge_sharpness[e] > 0.0);
-                    match (sharp.next(), sharp.next(), sharp.next()) {
-                        (Some(e1), Some(e2), None) => {
-                            let other = |e: usize| {
-                                let [x, y] = t.edge_verts[e];
-                                if x as usize == v {
-                                    y
-                                } else {
-                                    x
+        let ranges = chunk_ranges(nv);
+        let rules = split_pieces(&mut vertex, &ranges, |v| v);
+        let mids = split_pieces(&mut vert_mid, &ranges, |v| t.vert_edge_offsets[v] as usize);
+        let fws = split_pieces(&mut vert_face, &ranges, |v| t.vert_face_offsets[v] as usize);
+        let items: Vec<_> = ranges.into_iter().zip(rules).zip(mids).zip(fws).collect();
+        run(items, |(((r, rules), mids), fws)| {
+            let (eb, fb) = (
+                t.vert_edge_offsets[r.start] as usize,
+                t.vert_face_offsets[r.start] as usize,
+            );
+            let (mut ring, mut wm, mut wf) = (Vec::new(), Vec::new(), Vec::new());
+            for v in r.clone() {
+                let edges = t.vertex_edges(v);
+                let tag = t.vert_tags[v].get();
+                rules[v - r.start] = match tag.rule {
+                    Rule::Corner => VertexRule::Keep,
+                    _ if edges.is_empty() => VertexRule::Keep,
+                    Rule::Crease => {
+                        let mut sharp = edges
+                            .iter()
+                            .map(|&e| e as usize)
+                            .filter(|&e| t.edge_sharpness[e] > 0.0);
+                        match (sharp.next(), sharp.next(), sharp.next()) {
+                            (Some(e1), Some(e2), None) => {
+                                let other = |e: usize| {
+                                    let [x, y] = t.edge_verts[e];
+                                    if x as usize == v {
+                                        y
+                                    } else {
+                                        x
+                                    }
+                                };
+                                let (q1, q2) = (other(e1), other(e2));
+                                let (d1, d2) = (ac.own[e1], ac.own[e2]);
+                                let d0 =
+                                    crease_partner(t, q1 as usize, e1).map_or(d1, |x| ac.own[x]);
+                                let d3 =
+                                    crease_partner(t, q2 as usize, e2).map_or(d2, |x| ac.own[x]);
+                                VertexRule::Curve {
+                                    ends: [q1, q2],
+                                    w: curve_vertex_weights([d0, d1, d2, d3]),
                                 }
-                            };
-                            let (q1, q2) = (other(e1), other(e2));
-                            let (d1, d2) = (ac.own[e1], ac.own[e2]);
-                            let d0 = crease_partner(t, q1 as usize, e1).map_or(d1, |x| ac.own[x]);
-                            let d3 = crease_partner(t, q2 as usize, e2).map_or(d2, |x| ac.own[x]);
-                            VertexRule::Curve {
-                                ends: [q1, q2],
-                                w: curve_vertex_weights([d0, d1, d2, d3]),
                             }
+                            _ => VertexRule::Keep,
                         }
-                        _ => VertexRule::Keep,
                     }
-                }
-                Rule::Smooth | Rule::Dart if tag.boundary || !is_fan(t, v) => VertexRule::Keep,
-                Rule::Smooth | Rule::Dart => {
-                    let faces = t.vertex_faces(v);
-                    let flocal = t.vertex_face_locals(v);
-                    let n = edges.len();
-                    let side = |f: usize, entering: bool| {
-                        read_side(
-                            t,
-                            knots,
-                            &ac.own,
-                            side_slot(t, faces[f], flocal[f], entering),
-                        )
-                    };
-                    ring.clear();
-                    for i in 0..n {
-                        ring.push(RingIntervals {
-                            minus2: side((i + n - 2) % n, false),
-                            minus1: side((i + n - 1) % n, false),
-                            plus1: side(i, true),
-                            plus2: side((i + 1) % n, true),
-                        });
+                    Rule::Smooth | Rule::Dart if tag.boundary || !is_fan(t, v) => VertexRule::Keep,
+                    Rule::Smooth | Rule::Dart => {
+                        let faces = t.vertex_faces(v);
+                        let flocal = t.vertex_face_locals(v);
+                        let n = edges.len();
+                        let side = |f: usize, entering: bool| {
+                            read_side(
+                                t,
+                                knots,
+                                &ac.own,
+                                side_slot(t, faces[f], flocal[f], entering),
+                            )
+                        };
+                        ring.clear();
+                        for i in 0..n {
+                            ring.push(RingIntervals {
+                                minus2: side((i + n - 2) % n, false),
+                                minus1: side((i + n - 1) % n, false),
+                                plus1: side(i, true),
+                                plus2: side((i + 1) % n, true),
+                            });
+                        }
+                        let wv = vertex_weights(&ring, &mut wm, &mut wf);
+                        let eo = t.vert_edge_offsets[v] as usize - eb;
+                        let fo = t.vert_face_offsets[v] as usize - fb;
+                        mids[eo..eo + n].copy_from_slice(&wm[..n]);
+                        fws[fo..fo + n].copy_from_slice(&wf[..n]);
+                        VertexRule::Smooth(wv)
                     }
-                    let wv = vertex_weights(&ring, &mut wm, &mut wf);
-                    let eo = t.vert_edge_offsets[v] as usize;
-                    let fo = t.vert_face_offsets[v] as usize;
-                    vert_mid[eo..eo + n].copy_from_slice(&wm[..n]);
-                    vert_face[fo..fo + n].copy_from_slice(&wf[..n]);
-                    VertexRule::Smooth(wv)
-                }
-            };
-            vertex.push(rule);
-        }
+                };
+            }
+        });
         NurssMasks {
             face,
             mid,
@@ -443,7 +469,8 @@ impl NurssMasks {
     }
 
     /// Refines `src` (values at the vertices of `t`, the level of [`new`](Self::new)) into
-    /// `dst` (the child's vertices), as [`interpolate_nurss`] describes.
+    /// `dst` (the child's vertices), as [`interpolate_nurss`] describes; in parallel over
+    /// blocks when large (each value computed as on one thread).
     pub(crate) fn apply<const D: usize>(
         &self,
         t: &Topology,
@@ -454,43 +481,45 @@ impl NurssMasks {
         let (vert_pts, rest) = dst.split_at_mut(nv);
         let (face_pts, edge_pts) = rest.split_at_mut(nf);
 
-        for (f, out) in face_pts.iter_mut().enumerate() {
+        fill(face_pts, |f, out| {
             let r = t.face_offsets[f] as usize..t.face_offsets[f + 1] as usize;
             let mut acc = [0.0; D];
             for (&v, &w) in t.face_verts[r.clone()].iter().zip(&self.face[r]) {
                 axpy(&mut acc, w, &src[v as usize]);
             }
             *out = acc;
-        }
+        });
         let face_pts: &[[f64; D]] = face_pts;
 
-        // Edge midpoints M (read by edge and vertex points) and edge points.
+        // Edge midpoints M (read by edge and vertex points), then edge points.
         let mut mids = vec![[0.0; D]; ne];
-        for e in 0..ne {
+        fill(&mut mids, |e, out| {
             let [a, b] = t.edge_verts[e];
-            let (pa, pb) = (&src[a as usize], &src[b as usize]);
             let [m0, m1] = self.mid[e];
             let mut mp = [0.0; D];
-            axpy(&mut mp, m0, pa);
-            axpy(&mut mp, m1, pb);
-            mids[e] = mp;
+            axpy(&mut mp, m0, &src[a as usize]);
+            axpy(&mut mp, m1, &src[b as usize]);
+            *out = mp;
+        });
+        fill(edge_pts, |e, out| {
             let mut acc = [0.0; D];
             match self.edge[e] {
                 EdgeRule::Smooth { m, faces: [l, r] } => {
                     let faces = t.edge_face_list(e);
-                    axpy(&mut acc, m, &mp);
+                    axpy(&mut acc, m, &mids[e]);
                     axpy(&mut acc, l, &face_pts[faces[0] as usize]);
                     axpy(&mut acc, r, &face_pts[faces[1] as usize]);
                 }
                 EdgeRule::Curve([c0, c1]) => {
-                    axpy(&mut acc, c0, pa);
-                    axpy(&mut acc, c1, pb);
+                    let [a, b] = t.edge_verts[e];
+                    axpy(&mut acc, c0, &src[a as usize]);
+                    axpy(&mut acc, c1, &src[b as usize]);
                 }
             }
-            edge_pts[e] = acc;
-        }
+            *out = acc;
+        });
 
-        for (v, out) in vert_pts.iter_mut().enumerate() {
+        fill(vert_pts, |v, out| {
             let p = &src[v];
             *out = match self.vertex[v] {
                 VertexRule::Keep => *p,
@@ -520,7 +549,7 @@ impl NurssMasks {
                     acc
                 }
             };
-        }
+        });
     }
 
     /// The weights of child vertex `cv` (numbered as [`interpolate_nurss`]'s `dst`) on the

@@ -55,7 +55,7 @@ fn edge_child_at(p: &Topology, s: u32, e: u32, v: u32, leaving: bool) -> u32 {
 // run on the calling thread.
 
 /// Parent elements per parallel task.
-const CHUNK: usize = 4096;
+pub(super) const CHUNK: usize = 4096;
 /// Below this many elements a pass runs on the calling thread: sharing it would cost more
 /// than it saves.
 const PAR_MIN: usize = 16 * 1024;
@@ -63,13 +63,13 @@ const PAR_MIN: usize = 16 * 1024;
 /// Whether a pass over `n` elements should be shared between threads: when it is large
 /// and the current rayon pool has more than one thread (with one, the serial loop is
 /// cheaper than going through rayon).
-fn parallel(n: usize) -> bool {
+pub(super) fn parallel(n: usize) -> bool {
     n >= PAR_MIN && rayon::current_num_threads() > 1
 }
 
 /// `0..n` cut into the ranges of parent elements that the tasks of a pass handle: `0..n`
 /// itself when the pass is not [`parallel`], else ranges of `CHUNK`.
-fn chunk_ranges(n: usize) -> Vec<Range<usize>> {
+pub(super) fn chunk_ranges(n: usize) -> Vec<Range<usize>> {
     if !parallel(n) {
         std::iter::once(0..n).collect()
     } else {
@@ -117,7 +117,7 @@ pub(super) fn run<I: Send>(items: Vec<I>, f: impl Fn(I) + Sync + Send) {
 }
 
 /// `(0..n).map(f).collect()`, in parallel when large (writing straight into the vector).
-fn collect<T: Send>(n: usize, f: impl Fn(usize) -> T + Sync + Send) -> Vec<T> {
+pub(super) fn collect<T: Send>(n: usize, f: impl Fn(usize) -> T + Sync + Send) -> Vec<T> {
     if !parallel(n) {
         (0..n).map(f).collect()
     } else {
