@@ -61,37 +61,48 @@ fn setup() -> (rayon::ThreadPool, PolyMesh, Options, SubdivideOptions) {
     (pool, mesh, scheme, opts)
 }
 
-fn replay_level5(c: &mut Criterion) {
-    let (pool, mesh, scheme, opts) = setup();
-    let plan = pool
-        .install(|| RefinePlan::new(&mesh, scheme, LEVELS))
-        .expect("plan failed");
-
-    let mut group = c.benchmark_group("replay_l5");
+/// The group `name`: applying the plan that `build` makes to the positions of `mesh`
+/// (`apply`), a full refinement by `full` (`subdivide`), and `build` itself (`build`), in
+/// `pool`.
+fn apply_full_build<T: Send, P: std::fmt::Debug + Send>(
+    c: &mut Criterion,
+    pool: &rayon::ThreadPool,
+    name: &str,
+    mesh: &PolyMesh,
+    build: impl Fn() -> Result<RefinePlan, P> + Sync,
+    full: impl Fn() -> T + Sync,
+) {
+    let plan = pool.install(&build).expect("plan failed");
+    let mut group = c.benchmark_group(name);
     group
         .sample_size(10)
         .warm_up_time(Duration::from_secs(1))
         .measurement_time(Duration::from_secs(5))
         .throughput(Throughput::Elements(plan.num_vertices() as u64));
-
     let mut out = Vec::new();
     let mut scratch = PlanScratch::default();
     group.bench_function(format!("apply/{SHAPE}"), |b| {
         b.iter(|| pool.install(|| plan.apply_into(mesh.positions(), &mut out, &mut scratch)))
     });
     group.bench_function(format!("subdivide/{SHAPE}"), |b| {
-        b.iter(|| {
-            pool.install(|| subdivide(&mesh, &opts))
-                .expect("subdivide failed")
-        })
+        b.iter(|| pool.install(&full))
     });
     group.bench_function(format!("build/{SHAPE}"), |b| {
-        b.iter(|| {
-            pool.install(|| RefinePlan::new(&mesh, scheme, LEVELS))
-                .expect("plan failed")
-        })
+        b.iter(|| pool.install(&build).expect("plan failed"))
     });
     group.finish();
+}
+
+fn replay_level5(c: &mut Criterion) {
+    let (pool, mesh, scheme, opts) = setup();
+    apply_full_build(
+        c,
+        &pool,
+        "replay_l5",
+        &mesh,
+        || RefinePlan::new(&mesh, scheme, LEVELS),
+        || subdivide(&mesh, &opts).expect("subdivide failed"),
+    );
 }
 
 fn replay_mixed_level5(c: &mut Criterion) {
@@ -152,38 +163,19 @@ fn nurss_bishop(mesh: &PolyMesh) -> PolyMesh {
 fn replay_nurss_level5(c: &mut Criterion) {
     let (pool, mesh, scheme, _) = setup();
     let mesh = nurss_bishop(&mesh);
-    let plan = pool
-        .install(|| RefinePlan::new_nurss(&mesh, scheme, LEVELS))
-        .expect("plan failed");
     let opts = NurssOptions {
         levels: LEVELS,
         scheme,
         ..NurssOptions::default()
     };
-    let mut group = c.benchmark_group("replay_nurss_l5");
-    group
-        .sample_size(10)
-        .warm_up_time(Duration::from_secs(1))
-        .measurement_time(Duration::from_secs(5))
-        .throughput(Throughput::Elements(plan.num_vertices() as u64));
-    let mut out = Vec::new();
-    let mut scratch = PlanScratch::default();
-    group.bench_function(format!("apply/{SHAPE}"), |b| {
-        b.iter(|| pool.install(|| plan.apply_into(mesh.positions(), &mut out, &mut scratch)))
-    });
-    group.bench_function(format!("subdivide/{SHAPE}"), |b| {
-        b.iter(|| {
-            pool.install(|| nurss::subdivide(&mesh, &opts))
-                .expect("subdivide failed")
-        })
-    });
-    group.bench_function(format!("build/{SHAPE}"), |b| {
-        b.iter(|| {
-            pool.install(|| RefinePlan::new_nurss(&mesh, scheme, LEVELS))
-                .expect("plan failed")
-        })
-    });
-    group.finish();
+    apply_full_build(
+        c,
+        &pool,
+        "replay_nurss_l5",
+        &mesh,
+        || RefinePlan::new_nurss(&mesh, scheme, LEVELS),
+        || nurss::subdivide(&mesh, &opts).expect("subdivide failed"),
+    );
 }
 
 criterion_group!(
