@@ -189,6 +189,8 @@ pub struct RefinePlan {
     /// The last levels, by patches and sparse rows (see [`Tail`]).
     tail: Option<Tail>,
     num_base: usize,
+    /// Refinement levels (`steps` and the tail's).
+    levels: u32,
     warnings: Vec<TopologyWarning>,
 }
 
@@ -317,6 +319,7 @@ impl RefinePlan {
             steps,
             tail: None,
             num_base,
+            levels,
             warnings,
         }
     }
@@ -365,6 +368,7 @@ impl RefinePlan {
             steps,
             tail,
             num_base: mesh.num_vertices(),
+            levels,
             warnings,
         })
     }
@@ -409,7 +413,7 @@ impl RefinePlan {
 
     /// Number of refinement levels.
     pub fn levels(&self) -> u32 {
-        self.steps.len() as u32
+        self.levels
     }
 
     /// Number of stored weights (columns) over all levels.

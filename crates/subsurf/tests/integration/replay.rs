@@ -100,6 +100,7 @@ fn plan_equals_subdivide_on_all_shapes() {
         let non_quads = (0..mesh.num_faces()).any(|f| mesh.face(f).len() != 4);
         for levels in 1..=3 + u32::from(non_quads) {
             let plan = RefinePlan::new(&mesh, options, levels).expect("plan");
+            assert_eq!(plan.levels(), levels, "{name}");
             for (what, m) in [("original", &mesh), ("moved", &moved)] {
                 let want = subdivided(m, options, levels);
                 let got = plan.apply(m.positions());
@@ -152,6 +153,7 @@ fn mixed_plan_equals_subdivide_mixed_on_all_shapes() {
             };
             for levels in 1..=4 {
                 let plan = RefinePlan::new_mixed(&mesh, options, levels, mixed).expect("plan");
+                assert_eq!(plan.levels(), levels, "{name}");
                 patches[i] += plan.num_patches();
                 for (what, m) in [("original", &mesh), ("moved", &moved)] {
                     let opts = SubdivideOptions {
@@ -252,7 +254,7 @@ fn nurss_plan_equals_nurss_subdivide_on_all_shapes() {
                 Ok(plan) => plan,
                 Err(e) => panic!("{name} level {levels}: {e}"),
             };
-            assert_eq!(plan.num_patches(), 0);
+            assert_eq!((plan.num_patches(), plan.levels()), (0, levels));
             for (what, m) in [("original", &mesh), ("moved", &moved)] {
                 let opts = NurssOptions {
                     levels,
