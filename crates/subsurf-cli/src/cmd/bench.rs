@@ -20,6 +20,13 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         for w in input.unsupported_tag_warnings() {
             eprintln!("warning: {w}");
         }
+        if subsurf::nurss::has_knots(&input.obj.mesh) {
+            eprintln!(
+                "note: {} has knot interval or weight tags: bench times Catmull-Clark, as \
+                 osd-oracle does, which ignores them",
+                input.name
+            );
+        }
     }
     let opts = SubdivideOptions {
         levels: args.levels,

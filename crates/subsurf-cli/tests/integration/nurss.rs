@@ -67,6 +67,20 @@ fn knot_tags_select_nurss_with_a_note() {
     let cc = read(dir.path(), "cc.obj");
     assert!(cc.mesh.knots.is_empty());
     assert_ne!(cc.mesh.positions(), out.mesh.positions());
+    // `bench` times Catmull-Clark (as `osd-oracle bench`), and says so.
+    for extra in [&[][..], &["--replay"][..]] {
+        let mut args = vec!["bench", "grid.obj", "-l", "2", "--reps", "1"];
+        args.extend_from_slice(extra);
+        let o = run_in(dir.path(), &args);
+        assert_code(&o, 0);
+        assert!(
+            stderr(&o).contains(
+                "note: grid.obj has knot interval or weight tags: bench times Catmull-Clark"
+            ),
+            "{}",
+            stderr(&o)
+        );
+    }
 }
 
 #[test]
