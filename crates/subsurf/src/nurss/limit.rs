@@ -470,7 +470,7 @@ impl Fan {
                 r /= sum;
             }
             let next = power.row(0);
-            let change = (&next - &row).amax();
+            let change = (next - &row).amax();
             row.copy_from(&next);
             if !change.is_finite() {
                 return None;
