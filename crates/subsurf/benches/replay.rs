@@ -8,7 +8,9 @@
 //! [`subdivide_mixed`]: the shape-adjustable scheme with `c = 0.3` on every level, on the
 //! first level only, and on the first four, then Catmull-Clark. `replay_nurss_l5` does it
 //! for non-uniform subdivision against [`nurss::subdivide`]: the bishop with its creases
-//! infinitely sharp and an interval of 1–3 on every edge.
+//! infinitely sharp and an interval of 1–3 on every edge; `replay_nurss_limit_l4` poses
+//! its limit positions (`Reposer::new_nurss` with `limit`) against `nurss::subdivide` with
+//! the limit, at level 4.
 
 use std::path::PathBuf;
 use std::time::Duration;
@@ -19,7 +21,7 @@ use subsurf::mesh::{EdgeInterval, Options, PolyMesh, SHARPNESS_INFINITE};
 use subsurf::nurss::{self, NurssOptions};
 use subsurf::refine::{PlanScratch, RefinePlan};
 use subsurf::scheme::adjustable::Adjustable;
-use subsurf::{subdivide, subdivide_mixed, Mixed, SubdivideOptions};
+use subsurf::{subdivide, subdivide_mixed, Mixed, Reposer, SubdivideOptions};
 
 /// The allocator of the `subsurf` binary, so that the full refinement compared with is the
 /// one `subsurf bench` measures (see the crate docs, "Speed: choose the global allocator").
@@ -178,10 +180,45 @@ fn replay_nurss_level5(c: &mut Criterion) {
     );
 }
 
+fn replay_nurss_limit_level4(c: &mut Criterion) {
+    const LIMIT_LEVELS: u32 = 4;
+    let (pool, mesh, scheme, _) = setup();
+    let mesh = nurss_bishop(&mesh);
+    let opts = SubdivideOptions {
+        levels: LIMIT_LEVELS,
+        scheme,
+        limit: true,
+        ..SubdivideOptions::default()
+    };
+    let nurss_opts = NurssOptions {
+        levels: LIMIT_LEVELS,
+        scheme,
+        limit: true,
+        ..NurssOptions::default()
+    };
+    let build = || Reposer::new_nurss(&mesh, &opts).expect("reposer failed");
+    let mut reposer = pool.install(build);
+    let mut group = c.benchmark_group("replay_nurss_limit_l4");
+    group
+        .sample_size(10)
+        .warm_up_time(Duration::from_secs(1))
+        .measurement_time(Duration::from_secs(5))
+        .throughput(Throughput::Elements(reposer.mesh().num_vertices() as u64));
+    group.bench_function(format!("pose/{SHAPE}"), |b| {
+        b.iter(|| pool.install(|| reposer.pose(mesh.positions()).map(|_| ())))
+    });
+    group.bench_function(format!("subdivide/{SHAPE}"), |b| {
+        b.iter(|| pool.install(|| nurss::subdivide(&mesh, &nurss_opts).expect("subdivide failed")))
+    });
+    group.bench_function(format!("build/{SHAPE}"), |b| b.iter(|| pool.install(build)));
+    group.finish();
+}
+
 criterion_group!(
     benches,
     replay_level5,
     replay_mixed_level5,
-    replay_nurss_level5
+    replay_nurss_level5,
+    replay_nurss_limit_level4
 );
 criterion_main!(benches);

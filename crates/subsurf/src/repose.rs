@@ -19,12 +19,15 @@
 //! weights (position and two tangents per point, `limit::VertexLimitRows`) applied after
 //! the plan, and each normal is
 //! `t₁ × t₂ / |t₁ × t₂|` ([`crate::limit::normals`], with its fallback to the faces'
-//! normals where the tangents are degenerate).
+//! normals where the tangents are degenerate). NURSS limit points
+//! ([`crate::nurss::Nurss::limit_points`]) are iterated on the data, but each is a linear
+//! map of the level's points whose weights are found by iterating on unit points instead;
+//! those rows are applied after the plan, in homogeneous points (positions only).
 
 use crate::limit::{largest_coordinate, normals_into, VertexLimitRows};
 use crate::mesh::{check_coordinates, MeshError, PolyMesh, Topology, TopologyWarning};
 use crate::mixed::Mixed;
-use crate::nurss::NurssOptions;
+use crate::nurss::{LimitRows, NurssOptions};
 use crate::refine::{refine_topology, PlanScratch, RefinePlan};
 use crate::subdivide::{
     estimate_memory, subdivide, subdivide_mixed, Error, SubdivideOptions, Subdivision,
@@ -69,8 +72,8 @@ pub struct Reposer {
     warnings: Vec<TopologyWarning>,
     /// With [`SubdivideOptions::limit`]: the limit positions and normals.
     limit: Option<Box<LimitMap>>,
-    /// For a rational NURSS mesh: the plan maps homogeneous points.
-    rational: Option<Box<Homogeneous>>,
+    /// For a rational NURSS mesh or the NURSS limit: the plan maps homogeneous points.
+    homogeneous: Option<Box<Homogeneous>>,
 }
 
 /// The scheme a [`Reposer`] refines with.
@@ -81,20 +84,22 @@ enum Scheme {
     Nurss,
 }
 
-/// The weights of a rational base mesh, and the homogeneous points `(w x, w y, w z, w)`
-/// of the base and refined levels (buffers kept from pose to pose).
+/// The weights of a NURSS base mesh (1 unless rational), the homogeneous points
+/// `(w x, w y, w z, w)` of the base and refined levels, and with the limit, the rows that
+/// map the refined level's to the limit's (buffers kept from pose to pose).
 #[derive(Clone, Debug)]
 struct Homogeneous {
     weights: Vec<f64>,
     base: Vec<[f64; 4]>,
     level: Vec<[f64; 4]>,
     scratch: PlanScratch<4>,
+    limit: Option<(LimitRows, Vec<[f64; 4]>)>,
 }
 
 impl Homogeneous {
     /// Writes into `out` the positions of `plan` applied to the points `positions` with
-    /// their weights: the homogeneous points refined, then divided by their weight (as
-    /// [`Nurss::positions`](crate::nurss::Nurss::positions)).
+    /// their weights: the homogeneous points refined (and mapped to the limit), then divided
+    /// by their weight (as [`Nurss::positions`](crate::nurss::Nurss::positions)).
     fn apply(&mut self, plan: &RefinePlan, positions: &[[f64; 3]], out: &mut [[f64; 3]]) {
         self.base.clear();
         self.base.extend(
@@ -104,7 +109,15 @@ impl Homogeneous {
                 .map(|(p, &w)| [w * p[0], w * p[1], w * p[2], w]),
         );
         plan.apply_into(&self.base, &mut self.level, &mut self.scratch);
-        for (o, h) in out.iter_mut().zip(&self.level) {
+        let points = match &mut self.limit {
+            Some((rows, limit)) => {
+                limit.resize(rows.len(), [0.0; 4]);
+                rows.apply(&self.level, limit);
+                limit
+            }
+            None => &self.level,
+        };
+        for (o, h) in out.iter_mut().zip(points) {
             *o = [h[0] / h[3], h[1] / h[3], h[2] / h[3]];
         }
     }
@@ -288,7 +301,10 @@ impl Reposer {
     /// refined as [`crate::nurss::subdivide`] refines it, with the base mesh's knot
     /// intervals ([`RefinePlan::new_nurss`]). A rational base mesh (weight tags) keeps its
     /// weights: a pose moves the points, each keeps the weight of its vertex; the refined
-    /// mesh keeps the refined intervals and weights as tags ([`PolyMesh::knots`]).
+    /// mesh keeps the refined intervals and weights as tags ([`PolyMesh::knots`]). With
+    /// [`SubdivideOptions::limit`], each pose gives the limit positions
+    /// ([`crate::nurss::Nurss::limit_points`], within 1e-14 of the size: rows of weights on
+    /// the refined level, applied after the plan; no normals).
     ///
     /// ```
     /// use subsurf::mesh::{EdgeInterval, PolyMesh};
@@ -320,17 +336,13 @@ impl Reposer {
     ///
     /// # Errors
     /// As [`crate::nurss::subdivide`] ([`Error::Nurss`]: bad knot tags, semi-sharp
-    /// creases) and the memory estimate ([`Error::TooLarge`]); [`Error::NurssLimit`] with
-    /// [`SubdivideOptions::limit`].
+    /// creases) and the memory estimate ([`Error::TooLarge`]).
     pub fn new_nurss(base: &PolyMesh, opts: &SubdivideOptions) -> Result<Self, Error> {
         Self::build(base, opts, Scheme::Nurss)
     }
 
     /// [`new`](Self::new), with the masks of `scheme`.
     fn build(base: &PolyMesh, opts: &SubdivideOptions, scheme: Scheme) -> Result<Self, Error> {
-        if opts.limit && matches!(scheme, Scheme::Nurss) {
-            return Err(Error::NurssLimit);
-        }
         if let Some(limit) = opts.max_memory {
             let estimate = match scheme {
                 Scheme::Nurss => Self::estimate_memory_nurss(base, opts),
@@ -344,6 +356,7 @@ impl Reposer {
                 });
             }
         }
+        let mut nurss_limit = None;
         let sub = match scheme {
             Scheme::CatmullClark => subdivide(base, opts)?,
             Scheme::Mixed(m) => subdivide_mixed(base, opts, m)?,
@@ -351,21 +364,29 @@ impl Reposer {
                 let nurss_opts = NurssOptions {
                     levels: opts.levels,
                     scheme: opts.scheme,
-                    limit: false,
+                    limit: opts.limit,
                     keep_holes: opts.keep_holes,
                 };
-                let s = crate::nurss::subdivide(base, &nurss_opts)?;
+                let s = crate::nurss::refined(base, &nurss_opts)?;
+                nurss_limit = opts.limit.then(|| s.limit_rows());
+                // The limit positions come from the rows below, as every pose's.
+                let sub = s.subdivision(&NurssOptions {
+                    limit: false,
+                    ..nurss_opts
+                });
                 Subdivision {
-                    mesh: s.mesh,
-                    warnings: s.warnings,
+                    mesh: sub.mesh,
+                    warnings: sub.warnings,
                     normals: None,
                 }
             }
         };
         // Limit masks need quads around each vertex: on a base mesh with other faces,
         // refined 0 levels, they are taken one level further down (as `subdivide` does).
+        // (NURSS limit rows map the level itself.)
         let ngons = (0..base.num_faces()).any(|f| base.face(f).len() != 4);
-        let plan_levels = if opts.limit && opts.levels == 0 && ngons {
+        let nurss = matches!(scheme, Scheme::Nurss);
+        let plan_levels = if opts.limit && opts.levels == 0 && ngons && !nurss {
             1
         } else {
             opts.levels
@@ -379,15 +400,23 @@ impl Reposer {
             }
             Scheme::Nurss => RefinePlan::new_nurss(base, opts.scheme, plan_levels)?,
         };
-        let rational =
-            (matches!(scheme, Scheme::Nurss) && !base.knots.weights.is_empty()).then(|| {
-                Box::new(Homogeneous {
-                    weights: crate::nurss::vertex_weights(base),
-                    base: Vec::new(),
-                    level: Vec::new(),
-                    scratch: PlanScratch::default(),
-                })
-            });
+        // NURSS in homogeneous points when rational or mapped to the limit (whose rows map
+        // homogeneous points).
+        let mut homogeneous = (matches!(scheme, Scheme::Nurss)
+            && (!base.knots.weights.is_empty() || nurss_limit.is_some()))
+        .then(|| {
+            Box::new(Homogeneous {
+                weights: crate::nurss::vertex_weights(base),
+                base: Vec::new(),
+                level: Vec::new(),
+                scratch: PlanScratch::default(),
+                limit: nurss_limit.map(|rows| (rows, Vec::new())),
+            })
+        });
+        let mut mesh = sub.mesh;
+        if let Some(h) = homogeneous.as_mut().filter(|h| h.limit.is_some()) {
+            h.apply(&plan, base.positions(), mesh.positions_mut());
+        }
         let limit = match sub.normals {
             Some(normals) => {
                 let (mut level, _) = Topology::from_mesh(base, &opts.scheme)?;
@@ -406,12 +435,12 @@ impl Reposer {
         };
         Ok(Self {
             base_faces: Lists::new(base.num_faces(), |f| base.face(f)),
-            mesh: sub.mesh,
+            mesh,
             plan,
             scratch: PlanScratch::default(),
             warnings: sub.warnings,
             limit,
-            rational,
+            homogeneous,
         })
     }
 
@@ -431,7 +460,7 @@ impl Reposer {
             });
         }
         check_coordinates(positions)?;
-        match (&mut self.limit, &mut self.rational) {
+        match (&mut self.limit, &mut self.homogeneous) {
             (None, None) => {
                 (self.plan).apply_into(positions, self.mesh.positions_vec_mut(), &mut self.scratch)
             }
@@ -479,9 +508,15 @@ impl Reposer {
     /// [`estimate_memory`](Self::estimate_memory) of [`new_nurss`](Self::new_nurss): NURSS
     /// refinement keeps every level complete and refines homogeneous points (twice
     /// [`estimate_memory`] of Catmull-Clark's), and the plan is sparse rows on every level
-    /// ([`RefinePlan::estimate_memory`] covers them).
+    /// ([`RefinePlan::estimate_memory`] covers them). The limit refines the last level's
+    /// topology once more (its vertices' fans), counted as one level more.
     pub fn estimate_memory_nurss(base: &PolyMesh, opts: &SubdivideOptions) -> u64 {
-        (estimate_memory(base, opts).saturating_mul(2))
+        let refined = SubdivideOptions {
+            levels: opts.levels.saturating_add(u32::from(opts.limit)),
+            limit: false,
+            ..opts.clone()
+        };
+        (estimate_memory(base, &refined).saturating_mul(2))
             .saturating_add(RefinePlan::estimate_memory(base, opts.levels))
     }
 
@@ -491,7 +526,8 @@ impl Reposer {
     }
 
     /// The limit normals of the last pose, one per vertex of [`mesh`](Self::mesh), when
-    /// the options asked for the limit ([`SubdivideOptions::limit`]).
+    /// the options asked for the limit ([`SubdivideOptions::limit`]; not for NURSS, whose
+    /// limit has no normals, as in [`crate::nurss::subdivide`]).
     pub fn normals(&self) -> Option<&[[f64; 3]]> {
         self.limit.as_ref().map(|l| l.normals.as_slice())
     }

@@ -53,11 +53,6 @@ pub enum Error {
     /// crease ([`Reposer::new_nurss`](crate::Reposer::new_nurss)).
     #[error(transparent)]
     Nurss(#[from] crate::nurss::NurssError),
-    /// Re-posing NURSS limit positions was asked for: its limit points are iterated until
-    /// they converge on the data ([`crate::nurss::Nurss::limit_points`]), which is no
-    /// fixed map of the base positions ([`Reposer::new_nurss`](crate::Reposer::new_nurss)).
-    #[error("limit positions of non-uniform (NURSS) subdivision are not re-posed: re-pose the refined positions, or refine each pose with NURSS and its limit")]
-    NurssLimit,
 }
 
 /// Bytes per face of the last level held at once by [`subdivide`]: the child's faces, edge

@@ -28,8 +28,8 @@ point cache). Each refined pose is written to DIR under the pose's file name, ea
 complete or not at all; the first pose that cannot be read or does not match stops the run.
 The positions are those 'subsurf subdivide' writes for the pose, to rounding (1e-14 of the
 mesh's size); with --limit, the limit positions and normals too (the limit masks applied
-as rows of weights after the plan; not for NURSS, whose limit points are iterated on the
-data). Refining a pose costs a tenth of a full refinement or
+as rows of weights after the plan; NURSS: the limit positions, no normals, as 'subdivide
+--limit' writes them). Refining a pose costs a tenth of a full refinement or
 less; writing the OBJ text then takes most of the time (the library's Reposer skips that).
 
 Examples:
@@ -84,13 +84,6 @@ pub fn run(args: &ReposeArgs) -> Result<()> {
     let progress = Progress::counting(args.poses.len() as u64, "poses", args.quiet);
     let kind = super::subdivide::scheme_kind(args.scheme_kind, &base, &progress, args.quiet);
     let mixed = super::adjustable::for_subdivide(kind, &args.adjust);
-    if kind == SchemeKind::Nurss && args.limit {
-        bail!(
-            "--limit with --scheme nurss: NURSS limit points are iterated on each pose's \
-             positions, not re-posed; re-pose the refined positions (without --limit), or \
-             run 'subsurf subdivide --scheme nurss --limit' on each pose"
-        );
-    }
     let opts = SubdivideOptions {
         levels: args.levels,
         scheme: args

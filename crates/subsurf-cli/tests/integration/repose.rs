@@ -292,7 +292,7 @@ fn adjustable_poses_are_what_subdivide_writes() {
 /// NURSS (`--scheme nurss`, and the default for a base mesh with knot tags): each refined
 /// pose is what `subsurf subdivide` writes for the pose with the base mesh's knot
 /// intervals, faces and tags alike, positions to rounding; with rational weights too
-/// (`t weight`, which stay with their vertices).
+/// (`t weight`, which stay with their vertices), and with `--limit` (no normals).
 #[test]
 fn nurss_poses_are_what_subdivide_writes() {
     let knots = include_str!("../../../../examples/meshes/nurss-grid.obj");
@@ -301,6 +301,8 @@ fn nurss_poses_are_what_subdivide_writes() {
         (knots, &[][..]),
         (knots, &["--scheme", "nurss"][..]),
         (&rational[..], &[][..]),
+        (knots, &["--limit"][..]),
+        (&rational[..], &["--limit"][..]),
     ] {
         let (repose, full) = repose_and_subdivide(base, "3", flags);
         let ((p, _), (q, _)) = (parse(&repose), parse(&full));
@@ -318,8 +320,8 @@ fn nurss_poses_are_what_subdivide_writes() {
     }
 }
 
-/// What cannot be re-posed is an error that says what to do: the limit of NURSS, a
-/// semi-sharp crease under NURSS; `--c` needs `--scheme adjustable` (a usage error).
+/// What cannot be re-posed is an error that says what to do: a semi-sharp crease under
+/// NURSS; `--c` needs `--scheme adjustable` (a usage error).
 #[test]
 fn schemes_that_are_not_reposed_are_refused() {
     let knots = include_str!("../../../../examples/meshes/nurss-grid.obj");
@@ -331,11 +333,6 @@ fn schemes_that_are_not_reposed_are_refused() {
     ]);
     fs::create_dir(dir.path().join("out")).expect("out dir");
     for (args, code, message) in [
-        (
-            &["repose", "knots.obj", "knots.obj", "-o", "out", "--limit"][..],
-            1,
-            "--limit with --scheme nurss: NURSS limit points are iterated",
-        ),
         (
             &[
                 "repose", "cube.obj", "cube.obj", "-o", "out", "--scheme", "nurss",

@@ -18,8 +18,8 @@
 //! - [`subdivide`]: the one-call facade, like [`crate::subdivide`](fn@crate::subdivide).
 //! - [`tessellate`](fn@tessellate): a watertight sampling of the limit surface through refinement (limit
 //!   points of level `L` for rate `2^L`), with mesh normals.
-//! - Re-posing (new positions of the same mesh, refined without refining again):
-//!   [`crate::Reposer::new_nurss`], and the plan underneath,
+//! - Re-posing (new positions of the same mesh, refined without refining again, or moved to
+//!   the limit): [`crate::Reposer::new_nurss`], and the plan underneath,
 //!   [`crate::refine::RefinePlan::new_nurss`].
 //!
 //! The weights are in [`crate::scheme::nurss`], the application to a level in
@@ -69,6 +69,7 @@ use crate::refine::nurss::{refine_nurss_step, NurssKnots};
 use crate::refine::plan::check_size;
 use crate::refine::RefinePlan;
 
+pub(crate) use limit::LimitRows;
 pub use limit::LIMIT_TOLERANCE;
 pub use tessellate::tessellate;
 
@@ -546,6 +547,11 @@ pub struct NurssSubdivision {
 /// # Errors
 /// As [`Nurss::new`]; [`NurssError::TooLarge`] beyond the `u32` index range.
 pub fn subdivide(mesh: &PolyMesh, opts: &NurssOptions) -> Result<NurssSubdivision, NurssError> {
+    Ok(refined(mesh, opts)?.subdivision(opts))
+}
+
+/// `mesh` refined `opts.levels` times, as [`subdivide`] refines it before writing it.
+pub(crate) fn refined(mesh: &PolyMesh, opts: &NurssOptions) -> Result<Nurss, NurssError> {
     let faces = (mesh.face_verts().len() as u64)
         .saturating_mul(4u64.saturating_pow(opts.levels.saturating_sub(1)));
     if faces.saturating_mul(4) >= u32::MAX as u64 {
@@ -556,15 +562,23 @@ pub fn subdivide(mesh: &PolyMesh, opts: &NurssOptions) -> Result<NurssSubdivisio
     }
     let mut s = Nurss::new(mesh, &opts.scheme)?;
     s.refine(opts.levels);
-    let mut out = s.to_mesh(opts.keep_holes);
-    if opts.limit {
-        let lp = s.limit_points();
-        out.positions_mut().copy_from_slice(&lp);
+    Ok(s)
+}
+
+impl Nurss {
+    /// The level as [`subdivide`] writes it (with `opts.keep_holes`, and moved to the limit
+    /// with `opts.limit`).
+    pub(crate) fn subdivision(&self, opts: &NurssOptions) -> NurssSubdivision {
+        let mut out = self.to_mesh(opts.keep_holes);
+        if opts.limit {
+            let lp = self.limit_points();
+            out.positions_mut().copy_from_slice(&lp);
+        }
+        NurssSubdivision {
+            mesh: out,
+            warnings: self.warnings.clone(),
+        }
     }
-    Ok(NurssSubdivision {
-        mesh: out,
-        warnings: s.warnings,
-    })
 }
 
 /// Whether `mesh` has knot intervals, side intervals or weights: the CLI then defaults to

@@ -291,7 +291,9 @@ fn nurss_plan_equals_nurss_subdivide_on_all_shapes() {
 
 /// `Reposer::new_nurss` poses a rational mesh as `nurss::subdivide` refines it, pose
 /// after pose (the weights stay with the vertices), and keeps the refined intervals and
-/// weights as tags; it refuses the limit and semi-sharp creases with typed errors.
+/// weights as tags; with the limit too, at levels 0–2 (at level 0 every vertex's limit
+/// reads the base mesh's triangles and pentagons through one step); it refuses semi-sharp
+/// creases with a typed error.
 #[test]
 fn nurss_reposer_poses_rational_meshes() {
     let (bishop, options) = load("catmark_bishop");
@@ -301,41 +303,42 @@ fn nurss_reposer_poses_rational_meshes() {
         scheme: options,
         ..SubdivideOptions::default()
     };
-    let mut reposer = subsurf::Reposer::new_nurss(&mesh, &opts).expect("reposer");
-    let nurss_opts = NurssOptions {
-        levels: 2,
-        scheme: options,
-        ..NurssOptions::default()
-    };
-    let mut m = mesh.clone();
-    for pose in 0..3 {
-        if pose > 0 {
-            let next = deform(m.positions());
-            m.positions_mut().copy_from_slice(&next);
+    for (levels, limit) in [(2, false), (0, true), (1, true), (2, true)] {
+        let opts = SubdivideOptions {
+            levels,
+            limit,
+            ..opts.clone()
+        };
+        let mut reposer = subsurf::Reposer::new_nurss(&mesh, &opts).expect("reposer");
+        assert!(reposer.normals().is_none());
+        let nurss_opts = NurssOptions {
+            levels,
+            scheme: options,
+            limit,
+            ..NurssOptions::default()
+        };
+        let mut m = mesh.clone();
+        for pose in 0..3 {
+            if pose > 0 {
+                let next = deform(m.positions());
+                m.positions_mut().copy_from_slice(&next);
+            }
+            let want = nurss::subdivide(&m, &nurss_opts)
+                .expect("nurss::subdivide")
+                .mesh;
+            let got = reposer.pose(m.positions()).expect("pose");
+            let (d, at) = max_diff(got.positions(), want.positions());
+            assert!(
+                d <= REL_TOL * diagonal(m.positions()),
+                "level {levels}, limit {limit}, pose {pose}: vertex {at} differs by {d:e}"
+            );
+            assert_eq!(got.face_verts(), want.face_verts());
+            assert_eq!(
+                got.knots, want.knots,
+                "pose {pose}: refined intervals and weights"
+            );
         }
-        let want = nurss::subdivide(&m, &nurss_opts)
-            .expect("nurss::subdivide")
-            .mesh;
-        let got = reposer.pose(m.positions()).expect("pose");
-        let (d, at) = max_diff(got.positions(), want.positions());
-        assert!(
-            d <= REL_TOL * diagonal(m.positions()),
-            "pose {pose}: vertex {at} differs by {d:e}"
-        );
-        assert_eq!(got.face_verts(), want.face_verts());
-        assert_eq!(
-            got.knots, want.knots,
-            "pose {pose}: refined intervals and weights"
-        );
     }
-    let limit = SubdivideOptions {
-        limit: true,
-        ..opts.clone()
-    };
-    assert_eq!(
-        subsurf::Reposer::new_nurss(&mesh, &limit).err(),
-        Some(subsurf::Error::NurssLimit)
-    );
     assert!(matches!(
         subsurf::Reposer::new_nurss(&bishop, &opts),
         Err(subsurf::Error::Nurss(nurss::NurssError::SemiSharp { .. }))
