@@ -512,7 +512,7 @@ impl Reposer {
     /// topology once more (its vertices' fans) while the last level is kept complete with its
     /// masks: three times Catmull-Clark's estimate of one level more (`catmark_bishop` with
     /// intervals, levels 3–5: estimates 129, 512, 2046 MiB, measured peaks of `repose
-    /// --limit` 141, 472, 1838 MiB, the process itself included).
+    /// --limit` 141, 483, 1838 MiB, the process itself included).
     pub fn estimate_memory_nurss(base: &PolyMesh, opts: &SubdivideOptions) -> u64 {
         let refined = SubdivideOptions {
             levels: opts.levels.saturating_add(u32::from(opts.limit)),
