@@ -361,19 +361,16 @@ impl Reposer {
             Scheme::CatmullClark => subdivide(base, opts)?,
             Scheme::Mixed(m) => subdivide_mixed(base, opts, m)?,
             Scheme::Nurss => {
+                // The limit positions come from the rows below, as every pose's.
                 let nurss_opts = NurssOptions {
                     levels: opts.levels,
                     scheme: opts.scheme,
-                    limit: opts.limit,
+                    limit: false,
                     keep_holes: opts.keep_holes,
                 };
                 let s = crate::nurss::refined(base, &nurss_opts)?;
                 nurss_limit = opts.limit.then(|| s.limit_rows());
-                // The limit positions come from the rows below, as every pose's.
-                let sub = s.subdivision(&NurssOptions {
-                    limit: false,
-                    ..nurss_opts
-                });
+                let sub = s.subdivision(&nurss_opts);
                 Subdivision {
                     mesh: sub.mesh,
                     warnings: sub.warnings,

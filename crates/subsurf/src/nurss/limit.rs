@@ -108,15 +108,8 @@ impl Nurss {
             }
             match t.vert_tags[v].get().rule {
                 Rule::Corner => p,
-                Rule::Crease => crease_weights(t, &own, v).map_or(p, |w| {
-                    let mut c = [0.0; 4];
-                    for (q, x) in w {
-                        for k in 0..4 {
-                            c[k] += x * self.points[q][k];
-                        }
-                    }
-                    c
-                }),
+                Rule::Crease => crease_weights(t, &own, v)
+                    .map_or(p, |w| weighted(w.map(|(q, x)| (x, &self.points[q])))),
                 Rule::Smooth | Rule::Dart => match (&child, &child_across) {
                     (Some((c, pts, _)), Some(ac)) => {
                         Fan::gather(c, ac, v, |i| pts[i]).map_or(p, Fan::limit)
@@ -165,14 +158,13 @@ impl LimitRows {
                 for (i, o) in out.iter_mut().enumerate() {
                     let v = b * ROWS_BLOCK + i;
                     let r = self.offsets[v] as usize..self.offsets[v + 1] as usize;
-                    let mut c = [0.0; D];
-                    for (&col, &w) in self.cols[r.clone()].iter().zip(&self.weights[r]) {
-                        let p = &src[col as usize];
-                        for k in 0..D {
-                            c[k] += w * p[k];
-                        }
-                    }
-                    *o = c;
+                    let (cols, weights) = (&self.cols[r.clone()], &self.weights[r]);
+                    *o = weighted(
+                        weights
+                            .iter()
+                            .zip(cols)
+                            .map(|(&w, &c)| (w, &src[c as usize])),
+                    );
                 }
             });
     }
@@ -667,15 +659,7 @@ impl Fan {
         }
         // Powers that do not converge: no limit exists; the last point iterated stands in.
         match self.squared_row() {
-            Some(row) => {
-                let mut c = [0.0; 4];
-                for (w, p) in row.iter().zip(self.points()) {
-                    for k in 0..4 {
-                        c[k] += w * p[k];
-                    }
-                }
-                c
-            }
+            Some(row) => weighted(row.iter().copied().zip(self.points())),
             None => self.v,
         }
     }
@@ -731,6 +715,17 @@ fn combine<const N: usize, const D: usize>(w: &[f64], p: &[&[f64; D]; N]) -> [f6
     c
 }
 
+/// `Σ w_j p_j`.
+fn weighted<'a, const D: usize>(terms: impl IntoIterator<Item = (f64, &'a [f64; D])>) -> [f64; D] {
+    let mut c = [0.0; D];
+    for (w, p) in terms {
+        for k in 0..D {
+            c[k] += w * p[k];
+        }
+    }
+    c
+}
+
 fn dist<const D: usize>(a: &[f64; D], b: &[f64; D]) -> f64 {
     (0..D).map(|k| (a[k] - b[k]).powi(2)).sum::<f64>().sqrt()
 }
@@ -741,8 +736,8 @@ mod tests {
     use crate::io::obj::read_obj;
     use crate::mesh::{EdgeInterval, Options};
 
-    /// The fan of the pole of `catmark_pole{valence}` at level 1, with interval `zero` on one
-    /// of the pole's edges and 1 elsewhere.
+    /// The fan of the pole of `catmark_pole{valence}` at level 1, with `interval` on one of
+    /// the pole's edges and 1 elsewhere.
     fn pole_fan(valence: usize, interval: f64) -> Fan {
         let path = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
             .join(format!("tests/shapes/osd/catmark_pole{valence}.obj"));
@@ -830,7 +825,9 @@ mod tests {
             (seed >> 11) as f64 / (1u64 << 53) as f64
         };
         let mut worst = 0.0f64;
+        let mut shapes = 0;
         for (i, path) in names.iter().enumerate() {
+            // The malformed shapes of the corpus are for other tests.
             let Ok(obj) = read_obj(path) else { continue };
             let mut mesh = obj.mesh;
             mesh.tags.creases.retain(|c| c.sharpness >= 10.0);
@@ -861,6 +858,7 @@ mod tests {
             let Ok(mut s) = Nurss::new(&mesh, &Options::default()) else {
                 continue;
             };
+            shapes += 1;
             let scale = mesh
                 .positions()
                 .iter()
@@ -884,6 +882,7 @@ mod tests {
                 }
             }
         }
+        assert!(shapes >= 80, "{shapes} shapes");
         eprintln!("worst {worst:e}");
     }
 }

@@ -564,18 +564,25 @@ fn limit_points_with_zero_intervals_do_not_depend_on_the_level() {
         v1: b,
         interval: 0.0,
     });
-    let mut s = Nurss::new(&mesh, &Options::default()).unwrap();
+    let at_base = limit_points_at_levels(&mesh, 3);
+    assert!(dist(&at_base[pole], &mesh.positions()[pole]) > 0.1);
+}
+
+/// The limit points of `mesh`'s vertices computed at level 0, after checking that those
+/// computed at level `levels` are the same (within 1e-12 of the size).
+fn limit_points_at_levels(mesh: &PolyMesh, levels: u32) -> Vec<[f64; 3]> {
+    let mut s = Nurss::new(mesh, &Options::default()).unwrap();
     let at_base = s.limit_points();
-    s.refine(3);
-    let at_three = s.limit_points();
+    s.refine(levels);
+    let at_level = s.limit_points();
     let scale = scale_of(&at_base);
-    for (v, (p, q)) in at_base.iter().zip(&at_three).enumerate() {
+    for (v, (p, q)) in at_base.iter().zip(&at_level).enumerate() {
         assert!(
             dist(p, q) < 1e-12 * scale,
-            "vertex {v}: {p:?} against {q:?}"
+            "vertex {v}: {p:?} at level 0 against {q:?} at level {levels}"
         );
     }
-    assert!(dist(&at_base[pole], &mesh.positions()[pole]) > 0.1);
+    at_base
 }
 
 /// The same on `catmark_bishop` with random intervals, a tenth of them zero: two zero
@@ -603,17 +610,7 @@ fn limit_points_with_random_zero_intervals_do_not_depend_on_the_level() {
             });
         }
     }
-    let mut s = Nurss::new(&mesh, &Options::default()).unwrap();
-    let at_base = s.limit_points();
-    s.refine(2);
-    let at_two = s.limit_points();
-    let scale = scale_of(&at_base);
-    for (v, (p, q)) in at_base.iter().zip(&at_two).enumerate() {
-        assert!(
-            dist(p, q) < 1e-12 * scale,
-            "vertex {v}: {p:?} against {q:?}"
-        );
-    }
+    limit_points_at_levels(&mesh, 2);
 }
 
 /// A rational cubic net refines as knot insertion of its homogeneous net.
