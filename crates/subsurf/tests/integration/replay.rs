@@ -291,8 +291,8 @@ fn nurss_plan_equals_nurss_subdivide_on_all_shapes() {
 
 /// `Reposer::new_nurss` poses a rational mesh as `nurss::subdivide` refines it, pose
 /// after pose (the weights stay with the vertices), and keeps the refined intervals and
-/// weights as tags; with the limit too, at levels 0–2 (at level 0 every vertex's limit
-/// reads the base mesh's triangles and pentagons through one step); it refuses semi-sharp
+/// weights as tags; with the limit too, at levels 0–2 (at level 0 the limit reads the
+/// base mesh's triangles through the one step that makes them quads); it refuses semi-sharp
 /// creases with a typed error.
 #[test]
 fn nurss_reposer_poses_rational_meshes() {
