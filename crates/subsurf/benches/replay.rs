@@ -205,7 +205,14 @@ fn replay_nurss_limit_level4(c: &mut Criterion) {
         .measurement_time(Duration::from_secs(5))
         .throughput(Throughput::Elements(reposer.mesh().num_vertices() as u64));
     group.bench_function(format!("pose/{SHAPE}"), |b| {
-        b.iter(|| pool.install(|| reposer.pose(mesh.positions()).map(|_| ())))
+        b.iter(|| {
+            pool.install(|| {
+                reposer
+                    .pose(mesh.positions())
+                    .map(|_| ())
+                    .expect("pose failed")
+            })
+        })
     });
     group.bench_function(format!("subdivide/{SHAPE}"), |b| {
         b.iter(|| pool.install(|| nurss::subdivide(&mesh, &nurss_opts).expect("subdivide failed")))

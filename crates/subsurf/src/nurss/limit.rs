@@ -82,6 +82,22 @@ const MAX_SQUARINGS: usize = 40;
 const UNIT_BLOCK: usize = 16;
 
 impl Nurss {
+    /// Whether the level has smooth vertices or darts, whose limits need the fans of one
+    /// step more.
+    fn has_fans(&self) -> bool {
+        let t = &self.topology;
+        (0..t.num_vertices())
+            .any(|v| matches!(t.vert_tags[v].get().rule, Rule::Smooth | Rule::Dart))
+    }
+
+    /// Every edge's own interval as the rules read it ([`effective_knots`]): the crease
+    /// limits' intervals.
+    fn own_intervals(&self) -> Vec<f64> {
+        let t = &self.topology;
+        let eff = effective_knots(&self.knots);
+        (0..t.num_edges()).map(|e| eff.own(t, e)).collect()
+    }
+
     /// The limit position of every vertex of the current level (one refinement step of the
     /// level is computed on the way, when it has smooth vertices; see the
     /// [module documentation](self) for how: closed form on creases and boundaries, iterated
@@ -90,15 +106,13 @@ impl Nurss {
     pub fn limit_points(&self) -> Vec<[f64; 3]> {
         let t = &self.topology;
         let nv = t.num_vertices();
-        let needs_fan =
-            (0..nv).any(|v| matches!(t.vert_tags[v].get().rule, Rule::Smooth | Rule::Dart));
-        let child =
-            needs_fan.then(|| refine_nurss_step(t, &self.options, &self.knots, &self.points));
+        let child = self
+            .has_fans()
+            .then(|| refine_nurss_step(t, &self.options, &self.knots, &self.points));
         let child_across = child
             .as_ref()
             .map(|(c, _, k)| across_values(c, &effective_knots(k)));
-        let eff = effective_knots(&self.knots);
-        let own: Vec<f64> = (0..t.num_edges()).map(|e| eff.own(t, e)).collect();
+        let own = self.own_intervals();
         // Every vertex on its own: in parallel over chunks (the same result on any number
         // of threads).
         let limit = |v: usize| {
@@ -180,16 +194,13 @@ impl Nurss {
     pub(crate) fn limit_rows(&self) -> LimitRows {
         let t = &self.topology;
         let nv = t.num_vertices();
-        let needs_fan =
-            (0..nv).any(|v| matches!(t.vert_tags[v].get().rule, Rule::Smooth | Rule::Dart));
-        let child = needs_fan.then(|| {
+        let child = self.has_fans().then(|| {
             let masks = NurssMasks::new(t, &self.knots);
             let c = refine_topology(t, &self.options, true);
             let ac = across_values(&c, &effective_knots(&child_knots(t, &self.knots)));
             (masks, c, ac)
         });
-        let eff = effective_knots(&self.knots);
-        let own: Vec<f64> = (0..t.num_edges()).map(|e| eff.own(t, e)).collect();
+        let own = self.own_intervals();
         // Vertex `v`'s terms, a column possibly several times.
         let terms = |v: usize, out: &mut Vec<(u32, f64)>| {
             let keep = (v as u32, 1.0);
