@@ -325,14 +325,14 @@ pub struct BenchArgs {
     #[arg(short, long, value_name = "N", default_value_t = 5)]
     pub levels: u32,
     /// Repetitions (the median and the minimum are printed).
-    #[arg(long, value_name = "R", default_value_t = 5)]
-    pub reps: usize,
+    #[arg(long, value_name = "R", default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..))]
+    pub reps: u32,
     /// Worker threads (0: one per core).
     #[arg(long, value_name = "N", default_value_t = 0)]
     pub threads: usize,
     /// Time limit evaluation instead: build the exact limit surface and evaluate an N×N
     /// grid on every quad face (as `osd-oracle benchlimit IN N REPS`).
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=4096))]
     pub limit_grid: Option<u32>,
     /// Time re-posing instead: build a refinement plan once (its build time is printed,
     /// not timed) and time applying it to the base positions.

@@ -43,7 +43,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         .use_current_thread()
         .build()
         .context("cannot start the thread pool")?;
-    let reps = args.reps.max(1);
+    let reps = args.reps as usize;
     let mesh = &input.obj.mesh;
     if let Some(n) = args.limit_grid {
         let name = input.name.clone();

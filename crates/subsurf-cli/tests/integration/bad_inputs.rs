@@ -803,3 +803,20 @@ fn paper_commands_never_crash_on_the_corpus() {
     }
     assert!(problems.is_empty(), "{}", problems.join("\n"));
 }
+
+#[test]
+fn bench_refuses_zero_repetitions_and_empty_grids() {
+    let dir = dir_with(&[("cube.obj", CUBE)]);
+    for (flags, needle) in [
+        (&["--reps", "0"][..], "--reps"),
+        (&["--limit-grid", "0"], "--limit-grid"),
+        (&["--limit-grid", "5000"], "--limit-grid"),
+    ] {
+        let mut args = vec!["bench".to_string(), "cube.obj".to_string()];
+        args.extend(flags.iter().map(|s| s.to_string()));
+        let run = run_limited(dir.path(), &args, None);
+        assert_eq!(run.code, Some(2), "{flags:?}: {}", run.stderr);
+        assert!(run.stderr.contains(needle), "{flags:?}: {}", run.stderr);
+        assert!(run.stdout.is_empty(), "{flags:?}: {:?}", run.stdout);
+    }
+}
