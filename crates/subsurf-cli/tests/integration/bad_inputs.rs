@@ -574,7 +574,7 @@ fn memory_guards_without_a_cap() {
             "1024",
         ],
         &["bench", "grid.obj", "-l", "4294967295"],
-        &["bench", "grid.obj", "--limit-grid", "4294967295"],
+        &["bench", "grid.obj", "--limit-grid", "4096"],
     ];
     for case in cases {
         if !has_command(case[0]) {
