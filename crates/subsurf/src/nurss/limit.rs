@@ -48,6 +48,22 @@
 //! agree to 1e-14 where the 400 iterated steps used before had left points 1.1e-4 apart per
 //! level at the valence-64 pole (tested in `tests/integration/nurss.rs`, and against
 //! 60,000 iterated steps in this module's tests).
+//!
+//! # Settled fans
+//! A step's weights depend only on the fan's intervals `h`, `ga`, `gb` (the others, `d±`
+//! and the intervals beyond, are functions of them from the second step on; all are
+//! rescaled each step, which the rules, homogeneous of degree 0, do not see). So when a step
+//! leaves `h`, `ga`, `gb` exactly as they were, every further step is the same matrix `S`,
+//! and the limit is taken from its powers at once, as for a slow fan. Fans settle wherever
+//! the intervals are locally those of a tensor product (equal on opposite edges of each
+//! quad, as in the control mesh of a B-spline surface): there the face-interior intervals
+//! are already half the split ones, and the first step settles the fan. Such a fan costs
+//! one step on unit points and a few squarings (about 5 at the rate `¼` of a regular grid)
+//! instead of about 20 steps: `catmark_bishop` with every interval 2 at level 4,
+//! `subdivide --limit` 1.36 → 1.16 s, the `Reposer` with the limit built in 1.3–1.4 s
+//! instead of 2.0–2.7 s (one process each). Where opposite edges differ, the face-interior
+//! intervals approach the split ones by half per step and never quite settle (with
+//! random intervals on the same mesh, 4 % of the fans settle, and the times are unchanged).
 
 use nalgebra::{DMatrix, RowDVector};
 use rayon::prelude::*;
@@ -351,6 +367,10 @@ struct Fan<const D: usize = 4> {
     /// Per face `i`, `d±` at its corners `[v, q_i, r_i, q_{i+1}]` relative to the corner's
     /// leaving and entering edge.
     slots: Vec<[[f64; 2]; 4]>,
+    /// Whether the last [`Fan::step`] left the intervals `h`, `ga`, `gb` (as normalized)
+    /// exactly as it found them: every further step is then the same matrix (see the
+    /// module documentation, "Settled fans").
+    settled: bool,
     /// Buffers reused by every step.
     scratch: FanScratch<D>,
 }
@@ -358,6 +378,8 @@ struct Fan<const D: usize = 4> {
 /// Work buffers of [`Fan::step`].
 #[derive(Clone, Default)]
 struct FanScratch<const D: usize> {
+    /// The intervals `h` before the step.
+    h: Vec<f64>,
     w: Vec<f64>,
     wm: Vec<f64>,
     wf: Vec<f64>,
@@ -399,6 +421,7 @@ impl<const D: usize> Fan<D> {
             av: Vec::with_capacity(n),
             aq: Vec::with_capacity(n),
             slots: Vec::with_capacity(n),
+            settled: false,
             scratch: FanScratch::default(),
         };
         let mut ring_ids = Vec::with_capacity(n);
@@ -446,6 +469,8 @@ impl<const D: usize> Fan<D> {
     fn step(&mut self) {
         let n = self.h.len();
         let sc = &mut self.scratch;
+        sc.h.clear();
+        sc.h.extend_from_slice(&self.h);
         // Face points.
         sc.r.clear();
         for i in 0..n {
@@ -552,6 +577,9 @@ impl<const D: usize> Fan<D> {
                 }
             }
         }
+        // The old `ga`, `gb` are in the scratch buffers since the swap.
+        let sc = &self.scratch;
+        self.settled = self.h == sc.h && self.ga == sc.ga && self.gb == sc.gb;
     }
 
     /// Size of the fan: its largest distance from the centre (in homogeneous coordinates).
@@ -585,6 +613,7 @@ impl<const D: usize> Fan<D> {
             av: self.av.clone(),
             aq: self.aq.clone(),
             slots: self.slots.clone(),
+            settled: self.settled,
             scratch: FanScratch::default(),
         }
     }
@@ -667,6 +696,9 @@ impl Fan {
             if moved <= LIMIT_TOLERANCE * scale || !moved.is_finite() {
                 return self.v;
             }
+            if self.settled {
+                break;
+            }
         }
         // Powers that do not converge: no limit exists; the last point iterated stands in.
         match self.squared_row() {
@@ -700,6 +732,9 @@ impl Fan {
             }
             if moved <= LIMIT_TOLERANCE || !moved.is_finite() {
                 return weights(&units);
+            }
+            if units[0].settled {
+                break;
             }
         }
         let Some(row) = units[0].squared_row() else {
@@ -814,6 +849,34 @@ mod tests {
             fan.step();
         }
         assert!(dist(&limit, &fan.v) > 0.05);
+    }
+
+    /// With equal intervals a fan settles after its first step (the second leaves its
+    /// intervals as they were), and its limit, from the powers of its step matrix, is
+    /// Catmull-Clark's limit position `(n² v + 4 Σ q_i + Σ r_i) / (n (n + 5))`, to which NURSS
+    /// reduces there; a fan next to a zero interval does not settle.
+    #[test]
+    fn fans_with_equal_intervals_settle_on_catmull_clarks_limit() {
+        for valence in [8, 64] {
+            let fan = pole_fan(valence, 1.0);
+            let mut stepped = fan.clone();
+            stepped.step();
+            stepped.step();
+            assert!(stepped.settled, "valence {valence}");
+            let n = valence as f64;
+            let cc: [f64; 4] = std::array::from_fn(|k| {
+                let q: f64 = fan.q.iter().map(|p| p[k]).sum();
+                let r: f64 = fan.r.iter().map(|p| p[k]).sum();
+                (n * n * fan.v[k] + 4.0 * q + r) / (n * (n + 5.0))
+            });
+            let gap = dist(&fan.clone().limit(), &cc);
+            assert!(gap < 1e-14 * fan.size(), "valence {valence}: {gap:e}");
+        }
+        let mut slow = pole_fan(8, 0.0);
+        for _ in 0..8 {
+            slow.step();
+            assert!(!slow.settled);
+        }
     }
 
     /// The limit rows applied to a level's points are its limit points: on the regression
