@@ -685,8 +685,8 @@ impl<const D: usize> Fan<D> {
 
 impl Fan {
     /// The limit of the centre under repeated refinement of the fan: iterated while it
-    /// converges fast, else from the powers of its step matrix ([`Fan::squared_row`]; see
-    /// the module documentation).
+    /// converges fast, from the powers of its step matrix ([`Fan::squared_row`]) once it
+    /// has settled or if it is slow (see the module documentation).
     fn limit(mut self) -> [f64; 4] {
         let scale = self.size() + self.v.iter().map(|c| c.abs()).fold(0.0, f64::max);
         for _ in 0..ITERATED_STEPS {
@@ -711,8 +711,8 @@ impl Fan {
     /// whatever they are: the same steps on copies of the fan whose points are unit vectors,
     /// [`UNIT_BLOCK`] per copy (one per coordinate: the step's weights are computed once
     /// for all of them), iterated until no weight moves by more than [`LIMIT_TOLERANCE`] in
-    /// a step, for at most the same 64 steps; a slow fan's weights are the centre's row of
-    /// `S^∞` times the 64 steps' product. [`Fan::limit`] on data, which stops on the data
+    /// a step, for at most the same 64 steps; a slow or settled fan's weights are the
+    /// centre's row of `S^∞` times the product of the steps so far. [`Fan::limit`] on data, which stops on the data
     /// instead, agrees within `LIMIT_TOLERANCE / (1 − λ)` of the fan's size.
     fn limit_weights(&self) -> Vec<f64> {
         const W: usize = UNIT_BLOCK;
