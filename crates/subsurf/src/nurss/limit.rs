@@ -712,8 +712,9 @@ impl Fan {
     /// [`UNIT_BLOCK`] per copy (one per coordinate: the step's weights are computed once
     /// for all of them), iterated until no weight moves by more than [`LIMIT_TOLERANCE`] in
     /// a step, for at most the same 64 steps; a slow or settled fan's weights are the
-    /// centre's row of `S^∞` times the product of the steps so far. [`Fan::limit`] on data, which stops on the data
-    /// instead, agrees within `LIMIT_TOLERANCE / (1 − λ)` of the fan's size.
+    /// centre's row of `S^∞` times the product of the steps so far. [`Fan::limit`] on data,
+    /// which stops on the data instead, agrees within `LIMIT_TOLERANCE / (1 − λ)` of the
+    /// fan's size.
     fn limit_weights(&self) -> Vec<f64> {
         const W: usize = UNIT_BLOCK;
         let m = self.ids.len();
