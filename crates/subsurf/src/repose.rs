@@ -399,17 +399,16 @@ impl Reposer {
         };
         // NURSS in homogeneous points when rational or mapped to the limit (whose rows map
         // homogeneous points).
-        let mut homogeneous = (matches!(scheme, Scheme::Nurss)
-            && (!base.knots.weights.is_empty() || nurss_limit.is_some()))
-        .then(|| {
-            Box::new(Homogeneous {
-                weights: crate::nurss::vertex_weights(base),
-                base: Vec::new(),
-                level: Vec::new(),
-                scratch: PlanScratch::default(),
-                limit: nurss_limit.map(|rows| (rows, Vec::new())),
-            })
-        });
+        let mut homogeneous = (nurss && (!base.knots.weights.is_empty() || nurss_limit.is_some()))
+            .then(|| {
+                Box::new(Homogeneous {
+                    weights: crate::nurss::vertex_weights(base),
+                    base: Vec::new(),
+                    level: Vec::new(),
+                    scratch: PlanScratch::default(),
+                    limit: nurss_limit.map(|rows| (rows, Vec::new())),
+                })
+            });
         let mut mesh = sub.mesh;
         if let Some(h) = homogeneous.as_mut().filter(|h| h.limit.is_some()) {
             h.apply(&plan, base.positions(), mesh.positions_mut());

@@ -283,6 +283,20 @@ impl Nurss {
     }
 }
 
+/// The interval of the sharp edge that continues sharp edge `e` beyond its end `q`, when
+/// `q` is a crease vertex (the curve's next span); else `e`'s own: `own` holds every
+/// edge's interval as the rules read it.
+fn interval_beyond(t: &Topology, own: &[f64], q: usize, e: usize) -> f64 {
+    if t.vert_tags[q].get().rule != Rule::Crease {
+        return own[e];
+    }
+    t.vertex_edges(q)
+        .iter()
+        .map(|&x| x as usize)
+        .find(|&x| x != e && t.edge_sharpness[x] > 0.0)
+        .map_or(own[e], |x| own[x])
+}
+
 /// The weights of a crease vertex's limit point on itself and the far ends of its two sharp
 /// edges (the closed form of the module documentation); `None` unless the vertex has exactly
 /// two sharp edges.
@@ -304,19 +318,12 @@ fn crease_weights(t: &Topology, own: &[f64], v: usize) -> Option<[(usize, f64); 
             x as usize
         }
     };
-    let partner = |q: usize, e: usize| {
-        if t.vert_tags[q].get().rule != Rule::Crease {
-            return own[e];
-        }
-        t.vertex_edges(q)
-            .iter()
-            .map(|&x| x as usize)
-            .find(|&x| x != e && t.edge_sharpness[x] > 0.0)
-            .map_or(own[e], |x| own[x])
-    };
     let (q1, q2) = (other(e1), other(e2));
     let (a, b) = (own[e1], own[e2]);
-    let (a2, b2) = (partner(q1, e1), partner(q2, e2));
+    let (a2, b2) = (
+        interval_beyond(t, own, q1, e1),
+        interval_beyond(t, own, q2, e2),
+    );
     if a + b <= 0.0 {
         return Some([(v, 1.0), (q1, 0.0), (q2, 0.0)]);
     }
@@ -449,16 +456,11 @@ impl<const D: usize> Fan<D> {
             let sharp = t.edge_sharpness[e] > 0.0;
             fan.sharp.push(sharp);
             let q = fv[at(1)] as usize;
-            let beyond = if sharp && t.vert_tags[q].get().rule == Rule::Crease {
-                t.vertex_edges(q)
-                    .iter()
-                    .map(|&x| x as usize)
-                    .find(|&x| x != e && t.edge_sharpness[x] > 0.0)
-                    .map_or(fan.h[i], |x| ac.own[x])
+            fan.beyond.push(if sharp {
+                interval_beyond(t, &ac.own, q, e)
             } else {
                 fan.h[i]
-            };
-            fan.beyond.push(beyond);
+            });
             fan.slots.push([0, 1, 2, 3].map(|j| ac.slot[o + at(j)]));
         }
         fan.ids.extend(ring_ids);
