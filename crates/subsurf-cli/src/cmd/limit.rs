@@ -103,18 +103,19 @@ pub fn run(args: &LimitArgs) -> Result<()> {
         points.clear();
         points.extend(grid(f, n));
         surface.eval_many_into(points, Order::First, results);
-        let mut s = String::new();
+        let mut s = Vec::new();
         for (p, d) in points.iter().zip(results.iter()) {
             let d = d
                 .as_ref()
                 .map_err(Clone::clone)
                 .with_context(|| format!("{}: face {f}", input.name))?;
-            use std::fmt::Write as _;
-            let _ = write!(s, "{f} {} {}", p.u, p.v);
-            for x in d.p.iter().chain(&d.du).chain(&d.dv) {
-                let _ = write!(s, " {x}");
+            use std::io::Write as _;
+            let _ = write!(s, "{f}");
+            for x in [p.u, p.v].iter().chain(&d.p).chain(&d.du).chain(&d.dv) {
+                s.push(b' ');
+                subsurf::io::push_decimal(&mut s, *x);
             }
-            s.push('\n');
+            s.push(b'\n');
         }
         Ok::<_, anyhow::Error>(s)
     };
@@ -131,7 +132,7 @@ pub fn run(args: &LimitArgs) -> Result<()> {
                 .collect_into_vec(&mut rows);
             for r in &rows {
                 match r {
-                    Ok(s) => w.write_all(s.as_bytes())?,
+                    Ok(s) => w.write_all(s)?,
                     Err(e) => return Err(std::io::Error::other(format!("{e:#}"))),
                 }
             }

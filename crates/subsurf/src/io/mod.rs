@@ -4,10 +4,12 @@
 //!   options), read with errors that name file and line, written with round-trip exact
 //!   `f64` values.
 //! - [`geometry`]: files of NURBS curves and surfaces, JSON or OBJ free-form.
+//! - [`push_decimal`]: the shortest decimal that reads back as the same `f64`, fast.
 //! - [`write_atomically`]: every output file is written to a temporary file in the same
 //!   directory and renamed into place, so a failed run never leaves a partial file.
 
 mod atomic;
+mod decimal;
 pub mod geometry;
 pub mod gltf;
 pub mod obj;
@@ -15,3 +17,4 @@ pub mod ply;
 pub mod stl;
 
 pub use atomic::write_atomically;
+pub use decimal::push_decimal;

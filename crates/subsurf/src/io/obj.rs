@@ -39,9 +39,10 @@
 //! vertices in the file. A face that lists a vertex twice is kept as written (a degenerate
 //! face, which OpenSubdiv accepts).
 //!
-//! Writing ([`write_obj`]) prints every `f64` with Rust's shortest round-trip
-//! representation (never in exponent form), so reading a written file gives bit-identical
-//! positions, and sharpness values as round-trip exact `f32`.
+//! Writing ([`write_obj`]) prints every `f64` as the shortest decimal that reads back as
+//! the same value, never in exponent form ([`push_decimal`](crate::io::push_decimal)), so
+//! reading a written file gives bit-identical positions, and sharpness values as
+//! round-trip exact `f32`.
 
 use crate::mesh::{BoundaryInterpolation, CreaseMethod, Options, PolyMesh, TriangleSubdivision};
 

@@ -1,6 +1,7 @@
 //! The OBJ writer.
 
 use super::WriteOptions;
+use crate::io::push_decimal;
 use crate::mesh::{CreaseMethod, PolyMesh, TriangleSubdivision};
 use std::io::{self, Write};
 
@@ -20,9 +21,9 @@ const HOLES_PER_LINE: usize = 1000;
 /// `t corner 1/1/0` per corner, `t hole N/0/0` lines of up to 1000 faces, and the knot tags
 /// of [`PolyMesh::knots`] (`t interval`, `t sideinterval`, `t weight`; see [`super`]).
 ///
-/// Coordinates are printed with Rust's shortest round-trip representation of `f64` (never
-/// in exponent form), sharpness with that of `f32`: reading the file back gives
-/// bit-identical values. Output goes to `w` in chunks of 64 KiB or more (the `v` and `vn`
+/// Coordinates are printed as the shortest decimals that read back as the same `f64`,
+/// never in exponent form ([`push_decimal`]), sharpness with Rust's shortest round-trip
+/// representation of `f32`: reading the file back gives bit-identical values. Output goes to `w` in chunks of 64 KiB or more (the `v` and `vn`
 /// lines of large meshes are formatted in parallel on the current rayon pool, in blocks
 /// of 4096 points, and written in order); wrap `w` in a
 /// [`BufWriter`](std::io::BufWriter) only if small writes are expensive anyway.
@@ -212,9 +213,8 @@ const BLOCKS_PER_BATCH: usize = 8;
 
 /// `prefix x y z\n` for each point, in order, after what `buf` holds.
 ///
-/// Formatting shortest round-trip `f64`s is most of the time of writing a refined mesh (a
-/// third of `subsurf repose`'s samples in the standard library's float formatting alone), so
-/// blocks of [`POINTS_PER_BLOCK`] points are formatted in parallel on the current rayon
+/// Formatting shortest round-trip `f64`s is most of the time of writing a refined mesh,
+/// so blocks of [`POINTS_PER_BLOCK`] points are formatted in parallel on the current rayon
 /// pool, a batch of [`BLOCKS_PER_BATCH`] at a time into buffers kept from batch to batch,
 /// and written in order: the text is the same as one thread's.
 fn write_triples<W: Write>(
@@ -226,7 +226,7 @@ fn write_triples<W: Write>(
     use rayon::prelude::*;
     if points.len() <= POINTS_PER_BLOCK || rayon::current_num_threads() == 1 {
         for p in points {
-            write_triple(buf, prefix, p)?;
+            write_triple(buf, prefix, p);
             flush(buf, w, false)?;
         }
         return Ok(());
@@ -236,10 +236,12 @@ fn write_triples<W: Write>(
     for batch in points.chunks(POINTS_PER_BLOCK * BLOCKS_PER_BATCH) {
         let blocks = batch.chunks(POINTS_PER_BLOCK);
         let texts = &mut texts[..blocks.len()];
-        (texts.par_iter_mut().zip(blocks.collect::<Vec<_>>())).try_for_each(|(text, block)| {
+        (texts.par_iter_mut().zip(blocks.collect::<Vec<_>>())).for_each(|(text, block)| {
             text.clear();
-            block.iter().try_for_each(|p| write_triple(text, prefix, p))
-        })?;
+            for p in block {
+                write_triple(text, prefix, p);
+            }
+        });
         for text in texts.iter() {
             w.write_all(text)?;
         }
@@ -247,10 +249,15 @@ fn write_triples<W: Write>(
     Ok(())
 }
 
-/// `prefix x y z\n` with shortest round-trip `f64`s.
-fn write_triple(buf: &mut Vec<u8>, prefix: &[u8], p: &[f64; 3]) -> io::Result<()> {
+/// `prefix x y z\n` with [`push_decimal`].
+fn write_triple(buf: &mut Vec<u8>, prefix: &[u8], p: &[f64; 3]) {
     buf.extend_from_slice(prefix);
-    writeln!(buf, "{} {} {}", p[0], p[1], p[2])
+    push_decimal(buf, p[0]);
+    buf.push(b' ');
+    push_decimal(buf, p[1]);
+    buf.push(b' ');
+    push_decimal(buf, p[2]);
+    buf.push(b'\n');
 }
 
 /// Decimal digits of `n`, without allocating.
