@@ -163,19 +163,24 @@ pub fn run(args: &InterpolateArgs) -> Result<()> {
         if curves.is_empty() {
             return Ok(());
         }
-        let mut buf = String::from("g curves\n");
+        let mut buf = b"g curves\n".to_vec();
         let mut next = base + 1;
         let mut lines = String::new();
         for poly in &curves {
             lines.push('l');
             for p in poly {
-                buf.push_str(&format!("v {} {} {}\n", p[0], p[1], p[2]));
+                buf.push(b'v');
+                for &x in p {
+                    buf.push(b' ');
+                    subsurf::io::push_decimal(&mut buf, x);
+                }
+                buf.push(b'\n');
                 lines.push_str(&format!(" {next}"));
                 next += 1;
             }
             lines.push('\n');
         }
-        buf.push_str(&lines);
-        w.write_all(buf.as_bytes())
+        buf.extend_from_slice(lines.as_bytes());
+        w.write_all(&buf)
     })
 }

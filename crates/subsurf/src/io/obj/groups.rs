@@ -4,11 +4,25 @@
 
 use std::io::{self, Write};
 
+use crate::io::push_decimal;
 use crate::mesh::PolyMesh;
+
+/// `v x y z\n` with [`push_decimal`].
+fn write_vertex(w: &mut dyn Write, p: &[f64; 3]) -> io::Result<()> {
+    let mut line = Vec::with_capacity(80);
+    line.extend_from_slice(b"v");
+    for &x in p {
+        line.push(b' ');
+        push_decimal(&mut line, x);
+    }
+    line.push(b'\n');
+    w.write_all(&line)
+}
 
 /// Writes `groups` (each `g name` followed by its faces) and `polylines` (each `g name`
 /// followed by one `l` statement) as one OBJ document, after an optional `# comment` line.
-/// Coordinates are written with Rust's shortest round-trip formatting.
+/// Coordinates are written as [`write_obj`](super::write_obj) writes them
+/// ([`push_decimal`]).
 ///
 /// # Errors
 /// Those of `w`.
@@ -27,7 +41,7 @@ pub fn write_groups_obj(
     for (name, mesh) in groups {
         writeln!(w, "g {name}")?;
         for p in mesh.positions() {
-            writeln!(w, "v {} {} {}", p[0], p[1], p[2])?;
+            write_vertex(w, p)?;
         }
         for f in mesh.faces() {
             write!(w, "f")?;
@@ -41,7 +55,7 @@ pub fn write_groups_obj(
     for (name, pts) in polylines {
         writeln!(w, "g {name}")?;
         for p in pts {
-            writeln!(w, "v {} {} {}", p[0], p[1], p[2])?;
+            write_vertex(w, p)?;
         }
         write!(w, "l")?;
         for i in 0..pts.len() {
