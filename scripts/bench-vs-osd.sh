@@ -23,7 +23,8 @@
 #   REPLAY_LEVELS="6"   levels of the re-posing table (catmark_bishop, catmark_pawn, the extra
 #                       meshes and catmark_bishop with every quad split into two triangles,
 #                       dense in extraordinary vertices: `subsurf bench --replay` against a full refinement
-#                       with the same threads; empty: skip that table)
+#                       with the same threads; the large input at LARGE_LEVELS; empty: skip
+#                       that table)
 #   LARGE_TRI_LEVELS="2 3"  levels of the re-posing table for the large input with every quad
 #                       split into two triangles (30 k triangles; empty: skip those rows)
 #   LIMIT_GRID=8        N of the limit-evaluation table: an N x N grid of limit points (position
@@ -227,6 +228,7 @@ replay_runs=()
 for run in "${small_runs[@]}" "$all_tri|catmark_bishop_tri (all triangles)"; do
   replay_runs+=("$run|$REPLAY_LEVELS")
 done
+replay_runs+=("$large|catmark_bishop_l2 (large)|$LARGE_LEVELS")
 replay_runs+=("$large_tri|catmark_bishop_l2_tri (large, all triangles)|$LARGE_TRI_LEVELS")
 if [ -n "$REPLAY_LEVELS" ]; then
   printf '\nRe-posing (`subsurf bench --replay`: a precomputed plan applied to the base positions)\n'
