@@ -296,13 +296,14 @@ impl<'a> PhysicalLines<'a> {
 /// are whitespace); anything else is taken as a sign of a binary file.
 pub(super) fn line_data(raw: &[u8], no: usize) -> Result<(&str, bool), String> {
     let text = std::str::from_utf8(raw).map_err(|_| format!("line {no} is not valid UTF-8"))?;
-    if let Some(&b) = raw
-        .iter()
-        .find(|&&b| (b < 0x20 && !matches!(b, b'\t' | b'\x0c' | b'\r')) || b == 0x7f)
-    {
-        return Err(format!(
-            "line {no} contains the control character 0x{b:02x} (is this a binary file?)"
-        ));
+    let control = |b: u8| (b < 0x20 && !matches!(b, b'\t' | b'\x0c' | b'\r')) || b == 0x7f;
+    // Without an early exit (which keeps the loop from being vectorized), then the first.
+    if raw.iter().fold(false, |any, &b| any | control(b)) {
+        if let Some(&b) = raw.iter().find(|&&b| control(b)) {
+            return Err(format!(
+                "line {no} contains the control character 0x{b:02x} (is this a binary file?)"
+            ));
+        }
     }
     let data = match text.find('#') {
         Some(i) => text.get(..i).unwrap_or(""),
