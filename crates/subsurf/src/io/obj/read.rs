@@ -11,6 +11,7 @@ use crate::mesh::{
 };
 use std::path::Path;
 use std::str::SplitAsciiWhitespace;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// Reads an OBJ file.
 ///
@@ -175,8 +176,10 @@ fn parallel_prefix(bytes: &[u8], chunk: usize) -> Option<(Parser, PhysicalLines<
     let parsers: Vec<Parser> = (before.iter().zip(&counted))
         .map(|(&(_, base), &c)| Parser::with_capacity(base, c))
         .collect();
+    let stopped = AtomicUsize::new(usize::MAX);
     let parsed: Vec<(Parser, bool)> = (parsers.into_par_iter().zip(&chunks).zip(&before))
-        .map(|((p, c), &(line, _))| read_chunk(p, c, line))
+        .enumerate()
+        .map(|(i, ((p, c), &(line, _)))| read_chunk(p, c, line, i, &stopped))
         .collect();
     let total = counted
         .iter()
@@ -247,19 +250,41 @@ fn element_counts(chunk: &[u8]) -> ChunkCounts {
 /// Reads one chunk (whose first line follows line `line`) into `parser`, a parser of its
 /// own; `false` with it if the chunk holds a tag, a continued line or an error (its parser
 /// is then not used).
-fn read_chunk(mut parser: Parser, chunk: &[u8], line: usize) -> (Parser, bool) {
+///
+/// `stopped` is the least index of a chunk that stopped so far: chunk `index` gives up
+/// (every [`LINES_PER_CHECK`] lines) once an earlier one has stopped, since nothing after
+/// that is joined. A file with a tag in its first lines is then read by one pass, as fast
+/// as before chunks (`subsurf info` of a 106 MB scan with a tag on its first line:
+/// 0.92–1.05 s against 0.94–1.02; 1.10–1.40 s with every chunk read to its end).
+fn read_chunk(
+    mut parser: Parser,
+    chunk: &[u8],
+    line: usize,
+    index: usize,
+    stopped: &AtomicUsize,
+) -> (Parser, bool) {
     let mut lines = PhysicalLines { rest: chunk, line };
+    let mut read = 0usize;
     while let Some((no, raw)) = lines.next() {
+        read += 1;
+        if read.is_multiple_of(LINES_PER_CHECK) && stopped.load(Ordering::Relaxed) < index {
+            return (parser, false);
+        }
         let Ok((data, false)) = line_data(raw, no) else {
+            stopped.fetch_min(index, Ordering::Relaxed);
             return (parser, false);
         };
         let tag = data.split_ascii_whitespace().next() == Some("t");
         if tag || parser.statement(data, no).is_err() {
+            stopped.fetch_min(index, Ordering::Relaxed);
             return (parser, false);
         }
     }
     (parser, true)
 }
+
+/// Lines a chunk reads between looks at whether an earlier chunk stopped.
+const LINES_PER_CHECK: usize = 1024;
 
 /// Splits input into physical lines (without `\n` and a trailing `\r`), numbered from 1.
 pub(super) struct PhysicalLines<'a> {
