@@ -1,5 +1,6 @@
 //! Malformed and extreme inputs: every subcommand that reads an OBJ, on every file of the
-//! corpus `crates/subsurf/tests/bad/`, must finish within 5 s, exit with the status listed
+//! corpus `crates/subsurf/tests/bad/`, must finish (a hang guard kills a run after 120 s; no
+//! test here asserts how fast a run is, since the machine may be busy), exit with the status listed
 //! in `expected.tsv` (1 for bad input) with a message naming the file and the line or
 //! element, never panic, and on failure leave nothing behind (no output file, no temporary
 //! file, nothing on standard output).
@@ -19,8 +20,10 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Mutex, OnceLock};
 use std::time::{Duration, Instant};
 
-/// Longest a single run may take.
-const TIME_LIMIT: Duration = Duration::from_secs(5);
+/// The hang guard: a run still going after this long is killed and the test fails. It is
+/// not a speed requirement (tests run on busy machines; cost is checked by counting work,
+/// `crates/subsurf/tests/work_counts.rs`): every run here takes well under a second alone.
+const TIME_LIMIT: Duration = Duration::from_secs(120);
 
 /// Every subcommand that reads an OBJ (`render` only when the binary has it).
 const ALL_COMMANDS: [&str; 6] = [
@@ -357,11 +360,11 @@ fn fan(n: usize, quads: bool) -> String {
     t
 }
 
-/// A vertex of valence 3000 (triangles and quads around it; up to 1 s per run in the test
-/// profile) and one of 70 000 (`info`, `subdivide`, `limit`): every subcommand within the
-/// time limit. The limit surface shares one local refinement per high-valence vertex among its
-/// faces and topology building searches the shorter of an edge's two vertex lists, so the
-/// cost grows linearly with the valence (it grew quadratically: 12 s at valence 1000).
+/// A vertex of valence 3000 (triangles and quads around it) and one of 70 000 (`info`,
+/// `subdivide`, `limit`): every subcommand finishes (exit 0) before the hang guard. That the
+/// cost grows linearly with the valence (it grew quadratically: 12 s at valence 1000, before
+/// the limit surface shared one local refinement per high-valence vertex) is checked by
+/// counting allocations at two valences, `crates/subsurf/tests/work_counts.rs`.
 #[test]
 fn high_valence_vertices() {
     let dir = dir_with(&[
@@ -516,7 +519,6 @@ fn replay_bench_checks_memory_before_building() {
         "{}",
         run.stderr
     );
-    assert!(run.elapsed < TIME_LIMIT);
 }
 
 #[test]
@@ -536,8 +538,7 @@ fn memory_guard_refuses_without_writing() {
             "{args:?}: {}",
             run.stderr
         );
-        assert!(run.elapsed < TIME_LIMIT);
-    }
+        }
     assert_eq!(listing(dir.path()), ["cube.obj"]);
 }
 
@@ -593,10 +594,7 @@ fn memory_guards_without_a_cap() {
             "{args:?}: {}",
             run.stderr
         );
-        assert!(
-            run.stdout.is_empty() && run.elapsed < TIME_LIMIT,
-            "{args:?}"
-        );
+        assert!(run.stdout.is_empty(), "{args:?}");
     }
     assert_eq!(listing(dir.path()), ["grid.obj"]);
 }
