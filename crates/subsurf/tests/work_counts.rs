@@ -193,3 +193,57 @@ fn limit_surface_is_linear_in_the_valence() {
         });
     }
 }
+
+/// The memory estimates that `--max-memory` is checked against bound the peak of live bytes
+/// that refinement and re-posing (building the plan, then one pose) allocate, around
+/// vertices of valence 4000 (triangles, quads, at a boundary), levels 1 and 2, with and
+/// without limit positions.
+#[test]
+fn memory_estimates_bound_the_peak() {
+    use subsurf::Reposer;
+    let half_fan = {
+        let n = 4000;
+        let mut p = vec![[0.0, 0.0, 0.0]];
+        for i in 0..=n {
+            let a = i as f64 / n as f64 * std::f64::consts::PI;
+            p.push([a.cos(), a.sin(), 0.1 * (3.0 * a).sin()]);
+        }
+        let faces: Vec<[u32; 3]> = (0..n as u32).map(|i| [0, i + 1, i + 2]).collect();
+        PolyMesh::from_faces(p, &faces).expect("valid half fan")
+    };
+    for (name, mesh) in [
+        ("triangle fan", fan(4000, false)),
+        ("quad fan", fan(4000, true)),
+        ("fan at a boundary", half_fan),
+    ] {
+        for levels in [1, 2] {
+            for limit in [false, true] {
+                let opts = SubdivideOptions {
+                    levels,
+                    limit,
+                    ..SubdivideOptions::default()
+                };
+                let what = format!("{name}, level {levels}, limit {limit}");
+                let used = count(|| {
+                    subdivide(&mesh, &opts).expect("refinement");
+                });
+                let estimate = subsurf::estimate_memory(&mesh, &opts);
+                assert!(
+                    used.peak as u64 <= estimate,
+                    "subdivide of the {what}: peak {} bytes, estimate {estimate}",
+                    used.peak
+                );
+                let used = count(|| {
+                    let mut reposer = Reposer::new(&mesh, &opts).expect("plan");
+                    reposer.pose(mesh.positions()).expect("pose");
+                });
+                let estimate = Reposer::estimate_memory(&mesh, &opts);
+                assert!(
+                    used.peak as u64 <= estimate,
+                    "re-posing the {what}: peak {} bytes, estimate {estimate}",
+                    used.peak
+                );
+            }
+        }
+    }
+}
