@@ -9,6 +9,7 @@ mod json;
 mod memory;
 mod output;
 mod progress;
+mod signals;
 
 use std::io;
 use std::path::PathBuf;
@@ -536,6 +537,7 @@ fn parse_bytes(s: &str) -> Result<u64, String> {
 fn main() -> ExitCode {
     // Usage errors exit with 2 here; --help and --version with 0.
     let cli = Cli::parse();
+    signals::clean_up_on_signals();
     let result = match &cli.command {
         Command::Subdivide(args) => cmd::subdivide::run(args),
         Command::Info(args) => cmd::info::run(args),
@@ -560,6 +562,7 @@ fn main() -> ExitCode {
         // The report was printed; the net is not certified.
         Err(e) if e.is::<cmd::regularity::NotCertified>() => ExitCode::from(3),
         Err(e) => {
+            output::remove_created_dirs();
             eprintln!("error: {e:#}");
             ExitCode::FAILURE
         }

@@ -3,6 +3,7 @@
 use std::fs;
 use std::io::{self, BufWriter, Write};
 use std::path::{Path, PathBuf};
+use std::sync::Mutex;
 
 use anyhow::{bail, Context, Result};
 use subsurf::io::write_atomically;
@@ -129,4 +130,44 @@ fn free_space(dir: &Path) -> Option<u64> {
 #[cfg(not(target_os = "linux"))]
 fn free_space(_dir: &Path) -> Option<u64> {
     None
+}
+
+/// Directories [`create_dir_all`] made, outermost first, until the run succeeds.
+static CREATED_DIRS: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+/// Creates `dir` and its missing parents, remembering which it made, so that a run that
+/// fails or is stopped removes them again ([`remove_created_dirs`]) and leaves nothing.
+pub fn create_dir_all(dir: &Path) -> Result<()> {
+    let mut missing = Vec::new();
+    let mut d = dir;
+    while !d.as_os_str().is_empty() && fs::symlink_metadata(d).is_err() {
+        missing.push(d.to_path_buf());
+        match d.parent() {
+            Some(p) => d = p,
+            None => break,
+        }
+    }
+    for d in missing.into_iter().rev() {
+        match fs::create_dir(&d) {
+            Ok(()) => CREATED_DIRS
+                .lock()
+                .unwrap_or_else(|p| p.into_inner())
+                .push(d),
+            Err(e) if e.kind() == io::ErrorKind::AlreadyExists && d.is_dir() => {}
+            Err(e) => {
+                remove_created_dirs();
+                return Err(e).with_context(|| format!("cannot create directory {}", d.display()));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Removes the directories [`create_dir_all`] made, innermost first, where they are still
+/// empty (a failed or stopped run wrote nothing to them).
+pub fn remove_created_dirs() {
+    let mut dirs = CREATED_DIRS.lock().unwrap_or_else(|p| p.into_inner());
+    while let Some(d) = dirs.pop() {
+        let _ = fs::remove_dir(d);
+    }
 }

@@ -7,11 +7,11 @@ use std::path::{Path, PathBuf};
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use subsurf::io::obj::{write_obj, WriteOptions};
+use subsurf::io::PendingFile;
 use subsurf::mesh::Options;
 use subsurf::{PoseError, Reposer, SubdivideOptions};
 
 use crate::input::Input;
-use crate::output::Output;
 use crate::progress::Progress;
 use crate::{AdjustArgs, SchemeArgs, SchemeKind};
 
@@ -24,8 +24,9 @@ with --scheme nurss, the default for a base mesh with knot interval or weight ta
 its vertices. A pose
 is an OBJ file with the base mesh's vertices moved: it repeats the base mesh's faces (same
 vertices, same order; its tags are not read) or has no faces at all ('v' lines only, as a
-point cache). Each refined pose is written to DIR under the pose's file name, each file
-complete or not at all; the first pose that cannot be read or does not match stops the run.
+point cache). Each refined pose is written to DIR (created, with its parents, if missing)
+under the pose's file name. The outputs appear all together or not at all: the first pose
+that cannot be read or does not match stops the run, and nothing is written.
 The positions are those 'subsurf subdivide' writes for the pose, to rounding (1e-14 of the
 mesh's size); with --limit, the limit positions and normals too (the limit masks applied
 as rows of weights after the plan; NURSS: the limit positions, no normals, as 'subdivide
@@ -129,6 +130,9 @@ pub fn run(args: &ReposeArgs) -> Result<()> {
             progress.warn(&base.warning(w));
         }
     }
+    // Each pose is written to a temporary file beside its output, renamed into place once
+    // every pose has been written: all outputs or none.
+    let mut written = Vec::with_capacity(outputs.len());
     for (pose, out) in args.poses.iter().zip(&outputs) {
         progress.set_message(format!("re-posing {}", pose.display()));
         let input = Input::read(pose)?;
@@ -147,22 +151,26 @@ pub fn run(args: &ReposeArgs) -> Result<()> {
             comment: Some(&comment),
         };
         let refined = reposer.mesh();
-        Output::File(out.clone()).write(|mut w| write_obj(&mut w, refined, &write_opts))?;
+        let cannot = || format!("cannot write {}", out.display());
+        let mut file = PendingFile::create(out).with_context(cannot)?;
+        write_obj(file.writer(), refined, &write_opts).with_context(cannot)?;
+        written.push((file.finish().with_context(cannot)?, out));
         progress.step_done();
+    }
+    for (file, out) in written {
+        file.commit()
+            .with_context(|| format!("cannot write {}", out.display()))?;
     }
     Ok(())
 }
 
-/// The output file of each pose: `DIR/<its file name>`. Fails before any work when `DIR`
-/// is not a directory, two poses have the same file name, or an output would replace the
-/// base mesh or a pose.
+/// The output file of each pose: `DIR/<its file name>`, `DIR` created if missing. Fails
+/// before any work when `DIR` is not a directory, two poses have the same file name, or an
+/// output would replace the base mesh or a pose.
 fn output_paths(args: &ReposeArgs) -> Result<Vec<PathBuf>> {
     let dir = &args.output_dir;
-    if !dir.is_dir() {
-        bail!(
-            "cannot write to {}: not a directory (create it first)",
-            dir.display()
-        );
+    if dir.exists() && !dir.is_dir() {
+        bail!("cannot write to {}: not a directory", dir.display());
     }
     let inputs: HashSet<PathBuf> = std::iter::once(&args.base)
         .chain(&args.poses)
@@ -197,6 +205,7 @@ fn output_paths(args: &ReposeArgs) -> Result<Vec<PathBuf>> {
         }
         outputs.push(out);
     }
+    crate::output::create_dir_all(dir)?;
     Ok(outputs)
 }
 

@@ -538,7 +538,7 @@ fn memory_guard_refuses_without_writing() {
             "{args:?}: {}",
             run.stderr
         );
-        }
+    }
     assert_eq!(listing(dir.path()), ["cube.obj"]);
 }
 

@@ -21,5 +21,6 @@ mod nurss;
 mod regularity;
 mod render;
 mod repose;
+mod signals;
 mod spline;
 mod tessellate;

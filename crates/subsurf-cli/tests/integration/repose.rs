@@ -174,7 +174,22 @@ fn a_pose_that_does_not_match_is_an_error() {
         err.contains("turned.obj:20: face 3 is not the base mesh's face 3 (hut.obj:20)"),
         "{err}"
     );
-    assert_eq!(listing(&dir.path().join("out")), ["good.obj"]);
+    // All or nothing: the good pose before the bad one is not written either.
+    assert_eq!(listing(&dir.path().join("out")), Vec::<String>::new());
+    // A directory the run created is removed again when it fails.
+    let o = run_in(
+        dir.path(),
+        &[
+            "repose",
+            "hut.obj",
+            "good.obj",
+            "turned.obj",
+            "-o",
+            "new/deeper",
+        ],
+    );
+    assert_code(&o, 1);
+    assert!(!dir.path().join("new").exists());
     let o = run_in(dir.path(), &["repose", "hut.obj", "short.obj", "-o", "out"]);
     assert_code(&o, 1);
     assert!(
@@ -192,8 +207,8 @@ fn outputs_that_cannot_be_written_are_refused_first() {
     fs::write(dir.path().join("sub").join("a.obj"), moved(HUT, 0.4)).expect("second pose");
     for (args, message) in [
         (
-            &["repose", "hut.obj", "a.obj", "-o", "missing"][..],
-            "cannot write to missing: not a directory",
+            &["repose", "hut.obj", "a.obj", "-o", "hut.obj"][..],
+            "cannot write to hut.obj: not a directory",
         ),
         (
             &["repose", "hut.obj", "a.obj", "sub/a.obj", "-o", "sub"][..],
@@ -214,6 +229,15 @@ fn outputs_that_cannot_be_written_are_refused_first() {
     }
     assert_eq!(listing(dir.path()), ["a.obj", "hut.obj", "sub"]);
     assert_eq!(listing(&dir.path().join("sub")), ["a.obj"]);
+}
+
+/// A missing output directory is created, with its parents.
+#[test]
+fn a_missing_output_directory_is_created() {
+    let dir = dir_with(&[("hut.obj", HUT), ("a.obj", &moved(HUT, 0.2))]);
+    let o = run_in(dir.path(), &["repose", "hut.obj", "a.obj", "-o", "out/l2"]);
+    assert_code(&o, 0);
+    assert_eq!(listing(&dir.path().join("out/l2")), ["a.obj"]);
 }
 
 /// The OBJ texts of `base` moved (`moved(base, 0.7)`) and refined `levels` times with

@@ -6,7 +6,9 @@
 //! - [`geometry`]: files of NURBS curves and surfaces, JSON or OBJ free-form.
 //! - [`push_decimal`]: the shortest decimal that reads back as the same `f64`, fast.
 //! - [`write_atomically`]: every output file is written to a temporary file in the same
-//!   directory and renamed into place, so a failed run never leaves a partial file.
+//!   directory and renamed into place, so a failed run never leaves a partial file;
+//!   [`PendingFile`] does the same for several files that appear together or not at all,
+//!   and [`remove_temporary_files`] cleans up after a signal.
 
 mod atomic;
 mod decimal;
@@ -16,5 +18,5 @@ pub mod obj;
 pub mod ply;
 pub mod stl;
 
-pub use atomic::write_atomically;
+pub use atomic::{remove_temporary_files, write_atomically, Finished, PendingFile};
 pub use decimal::push_decimal;
