@@ -138,8 +138,9 @@ pub enum TopologyWarning {
         /// End vertex.
         v1: u32,
     },
-    /// Faces that list a vertex more than once; their edges are non-manifold (sharp), as
-    /// in OpenSubdiv.
+    /// Faces that list a vertex more than once; their repeated edges are non-manifold
+    /// (sharp), as in OpenSubdiv, and so is a vertex whose faces cannot be walked around
+    /// in one order.
     DegenerateFaces {
         /// How many.
         count: usize,
@@ -163,25 +164,47 @@ pub enum TopologyWarning {
     },
 }
 
+impl TopologyWarning {
+    /// What is done about the elements the warning names (the part of its message after
+    /// them, shared by [`Display`](std::fmt::Display) and messages that number elements
+    /// in a file's terms).
+    pub fn consequence(&self) -> &'static str {
+        match self {
+            Self::CreaseEdgeMissing { .. } => "the crease is ignored",
+            Self::DegenerateFaces { .. } => {
+                "they have no well-defined surface there: refined as degenerate faces, with \
+                 the vertex sharp where the faces around it cannot be ordered (OpenSubdiv then \
+                 gives a result that depends on the corner a face starts from); --strict \
+                 refuses them"
+            }
+            Self::NonManifoldEdges { .. } => "are treated as infinitely sharp, as OpenSubdiv does",
+            Self::NonManifoldVertices { .. } => "are treated as sharp, as OpenSubdiv does",
+        }
+    }
+}
+
 impl std::fmt::Display for TopologyWarning {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let then = self.consequence();
         match self {
-            Self::CreaseEdgeMissing { crease, v0, v1 } => write!(
-                f,
-                "crease {crease}: vertices {v0} and {v1} share no edge; the crease is ignored"
-            ),
+            Self::CreaseEdgeMissing { crease, v0, v1 } => {
+                write!(
+                    f,
+                    "crease {crease}: vertices {v0} and {v1} share no edge; {then}"
+                )
+            }
             Self::DegenerateFaces { count, first } => write!(
                 f,
-                "{count} face(s) (first: face {first}) list a vertex more than once; treated as degenerate faces, as OpenSubdiv does"
+                "{count} face(s) (first: face {first}) list a vertex more than once; {then}"
             ),
             Self::NonManifoldEdges { count, first } => write!(
                 f,
-                "{count} non-manifold edge(s) (first: {}-{}) are treated as infinitely sharp, as OpenSubdiv does",
+                "{count} non-manifold edge(s) (first: {}-{}) {then}",
                 first.0, first.1
             ),
             Self::NonManifoldVertices { count, first } => write!(
                 f,
-                "{count} non-manifold vertex/vertices (first: {first}) are treated as sharp, as OpenSubdiv does"
+                "{count} non-manifold vertex/vertices (first: {first}) {then}"
             ),
         }
     }

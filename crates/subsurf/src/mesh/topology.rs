@@ -341,6 +341,16 @@ fn order_corners(
     }
 }
 
+/// Whether `a` and `b` hold the same members, each as often.
+fn same_members(a: &[u32], b: &[u32]) -> bool {
+    let sorted = |x: &[u32]| {
+        let mut v = x.to_vec();
+        v.sort_unstable();
+        v
+    };
+    a.len() == b.len() && sorted(a) == sorted(b)
+}
+
 /// `data`, a relation's members in CSR form with `offsets` over vertices, cut into the
 /// members of each block of [`VERTEX_BLOCK`] vertices.
 fn split_blocks<'a, T>(mut data: &'a mut [T], offsets: &[u32]) -> Vec<&'a mut [T]> {
@@ -899,7 +909,11 @@ impl Topology {
             }
             e = next;
         }
-        faces.len() == nf
+        // Around a vertex that a face holds twice, the walk can list an edge twice and miss
+        // another (OpenSubdiv's walk does the same, and its result then depends on the
+        // corner a face starts from): the vertex is non-manifold unless the walk visited
+        // each of its edges once and each of its faces as often as they hold it.
+        faces.len() == nf && same_members(edges, vedges) && same_members(faces, vfaces)
     }
 
     /// Applies creases, corners and holes (OpenSubdiv's `assignComponentTags`).

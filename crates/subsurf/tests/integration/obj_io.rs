@@ -608,8 +608,10 @@ fn mesh_problems_are_described_with_obj_numbering_and_lines() {
         obj.describe_warning(&w),
         (
             Some(6),
-            "1 face(s) (first: face 2) list a vertex more than once; treated as degenerate \
-             faces, as OpenSubdiv does"
+            "1 face(s) (first: face 2) list a vertex more than once; they have no \
+             well-defined surface there: refined as degenerate faces, with the vertex sharp \
+             where the faces around it cannot be ordered (OpenSubdiv then gives a result that \
+             depends on the corner a face starts from); --strict refuses them"
                 .to_string()
         )
     );

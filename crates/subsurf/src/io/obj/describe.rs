@@ -88,20 +88,19 @@ impl ObjFile {
     /// `w` in the file's terms, as [`ObjFile::describe_error`] (the line of the first
     /// element concerned).
     pub fn describe_warning(&self, w: &TopologyWarning) -> (Option<usize>, String) {
+        let then = w.consequence();
         match *w {
             TopologyWarning::DegenerateFaces { count, first } => (
                 self.face_line(first as usize),
                 format!(
-                    "{count} face(s) (first: face {}) list a vertex more than once; treated as \
-                     degenerate faces, as OpenSubdiv does",
+                    "{count} face(s) (first: face {}) list a vertex more than once; {then}",
                     u64::from(first) + 1
                 ),
             ),
             TopologyWarning::NonManifoldEdges { count, first } => (
                 self.edge_line(first.0, first.1),
                 format!(
-                    "{count} non-manifold edge(s) (first: {}-{}) are treated as infinitely \
-                     sharp, as OpenSubdiv does",
+                    "{count} non-manifold edge(s) (first: {}-{}) {then}",
                     u64::from(first.0) + 1,
                     u64::from(first.1) + 1
                 ),
@@ -109,8 +108,7 @@ impl ObjFile {
             TopologyWarning::NonManifoldVertices { count, first } => (
                 self.vertex_line(first),
                 format!(
-                    "{count} non-manifold vertex/vertices (first: {}) are treated as sharp, as \
-                     OpenSubdiv does",
+                    "{count} non-manifold vertex/vertices (first: {}) {then}",
                     u64::from(first) + 1
                 ),
             ),
