@@ -63,6 +63,31 @@ Examples:
 struct Cli {
     #[command(subcommand)]
     command: Command,
+    /// Worker threads, for every command [default: one per core, or the environment's
+    /// RAYON_NUM_THREADS]. At most 4 per core: more would only add memory and switching.
+    #[arg(long, global = true, value_name = "N", value_parser = parse_threads)]
+    threads: Option<usize>,
+}
+
+/// The most worker threads `--threads` starts: 4 per core that the system reports.
+fn max_threads() -> usize {
+    std::thread::available_parallelism().map_or(1, |n| n.get()) * 4
+}
+
+/// Parses `--threads N`: 1 up to [`max_threads`] (0: one per core).
+fn parse_threads(s: &str) -> Result<usize, String> {
+    let n: usize = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("'{s}' is not a number of threads"))?;
+    let max = max_threads();
+    if n > max {
+        return Err(format!(
+            "{n} threads is more than 4 per core of this machine's {} (at most {max})",
+            max / 4
+        ));
+    }
+    Ok(n)
 }
 
 #[derive(Debug, Subcommand)]
@@ -328,9 +353,6 @@ pub struct BenchArgs {
     /// Repetitions (the median and the minimum are printed).
     #[arg(long, value_name = "R", default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..))]
     pub reps: u32,
-    /// Worker threads (0: one per core).
-    #[arg(long, value_name = "N", default_value_t = 0)]
-    pub threads: usize,
     /// Time limit evaluation instead: build the exact limit surface and evaluate an N×N
     /// grid on every quad face (as `osd-oracle benchlimit IN N REPS`).
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=4096))]
@@ -538,12 +560,24 @@ fn main() -> ExitCode {
     // Usage errors exit with 2 here; --help and --version with 0.
     let cli = Cli::parse();
     signals::clean_up_on_signals();
+    let threads = cli.threads.unwrap_or(0);
+    // `bench` times its own pool of exactly these threads; every other command runs on
+    // rayon's global pool.
+    if !matches!(cli.command, Command::Bench(_)) && threads > 0 {
+        if let Err(e) = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build_global()
+        {
+            eprintln!("error: cannot start {threads} worker threads: {e}");
+            return ExitCode::FAILURE;
+        }
+    }
     let result = match &cli.command {
         Command::Subdivide(args) => cmd::subdivide::run(args),
         Command::Info(args) => cmd::info::run(args),
         Command::Demo(args) => cmd::demo::run(args),
         Command::Repose(args) => cmd::repose::run(args),
-        Command::Bench(args) => cmd::bench::run(args),
+        Command::Bench(args) => cmd::bench::run(args, threads),
         Command::Limit(args) => cmd::limit::run(args),
         Command::Tessellate(args) => cmd::tessellate::run(args),
         Command::Render(args) => cmd::render::run(args),

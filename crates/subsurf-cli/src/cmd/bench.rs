@@ -13,8 +13,8 @@ use subsurf::{subdivide, SubdivideOptions};
 use crate::input::Input;
 use crate::BenchArgs;
 
-/// Runs `subsurf bench`.
-pub fn run(args: &BenchArgs) -> Result<()> {
+/// Runs `subsurf bench` on `threads` worker threads (0: one per core).
+pub fn run(args: &BenchArgs, threads: usize) -> Result<()> {
     let input = Input::read_surface(&args.input)?;
     if !args.quiet {
         for w in input.unsupported_tag_warnings() {
@@ -39,7 +39,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     // This thread is the pool's first: one thread fewer (a small job's peak memory is
     // 0.2-0.5 MiB lower), and no hand-over to a worker before the repetitions.
     let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(args.threads)
+        .num_threads(threads)
         .use_current_thread()
         .build()
         .context("cannot start the thread pool")?;

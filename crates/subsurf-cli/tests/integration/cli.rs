@@ -708,3 +708,43 @@ fn limit_rows_of_every_block_in_face_order() {
         assert_eq!(x.len(), 12, "row {r}");
     }
 }
+
+/// `--threads N` is taken by every command; more than 4 per core is a usage error (a
+/// request for 100 000 threads started them all).
+#[test]
+fn threads_on_every_command_and_bounded() {
+    let dir = dir_with(&[("cube.obj", CUBE)]);
+    for args in [
+        &["info", "cube.obj", "--threads", "1"][..],
+        &["subdivide", "cube.obj", "-o", "out.obj", "--threads", "2"],
+        &[
+            "--threads",
+            "1",
+            "limit",
+            "cube.obj",
+            "--grid",
+            "2",
+            "-o",
+            "out.tsv",
+        ],
+        &[
+            "bench",
+            "cube.obj",
+            "-l",
+            "1",
+            "--reps",
+            "1",
+            "--threads",
+            "1",
+        ],
+    ] {
+        assert_code(&run_in(dir.path(), args), 0);
+    }
+    let o = run_in(dir.path(), &["info", "cube.obj", "--threads", "100000"]);
+    assert_code(&o, 2);
+    assert!(
+        stderr(&o).contains("more than 4 per core"),
+        "{}",
+        stderr(&o)
+    );
+}
