@@ -5,6 +5,7 @@ use std::path::Path;
 
 use anyhow::{bail, Context, Result};
 use subsurf::io::obj::{parse_obj, ObjFile};
+use subsurf::mesh::TopologyWarning;
 
 /// A parsed input and the name used for it in messages.
 pub struct Input {
@@ -67,20 +68,41 @@ impl Input {
 
     /// A warning of the mesh layer in the file's terms: faces and vertices numbered from 1,
     /// with the line where one is known (`FILE:LINE: message`).
-    pub fn warning(&self, w: &subsurf::mesh::TopologyWarning) -> String {
+    pub fn warning(&self, w: &TopologyWarning) -> String {
         match self.obj.describe_warning(w) {
             (Some(l), message) => format!("{}:{l}: {message}", self.name),
             (None, message) => format!("{}: {message}", self.name),
         }
     }
 
-    /// One warning per tag that was read but is not honoured.
-    pub fn unsupported_tag_warnings(&self) -> impl Iterator<Item = String> + '_ {
-        self.obj.unsupported_tags.iter().map(|t| {
+    /// The warnings every command gives about its input, in the file's terms: one per tag
+    /// that was read but is not honoured, then those of
+    /// [`PolyMesh::warnings`](subsurf::mesh::PolyMesh::warnings) (faces that repeat a
+    /// vertex, creases on no edge).
+    pub fn warnings(&self) -> impl Iterator<Item = String> + '_ {
+        let tags = self.obj.unsupported_tags.iter().map(|t| {
             format!(
                 "{}:{}: tag '{}' is not supported and was ignored",
                 self.name, t.line, t.name
             )
-        })
+        });
+        tags.chain(
+            self.obj
+                .mesh
+                .warnings()
+                .into_iter()
+                .map(|w| self.warning(&w)),
+        )
+    }
+
+    /// A warning of a job's topology in the file's terms, unless [`warnings`](Self::warnings)
+    /// gives it already.
+    pub fn topology_warning(&self, w: &TopologyWarning) -> Option<String> {
+        match w {
+            TopologyWarning::DegenerateFaces { .. } | TopologyWarning::CreaseEdgeMissing { .. } => {
+                None
+            }
+            _ => Some(self.warning(w)),
+        }
     }
 }

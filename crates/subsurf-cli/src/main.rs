@@ -553,6 +553,9 @@ fn parse_bytes(s: &str) -> Result<u64, String> {
     if !bytes.is_finite() || bytes >= u64::MAX as f64 {
         return Err(format!("'{s}' is too large"));
     }
+    if bytes < 1.0 {
+        return Err(format!("'{s}': a memory limit must be at least 1 byte"));
+    }
     Ok(bytes as u64)
 }
 
@@ -634,6 +637,8 @@ mod tests {
         assert!(parse_bytes("-1").is_err());
         assert!(parse_bytes("1.2.3").is_err());
         assert!(parse_bytes("99999999999T").is_err());
+        assert!(parse_bytes("0").is_err());
+        assert!(parse_bytes("0.1").is_err());
     }
 
     #[test]

@@ -40,7 +40,7 @@ pub enum Error {
     #[error(transparent)]
     Mesh(#[from] MeshError),
     /// The requested level would need more memory than allowed.
-    #[error("refining to level {levels} needs about {} MiB, more than the limit of {} MiB; use a lower level", estimate / (1 << 20), limit / (1 << 20))]
+    #[error("refining to level {levels} needs about {}, more than the limit of {}; use a lower level", ByteSize(*estimate), ByteSize(*limit))]
     TooLarge {
         /// Requested level.
         levels: u32,
@@ -53,6 +53,19 @@ pub enum Error {
     /// crease ([`Reposer::new_nurss`](crate::Reposer::new_nurss)).
     #[error(transparent)]
     Nurss(#[from] crate::nurss::NurssError),
+}
+
+/// A byte count as messages give it: MiB rounded up, or KiB (rounded up) below 1 MiB.
+struct ByteSize(u64);
+
+impl std::fmt::Display for ByteSize {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        if self.0 < 1 << 20 {
+            write!(f, "{} KiB", self.0.div_ceil(1 << 10))
+        } else {
+            write!(f, "{} MiB", self.0.div_ceil(1 << 20))
+        }
+    }
 }
 
 /// Bytes per face of the last level held at once by [`subdivide`]: the child's faces, edge

@@ -17,7 +17,7 @@ use crate::BenchArgs;
 pub fn run(args: &BenchArgs, threads: usize) -> Result<()> {
     let input = Input::read_surface(&args.input)?;
     if !args.quiet {
-        for w in input.unsupported_tag_warnings() {
+        for w in input.warnings() {
             eprintln!("warning: {w}");
         }
         if subsurf::nurss::has_knots(&input.obj.mesh) {

@@ -18,7 +18,7 @@ pub fn run(args: &InfoArgs) -> Result<()> {
     if args.strict {
         input.check_strict()?;
     }
-    for w in input.unsupported_tag_warnings() {
+    for w in input.warnings() {
         eprintln!("warning: {w}");
     }
     let file = input.obj.options;

@@ -61,7 +61,7 @@ pub fn run(args: &LimitArgs) -> Result<()> {
     out.check()?;
     let input = Input::read_surface(&args.input)?;
     if !args.quiet {
-        for w in input.unsupported_tag_warnings() {
+        for w in input.warnings() {
             eprintln!("warning: {w}");
         }
     }

@@ -26,7 +26,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     out.check()?;
     let input = Input::read_surface(&args.input)?;
     if !args.quiet {
-        for w in input.unsupported_tag_warnings() {
+        for w in input.warnings() {
             eprintln!("warning: {w}");
         }
     }

@@ -123,11 +123,15 @@ pub fn run(args: &ReposeArgs) -> Result<()> {
         (_, None) => String::new(),
     };
     if !args.quiet {
-        for w in base.unsupported_tag_warnings() {
+        for w in base.warnings() {
             progress.warn(&w);
         }
-        for w in reposer.warnings() {
-            progress.warn(&base.warning(w));
+        for w in reposer
+            .warnings()
+            .iter()
+            .filter_map(|w| base.topology_warning(w))
+        {
+            progress.warn(&w);
         }
     }
     // Each pose is written to a temporary file beside its output, renamed into place once

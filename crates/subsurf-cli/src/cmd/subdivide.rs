@@ -23,7 +23,7 @@ pub fn run(args: &SubdivideArgs) -> Result<()> {
         input.check_strict()?;
     }
     if !args.quiet {
-        for w in input.unsupported_tag_warnings() {
+        for w in input.warnings() {
             progress.warn(&w);
         }
     }
@@ -101,28 +101,28 @@ fn run_nurss(
         limit: opts.limit,
         keep_holes: opts.keep_holes,
     };
-    if let Some(limit) = opts.max_memory {
-        // NURSS keeps every level complete and refines homogeneous points: about twice what
-        // Catmull-Clark needs.
-        let estimate = subsurf::estimate_memory(&input.obj.mesh, opts).saturating_mul(2);
-        if estimate > limit {
-            anyhow::bail!(
-                "{}: refining to level {} with --scheme nurss needs about {} MiB, more than the \
-                 limit of {} MiB; use a lower level",
-                input.name,
-                opts.levels,
-                estimate >> 20,
-                limit >> 20
-            );
-        }
-    }
+    // NURSS keeps every level complete and refines homogeneous points: about twice what
+    // Catmull-Clark needs.
+    let estimate = subsurf::estimate_memory(&input.obj.mesh, opts).saturating_mul(2);
+    let what = format!("refining to level {} with --scheme nurss", opts.levels);
+    crate::memory::check(
+        &input.name,
+        &what,
+        estimate,
+        args.max_memory,
+        "use a lower level",
+    )?;
     progress.set_message(format!("refining {}", input.name));
     let sub =
         subsurf::nurss::subdivide(&input.obj.mesh, &nopts).with_context(|| input.name.clone())?;
     progress.level_done(opts.levels, opts.levels);
     if !args.quiet {
-        for w in &sub.warnings {
-            progress.warn(&input.warning(w));
+        for w in sub
+            .warnings
+            .iter()
+            .filter_map(|w| input.topology_warning(w))
+        {
+            progress.warn(&w);
         }
     }
     let nurss_flags = if flags.is_empty() {
@@ -204,8 +204,12 @@ pub fn refine_mixed(
     }
     .with_context(|| input.name.clone())?;
     if !quiet {
-        for w in &sub.warnings {
-            progress.warn(&input.warning(w));
+        for w in sub
+            .warnings
+            .iter()
+            .filter_map(|w| input.topology_warning(w))
+        {
+            progress.warn(&w);
         }
     }
     Ok(sub)

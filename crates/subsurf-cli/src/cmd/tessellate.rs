@@ -146,7 +146,7 @@ pub fn run(args: &TessellateArgs) -> Result<()> {
     out.check()?;
     let input = Input::read_surface(&args.input)?;
     if !args.quiet {
-        for w in input.unsupported_tag_warnings() {
+        for w in input.warnings() {
             eprintln!("warning: {w}");
         }
     }

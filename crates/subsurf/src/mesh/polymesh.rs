@@ -1,6 +1,11 @@
 //! [`PolyMesh`]: positions, faces (CSR) and tags, validated on construction.
 
-use super::{KnotTags, MeshError, Tags};
+use std::hash::BuildHasherDefault;
+
+use super::{KnotTags, MeshError, Tags, TopologyWarning};
+use crate::hash::FxHasher;
+
+type BuildFx = BuildHasherDefault<FxHasher>;
 
 /// Largest accepted coordinate magnitude: refinement averages and evaluation multiplies
 /// coordinates (normals, tangent-plane projections and curvature multiply up to four of
@@ -162,6 +167,51 @@ impl PolyMesh {
             }
         }
         Ok(())
+    }
+
+    /// The warnings about this mesh that need no topology: faces that list a vertex more
+    /// than once ([`TopologyWarning::DegenerateFaces`]) and creases whose two vertices
+    /// share no edge ([`TopologyWarning::CreaseEdgeMissing`], one per such crease). The
+    /// same warnings as [`Topology::from_mesh`](super::Topology::from_mesh) gives about
+    /// them, in one pass over the faces: for the jobs that build no topology of their
+    /// own before they evaluate.
+    pub fn warnings(&self) -> Vec<TopologyWarning> {
+        let mut warnings = Vec::new();
+        let mut degenerate = self
+            .faces()
+            .enumerate()
+            .filter(|(_, fv)| repeated_vertex(fv).is_some());
+        if let Some((first, _)) = degenerate.next() {
+            warnings.push(TopologyWarning::DegenerateFaces {
+                count: 1 + degenerate.count(),
+                first: first as u32,
+            });
+        }
+        let creases = &self.tags.creases;
+        if creases.is_empty() {
+            return warnings;
+        }
+        let key = |a: u32, b: u32| (a.min(b), a.max(b));
+        let mut missing: std::collections::HashSet<(u32, u32), BuildFx> =
+            creases.iter().map(|c| key(c.v0, c.v1)).collect();
+        for fv in self.faces() {
+            for (i, &a) in fv.iter().enumerate() {
+                missing.remove(&key(a, fv[(i + 1) % fv.len()]));
+            }
+            if missing.is_empty() {
+                return warnings;
+            }
+        }
+        warnings.extend(creases.iter().enumerate().filter_map(|(i, c)| {
+            missing
+                .contains(&key(c.v0, c.v1))
+                .then_some(TopologyWarning::CreaseEdgeMissing {
+                    crease: i,
+                    v0: c.v0,
+                    v1: c.v1,
+                })
+        }));
+        warnings
     }
 
     /// Strict validation: no face repeats a vertex, and the topology is manifold and
