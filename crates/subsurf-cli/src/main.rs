@@ -479,6 +479,11 @@ pub struct InfoArgs {
     /// oriented topology.
     #[arg(long)]
     pub strict: bool,
+    /// Refuse an input whose bytes and the mesh read from them would need more memory
+    /// than this (suffixes K, M, G, T: powers of 1024) [default: the memory the system
+    /// reports as available].
+    #[arg(long, value_name = "BYTES", value_parser = parse_bytes)]
+    pub max_memory: Option<u64>,
 }
 
 /// Arguments of `subsurf demo`.

@@ -33,6 +33,7 @@ use subsurf::g2cap::{patches_json, G2Surface, G2SurfaceOptions};
 use subsurf::interpolate::{interpolate_geometry, InterpolateOptions};
 use subsurf::io::geometry::{parse_geometry, SourcedGeometry};
 use subsurf::io::gltf::{face_edges, write_glb, GlbLines, GlbMesh};
+use subsurf::io::input::MeshFormat;
 use subsurf::io::obj::write_groups_obj;
 use subsurf::io::obj::{parse_obj, write_obj, WriteOptions};
 use subsurf::limit::{tessellate, Derivatives, EvalError, LimitSurface, SurfacePoint};
@@ -439,6 +440,8 @@ pub fn run(args: &DemoArgs) -> Result<()> {
         let input = Input {
             obj: parse_obj(ex.obj.as_bytes(), &name)?,
             name,
+            format: MeshFormat::Obj,
+            ignored: Vec::new(),
         };
         let m = &input.obj.mesh;
         let source = source_item(
