@@ -44,6 +44,7 @@ use subsurf::regularity::{check_regularity, plot, Mode, RegularityOptions};
 use subsurf::render::curvature::CurvatureKind;
 use subsurf::render::{
     render_detailed, render_surface, write_png, Geometry, Paint, Render, RgbImage, SampledSurface,
+    Up,
 };
 use subsurf::scheme::adjustable::Adjustable;
 use subsurf::spline::{QuadSpline, SplineError, SubBasisSurface};
@@ -575,6 +576,8 @@ fn limit_surface(ctx: &Ctx) -> Result<Vec<Item>> {
             positions: mesh.positions(),
             lines: &lines,
         }),
+        // The examples are Z-up, as the pictures draw them: turned to glTF's +Y up.
+        up: Up::Z,
     };
     let file = ctx.file("limit.glb");
     Output::File(ctx.dir.join(&file)).write(|mut w| write_glb(&mut w, &glb))?;
