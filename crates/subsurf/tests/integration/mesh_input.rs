@@ -102,7 +102,7 @@ fn ascii_ply_streams_stop_at_their_first_block() {
     assert!(given.get() <= BLOCK as u64);
     let binary = String::from_utf8_lossy(head).replace("ascii", "binary_little_endian");
     let end = binary.find("0 0 0").unwrap();
-    let mut bytes = binary[..end].as_bytes().to_vec();
+    let mut bytes = binary.as_bytes()[..end].to_vec();
     bytes.extend_from_slice(&[0; 12 * 1000]);
     match read_mesh_from(&bytes[..], "scan.ply", None, None) {
         Err(ReadMeshError::Ply(e)) => assert_eq!(

@@ -863,54 +863,22 @@ fn read_elements<B: Body>(
                 ),
             };
             let bad = |body: &B, m: String| at(body, Stop::Bad(m));
-            // A value's message names its property.
-            let of = |p: &Property, stop: Stop| match stop {
-                Stop::Bad(m) => Stop::Bad(format!("property {}: {m}", p.name)),
-                end => end,
-            };
             body.start().map_err(|e| at(body, e))?;
             for (k, p) in el.props.iter().enumerate() {
                 let Some(count_ty) = p.list else {
-                    values[k] = body.value(p.ty).map_err(|e| at(body, of(p, e)))?;
+                    values[k] = body.value(p.ty).map_err(|e| at(body, named(p, e)))?;
                     continue;
                 };
-                let n = body.value(count_ty).map_err(|e| at(body, of(p, e)))?;
+                let n = body.value(count_ty).map_err(|e| at(body, named(p, e)))?;
                 if n < 0.0 {
                     return Err(bad(body, format!("list {} has the count {n}", p.name)));
                 }
                 let n = n as usize;
-                if faces != Some(k) {
-                    body.skip(p.ty, n).map_err(|e| at(body, of(p, e)))?;
-                    continue;
+                match faces == Some(k) {
+                    true => read_face(body, p, n, nv, &mut data),
+                    false => body.skip(p.ty, n).map_err(|e| named(p, e)),
                 }
-                if !(3..=usize::from(u16::MAX)).contains(&n) {
-                    let m = match n {
-                        0..=2 => format!("has {n} vertices; a face needs at least 3"),
-                        _ => format!("has {n} vertices; a face may have at most 65535"),
-                    };
-                    return Err(bad(body, m));
-                }
-                for _ in 0..n {
-                    let index = body.value(p.ty).map_err(|e| at(body, of(p, e)))?;
-                    if index < 0.0 || index >= nv as f64 {
-                        return Err(bad(
-                            body,
-                            format!(
-                                "vertex index {index} is out of range: the file has {nv} \
-                                 vertices (PLY indices start at 0)"
-                            ),
-                        ));
-                    }
-                    // An integer of PLY's types (at most 32 bits) in `0..nv`.
-                    data.face_verts.push(index as u32);
-                }
-                let corners = u32::try_from(data.face_verts.len())
-                    .map_err(|_| bad(body, "too many face corners for 32-bit indices".into()))?;
-                data.face_offsets.push(corners);
-                if let Some(line) = body.line() {
-                    data.face_lines
-                        .push(u32::try_from(line).unwrap_or(u32::MAX));
-                }
+                .map_err(|e| at(body, e))?;
             }
             body.end().map_err(|e| at(body, e))?;
             if i == v {
@@ -925,6 +893,50 @@ fn read_elements<B: Body>(
     }
     body.finish()?;
     Ok(data)
+}
+
+/// `stop` with a message that names the property `p` it is about.
+fn named(p: &Property, stop: Stop) -> Stop {
+    match stop {
+        Stop::Bad(m) => Stop::Bad(format!("property {}: {m}", p.name)),
+        end => end,
+    }
+}
+
+/// Reads a face's `n` vertex indices (of the list `list`) into `data`: 3 to 65 535 of
+/// them, each below the file's `nv` vertices.
+fn read_face<B: Body>(
+    body: &mut B,
+    list: &Property,
+    n: usize,
+    nv: u64,
+    data: &mut PlyData,
+) -> Result<(), Stop> {
+    if !(3..=usize::from(u16::MAX)).contains(&n) {
+        return Err(Stop::Bad(match n {
+            0..=2 => format!("has {n} vertices; a face needs at least 3"),
+            _ => format!("has {n} vertices; a face may have at most 65535"),
+        }));
+    }
+    for _ in 0..n {
+        let index = body.value(list.ty).map_err(|e| named(list, e))?;
+        if index < 0.0 || index >= nv as f64 {
+            return Err(Stop::Bad(format!(
+                "vertex index {index} is out of range: the file has {nv} vertices (PLY \
+                 indices start at 0)"
+            )));
+        }
+        // An integer of PLY's types (at most 32 bits) in `0..nv`.
+        data.face_verts.push(index as u32);
+    }
+    let corners = u32::try_from(data.face_verts.len())
+        .map_err(|_| Stop::Bad("too many face corners for 32-bit indices".into()))?;
+    data.face_offsets.push(corners);
+    if let Some(line) = body.line() {
+        data.face_lines
+            .push(u32::try_from(line).unwrap_or(u32::MAX));
+    }
+    Ok(())
 }
 
 /// A vertex's coordinates must be finite and below [`MAX_COORDINATE`] in magnitude.
