@@ -209,7 +209,9 @@ samples on shared edges and vertices are evaluated once and shared, so the outpu
 watertight. A non-quad face is sampled through its quad sub-faces at N/2 x N/2 (an odd N is
 rounded up when the mesh has non-quad faces). Holes produce no faces. The format follows
 OUT's extension: .obj (positions and vn normals, full precision), .ply (binary, f64
-positions and normals), .stl (binary, f32, triangles). '-o -' writes OBJ to standard output.
+positions and normals), .stl (binary, f32, triangles), .glb (binary glTF, f32 triangles
+and normals, turned to glTF's +Y up from --up, Z by default). '-o -' writes OBJ to
+standard output.
 
 Examples:
   subsurf tessellate model.obj -o model-smooth.obj --rate 8
@@ -236,6 +238,11 @@ pub struct TessellateArgs {
     /// With a .glb output: add the input mesh's edges as lines (a "control mesh" node).
     #[arg(long)]
     pub control_mesh: bool,
+    /// With a .glb output: which axis of the input points up [default: z]. glTF is Y-up,
+    /// so a Z-up mesh is turned a quarter turn about X ((x, y, z) -> (x, z, -y)); a Y-up
+    /// mesh is written as it is.
+    #[arg(long, value_name = "AXIS", value_parser = ["z", "y"])]
+    pub up: Option<String>,
     /// Refuse to start when the estimated memory exceeds this (suffixes K, M, G, T: powers
     /// of 1024) [default: the memory the system reports as available].
     #[arg(long, value_name = "BYTES", value_parser = parse_bytes)]
@@ -502,6 +509,11 @@ pub struct InfoArgs {
     /// oriented topology.
     #[arg(long)]
     pub strict: bool,
+    /// Refuse an input whose bytes and the mesh read from them would need more memory
+    /// than this (suffixes K, M, G, T: powers of 1024) [default: the memory the system
+    /// reports as available].
+    #[arg(long, value_name = "BYTES", value_parser = parse_bytes)]
+    pub max_memory: Option<u64>,
 }
 
 /// Arguments of `subsurf demo`.

@@ -194,14 +194,37 @@ fn check_against(
     hint: &str,
 ) -> anyhow::Result<()> {
     match limit {
-        Some(limit) if estimate > limit => anyhow::bail!(
-            "{name}: {what} needs about {}, more than the limit of {}{}; {hint}",
-            size(estimate),
-            size(limit),
-            which(capped),
-        ),
+        Some(limit) if estimate > limit => Err(too_large(
+            name,
+            what,
+            (estimate, false),
+            limit,
+            capped,
+            hint,
+        )),
         _ => Ok(()),
     }
+}
+
+/// The error of a job estimated to need `estimate` bytes, more than `limit` (`capped`:
+/// the `--max-memory` cap, else the memory available): `NAME: WHAT needs about X MiB,
+/// more than the limit of Y MiB (WHICH); HINT`, or `needs at least` for an estimate
+/// known to be low (`at_least`).
+pub fn too_large(
+    name: &str,
+    what: &str,
+    (estimate, at_least): (u64, bool),
+    limit: u64,
+    capped: bool,
+    hint: &str,
+) -> anyhow::Error {
+    anyhow::anyhow!(
+        "{name}: {what} needs {} {}, more than the limit of {}{}; {hint}",
+        if at_least { "at least" } else { "about" },
+        size(estimate),
+        size(limit),
+        which(capped),
+    )
 }
 
 /// Which limit a job was held to: `--max-memory` (`capped`) or the memory available.
@@ -213,9 +236,11 @@ fn which(capped: bool) -> &'static str {
     }
 }
 
-/// `bytes` in MiB (rounded up), or in KiB below 1 MiB.
+/// `bytes` in MiB (rounded up), in KiB below 1 MiB, in bytes below 1 KiB.
 pub fn size(bytes: u64) -> String {
-    if bytes < 1 << 20 {
+    if bytes < 1 << 10 {
+        format!("{bytes} bytes")
+    } else if bytes < 1 << 20 {
         format!("{} KiB", bytes.div_ceil(1 << 10))
     } else {
         format!("{} MiB", bytes.div_ceil(1 << 20))
@@ -454,7 +479,8 @@ mod tests {
     #[test]
     fn check_refuses_above_the_cap_only() {
         assert!(check("in.obj", "x", 1 << 20, Some(1 << 20), "h").is_ok());
-        assert_eq!(size(1000), "1 KiB");
+        assert_eq!(size(1000), "1000 bytes");
+        assert_eq!(size(1025), "2 KiB");
         assert_eq!(size((1 << 20) + 1), "2 MiB");
         let e = check(
             "in.obj",

@@ -15,7 +15,7 @@ use crate::BenchArgs;
 
 /// Runs `subsurf bench` on `threads` worker threads (0: one per core).
 pub fn run(args: &BenchArgs, threads: usize) -> Result<()> {
-    let input = Input::read_surface(&args.input)?;
+    let input = Input::read_surface(&args.input, args.max_memory)?;
     if !args.quiet {
         for w in input.warnings() {
             eprintln!("warning: {w}");
@@ -168,7 +168,7 @@ fn bench_limit(
     build: impl FnOnce(PolyMesh, Options) -> Result<LimitSurface> + Send,
 ) -> Result<()> {
     use rayon::prelude::*;
-    let Input { name, obj } = input;
+    let Input { name, obj, .. } = input;
     let mesh = obj.mesh;
     let n = n as usize;
     // The sum of the `x` of every point evaluated on `faces` (so that nothing is optimised

@@ -33,6 +33,7 @@ use subsurf::g2cap::{patches_json, G2Surface, G2SurfaceOptions};
 use subsurf::interpolate::{interpolate_geometry, InterpolateOptions};
 use subsurf::io::geometry::{parse_geometry, SourcedGeometry};
 use subsurf::io::gltf::{face_edges, write_glb, GlbLines, GlbMesh};
+use subsurf::io::input::MeshFormat;
 use subsurf::io::obj::write_groups_obj;
 use subsurf::io::obj::{parse_obj, write_obj, WriteOptions};
 use subsurf::limit::{tessellate, Derivatives, EvalError, LimitSurface, SurfacePoint};
@@ -43,6 +44,7 @@ use subsurf::regularity::{check_regularity, plot, Mode, RegularityOptions};
 use subsurf::render::curvature::CurvatureKind;
 use subsurf::render::{
     render_detailed, render_surface, write_png, Geometry, Paint, Render, RgbImage, SampledSurface,
+    Up,
 };
 use subsurf::scheme::adjustable::Adjustable;
 use subsurf::spline::{QuadSpline, SplineError, SubBasisSurface};
@@ -439,6 +441,8 @@ pub fn run(args: &DemoArgs) -> Result<()> {
         let input = Input {
             obj: parse_obj(ex.obj.as_bytes(), &name)?,
             name,
+            format: MeshFormat::Obj,
+            ignored: Vec::new(),
         };
         let m = &input.obj.mesh;
         let source = source_item(
@@ -572,6 +576,8 @@ fn limit_surface(ctx: &Ctx) -> Result<Vec<Item>> {
             positions: mesh.positions(),
             lines: &lines,
         }),
+        // The examples are Z-up, as the pictures draw them: turned to glTF's +Y up.
+        up: Up::Z,
     };
     let file = ctx.file("limit.glb");
     Output::File(ctx.dir.join(&file)).write(|mut w| write_glb(&mut w, &glb))?;

@@ -140,7 +140,7 @@ pub fn run(args: &G2Args) -> Result<()> {
     }
     let out = Output::new(&args.output);
     out.check()?;
-    let input = Input::read_surface(&args.input)?;
+    let input = Input::read_surface(&args.input, None)?;
     let scheme = args
         .scheme
         .over(input.obj.options)

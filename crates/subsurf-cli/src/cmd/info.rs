@@ -14,7 +14,7 @@ use crate::InfoArgs;
 
 /// Runs `subsurf info`.
 pub fn run(args: &InfoArgs) -> Result<()> {
-    let input = Input::read(&args.input)?;
+    let input = Input::read(&args.input, args.max_memory)?;
     if args.strict {
         input.check_strict()?;
     }

@@ -59,7 +59,7 @@ pub fn run(args: &LimitArgs) -> Result<()> {
         .build_global();
     let out = Output::new(&args.output);
     out.check()?;
-    let input = Input::read_surface(&args.input)?;
+    let input = Input::read_surface(&args.input, args.max_memory)?;
     if !args.quiet {
         for w in input.warnings() {
             eprintln!("warning: {w}");

@@ -101,7 +101,7 @@ pub fn run(args: &RegularityArgs) -> Result<()> {
     if let Some(o) = &plot_out {
         o.check()?;
     }
-    let input = Input::read_surface(&args.input)?;
+    let input = Input::read_surface(&args.input, None)?;
     let scheme = args
         .scheme
         .over(input.obj.options)

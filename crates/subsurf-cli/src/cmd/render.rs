@@ -24,7 +24,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     check_png(&args.output)?;
     let out = Output::new(&args.output);
     out.check()?;
-    let input = Input::read_surface(&args.input)?;
+    let input = Input::read_surface(&args.input, args.max_memory)?;
     if !args.quiet {
         for w in input.warnings() {
             eprintln!("warning: {w}");

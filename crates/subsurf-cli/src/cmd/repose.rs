@@ -81,7 +81,7 @@ pub struct ReposeArgs {
 /// Runs `subsurf repose`.
 pub fn run(args: &ReposeArgs) -> Result<()> {
     let outputs = output_paths(args)?;
-    let base = Input::read_surface(&args.base)?;
+    let base = Input::read_surface(&args.base, args.max_memory)?;
     let progress = Progress::counting(args.poses.len() as u64, "poses", args.quiet);
     let kind = super::subdivide::scheme_kind(args.scheme_kind, &base, &progress, args.quiet);
     let mixed = super::adjustable::for_subdivide(kind, &args.adjust);
@@ -139,7 +139,7 @@ pub fn run(args: &ReposeArgs) -> Result<()> {
     let mut written = Vec::with_capacity(outputs.len());
     for (pose, out) in args.poses.iter().zip(&outputs) {
         progress.set_message(format!("re-posing {}", pose.display()));
-        let input = Input::read(pose)?;
+        let input = Input::read(pose, args.max_memory)?;
         reposer
             .pose_mesh(&input.obj.mesh)
             .map_err(|e| pose_error(&input, &base, &e))?;
@@ -213,8 +213,8 @@ fn output_paths(args: &ReposeArgs) -> Result<Vec<PathBuf>> {
     Ok(outputs)
 }
 
-/// `e` in the pose file's terms: faces and vertices numbered from 1, with the line of a
-/// face where there is one.
+/// `e` in the pose file's terms: faces and vertices numbered as the files number them
+/// (from 1 in OBJ, from 0 in PLY), with the line of a face where there is one.
 fn pose_error(pose: &Input, base: &Input, e: &PoseError) -> anyhow::Error {
     match e {
         PoseError::Face { face } => {
@@ -226,12 +226,12 @@ fn pose_error(pose: &Input, base: &Input, e: &PoseError) -> anyhow::Error {
                 "{}: face {} is not the base mesh's face {} ({}): a pose repeats the base \
                  mesh's faces, in the same order, or has none",
                 at(pose),
-                face + 1,
-                face + 1,
+                *face as u64 + pose.format.first_index(),
+                *face as u64 + base.format.first_index(),
                 at(base)
             )
         }
-        PoseError::Mesh(m) => match pose.obj.describe_error(m) {
+        PoseError::Mesh(m) => match pose.describe_error(m) {
             (Some(l), message) => anyhow::anyhow!("{}:{l}: {message}", pose.name),
             (None, message) => anyhow::anyhow!("{}: {message}", pose.name),
         },

@@ -91,7 +91,7 @@ pub fn run(args: &SplineArgs) -> Result<()> {
         bail!("--report prints to standard output: write the surface to a file, not '-'");
     }
     out.check()?;
-    let input = Input::read_surface(&args.input)?;
+    let input = Input::read_surface(&args.input, None)?;
     if !input.obj.mesh.tags.is_empty() && !args.quiet {
         eprintln!(
             "note: {}: crease, corner and hole tags are ignored (the spline surface has no \

@@ -18,7 +18,7 @@ pub fn run(args: &SubdivideArgs) -> Result<()> {
     out.check()?;
     let progress = Progress::new(args.levels, args.quiet);
     progress.set_message(format!("reading {}", args.input.display()));
-    let mut input = Input::read_surface(&args.input)?;
+    let mut input = Input::read_surface(&args.input, args.max_memory)?;
     if args.strict {
         input.check_strict()?;
     }

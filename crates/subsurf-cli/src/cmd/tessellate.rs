@@ -11,6 +11,7 @@ use subsurf::io::ply::write_ply;
 use subsurf::io::stl::write_stl;
 use subsurf::limit::{tessellate, Tessellation};
 use subsurf::mesh::{Options, PolyMesh, TriangleSubdivision};
+use subsurf::render::Up;
 
 use crate::input::Input;
 use crate::output::Output;
@@ -129,7 +130,7 @@ fn run_nurss(
     let mut comment = command_line(args, options, &input.name);
     comment.insert_str("subsurf tessellate".len(), " --scheme nurss");
     let control = args.control_mesh.then_some(mesh);
-    write(out, format, &t, &comment, control)
+    write(out, format, &t, &comment, control, up(args))
 }
 
 /// Runs `subsurf tessellate`.
@@ -142,9 +143,16 @@ pub fn run(args: &TessellateArgs) -> Result<()> {
             args.output.display()
         );
     }
+    if args.up.is_some() && format != Format::Glb {
+        bail!(
+            "--up applies to a .glb output only ({} is not one; OBJ, PLY and STL keep the \
+             input's axes)",
+            args.output.display()
+        );
+    }
     let out = Output::new(&args.output);
     out.check()?;
-    let input = Input::read_surface(&args.input)?;
+    let input = Input::read_surface(&args.input, args.max_memory)?;
     if !args.quiet {
         for w in input.warnings() {
             eprintln!("warning: {w}");
@@ -210,16 +218,26 @@ pub fn run(args: &TessellateArgs) -> Result<()> {
         comment.insert_str("subsurf tessellate".len(), &flags);
     }
     let control = args.control_mesh.then_some(mesh);
-    write(&out, format, &t, &comment, control)
+    write(&out, format, &t, &comment, control, up(args))
 }
 
-/// Writes `t` to `out` in `format` (with `control`'s edges as lines, for glTF).
+/// The input's up axis (`--up`, Z by default), for a .glb output.
+fn up(args: &TessellateArgs) -> Up {
+    match args.up.as_deref() {
+        Some("y") => Up::Y,
+        _ => Up::Z,
+    }
+}
+
+/// Writes `t` to `out` in `format` (for glTF: with `control`'s edges as lines, turned
+/// from `up` to glTF's +Y up).
 fn write(
     out: &Output,
     format: Format,
     t: &Tessellation,
     comment: &str,
     control: Option<&PolyMesh>,
+    up: Up,
 ) -> Result<()> {
     match format {
         Format::Obj => {
@@ -264,6 +282,7 @@ fn write(
                     positions: m.positions(),
                     lines,
                 }),
+                up,
             };
             out.write(|mut w| write_glb(&mut w, &glb))
         }
@@ -284,6 +303,10 @@ fn command_line(args: &TessellateArgs, s: &Options, input: &str) -> String {
     }
     if args.control_mesh {
         line.push_str(" --control-mesh");
+    }
+    if let Some(up) = &args.up {
+        line.push_str(" --up ");
+        line.push_str(up);
     }
     line.push(' ');
     line.push_str(input);

@@ -144,7 +144,8 @@ fn glb_with_control_mesh() {
     edges.dedup();
     assert_eq!(edges.len(), 12, "each edge once");
 
-    // Same samples as the full-precision PLY output, rounded to f32.
+    // Same samples as the full-precision PLY output, turned from Z up to glTF's Y up
+    // ((x, y, z) -> (x, z, -y)) and rounded to f32.
     let o = run_in(
         dir.path(),
         &[
@@ -161,9 +162,80 @@ fn glb_with_control_mesh() {
     let ply = read_ply(&fs::read(dir.path().join("cube.ply")).unwrap()).unwrap();
     assert_eq!(ply.positions.len(), pos.len());
     for (g, p) in pos.iter().zip(&ply.positions) {
-        assert_eq!(*g, p.map(|c| c as f32));
+        assert_eq!(*g, [p[0], p[2], -p[1]].map(|c| c as f32));
     }
     assert_eq!(ply.face_verts, tris, "the same triangles");
+    let (ctrl, _) = primitive(&json, bin, 1, 1);
+    for (g, p) in ctrl.iter().zip(positions(CUBE)) {
+        assert_eq!(*g, [p[0], p[2], -p[1]].map(|c| c as f32));
+    }
+}
+
+/// glTF is Y-up: `tessellate` turns a Z-up model (the default, `--up z`) so that its up
+/// axis is +Y (the pawn stands along +Y, its normals turned with it); `--up y` keeps a
+/// Y-up model as it is; `--up` with another output is refused.
+#[test]
+fn glb_is_y_up() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../subsurf/tests/shapes/osd/catmark_pawn.obj");
+    let pawn = fs::read_to_string(path).unwrap();
+    let dir = dir_with(&[("pawn.obj", &pawn)]);
+    let tess = |out: &str, extra: &[&str]| {
+        let mut args = vec!["tessellate", "pawn.obj", "-o", out, "--rate", "2"];
+        args.extend_from_slice(extra);
+        run_in(dir.path(), &args)
+    };
+    assert_code(&tess("pawn.ply", &["--triangles"]), 0);
+    let ply = read_ply(&fs::read(dir.path().join("pawn.ply")).unwrap()).unwrap();
+    let extent = |ps: &[[f64; 3]], k: usize| {
+        let lo = ps.iter().map(|p| p[k]).fold(f64::MAX, f64::min);
+        let hi = ps.iter().map(|p| p[k]).fold(f64::MIN, f64::max);
+        hi - lo
+    };
+    assert!(
+        extent(&ply.positions, 2) > 1.5 * extent(&ply.positions, 1),
+        "Z-up"
+    );
+    for (up, extra) in [
+        ("z", &[][..]),
+        ("z", &["--up", "z"][..]),
+        ("y", &["--up", "y"][..]),
+    ] {
+        assert_code(&tess("pawn.glb", extra), 0);
+        let bytes = fs::read(dir.path().join("pawn.glb")).unwrap();
+        let (json, bin) = chunks(&bytes);
+        let (pos, _) = primitive(&json, bin, 0, 4);
+        let p = json["meshes"][0]["primitives"][0]["attributes"]["NORMAL"].clone();
+        let nrm = vec3s(&json, bin, uint(&p));
+        let normals = ply.normals.as_ref().unwrap();
+        for (i, q) in ply.positions.iter().enumerate() {
+            let (turned, n) = match up {
+                "z" => ([q[0], q[2], -q[1]], normals[i]),
+                _ => (*q, normals[i]),
+            };
+            assert_eq!(pos[i], turned.map(|c| c as f32), "{extra:?} vertex {i}");
+            let n = match up {
+                "z" => [n[0], n[2], -n[1]],
+                _ => n,
+            };
+            for k in 0..3 {
+                assert!(
+                    (f64::from(nrm[i][k]) - n[k]).abs() < 1e-6,
+                    "{n:?} {:?}",
+                    nrm[i]
+                );
+            }
+        }
+        let pos: Vec<[f64; 3]> = pos.iter().map(|p| p.map(f64::from)).collect();
+        let tall = if up == "z" { 1 } else { 2 };
+        assert!(
+            extent(&pos, tall) > 1.5 * extent(&pos, 3 - tall),
+            "{extra:?}"
+        );
+    }
+    let o = tess("pawn-up.obj", &["--up", "y"]);
+    assert_code(&o, 1);
+    assert!(stderr(&o).contains("--up applies to a .glb output only"));
 }
 
 #[test]

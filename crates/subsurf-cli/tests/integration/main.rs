@@ -14,6 +14,7 @@ mod crease_angle;
 mod demo;
 mod g2;
 mod gltf;
+mod input_formats;
 mod interpolate;
 mod interpolate_host;
 mod nurbs_files;

@@ -11,6 +11,15 @@
 //!   `POSITION` and `u32` indices), e.g. the edges of the base mesh of a subdivision
 //!   surface ([`face_edges`]).
 //!
+//! # Up axis
+//! glTF is `+Y` up (glTF 2.0 specification, section 3.4 "Coordinate System and Units":
+//! right-handed, `+Y` up, `+Z` forward). The meshes of this project are `+Z` up
+//! (OpenSubdiv's regression shapes, CAD), so by default ([`GlbMesh::up`] `Up::Z`) every
+//! position and normal is turned a quarter turn about `X`, `(x, y, z) → (x, z, −y)`: `+Z`
+//! becomes `+Y` and `+Y` becomes `−Z`, a rotation (right-handed frames stay right-handed,
+//! so faces keep their orientation), and a viewer shows the model standing. A `+Y`-up
+//! mesh (`Up::Y`) is written as it is.
+//!
 //! # Precision
 //! glTF stores vertex attributes as **`f32`**: positions and normals are rounded to single
 //! precision (about 7 significant digits, a relative error up to 6e-8 of each
@@ -44,6 +53,8 @@ use json::validation::{Checked, USize64};
 use json::{Accessor, Buffer, Index, Material, Mesh, Node, Root, Scene};
 use serde_json::Value;
 
+use crate::render::Up;
+
 /// GLB magic, `glTF` read as a little-endian `u32`.
 pub const GLB_MAGIC: u32 = 0x4654_6C67;
 /// Chunk type of the JSON chunk (`JSON`).
@@ -76,6 +87,17 @@ pub struct GlbMesh<'a> {
     pub face_verts: &'a [u32],
     /// Line segments written as a second node, `"control mesh"`.
     pub control: Option<GlbLines<'a>>,
+    /// Which axis of `positions` (and `normals`, and the control mesh's positions) points
+    /// up: `Z` (the default) is turned to glTF's `+Y` ([module docs](self), "Up axis").
+    pub up: Up,
+}
+
+/// `p` in glTF's frame, for a mesh whose up axis is `up` ([module docs](self)).
+pub fn to_gltf_frame(p: [f64; 3], up: Up) -> [f64; 3] {
+    match up {
+        Up::Z => [p[0], p[2], -p[1]],
+        Up::Y => p,
+    }
 }
 
 /// Line segments with their own vertices (a `LINES` primitive).
@@ -126,7 +148,7 @@ pub fn write_glb<W: Write>(w: &mut W, mesh: &GlbMesh) -> io::Result<()> {
     if num_triangles == 0 {
         return Err(invalid_input("no faces to write: glTF needs at least one"));
     }
-    let bounds = f32_bounds(mesh.positions, "vertex")?;
+    let bounds = f32_bounds(mesh.positions, mesh.up, "vertex")?;
     if let Some(n) = mesh.normals {
         check_len(n.len(), nv, "normals")?;
         if let Some(i) = n.iter().position(|n| !n.iter().all(|c| c.is_finite())) {
@@ -163,7 +185,7 @@ pub fn write_glb<W: Write>(w: &mut W, mesh: &GlbMesh) -> io::Result<()> {
                     l[0].max(l[1])
                 )));
             }
-            Some(f32_bounds(c.positions, "control vertex")?)
+            Some(f32_bounds(c.positions, mesh.up, "control vertex")?)
         }
         None => None,
     };
@@ -318,12 +340,13 @@ pub fn write_glb<W: Write>(w: &mut W, mesh: &GlbMesh) -> io::Result<()> {
         buf.extend_from_slice(&x.to_le_bytes());
     }
     let mut out = Body { buf, w };
+    let turn = |p: &[f64; 3]| to_gltf_frame(*p, mesh.up);
     for p in mesh.positions {
-        out.vec3(p.map(|c| c as f32))?;
+        out.vec3(turn(p).map(|c| c as f32))?;
     }
     if let Some(normals) = mesh.normals {
         for n in normals {
-            out.vec3(unit_f32(n))?;
+            out.vec3(unit_f32(&turn(n)))?;
         }
     }
     if let Some(colors) = mesh.colors {
@@ -339,7 +362,7 @@ pub fn write_glb<W: Write>(w: &mut W, mesh: &GlbMesh) -> io::Result<()> {
     }
     if let Some(c) = control {
         for p in c.positions {
-            out.vec3(p.map(|c| c as f32))?;
+            out.vec3(turn(p).map(|c| c as f32))?;
         }
         for l in c.lines {
             out.u32s(l)?;
@@ -349,8 +372,8 @@ pub fn write_glb<W: Write>(w: &mut W, mesh: &GlbMesh) -> io::Result<()> {
     out.finish()
 }
 
-/// The `f32` bounds (`min`, `max`) of `positions`.
-fn f32_bounds(positions: &[[f64; 3]], what: &str) -> io::Result<([f32; 3], [f32; 3])> {
+/// The `f32` bounds (`min`, `max`) of `positions` in glTF's frame ([`to_gltf_frame`]).
+fn f32_bounds(positions: &[[f64; 3]], up: Up, what: &str) -> io::Result<([f32; 3], [f32; 3])> {
     let mut lo = [f32::INFINITY; 3];
     let mut hi = [f32::NEG_INFINITY; 3];
     for (i, p) in positions.iter().enumerate() {
@@ -360,12 +383,13 @@ fn f32_bounds(positions: &[[f64; 3]], what: &str) -> io::Result<([f32; 3], [f32;
                 p[0], p[1], p[2]
             )));
         }
+        let p = to_gltf_frame(*p, up);
         for k in 0..3 {
             let c = p[k] as f32;
             if !c.is_finite() {
                 return Err(invalid_data(format!(
                     "{what} {i} has a coordinate beyond the f32 range of glTF ({})",
-                    p[k]
+                    p[k].abs()
                 )));
             }
             lo[k] = lo[k].min(c);

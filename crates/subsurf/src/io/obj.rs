@@ -2,12 +2,14 @@
 //!
 //! Reading ([`parse_obj`], [`read_obj`]) accepts polygons (`f`, with every index form:
 //! `v`, `v/vt`, `v//vn`, `v/vt/vn`, positive or negative), vertices (`v`, an optional `w`
-//! or vertex colour is ignored), texture coordinates (`vt`) and normals (`vn`), CRLF line
-//! ends, `\` line continuations and `#` comments. Grouping, material, smoothing-group,
-//! polyline, point and free-form statements are ignored, as are unknown statements; but a
-//! line must start with something that looks like a keyword (a letter, then letters, digits
-//! or `_`), and must be UTF-8 without control characters, so that a binary or non-OBJ file
-//! fails on its first line instead of being read as an empty mesh.
+//! or vertex colour is ignored), texture coordinates (`vt`) and normals (`vn`), LF, CRLF
+//! and CR-only (old Mac OS) line ends, `\` line continuations and `#` comments. Grouping,
+//! material, smoothing-group, polyline, point and free-form statements are ignored, as are
+//! unknown statements; but a line must start with something that looks like a keyword (a
+//! letter, then letters, digits or `_`), and must be UTF-8 without control characters, so
+//! that a binary or non-OBJ file fails on its first line instead of being read as an empty
+//! mesh. Coordinates must be below 1e75 in magnitude
+//! ([`MAX_COORDINATE`](crate::mesh::MAX_COORDINATE)).
 //!
 //! OpenSubdiv's tags (`t NAME ni/nf/ns ints... floats... strings...`, indices 0-based):
 //!
@@ -54,6 +56,7 @@ mod write;
 
 pub use freeform::{parse_obj_freeform, read_obj_freeform, write_obj_freeform, FreeFormElement};
 pub use groups::write_groups_obj;
+pub(crate) use read::{first_non_text, non_text_message, parse_obj_within, PhysicalLines, Refusal};
 pub use read::{parse_obj, read_obj};
 pub use write::write_obj;
 

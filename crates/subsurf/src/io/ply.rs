@@ -1,4 +1,9 @@
-//! Binary PLY (Stanford polygon file format), little-endian, written by hand.
+//! PLY (Stanford polygon file format): a reader of ASCII and binary files, a binary
+//! little-endian writer.
+//!
+//! [`parse_ply`] reads a polygon mesh from any PLY file (ASCII, binary little- or
+//! big-endian; see its docs and [`PlyFile`]); it is what the command line reads `.ply`
+//! input with, and any file that starts with the line `ply`.
 //!
 //! [`write_ply`] writes exactly this layout:
 //!
@@ -23,9 +28,12 @@
 //! indices (0-based). The file is `header + V · 24 (48 with normals) + Σ (1 + 4 · size)`
 //! bytes. Coordinates are stored as `f64`, so nothing is lost.
 //!
-//! [`read_ply`] reads such files back (and, more generally, binary little-endian PLY with
-//! `float`/`double` vertex coordinates and a face list of any integer types; other
-//! properties and elements are skipped).
+//! [`read_ply`] reads such files back with their normals.
+
+mod read;
+
+pub(crate) use read::{header_complete, parse_ply_within, PlyRefusal};
+pub use read::{parse_ply, PlyEncoding, PlyError, PlyFile, MAX_HEADER};
 
 use std::io::{self, Write};
 
@@ -118,267 +126,23 @@ pub struct PlyMesh {
     pub face_verts: Vec<u32>,
 }
 
-/// Scalar types of PLY.
-#[derive(Clone, Copy, Debug, PartialEq)]
-enum Scalar {
-    I8,
-    U8,
-    I16,
-    U16,
-    I32,
-    U32,
-    F32,
-    F64,
-}
-
-impl Scalar {
-    fn parse(s: &str) -> Option<Self> {
-        Some(match s {
-            "char" | "int8" => Self::I8,
-            "uchar" | "uint8" => Self::U8,
-            "short" | "int16" => Self::I16,
-            "ushort" | "uint16" => Self::U16,
-            "int" | "int32" => Self::I32,
-            "uint" | "uint32" => Self::U32,
-            "float" | "float32" => Self::F32,
-            "double" | "float64" => Self::F64,
-            _ => return None,
-        })
-    }
-
-    fn size(self) -> usize {
-        match self {
-            Self::I8 | Self::U8 => 1,
-            Self::I16 | Self::U16 => 2,
-            Self::I32 | Self::U32 | Self::F32 => 4,
-            Self::F64 => 8,
-        }
-    }
-
-    /// Reads one value at `at` (little-endian; `b` holds at least `size()` bytes there).
-    fn read(self, b: &[u8], at: usize) -> f64 {
-        let mut x = [0u8; 8];
-        x[..self.size()].copy_from_slice(&b[at..at + self.size()]);
-        let x4 = [x[0], x[1], x[2], x[3]];
-        match self {
-            Self::I8 => f64::from(x[0] as i8),
-            Self::U8 => f64::from(x[0]),
-            Self::I16 => f64::from(i16::from_le_bytes([x[0], x[1]])),
-            Self::U16 => f64::from(u16::from_le_bytes([x[0], x[1]])),
-            Self::I32 => f64::from(i32::from_le_bytes(x4)),
-            Self::U32 => f64::from(u32::from_le_bytes(x4)),
-            Self::F32 => f64::from(f32::from_le_bytes(x4)),
-            Self::F64 => f64::from_le_bytes(x),
-        }
-    }
-}
-
-/// A property: a scalar, or a list with a count type and an item type.
-#[derive(Clone, Debug)]
-struct Property {
-    name: String,
-    ty: Scalar,
-    list: Option<Scalar>,
-}
-
-#[derive(Clone, Debug)]
-struct Element {
-    name: String,
-    count: usize,
-    props: Vec<Property>,
-}
-
-/// Reads binary little-endian PLY (see the [module docs](self)): the `vertex` element's
-/// `x y z` (and `nx ny nz` when all three are present) and the `face` element's
-/// `vertex_indices` (or `vertex_index`) list.
+/// Reads a PLY file as [`parse_ply`] does, with the vertices' normals (`nx ny nz`, when
+/// the file has all three) and without building a [`PolyMesh`](crate::mesh::PolyMesh):
+/// for reading back what [`write_ply`] wrote.
 ///
 /// # Errors
-/// [`io::ErrorKind::InvalidData`] naming the problem: not PLY, another format than
-/// `binary_little_endian 1.0`, a malformed header, missing coordinates, a truncated body,
-/// trailing bytes, an out-of-range or negative index.
+/// [`io::ErrorKind::InvalidData`] with the message of [`parse_ply`]'s error.
 pub fn read_ply(bytes: &[u8]) -> io::Result<PlyMesh> {
-    let end = find_header_end(bytes)?;
-    let header = std::str::from_utf8(&bytes[..end])
-        .map_err(|_| invalid_data("PLY header is not UTF-8".into()))?;
-    let elements = parse_header(header)?;
-    let mut at = end;
-    let mut mesh = PlyMesh {
-        face_offsets: vec![0],
-        ..PlyMesh::default()
-    };
-    let truncated = || invalid_data("PLY body is truncated".into());
-    for el in &elements {
-        let find = |n: &str| {
-            el.props
-                .iter()
-                .position(|p| p.name == n && p.list.is_none())
-        };
-        let (xyz, nxyz) = if el.name == "vertex" {
-            let xyz = [find("x"), find("y"), find("z")];
-            if xyz.iter().any(Option::is_none) {
-                return Err(invalid_data("PLY vertex element lacks x, y or z".into()));
-            }
-            let n = [find("nx"), find("ny"), find("nz")];
-            let nxyz = n.iter().all(Option::is_some).then_some(n);
-            (Some(xyz), nxyz)
-        } else {
-            (None, None)
-        };
-        let face_list = (el.name == "face").then(|| {
-            el.props
-                .iter()
-                .position(|p| {
-                    p.list.is_some() && (p.name == "vertex_indices" || p.name == "vertex_index")
-                })
-                .ok_or_else(|| invalid_data("PLY face element lacks vertex_indices".into()))
-        });
-        let face_list = face_list.transpose()?;
-        if nxyz.is_some() {
-            mesh.normals = Some(Vec::with_capacity(el.count));
-        }
-        let mut values = vec![0.0; el.props.len()];
-        for _ in 0..el.count {
-            for (k, p) in el.props.iter().enumerate() {
-                match p.list {
-                    None => {
-                        if at + p.ty.size() > bytes.len() {
-                            return Err(truncated());
-                        }
-                        values[k] = p.ty.read(bytes, at);
-                        at += p.ty.size();
-                    }
-                    Some(count_ty) => {
-                        if at + count_ty.size() > bytes.len() {
-                            return Err(truncated());
-                        }
-                        let n = count_ty.read(bytes, at);
-                        at += count_ty.size();
-                        if !(0.0..=f64::from(u32::MAX)).contains(&n) {
-                            return Err(invalid_data(format!("PLY list length {n}")));
-                        }
-                        let n = n as usize;
-                        let len = n.checked_mul(p.ty.size()).ok_or_else(truncated)?;
-                        if at + len > bytes.len() {
-                            return Err(truncated());
-                        }
-                        if Some(k) == face_list {
-                            for i in 0..n {
-                                let v = p.ty.read(bytes, at + i * p.ty.size());
-                                if !(0.0..f64::from(u32::MAX)).contains(&v) {
-                                    return Err(invalid_data(format!("PLY vertex index {v}")));
-                                }
-                                mesh.face_verts.push(v as u32);
-                            }
-                            let total = u32::try_from(mesh.face_verts.len())
-                                .map_err(|_| invalid_data("too many face vertices".into()))?;
-                            mesh.face_offsets.push(total);
-                        }
-                        at += len;
-                    }
-                }
-            }
-            if let Some([x, y, z]) = xyz {
-                let g = |i: Option<usize>| values[i.unwrap_or(0)];
-                mesh.positions.push([g(x), g(y), g(z)]);
-                if let (Some([a, b, c]), Some(n)) = (nxyz, mesh.normals.as_mut()) {
-                    n.push([g(a), g(b), g(c)]);
-                }
-            }
-        }
-    }
-    if at != bytes.len() {
-        return Err(invalid_data(format!(
-            "PLY has {} bytes after its last element",
-            bytes.len() - at
-        )));
-    }
-    if let Some(&v) = mesh
-        .face_verts
-        .iter()
-        .find(|&&v| v as usize >= mesh.positions.len())
-    {
-        return Err(invalid_data(format!(
-            "PLY face refers to vertex {v} of {}",
-            mesh.positions.len()
-        )));
-    }
-    Ok(mesh)
-}
-
-/// The byte just after `end_header\n`.
-fn find_header_end(bytes: &[u8]) -> io::Result<usize> {
-    if !bytes.starts_with(b"ply\n") && !bytes.starts_with(b"ply\r\n") {
-        return Err(invalid_data("not a PLY file (no 'ply' magic line)".into()));
-    }
-    let key = b"end_header";
-    let mut i = 0;
-    while i + key.len() <= bytes.len() {
-        if &bytes[i..i + key.len()] == key && (i == 0 || bytes[i - 1] == b'\n') {
-            let mut j = i + key.len();
-            if bytes.get(j) == Some(&b'\r') {
-                j += 1;
-            }
-            if bytes.get(j) == Some(&b'\n') {
-                return Ok(j + 1);
-            }
-        }
-        i += 1;
-    }
-    Err(invalid_data("PLY header has no end_header line".into()))
-}
-
-fn parse_header(header: &str) -> io::Result<Vec<Element>> {
-    let mut elements: Vec<Element> = Vec::new();
-    let mut format_ok = false;
-    for (n, line) in header.lines().enumerate() {
-        let words: Vec<&str> = line.split_whitespace().collect();
-        let bad = || invalid_data(format!("PLY header line {}: '{line}'", n + 1));
-        match words.first().copied() {
-            None | Some("ply") | Some("comment") | Some("obj_info") | Some("end_header") => {}
-            Some("format") => {
-                if words.get(1..) != Some(&["binary_little_endian", "1.0"][..]) {
-                    return Err(invalid_data(format!(
-                        "PLY format '{}' is not supported (only binary_little_endian 1.0)",
-                        words[1..].join(" ")
-                    )));
-                }
-                format_ok = true;
-            }
-            Some("element") => {
-                let [_, name, count] = words[..] else {
-                    return Err(bad());
-                };
-                let count = count.parse().map_err(|_| bad())?;
-                elements.push(Element {
-                    name: name.to_owned(),
-                    count,
-                    props: Vec::new(),
-                });
-            }
-            Some("property") => {
-                let el = elements.last_mut().ok_or_else(bad)?;
-                let prop = match words[..] {
-                    [_, "list", count, item, name] => Property {
-                        name: name.to_owned(),
-                        ty: Scalar::parse(item).ok_or_else(bad)?,
-                        list: Some(Scalar::parse(count).ok_or_else(bad)?),
-                    },
-                    [_, ty, name] => Property {
-                        name: name.to_owned(),
-                        ty: Scalar::parse(ty).ok_or_else(bad)?,
-                        list: None,
-                    },
-                    _ => return Err(bad()),
-                };
-                el.props.push(prop);
-            }
-            Some(_) => return Err(bad()),
-        }
-    }
-    if !format_ok {
-        return Err(invalid_data("PLY header has no format line".into()));
-    }
-    Ok(elements)
+    let data = read::read_data(bytes, "PLY", None).map_err(|e| match e {
+        PlyRefusal::Ply(e) => invalid_data(e.to_string()),
+        PlyRefusal::TooLarge { .. } => unreachable!("no memory limit was given"),
+    })?;
+    Ok(PlyMesh {
+        positions: data.positions,
+        normals: data.normals,
+        face_offsets: data.face_offsets,
+        face_verts: data.face_verts,
+    })
 }
 
 /// Bytes gathered before handing them to the writer.
@@ -472,7 +236,7 @@ mod tests {
         for normals in [None, Some(&n[..])] {
             let mut out = Vec::new();
             write_ply(&mut out, &p, normals, &offs, &verts).unwrap();
-            let end = find_header_end(&out).unwrap();
+            let end = out.windows(11).position(|w| w == b"end_header\n").unwrap() + 11;
             let per_vertex = if normals.is_some() { 48 } else { 24 };
             assert_eq!(out.len(), end + 4 * per_vertex + (1 + 12) + (1 + 16));
             let back = read_ply(&out).unwrap();

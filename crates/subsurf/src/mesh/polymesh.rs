@@ -7,9 +7,10 @@ use crate::hash::FxHasher;
 
 type BuildFx = BuildHasherDefault<FxHasher>;
 
-/// Largest accepted coordinate magnitude: refinement averages and evaluation multiplies
-/// coordinates (normals, tangent-plane projections and curvature multiply up to four of
-/// them), and below 1e75 every such product stays finite.
+/// Bound on coordinate magnitudes: a coordinate must be below it (`|x| < 1e75`; 1e75
+/// itself is refused). Refinement averages and evaluation multiplies coordinates
+/// (normals, tangent-plane projections and curvature multiply up to four of them), and
+/// below 1e75 every such product stays finite.
 pub const MAX_COORDINATE: f64 = 1e75;
 
 /// A polygon mesh with faces of any size ≥ 3.
@@ -66,8 +67,8 @@ impl PolyMesh {
     ///
     /// # Errors
     /// [`MeshError`] naming the first bad face or vertex: faces with fewer than 3
-    /// vertices, out-of-range vertices, non-finite coordinates or coordinates beyond
-    /// [`MAX_COORDINATE`].
+    /// vertices, out-of-range vertices, non-finite coordinates or coordinates of
+    /// [`MAX_COORDINATE`] or more in magnitude.
     pub fn new(
         positions: Vec<[f64; 3]>,
         face_offsets: Vec<u32>,
@@ -365,7 +366,8 @@ pub(crate) fn repeated_vertex(face: &[u32]) -> Option<u32> {
     }
 }
 
-/// Checks that every coordinate is finite and below [`MAX_COORDINATE`] in magnitude.
+/// Checks that every coordinate is finite and below [`MAX_COORDINATE`] in magnitude
+/// (`|x| < 1e75`).
 ///
 /// # Errors
 /// [`MeshError::NonFiniteCoordinate`] or [`MeshError::CoordinateTooLarge`], naming the
@@ -379,7 +381,7 @@ pub(crate) fn check_coordinates(positions: &[[f64; 3]]) -> Result<(), MeshError>
                     value: c,
                 });
             }
-            if c.abs() > MAX_COORDINATE {
+            if c.abs() >= MAX_COORDINATE {
                 return Err(MeshError::CoordinateTooLarge {
                     vertex: v,
                     value: c,

@@ -6,10 +6,13 @@
 //! JSON on load).
 
 use serde_json::Value;
-use subsurf::io::gltf::{face_edges, write_glb, GlbLines, GlbMesh, CHUNK_BIN, CHUNK_JSON};
+use subsurf::io::gltf::{
+    face_edges, to_gltf_frame, write_glb, GlbLines, GlbMesh, CHUNK_BIN, CHUNK_JSON,
+};
 use subsurf::io::obj::parse_obj;
 use subsurf::limit::{tessellate_mesh, Tessellation};
 use subsurf::mesh::{Options, PolyMesh};
+use subsurf::render::Up;
 
 fn shape(name: &str) -> (PolyMesh, Options) {
     let path = format!("{}/tests/shapes/osd/{name}.obj", env!("CARGO_MANIFEST_DIR"));
@@ -253,14 +256,16 @@ fn tessellated_cube_with_control_mesh() {
         .unwrap()
         .starts_with("subsurf "));
 
-    // The values: f32 of the f64 input, indices unchanged (the faces are triangles).
+    // The values: f32 of the f64 input turned from Z up to glTF's Y up, (x, z, -y);
+    // indices unchanged (the faces are triangles).
     let pos = g.vec3s(g.accessor(0, "POSITION").unwrap());
     assert_eq!(pos.len(), t.num_vertices());
     for (a, b) in pos.iter().zip(&t.positions) {
-        assert_eq!(*a, b.map(|c| c as f32));
+        assert_eq!(*a, [b[0], b[2], -b[1]].map(|c| c as f32));
     }
     let nrm = g.vec3s(g.accessor(0, "NORMAL").unwrap());
     for (a, b) in nrm.iter().zip(&t.normals) {
+        let b = [b[0], b[2], -b[1]];
         for k in 0..3 {
             assert!((f64::from(a[k]) - b[k]).abs() < 1e-7, "{a:?} {b:?}");
         }
@@ -322,6 +327,7 @@ fn zero_and_long_normals_become_unit() {
         normals: Some(&n),
         face_offsets: &[0, 4],
         face_verts: &[0, 1, 3, 2],
+        up: Up::Y,
         ..Default::default()
     });
     let g = Glb::parse(&bytes);
@@ -366,17 +372,12 @@ fn gltf_crate_reads_it_back() {
     assert_eq!(idx, t.face_verts);
     assert_eq!(r.read_normals().unwrap().count(), t.num_vertices());
     let bb = p.bounding_box();
+    let turned: Vec<[f64; 3]> = (t.positions.iter())
+        .map(|&p| to_gltf_frame(p, Up::Z))
+        .collect();
     for k in 0..3 {
-        let lo = t
-            .positions
-            .iter()
-            .map(|p| p[k] as f32)
-            .fold(f32::MAX, f32::min);
-        let hi = t
-            .positions
-            .iter()
-            .map(|p| p[k] as f32)
-            .fold(f32::MIN, f32::max);
+        let lo = turned.iter().map(|p| p[k] as f32).fold(f32::MAX, f32::min);
+        let hi = turned.iter().map(|p| p[k] as f32).fold(f32::MIN, f32::max);
         assert_eq!((bb.min[k], bb.max[k]), (lo, hi));
     }
 
@@ -402,4 +403,88 @@ fn empty_control_mesh_is_left_out() {
     let g = Glb::parse(&bytes);
     assert_eq!(g.count("nodes"), 1);
     assert_eq!(g.count("meshes"), 1);
+}
+
+/// glTF is Y-up: a Z-up model (OpenSubdiv's pawn stands along +Z) is written standing
+/// along +Y, read back with the `gltf` crate: each position and normal turned by
+/// (x, y, z) -> (x, z, -y), the pawn's height along Y, its top at the largest Y with its
+/// normal pointing up, the faces still wound outward. With `Up::Y` the values are kept.
+#[test]
+fn z_up_models_stand_along_y() {
+    let (mesh, options) = shape("catmark_pawn");
+    let t = tessellate_mesh(&mesh, &options, 4, true).unwrap();
+    let extent = |ps: &[[f64; 3]], k: usize| {
+        let (lo, hi) = ps.iter().fold((f64::MAX, f64::MIN), |(lo, hi), p| {
+            (lo.min(p[k]), hi.max(p[k]))
+        });
+        hi - lo
+    };
+    // The pawn stands along Z: its height is its largest extent.
+    assert!(extent(&t.positions, 2) > 1.5 * extent(&t.positions, 1));
+
+    let read = |up: Up| {
+        let bytes = glb_bytes(&GlbMesh { up, ..surface(&t) });
+        let doc = gltf::Gltf::from_slice(&bytes).expect("gltf validates and loads the file");
+        let blob = doc.blob.as_deref().expect("GLB has a BIN chunk").to_vec();
+        let prim = doc.meshes().next().unwrap().primitives().next().unwrap();
+        let r = prim.reader(|_| Some(&blob[..]));
+        let pos: Vec<[f64; 3]> = (r.read_positions().unwrap())
+            .map(|p| p.map(f64::from))
+            .collect();
+        let nrm: Vec<[f64; 3]> = (r.read_normals().unwrap())
+            .map(|n| n.map(f64::from))
+            .collect();
+        let idx: Vec<u32> = r.read_indices().unwrap().into_u32().collect();
+        (pos, nrm, idx)
+    };
+    let (pos, nrm, idx) = read(Up::Z);
+    assert_eq!(idx, t.face_verts, "the same triangles, in the same order");
+    for (i, (g, p)) in pos.iter().zip(&t.positions).enumerate() {
+        assert_eq!(
+            *g,
+            [p[0], p[2], -p[1]].map(|c| f64::from(c as f32)),
+            "vertex {i}"
+        );
+    }
+    // Height along Y now, and as tall as the model was along Z.
+    let h = extent(&pos, 1);
+    assert!((h - extent(&t.positions, 2)).abs() < 1e-5 * h);
+    assert!(h > 1.5 * extent(&pos, 2));
+    // The top: the highest vertex, whose normal points up (+Y).
+    let top = (0..pos.len())
+        .max_by(|&a, &b| pos[a][1].total_cmp(&pos[b][1]))
+        .unwrap();
+    assert!(nrm[top][1] > 0.99, "normal at the top: {:?}", nrm[top]);
+    // Each triangle's winding agrees with its vertices' normals (outward), as before.
+    let mut agree = 0;
+    for tri in idx.chunks_exact(3) {
+        let [a, b, c] = [0, 1, 2].map(|k| pos[tri[k] as usize]);
+        let (u, v) = (
+            [0, 1, 2].map(|k| b[k] - a[k]),
+            [0, 1, 2].map(|k| c[k] - a[k]),
+        );
+        let n = [
+            u[1] * v[2] - u[2] * v[1],
+            u[2] * v[0] - u[0] * v[2],
+            u[0] * v[1] - u[1] * v[0],
+        ];
+        let m = nrm[tri[0] as usize];
+        agree += usize::from(n[0] * m[0] + n[1] * m[1] + n[2] * m[2] > 0.0);
+    }
+    assert!(
+        agree * 100 > 99 * (idx.len() / 3),
+        "{agree} of {}",
+        idx.len() / 3
+    );
+
+    let (pos, nrm, _) = read(Up::Y);
+    for (g, p) in pos.iter().zip(&t.positions) {
+        assert_eq!(*g, p.map(|c| f64::from(c as f32)));
+    }
+    for (g, n) in nrm.iter().zip(&t.normals) {
+        let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+        for k in 0..3 {
+            assert!((g[k] - n[k] / len).abs() < 1e-6);
+        }
+    }
 }

@@ -182,6 +182,38 @@ fn crlf_line_ends() {
     assert_eq!(obj.face_lines, vec![4]);
 }
 
+/// Lines may end with a lone CR (old Mac OS files), and line numbers count them, in
+/// files that mix them with LF and CRLF too.
+#[test]
+fn cr_line_ends() {
+    let obj = parse("v 0 0 0\rv 1 0 0\rv 0 1 0\rf 1 2 3\r# done\r");
+    assert_eq!(faces(&obj), vec![vec![0, 1, 2]]);
+    assert_eq!(obj.face_lines, vec![4]);
+    let obj = parse("# mixed\r\nv 0 0 0\rv 1 0 0\nv 0 1 0\r\rf 1 2 3");
+    assert_eq!(obj.face_lines, vec![6]);
+    assert_error("v 0 0 0\rv 1 0 0\rv 1 x 0\r", 3, "v: 'x' is not a number");
+    assert_error(
+        "v 0 0 0\r\nv 1 0 0\rf 1 2 3\r\n",
+        3,
+        "f: vertex index 3 is out",
+    );
+    // A continued line goes on after a CR as after a LF.
+    let obj = parse("v 0 0 \\\r0\rv 1 0 0\rv 0 1 0\rf 1 2 3\r");
+    assert_eq!(obj.face_lines, vec![5]);
+    assert_eq!(obj.mesh.num_vertices(), 3);
+}
+
+/// A line that is not text is refused with the message about its first byte that is
+/// not: a control character, or a byte that is not UTF-8, whichever comes first.
+#[test]
+fn the_first_byte_that_is_not_text_decides() {
+    assert_error_bytes(b"v 0 0 0\n# \x01 \xff\n", 2, "control character 0x01");
+    assert_error_bytes(b"v 0 0 0\n# \xff \x01\n", 2, "line 2 is not valid UTF-8");
+    // A sequence cut off at the end of the line.
+    assert_error_bytes(b"# \xc3\n", 1, "line 1 is not valid UTF-8");
+    assert_error_bytes(b"# caf\xc3\xa9 \x02\n", 1, "control character 0x02");
+}
+
 #[test]
 fn backslash_continuation() {
     let obj = parse("v 0 0 0\nv 1 0 \\\n0\nv 0 1 0\r\nf 1 \\\r\n 2\\\n3\nv 1 1 1\n");
@@ -647,7 +679,18 @@ fn coordinates_beyond_1e75_are_refused_at_their_line() {
         "v: the coordinate -1e100 is too large; coordinates must be below 1e75 in magnitude",
     );
     assert_error("v 1.5e308 0 0\n", 1, "the coordinate 1.5e308 is too large");
-    assert!(parse_obj(b"v 1e75 -1e75 0\n", "t.obj").is_ok());
+    // "Below 1e75": 1e75 itself is refused, the largest double below it accepted.
+    assert_error(
+        "v 0 0 0\nv 1e75 0 0\n",
+        2,
+        "the coordinate 1e75 is too large",
+    );
+    assert_error("v 0 -1e75 0\n", 1, "the coordinate -1e75 is too large");
+    let below = f64::from_bits(1e75f64.to_bits() - 1);
+    let obj = parse(&format!("v {below} -{below} 0\n"));
+    assert_eq!(obj.mesh.positions()[0], [below, -below, 0.0]);
+    let e = PolyMesh::from_faces(vec![[0.0; 3], [1e75, 0.0, 0.0], [0.0; 3]], &[[0, 1, 2]]);
+    assert!(e.unwrap_err().to_string().contains("must be below 1e75"));
 }
 
 #[test]
@@ -682,11 +725,11 @@ fn non_utf8_lines() {
 
 #[test]
 fn binary_garbage_fails_on_the_first_line() {
-    // A gzip header.
+    // A gzip header: its first byte is a control character.
     assert_error_bytes(
         b"\x1f\x8b\x08\x00\x00\x00\x00\x00\x00\x03\xed\xbd\n",
         1,
-        "line 1 is not valid UTF-8",
+        "line 1 contains the control character 0x1f",
     );
     // ASCII control characters.
     assert_error_bytes(b"\x7fELF\x02\x01\x01\x00\n", 1, "(is this a binary file?)");
@@ -942,7 +985,12 @@ fn tagged_mesh() -> PolyMesh {
     let p = vec![
         [0.1, 0.2, 0.3],
         [1.0 / 3.0, -0.0, 1e-300],
-        [1e75, f64::MIN_POSITIVE, -2.5],
+        // The largest coordinate accepted: the double just below 1e75.
+        [
+            f64::from_bits(1e75_f64.to_bits() - 1),
+            f64::MIN_POSITIVE,
+            -2.5,
+        ],
         [-9.876_543_210_987_654e74, f64::EPSILON, 5e-324],
         [std::f64::consts::PI, -1e-7, 123_456_789.123_456_79],
     ];
@@ -1168,7 +1216,7 @@ fn random_positions_round_trip_bit_exactly() {
             x ^= x << 17;
             let f = f64::from_bits(x);
             // Every finite value up to the mesh layer's limit on coordinates.
-            *c = if f.is_finite() && f.abs() <= subsurf::mesh::MAX_COORDINATE {
+            *c = if f.is_finite() && f.abs() < subsurf::mesh::MAX_COORDINATE {
                 f
             } else {
                 0.5

@@ -5,7 +5,8 @@
 //! from 1 (as `f` statements refer to them), and faces are counted here from 1 too, in the
 //! order of their `f` statements, with the line of the statement. (Tag indices, as in
 //! `t hole 1/0/0 0`, stay 0-based, as OpenSubdiv's tags are; messages about tags keep the
-//! library's numbering.)
+//! library's numbering.) A mesh read from PLY, whose vertex lists count from 0, is
+//! described from 0 ([`ObjFile::describe_error_from`]).
 
 use super::ObjFile;
 use crate::mesh::{MeshError, TopologyWarning};
@@ -37,13 +38,20 @@ impl ObjFile {
     /// first face using it) and the message with faces and vertices numbered from 1 (module
     /// docs). Errors that concern no face or vertex of the file keep their text.
     pub fn describe_error(&self, e: &MeshError) -> (Option<usize>, String) {
+        self.describe_error_from(e, 1)
+    }
+
+    /// [`describe_error`](Self::describe_error) with faces and vertices numbered from
+    /// `first` (1 for OBJ, 0 for PLY; [`MeshFormat::first_index`](crate::io::input::MeshFormat::first_index)).
+    pub fn describe_error_from(&self, e: &MeshError, first: u64) -> (Option<usize>, String) {
+        let n = |i: u64| i + first;
         match *e {
             MeshError::RepeatedVertex { face, vertex } => (
                 self.face_line(face),
                 format!(
                     "face {} lists vertex {} more than once",
-                    face + 1,
-                    u64::from(vertex) + 1
+                    n(face as u64),
+                    n(u64::from(vertex))
                 ),
             ),
             MeshError::NonManifoldEdge {
@@ -57,10 +65,10 @@ impl ObjFile {
                 format!(
                     "edge {}-{} is shared by {faces} faces (non-manifold); faces {} and {} are \
                      two of them",
-                    u64::from(v0) + 1,
-                    u64::from(v1) + 1,
-                    u64::from(first) + 1,
-                    u64::from(second) + 1
+                    n(u64::from(v0)),
+                    n(u64::from(v1)),
+                    n(u64::from(first)),
+                    n(u64::from(second))
                 ),
             ),
             MeshError::InconsistentOrientation { f0, f1, v0, v1 } => (
@@ -68,17 +76,17 @@ impl ObjFile {
                 format!(
                     "faces {} and {} are oriented inconsistently: both run edge {}-{} in the \
                      same direction",
-                    u64::from(f0) + 1,
-                    u64::from(f1) + 1,
-                    u64::from(v0) + 1,
-                    u64::from(v1) + 1
+                    n(u64::from(f0)),
+                    n(u64::from(f1)),
+                    n(u64::from(v0)),
+                    n(u64::from(v1))
                 ),
             ),
             MeshError::NonManifoldVertex { vertex, faces } => (
                 self.vertex_line(vertex),
                 format!(
                     "vertex {} is non-manifold: its {faces} faces do not form a single fan",
-                    u64::from(vertex) + 1
+                    n(u64::from(vertex))
                 ),
             ),
             _ => (None, e.to_string()),
@@ -88,28 +96,39 @@ impl ObjFile {
     /// `w` in the file's terms, as [`ObjFile::describe_error`] (the line of the first
     /// element concerned).
     pub fn describe_warning(&self, w: &TopologyWarning) -> (Option<usize>, String) {
+        self.describe_warning_from(w, 1)
+    }
+
+    /// [`describe_warning`](Self::describe_warning) with faces and vertices numbered from
+    /// `first`, as [`describe_error_from`](Self::describe_error_from).
+    pub fn describe_warning_from(
+        &self,
+        w: &TopologyWarning,
+        first: u64,
+    ) -> (Option<usize>, String) {
+        let n = |i: u64| i + first;
         let then = w.consequence();
         match *w {
             TopologyWarning::DegenerateFaces { count, first } => (
                 self.face_line(first as usize),
                 format!(
                     "{count} face(s) (first: face {}) list a vertex more than once; {then}",
-                    u64::from(first) + 1
+                    n(u64::from(first))
                 ),
             ),
             TopologyWarning::NonManifoldEdges { count, first } => (
                 self.edge_line(first.0, first.1),
                 format!(
                     "{count} non-manifold edge(s) (first: {}-{}) {then}",
-                    u64::from(first.0) + 1,
-                    u64::from(first.1) + 1
+                    n(u64::from(first.0)),
+                    n(u64::from(first.1))
                 ),
             ),
             TopologyWarning::NonManifoldVertices { count, first } => (
                 self.vertex_line(first),
                 format!(
                     "{count} non-manifold vertex/vertices (first: {}) {then}",
-                    u64::from(first) + 1
+                    n(u64::from(first))
                 ),
             ),
             _ => (None, w.to_string()),

@@ -47,7 +47,30 @@ pub fn read_obj(path: &Path) -> Result<ObjFile, ObjError> {
 /// malformed or out-of-range tags. A face that lists a vertex twice is kept (a degenerate
 /// face, as OpenSubdiv accepts it; the mesh layer reports it as a warning).
 pub fn parse_obj(bytes: &[u8], source_name: &str) -> Result<ObjFile, ObjError> {
-    parse_obj_in(bytes, source_name, CHUNK_BYTES)
+    parse_obj_in(bytes, source_name, CHUNK_BYTES, None).map_err(|f| match f {
+        Refusal::Obj(e) => e,
+        Refusal::TooLarge { .. } => unreachable!("no memory limit was given"),
+    })
+}
+
+/// Why [`parse_obj_within`] gave no file.
+#[derive(Debug)]
+pub(crate) enum Refusal {
+    /// The file is not valid OBJ.
+    Obj(ObjError),
+    /// Holding the file and the mesh read from it would take about `needed` bytes, more
+    /// than the limit.
+    TooLarge { needed: u64 },
+}
+
+/// [`parse_obj`], refused before the mesh is built when the input's bytes and the lists
+/// read from them would need more than `limit` bytes ([`parse_memory`]).
+pub(crate) fn parse_obj_within(
+    bytes: &[u8],
+    source_name: &str,
+    limit: u64,
+) -> Result<ObjFile, Refusal> {
+    parse_obj_in(bytes, source_name, CHUNK_BYTES, Some(limit))
 }
 
 /// Files of at least two chunks of this many bytes are read by [`parallel_prefix`]: 2 MiB,
@@ -55,10 +78,27 @@ pub fn parse_obj(bytes: &[u8], source_name: &str) -> Result<ObjFile, ObjError> {
 const CHUNK_BYTES: usize = 1 << 21;
 
 /// [`parse_obj`], reading files of two `chunk`s or more in chunks of about `chunk` bytes
-/// on the current rayon pool (when it has more than one thread).
-fn parse_obj_in(bytes: &[u8], source_name: &str, chunk: usize) -> Result<ObjFile, ObjError> {
+/// on the current rayon pool (when it has more than one thread); with a `limit`, refused
+/// as [`parse_obj_within`] says.
+fn parse_obj_in(
+    bytes: &[u8],
+    source_name: &str,
+    chunk: usize,
+    limit: Option<u64>,
+) -> Result<ObjFile, Refusal> {
     let parallel = bytes.len() / 2 >= chunk && rayon::current_num_threads() > 1;
-    let (mut parser, lines) = match parallel.then(|| parallel_prefix(bytes, chunk)).flatten() {
+    // The counts size the chunks' lists and the estimate of the memory needed.
+    let chunks = (parallel || limit.is_some()).then(|| Chunks::new(bytes, chunk));
+    if let (Some(limit), Some(chunks)) = (limit, &chunks) {
+        let needed = parse_memory(bytes.len(), &chunks.counted);
+        if needed > limit {
+            return Err(Refusal::TooLarge { needed });
+        }
+    }
+    let prefix = chunks
+        .filter(|_| parallel)
+        .and_then(|c| parallel_prefix(bytes, &c));
+    let (mut parser, lines) = match prefix {
         Some(prefix) => prefix,
         None => (
             Parser::default(),
@@ -68,8 +108,24 @@ fn parse_obj_in(bytes: &[u8], source_name: &str, chunk: usize) -> Result<ObjFile
             },
         ),
     };
-    parse_lines(&mut parser, lines, source_name)?;
-    parser.finish(source_name)
+    parse_lines(&mut parser, lines, source_name).map_err(Refusal::Obj)?;
+    parser.finish(source_name).map_err(Refusal::Obj)
+}
+
+/// An upper bound of the memory that reading `len` bytes whose chunks hold `counted`
+/// takes at its peak: the bytes, and twice the lists read from them (24 bytes per vertex,
+/// texture coordinate and normal, 8 per face for its offset and line, 12 per corner for
+/// its vertex, texture coordinate and normal indices), since each chunk's lists are
+/// joined into lists of the whole file (and a list read in one pass grows by doubling).
+fn parse_memory(len: usize, counted: &[ChunkCounts]) -> u64 {
+    let lists: u64 = counted
+        .iter()
+        .map(|c| {
+            let elements: usize = c.elements.iter().sum();
+            24 * elements as u64 + 8 * c.faces as u64 + 12 * c.corners as u64
+        })
+        .sum();
+    (len as u64).saturating_add(lists.saturating_mul(2))
 }
 
 /// Reads `lines` into `parser`, a statement per logical line.
@@ -122,13 +178,55 @@ struct ChunkCounts {
     elements: Counts,
     faces: usize,
     corners: usize,
+    /// Whether a line holds a `\r` that is not its last byte: a line end of its own
+    /// ([`PhysicalLines`]), which the counts by `\n` miss, so the chunks are not used.
+    lone_cr: bool,
 }
 
-/// Reads the chunks of `bytes` (about `chunk` bytes each, cut after a line feed) in
-/// parallel, and returns what one pass would have read up to the start of the first chunk
-/// that holds anything else than plain `v`, `vt`, `vn` and `f` statements, comments and
-/// statements that carry nothing (`g`, `usemtl`, ...), with the lines from there on; or
-/// `None` (read it all on one thread) if the chunks cannot be joined.
+/// A file cut into chunks of about a given size, each after a line feed, and what
+/// [`element_counts`] finds in each (counted in parallel).
+struct Chunks<'a> {
+    /// The offset of each chunk.
+    starts: Vec<usize>,
+    /// The chunks.
+    pieces: Vec<&'a [u8]>,
+    /// What each holds.
+    counted: Vec<ChunkCounts>,
+}
+
+impl<'a> Chunks<'a> {
+    fn new(bytes: &'a [u8], chunk: usize) -> Self {
+        use rayon::prelude::*;
+        let mut starts = vec![0usize];
+        while let Some(&last) = starts.last() {
+            let Some(cut) = bytes.get(last.saturating_add(chunk)..).and_then(|rest| {
+                let nl = rest.iter().position(|&b| b == b'\n')?;
+                Some(last + chunk + nl + 1)
+            }) else {
+                break;
+            };
+            if cut >= bytes.len() {
+                break;
+            }
+            starts.push(cut);
+        }
+        let pieces: Vec<&[u8]> = (starts.iter().enumerate())
+            .map(|(i, &a)| &bytes[a..starts.get(i + 1).copied().unwrap_or(bytes.len())])
+            .collect();
+        let counted = pieces.par_iter().map(|c| element_counts(c)).collect();
+        Self {
+            starts,
+            pieces,
+            counted,
+        }
+    }
+}
+
+/// Reads the `chunks` of `bytes` in parallel, and returns what one pass would have read
+/// up to the start of the first chunk that holds anything else than plain `v`, `vt`, `vn`
+/// and `f` statements, comments and statements that carry nothing (`g`, `usemtl`, ...),
+/// with the lines from there on; or `None` (read it all on one thread) if the chunks
+/// cannot be joined (a line ends in a lone `\r`, or a chunk read other counts).
 ///
 /// A chunk is read by a [`Parser`] of its own that knows how many elements the chunks
 /// before it define (counted first, in parallel, by [`element_counts`]), so that its face
@@ -140,29 +238,23 @@ struct ChunkCounts {
 /// to [`parse_lines`], which reports its errors at their lines as one pass does: the
 /// result, error or not, is the same as one pass's (test
 /// `chunks_read_as_one_pass_reads`).
-fn parallel_prefix(bytes: &[u8], chunk: usize) -> Option<(Parser, PhysicalLines<'_>)> {
+fn parallel_prefix<'a>(
+    bytes: &'a [u8],
+    chunks: &Chunks<'a>,
+) -> Option<(Parser, PhysicalLines<'a>)> {
     use rayon::prelude::*;
-    let mut starts = vec![0];
-    while let Some(&last) = starts.last() {
-        let Some(cut) = bytes.get(last + chunk..).and_then(|rest| {
-            let nl = rest.iter().position(|&b| b == b'\n')?;
-            Some(last + chunk + nl + 1)
-        }) else {
-            break;
-        };
-        if cut >= bytes.len() {
-            break;
-        }
-        starts.push(cut);
+    let Chunks {
+        starts,
+        pieces: chunks,
+        counted,
+    } = chunks;
+    if counted.iter().any(|c| c.lone_cr) {
+        return None;
     }
-    let chunks: Vec<&[u8]> = (starts.iter().enumerate())
-        .map(|(i, &a)| &bytes[a..starts.get(i + 1).copied().unwrap_or(bytes.len())])
-        .collect();
-    let counted: Vec<ChunkCounts> = chunks.par_iter().map(|c| element_counts(c)).collect();
     // The line before each chunk's first, and the elements before it.
     let mut before = Vec::with_capacity(chunks.len());
     let (mut line, mut base) = (0usize, [0usize; 3]);
-    for c in &counted {
+    for c in counted {
         before.push((line, base));
         line += c.lines;
         for (b, c) in base.iter_mut().zip(c.elements) {
@@ -173,11 +265,11 @@ fn parallel_prefix(bytes: &[u8], chunk: usize) -> Option<(Parser, PhysicalLines<
     // (and the joined ones for the whole file): memory that a worker thread allocated
     // would stay with it after the chunks are joined, and a refinement that follows on
     // this thread could not reuse it (10 % more peak memory for a 0.96 M-quad file).
-    let parsers: Vec<Parser> = (before.iter().zip(&counted))
+    let parsers: Vec<Parser> = (before.iter().zip(counted))
         .map(|(&(_, base), &c)| Parser::with_capacity(base, c))
         .collect();
     let stopped = AtomicUsize::new(usize::MAX);
-    let parsed: Vec<(Parser, bool)> = (parsers.into_par_iter().zip(&chunks).zip(&before))
+    let parsed: Vec<(Parser, bool)> = (parsers.into_par_iter().zip(chunks).zip(&before))
         .enumerate()
         .map(|(i, ((p, c), &(line, _)))| read_chunk(p, c, line, i, &stopped))
         .collect();
@@ -188,10 +280,11 @@ fn parallel_prefix(bytes: &[u8], chunk: usize) -> Option<(Parser, PhysicalLines<
             elements: [0, 1, 2].map(|k| a.elements[k] + c.elements[k]),
             faces: a.faces + c.faces,
             corners: a.corners + c.corners,
+            lone_cr: false,
         });
     let mut joined = Parser::with_capacity([0; 3], total);
     let mut next = 0;
-    for ((p, complete), c) in parsed.into_iter().zip(&counted) {
+    for ((p, complete), c) in parsed.into_iter().zip(counted) {
         if !complete {
             break;
         }
@@ -221,6 +314,9 @@ fn element_counts(chunk: &[u8]) -> ChunkCounts {
     let text = chunk.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(chunk);
     for line in text.split(|&b| b == b'\n') {
         counts.lines += 1;
+        counts.lone_cr |= line
+            .split_last()
+            .is_some_and(|(_, head)| head.contains(&b'\r'));
         let start = line.iter().position(|b| !b.is_ascii_whitespace());
         let word = start.map_or(&[][..], |s| &line[s..]);
         let ends = |rest: &[u8]| rest.first().is_none_or(u8::is_ascii_whitespace);
@@ -286,25 +382,30 @@ fn read_chunk(
 /// Lines a chunk reads between looks at whether an earlier chunk stopped.
 const LINES_PER_CHECK: usize = 1024;
 
-/// Splits input into physical lines (without `\n` and a trailing `\r`), numbered from 1.
-pub(super) struct PhysicalLines<'a> {
-    pub(super) rest: &'a [u8],
-    pub(super) line: usize,
+/// Splits input into physical lines, numbered from 1. A line ends at `\n`, `\r\n` or a
+/// `\r` not followed by `\n` (the line end of old Mac OS files), which is not part of it.
+pub(crate) struct PhysicalLines<'a> {
+    pub(crate) rest: &'a [u8],
+    pub(crate) line: usize,
 }
 
 impl<'a> PhysicalLines<'a> {
-    pub(super) fn next(&mut self) -> Option<(usize, &'a [u8])> {
+    pub(crate) fn next(&mut self) -> Option<(usize, &'a [u8])> {
         if self.rest.is_empty() {
             return None;
         }
-        let (mut line, rest) = match self.rest.iter().position(|&b| b == b'\n') {
+        let end = self.rest.iter().position(|&b| b == b'\n' || b == b'\r');
+        let (mut line, rest) = match end {
             Some(i) => self.rest.split_at(i),
             None => (self.rest, &[][..]),
         };
-        self.rest = rest.get(1..).unwrap_or(&[]);
-        if let Some((b'\r', head)) = line.split_last() {
-            line = head;
-        }
+        // The terminator: `\n`, `\r`, or `\r\n`.
+        let skip = match rest {
+            [b'\r', b'\n', ..] => 2,
+            [] => 0,
+            _ => 1,
+        };
+        self.rest = &rest[skip..];
         self.line += 1;
         if self.line == 1 {
             line = line.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(line);
@@ -318,18 +419,17 @@ impl<'a> PhysicalLines<'a> {
 /// continues, but a comment ending in a backslash does not.
 ///
 /// Lines must be UTF-8 without control characters (tab, form feed and carriage return
-/// are whitespace); anything else is taken as a sign of a binary file.
+/// are whitespace); anything else is taken as a sign of a binary file, and the message
+/// is about the first byte of the line that is not text ([`first_non_text`]), so that
+/// a line cut right after that byte gives the same message as the whole line (what the
+/// reading in blocks of [`crate::io::input`] relies on).
 pub(super) fn line_data(raw: &[u8], no: usize) -> Result<(&str, bool), String> {
-    let text = std::str::from_utf8(raw).map_err(|_| format!("line {no} is not valid UTF-8"))?;
-    let control = |b: u8| (b < 0x20 && !matches!(b, b'\t' | b'\x0c' | b'\r')) || b == 0x7f;
-    // Without an early exit (which keeps the loop from being vectorized), then the first.
-    if raw.iter().fold(false, |any, &b| any | control(b)) {
-        if let Some(&b) = raw.iter().find(|&&b| control(b)) {
-            return Err(format!(
-                "line {no} contains the control character 0x{b:02x} (is this a binary file?)"
-            ));
-        }
-    }
+    let text = match std::str::from_utf8(raw) {
+        Ok(text) if !raw.iter().fold(false, |any, &b| any | is_control(b)) => text,
+        // Without an early exit above (which keeps the loop from being vectorized), then
+        // the first offending byte.
+        _ => return Err(non_text_message(raw, no)),
+    };
     let data = match text.find('#') {
         Some(i) => text.get(..i).unwrap_or(""),
         None => text,
@@ -340,6 +440,52 @@ pub(super) fn line_data(raw: &[u8], no: usize) -> Result<(&str, bool), String> {
     {
         Some(head) => Ok((head, true)),
         None => Ok((data, false)),
+    }
+}
+
+/// Whether `b` is a control character that text lines may not hold (all but tab, line
+/// feed, form feed and carriage return, which are whitespace or line ends), or DEL.
+fn is_control(b: u8) -> bool {
+    (b < 0x20 && !matches!(b, b'\t' | b'\n' | b'\x0c' | b'\r')) || b == 0x7f
+}
+
+/// The position of the first byte of `bytes` that is not text: a control character
+/// ([`is_control`]) or the first byte of a sequence that is not UTF-8; `Err(at)` when
+/// everything is text but a UTF-8 sequence that `bytes` cuts off at `at` (the rest may
+/// come later).
+pub(crate) fn first_non_text(bytes: &[u8]) -> Result<Option<usize>, usize> {
+    let (valid, utf8) = match std::str::from_utf8(bytes) {
+        Ok(_) => (bytes.len(), None),
+        Err(e) => (e.valid_up_to(), Some(e)),
+    };
+    // Control characters are ASCII, so they cannot be inside a UTF-8 sequence. First
+    // whether there is one, without an early exit (so that the loop is vectorized).
+    let text = &bytes[..valid];
+    if text.iter().fold(false, |any, &b| any | is_control(b)) {
+        if let Some(at) = text.iter().position(|&b| is_control(b)) {
+            return Ok(Some(at));
+        }
+    }
+    match utf8 {
+        None => Ok(None),
+        Some(e) if e.error_len().is_none() => Err(valid),
+        Some(_) => Ok(Some(valid)),
+    }
+}
+
+/// The message of a line that is not text, about its first byte that is not
+/// ([`first_non_text`]; a sequence cut off at the end of the line is not UTF-8 either).
+pub(crate) fn non_text_message(raw: &[u8], no: usize) -> String {
+    let at = match first_non_text(raw) {
+        Ok(Some(at)) => at,
+        Ok(None) => return format!("line {no} is not valid UTF-8"),
+        Err(at) => at,
+    };
+    match raw.get(at) {
+        Some(&b) if is_control(b) => {
+            format!("line {no} contains the control character 0x{b:02x} (is this a binary file?)")
+        }
+        _ => format!("line {no} is not valid UTF-8"),
     }
 }
 
@@ -772,7 +918,7 @@ impl Parser {
 
     fn vertex(&mut self, toks: SplitAsciiWhitespace<'_>) -> Result<(), String> {
         let (p, n) = parse_numbers::<3>(toks, "v", "coordinate")?;
-        if let Some(c) = p.iter().find(|c| c.abs() > crate::mesh::MAX_COORDINATE) {
+        if let Some(c) = p.iter().find(|c| c.abs() >= crate::mesh::MAX_COORDINATE) {
             return Err(format!(
                 "v: the coordinate {c:e} is too large; coordinates must be below 1e75 in magnitude"
             ));
@@ -1186,7 +1332,8 @@ mod tests {
     /// A random OBJ text: vertices, texture coordinates and normals, faces (positive and
     /// relative indices, with and without `vt`/`vn`), comments, blank lines, statements
     /// that carry nothing, CRLF ends; with `odd` set, now and then what makes a chunk
-    /// stop: tags, continued lines, malformed lines, forward references beyond the file.
+    /// stop: tags, continued lines, malformed lines, forward references beyond the file,
+    /// and lines ended by a lone `\r` (which keep the file from being read in chunks).
     fn random_obj(seed: u64, odd: bool) -> Vec<u8> {
         let mut state = seed.wrapping_mul(0x9e37_79b9_7f4a_7c15) | 1;
         let mut next = move |n: u64| {
@@ -1240,8 +1387,9 @@ mod tests {
                     text += ["\n", "g part\n", "usemtl m\n", "s off\n", "vp 1\n"][next(5) as usize]
                 }
                 _ if odd && next(40) == 0 => {
-                    text += match next(6) {
+                    text += match next(7) {
                         0 => "t crease 2/1/0 0 1 2.5\n",
+                        6 => "v 1 2 3\rv 4 5 6\n",
                         1 => "v 1 2 \\\n 3\n",
                         5 => "f 1 2 3 \\\ng x\n",
                         2 => "v 1 x 3\n",
@@ -1267,19 +1415,24 @@ mod tests {
         let mut joined = 0;
         for seed in 0..60 {
             let text = random_obj(seed, seed % 3 != 0);
-            let one = parse_obj_in(&text, "x.obj", usize::MAX);
-            let shown = |r: &Result<ObjFile, ObjError>| format!("{r:?}");
+            let one = parse_obj_in(&text, "x.obj", usize::MAX, None);
+            let shown = |r: &Result<ObjFile, Refusal>| format!("{r:?}");
             for chunk in [64, 500, 4096] {
-                let parallel = pool.install(|| parse_obj_in(&text, "x.obj", chunk));
+                let parallel = pool.install(|| parse_obj_in(&text, "x.obj", chunk, None));
                 assert_eq!(
                     shown(&parallel),
                     shown(&one),
                     "seed {seed}, chunks of {chunk}"
                 );
                 // How far the chunks got before one stopped.
-                let prefix = pool.install(|| parallel_prefix(&text, chunk));
-                let (parser, rest) = prefix.expect("the chunks join");
-                joined += usize::from(rest.rest.is_empty() && !parser.face_lines.is_empty());
+                let chunks = pool.install(|| Chunks::new(&text, chunk));
+                let prefix = pool.install(|| parallel_prefix(&text, &chunks));
+                // Chunks are joined unless a line ends in a lone `\r`.
+                let lone_cr = text.windows(2).any(|w| w[0] == b'\r' && w[1] != b'\n');
+                assert_eq!(prefix.is_none(), lone_cr, "seed {seed}, chunks of {chunk}");
+                if let Some((parser, rest)) = prefix {
+                    joined += usize::from(rest.rest.is_empty() && !parser.face_lines.is_empty());
+                }
             }
         }
         // Some files were read whole in chunks, the others in part.
