@@ -138,7 +138,12 @@ impl Input {
                 self.ignored.join("; ")
             )
         });
-        let mesh = self.obj.mesh.warnings().into_iter().map(|w| self.warning(&w));
+        let mesh = self
+            .obj
+            .mesh
+            .warnings()
+            .into_iter()
+            .map(|w| self.warning(&w));
         tags.chain(ignored).chain(mesh)
     }
 

@@ -583,7 +583,9 @@ fn main() -> ExitCode {
             .num_threads(threads)
             .build_global()
         {
-            eprintln!("error: cannot start {threads} worker threads: {e}");
+            crate::output::eprint_line(&format!(
+                "error: cannot start {threads} worker threads: {e}"
+            ));
             return ExitCode::FAILURE;
         }
     }
@@ -612,7 +614,7 @@ fn main() -> ExitCode {
         Err(e) if e.is::<cmd::regularity::NotCertified>() => ExitCode::from(3),
         Err(e) => {
             output::remove_created_dirs();
-            eprintln!("error: {e:#}");
+            crate::output::eprint_line(&format!("error: {e:#}"));
             ExitCode::FAILURE
         }
     }

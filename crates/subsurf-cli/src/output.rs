@@ -132,6 +132,24 @@ fn free_space(_dir: &Path) -> Option<u64> {
     None
 }
 
+/// Writes `text` to standard output and flushes it: `print!` that returns an error (a
+/// full disk, a closed pipe: `main` takes a broken pipe for success) instead of panicking.
+pub fn print(text: &str) -> Result<()> {
+    let mut out = io::stdout().lock();
+    out.write_all(text.as_bytes())
+        .and_then(|()| out.flush())
+        .context("cannot write to standard output")
+}
+
+/// Writes a line to standard error: `eprintln!` without its panic when standard error
+/// cannot be written (full or closed), where the message cannot be reported anyway.
+pub fn eprint_line(line: &str) {
+    let mut err = io::stderr().lock();
+    let _ = err
+        .write_all(line.as_bytes())
+        .and_then(|()| err.write_all(b"\n"));
+}
+
 /// Directories [`create_dir_all`] made, outermost first, until the run succeeds.
 static CREATED_DIRS: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
 
@@ -169,5 +187,125 @@ pub fn remove_created_dirs() {
     let mut dirs = CREATED_DIRS.lock().unwrap_or_else(|p| p.into_inner());
     while let Some(d) = dirs.pop() {
         let _ = fs::remove_dir(d);
+    }
+}
+
+/// A file format an output is written in, told by its extension.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Format {
+    /// Wavefront OBJ (`.obj`).
+    Obj,
+    /// Binary PLY (`.ply`).
+    Ply,
+    /// Binary STL (`.stl`).
+    Stl,
+    /// Binary glTF 2.0 (`.glb`).
+    Glb,
+    /// PNG picture (`.png`).
+    Png,
+    /// SVG drawing (`.svg`).
+    Svg,
+    /// JSON (`.json`).
+    Json,
+    /// IGES 5.3 (`.igs`, `.iges`).
+    Iges,
+    /// Tab- or space-separated text rows (`.tsv`, `.txt`).
+    Text,
+}
+
+impl Format {
+    /// The extensions of the format, the usual one first.
+    fn extensions(self) -> &'static [&'static str] {
+        match self {
+            Self::Obj => &["obj"],
+            Self::Ply => &["ply"],
+            Self::Stl => &["stl"],
+            Self::Glb => &["glb"],
+            Self::Png => &["png"],
+            Self::Svg => &["svg"],
+            Self::Json => &["json"],
+            Self::Iges => &["igs", "iges"],
+            Self::Text => &["tsv", "txt"],
+        }
+    }
+}
+
+/// An output path as given, and the format it is written in.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct OutPath {
+    /// The path (`-`: standard output).
+    pub path: PathBuf,
+    /// The format, from the extension.
+    pub format: Format,
+}
+
+/// The list `.a, .b or .c` of the extensions of `formats`.
+fn extension_list(formats: &[Format]) -> String {
+    let all: Vec<String> = formats
+        .iter()
+        .flat_map(|f| f.extensions())
+        .map(|e| format!(".{e}"))
+        .collect();
+    match all.split_last() {
+        Some((last, [])) => last.clone(),
+        Some((last, rest)) => format!("{} or {last}", rest.join(", ")),
+        None => String::new(),
+    }
+}
+
+/// `arg` as an output of a command that writes `formats`: `-` (standard output) and a
+/// name without an extension (a device such as `/dev/stdout`, or a file the user names
+/// freely) are written in the first of them; a name whose extension (any case) is one
+/// of theirs, in that format. Any other extension is an error, which clap reports as a
+/// usage error (exit 2) before anything runs: `-o out.fbx` must not silently write OBJ.
+pub fn out_path(arg: &str, formats: &[Format]) -> Result<OutPath, String> {
+    let path = PathBuf::from(arg);
+    let ext = if arg == "-" {
+        None
+    } else {
+        path.extension()
+            .map(|e| e.to_string_lossy().to_ascii_lowercase())
+    };
+    let format = match ext {
+        None => formats[0],
+        Some(ext) => formats
+            .iter()
+            .copied()
+            .find(|f| f.extensions().contains(&ext.as_str()))
+            .ok_or_else(|| {
+                format!(
+                    "'.{ext}' is not a format this command writes: it writes {}",
+                    extension_list(formats)
+                )
+            })?,
+    };
+    Ok(OutPath { path, format })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn formats_follow_extensions() {
+        let all = [Format::Obj, Format::Ply, Format::Glb];
+        let f = |s: &str| out_path(s, &all).map(|o| o.format);
+        assert_eq!(f("a.obj"), Ok(Format::Obj));
+        assert_eq!(f("A.PLY"), Ok(Format::Ply));
+        assert_eq!(f("dir.v2/model.glb"), Ok(Format::Glb));
+        assert_eq!(f("-"), Ok(Format::Obj));
+        assert_eq!(f("/dev/stdout"), Ok(Format::Obj));
+        assert_eq!(
+            f("out.fbx"),
+            Err("'.fbx' is not a format this command writes: it writes .obj, .ply or .glb".into())
+        );
+        assert_eq!(
+            out_path("x.iges", &[Format::Obj, Format::Iges]).map(|o| o.format),
+            Ok(Format::Iges)
+        );
+        assert_eq!(
+            out_path("x.png", &[Format::Obj]),
+            Err("'.png' is not a format this command writes: it writes .obj".into())
+        );
     }
 }

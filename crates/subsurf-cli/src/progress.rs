@@ -70,12 +70,14 @@ impl Progress {
 
     /// Prints `warning: {msg}` on stderr, clearing the bar while doing so.
     pub fn warn(&self, msg: &str) {
-        self.bar.suspend(|| eprintln!("warning: {msg}"));
+        self.bar
+            .suspend(|| crate::output::eprint_line(&format!("warning: {msg}")));
     }
 
     /// Prints `note: {msg}` on stderr (information, not a problem), clearing the bar.
     pub fn note(&self, msg: &str) {
-        self.bar.suspend(|| eprintln!("note: {msg}"));
+        self.bar
+            .suspend(|| crate::output::eprint_line(&format!("note: {msg}")));
     }
 }
 

@@ -18,14 +18,14 @@ pub fn run(args: &BenchArgs, threads: usize) -> Result<()> {
     let input = Input::read_surface(&args.input, args.max_memory)?;
     if !args.quiet {
         for w in input.warnings() {
-            eprintln!("warning: {w}");
+            crate::output::eprint_line(&format!("warning: {w}"));
         }
         if subsurf::nurss::has_knots(&input.obj.mesh) {
-            eprintln!(
+            crate::output::eprint_line(&format!(
                 "note: {} has knot interval or weight tags: bench times Catmull-Clark, as \
                  osd-oracle does, which ignores them",
                 input.name
-            );
+            ));
         }
     }
     let opts = SubdivideOptions {
@@ -85,14 +85,17 @@ pub fn run(args: &BenchArgs, threads: usize) -> Result<()> {
         verts = sub.mesh.num_vertices();
         Ok(sub)
     })?;
-    println!(
-        "subsurf refine level={} verts={} threads={} median_s={:.6} min_s={:.6}",
-        args.levels,
-        verts,
-        pool.current_num_threads(),
-        times[times.len() / 2],
-        times[0]
-    );
+    crate::output::print(&format!(
+        "{}\n",
+        format_args!(
+            "subsurf refine level={} verts={} threads={} median_s={:.6} min_s={:.6}",
+            args.levels,
+            verts,
+            pool.current_num_threads(),
+            times[times.len() / 2],
+            times[0]
+        )
+    ))?;
     Ok(())
 }
 
@@ -121,7 +124,7 @@ fn bench_replay(
         plan.apply_into(mesh.positions(), &mut out, &mut scratch);
         Ok(())
     })?;
-    println!(
+    crate::output::print(&format!("{}\n", format_args!(
         "subsurf replay level={levels} verts={} threads={} median_s={:.6} min_s={:.6} (plan built in {build:.6}s) weights={} patches={} plan_mib={}",
         out.len(),
         pool.current_num_threads(),
@@ -130,7 +133,7 @@ fn bench_replay(
         plan.num_weights(),
         plan.num_patches(),
         plan.memory_bytes() >> 20,
-    );
+    )))?;
     Ok(())
 }
 
@@ -219,14 +222,14 @@ fn bench_limit(
         sink += eval_all(&surface, &faces);
         Ok(())
     })?;
-    println!(
+    crate::output::print(&format!("{}\n", format_args!(
         "subsurf limit points={} threads={} median_s={:.6} min_s={:.6} cold_s={cold:.6} configurations={} (sink {sink:.3})",
         faces.len() as u64 * (n * n) as u64,
         pool.current_num_threads(),
         times[times.len() / 2],
         times[0],
         surface.num_configurations(),
-    );
+    )))?;
     Ok(())
 }
 
