@@ -302,18 +302,52 @@ fn order_corners(
     if faces.windows(2).any(|w| w[0] == w[1]) {
         return false;
     }
-    for (k, &[enter, leave]) in corners.iter().enumerate() {
-        if enter == leave
-            || corners[k + 1..]
+    if corners.iter().any(|&[enter, leave]| enter == leave) {
+        return false;
+    }
+    // The corner that leaves by edge `e`: a scan of the few corners of a usual vertex, a
+    // binary search of them sorted by leaving edge around one of high valence (the walk
+    // below asks once per corner, so scanning would cost `n²`).
+    const SCAN: usize = 16;
+    let (mut by_leave, mut enters) = (Vec::new(), Vec::new());
+    if n > SCAN {
+        by_leave.extend(corners.iter().enumerate().map(|(k, c)| (c[1], k)));
+        by_leave.sort_unstable();
+        enters.extend(corners.iter().map(|c| c[0]));
+        enters.sort_unstable();
+    }
+    let leaves = |e: u32| -> Option<usize> {
+        if n <= SCAN {
+            corners.iter().position(|c| c[1] == e)
+        } else {
+            let i = by_leave.partition_point(|&(l, _)| l < e);
+            by_leave.get(i).filter(|&&(l, _)| l == e).map(|&(_, k)| k)
+        }
+    };
+    // No edge leaves (or enters) by two corners.
+    let repeated = if n <= SCAN {
+        corners.iter().enumerate().any(|(k, &[enter, leave])| {
+            corners[k + 1..]
                 .iter()
                 .any(|c| c[0] == enter || c[1] == leave)
-        {
-            return false;
-        }
+        })
+    } else {
+        enters.windows(2).any(|w| w[0] == w[1]) || by_leave.windows(2).any(|w| w[0].0 == w[1].0)
+    };
+    if repeated {
+        return false;
     }
-    let leaves = |e: u32| corners.iter().position(|c| c[1] == e);
     let start = if boundary {
-        let mut open = (0..n).filter(|&k| !corners.iter().any(|c| c[0] == corners[k][1]));
+        // The corner whose leaving edge no corner enters: with distinct entering edges, the
+        // one corner leaving by an edge that is not among them.
+        let mut open = (0..n).filter(|&k| {
+            let leave = corners[k][1];
+            if n <= SCAN {
+                !corners.iter().any(|c| c[0] == leave)
+            } else {
+                enters.binary_search(&leave).is_err()
+            }
+        });
         match (open.next(), open.next()) {
             (Some(k), None) => k,
             _ => return false,
@@ -323,10 +357,19 @@ fn order_corners(
     };
     order.clear();
     order.push(start);
+    let mut seen = vec![false; if n > SCAN { n } else { 0 }];
+    if n > SCAN {
+        seen[start] = true;
+    }
     let mut at = start;
     for _ in 1..n {
         match leaves(corners[at][0]) {
-            Some(k) if !order.contains(&k) => {
+            Some(k) if n > SCAN && !seen[k] => {
+                seen[k] = true;
+                order.push(k);
+                at = k;
+            }
+            Some(k) if n <= SCAN && !order.contains(&k) => {
                 order.push(k);
                 at = k;
             }
@@ -742,6 +785,7 @@ impl Topology {
             } = block;
             let (mut faces_buf, mut edges_buf) = (Vec::new(), Vec::new());
             let (mut order, mut locals_buf, mut ends_buf) = (Vec::new(), Vec::new(), Vec::new());
+            let mut by_edge: Vec<(u32, u8)> = Vec::new();
             let (f0, e0) = (fo[v0] as usize, eo[v0] as usize);
             for (i, tag) in tags.iter_mut().enumerate() {
                 let v = v0 + i;
@@ -769,11 +813,26 @@ impl Topology {
                     }
                     let (es, ns) = (&edges[er.clone()], &ends[er.clone()]);
                     ends_buf.clear();
-                    ends_buf.extend(
-                        edges_buf
-                            .iter()
-                            .map(|e| es.iter().position(|x| x == e).map_or(0, |p| ns[p])),
-                    );
+                    if es.len() <= 16 {
+                        ends_buf.extend(
+                            edges_buf
+                                .iter()
+                                .map(|e| es.iter().position(|x| x == e).map_or(0, |p| ns[p])),
+                        );
+                    } else {
+                        // Around a vertex of high valence, by binary search (a scan per
+                        // edge would cost the square of the valence).
+                        by_edge.clear();
+                        by_edge.extend(es.iter().copied().zip(ns.iter().copied()));
+                        by_edge.sort_unstable();
+                        ends_buf.extend(edges_buf.iter().map(|e| {
+                            let i = by_edge.partition_point(|&(x, _)| x < *e);
+                            by_edge
+                                .get(i)
+                                .filter(|&&(x, _)| x == *e)
+                                .map_or(0, |&(_, n)| n)
+                        }));
+                    }
                     faces[fr.clone()].copy_from_slice(&faces_buf);
                     face_local[fr].copy_from_slice(&locals_buf);
                     edges[er.clone()].copy_from_slice(&edges_buf);
@@ -1626,6 +1685,32 @@ mod tests {
             .collect();
         let turned = PolyMesh::from_faces(vec![[0.0; 3]; 25], &grid).unwrap();
         meshes.push(("turned".into(), turned));
+        // Fans of 40 faces around vertex 0 (past the scan of `order_corners`): closed, open,
+        // of quads, and closed with one face turned.
+        for (name, n, closed, quads) in [
+            ("closed fan", 40u32, true, false),
+            ("open fan", 40, false, false),
+            ("quad fan", 40, true, true),
+            ("turned fan", 41, true, false),
+        ] {
+            let rim = |i: u32| 1 + i % n;
+            let faces: Vec<Vec<u32>> = (0..if closed { n } else { n - 1 })
+                .map(|i| {
+                    let f = if quads {
+                        vec![0, rim(i), n + 1 + i, rim(i + 1)]
+                    } else {
+                        vec![0, rim(i), rim(i + 1)]
+                    };
+                    if name == "turned fan" && i == 7 {
+                        f.into_iter().rev().collect()
+                    } else {
+                        f
+                    }
+                })
+                .collect();
+            let mesh = PolyMesh::from_faces(vec![[0.0; 3]; 2 * n as usize + 1], &faces).unwrap();
+            meshes.push((name.into(), mesh));
+        }
         assert!(meshes.len() > 80);
         let (mut by_corners, mut vertices) = (0, 0);
         for (name, mesh) in &meshes {
@@ -1653,6 +1738,35 @@ mod tests {
             let mesh = PolyMesh::from_faces(vec![[0.0; 3]; 7], &faces).unwrap();
             if let Ok((t, _)) = Topology::from_mesh(&mesh, &Options::default()) {
                 check_corner_order(&t, &format!("{faces:?}"));
+            }
+        }
+
+        /// The same around one vertex of high valence (so that `order_corners` sorts
+        /// instead of scanning): a fan of 17 to 40 triangles around vertex 0, some of them
+        /// turned, some left out (open fans, split fans), some repeated.
+        #[test]
+        fn corner_order_is_the_walks_at_high_valence(
+            change in proptest::collection::vec(0u8..12, 17..40)
+        ) {
+            let n = change.len() as u32;
+            let rim = |i: u32| 1 + i % n;
+            let mut faces: Vec<Vec<u32>> = Vec::new();
+            for (i, &c) in (0..n).zip(&change) {
+                let f = vec![0, rim(i), rim(i + 1)];
+                match c {
+                    0 => {}
+                    1 => faces.push(f.into_iter().rev().collect()),
+                    2 => {
+                        faces.push(f.clone());
+                        faces.push(f);
+                    }
+                    _ => faces.push(f),
+                }
+            }
+            if let Ok(mesh) = PolyMesh::from_faces(vec![[0.0; 3]; n as usize + 1], &faces) {
+                if let Ok((t, _)) = Topology::from_mesh(&mesh, &Options::default()) {
+                    check_corner_order(&t, &format!("{change:?}"));
+                }
             }
         }
     }
