@@ -168,6 +168,10 @@ pub struct NurbsArgs {
     /// Write samples instead: polylines and quad grids with N segments per knot span.
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=10000))]
     pub sample: Option<u32>,
+    /// Refuse to start sampling when the estimated memory exceeds this (suffixes K, M, G, T:
+    /// powers of 1024) [default: the memory the system reports as available].
+    #[arg(long, value_name = "BYTES", value_parser = parse_bytes)]
+    pub max_memory: Option<u64>,
 }
 
 const LIMIT_EXAMPLES: &str = "\

@@ -186,3 +186,67 @@ fn bad_width_and_side_are_refused() {
     assert_code(&o, 1);
     assert!(!dir.path().join("out.obj").exists());
 }
+
+#[test]
+fn refining_beyond_the_memory_limit_is_refused_up_front() {
+    let dir = dir_with(&[("vase.json", VASE)]);
+    for (input, name) in [("vase.json", "vase.json"), ("-", "<stdin>")] {
+        let args = [
+            "interpolate",
+            input,
+            "-o",
+            "out.obj",
+            "--levels",
+            "8",
+            "--tessellate",
+            "--max-memory",
+            "64M",
+        ];
+        let o = if input == "-" {
+            run_with_stdin(dir.path(), &args, VASE)
+        } else {
+            run_in(dir.path(), &args)
+        };
+        assert_code(&o, 1);
+        let e = stderr(&o);
+        assert!(
+            e.contains(&format!(
+                "{name}: refining the zones to level 8 and moving them to the limit needs about "
+            )) && e.contains(
+                "MiB, more than the limit of 64 MiB (--max-memory); use a lower --levels"
+            ),
+            "{e}"
+        );
+        assert!(!dir.path().join("out.obj").exists());
+    }
+    let o = run_in(
+        dir.path(),
+        &[
+            "interpolate",
+            "vase.json",
+            "-o",
+            "out.obj",
+            "--levels",
+            "1",
+            "--max-memory",
+            "64M",
+        ],
+    );
+    assert_code(&o, 0);
+}
+
+#[test]
+fn curve_errors_on_standard_input_name_stdin() {
+    let dir = dir_with(&[]);
+    let o = run_with_stdin(
+        dir.path(),
+        &["interpolate", "-", "-o", "out.obj"],
+        QUADRATIC,
+    );
+    assert_code(&o, 1);
+    assert!(
+        stderr(&o).contains("<stdin>[0]: degree 2"),
+        "{}",
+        stderr(&o)
+    );
+}

@@ -99,3 +99,111 @@ fn bad_input_exits_one_with_the_line_and_writes_nothing() {
     assert!(!dir.path().join("out.json").exists());
     assert!(!dir.path().join("out.ply").exists());
 }
+
+#[test]
+fn a_300_digit_coordinate_is_refused_naming_the_file_and_line() {
+    let big = "9".repeat(300);
+    let json = format!(
+        "[{{\"type\": \"bspline-curve\", \"degree\": 3, \"knots\": [0, 0, 0, 0, 1, 1, 1, 1],\n \"points\": [[0, 0, 0], [1, {big}, 0], [2, 0, 0], [3, 1, 0]]}}]\n"
+    );
+    let obj = format!(
+        "v 0 0 0\nv 1 {big} 0\nv 2 0 0\nv 3 1 0\ncstype bspline\ndeg 3\ncurv 0 1 1 2 3 4\nparm u 0 0 0 0 1 1 1 1\nend\n"
+    );
+    let dir = dir_with(&[("big.json", &json), ("big.obj", &obj)]);
+    for (name, want) in [
+        (
+            "big.json",
+            "big.json: JSON field `[0].points[1]`: control point 1 has the coordinate 1e300",
+        ),
+        ("big.obj", "big.obj:2: v: the coordinate 1e300 is too large"),
+    ] {
+        for args in [
+            vec!["nurbs", name],
+            vec!["nurbs", name, "-o", "out.obj", "--sample", "4"],
+        ] {
+            let o = run_in(dir.path(), &args);
+            assert_code(&o, 1);
+            assert!(stderr(&o).contains(want), "{}", stderr(&o));
+        }
+        if name.ends_with(".json") {
+            assert!(stderr(&run_in(dir.path(), &["nurbs", name])).contains("(line 2, column"));
+        }
+    }
+    // Standard input is named <stdin>.
+    let o = run_with_stdin(dir.path(), &["nurbs", "-"], &obj);
+    assert_code(&o, 1);
+    assert!(
+        stderr(&o).contains("<stdin>:2: v: the coordinate 1e300"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(!dir.path().join("out.obj").exists());
+}
+
+#[test]
+fn sampling_beyond_the_memory_limit_is_refused_up_front() {
+    let dir = dir_with(&[("ff.obj", FREEFORM)]);
+    for input in ["ff.obj", "-"] {
+        let args = [
+            "nurbs",
+            input,
+            "-o",
+            "s.obj",
+            "--sample",
+            "10000",
+            "--max-memory",
+            "64M",
+        ];
+        let o = if input == "-" {
+            run_with_stdin(dir.path(), &args, FREEFORM)
+        } else {
+            run_in(dir.path(), &args)
+        };
+        assert_code(&o, 1);
+        let name = if input == "-" { "<stdin>" } else { "ff.obj" };
+        let e = stderr(&o);
+        assert!(
+            e.contains(&format!(
+                "{name}: sampling at 10000 segments per knot span needs about "
+            )) && e.contains(
+                "MiB, more than the limit of 64 MiB (--max-memory); use a lower --sample"
+            ),
+            "{e}"
+        );
+        assert!(!dir.path().join("s.obj").exists());
+    }
+    // Within the limit it runs.
+    let o = run_in(
+        dir.path(),
+        &[
+            "nurbs",
+            "ff.obj",
+            "-o",
+            "s.obj",
+            "--sample",
+            "8",
+            "--max-memory",
+            "64M",
+        ],
+    );
+    assert_code(&o, 0);
+}
+
+#[test]
+fn closed_curves_survive_json_to_obj_to_json() {
+    let json = r#"[{"type": "bspline-curve", "degree": 3, "knots": [0, 1, 1.5, 3, 4, 4.2, 5, 6.5], "closed": true,
+  "points": [[2, 0, 0], [1.2, 1, 0.3], [-0.4, 1.3, -0.3], [-1.8, 0.6, 0.3], [-1.8, -0.6, -0.3], [-0.4, -1.3, 0.3], [1.2, -1, -0.3]]},
+ {"type": "bspline-surface", "degree_u": 2, "degree_v": 1, "knots_u": [0, 1, 2, 3, 4], "knots_v": [0, 0, 1, 1], "closed_u": true,
+  "points": [[[0, 0, 0], [0, 0, 1]], [[1, 0, 0], [1, 0, 1]], [[1, 1, 0], [1, 1, 1]], [[0, 1, 0], [0, 1, 1]]]}]"#;
+    let dir = dir_with(&[("c.json", json)]);
+    assert_code(&run_in(dir.path(), &["nurbs", "c.json", "-o", "a.json"]), 0);
+    assert_code(&run_in(dir.path(), &["nurbs", "a.json", "-o", "b.obj"]), 0);
+    assert_code(&run_in(dir.path(), &["nurbs", "b.obj", "-o", "c2.json"]), 0);
+    let a = std::fs::read_to_string(dir.path().join("a.json")).unwrap();
+    let c = std::fs::read_to_string(dir.path().join("c2.json")).unwrap();
+    assert!(
+        a.contains("\"closed\":true") && a.contains("\"closed_u\":true"),
+        "{a}"
+    );
+    assert_eq!(a, c);
+}

@@ -9,6 +9,21 @@
 //! [`crate::nurbs::mesh`]), and `P_i` sits at the knot `t_{i+2}`. For a closed curve with
 //! one period `u_0 … u_n` the edge `P_i P_{i+1}` carries `u_i − u_{i−1}` (indices mod `n`).
 //!
+//! # Closed curves given open
+//! A closed curve given in the unwrapped form CAD tools export (its first three control
+//! points repeated at the end, its knot intervals periodic; openNURBS's `IsPeriodic`,
+//! [`Curve::periodic_form`]) is taken as the closed curve: one zone round it, no seam.
+//!
+//! # Closed clamped curves
+//! A clamped curve (`t_1 = t_2 = t_3`, `t_n = t_{n+1} = t_{n+2}`) whose first and last
+//! control points coincide is a closed curve with a `C⁰` point there: its zone is closed, the
+//! two ends one vertex (two zones' end columns would cross at the seam). It is the closed
+//! curve on `P_0 … P_{n−2}` with the period `u_i = t_{i+3}`, `0 ≤ i ≤ n − 1`: the edges at
+//! `P_0` carry `d_2 = 0` and `d_n = 0`, a triple knot at the seam, and on every span the
+//! closed curve's four control points and six knots are the clamped curve's (the knots
+//! before `t_3` and after `t_n` that differ do not reach the domain), so it is the same
+//! curve. The two points must have one weight.
+//!
 //! # Open ends
 //! On its domain `[t_3, t_n]` an open cubic with `n` points depends on the knots
 //! `t_1 … t_{n+2}`: the `n − 1` edge intervals `d_2 … d_n` and two more, `d_1` before the
@@ -65,11 +80,14 @@ pub struct MiddlePolygon {
 
 impl CubicCurve {
     /// Checks `curve` (cubic, finite, at least 4 control points open or 3 closed) and keeps
-    /// its data; `label` names it in errors.
+    /// its data; `label` names it in errors. A closed curve given in unwrapped form, and a
+    /// clamped one whose ends coincide, are taken as closed (see the [module
+    /// documentation](self#closed-curves-given-open)).
     ///
     /// # Errors
     /// [`InterpolateError::Degree`] for a degree other than 3,
-    /// [`InterpolateError::BadCurve`] for too few points or non-finite data.
+    /// [`InterpolateError::BadCurve`] for too few points or non-finite data, or ends that
+    /// coincide with different weights.
     pub fn new(curve: &Curve, label: &str) -> Result<Self, InterpolateError> {
         let (knots, points, weights) = match curve {
             Curve::BSpline(c) => (c.knots(), c.points().to_vec(), None),
@@ -81,11 +99,15 @@ impl CubicCurve {
                 degree: knots.degree(),
             });
         }
-        let closed = knots.is_periodic();
         let bad = |reason: String| InterpolateError::BadCurve {
             curve: label.to_string(),
             reason,
         };
+        // A closed curve given unwrapped, as CAD tools export one: closed.
+        if let Some(periodic) = curve.periodic_form() {
+            return Self::new(&periodic, label);
+        }
+        let closed = knots.is_periodic();
         let min = if closed { 3 } else { 4 };
         if points.len() < min {
             return Err(bad(format!(
@@ -100,12 +122,55 @@ impl CubicCurve {
             Some(u) => u.to_vec(),
             None => knots.as_slice().to_vec(),
         };
-        Ok(Self {
+        let c = Self {
             label: label.to_string(),
             points,
             weights,
             closed,
             knots,
+        };
+        c.joined_ends()
+    }
+
+    /// A clamped curve whose first and last control points coincide (within 1e-9 of its
+    /// size) as the closed curve it is: see the [module documentation](self#closed-clamped-curves).
+    ///
+    /// # Errors
+    /// [`InterpolateError::BadCurve`] when the two points have different weights.
+    fn joined_ends(self) -> Result<Self, InterpolateError> {
+        let n = self.points.len();
+        let t = &self.knots;
+        let clamped = !self.closed && t[1] == t[3] && t[n] == t[n + 2];
+        let size = super::zone::curve_size(&self.points);
+        let meet = crate::geom::norm(&crate::geom::sub(&self.points[0], &self.points[n - 1]));
+        if !clamped || n < 4 || meet > 1e-9 * size {
+            return Ok(self);
+        }
+        let (w0, w1) = (self.weight(0), self.weight(n - 1));
+        if w0 != w1 {
+            return Err(InterpolateError::BadCurve {
+                curve: self.label,
+                reason: format!(
+                    "its first and last control points coincide (a closed clamped curve) but their weights differ ({w0} and {w1}); one zone vertex joins both ends, so give them one weight"
+                ),
+            });
+        }
+        let period = t[3..=n + 2].to_vec();
+        if crate::nurbs::KnotVector::periodic(3, &period).is_err() {
+            return Ok(self);
+        }
+        let mut points = self.points;
+        points.truncate(n - 1);
+        let weights = self.weights.map(|mut w| {
+            w.truncate(n - 1);
+            w
+        });
+        Ok(Self {
+            label: self.label,
+            points,
+            weights,
+            closed: true,
+            knots: period,
         })
     }
 

@@ -28,7 +28,7 @@ pub enum InterpolateError {
     #[error("{0}")]
     BadOption(String),
     /// More curve branches meet at one point than a joint polygon group can take.
-    #[error("{branches} curve branches meet at ({x}, {y}, {z}) ({curves}); a joint polygon group takes at most 4 (two curves crossing), as in the paper's Corollary 1")]
+    #[error("{branches} curve branches meet at ({x}, {y}, {z}) ({curves}); a joint polygon group takes at most 4 (two curves crossing, or up to four ending there), as in the paper's Corollary 1")]
     TooManyCurves {
         /// Number of branches (2 per curve passing through, 1 per curve ending there).
         branches: usize,
@@ -41,14 +41,16 @@ pub enum InterpolateError {
         /// The point.
         z: f64,
     },
-    /// Three or more curves share one control point. A joint polygon group has two lines
-    /// through its centre (two symmetric polygon pairs, Corollary 1), and every curve there needs
-    /// a line of its own: one passing through fills both arms of its line, one ending there
-    /// fills one arm and its phantom end point the other (see [`super::crossing`]).
-    #[error("{count} curves share the point ({x}, {y}, {z}) ({curves}); a joint polygon group takes two curves (crossing, ending on one another, or both ending there), as in the paper's Corollary 1")]
+    /// The curves sharing one control point do not make the two lines of a joint polygon
+    /// group (Corollary 1): each line holds one curve passing through the point, or one or two
+    /// ending there (two from opposite sides when each is the other's continuation, their
+    /// neighbours symmetric about the point); see [`super::crossing`].
+    #[error("{count} curves share the point ({x}, {y}, {z}) ({curves}) and need {lines} lines through it; a joint polygon group has two (Corollary 1): each holds one curve passing through the point, or one or two ending there (two only from opposite sides, each continuing the other: neighbours symmetric about the point)")]
     SharedPoint {
         /// Number of curves.
         count: usize,
+        /// Number of lines they need.
+        lines: usize,
         /// The curves, how they meet the point, and their control points.
         curves: String,
         /// The point.

@@ -27,42 +27,38 @@ pub fn tangents(points: &[V3], closed: bool) -> Option<Vec<V3>> {
     if dirs.iter().all(|d| norm(d) == 0.0) {
         return None;
     }
-    // Nearest non-zero edge direction before / after point i.
-    let before = |i: usize| -> Option<V3> {
-        let mut j = i;
-        for _ in 0..m {
-            if j == 0 {
-                if !closed {
-                    return None;
-                }
-                j = m;
-            }
-            j -= 1;
-            if norm(&dirs[j]) > 0.0 {
-                return Some(dirs[j]);
-            }
+    // Nearest non-zero edge direction before point i (edges i − 1, i − 2, …) and after it
+    // (edges i, i + 1, …), wrapping round a closed polygon: one sweep each way, two laps
+    // when closed.
+    let laps = if closed { 2 } else { 1 };
+    let mut before: Vec<Option<V3>> = vec![None; n];
+    let mut last: Option<V3> = None;
+    for k in 0..laps * m {
+        let e = k % m;
+        if norm(&dirs[e]) > 0.0 {
+            last = Some(dirs[e]);
         }
-        None
-    };
-    let after = |i: usize| -> Option<V3> {
-        let mut j = i;
-        for _ in 0..m {
-            if j >= m {
-                if !closed {
-                    return None;
-                }
-                j = 0;
-            }
-            if norm(&dirs[j]) > 0.0 {
-                return Some(dirs[j]);
-            }
-            j += 1;
+        // Edge e ends at point e + 1.
+        let i = (e + 1) % n;
+        if k + 1 >= (laps - 1) * m && (closed || e + 1 < n) {
+            before[i] = last;
         }
-        None
-    };
+    }
+    let mut after: Vec<Option<V3>> = vec![None; n];
+    let mut next: Option<V3> = None;
+    for k in (0..laps * m).rev() {
+        let e = k % m;
+        if norm(&dirs[e]) > 0.0 {
+            next = Some(dirs[e]);
+        }
+        // Edge e starts at point e.
+        if k < m {
+            after[e] = next;
+        }
+    }
     Some(
         (0..n)
-            .map(|i| match (before(i), after(i)) {
+            .map(|i| match (before[i], after[i]) {
                 (Some(a), Some(b)) => {
                     let s = normalize_or_zero([a[0] + b[0], a[1] + b[1], a[2] + b[2]]);
                     if norm(&s) > 0.0 {

@@ -75,7 +75,8 @@
 //! width fraction: the same parameter speed in the inserted row as in the rest of the host
 //! face it was cut from).
 
-use super::{CubicCurve, InterpolateError, Interpolation, Zone};
+use super::grid::{lower_corner, Grid};
+use super::{CubicCurve, InterpolateError, Interpolation, MiddlePolygon, Zone};
 use crate::geom::{dot, norm, sub, V3};
 use crate::mesh::{EdgeInterval, KnotTags, PolyMesh, SideInterval, VertexWeight};
 use std::collections::HashMap;
@@ -171,11 +172,21 @@ pub fn embed_curves(
     }
     let own = |a: u32, b: u32| host_interval.get(&key(a, b)).copied().unwrap_or(1.0);
 
+    // Host vertices in a hash grid of cells 2 tol wide: a control point's match is in the
+    // cells around it (linear time in the control points, not their product with the host's
+    // vertices).
+    let mut grid = Grid::new(
+        (2.0 * tol).max(f64::MIN_POSITIVE),
+        lower_corner(host.positions().iter()),
+    );
+    for (v, p) in host.positions().iter().enumerate() {
+        grid.insert_point(p, v as u32);
+    }
     // 1. Paths and side walks of every curve, on the unchanged host.
     let mut used_vertex: HashMap<u32, usize> = HashMap::new();
     let mut paths = Vec::with_capacity(curves.len());
     for (c, curve) in curves.iter().enumerate() {
-        let path = host_path(host, &directed, &faces, curve, tol)?;
+        let path = host_path(host, &grid, &directed, &faces, curve, tol)?;
         for &v in &path.verts {
             if let Some(&other) = used_vertex.get(&v) {
                 if other != c {
@@ -238,12 +249,31 @@ pub fn embed_curves(
                             touched.insert(f, (c, j, side));
                         }
                         Some(&(c2, j2, s2)) => {
-                            let last = n - 1;
-                            let neighbours = j2 + 1 == j
-                                || j + 1 == j2
-                                || (path.closed
-                                    && ((j2 == last && j == 0) || (j == last && j2 == 0)));
-                            if c2 != c || s2 != side || !neighbours {
+                            // Steps forward along the path (cyclic when closed).
+                            let ahead = |a: usize, b: usize| {
+                                if b >= a {
+                                    Some(b - a)
+                                } else if path.closed {
+                                    Some(b + n - a)
+                                } else {
+                                    None
+                                }
+                            };
+                            // Neighbours share the face on their edge; the face of a turn
+                            // inside one host face is shared by the turn's vertex and both
+                            // its neighbours on that side.
+                            let turn = |mid: usize| {
+                                path.walks[mid].as_ref().is_some_and(|(t, b)| {
+                                    (if side { t } else { b }).outward.is_empty()
+                                })
+                            };
+                            let near = match (ahead(j2, j), ahead(j, j2)) {
+                                (Some(1), _) | (_, Some(1)) => true,
+                                (Some(2), _) => turn((j2 + 1) % n),
+                                (_, Some(2)) => turn((j + 1) % n),
+                                _ => false,
+                            };
+                            if c2 != c || s2 != side || !near {
                                 return Err(host_error(
                                     &curves[c],
                                     j,
@@ -282,7 +312,7 @@ pub fn embed_curves(
     } else {
         1.0
     };
-    let column = e_hat * w / (1.0 - w);
+    let speed_column = e_hat * w / (1.0 - w);
 
     // 3. Cut and insert.
     let mut positions = host.positions().to_vec();
@@ -322,10 +352,15 @@ pub fn embed_curves(
             .map(|i| m.intervals[i])
             .filter(|&d| d > 0.0)
             .collect();
-        let scale = if real.is_empty() {
-            1.0
-        } else {
-            e_hat * real.len() as f64 / real.iter().sum::<f64>()
+        let (scale, column) = match turn_interval(curve, path, &m)? {
+            // A turn inside one host face: its edges' interval becomes ê, and so does the
+            // column interval (see the module documentation).
+            Some(d) => (e_hat / d, e_hat),
+            None if real.is_empty() => (1.0, speed_column),
+            None => (
+                e_hat * real.len() as f64 / real.iter().sum::<f64>(),
+                speed_column,
+            ),
         };
         let d: Vec<f64> = m.intervals.iter().map(|x| x * scale).collect();
         let n = path.verts.len();
@@ -359,7 +394,14 @@ pub fn embed_curves(
                 }
                 s
             };
-            let mut u = sub(&mean(&tw.outward), &mean(&bw.outward));
+            // Across the polygon: from the host neighbours on one side to those on the
+            // other (from or to the control point where a side has none, a turn inside one
+            // host face).
+            let mut u = match (tw.outward.is_empty(), bw.outward.is_empty()) {
+                (false, false) => sub(&mean(&tw.outward), &mean(&bw.outward)),
+                (false, true) => sub(&mean(&tw.outward), &p),
+                _ => sub(&p, &mean(&bw.outward)),
+            };
             let tl = norm(&tangent);
             if tl > 0.0 {
                 let k = dot(&u, &tangent) / (tl * tl);
@@ -417,7 +459,10 @@ pub fn embed_curves(
                         interval: d,
                     })
                 };
-                if k == 1 {
+                if k == 0 {
+                    // A turn inside one host face: every interval the first step reads at
+                    // the valence-3 side vertex is ê already (module documentation).
+                } else if k == 1 {
                     intervals.insert(key(id, walk.outward[0]), e_hat);
                 } else {
                     side(walk.faces[0], walk.outward[0], e_hat);
@@ -479,6 +524,41 @@ pub fn embed_curves(
     Ok(Interpolation { mesh, zones })
 }
 
+/// The knot interval of the polygon edges at the curve's turns inside one host face (a side
+/// without host edges: a 90° turn at a grid vertex, a control point of valence 3), or `None`
+/// when it has none. Theorem 1 holds on the first step there only when the two edges at every
+/// such point have one interval (see the module documentation).
+fn turn_interval(
+    curve: &CubicCurve,
+    path: &HostPath,
+    m: &MiddlePolygon,
+) -> Result<Option<f64>, InterpolateError> {
+    let n = path.verts.len();
+    let mut found: Option<f64> = None;
+    for (j, walks) in path.walks.iter().enumerate() {
+        let Some((t, b)) = walks else { continue };
+        if !(t.outward.is_empty() || b.outward.is_empty()) {
+            continue;
+        }
+        let (dp, dn) = (m.intervals[(j + n - 1) % n], m.intervals[j]);
+        let same = |a: f64, b: f64| (a - b).abs() <= 1e-12 * a.abs().max(b.abs());
+        let ok = dp > 0.0 && same(dp, dn) && found.is_none_or(|d| same(d, dp));
+        if !ok {
+            return Err(host_error(
+                curve,
+                j,
+                path,
+                format!(
+                    "the polygon turns inside one host face here (a 90° turn at a grid vertex, or a control point of valence 3); the zone's side vertex there has valence 3, and Theorem 1 holds on the first step only when the two polygon edges at every such point have one non-zero knot interval (it becomes the zone's column interval): got {dp} and {dn}{}",
+                    found.map_or(String::new(), |d| format!(", and {d} at another turn"))
+                ),
+            ));
+        }
+        found = Some(dp);
+    }
+    Ok(found)
+}
+
 fn key(a: u32, b: u32) -> (u32, u32) {
     (a.min(b), a.max(b))
 }
@@ -500,6 +580,7 @@ fn host_error(curve: &CubicCurve, j: usize, path: &HostPath, reason: String) -> 
 /// The host vertices of the curve's polygon (phantom ends included) and the side walks.
 fn host_path(
     host: &PolyMesh,
+    grid: &Grid,
     directed: &HashMap<(u32, u32), u32>,
     faces: &[Vec<u32>],
     curve: &CubicCurve,
@@ -509,14 +590,17 @@ fn host_path(
     let n = curve.len();
     let mut verts = Vec::with_capacity(n + 2);
     for (i, p) in curve.points.iter().enumerate() {
-        let best = pos
-            .iter()
-            .enumerate()
-            .map(|(v, q)| (v, norm(&sub(p, q))))
-            .min_by(|a, b| a.1.total_cmp(&b.1));
+        // The nearest host vertex within `tol` (the lowest index among equally near ones).
+        let mut best: Option<(u32, f64)> = None;
+        grid.near(p, |v| {
+            let d = norm(&sub(p, &pos[v as usize]));
+            if d <= tol && best.is_none_or(|(bv, bd)| d < bd || (d == bd && v < bv)) {
+                best = Some((v, d));
+            }
+        });
         match best {
-            Some((v, dist)) if dist <= tol => verts.push(v as u32),
-            _ => {
+            Some((v, _)) => verts.push(v),
+            None => {
                 return Err(InterpolateError::HostVertex {
                     curve: curve.label.clone(),
                     index: i,
@@ -539,13 +623,15 @@ fn host_path(
             reason,
         }
     };
-    for i in 0..n {
-        if let Some(j) = (0..i).find(|&j| verts[j] == verts[i]) {
+    let mut seen: HashMap<u32, usize> = HashMap::with_capacity(n);
+    for (i, &v) in verts.iter().enumerate() {
+        if let Some(&j) = seen.get(&v) {
             return Err(err(
                 i,
                 format!("it is the same host vertex as control point {j}; the polygon must not revisit a vertex"),
             ));
         }
+        seen.insert(v, i);
     }
     let edges = if curve.closed { n } else { n - 1 };
     for i in 0..edges {
@@ -605,16 +691,11 @@ fn host_path(
         let ci = if closed { j } else { j - 1 };
         let top = walk(directed, faces, v, w, u, true).map_err(|r| err(ci, r))?;
         let bot = walk(directed, faces, v, w, u, false).map_err(|r| err(ci, r))?;
-        for (s, name) in [(&top, "left"), (&bot, "right")] {
-            if s.outward.is_empty() {
-                return Err(err(
-                    ci,
-                    format!(
-                        "the polygon turns inside host face {} ({name} of it); the zone needs at least one host edge on each side at every control point",
-                        s.faces[0] + 1
-                    ),
-                ));
-            }
+        if top.outward.is_empty() && bot.outward.is_empty() {
+            return Err(err(
+                ci,
+                "the control point has no host edge but the polygon's two (valence 2); the zone needs a host edge on at least one side".into(),
+            ));
         }
         walks.push(Some((top, bot)));
     }

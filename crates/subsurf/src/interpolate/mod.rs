@@ -8,9 +8,9 @@
 //! limit surface passes through the curve: for any knot vector (non-uniform, multiple knots
 //! for C1 and C0 points, clamped or not, closed), and for rational curves (weights on the
 //! middle polygon, side points weighted like their middle point — a circle stays a circle).
-//! Two curves may cross at a shared control point, one end on another, or both end there
-//! (joint polygon groups, [`crossing`]): opposite branches join `G2`, adjacent ones `G0`
-//! (Corollary 1). The zones may also be inserted into a host mesh whose edges contain the
+//! Up to four curves may share a control point, passing through it or ending there (joint
+//! polygon groups, [`crossing`]): opposite branches join `G2`, adjacent ones `G0`
+//! (Corollary 1); two ends meeting nearly opposite share one zone. The zones may also be inserted into a host mesh whose edges contain the
 //! control polygons ([`host`], the paper's Fig. 11).
 //!
 //! | module | concept |
@@ -47,6 +47,7 @@ pub mod crossing;
 pub mod curve;
 mod error;
 pub mod frame;
+mod grid;
 pub mod host;
 pub mod track;
 pub mod zone;
@@ -128,6 +129,17 @@ pub fn interpolate_curves(
     curves: &[CubicCurve],
     opts: &InterpolateOptions,
 ) -> Result<Interpolation, InterpolateError> {
+    interpolate_curves_counted(curves, opts, &mut 0)
+}
+
+/// [`interpolate_curves`], adding to `work` the elementary steps taken (candidate pairs of
+/// points and edges compared, columns and anchors visited): a measure of the running time
+/// that tests compare across input sizes.
+pub(crate) fn interpolate_curves_counted(
+    curves: &[CubicCurve],
+    opts: &InterpolateOptions,
+    work: &mut u64,
+) -> Result<Interpolation, InterpolateError> {
     if curves.is_empty() {
         return Err(InterpolateError::NoCurves);
     }
@@ -150,8 +162,8 @@ pub fn interpolate_curves(
         .flat_map(|c| c.points.iter().copied())
         .collect();
     let tol = 1e-9 * zone::curve_size(&all);
-    let (middles, crossings) = crossing::find_crossings(curves, tol)?;
-    let (mesh, zones) = zone::build(curves, &middles, &crossings, opts.width, opts.side)?;
+    let crossings = crossing::find_crossings_counted(curves, tol, work)?;
+    let (mesh, zones) = zone::build(curves, &crossings, opts.width, opts.side, work)?;
     Ok(Interpolation { mesh, zones })
 }
 
@@ -222,5 +234,60 @@ impl Interpolation {
     /// As [`refined_mesh`](Self::refined_mesh).
     pub fn limit_mesh(&self, levels: u32) -> Result<PolyMesh, NurssError> {
         self.refined_mesh(levels, true)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::nurbs::{BSplineCurve, Curve, KnotVector};
+
+    /// A long wavy curve of `n` points along `x` and a short curve crossing it at every
+    /// tenth point (`n / 10` joint polygon groups), all with uniform knots.
+    fn network(n: usize) -> Vec<CubicCurve> {
+        let uniform = |m: usize| KnotVector::new(3, (0..m + 4).map(|i| i as f64).collect());
+        let long: Vec<[f64; 3]> = (0..n)
+            .map(|i| {
+                let t = i as f64;
+                [t, 0.0, 0.3 * (std::f64::consts::TAU * t / 20.0).sin()]
+            })
+            .collect();
+        let mut curves = vec![CubicCurve::new(
+            &Curve::BSpline(BSplineCurve::new(uniform(n).unwrap(), long).unwrap()),
+            "long",
+        )
+        .unwrap()];
+        for m in 1..n / 10 {
+            let x = 10.0 * m as f64;
+            let pts = (-3i32..=3)
+                .map(|j| {
+                    let y = j as f64;
+                    [x, y, 0.02 * y * y * y]
+                })
+                .collect();
+            let c = Curve::BSpline(BSplineCurve::new(uniform(7).unwrap(), pts).unwrap());
+            curves.push(CubicCurve::new(&c, &format!("cross {m}")).unwrap());
+        }
+        curves
+    }
+
+    #[test]
+    fn work_is_linear_in_the_control_points() {
+        // The work (points and edges compared, columns and anchors visited) per control point
+        // stays the same when the input doubles; comparing every pair, as before, doubled it.
+        let work = |n: usize| {
+            let curves = network(n);
+            let points: usize = curves.iter().map(CubicCurve::len).sum();
+            let mut w = 0;
+            let out = interpolate_curves_counted(&curves, &InterpolateOptions::default(), &mut w)
+                .unwrap();
+            assert_eq!(out.zones.len(), curves.len());
+            w as f64 / points as f64
+        };
+        let (small, large) = (work(2000), work(4000));
+        assert!(
+            large < 1.1 * small,
+            "work per point {small} at 2000 points, {large} at 4000"
+        );
     }
 }

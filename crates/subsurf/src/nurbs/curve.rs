@@ -9,6 +9,7 @@ use super::basis::ders_basis;
 use super::insert::refine;
 use super::vecn::{axpy, is_finite, lerp, with_scratch};
 use super::{KnotVector, NurbsError};
+use crate::mesh::MAX_COORDINATE;
 
 /// A B-spline curve of degree `p ≥ 1` in `D` dimensions: knots and control points.
 ///
@@ -42,7 +43,8 @@ impl<const D: usize> BSplineCurve<D> {
     /// # Errors
     /// [`NurbsError::KnotCountMismatch`] unless `points.len()` is
     /// [`knots.num_points()`](KnotVector::num_points) (`knots − p − 1` for an open knot
-    /// vector, `period knots − 1` for a periodic one); [`NurbsError::NonFinitePoint`].
+    /// vector, `period knots − 1` for a periodic one); [`NurbsError::NonFinitePoint`];
+    /// [`NurbsError::LargeCoordinate`] for a coordinate beyond 1e75 in magnitude.
     pub fn new(knots: KnotVector, points: Vec<[f64; D]>) -> Result<Self, NurbsError> {
         check_points(&knots, &points)?;
         Ok(Self { knots, points })
@@ -208,6 +210,24 @@ impl<const D: usize> BSplineCurve<D> {
         self.insert_knots(&m)
     }
 
+    /// The closed (periodic) curve that this open one is the unwrapped form of, if it is:
+    /// its knot vector's [`KnotVector::periodic_form`] and its first `p` control points
+    /// coinciding with its last `p` (`P_i` and `P_{i+n}`, each coordinate within 2⁻³² or
+    /// 2⁻⁴² of the sum of their magnitudes: openNURBS's `ON_NurbsCurve::IsPeriodic` and
+    /// `ON_PointsAreCoincident`). The result keeps `P_0 … P_{n−1}`: the same curve, now
+    /// closed (CAD tools write closed curves to OBJ free-form this way).
+    pub fn periodic_form(&self) -> Option<Self> {
+        let k = self.knots.periodic_form()?;
+        let n = k.num_points();
+        let p = k.degree();
+        (0..p)
+            .all(|i| coincident(&self.points[i], &self.points[i + n]))
+            .then(|| Self {
+                knots: k,
+                points: self.points[..n].to_vec(),
+            })
+    }
+
     /// Control point `a` of the unwrapped sequence (`a mod n` for a closed curve).
     #[inline]
     pub(crate) fn point(&self, a: usize) -> [f64; D] {
@@ -237,5 +257,33 @@ pub(crate) fn check_points<const D: usize>(
     if let Some(index) = points.iter().position(|p| !is_finite(p)) {
         return Err(NurbsError::NonFinitePoint { index });
     }
+    check_magnitude(points)
+}
+
+/// Every coordinate of Cartesian points (`D ≤ 3`) at most [`MAX_COORDINATE`] in magnitude,
+/// the bound every mesh is held to (refinement and evaluation multiply coordinates; see
+/// [`crate::mesh::MAX_COORDINATE`]). Homogeneous points (`D = 4`) are not checked here: the
+/// rational types check their Cartesian points.
+pub(crate) fn check_magnitude<const D: usize>(points: &[[f64; D]]) -> Result<(), NurbsError> {
+    if D > 3 {
+        return Ok(());
+    }
+    for (index, p) in points.iter().enumerate() {
+        if let Some(&value) = p.iter().find(|c| c.abs() > MAX_COORDINATE) {
+            return Err(NurbsError::LargeCoordinate { index, value });
+        }
+    }
     Ok(())
+}
+
+/// Whether two points coincide in openNURBS's sense (`ON_PointsAreCoincident`): each
+/// coordinate pair within `ON_ZERO_TOLERANCE = 2⁻³²`, or within `ON_RELATIVE_TOLERANCE =
+/// 2⁻⁴²` times the sum of their magnitudes.
+pub(crate) fn coincident<const D: usize>(a: &[f64; D], b: &[f64; D]) -> bool {
+    const ZERO_TOLERANCE: f64 = 2.328_306_436_538_696_3e-10;
+    const RELATIVE_TOLERANCE: f64 = 2.273_736_754_432_320_6e-13;
+    a.iter().zip(b).all(|(&x, &y)| {
+        let d = (x - y).abs();
+        d <= ZERO_TOLERANCE || d <= (x.abs() + y.abs()) * RELATIVE_TOLERANCE
+    })
 }

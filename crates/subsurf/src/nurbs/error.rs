@@ -108,6 +108,15 @@ pub enum NurbsError {
         /// Index of the control point.
         index: usize,
     },
+    /// A control point has a coordinate beyond [`crate::mesh::MAX_COORDINATE`] (1e75) in
+    /// magnitude, the bound of every mesh (refinement and evaluation multiply coordinates).
+    #[error("control point {index} has the coordinate {value:e}; coordinates must be below 1e75 in magnitude")]
+    LargeCoordinate {
+        /// Index of the control point.
+        index: usize,
+        /// The coordinate.
+        value: f64,
+    },
     /// A weight is zero, negative, NaN or infinite (rational curves need positive weights).
     #[error("weight {index} is {weight}; weights must be positive and finite")]
     NonPositiveWeight {

@@ -216,6 +216,15 @@ fn geometry_from_node(r: &Reader<'_>) -> Result<Geometry, NurbsError> {
 }
 
 impl Curve {
+    /// The closed (periodic) curve that this open one is the unwrapped form of, if it is
+    /// ([`BSplineCurve::periodic_form`], [`NurbsCurve::periodic_form`]).
+    pub fn periodic_form(&self) -> Option<Self> {
+        match self {
+            Curve::BSpline(c) => c.periodic_form().map(Curve::BSpline),
+            Curve::Nurbs(c) => c.periodic_form().map(Curve::Nurbs),
+        }
+    }
+
     /// Reads a curve document (see the [schema](self)); numbers are read exactly.
     ///
     /// # Errors
@@ -477,7 +486,9 @@ fn knot_error(e: NurbsError, degree: &str, knots: &str) -> NurbsError {
 /// turns a flat point index into a field suffix.
 fn point_error(e: NurbsError, count_field: &str, index: &dyn Fn(usize) -> String) -> NurbsError {
     let field = match &e {
-        NurbsError::NonFinitePoint { index: i } => format!("points{}", index(*i)),
+        NurbsError::NonFinitePoint { index: i } | NurbsError::LargeCoordinate { index: i, .. } => {
+            format!("points{}", index(*i))
+        }
         NurbsError::NonPositiveWeight { index: i, .. } => format!("weights{}", index(*i)),
         NurbsError::WeightCountMismatch { .. } => "weights".into(),
         NurbsError::KnotCountMismatch { .. } => count_field.into(),

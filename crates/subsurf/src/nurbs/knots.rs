@@ -369,6 +369,35 @@ impl KnotVector {
             && k[k.len() - p - 1..].iter().all(|&x| x == k[k.len() - 1])
     }
 
+    /// The periodic knot vector that this open one is the unwrapped form of, if it is one:
+    /// the form CAD tools export a closed curve in (see [`BSplineCurve::periodic_form`]
+    /// for the control points). With `N` basis functions and `n = N − p` it needs degree
+    /// `p ≥ 2`, `N ≥ p + 3` (`p ≤ 3`) or `N ≥ 2p` (`p ≥ 4`), and the intervals `d_j =
+    /// t_{j+1} − t_j` to repeat with period `n` for `1 ≤ j ≤ 2p − 2`, within `√ε` (1.49e-8)
+    /// times the larger of `t_{p+1} − t_{p−1}` and the domain's length: openNURBS's
+    /// `ON_IsKnotVectorPeriodic` (the two outermost knots, which openNURBS does not store,
+    /// do not influence the curve). The result has the period `u_i = t_{p+i}`, `0 ≤ i ≤ n`:
+    /// the same knots on the domain and the periodic extension outside it.
+    ///
+    /// [`BSplineCurve::periodic_form`]: super::BSplineCurve::periodic_form
+    pub fn periodic_form(&self) -> Option<Self> {
+        const SQRT_EPSILON: f64 = 1.490116119385e-8;
+        let (p, t) = (self.degree, &self.knots);
+        let big = self.num_basis();
+        let enough = if p <= 3 { big >= p + 3 } else { big >= 2 * p };
+        if self.periodic || p < 2 || !enough {
+            return None;
+        }
+        let n = big - p;
+        let (start, end) = self.domain();
+        let tol = SQRT_EPSILON * (t[p + 1] - t[p - 1]).abs().max(end - start);
+        let d = |j: usize| t[j + 1] - t[j];
+        if (1..=2 * p - 2).any(|j| (d(j) - d(j + n)).abs() > tol) {
+            return None;
+        }
+        Self::periodic(p, &t[p..=p + n]).ok()
+    }
+
     /// The same knot vector mapped affinely so that the domain becomes `[0, 1]`:
     /// `t ↦ (t − t_p) / (t_N − t_p)` (the end knots map to exactly 0 and 1; the order of the
     /// knots is kept, since rounding is monotonic).

@@ -85,5 +85,5 @@ pub use knots::{KnotVector, MAX_DEGREE};
 pub use mesh::{ControlMesh, KnotEdge};
 pub use nurbs_curve::NurbsCurve;
 pub use nurbs_surface::NurbsSurface;
-pub use sample::sample_parameters;
+pub use sample::{sample_count, sample_parameters};
 pub use surface::{BSplineSurface, SurfaceDerivs};

@@ -64,6 +64,7 @@ impl NurbsCurve {
         points: Vec<[f64; 3]>,
         weights: Vec<f64>,
     ) -> Result<Self, NurbsError> {
+        super::curve::check_magnitude(&points)?;
         let hw = homogenize(&points, &weights)?;
         Ok(Self {
             homogeneous: BSplineCurve::new(knots, hw)?,
@@ -81,6 +82,20 @@ impl NurbsCurve {
         let points = curve.points().iter().map(project).collect();
         let weights: Vec<f64> = curve.points().iter().map(|p| p[3]).collect();
         Self::new(curve.knots().clone(), points, weights)
+    }
+
+    /// The closed curve that this open one is the unwrapped form of, if it is: as
+    /// [`BSplineCurve::periodic_form`] on the homogeneous points (so the weights of the
+    /// repeated control points coincide too).
+    pub fn periodic_form(&self) -> Option<Self> {
+        let h = self.homogeneous.periodic_form()?;
+        let n = h.points().len();
+        let coincide =
+            (0..h.degree()).all(|i| super::curve::coincident(&self.points[i], &self.points[i + n]));
+        coincide.then(|| Self {
+            homogeneous: h,
+            points: self.points[..n].to_vec(),
+        })
     }
 
     /// The full circle of the given centre and radius in the plane `z = centre.z`, starting

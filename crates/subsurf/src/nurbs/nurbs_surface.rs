@@ -45,6 +45,7 @@ impl NurbsSurface {
         points: Vec<[f64; 3]>,
         weights: Vec<f64>,
     ) -> Result<Self, NurbsError> {
+        super::curve::check_magnitude(&points)?;
         let hw = homogenize(&points, &weights)?;
         Ok(Self {
             homogeneous: BSplineSurface::new(u, v, hw)?,

@@ -35,6 +35,24 @@ pub fn sample_parameters(knots: &KnotVector, per_span: usize) -> Vec<f64> {
     out
 }
 
+/// The number of [`sample_parameters`] of `knots` with `per_span` segments per knot span,
+/// `(spans) · per_span + 1`, without making them (saturating).
+pub fn sample_count(knots: &KnotVector, per_span: usize) -> u64 {
+    let (a, b) = knots.domain();
+    let mut spans = 0u64;
+    let mut last = None;
+    for &t in knots.as_slice().iter().filter(|&&t| t >= a && t <= b) {
+        if last.is_some_and(|x| x != t) {
+            spans += 1;
+        }
+        last = Some(t);
+    }
+    spans
+        .max(1)
+        .saturating_mul(per_span.max(1) as u64)
+        .saturating_add(1)
+}
+
 impl Curve {
     /// Points on the curve at [`sample_parameters`] (`per_span` segments per knot span).
     ///

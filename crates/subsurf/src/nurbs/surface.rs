@@ -69,7 +69,8 @@ impl<const D: usize> BSplineSurface<D> {
     ///
     /// # Errors
     /// [`NurbsError::NetSizeMismatch`] unless there are
-    /// `u.num_points() × v.num_points()` points; [`NurbsError::NonFinitePoint`] (flat index).
+    /// `u.num_points() × v.num_points()` points; [`NurbsError::NonFinitePoint`],
+    /// [`NurbsError::LargeCoordinate`] (flat index).
     pub fn new(u: KnotVector, v: KnotVector, points: Vec<[f64; D]>) -> Result<Self, NurbsError> {
         let (rows, columns) = (u.num_points(), v.num_points());
         if rows.checked_mul(columns) != Some(points.len()) {
@@ -82,6 +83,7 @@ impl<const D: usize> BSplineSurface<D> {
         if let Some(index) = points.iter().position(|p| !is_finite(p)) {
             return Err(NurbsError::NonFinitePoint { index });
         }
+        super::curve::check_magnitude(&points)?;
         Ok(Self { u, v, points })
     }
 

@@ -573,19 +573,56 @@ fn polygon_along_the_host_boundary_is_refused() {
     assert!(err.to_string().contains("boundary"), "{err}");
 }
 
-#[test]
-fn polygon_turning_inside_one_host_face_is_refused() {
-    let host = grid(10, 6);
-    // Along row 3, then up column 6: the turn at (6, 3) is a corner of one host face.
+/// Along row 3 of a grid, then up column 6: the turn at (6, 3), control point 4, is a
+/// corner of one host face (the side vertex inside the turn gets valence 3).
+fn turning_polygon(host: &PolyMesh) -> Vec<V3> {
     let mut ids: Vec<u32> = (2..=6).map(|i| (i * 7 + 3) as u32).collect();
     ids.extend([4, 5].iter().map(|j| (6 * 7 + j) as u32));
-    let curve = Curve::BSpline(BSplineCurve::clamped_uniform(3, points_of(&host, &ids)).unwrap());
+    points_of(host, &ids)
+}
+
+#[test]
+fn polygon_turning_90_degrees_at_a_grid_vertex_is_interpolated() {
+    // Beyond the paper: with equal intervals on the two edges at the turn, made the zone's
+    // column interval, Theorem 1 holds at the valence-3 side vertex (host module docs).
+    let host = grid(10, 6);
+    let pts = turning_polygon(&host);
+    for curve in [
+        Curve::BSpline(BSplineCurve::clamped_uniform(3, pts.clone()).unwrap()),
+        open_curve((0..11).map(|i| 0.7 * i as f64).collect(), pts),
+    ] {
+        let out = embed(&host, std::slice::from_ref(&curve)).unwrap();
+        assert_interpolates(&[curve], &out, 8, 100);
+    }
+}
+
+#[test]
+fn polygon_through_a_valence_3_host_vertex_is_interpolated() {
+    // A fan of 3 sectors: in along spoke 0, out along spoke 1; one side of the centre has no
+    // host edge (one sector face), the other one (spoke 2).
+    let (host, spoke) = fan(3, 5);
+    let mut ids: Vec<u32> = (1..=4).rev().map(|i| spoke(0, i)).collect();
+    ids.extend((1..=4).map(|i| spoke(1, i)));
+    ids.insert(4, spoke(0, 0));
+    let curve = open_curve((0..13).map(|i| i as f64).collect(), points_of(&host, &ids));
+    let out = embed(&host, std::slice::from_ref(&curve)).unwrap();
+    assert_interpolates(&[curve], &out, 8, 100);
+}
+
+#[test]
+fn turn_inside_one_host_face_with_unequal_intervals_is_refused() {
+    let host = grid(10, 6);
+    let knots = non_uniform_knots(7);
+    let curve = open_curve(knots, turning_polygon(&host));
     let err = embed(&host, &[curve]).unwrap_err();
     assert!(
         matches!(err, InterpolateError::Host { index: 4, .. }),
         "{err}"
     );
-    assert!(err.to_string().contains("turns inside host face"), "{err}");
+    assert!(
+        err.to_string().contains("turns inside one host face"),
+        "{err}"
+    );
 }
 
 #[test]

@@ -17,6 +17,7 @@ mod g2cap_mixed;
 mod gltf;
 mod interpolate;
 mod interpolate_host;
+mod interpolate_junctions;
 mod limit_builder;
 mod limit_golden;
 mod limit_second_derivatives;

@@ -46,13 +46,21 @@
 //!   vectors, counts and weights of the [`nurbs`](crate::nurbs) types.
 //! - **Ignored**: polygons, lines and every non-free-form statement; 2-D parameter-space
 //!   data (`vp`, `curv2`), connectivity (`con`), approximation techniques (`ctech`,
-//!   `stech`), `step` and `bmat`. Closed curves are read as open ones with repeated
-//!   control points (OBJ has no periodic flag).
+//!   `stech`), `step` and `bmat`.
+//! - **Closed (periodic) elements**: OBJ has no periodic flag; CAD tools write a closed
+//!   B-spline unwrapped, its first `p` control points repeated at the end and its knot
+//!   intervals repeating with the period. An element in that form is read as the closed
+//!   curve (or a surface as closed in that direction), the test openNURBS's
+//!   `ON_NurbsCurve::IsPeriodic` makes ([`KnotVector::periodic_form`],
+//!   [`BSplineCurve::periodic_form`]): the repeated points dropped, the knots one period.
+//!   So a closed curve written by [`write_obj_freeform`] reads back closed.
 //!
 //! The name of each element is that of the last `o` (or, without one, `g`) statement.
 
 use super::read::{line_data, PhysicalLines};
 use super::ObjError;
+use crate::mesh::MAX_COORDINATE;
+use crate::nurbs::curve::coincident;
 use crate::nurbs::{
     BSplineCurve, BSplineSurface, Curve, Geometry, KnotVector, NurbsCurve, NurbsSurface, Surface,
 };
@@ -238,6 +246,11 @@ impl Reader {
             .iter()
             .map(|t| number(t, "v"))
             .collect::<Result<Vec<_>, _>>()?;
+        if let Some(c) = numbers.iter().take(3).find(|c| c.abs() > MAX_COORDINATE) {
+            return Err(format!(
+                "v: the coordinate {c:e} is too large; coordinates must be below 1e75 in magnitude"
+            ));
+        }
         let w = match numbers.len() {
             3 | 6 | 7 => 1.0,
             4 => numbers[3],
@@ -375,10 +388,15 @@ impl Reader {
 
 /// A finite number.
 fn number(t: &str, keyword: &str) -> Result<f64, String> {
+    // A long token is shown by its first characters.
+    let shown = || match t.char_indices().nth(40) {
+        Some((end, _)) => format!("{:?}…", &t[..end]),
+        None => format!("{t:?}"),
+    };
     match t.parse::<f64>() {
         Ok(x) if x.is_finite() => Ok(x),
-        Ok(_) => Err(format!("{keyword}: {t:?} is not finite")),
-        Err(_) => Err(format!("{keyword}: {t:?} is not a number")),
+        Ok(_) => Err(format!("{keyword}: {} is not finite", shown())),
+        Err(_) => Err(format!("{keyword}: {} is not a number", shown())),
     }
 }
 
@@ -531,6 +549,10 @@ fn build(open: Open, vertices: &[[f64; 4]]) -> Result<Geometry, String> {
     if !open.surface {
         let k = knots(open.parm_u, open.basis, open.degree.0, points.len(), "u")?;
         check_range(&open.range, &k, "u")?;
+        let (k, n) = periodic(k, points.len(), |i, j| {
+            coincident(&points[i], &points[j]) && coincident(&[weights[i]], &[weights[j]])
+        });
+        let (points, weights) = (points[..n].to_vec(), weights[..n].to_vec());
         let curve = if open.rational {
             NurbsCurve::new(k, points, weights).map(Curve::Nurbs)
         } else {
@@ -548,6 +570,14 @@ fn build(open: Open, vertices: &[[f64; 4]]) -> Result<Geometry, String> {
     let reorder = |k: usize| (k % nv) * nu + k / nv;
     let net: Vec<[f64; 3]> = (0..n).map(|k| points[reorder(k)]).collect();
     let w: Vec<f64> = (0..n).map(|k| weights[reorder(k)]).collect();
+    let same = |a: usize, b: usize| coincident(&net[a], &net[b]) && coincident(&[w[a]], &[w[b]]);
+    let (ku, nu2) = periodic(ku, nu, |i, j| (0..nv).all(|c| same(i * nv + c, j * nv + c)));
+    let (kv, nv2) = periodic(kv, nv, |i, j| {
+        (0..nu2).all(|r| same(r * nv + i, r * nv + j))
+    });
+    let keep = |k: usize| k / nv < nu2 && k % nv < nv2;
+    let net: Vec<[f64; 3]> = (0..n).filter(|&k| keep(k)).map(|k| net[k]).collect();
+    let w: Vec<f64> = (0..n).filter(|&k| keep(k)).map(|k| w[k]).collect();
     let surface = if open.rational {
         NurbsSurface::new(ku, kv, net, w).map(Surface::Nurbs)
     } else {
@@ -558,12 +588,34 @@ fn build(open: Open, vertices: &[[f64; 4]]) -> Result<Geometry, String> {
         .map_err(|e| format!("surf: {e}"))
 }
 
+/// The periodic knot vector and the number of distinct control points (rows) of a
+/// direction with `count` of them, when it is the unwrapped form of a closed one: its knots'
+/// [`KnotVector::periodic_form`] with period `n`, and `same(i, i + n)` for the first `p` (the
+/// repeated control points coincide); else the knots and `count` unchanged.
+fn periodic(
+    k: KnotVector,
+    count: usize,
+    same: impl Fn(usize, usize) -> bool,
+) -> (KnotVector, usize) {
+    match k.periodic_form() {
+        Some(pk) => {
+            let n = pk.num_points();
+            if (0..pk.degree()).all(|i| same(i, i + n)) {
+                (pk, n)
+            } else {
+                (k, count)
+            }
+        }
+        None => (k, count),
+    }
+}
+
 /// Writes curves and surfaces as OBJ free-form elements (`cstype [rat] bspline`), read back
 /// exactly by [`parse_obj_freeform`]: the control points of each element as `v x y z w`
 /// lines (weight 1 for polynomial ones), then the element with its full knot vectors.
 /// Periodic (closed) elements are written unwrapped, with their first `p` control points
-/// repeated, which is the same curve; read back they are open. Numbers use Rust's shortest
-/// round-trip form.
+/// repeated, which is the same curve, as CAD tools write them; read back they are closed
+/// again. Numbers use Rust's shortest round-trip form.
 pub fn write_obj_freeform(items: &[Geometry]) -> String {
     let mut out = String::from("# subsurf: free-form curves and surfaces\n");
     let mut base = 0usize;
