@@ -8,6 +8,7 @@ mod input;
 mod json;
 mod memory;
 mod output;
+mod paths;
 mod progress;
 mod signals;
 
@@ -193,7 +194,7 @@ pub struct LimitArgs {
     /// Samples per side of each face.
     #[arg(long, value_name = "N", default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..=4096))]
     pub grid: u32,
-    /// Output file ('-' for standard output).
+    /// Output file of text rows, .txt, .tsv or .dat ('-' for standard output).
     #[arg(short, long, value_name = "OUT")]
     pub output: PathBuf,
     /// Refuse to start when the estimated memory exceeds this (suffixes K, M, G, T: powers
@@ -229,7 +230,7 @@ pub struct TessellateArgs {
     /// Input OBJ file ('-' reads standard input).
     #[arg(value_name = "IN")]
     pub input: PathBuf,
-    /// Output file, .obj, .ply or .stl ('-' writes OBJ to standard output); written only
+    /// Output file, .obj, .ply, .stl or .glb ('-' writes OBJ to standard output); written only
     /// when everything succeeded.
     #[arg(short, long, value_name = "OUT")]
     pub output: PathBuf,
@@ -578,6 +579,10 @@ fn parse_bytes(s: &str) -> Result<u64, String> {
 fn main() -> ExitCode {
     // Usage errors exit with 2 here; --help and --version with 0.
     let cli = Cli::parse();
+    if let Err(e) = paths::check(&cli.command) {
+        output::eprint_line(&format!("error: {e}"));
+        return ExitCode::from(2);
+    }
     signals::clean_up_on_signals();
     let threads = cli.threads.unwrap_or(0);
     // `bench` times its own pool of exactly these threads; every other command runs on

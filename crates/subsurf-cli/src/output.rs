@@ -209,7 +209,7 @@ pub enum Format {
     Json,
     /// IGES 5.3 (`.igs`, `.iges`).
     Iges,
-    /// Tab- or space-separated text rows (`.tsv`, `.txt`).
+    /// Rows of numbers as text (`.txt`, `.tsv`, `.dat`).
     Text,
 }
 
@@ -225,18 +225,9 @@ impl Format {
             Self::Svg => &["svg"],
             Self::Json => &["json"],
             Self::Iges => &["igs", "iges"],
-            Self::Text => &["tsv", "txt"],
+            Self::Text => &["txt", "tsv", "dat"],
         }
     }
-}
-
-/// An output path as given, and the format it is written in.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct OutPath {
-    /// The path (`-`: standard output).
-    pub path: PathBuf,
-    /// The format, from the extension.
-    pub format: Format,
 }
 
 /// The list `.a, .b or .c` of the extensions of `formats`.
@@ -253,33 +244,30 @@ fn extension_list(formats: &[Format]) -> String {
     }
 }
 
-/// `arg` as an output of a command that writes `formats`: `-` (standard output) and a
-/// name without an extension (a device such as `/dev/stdout`, or a file the user names
-/// freely) are written in the first of them; a name whose extension (any case) is one
-/// of theirs, in that format. Any other extension is an error, which clap reports as a
-/// usage error (exit 2) before anything runs: `-o out.fbx` must not silently write OBJ.
-pub fn out_path(arg: &str, formats: &[Format]) -> Result<OutPath, String> {
-    let path = PathBuf::from(arg);
-    let ext = if arg == "-" {
-        None
+/// Checks that `path`, an output of a command that writes `formats`, has an extension
+/// (any case) of one of them, or none: `-` (standard output) and names without an
+/// extension (devices such as `/dev/stdout`) are left to the command, which writes its
+/// usual format there or asks for an extension. Any other extension is an error, a usage
+/// error (exit 2) before anything runs: `-o out.fbx` must not silently write OBJ.
+pub fn check_extension(path: &Path, formats: &[Format]) -> Result<(), String> {
+    if path == Path::new("-") {
+        return Ok(());
+    }
+    let Some(ext) = path.extension() else {
+        return Ok(());
+    };
+    let ext = ext.to_string_lossy().to_ascii_lowercase();
+    if formats
+        .iter()
+        .any(|f| f.extensions().contains(&ext.as_str()))
+    {
+        Ok(())
     } else {
-        path.extension()
-            .map(|e| e.to_string_lossy().to_ascii_lowercase())
-    };
-    let format = match ext {
-        None => formats[0],
-        Some(ext) => formats
-            .iter()
-            .copied()
-            .find(|f| f.extensions().contains(&ext.as_str()))
-            .ok_or_else(|| {
-                format!(
-                    "'.{ext}' is not a format this command writes: it writes {}",
-                    extension_list(formats)
-                )
-            })?,
-    };
-    Ok(OutPath { path, format })
+        Err(format!(
+            "'.{ext}' is not a format this command writes: it writes {}",
+            extension_list(formats)
+        ))
+    }
 }
 
 #[cfg(test)]
@@ -287,24 +275,22 @@ mod tests {
     use super::*;
 
     #[test]
-    fn formats_follow_extensions() {
+    fn extensions_name_formats() {
         let all = [Format::Obj, Format::Ply, Format::Glb];
-        let f = |s: &str| out_path(s, &all).map(|o| o.format);
-        assert_eq!(f("a.obj"), Ok(Format::Obj));
-        assert_eq!(f("A.PLY"), Ok(Format::Ply));
-        assert_eq!(f("dir.v2/model.glb"), Ok(Format::Glb));
-        assert_eq!(f("-"), Ok(Format::Obj));
-        assert_eq!(f("/dev/stdout"), Ok(Format::Obj));
+        let f = |s: &str| check_extension(Path::new(s), &all);
+        for ok in ["a.obj", "A.PLY", "dir.v2/model.glb", "-", "/dev/stdout"] {
+            assert_eq!(f(ok), Ok(()), "{ok}");
+        }
         assert_eq!(
             f("out.fbx"),
             Err("'.fbx' is not a format this command writes: it writes .obj, .ply or .glb".into())
         );
         assert_eq!(
-            out_path("x.iges", &[Format::Obj, Format::Iges]).map(|o| o.format),
-            Ok(Format::Iges)
+            check_extension(Path::new("x.iges"), &[Format::Obj, Format::Iges]),
+            Ok(())
         );
         assert_eq!(
-            out_path("x.png", &[Format::Obj]),
+            check_extension(Path::new("x.png"), &[Format::Obj]),
             Err("'.png' is not a format this command writes: it writes .obj".into())
         );
     }

@@ -183,22 +183,16 @@ fn default_rate(mesh: &subsurf::mesh::PolyMesh) -> u32 {
     (r as u32).clamp(1, DEFAULT_RATE)
 }
 
-/// Only PNG is written: `-` (standard output) or a `.png` file (any case).
+/// Only PNG is written: to `-` (standard output), a `.png` file (any case) or a name
+/// without an extension (a device such as `/dev/stdout`).
 fn check_png(path: &Path) -> Result<()> {
-    if path == Path::new("-") {
-        return Ok(());
-    }
     let ext = path
         .extension()
         .map(|e| e.to_string_lossy().to_ascii_lowercase());
     match ext.as_deref() {
-        Some("png") => Ok(()),
+        None | Some("png") => Ok(()),
         Some(other) => bail!(
             "cannot write {}: unknown picture format '.{other}' (only .png is written)",
-            path.display()
-        ),
-        None => bail!(
-            "cannot write {}: the output needs the extension .png (or '-' for standard output)",
             path.display()
         ),
     }

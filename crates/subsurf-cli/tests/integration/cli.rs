@@ -748,3 +748,120 @@ fn threads_on_every_command_and_bounded() {
         stderr(&o)
     );
 }
+
+// ---------------------------------------------------------------------------------------
+// Output names
+
+/// An output extension no writer of the command knows is a usage error (exit 2) naming
+/// the extensions the command writes, and nothing is written.
+#[test]
+fn unknown_output_extensions_are_usage_errors() {
+    let patches = include_str!("../../../../examples/patches/blend3.json");
+    let dir = dir_with(&[("cube.obj", CUBE), ("p.json", patches)]);
+    for (args, writes) in [
+        (&["subdivide", "cube.obj"][..], ".obj"),
+        (&["limit", "cube.obj"], ".txt, .tsv or .dat"),
+        (
+            &["tessellate", "cube.obj", "--rate", "2"],
+            ".obj, .ply, .stl or .glb",
+        ),
+        (&["render", "cube.obj"], ".png"),
+        (&["spline", "cube.obj"], ".obj, .ply, .stl or .glb"),
+        (&["g2", "cube.obj"], ".obj, .json, .igs, .iges or .png"),
+        (&["nurbs", "p.json"], ".json or .obj"),
+        (&["blend", "p.json"], ".obj"),
+    ] {
+        let mut args = args.to_vec();
+        args.extend(["-o", "out.fbx"]);
+        let o = run_in(dir.path(), &args);
+        assert_code(&o, 2);
+        let err = stderr(&o);
+        assert!(
+            err.contains("'.fbx' is not a format this command writes")
+                && err.contains(&format!("it writes {writes}")),
+            "{args:?}: {err}"
+        );
+        assert_eq!(listing(dir.path()), ["cube.obj", "p.json"], "{args:?}");
+    }
+    let o = run_in(dir.path(), &["regularity", "cube.obj", "--plot", "r.pdf"]);
+    assert_code(&o, 2);
+    // Any case; a name without an extension is the command's first format.
+    let o = run_in(dir.path(), &["subdivide", "cube.obj", "-o", "OUT.OBJ"]);
+    assert_code(&o, 0);
+    let o = run_in(dir.path(), &["subdivide", "cube.obj", "-o", "plain"]);
+    assert_code(&o, 0);
+    assert!(fs::read_to_string(dir.path().join("plain"))
+        .unwrap()
+        .contains("\nf "));
+}
+
+/// No output may be an input or another output, however the paths are spelt.
+#[test]
+fn outputs_never_replace_inputs_or_each_other() {
+    let patches = include_str!("../../../../examples/patches/blend3.json");
+    let dir = dir_with(&[("cube.obj", CUBE), ("p.json", patches)]);
+    fs::create_dir(dir.path().join("sub")).unwrap();
+    for args in [
+        &["subdivide", "cube.obj", "-o", "sub/../cube.obj"][..],
+        &["tessellate", "cube.obj", "--rate", "2", "-o", "./cube.obj"],
+        &["nurbs", "p.json", "-o", "p.json"],
+        &[
+            "blend",
+            "p.json",
+            "-o",
+            "b.obj",
+            "--control-mesh",
+            "./b.obj",
+        ],
+        &["interpolate", "p.json", "-o", "h.obj", "--host", "h.obj"],
+    ] {
+        let o = run_in(dir.path(), args);
+        assert_code(&o, 2);
+        let err = stderr(&o);
+        assert!(
+            err.contains("would replace the input") || err.contains("would replace the other"),
+            "{args:?}: {err}"
+        );
+        assert_eq!(
+            listing(dir.path()),
+            ["cube.obj", "p.json", "sub"],
+            "{args:?}"
+        );
+        assert_eq!(
+            fs::read_to_string(dir.path().join("cube.obj")).unwrap(),
+            CUBE
+        );
+    }
+}
+
+/// `subsurf ... -o - | head`: a reader that goes away is not a failure (exit 0, nothing on
+/// stderr), for every command that writes to standard output, pictures included.
+#[test]
+fn a_closed_pipe_on_standard_output_exits_zero() {
+    use std::process::{Command, Stdio};
+    let dir = dir_with(&[("cube.obj", CUBE)]);
+    for args in [
+        &["subdivide", "cube.obj", "-l", "2", "-o", "-"][..],
+        &["limit", "cube.obj", "--grid", "8", "-o", "-"],
+        &["tessellate", "cube.obj", "--rate", "8", "-o", "-"],
+        // A picture larger than the output buffer: the encoder meets the closed pipe.
+        &[
+            "render", "cube.obj", "--zebra", "--size", "1200x900", "-o", "-",
+        ],
+        &["g2", "cube.obj", "-o", "-"],
+    ] {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_subsurf"))
+            .current_dir(dir.path())
+            .args(args)
+            .stdin(Stdio::null())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("cannot run subsurf");
+        // Close the reading end before anything is written.
+        drop(child.stdout.take());
+        let o = child.wait_with_output().expect("subsurf did not finish");
+        assert_code(&o, 0);
+        assert_eq!(stderr(&o), "", "{args:?}");
+    }
+}

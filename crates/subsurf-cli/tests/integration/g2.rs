@@ -129,7 +129,7 @@ fn report_compares_with_catmull_clark() {
 fn bad_inputs_exit_1_usage_errors_exit_2() {
     let dir = dir_with(&[("cube.obj", CUBE), ("bad.obj", "v 0 0 0\nf 1 2 3\n")]);
     let o = run_in(dir.path(), &["g2", "cube.obj", "-o", "out.stl"]);
-    assert_code(&o, 1);
+    assert_code(&o, 2);
     assert!(stderr(&o).contains(".obj"), "{}", stderr(&o));
     let o = run_in(dir.path(), &["g2", "bad.obj", "-o", "out.obj"]);
     assert_code(&o, 1);

@@ -281,6 +281,6 @@ fn control_mesh_needs_glb() {
         dir.path(),
         &["tessellate", "cube.obj", "-o", "cube.gltf", "--rate", "2"],
     );
-    assert_code(&o, 1);
+    assert_code(&o, 2);
     assert!(stderr(&o).contains(".glb"), "{}", stderr(&o));
 }

@@ -94,7 +94,7 @@ fn bad_input_exits_one_with_the_line_and_writes_nothing() {
         stderr(&o)
     );
     let o = run_in(dir.path(), &["nurbs", "bad.json", "-o", "out.ply"]);
-    assert_code(&o, 1);
+    assert_code(&o, 2);
     assert!(stderr(&o).contains(".json or .obj"), "{}", stderr(&o));
     assert!(!dir.path().join("out.json").exists());
     assert!(!dir.path().join("out.ply").exists());

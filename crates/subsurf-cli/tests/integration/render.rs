@@ -141,12 +141,19 @@ fn writes_to_standard_output_and_reads_standard_input() {
 #[test]
 fn bad_extension_fails_without_writing() {
     let dir = dir_with(&[("cube.obj", CUBE)]);
-    for out in ["out.jpg", "out"] {
-        let o = run_in(dir.path(), &["render", "cube.obj", "-o", out]);
-        assert_code(&o, 1);
-        assert!(stderr(&o).contains(".png"), "{}", stderr(&o));
-    }
+    // An unknown extension is a usage error; a name without one is a PNG.
+    let o = run_in(dir.path(), &["render", "cube.obj", "-o", "out.jpg"]);
+    assert_code(&o, 2);
+    assert!(stderr(&o).contains(".png"), "{}", stderr(&o));
     assert_eq!(listing(dir.path()), ["cube.obj"]);
+    let o = run_in(
+        dir.path(),
+        &["render", "cube.obj", "-o", "out", "--size", "64x48"],
+    );
+    assert_code(&o, 0);
+    assert!(fs::read(dir.path().join("out"))
+        .unwrap()
+        .starts_with(b"\x89PNG"));
 }
 
 #[test]

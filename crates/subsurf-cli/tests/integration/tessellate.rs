@@ -103,14 +103,15 @@ fn dash_writes_obj_to_stdout() {
 #[test]
 fn unknown_extension_exits_one_and_writes_nothing() {
     let dir = dir_with(&[("cube.obj", CUBE)]);
-    for out in ["out.xyz", "out"] {
+    // An unknown extension is a usage error; no extension, the command's own refusal.
+    for (out, code) in [("out.xyz", 2), ("out", 1)] {
         let o = run_in(
             dir.path(),
             &["tessellate", "cube.obj", "-o", out, "--rate", "2"],
         );
-        assert_code(&o, 1);
+        assert_code(&o, code);
         let e = stderr(&o);
-        assert!(e.contains(out) && e.contains(".obj, .ply or .stl"), "{e}");
+        assert!(e.contains(out) && e.contains(".obj, .ply"), "{e}");
         assert_eq!(listing(dir.path()), ["cube.obj"]);
     }
 }

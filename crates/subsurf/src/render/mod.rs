@@ -425,16 +425,22 @@ fn check(opts: &Render) -> Result<(), RenderError> {
 
 /// Writes `image` as PNG (8-bit RGB; deterministic bytes).
 ///
+/// The PNG is encoded in memory (smaller than the image) and written in one call, so that
+/// the errors of `w` reach the caller as they are: the encoder would turn them into text,
+/// and a closed pipe would no longer read as [`io::ErrorKind::BrokenPipe`].
+///
 /// # Errors
 /// Errors of `w`, and encoder errors as [`io::ErrorKind::Other`].
-pub fn write_png<W: Write>(w: W, image: &RgbImage) -> io::Result<()> {
+pub fn write_png<W: Write>(mut w: W, image: &RgbImage) -> io::Result<()> {
     use image::ImageEncoder;
-    image::codecs::png::PngEncoder::new(w)
+    let mut png = Vec::new();
+    image::codecs::png::PngEncoder::new(&mut png)
         .write_image(
             image.as_raw(),
             image.width(),
             image.height(),
             image::ExtendedColorType::Rgb8,
         )
-        .map_err(io::Error::other)
+        .map_err(io::Error::other)?;
+    w.write_all(&png)
 }
