@@ -42,13 +42,14 @@ Examples:
 /// Arguments of `subsurf repose`.
 #[derive(Debug, Args)]
 pub struct ReposeArgs {
-    /// The base mesh (OBJ): faces, tags and scheme of every pose ('-' reads standard input).
+    /// The base mesh (OBJ or PLY): faces, tags and scheme of every pose ('-' reads standard input).
     #[arg(value_name = "BASE")]
     pub base: PathBuf,
-    /// Poses: OBJ files with the base mesh's vertices moved.
+    /// Poses: OBJ or PLY files with the base mesh's vertices moved.
     #[arg(value_name = "POSE", required = true)]
     pub poses: Vec<PathBuf>,
-    /// Directory the refined poses are written to, each under its pose's file name.
+    /// Directory the refined poses are written to, as OBJ, each under its pose's file name
+    /// with the extension .obj.
     #[arg(short, long = "output-dir", value_name = "DIR")]
     pub output_dir: PathBuf,
     /// Number of refinement levels.
@@ -181,6 +182,7 @@ fn output_paths(args: &ReposeArgs) -> Result<Vec<PathBuf>> {
         .filter_map(|p| p.canonicalize().ok())
         .collect();
     let mut names = HashSet::new();
+    let mut outputs = Vec::with_capacity(args.poses.len());
     for pose in &args.poses {
         if pose == Path::new("-") {
             bail!("poses are read from files; standard input ('-') can be the base mesh only");
@@ -188,18 +190,15 @@ fn output_paths(args: &ReposeArgs) -> Result<Vec<PathBuf>> {
         let Some(name) = pose.file_name() else {
             bail!("{}: not a file name", pose.display());
         };
+        // The refined poses are OBJ files: `walk.ply` becomes `walk.obj`.
+        let name = Path::new(name).with_extension("obj");
+        let out = dir.join(&name);
         if !names.insert(name) {
             bail!(
-                "two poses are named {}: their outputs in {} would replace each other",
-                Path::new(name).display(),
-                dir.display()
+                "two poses would be written to {}: their outputs would replace each other",
+                out.display()
             );
         }
-    }
-    let mut outputs = Vec::with_capacity(args.poses.len());
-    for pose in &args.poses {
-        // Every pose has a file name (checked above).
-        let out = dir.join(pose.file_name().unwrap_or_default());
         if out.canonicalize().is_ok_and(|o| inputs.contains(&o)) {
             bail!(
                 "{}: the output for pose {} would replace an input; write to another directory",

@@ -32,7 +32,7 @@ fn mesh_of(obj: &str) -> (Vec<[f64; 3]>, Vec<Vec<u32>>) {
 
 /// The mesh as PLY: `format` is `ascii`, `binary_little_endian` or `binary_big_endian`;
 /// double coordinates, `uchar int vertex_indices`.
-fn ply(obj: &str, format: &str) -> Vec<u8> {
+pub fn ply(obj: &str, format: &str) -> Vec<u8> {
     let (p, faces) = mesh_of(obj);
     let mut out = format!(
         "ply\nformat {format} 1.0\nelement vertex {}\nproperty double x\nproperty double y\n\

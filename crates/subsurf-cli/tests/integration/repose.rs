@@ -211,8 +211,8 @@ fn outputs_that_cannot_be_written_are_refused_first() {
             "cannot write to hut.obj: not a directory",
         ),
         (
-            &["repose", "hut.obj", "a.obj", "sub/a.obj", "-o", "sub"][..],
-            "two poses are named a.obj",
+            &["repose", "hut.obj", "a.obj", "sub/a.obj", "-o", "other"][..],
+            "two poses would be written to other/a.obj",
         ),
         (
             &["repose", "hut.obj", "sub/a.obj", "-o", "sub"][..],
@@ -229,6 +229,38 @@ fn outputs_that_cannot_be_written_are_refused_first() {
     }
     assert_eq!(listing(dir.path()), ["a.obj", "hut.obj", "sub"]);
     assert_eq!(listing(&dir.path().join("sub")), ["a.obj"]);
+}
+
+/// Poses in PLY are written as OBJ under their names with the extension `.obj`; a PLY and
+/// an OBJ pose of one name are refused, as their outputs would be one file.
+#[test]
+fn ply_poses_are_written_as_obj() {
+    let pose = moved(HUT, 0.2);
+    let ply = crate::input_formats::ply(&pose, "binary_little_endian");
+    let dir = dir_with(&[("hut.obj", HUT), ("a.obj", &pose)]);
+    fs::write(dir.path().join("b.ply"), &ply).expect("PLY pose");
+    let o = run_in(
+        dir.path(),
+        &[
+            "repose", "hut.obj", "a.obj", "b.ply", "-o", "out", "-l", "1",
+        ],
+    );
+    assert_code(&o, 0);
+    assert_eq!(listing(&dir.path().join("out")), ["a.obj", "b.obj"]);
+    let read = |n: &str| fs::read_to_string(dir.path().join("out").join(n)).expect("output");
+    assert_eq!(positions(&read("a.obj")), positions(&read("b.obj")));
+    fs::write(dir.path().join("a.ply"), &ply).expect("PLY pose");
+    let o = run_in(
+        dir.path(),
+        &["repose", "hut.obj", "a.obj", "a.ply", "-o", "two"],
+    );
+    assert_code(&o, 1);
+    assert!(
+        stderr(&o).contains("two poses would be written to two/a.obj"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(!dir.path().join("two").exists());
 }
 
 /// A missing output directory is created, with its parents.
