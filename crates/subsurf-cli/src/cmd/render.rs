@@ -4,10 +4,12 @@
 use std::path::Path;
 
 use anyhow::{bail, Context, Result};
-use subsurf::limit::LimitSurface;
+use subsurf::limit::{BuildError, LimitSurface};
 use subsurf::mesh::Options;
 use subsurf::render::curvature::CurvatureKind;
-use subsurf::render::{render_detailed, write_png, Geometry, Paint, Render, Shading, Up};
+use subsurf::render::{
+    render_detailed, write_png, Geometry, Paint, Render, RenderError, Shading, Up,
+};
 
 use crate::input::Input;
 use crate::output::Output;
@@ -61,25 +63,44 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         None => None,
     };
     let mesh = refined.as_ref().unwrap_or(&input.obj.mesh);
-    let (what, hint) = match opts.geometry {
-        Geometry::Level(l) => (format!("drawing level {l}"), "use a lower --level"),
-        Geometry::Limit { rate } => (
-            format!("drawing the limit surface at rate {rate}"),
-            "use a lower --limit-rate",
-        ),
+    let what = match opts.geometry {
+        Geometry::Level(l) => format!("drawing level {l}"),
+        Geometry::Limit { rate } => format!("drawing the limit surface at rate {rate}"),
     };
-    crate::memory::check(
-        &input.name,
-        &what,
-        estimate_memory(mesh, &options, &opts),
-        args.max_memory,
-        hint,
-    )?;
-    opts.surface_memory = args
-        .max_memory
-        .or_else(crate::memory::available)
-        .map(|limit| limit.saturating_sub(drawing_memory(mesh, &opts)));
-    let r = render_detailed(mesh, &options, &opts).with_context(|| input.name.clone())?;
+    let estimate = estimate_memory(mesh, &options, &opts);
+    let drawing = drawing_memory(mesh, &opts);
+    // The picture or the geometry: whichever needs the most is the one to reduce.
+    let pixels = u64::from(opts.width) * u64::from(opts.height) * BYTES_PER_PIXEL;
+    let hint = match opts.geometry {
+        _ if pixels >= estimate / 2 => "use a smaller --size",
+        Geometry::Level(_) => "use a lower --level",
+        Geometry::Limit { .. } => "use a lower --limit-rate",
+    };
+    crate::memory::check(&input.name, &what, estimate, args.max_memory, hint)?;
+    // The surface is built within what the drawing leaves; a refusal while it is built or
+    // before it is evaluated is told against the whole limit, as the check above.
+    let limit = args.max_memory.or_else(crate::memory::available);
+    opts.surface_memory = limit.map(|limit| limit.saturating_sub(drawing));
+    let too_large = |needs| {
+        crate::memory::too_large(
+            &input.name,
+            &what,
+            needs,
+            limit.unwrap_or(0),
+            args.max_memory.is_some(),
+            hint,
+        )
+    };
+    let r = match render_detailed(mesh, &options, &opts) {
+        Ok(r) => r,
+        Err(RenderError::SurfaceMemory { estimate, .. }) => {
+            return Err(too_large((estimate.saturating_add(drawing), false)));
+        }
+        Err(RenderError::Build(BuildError::TooLarge { limit, .. })) => {
+            return Err(too_large((limit.saturating_add(drawing), true)));
+        }
+        Err(e) => return Err(e).with_context(|| input.name.clone()),
+    };
     if let (Some((lo, hi)), false) = (r.curvature_range, args.quiet) {
         eprintln!(
             "note: {}: {} curvature colour range {lo:.6e} .. {hi:.6e}",

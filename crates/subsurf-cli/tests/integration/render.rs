@@ -206,3 +206,61 @@ fn bad_input_and_usage_errors() {
     assert!(stderr(&o).contains("range"), "{}", stderr(&o));
     assert_eq!(listing(dir.path()), ["bad.obj", "cube.obj", "holes.obj"]);
 }
+
+/// A refusal quotes the limit the user gave, at every stage (before the surface is built,
+/// while it is built, before it is evaluated), and names what to reduce: the picture's
+/// size when the picture is most of the memory.
+#[test]
+fn memory_refusals_quote_the_given_limit_and_what_to_reduce() {
+    let pawn = include_str!("../../../../examples/meshes/catmark_pawn.obj");
+    let dir = dir_with(&[("pawn.obj", pawn), ("cube.obj", CUBE)]);
+    let mut refused = 0;
+    for mib in (20..=80).step_by(4) {
+        let limit = format!("{mib}M");
+        let o = run_in(
+            dir.path(),
+            &[
+                "render",
+                "pawn.obj",
+                "-o",
+                "p.png",
+                "--limit-rate",
+                "8",
+                "--max-memory",
+                &limit,
+            ],
+        );
+        if o.status.code() == Some(1) {
+            refused += 1;
+            let e = stderr(&o);
+            assert!(
+                e.contains(&format!(
+                    "more than the limit of {mib} MiB (--max-memory); use a lower --limit-rate"
+                )),
+                "{limit}: {e}"
+            );
+        } else {
+            assert_code(&o, 0);
+        }
+    }
+    assert!(refused > 0);
+    let o = run_in(
+        dir.path(),
+        &[
+            "render",
+            "cube.obj",
+            "-o",
+            "c.png",
+            "--size",
+            "6000x6000",
+            "--max-memory",
+            "100M",
+        ],
+    );
+    assert_code(&o, 1);
+    assert!(
+        stderr(&o).contains("use a smaller --size"),
+        "{}",
+        stderr(&o)
+    );
+}
