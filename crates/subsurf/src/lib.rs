@@ -32,26 +32,16 @@
 //! # Speed: choose the global allocator
 //! Refinement writes every byte of a few fresh buffers (about 100 bytes per output vertex)
 //! and frees the previous level's. With glibc's `malloc`, large blocks are mapped and
-//! unmapped per call, so every 4 KiB page is faulted in and zeroed by the kernel again:
-//! at 1 M output vertices that was about 17 000 page faults and as much time as the
-//! refinement itself. An allocator that keeps its memory in large, huge-page-backed
-//! regions and reuses it removes that cost. The `subsurf` binary uses
+//! unmapped per call, so every 4 KiB page is faulted in and zeroed by the kernel again, at
+//! about the cost of the refinement itself. An allocator that keeps its memory and reuses
+//! it removes that cost. The `subsurf` binary uses
 //! [mimalloc](https://crates.io/crates/mimalloc), and applications that refine large
-//! meshes should consider doing the same:
+//! meshes should consider doing the same (BENCHMARKS.md has the figures):
 //!
 //! ```ignore
 //! #[global_allocator]
 //! static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
 //! ```
-//!
-//! Measured (`BENCHMARKS.md`): `catmark_bishop` refined twice, then three more levels on
-//! one thread, 957 827 output vertices: 17 000 → 260 page faults in a fresh process,
-//! 0.11–0.15 s → 0.046 s; the median of repeated calls 0.08 s → 0.04 s. Huge pages pay
-//! only for such large buffers: a program that mostly evaluates a
-//! [`LimitSurface`](limit::LimitSurface) (many small blocks) peaks lower without them,
-//! and the binary turns them off for every job but refinements estimated at 128 MiB or
-//! more (bishop's limit evaluation: 29 → 14 MiB at the same speed; the same bishop
-//! refined to level 4, 37 MiB estimated, 61 → 52 MiB on one thread).
 #![warn(missing_docs)]
 // Geometry kernels walk several parallel arrays with one index; iterator chains would hide that.
 #![allow(clippy::needless_range_loop)]

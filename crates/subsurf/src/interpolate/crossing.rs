@@ -74,7 +74,7 @@
 //! shared control point.
 //!
 //! Shared points and polygons passing near each other are found with a hash grid
-//! ([`super::grid`]) in time linear in the number of control points.
+//! (`interpolate/grid.rs`) in time linear in the number of control points.
 
 use super::grid::{lower_corner, Grid};
 use super::{CubicCurve, InterpolateError, MiddlePolygon};

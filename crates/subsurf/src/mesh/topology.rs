@@ -726,20 +726,16 @@ impl Topology {
     /// is.
     ///
     /// In parallel over blocks of [`VERTEX_BLOCK`] vertices, each block writing its own
-    /// ranges of the vertex relations. On the 100 k-triangle scan `nefertiti` these
-    /// passes were 9.7 of the 18 ms of the base level's topology, which every refinement,
-    /// limit surface and plan builds first, all on one thread; on two threads the base
-    /// level now takes 12.2 ms instead of 16.6, and its refinement to level 2 29.8 instead
-    /// of 33.5 (medians, 2026-11-24).
+    /// ranges of the vertex relations: every refinement, limit surface and plan builds the
+    /// base level's topology first, on large scans a good part of the whole job.
     ///
     /// Most vertices are ordered from `corners` (the edges entering and leaving each
     /// vertex in each of its faces, listed by [`from_faces`](Self::from_faces) in face
     /// order) with [`order_corners`], and their edges' ends come from `ends` (which end
     /// of each edge the vertex is, in the order the edges were found); the others by the
     /// walk of [`order_vertex`](Self::order_vertex). The walk reads faces and edges
-    /// anywhere in memory: on a 1.2 M-quad mesh, refinement to level 1 took 0.47 s on one
-    /// thread with the walk everywhere (39 % of it in this pass), 0.28 s now, and 0.32 →
-    /// 0.22 s on two (OpenSubdiv 0.91 s; `BENCHMARKS.md`).
+    /// anywhere in memory, where the corners are read in order: on large meshes the walk
+    /// everywhere would make this pass most of a level-1 refinement.
     fn orient_vertices(&mut self, corners: &mut [[u32; 2]], mut ends: Vec<u8>) {
         let nv = self.num_vertices as usize;
         let mut faces = std::mem::take(&mut self.vert_faces);

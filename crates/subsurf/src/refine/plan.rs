@@ -17,42 +17,32 @@
 //! features included) gets its vertices from a fixed matrix per shape and sharpness of
 //! its 1-ring, on the points of that ring (`refine/plan_ring.rs`). Sparse rows cover the
 //! rest: faces at non-manifold vertices, at semi-sharp edges under Chaikin's rule, at
-//! valences above 16, and faces whose ring is shared by fewer than four faces (0.05 % of
-//! the output of `catmark_bishop` at level 6). Re-posing is 10–20× faster than
-//! [`subdivide`](fn@crate::subdivide) on quad meshes, 7.7–17× on all-triangle ones such
-//! as scans (the least at level 2, on one thread), with AVX-512 (7–12× at levels 2–5
-//! with AVX2 only, before the base level's topology got faster; see [`RefinePlan`] for
-//! numbers).
+//! valences above 16, and faces whose ring is shared by fewer than four faces.
+//! BENCHMARKS.md ("Re-posing") has the speed against full refinement and OpenSubdiv.
 //!
 //! # Schemes
-//! The shape-adjustable scheme with parameter `c` ([`crate::scheme::adjustable`], seed
-//! 003) changes weights only, never the topology, numbering or sharpness decay, so its
-//! refinement is linear in the positions too. [`RefinePlan::new_mixed`] builds the plan
-//! of mixed subdivision ([`subdivide_mixed`](crate::subdivide_mixed): the adjustable
-//! masks on the first `k` levels, then Catmull-Clark): its sparse rows take each level's
-//! masks from that level's scheme. Its patches carry over as well: on a regular grid the
-//! adjustable masks are the tensor product of the curve scheme `(c/4, 1 − c/2, c/4)`,
-//! `(½, ½)`, which has the cubic B-spline's support, so a regular patch's kernel is the
-//! same `W P Wᵀ` with `W` computed from that curve rule; the phantom points across sharp
-//! sides still give the crease rule, `(1 − c/2) v + (c/4)(e_a + e_b)` along the side
-//! (derived in `refine/plan_patches.rs`); and a ring's matrix is computed by refining its
-//! template with the same masks. A patch composes the levels it spans, each with its own
-//! scheme's rules, so it may span the last adjusted levels and the first Catmull-Clark
-//! ones. Re-posing
-//! `catmark_bishop` at level 5 with `c = 0.3` on every level took 5.1 ms with sparse rows
-//! only and 1.5 ms with patches, 18× less than `subdivide_mixed` (`benches/replay.rs`;
-//! `BENCHMARKS.md`).
+//! The shape-adjustable scheme with parameter `c` ([`crate::scheme::adjustable`], which
+//! gives its source) changes weights only, never the topology, numbering or sharpness
+//! decay, so its refinement is linear in the positions too. [`RefinePlan::new_mixed`] builds the plan of mixed subdivision
+//! ([`subdivide_mixed`](crate::subdivide_mixed): the adjustable masks on the first `k`
+//! levels, then Catmull-Clark): its sparse rows take each level's masks from that level's
+//! scheme. Its patches carry over as well: on a regular grid the adjustable masks are the
+//! tensor product of the curve scheme `(c/4, 1 − c/2, c/4)`, `(½, ½)`, which has the cubic
+//! B-spline's support, so a regular patch's kernel is the same `W P Wᵀ` with `W` computed
+//! from that curve rule; the phantom points across sharp sides still give the crease rule,
+//! `(1 − c/2) v + (c/4)(e_a + e_b)` along the side (derived in `refine/plan_patches.rs`);
+//! and a ring's matrix is computed by refining its template with the same masks. A patch
+//! composes the levels it spans, each with its own scheme's rules, so it may span the last
+//! adjusted levels and the first Catmull-Clark ones.
 //!
-//! Non-uniform subdivision (NURSS, seed 001; [`RefinePlan::new_nurss`]) is linear in the
-//! (homogeneous) points too: its weights depend on the knot intervals, which refinement
-//! computes level by level from the base mesh's, never on the positions. Its plan is
-//! sparse rows on every level, each the row of `refine::nurss`'s masks (the same weights
-//! [`interpolate_nurss`](super::nurss::interpolate_nurss) applies, computed once per level with
-//! face points and edge midpoints expanded into parent vertices). No patch kernel applies:
-//! with unequal intervals the regular grid is a non-uniform B-spline, whose weights vary
-//! from quad to quad. `catmark_bishop` (creases infinitely sharp, intervals 1–3) at level
-//! 5: 6.5 ms against 150 ms for [`nurss::subdivide`](crate::nurss::subdivide) (23×), the
-//! plan built in 0.21 s.
+//! Non-uniform subdivision (NURSS; [`RefinePlan::new_nurss`], see [`crate::nurss`]) is
+//! linear in the (homogeneous) points too: its weights depend on the knot intervals, which
+//! refinement computes level by level from the base mesh's, never on the positions. Its
+//! plan is sparse rows on every level, each the row of `refine::nurss`'s masks (the same
+//! weights [`interpolate_nurss`](super::nurss::interpolate_nurss) applies, computed once per
+//! level with face points and edge midpoints expanded into parent vertices). No patch
+//! kernel applies: with unequal intervals the regular grid is a non-uniform B-spline, whose
+//! weights vary from quad to quad.
 //!
 //! # Storage
 //! Most rows share their weights with many others: every smooth edge point between two
@@ -63,35 +53,33 @@
 //! - per row (child vertex): one `u32` class id (**4 bytes**);
 //! - per block of 1024 rows: one `usize` (where the block's columns start);
 //! - per class: its runs of equal weights, 16 bytes each (an `f64` and a count). Typical
-//!   meshes have a few dozen classes per level (`catmark_bishop`: 11 to 16); there are as
-//!   many as rows only if no two rows share weights (say, with many distinct fractional
-//!   sharpness values), and then a weight costs up to 20 bytes.
+//!   meshes have a few dozen classes per level; there are as many as rows only if no two
+//!   rows share weights (say, with many distinct fractional sharpness values), and then a
+//!   weight costs up to 20 bytes.
 //!
 //! A level of a quad mesh has about 6.2 weights per row (face points 4, smooth edge
 //! points 6, valence-4 vertex points 9), i.e. about 29 bytes per vertex of each level.
 //! A patch costs 64 bytes of control indices and 4 bytes per grid point (81 for a
-//! depth-3 patch, of which it writes 64 on average), about 6 bytes per output vertex:
-//! `catmark_bishop` to level 6 (3.8 M output vertices) takes 27 MiB, 0.5 M weights and
-//! 60 k patches (140 MiB and 31.8 M weights with sparse rows only). A patch with phantom
-//! points (at a boundary or crease) stores its 16 cells instead, 896 bytes; a ring
-//! patch 4 bytes per point of its ring (`2n + 8` for a quad with one corner of valence
-//! `n`) and 4 bytes per vertex on it (81 on a quad at depth 3, padded to whole groups of
-//! eight; 61 on a triangle, padded to 72 by fours of the faces that can own them, see
-//! `refine/plan_ring.rs`, and 217 at depth 4); its ring's matrix is stored once.
+//! depth-3 patch, of which it writes 64 on average), about 6 bytes per output vertex. A
+//! patch with phantom points (at a boundary or crease) stores its 16 cells instead, 896
+//! bytes; a ring patch 4 bytes per point of its ring (`2n + 8` for a quad with one corner
+//! of valence `n`) and 4 bytes per vertex on it (81 on a quad at depth 3, padded to whole
+//! groups of eight; 61 on a triangle, padded to 72 by fours of the faces that can own
+//! them, see `refine/plan_ring.rs`, and 217 at depth 4); its ring's matrix is stored once.
 //!
 //! # Accuracy
 //! The plan computes the same linear map as [`interpolate`](super::interpolate), but sums
 //! in a different order (folded face points, merged columns), so its results agree with
 //! [`subdivide`](fn@crate::subdivide) to rounding, not bit for bit: within 1e-14 of the size
 //! of the mesh (its bounding-box diagonal) on all of OpenSubdiv's regression shapes at
-//! levels 1–3 (at most 2.1e-15 measured; `tests/integration/replay.rs`). Merged weights are summed
-//! with their rounding errors, and each row adds its smallest terms first, so that a
-//! valence-360 pole is as accurate as elsewhere. The patches' kernel rounds like a row
-//! of 16 terms (after one more rounding for phantom points; dyadic weights, 8
-//! multiply-adds per vertex), a ring patch like a row of up to 64 terms (its matrix
-//! itself rounded once per entry); multiply-adds are fused where the
-//! processor has FMA, so the last bits can differ between processors with and without
-//! it. The result does not depend on the number of threads.
+//! levels 1–3 (`tests/integration/replay.rs`). Merged weights are summed with their
+//! rounding errors, and each row adds its smallest terms first, so that a valence-360 pole
+//! is as accurate as elsewhere. The patches' kernel rounds like a row of 16 terms (after
+//! one more rounding for phantom points; dyadic weights, 8 multiply-adds per vertex), a
+//! ring patch like a row of up to 64 terms (its matrix itself rounded once per entry);
+//! multiply-adds are fused where the processor has FMA, so the last bits can differ
+//! between processors with and without it. The result does not depend on the number of
+//! threads.
 
 use std::collections::HashMap;
 use std::hash::BuildHasherDefault;
@@ -143,41 +131,13 @@ const PAR_MIN_ROWS: usize = 16 * 1024;
 /// # Cost
 /// Building a plan refines the topology once (as [`subdivide`](fn@crate::subdivide) does),
 /// computes every mask of the sparse rows once, finds the patches and builds one matrix
-/// per shape of ring: 2–10× the time of one `subdivide` (parallel, like it; measured in
-/// one process each, which allocates all its memory fresh: `catmark_bishop` level 6
-/// 0.3–1.8 s against 0.15–0.22 s, a 124 k-triangle model at level 3 1.7–3.4 s against
-/// 0.23–0.32 s). Applying it does no topology work and no mask
-/// computation: the first levels are sparse products, which read 4 bytes per weight and
-/// gather the parent values; the last two or three levels are the patch kernels, which
-/// read 16 control points (or a face's ring) and write the vertices on their face. Each
-/// output vertex is written once, but its cache line is read first: on `catmark_bishop`
-/// at level 6 about a fifth of an apply waits on memory, the rest is the kernels'
-/// arithmetic (see `refine/plan_patches.rs`).
-///
-/// Measured on a shared 2-core virtual machine (`scripts/bench-vs-osd.sh`, medians of 7
-/// repetitions in three interleaved rounds; `BENCHMARKS.md`), full refinement /
-/// re-posing with the same threads: `catmark_bishop` to level 6 (3.8 M output vertices)
-/// 14–17× on one thread (one apply 0.009–0.014 s against 0.16–0.20 s for `subdivide` and
-/// 0.55–0.73 s for OpenSubdiv's `RefineUniform` + `PrimvarRefiner`) and 14–18× on two;
-/// `catmark_pawn` 16–20× at levels 5 and 6. All-triangle meshes (`catmark_bishop` with
-/// each quad split in two, where one level makes every vertex and face centre
-/// extraordinary; the same split of its level 2, 30 k triangles): 10.6–11.4× at level 5
-/// and 14.6–19.5× at level 6 on one thread, 8.9–12.1× at level 2 and 12.2–13.0× at level
-/// 3, 15.4× at level 4; public scans and CAD parts (6–124 k triangles, not in the
-/// repository) 10.5–15× at levels 2–4 on one thread (12–19× on two), but for the CAD
-/// part `rocker-arm` at level 3, 9.1× on one thread (12× on two), and the scan
-/// `nefertiti` at level 2, 9.6× (12× on two), where every patch is a ring patch of one of
-/// thousands of matrices. Since the base level's topology orders its vertices from their
-/// corners (2026-11-24), full refinement of scans at low levels is faster and these
-/// ratios lower, the applies unchanged: `nefertiti` at level 2 7.7× on one thread (10.2×
-/// on two), `cow` 9.5×, `ogre` 10.9×.
-/// Those figures are with the AVX-512 patch kernels (this machine has AVX-512). With
-/// AVX2 only (the AVX-512 kernels switched off in a test build, one thread), quad meshes
-/// are 6–9 % slower to re-pose (`catmark_bishop` 12.1× at level 5, 16.9× at level 6) and
-/// all-triangle ones 20–40 %: 7.1–8.9× at levels 2–5 (`ogre` and `rocker-arm` lowest),
-/// 10.2× on the large one at level 3 and 11.8× on `homer` at level 4. Building the plan
-/// for bishop at level 6 took 0.4–1.6 s (one thread). With sparse rows only (before
-/// patches) the bishop apply took 0.05–0.06 s.
+/// per shape of ring: a few times the cost of one `subdivide`, in parallel like it.
+/// Applying it does no topology work and no mask computation: the first levels are sparse
+/// products, which read 4 bytes per weight and gather the parent values; the last two or
+/// three levels are the patch kernels, which read 16 control points (or a face's ring) and
+/// write the vertices on their face. Each output vertex is written once. BENCHMARKS.md
+/// ("Re-posing") has the measured build and apply times against `subdivide` and
+/// OpenSubdiv.
 ///
 /// The plan covers positions of every vertex of the last level, in
 /// [`subdivide`](fn@crate::subdivide)'s order (including vertices used only by hole faces);
@@ -1517,9 +1477,8 @@ mod tests {
             };
             let (_, rings) = check_mesh_patches(&open, options, "bishop_tri_open");
             assert!(rings > 0);
-            // Measured, in each mode: 5.5 %, 1.2 % and 0.28 % of the output in sparse
-            // rows at levels 2 to 4, where it was 13.3 %, 5.4 % and 1.2 % with ring
-            // patches only at interior corners.
+            // Ring patches at boundary corners too leave 5.5 %, 1.2 % and 0.28 % of the
+            // output (measured in each mode) to sparse rows at levels 2 to 4.
             for (levels, bound) in [(2, 0.07), (3, 0.02), (4, 0.005)] {
                 let plan = RefinePlan::new(&open, options, levels).unwrap();
                 let tail = plan.tail.as_ref().unwrap();

@@ -61,7 +61,7 @@
 //! keeps the crease rules through all of them: with the uniform decay, sharpness at least
 //! `d` ([`Sharp::for_levels`](crate::limit::patch::Sharp::for_levels) says why). The
 //! sharpness-6 creases of `catmark_bishop` and `catmark_pawn` are patch sides from level 2
-//! on, where their quads used to be sparse rows.
+//! on.
 //!
 //! Any other face whose corners are manifold vertices (of any valence, inside or on a
 //! boundary, smooth or sharp; a triangle or n-gon of the base mesh too) is a *ring patch*
@@ -75,12 +75,10 @@
 //! A layer applies its patches by runs of [`RUN`] consecutive faces, each run all its
 //! patches of every kind (plain, edge, ring) before the next, and runs in
 //! parallel. The outputs of neighbouring quads share cache lines; one pass per kind would
-//! load those lines from memory once per pass. On an all-triangle mesh, half regular and
-//! half ring patches at level 2, this made applying 15–20 % faster. Ring patches are
-//! applied by units of one or more runs ([`ring_span`]), each key's patches of a unit
-//! together, so that a key's matrix is read once for several patches: with many keys
-//! (110 on a 20 k-triangle scan at depth 3) one run held two or three patches of each,
-//! and grouping runs made its re-posing 10–13 % faster on one thread. The ring points
+//! load those lines from memory once per pass. Ring patches are applied by units of one
+//! or more runs ([`ring_span`]), each key's patches of a unit together, so that a key's
+//! matrix is read once for several patches: with many keys (110 on a 20 k-triangle scan
+//! at depth 3) one run holds only two or three patches of each. The ring points
 //! and grids of a layer's ring patches are stored in that order, unit by unit and
 //! matrix by matrix within a unit ([`RingPatches`]), so that applying reads them as one
 //! stream. At depth 2 a triangle's (any non-quad's) patch goes to a matrix of just the
@@ -119,15 +117,11 @@ const RING_PATCHES_PER_KEY: usize = 8;
 /// patches ask for ([`ring_span`]): the units are what the threads share.
 ///
 /// Why: a layer's plain and edge patches are applied with its ring patches, unit by unit
-/// (module docs), so the units a few ring patches asked for held all the rest too. The
-/// regular 63 × 63 terrain grid `canyon` has four ring patches, at its corners (smooth
-/// valence-2 vertices), of one key; eight per key made the whole layer one unit, and
-/// re-posing it on two threads took as long as on one (level 5: 7.4 ms on either). With
-/// at least 8 units (one thread, then two, medians of three interleaved processes of 21
-/// applications, 2026-11-24): `canyon` level 5 on two threads 7.35 → 4.15 ms; the scan
-/// `nefertiti` level 2 (2 752 matrices, 5 units before) 5.76 → 6.03 ms on one thread and
-/// 3.36 → 2.79 ms on two; `rocker-arm`, `cow`, `ogre` and the all-triangle
-/// `catmark_bishop` within ±4 %. At least 16 units: `nefertiti` 6.38 and 3.18 ms.
+/// (module docs), so the units a few ring patches ask for hold all the rest too. A regular
+/// grid has four ring patches, at its corners (smooth valence-2 vertices), of one key;
+/// eight per key would make the whole layer one unit, and two threads no faster than one.
+/// Eight units keep both threads of a small machine busy and cost little where ring
+/// matrices are many (BENCHMARKS.md, "Re-posing").
 const MIN_UNITS: usize = 8;
 
 /// Runs per unit of work of a layer with `runs` runs and `patches` ring patches of
@@ -148,9 +142,8 @@ pub(super) fn ring_span(runs: usize, keys: usize, patches: usize) -> usize {
 
 /// Fewest faces of a layer that share a ring (a key of `refine/plan_ring.rs`), each with
 /// a vertex that no deeper layer wrote, for its matrix to be built: building one refines
-/// its ring and applies the result to each of the ring's points (measured for a 20-point
-/// ring: 0.1 ms at depth 2, 0.5 ms at depth 3), which the sparse rows of a face cost in
-/// microseconds. A mesh whose every face has its own ring (mixed face sizes around every
+/// its ring and applies the result to each of the ring's points, a thousand times the
+/// cost of the sparse rows of a face. A mesh whose every face has its own ring (mixed face sizes around every
 /// vertex) would otherwise build one matrix per face.
 const MIN_RING_FACES: usize = 4;
 
@@ -171,11 +164,7 @@ pub(super) const QUAD_DEPTH: u32 = 3;
 /// most of them; the triangle's own 1-ring has 12 points, which every row of a depth-4
 /// matrix reads at most. On the all-triangle `cow` (5 804 triangles) an output vertex
 /// costs 13.1 multiply-adds per component at depth 4 against 19.1 at depth 3 (counting
-/// the zeros of the groups of eight rows). Measured (one thread, medians of 11–21
-/// applications in three interleaved rounds, 2026-11-23): refined four levels, `cow`
-/// 3.91 → 3.09 ms, `spot` 3.99 → 2.90 ms, `homer` 8.5 → 6.0 ms, `rocker-arm` 15.0 →
-/// 11.7 ms, the 30 k-triangle `catmark_bishop_l2_tri` 20.6 → 15.3 ms; `catmark_bishop`
-/// (quads) unchanged. A quad's ring at an extraordinary corner is no smaller than its
+/// the zeros of the groups of eight rows). A quad's ring at an extraordinary corner is no smaller than its
 /// children's, so quads keep [`QUAD_DEPTH`]. Five levels of a triangle would be 817 rows
 /// per key (78 KiB at 12 points, about 80 keys on a scan), where depth 3 on level 2 finds
 /// half of the quads regular, at 8 multiply-adds per vertex in the bicubic kernel.
