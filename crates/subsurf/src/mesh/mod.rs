@@ -14,6 +14,7 @@ mod error;
 mod options;
 mod packed;
 mod polymesh;
+pub(crate) mod sharpness;
 mod tags;
 mod topology;
 

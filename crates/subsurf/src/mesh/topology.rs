@@ -32,7 +32,7 @@
 use super::{Corner, Crease, MeshError, Options, PolyMesh, TopologyWarning};
 use crate::hash::FxHasher;
 use crate::mesh::options::BoundaryInterpolation;
-use crate::scheme::crease;
+use super::sharpness as crease;
 use rayon::prelude::*;
 use std::collections::HashMap;
 use std::hash::BuildHasherDefault;
@@ -1350,7 +1350,7 @@ impl Topology {
     /// such a vertex, the order the whole mesh refines in.
     fn sharpness_sums_depend_on_order(&self, v: u32) -> bool {
         let edges = self.vertex_edges(v as usize);
-        let semi = |s: f32| crate::scheme::crease::is_semi_sharp(s) as usize;
+        let semi = |s: f32| crease::is_semi_sharp(s) as usize;
         let n = semi(self.vert_sharpness[v as usize])
             + edges
                 .iter()

@@ -8,49 +8,11 @@
 //! §3; OpenSubdiv's `ComputeFractionalWeightAtVertex`).
 
 use crate::mesh::{CreaseMethod, Rule};
-
-/// Infinite sharpness (re-exported from the mesh layer).
-pub const SHARPNESS_INFINITE: f32 = crate::mesh::SHARPNESS_INFINITE;
-
-/// `s > 0`.
-#[inline]
-pub fn is_sharp(s: f32) -> bool {
-    s > 0.0
-}
-
-/// `s <= 0`.
-#[inline]
-pub fn is_smooth(s: f32) -> bool {
-    s <= 0.0
-}
-
-/// `s >= 10`.
-#[inline]
-pub fn is_infinite(s: f32) -> bool {
-    s >= SHARPNESS_INFINITE
-}
-
-/// `0 < s < 10`.
-#[inline]
-pub fn is_semi_sharp(s: f32) -> bool {
-    s > 0.0 && s < SHARPNESS_INFINITE
-}
-
-/// Rule of a vertex with sharpness `vertex_sharpness` and `sharp_edges` incident sharp
-/// edges: sharp vertex or more than two sharp edges → corner; else smooth, dart, crease
-/// for 0, 1, 2 sharp edges.
-#[inline]
-pub fn vertex_rule(vertex_sharpness: f32, sharp_edges: usize) -> Rule {
-    if is_sharp(vertex_sharpness) {
-        return Rule::Corner;
-    }
-    match sharp_edges {
-        0 => Rule::Smooth,
-        1 => Rule::Dart,
-        2 => Rule::Crease,
-        _ => Rule::Corner,
-    }
-}
+// The classification of sharpness values, which the mesh layer's topology needs too, is
+// the mesh layer's; this is its public path.
+pub use crate::mesh::sharpness::{
+    is_infinite, is_semi_sharp, is_sharp, is_smooth, vertex_rule, SHARPNESS_INFINITE,
+};
 
 /// Rule of a vertex from its sharpness and the sharpness of each incident edge.
 pub fn vertex_rule_from_edges(vertex_sharpness: f32, edge_sharpness: &[f32]) -> Rule {
