@@ -110,10 +110,6 @@ else
   subsurf="$work/subsurf"
 fi
 [ -x "$subsurf" ] || { log "no subsurf binary at $subsurf"; exit 1; }
-# How much of the hot-code list the linker could place (peak memory of small jobs).
-if command -v nm >/dev/null; then
-  SUBSURF="$subsurf" bash "$here/hot-text.sh" --check >&2 || true
-fi
 
 # --- inputs ----------------------------------------------------------------------------
 large="$work/catmark_bishop_l2.obj"
