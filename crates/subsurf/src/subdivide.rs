@@ -4,7 +4,7 @@ use crate::limit;
 use crate::mesh::{Corner, Crease, MeshError, Options, PolyMesh, Tags, Topology, TopologyWarning};
 use crate::mixed::Mixed;
 use crate::refine::interpolate;
-use crate::refine::{interpolate_adjustable, refine_topology, refine_topology_for_output};
+use crate::refine::{interpolate_with, refine_topology, refine_topology_for_output};
 
 /// What [`subdivide`] should do.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -198,7 +198,7 @@ fn subdivide_steps(
         let mut next = vec![[0.0; 3]; child.num_vertices()];
         match mixed {
             Some(m) if l <= m.steps => {
-                interpolate_adjustable(&level, &child, &opts.scheme, m.scheme, &pos, &mut next)
+                interpolate_with(&level, &child, &opts.scheme, m.scheme, &pos, &mut next)
             }
             _ => interpolate(&level, &child, &opts.scheme, &pos, &mut next),
         }

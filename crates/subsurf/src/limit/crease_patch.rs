@@ -20,7 +20,7 @@
 //!   `[⅛ ¾ ⅛]` across when smooth; an edge point on the crease is `[½ ½]` along it times
 //!   the same two choices across; when the sharpness `σ` of a step is in `(0, 1)` both are
 //!   blended with weight `σ` on the sharp rule ([`crate::scheme::crease::fractional_weight`],
-//!   [`crate::scheme::catmark::edge_mask`]: the same weight for vertices and edges, as both
+//!   [`crate::scheme::Rules::edge_mask`]: the same weight for vertices and edges, as both
 //!   crease edges at a crease vertex carry the same `σ`).
 //!
 //! So along the crease every step is the uniform cubic B-spline rule, and across it a

@@ -46,4 +46,3 @@ pub fn vertex_rule(vertex_sharpness: f32, sharp_edges: usize) -> Rule {
         _ => Rule::Corner,
     }
 }
-

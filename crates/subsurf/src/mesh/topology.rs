@@ -29,10 +29,10 @@
 //! array; this reproduces OpenSubdiv's edge order exactly, so refined vertices come out
 //! in OpenSubdiv's order too.
 
+use super::sharpness as crease;
 use super::{Corner, Crease, MeshError, Options, PolyMesh, TopologyWarning};
 use crate::hash::FxHasher;
 use crate::mesh::options::BoundaryInterpolation;
-use super::sharpness as crease;
 use rayon::prelude::*;
 use std::collections::HashMap;
 use std::hash::BuildHasherDefault;

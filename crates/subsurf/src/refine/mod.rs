@@ -25,7 +25,6 @@
 //! assert!(temp.iter().all(|t| (0.0..=1.0).contains(&t[0])));
 //! ```
 
-mod adjustable;
 pub mod nurss;
 pub mod plan;
 mod plan_patches;
@@ -33,10 +32,9 @@ mod plan_ring;
 mod primvar;
 mod topology;
 
-pub use adjustable::interpolate_adjustable;
 pub(crate) use plan::refinement_rows;
 pub use plan::{PlanScratch, RefinePlan};
-pub use primvar::interpolate;
+pub use primvar::{interpolate, interpolate_with};
 pub(crate) use topology::{refine_topology, refine_topology_for_output};
 
 use crate::mesh::{MeshError, Options, PolyMesh, Topology, TopologyWarning};

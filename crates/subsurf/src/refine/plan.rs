@@ -97,7 +97,8 @@ use crate::mesh::{
 };
 use crate::mixed::Mixed;
 use crate::scheme::adjustable::Adjustable;
-use crate::scheme::catmark::{self, VertexContext, VertexMask, VertexMaskScratch};
+use crate::scheme::catmark::{self, VertexContext, VertexMask};
+use crate::scheme::Rules;
 
 /// Rows per block: the unit of parallel work when applying a step, and of building it.
 const BLOCK: usize = 1024;
@@ -910,8 +911,7 @@ struct RowScratch {
     sorted: Vec<(f64, u32)>,
     bits: Vec<u64>,
     mask: VertexMask,
-    mask_scratch: VertexMaskScratch,
-    /// The child-rule mask of the adjustable scheme's blends.
+    /// The child-rule mask of blends.
     child_mask: VertexMask,
     pe: Vec<f32>,
     ce: Vec<f32>,
@@ -950,9 +950,9 @@ pub(crate) fn refinement_rows(
     }
 }
 
-/// The row of child vertex `cv`: the masks of [`interpolate`](super::interpolate) (of
-/// [`interpolate_adjustable`](super::interpolate_adjustable) with `scheme`, unless it is
-/// [`Adjustable::CATMULL_CLARK`]), with face points expanded into their vertices.
+/// The row of child vertex `cv`: the masks of [`interpolate_with`](super::interpolate_with)
+/// with `scheme` ([`Adjustable::CATMULL_CLARK`]'s are Catmull-Clark's bit for bit), with
+/// face points expanded into their vertices.
 fn stencil(
     p: &Topology,
     c: &Topology,
@@ -963,7 +963,6 @@ fn stencil(
 ) {
     let nv = p.num_vertices();
     let nf = p.num_faces();
-    let cc = scheme == Adjustable::CATMULL_CLARK;
     let row = &mut scratch.row;
     if cv < nv {
         vertex_stencil(p, c, options, scheme, cv, scratch);
@@ -976,11 +975,12 @@ fn stencil(
         let locals = &p.edge_face_local[p.edge_face_offsets[e] as usize..];
         let sharp = p.edge_sharpness[e];
         let tri_option = options.triangles == TriangleSubdivision::Smooth;
-        if cc && sharp <= 0.0 && faces.len() == 2 && !tri_option {
-            row.add(a, 0.25);
-            row.add(b, 0.25);
-            for (&f, &i) in faces.iter().zip(locals) {
-                row.add_face(p, f as usize, i as usize, 0.25);
+        if sharp <= 0.0 && faces.len() == 2 && !tri_option {
+            let m = scheme.smooth_edge_mask(options, 2, [false; 2]);
+            row.add(a, m.vertex);
+            row.add(b, m.vertex);
+            for ((&f, &i), &w) in faces.iter().zip(locals).zip(&m.faces) {
+                row.add_face(p, f as usize, i as usize, w);
             }
         } else {
             let tri = [
@@ -992,11 +992,7 @@ fn stencil(
                     .is_some_and(|&f| p.face_vertices(f as usize).len() == 3),
             ];
             let child_rule = c.vert_tags[cv].get().rule;
-            let m = if cc {
-                catmark::edge_mask(options, sharp, child_rule, faces.len(), tri)
-            } else {
-                scheme.edge_mask(options, sharp, child_rule, faces.len(), tri)
-            };
+            let m = scheme.edge_mask(options, sharp, child_rule, faces.len(), tri);
             row.add(a, m.vertex);
             row.add(b, m.vertex);
             if !m.is_crease() {
@@ -1022,20 +1018,13 @@ fn vertex_stencil(
     let faces = p.vertex_faces(v);
     let corners = p.vertex_face_locals(v);
     let ptag = p.vert_tags[v].get();
-    let cc = scheme == Adjustable::CATMULL_CLARK;
     let row = &mut s.row;
     if edges.is_empty() {
         row.add(v as u32, 1.0);
         return;
     }
     if matches!(ptag.rule, Rule::Smooth | Rule::Dart) {
-        let n = edges.len() as f64;
-        let (vw, ew, fw) = if cc {
-            let w = 1.0 / (n * n);
-            ((n - 2.0) / n, w, w)
-        } else {
-            scheme.smooth_vertex_weights(edges.len())
-        };
+        let (vw, ew, fw) = scheme.smooth_vertex_weights(edges.len());
         row.add(v as u32, vw);
         for x in p.vertex_neighbours(v) {
             row.add(x, ew);
@@ -1064,12 +1053,7 @@ fn vertex_stencil(
         child_edges: &s.ce,
         num_faces: faces.len(),
     };
-    if cc {
-        let method = options.crease_method;
-        catmark::vertex_mask(method, &ctx, &mut s.mask, &mut s.mask_scratch);
-    } else {
-        scheme.vertex_mask(options.crease_method, &ctx, &mut s.mask, &mut s.child_mask);
-    }
+    scheme.vertex_mask(options.crease_method, &ctx, &mut s.mask, &mut s.child_mask);
     let mask = &s.mask;
     row.add(v as u32, mask.vertex);
     if mask.has_edges {

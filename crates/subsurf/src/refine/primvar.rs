@@ -1,13 +1,14 @@
-//! Applying the Catmull-Clark masks of [`crate::scheme::catmark`] to vertex data
-//! ("primvars": positions, colours, any `[f64; D]`), one level at a time, in the order
-//! OpenSubdiv's `PrimvarRefiner::Interpolate` uses: face points, then edge points and
-//! vertex points (which read the new face points).
+//! Applying the masks of a scheme of the Catmull-Clark family ([`crate::scheme::Rules`]) to
+//! vertex data ("primvars": positions, colours, any `[f64; D]`), one level at a time, in
+//! the order OpenSubdiv's `PrimvarRefiner::Interpolate` uses: face points, then edge
+//! points and vertex points (which read the new face points).
 //!
 //! The three passes are data-parallel; each is split across threads with rayon once a
 //! level is large enough to pay for it.
 
 use crate::mesh::{Options, Rule, Topology};
-use crate::scheme::catmark::{self, VertexContext, VertexMask, VertexMaskScratch};
+use crate::scheme::catmark::{self, CatmullClark, VertexContext, VertexMask};
+use crate::scheme::Rules;
 use rayon::prelude::*;
 
 /// Elements per parallel task; below `2 * CHUNK` elements a pass runs on one thread.
@@ -21,7 +22,8 @@ pub(super) fn axpy<const D: usize>(acc: &mut [f64; D], w: f64, x: &[f64; D]) {
 }
 
 /// Interpolates `src` (values at the vertices of `parent`) to `dst` (values at the
-/// vertices of `child`, the refinement of `parent`).
+/// vertices of `child`, the refinement of `parent`) with Catmull-Clark's masks:
+/// [`interpolate_with`] and [`CatmullClark`].
 ///
 /// # Panics
 /// If `src.len() != parent.num_vertices()` or `dst.len() != child.num_vertices()`.
@@ -29,6 +31,27 @@ pub fn interpolate<const D: usize>(
     parent: &Topology,
     child: &Topology,
     options: &Options,
+    src: &[[f64; D]],
+    dst: &mut [[f64; D]],
+) {
+    interpolate_with(parent, child, options, CatmullClark, src, dst);
+}
+
+/// Interpolates `src` (values at the vertices of `parent`) to `dst` (values at the
+/// vertices of `child`, the refinement of `parent`) with the masks of `rules`: the face
+/// points (centroids) first, then the edge and vertex points, which read them. Every
+/// scheme of the Catmull-Clark family refines the same topology ([`refine_topology`]), so
+/// the scheme changes the weights only.
+///
+/// [`refine_topology`]: super::refine_topology
+///
+/// # Panics
+/// If `src.len() != parent.num_vertices()` or `dst.len() != child.num_vertices()`.
+pub fn interpolate_with<R: Rules, const D: usize>(
+    parent: &Topology,
+    child: &Topology,
+    options: &Options,
+    rules: R,
     src: &[[f64; D]],
     dst: &mut [[f64; D]],
 ) {
@@ -51,6 +74,7 @@ pub fn interpolate<const D: usize>(
 
     // Edge points.
     let tri_option = options.triangles == crate::mesh::TriangleSubdivision::Smooth;
+    let is_tri = |f: Option<&u32>| f.is_some_and(|&f| parent.face_vertices(f as usize).len() == 3);
     let edge_pass = |(start, out): (usize, &mut [[f64; D]])| {
         for (i, o) in out.iter_mut().enumerate() {
             let e = start + i;
@@ -58,32 +82,22 @@ pub fn interpolate<const D: usize>(
             let faces = parent.edge_face_list(e);
             let sharp = parent.edge_sharpness[e];
             let (pa, pb) = (&src[a as usize], &src[b as usize]);
-            let mut acc = [0.0; D];
             if sharp <= 0.0 && faces.len() == 2 && !tri_option {
-                // Smooth edge between two faces: ¼ of each end and each face point.
                 let (f0, f1) = (&face_pts[faces[0] as usize], &face_pts[faces[1] as usize]);
-                for k in 0..D {
-                    acc[k] = 0.25 * (pa[k] + pb[k] + f0[k] + f1[k]);
-                }
-            } else {
-                let tri = [
-                    faces
-                        .first()
-                        .is_some_and(|&f| parent.face_vertices(f as usize).len() == 3),
-                    faces
-                        .get(1)
-                        .is_some_and(|&f| parent.face_vertices(f as usize).len() == 3),
-                ];
-                let child_rule = child.vert_tags[nv + nf + e].get().rule;
-                let m = catmark::edge_mask(options, sharp, child_rule, faces.len(), tri);
-                for k in 0..D {
-                    acc[k] = m.vertex * (pa[k] + pb[k]);
-                }
-                if !m.is_crease() {
-                    for (j, &f) in faces.iter().enumerate() {
-                        let w = if j < 2 { m.faces[j] } else { m.other_faces };
-                        axpy(&mut acc, w, &face_pts[f as usize]);
-                    }
+                *o = rules.smooth_edge_point([pa, pb], [f0, f1]);
+                continue;
+            }
+            let tri = [is_tri(faces.first()), is_tri(faces.get(1))];
+            let child_rule = child.vert_tags[nv + nf + e].get().rule;
+            let m = rules.edge_mask(options, sharp, child_rule, faces.len(), tri);
+            let mut acc = [0.0; D];
+            for k in 0..D {
+                acc[k] = m.vertex * (pa[k] + pb[k]);
+            }
+            if !m.is_crease() {
+                for (j, &f) in faces.iter().enumerate() {
+                    let w = if j < 2 { m.faces[j] } else { m.other_faces };
+                    axpy(&mut acc, w, &face_pts[f as usize]);
                 }
             }
             *o = acc;
@@ -92,8 +106,7 @@ pub fn interpolate<const D: usize>(
 
     // Vertex points.
     let vertex_pass = |(start, out): (usize, &mut [[f64; D]])| {
-        let mut mask = VertexMask::default();
-        let mut scratch = VertexMaskScratch::default();
+        let (mut mask, mut child_mask) = (VertexMask::default(), VertexMask::default());
         let mut pe = Vec::new();
         let mut ce = Vec::new();
         for (i, o) in out.iter_mut().enumerate() {
@@ -102,29 +115,17 @@ pub fn interpolate<const D: usize>(
             let faces = parent.vertex_faces(v);
             let ptag = parent.vert_tags[v].get();
             let p = &src[v];
-            let mut acc = [0.0; D];
             if edges.is_empty() {
                 *o = *p;
                 continue;
             }
             if matches!(ptag.rule, Rule::Smooth | Rule::Dart) {
-                let n = edges.len() as f64;
-                let w = 1.0 / (n * n);
-                for x in parent.vertex_neighbours(v) {
-                    for k in 0..D {
-                        acc[k] += src[x as usize][k];
-                    }
-                }
-                for &f in faces {
-                    for k in 0..D {
-                        acc[k] += face_pts[f as usize][k];
-                    }
-                }
-                let vw = (n - 2.0) / n;
-                for k in 0..D {
-                    acc[k] = acc[k] * w + vw * p[k];
-                }
-                *o = acc;
+                *o = rules.smooth_vertex_point(
+                    edges.len(),
+                    p,
+                    parent.vertex_neighbours(v).map(|x| &src[x as usize]),
+                    faces.iter().map(|&f| &face_pts[f as usize]),
+                );
                 continue;
             }
             pe.clear();
@@ -145,7 +146,8 @@ pub fn interpolate<const D: usize>(
                 child_edges: &ce,
                 num_faces: faces.len(),
             };
-            catmark::vertex_mask(options.crease_method, &ctx, &mut mask, &mut scratch);
+            rules.vertex_mask(options.crease_method, &ctx, &mut mask, &mut child_mask);
+            let mut acc = [0.0; D];
             if mask.has_faces {
                 for (&f, &w) in faces.iter().zip(&mask.faces) {
                     axpy(&mut acc, w, &face_pts[f as usize]);

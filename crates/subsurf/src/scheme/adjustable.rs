@@ -37,9 +37,9 @@
 //!
 //! [`TriangleSubdivision::Smooth`]: crate::mesh::TriangleSubdivision::Smooth
 
-use super::catmark::{self, EdgeMask, VertexContext, VertexMask};
-use super::crease;
-use crate::mesh::{CreaseMethod, Options, Rule, TriangleSubdivision};
+use super::catmark::{CatmullClark, EdgeMask};
+use super::Rules;
+use crate::mesh::{Options, TriangleSubdivision};
 
 /// The shape parameter `c` of the adjustable scheme, checked to lie in `[0, 1]`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -85,24 +85,22 @@ impl Adjustable {
         let c = self.c;
         [0.25 * c, 1.0 - 0.5 * c, 0.25 * c]
     }
+}
 
-    /// Weight of each of the `n` vertices in a face point: `1/n` (as Catmull-Clark).
-    #[inline]
-    pub fn face_point_weight(self, n: usize) -> f64 {
-        catmark::face_point_weight(n)
-    }
-
+/// The shape-adjustable masks (module docs); every weight at `c = ½` is Catmull-Clark's
+/// bit for bit.
+impl Rules for Adjustable {
     /// The smooth edge mask for an edge with `num_faces` faces, the first two of which are
     /// triangles as `tri` says: faces `c/m` each (`m = num_faces`), ends `(1 − c)/2` each;
     /// with the smooth-triangle rule the Catmull-Clark face weight `f` becomes `2c·f` and
     /// the ends `½(1 − 4c·f)`.
-    pub fn smooth_edge_mask(self, options: &Options, num_faces: usize, tri: [bool; 2]) -> EdgeMask {
+    fn smooth_edge_mask(self, options: &Options, num_faces: usize, tri: [bool; 2]) -> EdgeMask {
         let c = self.c;
         let use_tri = options.triangles == TriangleSubdivision::Smooth
             && num_faces == 2
             && (tri[0] || tri[1]);
         if use_tri {
-            let m = catmark::smooth_edge_mask(options, num_faces, tri);
+            let m = CatmullClark.smooth_edge_mask(options, num_faces, tri);
             let f = 2.0 * c * m.faces[0];
             EdgeMask {
                 vertex: 0.5 * (1.0 - 2.0 * f),
@@ -123,38 +121,10 @@ impl Adjustable {
         }
     }
 
-    /// The edge-point mask of an edge with sharpness `sharpness` whose new vertex gets
-    /// rule `child_rule`: smooth if the edge is smooth, the midpoint if the child is a
-    /// crease vertex, otherwise `s·midpoint + (1 − s)·smooth` (the transitional step of a
-    /// decaying crease, as in [`catmark::edge_mask`]).
-    pub fn edge_mask(
-        self,
-        options: &Options,
-        sharpness: f32,
-        child_rule: Rule,
-        num_faces: usize,
-        tri: [bool; 2],
-    ) -> EdgeMask {
-        if !crease::is_sharp(sharpness) {
-            return self.smooth_edge_mask(options, num_faces, tri);
-        }
-        if child_rule == Rule::Crease {
-            return EdgeMask::CREASE;
-        }
-        let m = self.smooth_edge_mask(options, num_faces, tri);
-        let p = sharpness as f64;
-        let q = 1.0 - p;
-        EdgeMask {
-            vertex: p * 0.5 + q * m.vertex,
-            faces: [m.faces[0] * q, m.faces[1] * q],
-            other_faces: m.other_faces * q,
-        }
-    }
-
     /// Smooth vertex weights `(vertex, each edge end, each face point)` for valence `n`:
     /// `((n − 4c)/n, 4c(1−c)/n², 4c²/n²)`.
     #[inline]
-    pub fn smooth_vertex_weights(self, n: usize) -> (f64, f64, f64) {
+    fn smooth_vertex_weights(self, n: usize) -> (f64, f64, f64) {
         let c = self.c;
         let n = n as f64;
         let nn = n * n;
@@ -165,80 +135,10 @@ impl Adjustable {
         )
     }
 
-    /// Computes the vertex-point mask into `mask` (rules as [`catmark::vertex_mask`], with
-    /// the `c` masks: smooth [`smooth_vertex_weights`](Self::smooth_vertex_weights),
-    /// crease `(1 − c/2) v + (c/4)(e_a + e_b)`, corner `v`; a change of rule during the
-    /// step blends the parent-rule mask with weight [`crease::fractional_weight`] and the
-    /// child-rule mask with the rest).
-    pub fn vertex_mask(
-        self,
-        method: CreaseMethod,
-        ctx: &VertexContext,
-        mask: &mut VertexMask,
-        child: &mut VertexMask,
-    ) {
-        let valence = ctx.parent_edges.len();
-        match ctx.parent_rule {
-            Rule::Smooth | Rule::Dart => {
-                self.set_smooth(mask, valence);
-                return;
-            }
-            Rule::Crease => self.set_crease(
-                mask,
-                valence,
-                ctx.num_faces,
-                crease::crease_ends(ctx.parent_edges),
-            ),
-            Rule::Corner => set_corner(mask, valence, ctx.num_faces),
-        }
-        if ctx.child_rule == ctx.parent_rule {
-            return;
-        }
-        match ctx.child_rule {
-            Rule::Smooth | Rule::Dart => self.set_smooth(child, valence),
-            Rule::Crease => self.set_crease(
-                child,
-                valence,
-                ctx.num_faces,
-                crease::crease_ends(ctx.child_edges),
-            ),
-            Rule::Corner => set_corner(child, valence, ctx.num_faces),
-        }
-        let w = crease::fractional_weight(
-            method,
-            ctx.parent_sharpness,
-            ctx.child_sharpness,
-            ctx.parent_edges,
-            ctx.child_edges,
-        ) as f64;
-        blend(mask, child, w);
-    }
-
-    fn set_smooth(self, m: &mut VertexMask, valence: usize) {
-        reset(m, valence, valence);
-        let (vw, ew, fw) = self.smooth_vertex_weights(valence);
-        m.vertex = vw;
-        m.edges.fill(ew);
-        m.faces.fill(fw);
-        m.has_edges = true;
-        m.has_faces = true;
-    }
-
-    fn set_crease(
-        self,
-        m: &mut VertexMask,
-        num_edges: usize,
-        num_faces: usize,
-        ends: (usize, usize),
-    ) {
-        reset(m, num_edges, num_faces);
-        let [a, centre, _] = self.curve_even_weights();
-        m.vertex = centre;
-        if num_edges > 0 {
-            m.edges[ends.0] = a;
-            m.edges[ends.1] = a;
-        }
-        m.has_edges = true;
+    /// The curve scheme's even rule, [`curve_even_weights`](Adjustable::curve_even_weights).
+    #[inline]
+    fn crease_vertex_weights(self) -> [f64; 3] {
+        self.curve_even_weights()
     }
 }
 
@@ -249,52 +149,11 @@ impl Default for Adjustable {
     }
 }
 
-fn reset(m: &mut VertexMask, num_edges: usize, num_faces: usize) {
-    m.vertex = 0.0;
-    m.edges.clear();
-    m.edges.resize(num_edges, 0.0);
-    m.faces.clear();
-    m.faces.resize(num_faces, 0.0);
-    m.has_edges = false;
-    m.has_faces = false;
-}
-
-fn set_corner(m: &mut VertexMask, num_edges: usize, num_faces: usize) {
-    reset(m, num_edges, num_faces);
-    m.vertex = 1.0;
-}
-
-/// `m ← parent_w · m + (1 − parent_w) · child`, in the same operations as
-/// Catmull-Clark's blending (so that `c = ½` reproduces it bit for bit).
-fn blend(m: &mut VertexMask, child: &VertexMask, parent_w: f64) {
-    let child_w = 1.0 - parent_w;
-    m.vertex = parent_w * m.vertex + child_w * child.vertex;
-    if child.has_edges {
-        for (d, s) in m.edges.iter_mut().zip(&child.edges) {
-            *d = if m.has_edges {
-                parent_w * *d + child_w * s
-            } else {
-                child_w * s
-            };
-        }
-        m.has_edges = true;
-    }
-    if child.has_faces {
-        for (d, s) in m.faces.iter_mut().zip(&child.faces) {
-            *d = if m.has_faces {
-                parent_w * *d + child_w * s
-            } else {
-                child_w * s
-            };
-        }
-        m.has_faces = true;
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scheme::catmark::VertexMaskScratch;
+    use crate::mesh::{CreaseMethod, Rule};
+    use crate::scheme::catmark::{VertexContext, VertexMask};
 
     fn sum(m: &VertexMask) -> f64 {
         m.vertex
@@ -400,7 +259,7 @@ mod tests {
                         for t in [[false; 2], [true, false], [false, true], [true, true]] {
                             assert_eq!(
                                 a.edge_mask(&o, s, rule, nf, t),
-                                catmark::edge_mask(&o, s, rule, nf, t),
+                                CatmullClark.edge_mask(&o, s, rule, nf, t),
                                 "s={s} {rule:?} faces={nf} tri={t:?}"
                             );
                         }
@@ -412,14 +271,14 @@ mod tests {
         let ce = [0.25f32, 0.0, 0.0, 0.0, 1.0, 0.0];
         let (mut m, mut child) = (VertexMask::default(), VertexMask::default());
         let mut cc = VertexMask::default();
-        let mut scratch = VertexMaskScratch::default();
+        let mut scratch = VertexMask::default();
         for method in [CreaseMethod::Uniform, CreaseMethod::Chaikin] {
             for ctx in contexts(&pe, &ce, 6)
                 .into_iter()
                 .chain(contexts(&pe[..4], &ce[..4], 3))
             {
                 a.vertex_mask(method, &ctx, &mut m, &mut child);
-                catmark::vertex_mask(method, &ctx, &mut cc, &mut scratch);
+                CatmullClark.vertex_mask(method, &ctx, &mut cc, &mut scratch);
                 assert_eq!(m.vertex, cc.vertex, "{ctx:?}");
                 assert_eq!(m.has_edges, cc.has_edges);
                 assert_eq!(m.has_faces, cc.has_faces);
@@ -452,7 +311,7 @@ mod tests {
                 assert_eq!((e.vertex, e.faces, e.other_faces), (0.5, [0.0; 2], 0.0));
             }
         }
-        assert_eq!(a.face_point_weight(5), 0.2);
+        assert_eq!(crate::scheme::catmark::face_point_weight(5), 0.2);
     }
 
     /// On a regular grid the vertex and edge masks, written on the 3×3 (resp. 2×3)

@@ -19,7 +19,8 @@
 //! edges and, for each incident quad, the vertex *opposite* in that quad.
 
 use super::crease;
-use crate::mesh::{CreaseMethod, Options, Rule, TriangleSubdivision};
+use super::Rules;
+use crate::mesh::{Options, Rule, TriangleSubdivision};
 use std::f64::consts::PI;
 
 /// Weight of each of the `n` vertices in a face point: `1/n`.
@@ -54,63 +55,88 @@ impl EdgeMask {
     }
 }
 
-/// The smooth edge mask for an edge with `num_faces` faces, of which the first two are
-/// triangles as `tri` says (OpenSubdiv's `assignSmoothMaskForEdge`).
-pub fn smooth_edge_mask(options: &Options, num_faces: usize, tri: [bool; 2]) -> EdgeMask {
-    let use_tri =
-        options.triangles == TriangleSubdivision::Smooth && num_faces == 2 && (tri[0] || tri[1]);
-    if !use_tri {
-        if num_faces == 2 {
-            EdgeMask {
-                vertex: 0.25,
-                faces: [0.25; 2],
-                other_faces: 0.0,
+/// Catmull-Clark's rules ([`Rules`]): OpenSubdiv's `Sdc::Scheme<SCHEME_CATMARK>`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct CatmullClark;
+
+impl Rules for CatmullClark {
+    /// `¼` of each end and each face point; `½/m` per face for `m ≠ 2` faces; with the
+    /// smooth-triangle rule a triangle's face weight is 0.47 (OpenSubdiv's
+    /// `assignSmoothMaskForEdge`).
+    fn smooth_edge_mask(self, options: &Options, num_faces: usize, tri: [bool; 2]) -> EdgeMask {
+        let use_tri = options.triangles == TriangleSubdivision::Smooth
+            && num_faces == 2
+            && (tri[0] || tri[1]);
+        if !use_tri {
+            if num_faces == 2 {
+                EdgeMask {
+                    vertex: 0.25,
+                    faces: [0.25; 2],
+                    other_faces: 0.0,
+                }
+            } else {
+                let w = 0.5 / num_faces as f64;
+                EdgeMask {
+                    vertex: 0.25,
+                    faces: [w; 2],
+                    other_faces: w,
+                }
             }
         } else {
-            let w = 0.5 / num_faces as f64;
+            const TRI_EDGE_WEIGHT: f64 = 0.470;
+            let f0 = if tri[0] { TRI_EDGE_WEIGHT } else { 0.25 };
+            let f1 = if tri[1] { TRI_EDGE_WEIGHT } else { 0.25 };
+            let f = 0.5 * (f0 + f1);
             EdgeMask {
-                vertex: 0.25,
-                faces: [w; 2],
-                other_faces: w,
+                vertex: 0.5 * (1.0 - 2.0 * f),
+                faces: [f; 2],
+                other_faces: 0.0,
             }
         }
-    } else {
-        const TRI_EDGE_WEIGHT: f64 = 0.470;
-        let f0 = if tri[0] { TRI_EDGE_WEIGHT } else { 0.25 };
-        let f1 = if tri[1] { TRI_EDGE_WEIGHT } else { 0.25 };
-        let f = 0.5 * (f0 + f1);
-        EdgeMask {
-            vertex: 0.5 * (1.0 - 2.0 * f),
-            faces: [f; 2],
-            other_faces: 0.0,
-        }
     }
-}
 
-/// The edge-point mask of an edge with sharpness `sharpness` whose new vertex gets rule
-/// `child_rule` (OpenSubdiv's `ComputeEdgeVertexMask`): smooth if the edge is smooth,
-/// crease if the child is a crease vertex, otherwise the smooth mask blended towards the
-/// crease mask with weight `sharpness` (the transitional step of a decaying crease).
-pub fn edge_mask(
-    options: &Options,
-    sharpness: f32,
-    child_rule: Rule,
-    num_faces: usize,
-    tri: [bool; 2],
-) -> EdgeMask {
-    if !crease::is_sharp(sharpness) {
-        return smooth_edge_mask(options, num_faces, tri);
+    /// `((n − 2)/n, 1/n², 1/n²)`.
+    #[inline]
+    fn smooth_vertex_weights(self, n: usize) -> (f64, f64, f64) {
+        let n = n as f64;
+        let w = 1.0 / (n * n);
+        ((n - 2.0) / n, w, w)
     }
-    if child_rule == Rule::Crease {
-        return EdgeMask::CREASE;
+
+    /// `(⅛, ¾, ⅛)`: the cubic B-spline's even rule.
+    #[inline]
+    fn crease_vertex_weights(self) -> [f64; 3] {
+        [0.125, 0.75, 0.125]
     }
-    let m = smooth_edge_mask(options, num_faces, tri);
-    let p = sharpness as f64;
-    let c = 1.0 - p;
-    EdgeMask {
-        vertex: p * 0.5 + c * m.vertex,
-        faces: [m.faces[0] * c, m.faces[1] * c],
-        other_faces: m.other_faces * c,
+
+    /// `¼(v₀ + v₁ + f₀ + f₁)`, summed in that order.
+    #[inline]
+    fn smooth_edge_point<const D: usize>(
+        self,
+        ends: [&[f64; D]; 2],
+        faces: [&[f64; D]; 2],
+    ) -> [f64; D] {
+        std::array::from_fn(|k| 0.25 * (ends[0][k] + ends[1][k] + faces[0][k] + faces[1][k]))
+    }
+
+    /// `(n − 2)/n · v + (Σ eᵢ + Σ fᵢ)/n²`, the far ends and face points summed in one
+    /// running sum.
+    #[inline]
+    fn smooth_vertex_point<'a, const D: usize>(
+        self,
+        n: usize,
+        v: &[f64; D],
+        ends: impl Iterator<Item = &'a [f64; D]>,
+        faces: impl Iterator<Item = &'a [f64; D]>,
+    ) -> [f64; D] {
+        let mut acc = [0.0; D];
+        for x in ends.chain(faces) {
+            for k in 0..D {
+                acc[k] += x[k];
+            }
+        }
+        let (vw, w, _) = self.smooth_vertex_weights(n);
+        std::array::from_fn(|k| acc[k] * w + vw * v[k])
     }
 }
 
@@ -132,7 +158,8 @@ pub struct VertexMask {
 }
 
 impl VertexMask {
-    fn reset(&mut self, num_edges: usize, num_faces: usize) {
+    /// All weights zero, with room for `num_edges` edges and `num_faces` faces.
+    pub(crate) fn reset(&mut self, num_edges: usize, num_faces: usize) {
         self.vertex = 0.0;
         self.edges.clear();
         self.edges.resize(num_edges, 0.0);
@@ -142,33 +169,42 @@ impl VertexMask {
         self.has_faces = false;
     }
 
-    fn set_corner(&mut self, num_edges: usize, num_faces: usize) {
+    /// The corner mask: the vertex itself.
+    pub(crate) fn set_corner(&mut self, num_edges: usize, num_faces: usize) {
         self.reset(num_edges, num_faces);
         self.vertex = 1.0;
     }
 
-    fn set_crease(&mut self, num_edges: usize, num_faces: usize, ends: (usize, usize)) {
+    /// The crease mask `[end, centre, end]` along the sharp edges `ends`.
+    pub(crate) fn set_crease(
+        &mut self,
+        num_edges: usize,
+        num_faces: usize,
+        ends: (usize, usize),
+        [end, centre, _]: [f64; 3],
+    ) {
         self.reset(num_edges, num_faces);
-        self.vertex = 0.75;
-        self.edges[ends.0] = 0.125;
-        self.edges[ends.1] = 0.125;
+        self.vertex = centre;
+        if num_edges > 0 {
+            self.edges[ends.0] = end;
+            self.edges[ends.1] = end;
+        }
         self.has_edges = true;
     }
 
-    fn set_smooth(&mut self, valence: usize) {
+    /// The smooth mask of valence `valence` with weights `(vertex, each edge, each face)`.
+    pub(crate) fn set_smooth(&mut self, valence: usize, (vw, ew, fw): (f64, f64, f64)) {
         self.reset(valence, valence);
-        let n = valence as f64;
-        self.vertex = (n - 2.0) / n;
-        let w = 1.0 / (n * n);
-        self.edges.fill(w);
-        self.faces.fill(w);
+        self.vertex = vw;
+        self.edges.fill(ew);
+        self.faces.fill(fw);
         self.has_edges = true;
         self.has_faces = true;
     }
 
     /// `self ← parent_w · self + (1 - parent_w) · child` (OpenSubdiv's
     /// `CombineVertexVertexMasks`).
-    fn blend_with(&mut self, child: &VertexMask, parent_w: f64) {
+    pub(crate) fn blend_with(&mut self, child: &VertexMask, parent_w: f64) {
         let child_w = 1.0 - parent_w;
         self.vertex = parent_w * self.vertex + child_w * child.vertex;
         if child.has_edges {
@@ -215,58 +251,6 @@ pub struct VertexContext<'a> {
     pub child_edges: &'a [f32],
     /// Number of incident faces.
     pub num_faces: usize,
-}
-
-/// Scratch space for [`vertex_mask`].
-#[derive(Clone, Debug, Default)]
-pub struct VertexMaskScratch {
-    child: VertexMask,
-}
-
-/// Computes the vertex-point mask into `mask` (OpenSubdiv's `ComputeVertexVertexMask`).
-///
-/// Smooth and dart vertices take the smooth mask. Otherwise the parent rule's mask
-/// (crease along the two sharp edges, or corner) is used, and if the rule changes during
-/// the step it is blended with the child rule's mask, with weight
-/// [`crease::fractional_weight`] on the parent's.
-pub fn vertex_mask(
-    method: CreaseMethod,
-    ctx: &VertexContext,
-    mask: &mut VertexMask,
-    scratch: &mut VertexMaskScratch,
-) {
-    let valence = ctx.parent_edges.len();
-    match ctx.parent_rule {
-        Rule::Smooth | Rule::Dart => {
-            mask.set_smooth(valence);
-            return;
-        }
-        Rule::Crease => mask.set_crease(
-            valence,
-            ctx.num_faces,
-            crease::crease_ends(ctx.parent_edges),
-        ),
-        Rule::Corner => mask.set_corner(valence, ctx.num_faces),
-    }
-    if ctx.child_rule == ctx.parent_rule {
-        return;
-    }
-    let child = &mut scratch.child;
-    match ctx.child_rule {
-        Rule::Smooth | Rule::Dart => child.set_smooth(valence),
-        Rule::Crease => {
-            child.set_crease(valence, ctx.num_faces, crease::crease_ends(ctx.child_edges))
-        }
-        Rule::Corner => child.set_corner(valence, ctx.num_faces),
-    }
-    let w = crease::fractional_weight(
-        method,
-        ctx.parent_sharpness,
-        ctx.child_sharpness,
-        ctx.parent_edges,
-        ctx.child_edges,
-    ) as f64;
-    mask.blend_with(child, w);
 }
 
 /// Limit position mask of a vertex with rule `rule`, incident edge sharpness
@@ -434,6 +418,7 @@ pub fn limit_tangent_masks(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::mesh::CreaseMethod;
 
     fn sum(m: &VertexMask) -> f64 {
         m.vertex
@@ -446,7 +431,7 @@ mod tests {
         let o = Options::default();
         for s in [0.0f32, 0.3, 0.7, 1.0, 2.0, 10.0] {
             for rule in [Rule::Smooth, Rule::Crease] {
-                let m = edge_mask(&o, s, rule, 2, [false; 2]);
+                let m = CatmullClark.edge_mask(&o, s, rule, 2, [false; 2]);
                 assert!((2.0 * m.vertex + m.faces[0] + m.faces[1] - 1.0).abs() < 1e-15);
             }
         }
@@ -454,7 +439,7 @@ mod tests {
             triangles: TriangleSubdivision::Smooth,
             ..o
         };
-        let m = smooth_edge_mask(&tri, 2, [true, false]);
+        let m = CatmullClark.smooth_edge_mask(&tri, 2, [true, false]);
         assert!((2.0 * m.vertex + 2.0 * m.faces[0] - 1.0).abs() < 1e-15);
         assert!((m.faces[0] - 0.36).abs() < 1e-15);
     }
@@ -462,7 +447,7 @@ mod tests {
     #[test]
     fn transitional_edge_mask_blends_by_sharpness() {
         let o = Options::default();
-        let m = edge_mask(&o, 0.25, Rule::Smooth, 2, [false; 2]);
+        let m = CatmullClark.edge_mask(&o, 0.25, Rule::Smooth, 2, [false; 2]);
         assert!((m.vertex - (0.25 * 0.5 + 0.75 * 0.25)).abs() < 1e-15);
         assert!((m.faces[0] - 0.75 * 0.25).abs() < 1e-15);
     }
@@ -471,7 +456,7 @@ mod tests {
     fn vertex_masks_sum_to_one_for_every_possible_rule_change() {
         let rules = [Rule::Smooth, Rule::Dart, Rule::Crease, Rule::Corner];
         let mut m = VertexMask::default();
-        let mut s = VertexMaskScratch::default();
+        let mut s = VertexMask::default();
         let pe = [0.5f32, 0.0, 0.8, 0.0, 0.0];
         // Child edges: the same two edges stay sharp, so crease masks find their ends.
         let ce = [0.25f32, 0.0, 0.5, 0.0, 0.0];
@@ -488,7 +473,7 @@ mod tests {
                     child_edges: &ce,
                     num_faces: 5,
                 };
-                vertex_mask(CreaseMethod::Uniform, &ctx, &mut m, &mut s);
+                CatmullClark.vertex_mask(CreaseMethod::Uniform, &ctx, &mut m, &mut s);
                 assert!((sum(&m) - 1.0).abs() < 1e-14, "{p:?}->{c:?}: {}", sum(&m));
             }
         }

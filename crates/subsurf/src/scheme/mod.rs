@@ -8,6 +8,9 @@
 //! - [`adjustable`]: the shape-adjustable Catmull-Clark scheme with parameter `c`
 //!   (`c = ½` is Catmull-Clark).
 //! - [`nurss`]: non-uniform Catmull-Clark (knot intervals on edges, Sederberg et al. 1998).
+//! - [`Rules`]: the rules that pick a vertex's or edge's mask, written once for the
+//!   Catmull-Clark family; [`catmark::CatmullClark`] and [`adjustable::Adjustable`] give
+//!   their weights.
 //!
 //! A mask is a set of weights on the parent's vertex, the far ends of its edges, and
 //! its faces' centres (refinement) or the vertices opposite in its faces (limit masks).
@@ -16,3 +19,6 @@ pub mod adjustable;
 pub mod catmark;
 pub mod crease;
 pub mod nurss;
+mod rules;
+
+pub use rules::Rules;
