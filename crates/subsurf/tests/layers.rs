@@ -1,0 +1,112 @@
+//! The library's layers run one way: a module uses only modules of its own layer or
+//! below (ARCHITECTURE.md). This test reads the sources and lists every `crate::X` path in
+//! code (not in comments, not in the unit tests at the end of a file) that names a module
+//! of a higher layer.
+//!
+//! Upward uses that remain are listed in `KNOWN`, each to be removed; the test fails on a
+//! new one, and on a listed one that is gone (so that the list only shrinks).
+
+use std::collections::BTreeSet;
+use std::fs;
+use std::path::Path;
+
+/// Layers, bottom-up; modules of one layer may use each other.
+const LAYERS: &[&[&str]] = &[
+    &["geom", "hash", "cpu"],
+    &["mesh"],
+    &["scheme"],
+    &["refine"],
+    &["limit"],
+    &[
+        "mixed",
+        "nurss",
+        "nurbs",
+        "interpolate",
+        "blend",
+        "g2cap",
+        "spline",
+        "regularity",
+    ],
+    &["io", "render"],
+    &["subdivide", "repose", "info"],
+];
+
+/// Upward uses still to be removed: (from module, to module).
+const KNOWN: &[(&str, &str)] = &[
+    ("blend", "subdivide"),
+    ("g2cap", "render"),
+    ("interpolate", "io"),
+    ("mixed", "subdivide"),
+    ("refine", "limit"),
+    ("refine", "mixed"),
+];
+
+fn layer(module: &str) -> Option<usize> {
+    LAYERS.iter().position(|l| l.contains(&module))
+}
+
+/// The code of `text` before its unit tests, without comments.
+fn code(text: &str) -> String {
+    let end = text.find("#[cfg(test)]\nmod tests").unwrap_or(text.len());
+    text[..end]
+        .lines()
+        .filter(|l| !l.trim_start().starts_with("//"))
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+fn visit(dir: &Path, src: &Path, found: &mut BTreeSet<(String, String, String)>) {
+    for entry in fs::read_dir(dir).expect("source directory") {
+        let path = entry.expect("directory entry").path();
+        if path.is_dir() {
+            visit(&path, src, found);
+            continue;
+        }
+        if path.extension().and_then(|e| e.to_str()) != Some("rs") {
+            continue;
+        }
+        let rel = path.strip_prefix(src).expect("under src");
+        let from = rel
+            .components()
+            .next()
+            .and_then(|c| c.as_os_str().to_str())
+            .map(|s| s.trim_end_matches(".rs").to_string())
+            .expect("a module");
+        let Some(from_layer) = layer(&from) else {
+            continue;
+        };
+        let text = code(&fs::read_to_string(&path).expect("readable source"));
+        for (i, _) in text.match_indices("crate::") {
+            let to: String = text[i + 7..]
+                .chars()
+                .take_while(|c| c.is_alphanumeric() || *c == '_')
+                .collect();
+            if let Some(to_layer) = layer(&to) {
+                if to_layer > from_layer {
+                    found.insert((from.clone(), to, rel.display().to_string()));
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn layers_run_one_way() {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let mut found = BTreeSet::new();
+    visit(&src, &src, &mut found);
+    let edges: BTreeSet<(&str, &str)> = found
+        .iter()
+        .map(|(a, b, _)| (a.as_str(), b.as_str()))
+        .collect();
+    let new: Vec<_> = found
+        .iter()
+        .filter(|(a, b, _)| !KNOWN.contains(&(a.as_str(), b.as_str())))
+        .collect();
+    assert!(new.is_empty(), "upward uses (from, to, file): {new:#?}");
+    let gone: Vec<_> = KNOWN.iter().filter(|e| !edges.contains(e)).collect();
+    assert!(
+        gone.is_empty(),
+        "upward uses no longer found; remove them from KNOWN: {gone:?}"
+    );
+}
