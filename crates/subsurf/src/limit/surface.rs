@@ -677,8 +677,23 @@ impl LimitSurface {
     /// needs.
     pub(super) fn num_region_faces(&self) -> usize {
         (self.built.iter())
-            .filter(|b| matches!(b.recipe, Recipe::Region(_)))
+            .filter(|b| matches!(b.recipe, Recipe::Region(Seed::Vertex(_))))
             .count()
+    }
+
+    /// Number of nodes (sub-faces, or the face itself for a quad) of the faces in the
+    /// shared regions of large faces (see [`super::local::LARGE_FACE`]): the face's own
+    /// `n` sub-faces and the faces that share a vertex with it.
+    pub(super) fn num_large_face_nodes(&self) -> usize {
+        (self.built.iter())
+            .filter(|b| matches!(b.recipe, Recipe::Region(Seed::Face(_))))
+            .map(|b| b.nodes.as_slice().len())
+            .sum()
+    }
+
+    /// The base faces' vertex lists.
+    pub(super) fn base_faces(&self) -> impl Iterator<Item = &[u32]> + '_ {
+        (0..self.base.num_faces()).map(|f| self.base.face_vertices(f))
     }
 
     /// Number of control points (the vertices of the mesh the surface was built from).
@@ -1720,10 +1735,10 @@ mod tests {
         ];
         for (mesh, options, what) in &cases {
             let shared = LimitSurface::new(mesh, *options).expect("surface");
-            assert!(shared.num_region_faces() > 0, "{what}: no region");
+            assert!(shared.num_large_face_nodes() > n, "{what}: no region");
             let alone =
                 LimitSurface::with_high_valence(mesh, *options, usize::MAX, true).expect("surface");
-            assert_eq!(alone.num_region_faces(), 0, "{what}");
+            assert_eq!(alone.num_large_face_nodes(), 0, "{what}");
             let compared = assert_agree(&shared, &alone, (&params, 1), (1e-12, 1.0), what);
             assert!(compared > 500, "{what}: only {compared} points");
         }
