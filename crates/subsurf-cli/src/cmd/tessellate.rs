@@ -61,41 +61,6 @@ impl Format {
 /// 6 million vertices).
 const BYTES_PER_VERTEX: u64 = 128;
 
-/// The surface to sample: `--scheme` when given, else adjustable with `--c`, else NURSS for a file
-/// with knot tags (with a note on stderr unless `--quiet`), else Catmull-Clark
-/// ([`check_scheme_flags`] has refused the contradictory combinations).
-fn scheme_kind(args: &TessellateArgs, input: &Input) -> SchemeKind {
-    match args.scheme_kind {
-        Some(kind) => kind,
-        None if args.adjust.c.is_some() => SchemeKind::Adjustable,
-        None if subsurf::nurss::has_knots(&input.obj.mesh) => {
-            if !args.quiet {
-                eprintln!(
-                    "note: {} has knot interval or weight tags: sampling the non-uniform \
-                     (NURSS) surface (--scheme catmull-clark ignores them)",
-                    input.name
-                );
-            }
-            SchemeKind::Nurss
-        }
-        None => SchemeKind::CatmullClark,
-    }
-}
-
-/// Usage errors (exit 2) of `--scheme` with `--c`, found before any input is read.
-fn check_scheme_flags(args: &TessellateArgs) {
-    let c = args.adjust.c.is_some();
-    match args.scheme_kind {
-        Some(SchemeKind::Adjustable) if !c => {
-            super::adjustable::usage_error("--scheme adjustable needs --c C")
-        }
-        Some(SchemeKind::Nurss | SchemeKind::CatmullClark) if c => {
-            super::adjustable::usage_error("--c applies to --scheme adjustable only")
-        }
-        _ => {}
-    }
-}
-
 /// `subsurf tessellate` of the non-uniform (NURSS) limit surface, through refinement.
 fn run_nurss(
     args: &TessellateArgs,
@@ -134,7 +99,7 @@ fn run_nurss(
 
 /// Runs `subsurf tessellate`.
 pub fn run(args: &TessellateArgs) -> Result<()> {
-    check_scheme_flags(args);
+    super::adjustable::check_surface_flags(args.scheme_kind, &args.adjust);
     let format = Format::from_path(&args.output)?;
     if args.control_mesh && format != Format::Glb {
         bail!(
@@ -155,7 +120,8 @@ pub fn run(args: &TessellateArgs) -> Result<()> {
         .over(input.obj.options)
         .resolve(Options::default());
     let mesh = &input.obj.mesh;
-    if scheme_kind(args, &input) == SchemeKind::Nurss {
+    let kind = super::adjustable::surface_kind(args.scheme_kind, &args.adjust, &input, args.quiet);
+    if kind == SchemeKind::Nurss {
         return run_nurss(args, &input, &options, format, &out);
     }
     // With --c: the mixed surface, the limit of the c-refined mesh at the rate per input edge.

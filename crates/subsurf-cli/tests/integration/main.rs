@@ -16,6 +16,7 @@ mod g2;
 mod gltf;
 mod interpolate;
 mod interpolate_host;
+mod limit;
 mod nurbs_files;
 mod nurss;
 mod regularity;
