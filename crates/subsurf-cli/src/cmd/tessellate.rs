@@ -94,6 +94,7 @@ fn run_nurss(
     let mut comment = command_line(args, options, &input.name);
     comment.insert_str("subsurf tessellate".len(), " --scheme nurss");
     let control = args.control_mesh.then_some(mesh);
+    check_single_precision(&t, format, input)?;
     write(out, format, &t, &comment, control)
 }
 
@@ -176,7 +177,45 @@ pub fn run(args: &TessellateArgs) -> Result<()> {
         comment.insert_str("subsurf tessellate".len(), &flags);
     }
     let control = args.control_mesh.then_some(mesh);
+    check_single_precision(&t, format, &input)?;
     write(&out, format, &t, &comment, control)
+}
+
+/// Refuses, naming the input, a tessellation that `format` cannot store: STL and glTF keep
+/// single-precision coordinates, and a limit surface of coordinates beyond their range
+/// (about 3.4e38; the input may have coordinates up to 1e75) would otherwise fail as the
+/// output is written, as if the output were at fault. The message names the first face
+/// (1-based, with its line) whose surface reaches beyond.
+fn check_single_precision(t: &Tessellation, format: Format, input: &Input) -> Result<()> {
+    let what = match format {
+        Format::Stl => "STL",
+        Format::Glb => "glTF",
+        Format::Obj | Format::Ply => return Ok(()),
+    };
+    let beyond = |x: f64| !(x as f32).is_finite();
+    let Some(v) = t
+        .positions
+        .iter()
+        .position(|p| p.iter().any(|&x| beyond(x)))
+    else {
+        return Ok(());
+    };
+    let value = (t.positions[v].iter().copied())
+        .find(|&x| beyond(x))
+        .unwrap_or_default();
+    let face = (0..t.num_faces()).find(|&f| t.face(f).contains(&(v as u32)));
+    let base = face.and_then(|f| t.source.get(f)).map(|&(b, _)| b as usize);
+    let at = match base {
+        Some(b) => match input.obj.face_line(b) {
+            Some(line) => format!("{}:{line}: face {}: ", input.name, b + 1),
+            None => format!("{}: face {}: ", input.name, b + 1),
+        },
+        None => format!("{}: ", input.name),
+    };
+    bail!(
+        "{at}the limit surface reaches {value:e}, beyond the single precision (about \
+         ±3.4e38) that {what} stores; write .obj or .ply, which keep double precision"
+    )
 }
 
 /// Writes `t` to `out` in `format` (with `control`'s edges as lines, for glTF).
