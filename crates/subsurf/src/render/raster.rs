@@ -126,7 +126,7 @@ fn row_span(
         }
     }
     let (lo, hi) = (lo.max(x0 as f64), hi.min(x1 as f64));
-    (lo < hi).then(|| (lo as usize, hi as usize))
+    (lo < hi).then_some((lo as usize, hi as usize))
 }
 
 /// Twice the signed area of `a b p` (positive when counter-clockwise in a y-up frame),
