@@ -102,7 +102,8 @@ enum Command {
     /// Write the bundled example meshes and their refinements to a directory.
     #[command(after_help = DEMO_EXAMPLES)]
     Demo(DemoArgs),
-    /// Sample the exact limit surface on an N×N grid per quad face (osd-oracle limit layout).
+    /// Sample the exact limit surface on an N×N grid per quad face and per sub-face of other
+    /// faces (osd-oracle limit layout, Bfr's parameterisation).
     #[command(after_help = LIMIT_EXAMPLES)]
     Limit(LimitArgs),
     /// Sample the exact limit surface on a watertight grid; write OBJ, PLY or STL.
@@ -176,14 +177,25 @@ pub struct NurbsArgs {
 }
 
 const LIMIT_EXAMPLES: &str = "\
-One line per sample: 'face u v px py pz dux duy duz dvx dvy dvz', faces in order, u = i/(N-1)
-outer, v = j/(N-1) inner (u = v = 0.5 when N = 1); n-gons and holes are skipped, as in
-osd-oracle limit. At an extraordinary vertex the derivatives are tangent directions (see the
-library docs of LimitSurface).
+One line per sample: 'face u v px py pz dux duy duz dvx dvy dvz', faces in order (holes have
+none). A quad gets an N x N grid, u = i/(N-1) outer, v = j/(N-1) inner (u = v = 0.5 when N = 1),
+as osd-oracle limit prints it. A face of n != 4 vertices (a triangle too) is sampled on each of
+its n quad sub-faces in turn, the same N x N grid in the sub-face's own (s, t), and its rows
+give (u, v) in OpenSubdiv Bfr's parameterisation of the face: sub-face k is the tile in column
+k mod D and row floor(k / D) of a grid D = ceil(sqrt(n)) tiles wide, u = k mod D + s/2,
+v = floor(k / D) + t/2 (s = t = 0 at vertex k, s toward vertex k+1, (s, t) = (1, 1) at the
+face's centre), and du, dv are derivatives by that u, v (twice those by s, t), so that
+Bfr::Surface::Evaluate at (u, v) gives the same row. At an extraordinary vertex (a face's
+centre too) the derivatives are tangent directions (see the library docs of LimitSurface).
+With knot interval or weight tags (or --scheme nurss) the non-uniform (NURSS) surface is
+sampled; it is evaluated exactly, with derivatives, only on faces whose neighbourhood is a
+regular grid of quads or has equal intervals (see the library docs of NurssSurface), and any
+other face is an error naming it.
 
 Examples:
   subsurf limit model.obj --grid 5 -o samples.tsv
-  subsurf limit model.obj --grid 3 -o - | head";
+  subsurf limit model.obj --grid 3 -o - | head
+  subsurf limit model.obj --grid 5 -o tight.tsv --c 0.3";
 
 /// Arguments of `subsurf limit`.
 #[derive(Debug, Args)]
@@ -203,7 +215,13 @@ pub struct LimitArgs {
     pub max_memory: Option<u64>,
     #[command(flatten)]
     pub scheme: SchemeArgs,
-    /// Print no warnings.
+    /// Surface to sample [default: nurss when the file has knot interval or weight tags,
+    /// adjustable with --c, else catmull-clark].
+    #[arg(long = "scheme", id = "scheme_kind", value_name = "SCHEME", value_enum)]
+    pub scheme_kind: Option<SchemeKind>,
+    #[command(flatten)]
+    pub adjust: AdjustArgs,
+    /// Print no warnings or notes.
     #[arg(short, long)]
     pub quiet: bool,
 }
@@ -459,12 +477,12 @@ pub enum SchemeKind {
 pub struct AdjustArgs {
     /// Shape parameter of the adjustable scheme, in [0, 1]: 0.5 is Catmull-Clark, smaller
     /// stays closer to the control mesh (0: the mesh itself), larger moves away from it
-    /// (subdivide, repose: with --scheme adjustable; tessellate, render: the mixed limit surface,
+    /// (subdivide, repose: with --scheme adjustable; tessellate, render, limit: the mixed limit surface,
     /// and render --control-mesh then draws the c-refined mesh; g2: its G2 surface).
     #[arg(long = "c", value_name = "C", allow_negative_numbers = true, value_parser = cmd::adjustable::parse_c)]
     pub c: Option<f64>,
     /// Use the adjustable scheme for the first K steps only, then Catmull-Clark (mixed
-    /// subdivision) [default: subdivide, repose: every level; tessellate, render, g2: 1].
+    /// subdivision) [default: subdivide, repose: every level; tessellate, render, limit, g2: 1].
     #[arg(long, value_name = "K", requires = "c")]
     pub adjust_steps: Option<u32>,
 }

@@ -316,11 +316,14 @@ impl SurfaceGuard<'_> {
     }
 }
 
-/// Samples of an `n`×`n` grid on every quad face of `mesh` (what `limit --grid n` and
-/// `bench --limit-grid n` evaluate).
+/// Samples of an `n`×`n` grid on every quad face of `mesh` and on every sub-face of its
+/// other faces (what `limit --grid n` evaluates, holes included).
 pub fn grid_samples(mesh: &subsurf::mesh::PolyMesh, n: u32) -> u64 {
-    let quads = mesh.faces().filter(|f| f.len() == 4).count() as u64;
-    quads.saturating_mul(u64::from(n) * u64::from(n))
+    let subfaces = mesh
+        .faces()
+        .map(|f| if f.len() == 4 { 1 } else { f.len() as u64 })
+        .fold(0u64, u64::saturating_add);
+    subfaces.saturating_mul(u64::from(n) * u64::from(n))
 }
 
 /// An upper bound of the vertices a tessellation at `rate` has: `(rate + 1)²` per quad,
@@ -415,7 +418,8 @@ mod tests {
     #[test]
     fn counts_are_upper_bounds_of_the_output() {
         let m = quad_and_triangle();
-        assert_eq!(grid_samples(&m, 5), 25);
+        // The quad's 5 × 5 grid and one per sub-face of the triangle.
+        assert_eq!(grid_samples(&m, 5), 25 + 3 * 25);
         // Rate 4: the quad 5 × 5 samples, the triangle 3 sub-faces of 3 × 3.
         assert_eq!(tessellation_vertices(&m, 4), 25 + 27);
         // Rate 3 is rounded up to 4 for the triangle.

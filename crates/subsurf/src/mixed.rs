@@ -21,7 +21,7 @@
 //! quadrant steps. [`MixedSurface::eval_point`] does this mapping
 //! ([`MixedSurface::refined_point`] exposes it).
 
-use crate::limit::{Derivatives, EvalError, LimitSurface, SurfacePoint};
+use crate::limit::{Derivatives, EvalError, LimitSurface, Order, SurfacePoint};
 use crate::mesh::{Options, PolyMesh};
 use crate::scheme::adjustable::Adjustable;
 use crate::subdivide::{subdivide_mixed, Error, SubdivideOptions};
@@ -125,6 +125,40 @@ impl MixedSurface {
         })
     }
 
+    /// The mixed surface of `mesh` from its control mesh `refined`, refined as
+    /// [`new`](Self::new) refines it (`mixed.steps` adjustable steps, holes kept: e.g. by
+    /// [`subdivide_mixed`]), and `surface`, the Catmull-Clark limit surface of `refined`
+    /// (built by the caller, e.g. within a memory limit:
+    /// [`LimitSurface::builder`](crate::limit::LimitSurface::builder)).
+    ///
+    /// # Errors
+    /// [`Error::NotRefined`] when `refined` or `surface` has another number of faces than
+    /// `mixed.steps` steps of `mesh` make.
+    pub fn from_refined(
+        mesh: &PolyMesh,
+        refined: PolyMesh,
+        surface: LimitSurface,
+        mixed: Mixed,
+    ) -> Result<Self, Error> {
+        let expected = match mixed.steps {
+            0 => mesh.num_faces() as u64,
+            k => (mesh.face_verts().len() as u64)
+                .checked_shl(2 * (k - 1))
+                .unwrap_or(u64::MAX),
+        };
+        for found in [refined.num_faces(), surface.num_faces()] {
+            if found as u64 != expected {
+                return Err(Error::NotRefined { expected, found });
+            }
+        }
+        Ok(Self {
+            mixed,
+            refined,
+            surface,
+            offsets: mesh.face_offsets().to_vec(),
+        })
+    }
+
     /// The parameters.
     pub fn mixed(&self) -> Mixed {
         self.mixed
@@ -214,6 +248,41 @@ impl MixedSurface {
             Ok(d) => Ok(d.scaled(scale)),
             Err(EvalError::Hole { .. }) => Err(EvalError::Hole { face: p.face }),
             Err(e) => Err(e),
+        }
+    }
+
+    /// [`eval_point`](Self::eval_point) of many points, computing the derivatives of
+    /// `order` only, into `out` (resized to `points.len()`): the points mapped to the
+    /// refined mesh's surface ([`refined_point`](Self::refined_point)) and evaluated there
+    /// together ([`LimitSurface::eval_many_into`], which shares the work of consecutive
+    /// points on one face).
+    pub fn eval_many_into(
+        &self,
+        points: &[SurfacePoint],
+        order: Order,
+        out: &mut Vec<Result<Derivatives, EvalError>>,
+    ) {
+        let mapped: Vec<Result<(SurfacePoint, f64), EvalError>> =
+            points.iter().map(|&p| self.refined_point(p)).collect();
+        // Points not on the input mesh stand in as the first face's corner; their results
+        // are replaced by their errors below.
+        let stand_in = SurfacePoint {
+            face: 0,
+            subface: 0,
+            u: 0.0,
+            v: 0.0,
+        };
+        let refined: Vec<SurfacePoint> = (mapped.iter())
+            .map(|m| m.as_ref().map_or(stand_in, |&(q, _)| q))
+            .collect();
+        self.surface.eval_many_into(&refined, order, out);
+        for ((r, m), p) in out.iter_mut().zip(&mapped).zip(points) {
+            match (m, r.as_mut()) {
+                (Err(e), _) => *r = Err(e.clone()),
+                (Ok((_, scale)), Ok(d)) => d.scale(*scale),
+                (Ok(_), Err(EvalError::Hole { .. })) => *r = Err(EvalError::Hole { face: p.face }),
+                (Ok(_), Err(_)) => {}
+            }
         }
     }
 

@@ -53,6 +53,18 @@ pub enum Error {
     /// crease ([`Reposer::new_nurss`](crate::Reposer::new_nurss)).
     #[error(transparent)]
     Nurss(#[from] crate::nurss::NurssError),
+    /// A refined mesh (or its limit surface) given with its input has another number of
+    /// faces than the refinement makes
+    /// ([`MixedSurface::from_refined`](crate::MixedSurface::from_refined)).
+    #[error(
+        "the refined mesh has {found} faces, not the {expected} that refining the input makes"
+    )]
+    NotRefined {
+        /// Faces the refinement makes.
+        expected: u64,
+        /// Faces given.
+        found: usize,
+    },
 }
 
 /// A byte count as messages give it: MiB rounded up, or KiB (rounded up) below 1 MiB.

@@ -40,6 +40,46 @@ pub fn for_surface(args: &AdjustArgs) -> Option<Mixed> {
         .map(|c| mixed(c, Some(args.adjust_steps.unwrap_or(1))))
 }
 
+/// The surface that `tessellate` and `limit` sample: `--scheme` (`given`) when given, else
+/// adjustable with `--c`, else NURSS for a file with knot interval or weight tags (with a
+/// note on stderr unless `quiet`), else Catmull-Clark ([`check_surface_flags`] has refused
+/// the contradictory combinations).
+pub fn surface_kind(
+    given: Option<SchemeKind>,
+    args: &AdjustArgs,
+    input: &Input,
+    quiet: bool,
+) -> SchemeKind {
+    match given {
+        Some(kind) => kind,
+        None if args.c.is_some() => SchemeKind::Adjustable,
+        None if subsurf::nurss::has_knots(&input.obj.mesh) => {
+            if !quiet {
+                eprintln!(
+                    "note: {} has knot interval or weight tags: sampling the non-uniform \
+                     (NURSS) surface (--scheme catmull-clark ignores them)",
+                    input.name
+                );
+            }
+            SchemeKind::Nurss
+        }
+        None => SchemeKind::CatmullClark,
+    }
+}
+
+/// Usage errors (exit 2) of `--scheme` (`given`) with `--c` for the commands that sample a
+/// surface ([`surface_kind`]), found before any input is read.
+pub fn check_surface_flags(given: Option<SchemeKind>, args: &AdjustArgs) {
+    let c = args.c.is_some();
+    match given {
+        Some(SchemeKind::Adjustable) if !c => usage_error("--scheme adjustable needs --c C"),
+        Some(SchemeKind::Nurss | SchemeKind::CatmullClark) if c => {
+            usage_error("--c applies to --scheme adjustable only")
+        }
+        _ => {}
+    }
+}
+
 /// The control mesh whose Catmull-Clark limit surface is the mixed surface of `mixed`:
 /// the input refined `mixed.steps` times with the adjustable scheme (holes kept).
 pub fn refined_mesh(input: &Input, options: Options, mixed: Mixed) -> Result<PolyMesh> {

@@ -1,13 +1,16 @@
 //! `subsurf limit`: sample the exact limit surface on an N×N grid per quad face, in the
-//! column layout and order of `osd-oracle limit`.
+//! column layout and order of `osd-oracle limit`, and per sub-face of every other face, in
+//! OpenSubdiv `Bfr`'s parameterisation of the face ([`Parameterization`]).
 
 use anyhow::{Context, Result};
-use subsurf::limit::{LimitSurface, Order, SurfacePoint};
-use subsurf::mesh::Options;
+use subsurf::limit::{Derivatives, LimitSurface, Order, Parameterization, SurfacePoint};
+use subsurf::mesh::{Options, PolyMesh};
+use subsurf::nurss::NurssSurface;
+use subsurf::MixedSurface;
 
 use crate::input::Input;
 use crate::output::Output;
-use crate::LimitArgs;
+use crate::{LimitArgs, SchemeKind};
 
 /// Bytes per output row held until its block is written (measured: 214 at 6 million rows).
 const BYTES_PER_ROW: u64 = 256;
@@ -16,13 +19,14 @@ const BYTES_PER_ROW: u64 = 256;
 /// row than this cannot be, so a job whose rows times this exceed the free space is refused.
 const MIN_BYTES_PER_ROW: u64 = 24;
 
-/// Grid points per block of faces evaluated together (in parallel) and then written: only
-/// one block's rows are held as text (about 1 MiB), where holding all of them made
+/// Grid points per block of sub-faces evaluated together (in parallel) and then written:
+/// only one block's rows are held as text (about 1 MiB), where holding all of them made
 /// `catmark_pawn` with `--grid 5` peak at 9.9 MiB (`osd-oracle limit`: 6.6).
 const POINTS_PER_BLOCK: usize = 4096;
 
 /// The faces a grid is sampled on, in order: every quad with a surface (not a hole), as
-/// `osd-oracle limit` and `benchlimit` sample.
+/// `osd-oracle limit` and `benchlimit` sample (`bench --limit-grid`, which times against
+/// them).
 pub fn grid_faces(surface: &LimitSurface) -> Vec<u32> {
     (0..surface.num_faces())
         .filter(|&f| surface.num_subfaces(f) == 1 && surface.has_surface(f))
@@ -33,6 +37,12 @@ pub fn grid_faces(surface: &LimitSurface) -> Vec<u32> {
 /// The `n`×`n` grid on quad `face`, in `osd-oracle limit`'s order: `u = i / (n − 1)` outer,
 /// `v = j / (n − 1)` inner (the centre for `n = 1`).
 pub fn grid(face: u32, n: usize) -> impl Iterator<Item = SurfacePoint> {
+    subface_grid(face, 0, n)
+}
+
+/// The `n`×`n` grid on sub-face `subface` of `face` (the face itself for a quad), in its own
+/// `(s, t)`: `s = i / (n − 1)` outer, `t = j / (n − 1)` inner (the centre for `n = 1`).
+fn subface_grid(face: u32, subface: u32, n: usize) -> impl Iterator<Item = SurfacePoint> {
     let param = move |i: usize| {
         if n == 1 {
             0.5
@@ -42,14 +52,83 @@ pub fn grid(face: u32, n: usize) -> impl Iterator<Item = SurfacePoint> {
     };
     (0..n * n).map(move |k| SurfacePoint {
         face,
-        subface: 0,
+        subface,
         u: param(k / n),
         v: param(k % n),
     })
 }
 
+/// The surface sampled.
+enum Sampler {
+    /// Catmull-Clark.
+    Limit(LimitSurface),
+    /// Shape-adjustable steps, then Catmull-Clark (`--c`).
+    Mixed(Box<MixedSurface>),
+    /// Non-uniform Catmull-Clark (knot tags or `--scheme nurss`).
+    Nurss(NurssSurface),
+}
+
+impl Sampler {
+    /// Sub-faces of input face `f` of `size` vertices (0 if it has no surface).
+    fn subfaces(&self, f: usize, size: usize) -> usize {
+        let has = match self {
+            Sampler::Limit(s) => s.has_surface(f),
+            Sampler::Mixed(s) => {
+                // An input face has a surface if its first refined face does (holes stay
+                // holes).
+                let first = SurfacePoint {
+                    face: f as u32,
+                    subface: 0,
+                    u: 0.0,
+                    v: 0.0,
+                };
+                (s.refined_point(first))
+                    .is_ok_and(|(q, _)| s.limit_surface().has_surface(q.face as usize))
+            }
+            Sampler::Nurss(s) => s.has_surface(f),
+        };
+        if has {
+            Parameterization::new(size).num_subfaces()
+        } else {
+            0
+        }
+    }
+
+    /// The derivatives at `points` (of one sub-face), into `out`; an error names `face`.
+    fn eval(
+        &self,
+        points: &[SurfacePoint],
+        out: &mut Vec<Result<Derivatives, subsurf::limit::EvalError>>,
+    ) -> Result<()> {
+        match self {
+            Sampler::Limit(s) => s.eval_many_into(points, Order::First, out),
+            Sampler::Mixed(s) => s.eval_many_into(points, Order::First, out),
+            Sampler::Nurss(s) => {
+                out.clear();
+                for &p in points {
+                    match s.eval_point_order(p, Order::First) {
+                        Ok(d) => out.push(Ok(d)),
+                        Err(subsurf::nurss::NurssEvalError::Eval(e)) => out.push(Err(e)),
+                        Err(e) => return Err(e.into()),
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// One input face's sub-face to sample: the face, its size and the sub-face.
+#[derive(Clone, Copy)]
+struct Unit {
+    face: u32,
+    size: usize,
+    subface: u32,
+}
+
 /// Runs `subsurf limit`.
 pub fn run(args: &LimitArgs) -> Result<()> {
+    super::adjustable::check_surface_flags(args.scheme_kind, &args.adjust);
     // Every block is evaluated in parallel: this thread is the first of rayon's global
     // pool, one thread fewer than a pool beside it (`catmark_pawn --grid 5` 7.0 -> 6.4
     // MiB). Commands that may not use the pool at all leave it to start on first use.
@@ -69,8 +148,8 @@ pub fn run(args: &LimitArgs) -> Result<()> {
         .scheme
         .over(input.obj.options)
         .resolve(Options::default());
+    let kind = super::adjustable::surface_kind(args.scheme_kind, &args.adjust, &input, args.quiet);
     let n = args.grid as usize;
-    let faces_per_block = (POINTS_PER_BLOCK / (n * n)).max(1);
     let what = format!("sampling a {0}×{0} grid per face", args.grid);
     let hint = "use a smaller --grid";
     // The rows are streamed: neither memory nor the whole output bounds them, the disk does.
@@ -83,35 +162,106 @@ pub fn run(args: &LimitArgs) -> Result<()> {
     )?;
     // Memory: the surface, then one block's rows as text.
     let held = samples
-        .min((faces_per_block * n * n) as u64)
+        .min(POINTS_PER_BLOCK.max(n * n) as u64)
         .saturating_mul(BYTES_PER_ROW);
-    let surface = crate::memory::SurfaceGuard {
+    let guard = crate::memory::SurfaceGuard {
         name: &input.name,
         what,
         max: args.max_memory,
         hint,
-        quads_only: true,
+        quads_only: false,
+    };
+    let mesh = &input.obj.mesh;
+    let sampler = match (kind, super::adjustable::for_surface(&args.adjust)) {
+        (SchemeKind::Nurss, _) => {
+            let patches = NurssSurface::estimate_patch_memory(mesh);
+            let build = LimitSurface::estimate_build_memory(mesh);
+            crate::memory::check(
+                &input.name,
+                &guard.what,
+                patches.saturating_add(build).saturating_add(held),
+                args.max_memory,
+                hint,
+            )?;
+            let cc = |m: &PolyMesh| {
+                let held = held.saturating_add(patches);
+                guard
+                    .limit_surface(m, options, args.grid, held)
+                    .map_err(NurssBuild::Guard)
+            };
+            let s = NurssSurface::build(mesh, &options, cc).map_err(|e| match e {
+                NurssBuild::Guard(e) => e,
+                NurssBuild::Nurss(e) => anyhow::Error::new(e).context(input.name.clone()),
+            })?;
+            // A face without an exact evaluation is refused before anything is written.
+            for f in (0..mesh.num_faces()).filter(|&f| s.has_surface(f)) {
+                s.check_face(f).with_context(|| input.name.clone())?;
+            }
+            Sampler::Nurss(s)
+        }
+        (_, Some(m)) => {
+            let refined = super::adjustable::refined_mesh(&input, options, m)?;
+            let surface = guard.limit_surface(&refined, options, args.grid, held)?;
+            let mixed = MixedSurface::from_refined(mesh, refined, surface, m)
+                .with_context(|| input.name.clone())?;
+            Sampler::Mixed(Box::new(mixed))
+        }
+        (_, None) => Sampler::Limit(guard.limit_surface(mesh, options, args.grid, held)?),
+    };
+    let units: Vec<Unit> = (0..mesh.num_faces())
+        .flat_map(|f| {
+            let size = mesh.face(f).len();
+            let subs = sampler.subfaces(f, size);
+            (0..subs as u32).map(move |subface| Unit {
+                face: f as u32,
+                size,
+                subface,
+            })
+        })
+        .collect();
+    write_rows(&out, &input, &sampler, &units, n)
+}
+
+/// Errors of building a NURSS surface within the memory guard.
+enum NurssBuild {
+    Guard(anyhow::Error),
+    Nurss(subsurf::nurss::NurssError),
+}
+
+impl From<subsurf::nurss::NurssError> for NurssBuild {
+    fn from(e: subsurf::nurss::NurssError) -> Self {
+        NurssBuild::Nurss(e)
     }
-    .limit_surface(&input.obj.mesh, options, args.grid, held)?;
-    // One face's rows at a time, in parallel over the faces of a block, written in face
-    // order: the face's points evaluated together (`eval_many_into`, which computes each
-    // tree node's points once and a patch's four points at a time), position and first
-    // derivatives only. An error stops the output at its block: a file is then not
-    // written at all, standard output has the blocks before it.
-    let faces = grid_faces(&surface);
-    let face_rows = |points: &mut Vec<SurfacePoint>, results: &mut Vec<_>, f: u32| {
+}
+
+/// Writes the rows of `units` to `out`, block by block: one sub-face's rows at a time, in
+/// parallel over the sub-faces of a block, written in order, each point's position and
+/// first derivatives. An error stops the output at its block: a file is then not written
+/// at all, standard output has the blocks before it.
+fn write_rows(
+    out: &Output,
+    input: &Input,
+    sampler: &Sampler,
+    units: &[Unit],
+    n: usize,
+) -> Result<()> {
+    let units_per_block = (POINTS_PER_BLOCK / (n * n)).max(1);
+    let unit_rows = |points: &mut Vec<SurfacePoint>, results: &mut Vec<_>, u: Unit| {
         points.clear();
-        points.extend(grid(f, n));
-        surface.eval_many_into(points, Order::First, results);
+        points.extend(subface_grid(u.face, u.subface, n));
+        let face = || format!("{}: face {}", input.name, u.face);
+        sampler.eval(points, results).with_context(face)?;
+        // Rows give the face's (u, v) in Bfr's parameterisation, derivatives by them.
+        let param = Parameterization::new(u.size);
+        let scale = param.derivative_scale();
         let mut s = Vec::new();
         for (p, d) in points.iter().zip(results.iter()) {
-            let d = d
-                .as_ref()
-                .map_err(Clone::clone)
-                .with_context(|| format!("{}: face {f}", input.name))?;
+            let d = d.as_ref().map_err(Clone::clone).with_context(face)?;
+            let (fu, fv) = param.to_face(u.subface as usize, p.u, p.v);
+            let (du, dv) = (d.du.map(|x| scale * x), d.dv.map(|x| scale * x));
             use std::io::Write as _;
-            let _ = write!(s, "{f}");
-            for x in [p.u, p.v].iter().chain(&d.p).chain(&d.du).chain(&d.dv) {
+            let _ = write!(s, "{}", u.face);
+            for x in [fu, fv].iter().chain(&d.p).chain(&du).chain(&dv) {
                 s.push(b' ');
                 subsurf::io::push_decimal(&mut s, *x);
             }
@@ -119,24 +269,34 @@ pub fn run(args: &LimitArgs) -> Result<()> {
         }
         Ok::<_, anyhow::Error>(s)
     };
-    out.write(|w| {
+    // An evaluation error is the input's, not the output's: it is kept here and returned
+    // as it is, not as a failure to write.
+    let mut failed = None;
+    let written = out.write(|w| {
         use rayon::prelude::*;
         let mut rows = Vec::new();
-        for block in faces.chunks(faces_per_block) {
+        for block in units.chunks(units_per_block) {
             block
                 .par_iter()
                 .map_init(
                     || (Vec::new(), Vec::new()),
-                    |(points, results), &f| face_rows(points, results, f),
+                    |(points, results), &u| unit_rows(points, results, u),
                 )
                 .collect_into_vec(&mut rows);
-            for r in &rows {
+            for r in rows.drain(..) {
                 match r {
-                    Ok(s) => w.write_all(s)?,
-                    Err(e) => return Err(std::io::Error::other(format!("{e:#}"))),
+                    Ok(s) => w.write_all(&s)?,
+                    Err(e) => {
+                        failed = Some(e);
+                        return Err(std::io::Error::other("evaluation failed"));
+                    }
                 }
             }
         }
         Ok(())
-    })
+    });
+    match failed {
+        Some(e) => Err(e),
+        None => written,
+    }
 }

@@ -62,41 +62,6 @@ impl Format {
 /// 6 million vertices).
 const BYTES_PER_VERTEX: u64 = 128;
 
-/// The surface to sample: `--scheme` when given, else adjustable with `--c`, else NURSS for a file
-/// with knot tags (with a note on stderr unless `--quiet`), else Catmull-Clark
-/// ([`check_scheme_flags`] has refused the contradictory combinations).
-fn scheme_kind(args: &TessellateArgs, input: &Input) -> SchemeKind {
-    match args.scheme_kind {
-        Some(kind) => kind,
-        None if args.adjust.c.is_some() => SchemeKind::Adjustable,
-        None if subsurf::nurss::has_knots(&input.obj.mesh) => {
-            if !args.quiet {
-                eprintln!(
-                    "note: {} has knot interval or weight tags: sampling the non-uniform \
-                     (NURSS) surface (--scheme catmull-clark ignores them)",
-                    input.name
-                );
-            }
-            SchemeKind::Nurss
-        }
-        None => SchemeKind::CatmullClark,
-    }
-}
-
-/// Usage errors (exit 2) of `--scheme` with `--c`, found before any input is read.
-fn check_scheme_flags(args: &TessellateArgs) {
-    let c = args.adjust.c.is_some();
-    match args.scheme_kind {
-        Some(SchemeKind::Adjustable) if !c => {
-            super::adjustable::usage_error("--scheme adjustable needs --c C")
-        }
-        Some(SchemeKind::Nurss | SchemeKind::CatmullClark) if c => {
-            super::adjustable::usage_error("--c applies to --scheme adjustable only")
-        }
-        _ => {}
-    }
-}
-
 /// `subsurf tessellate` of the non-uniform (NURSS) limit surface, through refinement.
 fn run_nurss(
     args: &TessellateArgs,
@@ -130,12 +95,13 @@ fn run_nurss(
     let mut comment = command_line(args, options, &input.name);
     comment.insert_str("subsurf tessellate".len(), " --scheme nurss");
     let control = args.control_mesh.then_some(mesh);
+    check_single_precision(&t, format, input)?;
     write(out, format, &t, &comment, control, up(args))
 }
 
 /// Runs `subsurf tessellate`.
 pub fn run(args: &TessellateArgs) -> Result<()> {
-    check_scheme_flags(args);
+    super::adjustable::check_surface_flags(args.scheme_kind, &args.adjust);
     let format = Format::from_path(&args.output)?;
     if args.control_mesh && format != Format::Glb {
         bail!(
@@ -163,7 +129,8 @@ pub fn run(args: &TessellateArgs) -> Result<()> {
         .over(input.obj.options)
         .resolve(Options::default());
     let mesh = &input.obj.mesh;
-    if scheme_kind(args, &input) == SchemeKind::Nurss {
+    let kind = super::adjustable::surface_kind(args.scheme_kind, &args.adjust, &input, args.quiet);
+    if kind == SchemeKind::Nurss {
         return run_nurss(args, &input, &options, format, &out);
     }
     // With --c: the mixed surface, the limit of the c-refined mesh at the rate per input edge.
@@ -218,6 +185,7 @@ pub fn run(args: &TessellateArgs) -> Result<()> {
         comment.insert_str("subsurf tessellate".len(), &flags);
     }
     let control = args.control_mesh.then_some(mesh);
+    check_single_precision(&t, format, &input)?;
     write(&out, format, &t, &comment, control, up(args))
 }
 
@@ -229,8 +197,46 @@ fn up(args: &TessellateArgs) -> Up {
     }
 }
 
+/// Refuses, naming the input, a tessellation that `format` cannot store: STL and glTF keep
+/// single-precision coordinates, and a limit surface of coordinates beyond their range
+/// (about 3.4e38; the input may have coordinates up to 1e75) would otherwise fail as the
+/// output is written, as if the output were at fault. The message names the first face
+/// (1-based, with its line) whose surface reaches beyond.
+fn check_single_precision(t: &Tessellation, format: Format, input: &Input) -> Result<()> {
+    let what = match format {
+        Format::Stl => "STL",
+        Format::Glb => "glTF",
+        Format::Obj | Format::Ply => return Ok(()),
+    };
+    let beyond = |x: f64| !(x as f32).is_finite();
+    let Some(v) = t
+        .positions
+        .iter()
+        .position(|p| p.iter().any(|&x| beyond(x)))
+    else {
+        return Ok(());
+    };
+    let value = (t.positions[v].iter().copied())
+        .find(|&x| beyond(x))
+        .unwrap_or_default();
+    let face = (0..t.num_faces()).find(|&f| t.face(f).contains(&(v as u32)));
+    let base = face.and_then(|f| t.source.get(f)).map(|&(b, _)| b as usize);
+    let at = match base {
+        Some(b) => match input.obj.face_line(b) {
+            Some(line) => format!("{}:{line}: face {}: ", input.name, b + 1),
+            None => format!("{}: face {}: ", input.name, b + 1),
+        },
+        None => format!("{}: ", input.name),
+    };
+    bail!(
+        "{at}the limit surface reaches {value:e}, beyond the single precision (about \
+         ±3.4e38) that {what} stores; write .obj or .ply, which keep double precision"
+    )
+}
+
 /// Writes `t` to `out` in `format` (for glTF: with `control`'s edges as lines, turned
 /// from `up` to glTF's +Y up).
+
 fn write(
     out: &Output,
     format: Format,

@@ -17,6 +17,7 @@ mod gltf;
 mod input_formats;
 mod interpolate;
 mod interpolate_host;
+mod limit;
 mod nurbs_files;
 mod nurss;
 mod regularity;

@@ -187,3 +187,51 @@ fn help_shows_examples() {
         assert!(text.contains(s), "{s} missing from:\n{text}");
     }
 }
+
+/// A cube of side 9e74 (coordinates may be up to 1e75) tessellates to OBJ and PLY, which
+/// keep double precision; STL and glTF keep single precision and cannot store it: the
+/// error names the input, its face and line, not the output (it said `cannot write
+/// out.stl: vertex 0 (...) cannot be stored as f32`), and nothing is written.
+#[test]
+fn single_precision_formats_refuse_huge_coordinates_naming_the_input() {
+    let big: String = CUBE
+        .lines()
+        .map(|l| match l.strip_prefix("v ") {
+            Some(rest) => {
+                let c: Vec<String> = (rest.split_whitespace())
+                    .map(|x| format!("{}e74", 9.0 * x.parse::<f64>().expect("coordinate")))
+                    .collect();
+                format!("v {}\n", c.join(" "))
+            }
+            None => format!("{l}\n"),
+        })
+        .collect();
+    let dir = dir_with(&[("big.obj", &big)]);
+    for out in ["out.obj", "out.ply"] {
+        let o = run_in(
+            dir.path(),
+            &["tessellate", "big.obj", "-o", out, "--rate", "2"],
+        );
+        assert_code(&o, 0);
+    }
+    let line = 1 + big
+        .lines()
+        .position(|l| l.starts_with("f "))
+        .expect("a face");
+    for out in ["out.stl", "out.glb"] {
+        let o = run_in(
+            dir.path(),
+            &["tessellate", "big.obj", "-o", out, "--rate", "2"],
+        );
+        assert_code(&o, 1);
+        let e = stderr(&o);
+        assert!(
+            e.contains(&format!(
+                "big.obj:{line}: face 1: the limit surface reaches"
+            )),
+            "{e}"
+        );
+        assert!(!e.contains("cannot write"), "{e}");
+        assert!(!dir.path().join(out).exists(), "{out} written");
+    }
+}

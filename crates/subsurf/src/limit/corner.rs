@@ -114,11 +114,69 @@ impl CornerLimit {
 /// so that its rule no longer changes under refinement.
 pub(super) fn is_limit_corner(t: &Topology, face: usize, k: usize) -> bool {
     let c = t.face_vertices(face)[k] as usize;
-    let settled = !t.vertex_tag(c).semi_sharp
-        && t.vertex_edges(c)
-            .iter()
-            .all(|&e| !t.edge_tag(e as usize).semi_sharp);
+    // From the vertex's tags, which say whether an edge at it is semi-sharp: walking its
+    // edges cost `O(valence)` per point, `O(n²)` for the `n` sub-faces of an `n`-gon
+    // evaluated at its centre.
+    let tag = t.vertex_tag(c);
+    let settled = !tag.semi_sharp && !tag.semi_sharp_edges;
     settled && regular_corner(t, face, k, Sharp::LIMIT).is_none()
+}
+
+/// What a shared region keeps of a vertex of more than [`HIGH_VALENCE`] faces at which a
+/// point is evaluated, so that each point there costs `O(1)` rather than `O(valence)`
+/// (the `n` sub-faces of an `n`-gon all meet at its centre, of valence `n`).
+#[derive(Debug)]
+pub(super) struct HighCorner {
+    /// Whether [`corner_limit`] takes the smooth limit masks there.
+    smooth: bool,
+    /// For a vertex under the smooth rule: [`smooth_masks_at`].
+    masks: Option<[[f64; 3]; 3]>,
+    /// Each face's place in the vertex's cycle of faces.
+    place: HashMap<u32, u32>,
+}
+
+impl HighCorner {
+    /// The vertex `c` of `l`'s region.
+    fn new(l: &Local, c: usize) -> Self {
+        let t = l.topo();
+        let faces = t.vertex_faces(c);
+        let mut place = HashMap::with_capacity(faces.len());
+        for (i, &g) in faces.iter().enumerate() {
+            place.entry(g).or_insert(i as u32);
+        }
+        let rule = t.vertex_tag(c).rule;
+        Self {
+            smooth: takes_smooth_masks(t, c),
+            masks: (rule == crate::mesh::Rule::Smooth).then(|| smooth_masks_at(l, c)),
+            place,
+        }
+    }
+
+    /// The entry of vertex `c` of `l`'s region, if the region is shared and `c` has more
+    /// than [`HIGH_VALENCE`] faces (computed the first time).
+    fn of(l: &Local, c: usize) -> Option<Arc<Self>> {
+        let many = l.topo().vertex_faces(c).len() > HIGH_VALENCE;
+        (l.region.is_shared() && many).then(|| {
+            super::local::cached(&l.region.high, (c as u32, 0), || Arc::new(Self::new(l, c)))
+        })
+    }
+}
+
+/// Whether the limit at vertex `c` of `t` comes from the smooth limit masks: a smooth
+/// interior manifold vertex of quads, of valence 3 or more.
+fn takes_smooth_masks(t: &Topology, c: usize) -> bool {
+    let tag = t.vertex_tag(c);
+    let all_quads = t
+        .vertex_faces(c)
+        .iter()
+        .all(|&g| t.face_vertices(g as usize).len() == 4);
+    let n_e = t.vertex_edges(c).len();
+    tag.rule == crate::mesh::Rule::Smooth
+        && !tag.non_manifold
+        && !tag.boundary
+        && all_quads
+        && n_e == t.vertex_faces(c).len()
+        && n_e >= 3
 }
 
 /// Limit position and tangents at corner `k` of the cut-out's face (see the module docs).
@@ -148,20 +206,18 @@ pub(super) fn corner_limit(
     let pos = l.pos();
     let c = t.face_vertices(l.face)[k] as usize;
     let tag = t.vertex_tag(c);
+    let high = HighCorner::of(l, c);
+    let smooth = match &high {
+        Some(h) => h.smooth,
+        None => takes_smooth_masks(t, c),
+    };
+    if smooth {
+        return smooth_corner(l, k);
+    }
     let all_quads = t
         .vertex_faces(c)
         .iter()
         .all(|&g| t.face_vertices(g as usize).len() == 4);
-    let n_e = t.vertex_edges(c).len();
-    let smooth = tag.rule == crate::mesh::Rule::Smooth
-        && !tag.non_manifold
-        && !tag.boundary
-        && all_quads
-        && n_e == t.vertex_faces(c).len()
-        && n_e >= 3;
-    if smooth {
-        return smooth_corner(l, k);
-    }
     let n = t.face_vertices(l.face).len();
     let corner = tag.rule == crate::mesh::Rule::Corner;
     if corner && n == 4 {
@@ -576,14 +632,10 @@ fn smooth_corner(l: &Local, k: usize) -> CornerLimit {
     let faces = t.vertex_faces(c);
     let edges = t.vertex_edges(c);
     let nf = faces.len();
-    let start = faces
-        .iter()
-        .position(|&g| g as usize == l.face)
-        .unwrap_or(0);
     let rule = t.vertex_tag(c).rule;
-    if l.region.is_shared() && nf > HIGH_VALENCE && rule == crate::mesh::Rule::Smooth {
-        let [p, cm, sm] =
-            super::local::cached(&l.region.smooth, (c as u32, 0), || smooth_masks_at(l, c));
+    let high = HighCorner::of(l, c);
+    if let Some((h, [p, cm, sm])) = high.as_ref().and_then(|h| Some((h, h.masks?))) {
+        let start = h.place.get(&(l.face as u32)).map_or(0, |&i| i as usize);
         let theta = 2.0 * std::f64::consts::PI / nf as f64;
         let at = |i: usize| {
             let (sn, cs) = ((i % nf) as f64 * theta).sin_cos();
@@ -597,6 +649,10 @@ fn smooth_corner(l: &Local, k: usize) -> CornerLimit {
             ..CornerLimit::edges(k, ([0.0; 3], [0.0; 3]))
         };
     }
+    let start = faces
+        .iter()
+        .position(|&g| g as usize == l.face)
+        .unwrap_or(0);
     let rot = |i: usize, n: usize| (i + start) % n.max(1);
     let ends: Vec<u32> = t.vertex_neighbours(c).collect();
     let ends: Vec<u32> = (0..edges.len())

@@ -62,8 +62,23 @@
 //! `g`'s 1-ring within `F₃`. A shared region is refined once (the refinement is kept and
 //! shared, and so are the regions cut from it one level down and the analyses of its
 //! corners), so the work around `w` is `O(n)` per level. [`Topology::subset`] keeps the
-//! order of faces and edges around every vertex, so a region gives the same values, bit
-//! for bit, as a face's own cut-out.
+//! order of faces and edges around every vertex whose neighbourhood matters, so a region
+//! gives the same values, bit for bit, as a face's own cut-out.
+//!
+//! # Large faces: shared regions too
+//! The surface over a face `g` next to an `n`-gon `h` depends on all of `h`'s corners
+//! (through `h`'s face point), and so does each of `h`'s own `n` sub-faces: one cut-out
+//! per face would again cost `O(n²)`, and a configuration tree of `h` more (its refinement
+//! rows read all `n` corners from each of its `O(n)` refined points). So a face of more
+//! than [`LARGE_FACE`] corners is the seed of a region too ([`Seed::Face`]), shared by the
+//! faces whose 1-ring holds it (`h` and the faces that share a vertex with it): the faces
+//! within two rings of `h` (`F₁` = the faces around `h`'s corners, `F₂` the faces sharing
+//! a vertex with one of `F₁`; three rings under Chaikin's rule, for the far ends of the
+//! semi-sharp edges at the corners of `F₁`), which hold the 1-ring of every face of `F₁`.
+//! Refined once, `h` becomes `n` quads around its face point, a vertex of valence `n`: in
+//! the region of a large face, vertices of more than [`LARGE_FACE`] faces are seeds too
+//! (`Reach::in_face_region`), so the sub-faces then share the region of that centre, and
+//! the work around `h` is `O(n)` per level, as around a vertex of high valence.
 //!
 //! # Re-posing: shapes and points
 //! A region is a [`Shape`] (its topology and everything derived from the topology alone:
@@ -102,10 +117,37 @@ use std::sync::{Arc, Mutex, OnceLock};
 /// points level by level again, where a tree keeps its refinement as weights.
 pub const HIGH_VALENCE: usize = 128;
 
+/// A face of more than this many corners (an eighth of [`HIGH_VALENCE`]) shares a region
+/// with the faces whose 1-ring holds it (see the module docs, "Large faces").
+///
+/// Below it, the face is the root of a configuration tree ([`super::tree`]) whose
+/// refinement rows read all of its corners from each of its `O(n)` refined points and
+/// whose `n` sub-faces each cut out the `n` faces around its centre: `O(n²)` per level,
+/// which a configuration shared by few faces does not repay (a lone 128-gon took 0.5 s to
+/// tessellate at rate 16 so, 0.02 s in a region).
+pub const LARGE_FACE: usize = HIGH_VALENCE / 8;
+
 /// Whether vertex `v` of `t` has too many faces for per-face cut-outs (see
 /// [`HIGH_VALENCE`]; `high_valence` is its value, or `usize::MAX` in tests).
 pub(super) fn is_high_valence(t: &Topology, v: usize, high_valence: usize) -> bool {
     t.vertex_faces(v).len() > fan_limit(t, v, high_valence)
+}
+
+/// Whether face `f` of `t` has too many corners for per-face cut-outs: more than
+/// `large_face` (see [`LARGE_FACE`] and the module docs, "Large faces").
+pub(super) fn is_large_face(t: &Topology, f: usize, large_face: usize) -> bool {
+    t.face_vertices(f).len() > large_face
+}
+
+/// What a shared region is cut around (module docs): a vertex of high valence, or a large
+/// face.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Seed {
+    /// A vertex of more than [`HIGH_VALENCE`] faces (a quarter of that on a boundary or
+    /// at a non-manifold vertex).
+    Vertex(u32),
+    /// A face of more than [`LARGE_FACE`] corners.
+    Face(u32),
 }
 
 /// The most faces of `v` (or of one face's sectors at `v`, see [`is_sectored`]) that a
@@ -137,6 +179,9 @@ pub struct Reach {
     /// Valence above which faces share regions (normally [`HIGH_VALENCE`]; `usize::MAX`
     /// in tests: every face on its own).
     pub high_valence: usize,
+    /// Corners above which a face and the faces around it share a region (normally
+    /// [`LARGE_FACE`]; `usize::MAX` in tests).
+    pub large_face: usize,
     /// Semi-sharp edges decay by Chaikin's rule
     /// ([`CreaseMethod::Chaikin`]).
     pub chaikin: bool,
@@ -148,17 +193,37 @@ impl Default for Reach {
     fn default() -> Self {
         Reach {
             high_valence: usize::MAX,
+            large_face: usize::MAX,
             chaikin: false,
         }
     }
 }
 
 impl Reach {
-    /// The default [`HIGH_VALENCE`] with the crease rule of `options`.
+    /// The default [`HIGH_VALENCE`] and [`LARGE_FACE`] with the crease rule of `options`.
     pub fn new(options: &Options) -> Self {
+        Self::with_high_valence(options, HIGH_VALENCE)
+    }
+
+    /// Regions around vertices of more than `high_valence` faces and faces of more than an
+    /// eighth of that many corners ([`HIGH_VALENCE`] and [`LARGE_FACE`]; `usize::MAX`:
+    /// none), with the crease rule of `options`.
+    pub fn with_high_valence(options: &Options, high_valence: usize) -> Self {
         Reach {
-            high_valence: HIGH_VALENCE,
+            high_valence,
+            large_face: high_valence / (HIGH_VALENCE / LARGE_FACE),
             chaikin: options.crease_method == CreaseMethod::Chaikin,
+        }
+    }
+
+    /// The reach in the region of a large face: there vertices of more than
+    /// [`large_face`](Self::large_face) faces share regions too, so that once the face is
+    /// refined its `n` sub-faces share the region of its centre, a vertex of valence `n`
+    /// (module docs, "Large faces").
+    fn in_face_region(self) -> Self {
+        Reach {
+            high_valence: self.high_valence.min(self.large_face),
+            ..self
         }
     }
 }
@@ -202,7 +267,7 @@ pub struct Shape {
 
 /// Shapes of the regions cut around the high-valence vertices of one level, by vertex.
 #[derive(Debug, Default)]
-pub struct ShapeCache(Mutex<HashMap<u32, Arc<OnceLock<Arc<Shape>>>>>);
+pub struct ShapeCache(Mutex<HashMap<Seed, Arc<OnceLock<Arc<Shape>>>>>);
 
 /// A cut-out (or a whole refined cut-out) with positions: a [`Shape`] and its points.
 #[derive(Debug, Default)]
@@ -215,8 +280,8 @@ pub struct Region {
     refined: OnceLock<Arc<Region>>,
     /// Regions cut from this one, by vertex (see [`region_cut`]).
     regions: RegionCache,
-    /// Smooth limit position and the cosine and sine tangents of high-valence vertices.
-    pub(super) smooth: CornerCache<[[f64; 3]; 3]>,
+    /// What points at its vertices of high valence read (by vertex, second key 0).
+    pub(super) high: CornerCache<Arc<super::corner::HighCorner>>,
 }
 
 /// The value of `key` in `cache`, computed by `make` the first time.
@@ -235,7 +300,7 @@ pub(super) fn cell<K: std::hash::Hash + Eq, T, S: std::hash::BuildHasher>(
 
 /// Regions cut around high-valence vertices of one level, by vertex.
 #[derive(Debug, Default)]
-pub struct RegionCache(Mutex<HashMap<u32, Arc<OnceLock<Arc<Region>>>>>);
+pub struct RegionCache(Mutex<HashMap<Seed, Arc<OnceLock<Arc<Region>>>>>);
 
 /// A face of a region.
 #[derive(Clone, Debug)]
@@ -429,8 +494,8 @@ pub enum FaceKind {
     Hole,
     /// A regular patch with this control net.
     Patch(Net),
-    /// Irregular, in the shared region of this high-valence vertex.
-    Region(u32),
+    /// Irregular, in the shared region of this high-valence vertex or large face.
+    Region(Seed),
     /// Irregular, with its own cut-out: these faces (its 1-ring).
     Own(Vec<u32>),
     /// An irregular quad whose 1-ring has no high-valence vertex, in a level that has
@@ -470,12 +535,13 @@ pub fn own_cut(level: LevelRef<'_>, faces: &[u32]) -> Local {
     }
 }
 
-/// Face `f` of `level` in the shared region of vertex `w` (which its 1-ring reaches).
-pub fn region_cut(level: LevelRef<'_>, f: usize, w: u32) -> Local {
-    let region = cell(&level.cache.0, w)
+/// Face `f` of `level` in the shared region of `seed` (a vertex or face its 1-ring
+/// reaches).
+pub fn region_cut(level: LevelRef<'_>, f: usize, seed: Seed) -> Local {
+    let region = cell(&level.cache.0, seed)
         .get_or_init(|| {
-            let shape = cell(&level.shapes.0, w)
-                .get_or_init(|| Arc::new(vertex_region(level, w)))
+            let shape = cell(&level.shapes.0, seed)
+                .get_or_init(|| Arc::new(seed_region(level, seed)))
                 .clone();
             let pos = shape.verts.iter().map(|&v| level.pos[v as usize]).collect();
             Arc::new(Region::new(shape, pos))
@@ -496,15 +562,20 @@ pub fn region_cut(level: LevelRef<'_>, f: usize, w: u32) -> Local {
     }
 }
 
-/// Faces of the cut-out of `f` ([`cut_out_unbounded`]), `f` first, each once; `Err(w)`
-/// as soon as a vertex `w` of more than `reach.high_valence` faces is met among the
-/// 1-ring's vertices (any such vertex gives a region that holds the cut-out). Where
+/// Faces of the cut-out of `f` ([`cut_out_unbounded`]), `f` first, each once; `Err` with
+/// the seed of a shared region as soon as the cut-out would hold a face of more than
+/// `reach.large_face` corners ([`is_large_face`]: `f` itself, or a face of its 1-ring)
+/// or reach a vertex of more than `reach.high_valence` faces among the 1-ring's vertices
+/// (any such vertex or face gives a region that holds the cut-out). Where
 /// [`is_sectored`], it is the sector at that vertex of the face met that counts. The
 /// faces added for Chaikin's rule are not checked: a high-valence vertex among them costs
 /// its faces in this cut-out, and the region of such a vertex would not hold the cut-outs
 /// of all faces that reach it so.
-pub(super) fn cut_out(t: &Topology, f: usize, reach: Reach) -> Result<Vec<u32>, u32> {
+pub(super) fn cut_out(t: &Topology, f: usize, reach: Reach) -> Result<Vec<u32>, Seed> {
     let hv = reach.high_valence;
+    if is_large_face(t, f, reach.large_face) {
+        return Err(Seed::Face(f as u32));
+    }
     // Whether corner `k` of face `g` reaches too many faces: all of its vertex's, or
     // `g`'s sector there where [`is_sectored`] (walked only if the vertex has too many).
     let big = |g: usize, k: usize| {
@@ -516,19 +587,22 @@ pub(super) fn cut_out(t: &Topology, f: usize, reach: Reach) -> Result<Vec<u32>, 
     // bounded, as the ring is listed.
     let plain_big = |&&v: &&u32| !is_sectored(t, v as usize) && is_high_valence(t, v as usize, hv);
     if let Some(&w) = t.face_vertices(f).iter().find(plain_big) {
-        return Err(w);
+        return Err(Seed::Vertex(w));
     }
-    let mut faces = ring_faces(t, f, hv)?;
-    for &g in &faces[1..] {
+    let mut faces = ring_faces(t, f, hv).map_err(Seed::Vertex)?;
+    for &g in &faces.list[1..] {
         let g = g as usize;
+        if is_large_face(t, g, reach.large_face) {
+            return Err(Seed::Face(g as u32));
+        }
         if let Some(k) = (0..t.face_vertices(g).len()).find(|&k| big(g, k)) {
-            return Err(t.face_vertices(g)[k]);
+            return Err(Seed::Vertex(t.face_vertices(g)[k]));
         }
     }
     if reach.chaikin {
         add_far_ends(t, f, &mut faces);
     }
-    Ok(faces)
+    Ok(faces.list)
 }
 
 /// The faces whose topology and points determine the surface over face `f` and its local
@@ -542,13 +616,48 @@ pub(super) fn cut_out_unbounded(t: &Topology, f: usize, chaikin: bool) -> Vec<u3
     if chaikin {
         add_far_ends(t, f, &mut faces);
     }
-    faces
+    faces.list
 }
 
-/// Appends `g` to `faces` unless it is there.
-fn add_face(g: u32, faces: &mut Vec<u32>) {
-    if !faces.contains(&g) {
-        faces.push(g);
+/// Faces listed once each, in the order first added: found by a linear search while they
+/// are few (a cut-out has a few dozen), by a map from face to place once there are more
+/// than [`FaceList::SEARCHED`] (the 1-ring of an `n`-gon has `O(n)` faces, and a linear
+/// search per face added made its cut-out `O(n²)`: 4 s for a 65 535-gon).
+#[derive(Default)]
+struct FaceList {
+    list: Vec<u32>,
+    /// Face → its place in `list`, once `list` is longer than [`FaceList::SEARCHED`].
+    places: Option<HashMap<u32, usize>>,
+}
+
+impl FaceList {
+    /// Most faces searched linearly.
+    const SEARCHED: usize = 32;
+
+    /// Where face `g` is in the list.
+    fn position(&self, g: u32) -> Option<usize> {
+        match &self.places {
+            Some(places) => places.get(&g).copied(),
+            None => self.list.iter().position(|&x| x == g),
+        }
+    }
+
+    /// Appends face `g` unless it is listed.
+    fn add(&mut self, g: u32) {
+        if self.position(g).is_some() {
+            return;
+        }
+        self.list.push(g);
+        match &mut self.places {
+            Some(places) => {
+                places.insert(g, self.list.len() - 1);
+            }
+            None if self.list.len() > Self::SEARCHED => {
+                let places = self.list.iter().enumerate().map(|(i, &x)| (x, i));
+                self.places = Some(places.collect());
+            }
+            None => {}
+        }
     }
 }
 
@@ -557,20 +666,21 @@ fn add_face(g: u32, faces: &mut Vec<u32>) {
 /// order (see `Topology::subset_canonical`). At a corner where [`is_sectored`], only the
 /// faces of `f`'s sector there ([`sector`]); `Err` with that corner if they are more
 /// than [`fan_limit`] allows with `high_valence`.
-fn ring_faces(t: &Topology, f: usize, high_valence: usize) -> Result<Vec<u32>, u32> {
-    let mut faces = vec![f as u32];
+fn ring_faces(t: &Topology, f: usize, high_valence: usize) -> Result<FaceList, u32> {
+    let mut faces = FaceList::default();
+    faces.add(f as u32);
     for (k, &v) in t.face_vertices(f).iter().enumerate() {
         if is_sectored(t, v as usize) {
             let limit = fan_limit(t, v as usize, high_valence);
             for g in sector(t, f, k, limit).ok_or(v)? {
-                add_face(g, &mut faces);
+                faces.add(g);
             }
             continue;
         }
         let around = t.vertex_faces(v as usize);
         let start = around.iter().position(|&g| g == f as u32).unwrap_or(0);
         for &g in around[start..].iter().chain(&around[..start]) {
-            add_face(g, &mut faces);
+            faces.add(g);
         }
     }
     Ok(faces)
@@ -651,8 +761,15 @@ fn sector(t: &Topology, f: usize, k: usize, limit: usize) -> Option<Vec<u32>> {
 /// Appends to the 1-ring `faces` of `f` the faces around the far end `w` of each
 /// semi-sharp edge at a corner of `f` (`w` not a corner), around `w` from its face listed
 /// first so far (for the reason of [`ring_faces`]).
-fn add_far_ends(t: &Topology, f: usize, faces: &mut Vec<u32>) {
+fn add_far_ends(t: &Topology, f: usize, faces: &mut FaceList) {
     let corners = t.face_vertices(f);
+    // The corners as a set when they are many (an `n`-gon's).
+    let corner_set: Option<HashSet<u32>> =
+        (corners.len() > FaceList::SEARCHED).then(|| corners.iter().copied().collect());
+    let is_corner = |w: u32| match &corner_set {
+        Some(set) => set.contains(&w),
+        None => corners.contains(&w),
+    };
     for &v in corners {
         for &e in t.vertex_edges(v as usize) {
             if !t.edge_tag(e as usize).semi_sharp {
@@ -660,37 +777,47 @@ fn add_far_ends(t: &Topology, f: usize, faces: &mut Vec<u32>) {
             }
             let [a, b] = t.edge_vertices(e as usize);
             let w = if a == v { b } else { a };
-            if corners.contains(&w) {
+            if is_corner(w) {
                 continue;
             }
             let around = t.vertex_faces(w as usize);
             let start = around
                 .iter()
                 .enumerate()
-                .filter_map(|(i, g)| faces.iter().position(|x| x == g).map(|at| (at, i)))
+                .filter_map(|(i, &g)| faces.position(g).map(|at| (at, i)))
                 .min()
                 .map_or(0, |(_, i)| i);
             for &g in around[start..].iter().chain(&around[..start]) {
-                add_face(g, faces);
+                faces.add(g);
             }
         }
     }
 }
 
-/// The shape of the shared region of vertex `w`: the faces within three rings of it, four
-/// under Chaikin's rule (module docs).
-fn vertex_region(level: LevelRef<'_>, w: u32) -> Shape {
+/// The shape of the shared region of `seed`: the faces within three rings of a vertex
+/// (four under Chaikin's rule), within two rings of a face (three under Chaikin's rule;
+/// module docs).
+fn seed_region(level: LevelRef<'_>, seed: Seed) -> Shape {
     let t = level.topo;
+    let chaikin = level.reach.chaikin as usize;
+    // The vertices the first ring is around, and the rings after it.
+    let (start, rings): (&[u32], usize) = match &seed {
+        Seed::Vertex(w) => (std::slice::from_ref(w), 2 + chaikin),
+        Seed::Face(h) => (t.face_vertices(*h as usize), 1 + chaikin),
+    };
     let mut seen: HashSet<u32> = HashSet::new();
     let mut faces: Vec<u32> = Vec::new();
-    for &g in t.vertex_faces(w as usize) {
-        if seen.insert(g) {
-            faces.push(g);
+    let mut visited: HashSet<u32> = HashSet::new();
+    for &w in start {
+        visited.insert(w);
+        for &g in t.vertex_faces(w as usize) {
+            if seen.insert(g) {
+                faces.push(g);
+            }
         }
     }
-    let mut visited: HashSet<u32> = HashSet::from([w]);
     let mut from = 0;
-    for _ in 0..2 + level.reach.chaikin as usize {
+    for _ in 0..rings {
         let end = faces.len();
         for i in from..end {
             for &v in t.face_vertices(faces[i] as usize) {
@@ -713,9 +840,13 @@ fn vertex_region(level: LevelRef<'_>, w: u32) -> Shape {
         .map(|(i, &g)| (g, i as u32))
         .collect();
     map.sort_unstable();
+    let reach = match seed {
+        Seed::Vertex(_) => level.reach,
+        Seed::Face(_) => level.reach.in_face_region(),
+    };
     Shape {
         verts,
         faces: map,
-        ..Shape::shared(topo, level.reach, level.trees.cloned())
+        ..Shape::shared(topo, reach, level.trees.cloned())
     }
 }

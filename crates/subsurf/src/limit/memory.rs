@@ -58,6 +58,18 @@ const CONFIGURATION_LEVEL_BYTES: u64 = 80 << 10;
 /// more for the region's first refinements.
 const REGION_FACE_LEVEL_BYTES: u64 = 48 << 10;
 
+/// Bytes per corner of a face of more than [`super::local::LARGE_FACE`] corners when the
+/// surface is built: the face's shared region and its first refinement, in which the
+/// face's `n` sub-faces share the region of its centre (measured: up to 3.3 KiB, a lone
+/// 65 535-gon).
+const LARGE_FACE_CORNER_BYTES: u64 = 4 << 10;
+
+/// Bytes per node in the shared region of a large face (its sub-faces, and the faces
+/// that share a vertex with it) and per level evaluated, and one level more: each level
+/// refines the region of the face's centre once and splits each node (measured: up to
+/// 7.4 KiB per node and level, on a prism over a 16 000-gon at rate 32).
+const LARGE_FACE_NODE_LEVEL_BYTES: u64 = 8 << 10;
+
 /// Errors of [`LimitSurface::new_within`] and [`SurfaceBuilder::build`](super::SurfaceBuilder::build).
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum BuildError {
@@ -97,10 +109,21 @@ impl Budget {
 }
 
 /// [`LimitSurface::estimate_build_memory`] of a mesh of `vertices` vertices and `faces`
-/// faces.
-fn build_bytes(vertices: usize, faces: usize) -> u64 {
+/// faces, `large_corners` of them corners of large faces.
+fn build_bytes(vertices: usize, faces: usize, large_corners: u64) -> u64 {
     let elements = (vertices as u64).saturating_add(faces as u64);
-    FIXED_BYTES.saturating_add(elements.saturating_mul(ELEMENT_BYTES))
+    FIXED_BYTES
+        .saturating_add(elements.saturating_mul(ELEMENT_BYTES))
+        .saturating_add(large_corners.saturating_mul(LARGE_FACE_CORNER_BYTES))
+}
+
+/// The corners of `mesh`'s faces of more than [`super::local::LARGE_FACE`] corners.
+fn large_face_corners<'a>(faces: impl Iterator<Item = &'a [u32]>) -> u64 {
+    faces
+        .map(|f| f.len())
+        .filter(|&n| n > super::local::LARGE_FACE)
+        .map(|n| n as u64)
+        .sum()
 }
 
 /// Bytes of `n` configurations at `levels` levels.
@@ -119,7 +142,9 @@ fn levels_for(divisions: u32) -> u64 {
 
 impl LimitSurface {
     /// Estimated bytes of building the surface of `mesh` ([`LimitSurface::new`]), apart
-    /// from its configurations: `24 MiB + 768 B × (vertices + faces)`.
+    /// from its configurations: `24 MiB + 768 B × (vertices + faces)`, and `4 KiB` per
+    /// corner of each face of more than [`LARGE_FACE`](super::local::LARGE_FACE) corners
+    /// (its shared region, refined once).
     ///
     /// A surface's irregular faces take one configuration tree per distinct
     /// neighbourhood, most of the memory of a surface that has many, and their number is
@@ -140,7 +165,8 @@ impl LimitSurface {
     /// assert_eq!(LimitSurface::estimate_build_memory(&quad), (24 << 20) + 5 * 768);
     /// ```
     pub fn estimate_build_memory(mesh: &PolyMesh) -> u64 {
-        build_bytes(mesh.num_vertices(), mesh.num_faces())
+        let large = large_face_corners(mesh.faces());
+        build_bytes(mesh.num_vertices(), mesh.num_faces(), large)
     }
 
     /// [`LimitSurface::new`], stopping with [`BuildError::TooLarge`] as soon as the
@@ -162,9 +188,16 @@ impl LimitSurface {
     /// Estimated bytes of this surface once points `1 / divisions` of a face's side apart
     /// have been evaluated (an `n`×`n` grid or a tessellation at rate `n`: `n`), input
     /// mesh included: [`LimitSurface::estimate_build_memory`], plus per configuration
-    /// `80 KiB × (l + 2)` and per face in the shared region of a vertex of high valence
-    /// `48 KiB × (l + 2)`, with `l = ceil(log2 divisions)` levels. Every configuration
-    /// is charged as if it were evaluated.
+    /// `80 KiB × (l + 2)`, per face in the shared region of a vertex of high valence
+    /// `48 KiB × (l + 2)` and per node in the shared region of a large face (its `n`
+    /// sub-faces and each face sharing a vertex with it) `8 KiB × (l + 1)`, with
+    /// `l = ceil(log2 divisions)` levels. Every configuration is charged as if it were
+    /// evaluated.
+    ///
+    /// Measured on faces of 4 000 to 65 535 vertices (alone, and as the caps of prisms), at
+    /// rates 2 to 32 (`subsurf tessellate`, peak RSS of the release build): the job's
+    /// estimate (this and 128 bytes per output vertex) was 1.4–5.9 times the peak, the
+    /// most at rate 2 (`BENCHMARKS.md`, "Memory of limit surfaces").
     ///
     /// ```
     /// use subsurf::limit::LimitSurface;
@@ -186,12 +219,19 @@ impl LimitSurface {
     pub fn estimate_memory(&self, divisions: u32) -> u64 {
         let levels = levels_for(divisions);
         let regions = self.num_region_faces() as u64;
-        build_bytes(self.num_vertices(), self.num_faces())
+        let large = large_face_corners(self.base_faces());
+        let large_nodes = self.num_large_face_nodes() as u64;
+        build_bytes(self.num_vertices(), self.num_faces(), large)
             .saturating_add(configuration_bytes(self.num_configurations(), levels + 2))
             .saturating_add(
                 regions
                     .saturating_mul(levels + 2)
                     .saturating_mul(REGION_FACE_LEVEL_BYTES),
+            )
+            .saturating_add(
+                large_nodes
+                    .saturating_mul(levels + 1)
+                    .saturating_mul(LARGE_FACE_NODE_LEVEL_BYTES),
             )
     }
 }
@@ -265,6 +305,43 @@ mod tests {
                 ..
             })
         ));
+    }
+
+    /// Faces of more than `LARGE_FACE` corners are charged per corner when built, and per
+    /// node of their shared regions (their sub-faces, and the faces that share a vertex
+    /// with them) and level evaluated, plus one.
+    #[test]
+    fn the_estimate_charges_large_faces_per_corner_and_region_node() {
+        let n = super::super::local::LARGE_FACE as u32 + 4;
+        let p: Vec<[f64; 3]> = (0..2 * n)
+            .map(|i| {
+                let a = std::f64::consts::TAU * f64::from(i % n) / f64::from(n);
+                [a.cos(), a.sin(), f64::from(i / n) + 0.1 * (3.0 * a).sin()]
+            })
+            .collect();
+        let mut faces = vec![(n..2 * n).collect::<Vec<u32>>(), (0..n).rev().collect()];
+        for k in 0..n {
+            let j = (k + 1) % n;
+            faces.push(vec![k, j, n + j, n + k]);
+        }
+        let prism = PolyMesh::from_faces(p, &faces).expect("prism");
+        let plain = FIXED_BYTES + u64::from(2 * n + n + 2) * ELEMENT_BYTES;
+        let built = LimitSurface::estimate_build_memory(&prism);
+        assert_eq!(built, plain + u64::from(2 * n) * LARGE_FACE_CORNER_BYTES);
+        let s = LimitSurface::new(&prism, Options::default()).expect("surface");
+        // Both caps' sub-faces and the side quads, which share a vertex with them.
+        let nodes = s.num_large_face_nodes() as u64;
+        assert_eq!(nodes, u64::from(3 * n));
+        let c = s.num_configurations() as u64;
+        for (divisions, levels) in [(1, 0), (4, 2), (32, 5)] {
+            assert_eq!(
+                s.estimate_memory(divisions),
+                built
+                    + c * (levels + 2) * CONFIGURATION_LEVEL_BYTES
+                    + nodes * (levels + 1) * LARGE_FACE_NODE_LEVEL_BYTES,
+                "{divisions}"
+            );
+        }
     }
 
     /// The estimate after building charges each configuration two levels and one per

@@ -14,6 +14,7 @@ mod corner;
 mod crease_patch;
 mod local;
 mod memory;
+mod param;
 pub(crate) mod patch;
 mod rows;
 mod stencil;
@@ -25,6 +26,7 @@ mod vertex_rows;
 pub use bspline::{Derivatives, Order};
 pub use builder::SurfaceBuilder;
 pub use memory::BuildError;
+pub use param::Parameterization;
 pub use stencil::{LimitStencils, StencilError};
 pub use surface::{EvalError, LimitSurface, SurfacePoint, MAX_DEPTH};
 pub use tessellate::{

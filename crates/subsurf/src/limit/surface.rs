@@ -68,7 +68,7 @@ use super::bspline::{self, Batch, Derivatives, Order, RegularBases};
 use super::corner::{corner_limit, is_limit_corner, SectorCache};
 use super::crease_patch::{single_crease, CreaseBasis, CreasePatch};
 use super::local::{
-    cut_out, own_cut, region_cut, FaceKind, LevelRef, Local, Reach, Region, RegionCache,
+    cut_out, own_cut, region_cut, FaceKind, LevelRef, Local, Reach, Region, RegionCache, Seed,
     ShapeCache, HIGH_VALENCE,
 };
 use super::memory::{Budget, BuildError};
@@ -605,10 +605,7 @@ impl LimitSurface {
     /// caller then drops the surface).
     fn place_new(&mut self, over: impl Fn(usize) -> bool + Sync, select: &FaceSelect<'_>) -> bool {
         let cache = RegionCache::default();
-        let reach = Reach {
-            high_valence: self.high_valence,
-            ..Reach::new(&self.options)
-        };
+        let reach = Reach::with_high_valence(&self.options, self.high_valence);
         let level = LevelRef::new(&self.base, &self.pos, &self.shared, &cache, reach);
         let (shared, options) = (&*self.shared, &self.options);
         let stop = AtomicBool::new(false);
@@ -650,10 +647,7 @@ impl LimitSurface {
     fn place(&mut self) {
         let pos = &self.pos[..];
         let cache = RegionCache::default();
-        let reach = Reach {
-            high_valence: self.high_valence,
-            ..Reach::new(&self.options)
-        };
+        let reach = Reach::with_high_valence(&self.options, self.high_valence);
         let level = LevelRef::new(&self.base, pos, &self.shared, &cache, reach);
         let (shared, options) = (&*self.shared, &self.options);
         // Re-posing: plain patches read the new positions as they are; other patches
@@ -683,8 +677,23 @@ impl LimitSurface {
     /// needs.
     pub(super) fn num_region_faces(&self) -> usize {
         (self.built.iter())
-            .filter(|b| matches!(b.recipe, Recipe::Region(_)))
+            .filter(|b| matches!(b.recipe, Recipe::Region(Seed::Vertex(_))))
             .count()
+    }
+
+    /// Number of nodes (sub-faces, or the face itself for a quad) of the faces in the
+    /// shared regions of large faces (see [`super::local::LARGE_FACE`]): the face's own
+    /// `n` sub-faces and the faces that share a vertex with it.
+    pub(super) fn num_large_face_nodes(&self) -> usize {
+        (self.built.iter())
+            .filter(|b| matches!(b.recipe, Recipe::Region(Seed::Face(_))))
+            .map(|b| b.nodes.as_slice().len())
+            .sum()
+    }
+
+    /// The base faces' vertex lists.
+    pub(super) fn base_faces(&self) -> impl Iterator<Item = &[u32]> + '_ {
+        (0..self.base.num_faces()).map(|f| self.base.face_vertices(f))
     }
 
     /// Number of control points (the vertices of the mesh the surface was built from).
@@ -1043,14 +1052,14 @@ pub(super) fn build_face(
             );
             (nodes, Recipe::Tree(tree, verts))
         }
-        Err(w) => (region_nodes(level, f, w, options), Recipe::Region(w)),
+        Err(seed) => (region_nodes(level, f, seed, options), Recipe::Region(seed)),
     }
 }
 
-/// The nodes of face `f` of `level`, irregular, in the shared region of vertex `w`: the
-/// face itself, or the children of an `n`-gon after one step (unrotated for `n ≠ 4`).
-fn region_nodes(level: LevelRef<'_>, f: usize, w: u32, options: &Options) -> Vec<Node> {
-    let local = region_cut(level, f, w);
+/// The nodes of face `f` of `level`, irregular, in the shared region of `seed`: the face
+/// itself, or the children of an `n`-gon after one step (unrotated for `n ≠ 4`).
+fn region_nodes(level: LevelRef<'_>, f: usize, seed: Seed, options: &Options) -> Vec<Node> {
+    let local = region_cut(level, f, seed);
     let n = level.topo.face_vertices(f).len();
     if n == 4 {
         return vec![Node::lazy(local)];
@@ -1070,9 +1079,9 @@ pub(super) enum Recipe {
     Fixed,
     /// Through a configuration tree, with the vertices of the face's cut-out.
     Tree(Arc<Tree>, Arc<[u32]>),
-    /// Position-based local refinement in the shared region of this vertex: built again
-    /// (without looking at the face's topology), on the region's kept shape.
-    Region(u32),
+    /// Position-based local refinement in the shared region of this vertex or face: built
+    /// again (without looking at the face's topology), on the region's kept shape.
+    Region(Seed),
 }
 
 impl Recipe {
@@ -1213,7 +1222,7 @@ fn node_for(region: &Arc<Region>, f: usize) -> Node {
             face: f,
         })),
         FaceKind::Patch(net) => Node::Regular(Box::new(net.eval(level.pos))),
-        FaceKind::Region(w) => Node::lazy(region_cut(level, f, *w)),
+        FaceKind::Region(seed) => Node::lazy(region_cut(level, f, *seed)),
         FaceKind::Own(faces) => Node::lazy(own_cut(level, faces)),
         FaceKind::Tree(tree, verts) => Node::Tree(Box::new(TreeFace {
             tree: tree.clone(),
@@ -1669,6 +1678,72 @@ mod tests {
         }
     }
 
+    /// A prism over an `n`-gon (its two caps, `n` side quads), off the cylinder so that
+    /// nothing is symmetric; with `cap_only`, the top cap alone (every vertex on its
+    /// boundary).
+    fn prism(n: usize, cap_only: bool) -> PolyMesh {
+        let mut p = Vec::new();
+        for z in [0.0, 1.0] {
+            for k in 0..n {
+                let a = std::f64::consts::TAU * k as f64 / n as f64;
+                let r = 1.0 + 0.1 * (3.0 * a).sin() + 0.05 * (5.0 * a + z).cos();
+                p.push([r * a.cos(), r * a.sin(), z + 0.1 * (2.0 * a).cos()]);
+            }
+        }
+        let n32 = n as u32;
+        let top: Vec<u32> = (0..n32).map(|k| n32 + k).collect();
+        let mut faces = vec![top];
+        if !cap_only {
+            faces.push((0..n32).rev().collect());
+            for k in 0..n32 {
+                let j = (k + 1) % n32;
+                faces.push(vec![k, j, n32 + j, n32 + k]);
+            }
+        }
+        PolyMesh::from_faces(p, &faces).expect("prism")
+    }
+
+    /// Faces of more than `LARGE_FACE` corners, and the faces whose 1-ring holds one, in
+    /// shared regions (refined with positions, the sub-faces sharing their centre's region)
+    /// give the surface of own cut-outs and configuration trees: to rounding, everywhere,
+    /// the sub-faces' corners (the face's centre, of valence `n`) included; on a prism, a
+    /// lone face (boundary creases at every corner), and with creases around the face
+    /// (Chaikin's rule, whose regions reach one ring further).
+    #[test]
+    fn large_faces_in_shared_regions_equal_own_cut_outs() {
+        use super::super::local::LARGE_FACE;
+        let params = [0.0, 0.25, 0.5, 1.0 / 3.0, 0.9, 1.0];
+        let n = LARGE_FACE + 3;
+        let mut creased = prism(n, false);
+        for k in 0..n as u32 {
+            let sharpness = 0.5 + (k % 3) as f32;
+            let j = (k + 1) % n as u32;
+            creased.tags.creases.push(Crease {
+                v0: k,
+                v1: j,
+                sharpness,
+            });
+        }
+        let chaikin = Options {
+            crease_method: crate::mesh::CreaseMethod::Chaikin,
+            ..Options::default()
+        };
+        let cases = [
+            (prism(n, false), Options::default(), "prism"),
+            (prism(n, true), Options::default(), "lone face"),
+            (creased, chaikin, "prism with Chaikin creases"),
+        ];
+        for (mesh, options, what) in &cases {
+            let shared = LimitSurface::new(mesh, *options).expect("surface");
+            assert!(shared.num_large_face_nodes() >= n, "{what}: no region");
+            let alone =
+                LimitSurface::with_high_valence(mesh, *options, usize::MAX, true).expect("surface");
+            assert_eq!(alone.num_large_face_nodes(), 0, "{what}");
+            let compared = assert_agree(&shared, &alone, (&params, 1), (1e-12, 1.0), what);
+            assert!(compared > 500, "{what}: only {compared} points");
+        }
+    }
+
     /// At an infinitely sharp vertex a face's cut-out holds only its own sector (the faces
     /// between infinitely sharp edges): around a corner of `HIGH_VALENCE + 7` quads split
     /// by sharp spokes into sectors of five, with a triangle in one sector, every face
@@ -1710,7 +1785,7 @@ mod tests {
 
         mesh.tags.creases[1].sharpness = 2.5;
         let (t, _) = Topology::from_mesh(&mesh, &o).expect("topology");
-        assert_eq!(cut_out(&t, 0, Reach::new(&o)), Err(0));
+        assert_eq!(cut_out(&t, 0, Reach::new(&o)), Err(Seed::Vertex(0)));
     }
 
     /// Re-posing keeps what depends on the topology alone (configuration trees, the shapes

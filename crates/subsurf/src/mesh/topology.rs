@@ -1308,7 +1308,9 @@ impl Topology {
     /// edges between the same vertices stay two, as around degenerate faces), rules and
     /// sharpness stay those of the whole level, and faces and edges around each vertex keep
     /// their order, restricted to the subset. Elements on the subset's rim have incomplete
-    /// neighbourhoods (refining them gives meaningless values, which callers must not use).
+    /// neighbourhoods (refining them gives meaningless values, which callers must not use);
+    /// around such a vertex of many faces of which the subset holds few, those are listed
+    /// in the subset's order instead ([`rim_corners`]).
     ///
     /// Returns the subset and, for each of its vertices, the vertex of `self`.
     pub(crate) fn subset(&self, faces: &[u32]) -> (Topology, Vec<u32>) {
@@ -1441,11 +1443,35 @@ impl Topology {
         t.vert_tags = verts.iter().map(|&v| self.vert_tags[v as usize]).collect();
         t.vert_face_offsets.push(0);
         t.vert_edge_offsets.push(0);
-        for &v in &verts {
+        // Where each vertex is a corner of the subset's faces, for the vertices of too
+        // many faces to walk (see `rim_corners`).
+        let rim = rim_corners(self, faces, &verts, &vmap, &rotations);
+        for (i, &v) in verts.iter().enumerate() {
             let (faces_v, edges_v) = (
                 range(&self.vert_face_offsets, v as usize),
                 range(&self.vert_edge_offsets, v as usize),
             );
+            if let Some(corners) = rim.get(&(i as u32)) {
+                for &(lf, k) in corners {
+                    t.vert_faces.push(lf);
+                    t.vert_face_local.push(k);
+                }
+                t.vert_face_offsets.push(t.vert_faces.len() as u32);
+                let first = t.vert_edges.len();
+                for &(lf, k) in corners {
+                    let fe = t.face_edge_list(lf as usize);
+                    let n = fe.len();
+                    for le in [fe[(k as usize + n - 1) % n], fe[k as usize]] {
+                        if !t.vert_edges[first..].contains(&le) {
+                            t.vert_edges.push(le);
+                            let end = (t.edge_verts[le as usize][0] != i as u32) as u8;
+                            t.vert_edge_local.push(end);
+                        }
+                    }
+                }
+                t.vert_edge_offsets.push(t.vert_edges.len() as u32);
+                continue;
+            }
             // Where the lists start: the level's own start, or (canonical, around an
             // interior manifold vertex, whose face `k` and edge `k` go together, unless
             // the order of its sums of sharpness matters) the subset's first face
@@ -1519,6 +1545,51 @@ impl Topology {
             .unwrap_or(0);
         (t, verts)
     }
+}
+
+/// Vertices of a level with more faces than this may be listed from the subset's faces
+/// rather than walked (see [`rim_corners`]).
+const RIM_VALENCE: usize = 128;
+
+/// For each vertex of a subset (by its number there) that has more than [`RIM_VALENCE`]
+/// faces in the level and more than eight times as many as the subset has faces, the
+/// subset's faces that have it as a corner, as `(face, corner)` in the subset, in the
+/// subset's order. Such a vertex lies on the subset's rim (the subset does not hold most
+/// of its faces), where the order of its faces and edges is read by nobody (its
+/// neighbourhood is incomplete, so nothing is evaluated there), so [`Topology::subset`]
+/// lists them so instead of walking the vertex's faces in the level: the few faces around
+/// a corner next to the centre of a face of thousands of vertices (an `n`-gon's sub-faces
+/// after a step, whose corners are analysed one by one) walked all of the centre's, which
+/// made analysing them all `O(n²)`.
+fn rim_corners(
+    level: &Topology,
+    faces: &[u32],
+    verts: &[u32],
+    vmap: &SubsetMap,
+    rotations: &[usize],
+) -> HashMap<u32, Vec<(u32, u16)>> {
+    let limit = RIM_VALENCE.max(8 * faces.len());
+    let mut rim: HashMap<u32, Vec<(u32, u16)>> = HashMap::new();
+    if !verts
+        .iter()
+        .any(|&v| level.vertex_faces(v as usize).len() > limit)
+    {
+        return rim;
+    }
+    for (lf, &f) in faces.iter().enumerate() {
+        let fv = level.face_vertices(f as usize);
+        let (n, r) = (fv.len(), rotations[lf]);
+        for (k, &v) in fv.iter().enumerate() {
+            if level.vertex_faces(v as usize).len() <= limit {
+                continue;
+            }
+            let Some(lv) = vmap.get(v) else { continue };
+            // The corner's place in the face after its rotation (see `subset_with`).
+            let local = (k + n - r) % n;
+            rim.entry(lv).or_default().push((lf as u32, local as u16));
+        }
+    }
+    rim
 }
 
 /// Indices of a level numbered in a subset ([`Topology::subset`]): a table over the

@@ -18,6 +18,9 @@
 //! - [`subdivide`]: the one-call facade, like [`crate::subdivide`](fn@crate::subdivide).
 //! - [`tessellate`](fn@tessellate): a watertight sampling of the limit surface through refinement (limit
 //!   points of level `L` for rate `2^L`), with mesh normals.
+//! - [`NurssSurface`]: exact evaluation with derivatives at any `(face, u, v)` where the
+//!   surface has a closed form (regular tensor-product faces, and faces with equal
+//!   intervals around them, which are Catmull-Clark's), an error naming the face elsewhere.
 //! - Re-posing (new positions of the same mesh, refined without refining again, or moved to
 //!   the limit): [`crate::Reposer::new_nurss`], and the plan underneath,
 //!   [`crate::refine::RefinePlan::new_nurss`].
@@ -59,6 +62,7 @@
 //! ```
 
 pub mod limit;
+pub mod surface;
 pub mod tessellate;
 
 use crate::mesh::{
@@ -71,6 +75,7 @@ use crate::refine::RefinePlan;
 
 pub(crate) use limit::LimitRows;
 pub use limit::LIMIT_TOLERANCE;
+pub use surface::{NurssEvalError, NurssSurface};
 pub use tessellate::tessellate;
 
 /// Errors of NURSS refinement.
