@@ -236,7 +236,6 @@ fn check_single_precision(t: &Tessellation, format: Format, input: &Input) -> Re
 
 /// Writes `t` to `out` in `format` (for glTF: with `control`'s edges as lines, turned
 /// from `up` to glTF's +Y up).
-
 fn write(
     out: &Output,
     format: Format,
