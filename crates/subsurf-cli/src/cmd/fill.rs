@@ -3,24 +3,26 @@
 
 use std::path::PathBuf;
 
-use anyhow::{bail, Result};
+use anyhow::{bail, Context, Result};
 use clap::Args;
-use subsurf::blend::fill::{fill, patch_boundary, FillOptions};
+use subsurf::blend::fill::{fill, surface_boundary, FillOptions};
 use subsurf::blend::g1::fill_g1;
 use subsurf::io::geometry::read_geometry;
 use subsurf::io::obj::write_groups_obj;
 use subsurf::io::obj::{write_obj, WriteOptions};
 use subsurf::mesh::PolyMesh;
-use subsurf::nurbs::{BSplineCurve, BSplineSurface, Curve, Geometry, Surface};
+use subsurf::nurbs::{sample_parameters, Curve, Geometry, Surface};
 
-use super::blend::explain;
+use super::blend::{check_memory, explain, input_name, sample_points};
 use crate::output::Output;
 
 /// Examples shown by `subsurf fill --help`.
 pub const FILL_EXAMPLES: &str = "\
-Input: 3 to 8 cubic B-spline curves, or bicubic patches (their first-row boundary u = u_3 is
-used), as JSON or OBJ free-form (see `subsurf nurbs`), meeting end to end around the hole (in
-any direction). The fill interpolates every boundary curve and the corners. --bulge B moves
+Input: 3 to 8 cubic B-spline or NURBS curves, or bicubic patches (their first-row boundary
+u = u_3 is used), as JSON or OBJ free-form (see `subsurf nurbs`), meeting end to end around
+the hole (in any direction). The fill interpolates every boundary curve and the corners
+(NURBS input is filled in homogeneous coordinates and interpolated exactly; --g1 takes
+polynomial patches, or NURBS patches with one weight each). --bulge B moves
 the free inner control points along the boundary's normal by B times the hole's radius
 (B > 0 convex, B < 0 concave). --g1 (patches only) makes the fill meet every patch with a
 continuous normal (the paper's Algorithm 2; neighbouring patches must share the tangent plane
@@ -50,7 +52,8 @@ pub struct FillArgs {
         long,
         value_name = "B",
         default_value_t = 0.0,
-        allow_negative_numbers = true
+        allow_negative_numbers = true,
+        value_parser = parse_bulge
     )]
     pub bulge: f64,
     /// Meet the base patches G1 (continuous normal; needs patches, not curves).
@@ -62,52 +65,83 @@ pub struct FillArgs {
     /// Also write the fill control mesh (OBJ with `t interval` tags) here.
     #[arg(long, value_name = "OUT2")]
     pub control_mesh: Option<PathBuf>,
+    /// Refuse to start when the estimated memory exceeds this (suffixes K, M, G, T: powers
+    /// of 1024) [default: the memory the system reports as available].
+    #[arg(long, value_name = "BYTES", value_parser = crate::parse_bytes)]
+    pub max_memory: Option<u64>,
+}
+
+/// Parses `--bulge B`: a finite number.
+fn parse_bulge(s: &str) -> Result<f64, String> {
+    match s.trim().parse::<f64>() {
+        Ok(b) if b.is_finite() => Ok(b),
+        _ => Err(format!("'{s}' is not a finite number")),
+    }
 }
 
 /// Runs `subsurf fill`.
 pub fn run(args: &FillArgs) -> Result<()> {
-    if !args.bulge.is_finite() {
-        bail!("--bulge {} must be a finite number", args.bulge);
-    }
     let out = Output::new(&args.output);
     out.check()?;
     let control_out = args.control_mesh.as_deref().map(Output::new);
     if let Some(c) = &control_out {
         c.check()?;
     }
+    let name = input_name(&args.input);
     let items = read_geometry(&args.input)?;
-    let mut curves: Vec<BSplineCurve<3>> = Vec::with_capacity(items.len());
-    let mut surfaces: Vec<BSplineSurface<3>> = Vec::new();
-    let mut tessellated: Vec<PolyMesh> = Vec::new();
+    let mut curves: Vec<Curve> = Vec::with_capacity(items.len());
+    let mut surfaces: Vec<Surface> = Vec::new();
     for (k, g) in items.iter().enumerate() {
         match &g.geometry {
-            Geometry::Curve(Curve::BSpline(_)) if args.g1 => bail!(
+            Geometry::Curve(_) if args.g1 => bail!(
                 "{}: a curve; --g1 needs the patches around the hole (their normals)",
                 g.label()
             ),
-            Geometry::Curve(Curve::BSpline(c)) => curves.push(c.clone()),
-            Geometry::Surface(Surface::BSpline(s)) => {
-                curves.push(patch_boundary(s, k).map_err(|e| explain(e, &items))?);
+            Geometry::Curve(c) => curves.push(c.clone()),
+            Geometry::Surface(s) => {
+                curves.push(surface_boundary(s, k).map_err(|e| explain(e, &items, &name))?);
                 surfaces.push(s.clone());
-                tessellated.push(Surface::BSpline(s.clone()).grid(args.samples as usize)?);
             }
-            Geometry::Curve(Curve::Nurbs(_)) | Geometry::Surface(Surface::Nurbs(_)) => bail!(
-                "{}: rational (NURBS) input; hole filling takes non-rational B-splines",
-                g.label()
-            ),
         }
     }
     let opts = FillOptions {
         bulge: args.bulge,
         ..Default::default()
     };
-    let (surface, boundary, control) = if args.g1 {
-        let f = fill_g1(&surfaces, args.levels, &opts).map_err(|e| explain(e, &items))?;
-        (f.surface()?, f.curves, f.control)
+    let fail = |e| explain(e, &items, &name);
+    // The control mesh first (no refinement): its size bounds the job's memory.
+    let control = if args.g1 {
+        fill_g1(&surfaces, 0, &opts).map_err(fail)?.control
     } else {
-        let f = fill(&curves, args.levels, &opts).map_err(|e| explain(e, &items))?;
-        (f.surface()?, f.curves, f.control)
+        fill(&curves, 0, &opts).map_err(fail)?.control
     };
+    let samples = sample_points(&surfaces, args.samples).saturating_add(
+        curves
+            .iter()
+            .map(|c| sample_parameters(c.knots(), args.samples as usize).len() as u64)
+            .sum(),
+    );
+    check_memory(
+        &name,
+        "filling",
+        &control,
+        args.levels,
+        samples,
+        args.max_memory,
+    )?;
+    let (surface, boundary, control) = if args.g1 {
+        let f = fill_g1(&surfaces, args.levels, &opts).map_err(fail)?;
+        let curves = f.curves.iter().cloned().map(Curve::BSpline).collect();
+        (f.surface().map_err(fail)?, curves, f.control)
+    } else {
+        let f = fill(&curves, args.levels, &opts).map_err(fail)?;
+        (f.surface().map_err(fail)?, f.curves, f.control)
+    };
+    let tessellated = surfaces
+        .iter()
+        .map(|s| s.grid(args.samples as usize))
+        .collect::<Result<Vec<PolyMesh>, _>>()
+        .with_context(|| name.clone())?;
     let mut groups: Vec<(String, &PolyMesh)> = tessellated
         .iter()
         .enumerate()
@@ -118,11 +152,11 @@ pub fn run(args: &FillArgs) -> Result<()> {
         .iter()
         .enumerate()
         .map(|(k, c)| {
-            Curve::BSpline(c.clone())
-                .polyline(args.samples as usize)
+            c.polyline(args.samples as usize)
                 .map(|p| (format!("curve_{}", k + 1), p))
         })
-        .collect::<Result<Vec<_>, _>>()?;
+        .collect::<Result<Vec<_>, _>>()
+        .with_context(|| name.clone())?;
     let comment = format!(
         "subsurf fill: {}-sided hole{}, {} skirt-removal levels, bulge {}",
         curves.len(),

@@ -81,9 +81,186 @@ pub struct G2Args {
     pub scheme: SchemeArgs,
     #[command(flatten)]
     pub adjust: AdjustArgs,
+    /// Refuse to start when the estimated memory exceeds this (suffixes K, M, G, T: powers
+    /// of 1024) [default: the memory the system reports as available].
+    #[arg(long, value_name = "BYTES", value_parser = crate::parse_bytes)]
+    pub max_memory: Option<u64>,
     /// Print no notes.
     #[arg(short, long)]
     pub quiet: bool,
+}
+
+/// Peak bytes per sample of an OBJ tessellation, writing included (measured between rates
+/// 512 and 1024 on the cube: 168).
+const BYTES_PER_SAMPLE: u64 = 208;
+
+/// Peak bytes per drawn vertex of a picture beyond `subsurf render`'s estimate (measured
+/// between rates 256 and 512 on the cube: 312 per vertex against render's 320; on poles of
+/// valence 500 more, with the shared region's evaluation).
+const PNG_EXTRA_PER_SAMPLE: u64 = 96;
+
+/// Bytes of the G2 surface per square of its isolation level (a bicubic Bézier patch) and
+/// per cap patch (bi-septic), held whatever the output.
+const SURFACE_BYTES: (u64, u64) = (512, 2048);
+
+/// Peak bytes of a JSON document per square and per cap patch (measured: 2 160 per square on
+/// a closed 400 × 400 quad torus, about 23 000 per cap patch on the two-pole meshes).
+const JSON_BYTES: (u64, u64) = (3072, 32768);
+
+/// The same for an IGES document (measured: 5 500 and about 39 000).
+const IGES_BYTES: (u64, u64) = (8192, 49152);
+
+/// The memory that the output sizes, for `fmt`: the OBJ tessellation's samples or the
+/// picture's drawn vertices and pixels (as `subsurf render` estimates them) at `rate`, or,
+/// once `surface` is built, the JSON or IGES document of its patches. An upper bound of
+/// the measured peak beyond the limit surface (RELIABILITY.md).
+fn output_memory(
+    mesh: &subsurf::mesh::PolyMesh,
+    rate: u32,
+    fmt: Format,
+    patches: (u64, u64),
+) -> u64 {
+    let samples = crate::memory::tessellation_vertices(mesh, rate);
+    let per = |(square, cap): (u64, u64)| {
+        patches
+            .0
+            .saturating_mul(square)
+            .saturating_add(patches.1.saturating_mul(cap))
+    };
+    match fmt {
+        Format::Obj => samples.saturating_mul(BYTES_PER_SAMPLE),
+        Format::Png => super::render::drawing_memory(
+            mesh,
+            &Render {
+                geometry: Geometry::Limit { rate },
+                ..Default::default()
+            },
+        )
+        .saturating_add(samples.saturating_mul(PNG_EXTRA_PER_SAMPLE)),
+        Format::Json => per(JSON_BYTES),
+        Format::Iges => per(IGES_BYTES),
+    }
+}
+
+/// Squares of the isolation level `l` on `mesh`: `4^l` per quad, `n 4^(l−1)` per `n`-gon
+/// (an upper bound of the bicubic patches).
+fn squares(mesh: &subsurf::mesh::PolyMesh, l: u32) -> u64 {
+    let per_quad = 4u64.saturating_pow(l);
+    mesh.faces()
+        .map(|f| match f.len() {
+            4 => per_quad,
+            n => (n as u64).saturating_mul(per_quad / 4),
+        })
+        .fold(0u64, u64::saturating_add)
+}
+
+/// The squares and cap patches of the built `surface`.
+fn patch_counts(surface: &G2Surface, mesh: &subsurf::mesh::PolyMesh) -> (u64, u64) {
+    let caps = surface.caps().iter().map(|c| c.slots.len() as u64).sum();
+    (squares(mesh, surface.levels()), caps)
+}
+
+/// Upper bounds of [`patch_counts`] before the surface is built: the isolation level the
+/// library picks (2, 3 with n-gons, at least `K + 1` with `--adjust-steps K`) and a cap of
+/// `n` patches at every vertex of valence 3 to 16 but 4 and every n-gon's centre.
+fn patch_bound(mesh: &subsurf::mesh::PolyMesh, steps: Option<u32>) -> (u64, u64) {
+    let ngons = mesh.faces().any(|f| f.len() != 4);
+    let l = if ngons { 3 } else { 2 }.max(steps.map_or(0, |k| k.saturating_add(1)));
+    let mut valence = vec![0u64; mesh.num_vertices()];
+    for f in mesh.faces() {
+        for &v in f {
+            valence[v as usize] += 1;
+        }
+    }
+    let max = subsurf::g2cap::MAX_CAP_VALENCE as u64;
+    let at_vertices: u64 = valence
+        .iter()
+        .filter(|&&n| (3..=max).contains(&n) && n != 4)
+        .sum();
+    let at_centres: u64 = mesh
+        .faces()
+        .map(|f| f.len() as u64)
+        .filter(|&n| n != 4 && n <= max)
+        .sum();
+    (squares(mesh, l), at_vertices + at_centres)
+}
+
+/// The G2 surface's own patches and the output, for `patches` (squares, cap patches).
+fn job_memory(mesh: &subsurf::mesh::PolyMesh, rate: u32, fmt: Format, patches: (u64, u64)) -> u64 {
+    patches
+        .0
+        .saturating_mul(SURFACE_BYTES.0)
+        .saturating_add(patches.1.saturating_mul(SURFACE_BYTES.1))
+        .saturating_add(output_memory(mesh, rate, fmt, patches))
+}
+
+/// What the job does and what to do when it does not fit, for messages.
+fn describe(args: &G2Args, fmt: Format) -> (String, &'static str) {
+    match fmt {
+        Format::Png => (
+            format!("drawing the G2 surface at rate {}", args.rate),
+            "use a lower --rate",
+        ),
+        Format::Obj => (
+            format!("tessellating the G2 surface at rate {}", args.rate),
+            "use a lower --rate",
+        ),
+        Format::Json | Format::Iges => (
+            "writing the G2 surface's patches".to_owned(),
+            "the mesh has too many faces for this output",
+        ),
+    }
+}
+
+/// Builds the G2 surface of `mesh` within the memory limit (`--max-memory`, else the
+/// memory available), in three steps as the limit surface's guard (`memory::SurfaceGuard`):
+/// refused before building when the surface without its configurations, the patches and
+/// the output (upper bounds, [`patch_bound`]) would not fit; the Catmull-Clark surface's
+/// build stopped as soon as its configurations would not; refused before any point is
+/// evaluated or written when the built surface (evaluated as deep as `--rate` needs), its
+/// patches and the output would not.
+fn build_within(
+    args: &G2Args,
+    name: &str,
+    mesh: &subsurf::mesh::PolyMesh,
+    fmt: Format,
+    options: &G2SurfaceOptions,
+    mixed: Option<subsurf::Mixed>,
+) -> Result<G2Surface> {
+    let (what, hint) = describe(args, fmt);
+    let limit = args.max_memory.or_else(crate::memory::available);
+    let check = |estimate: u64| crate::memory::check(name, &what, estimate, args.max_memory, hint);
+    let reserved = job_memory(
+        mesh,
+        args.rate,
+        fmt,
+        patch_bound(mesh, mixed.map(|m| m.steps)),
+    );
+    check(subsurf::limit::LimitSurface::estimate_build_memory(mesh).saturating_add(reserved))?;
+    let surface = match (mixed, limit) {
+        (Some(m), _) => {
+            check_memory(mesh, options.scheme, m.steps)
+                .with_context(|| format!("{name}: --adjust-steps {}", m.steps))?;
+            G2Surface::new_mixed(mesh, options, m)
+        }
+        (None, Some(limit)) => G2Surface::new_within(mesh, options, limit.saturating_sub(reserved)),
+        (None, None) => G2Surface::new(mesh, options),
+    };
+    let surface = match surface {
+        Err(subsurf::g2cap::G2Error::TooLarge(e)) => anyhow::bail!(
+            "{name}: {what} needs more than {}: {e}; {hint}",
+            crate::memory::size(limit.unwrap_or(u64::MAX)),
+        ),
+        s => s.with_context(|| name.to_owned())?,
+    };
+    let actual = job_memory(mesh, args.rate, fmt, patch_counts(&surface, mesh));
+    check(
+        surface
+            .limit()
+            .estimate_memory(args.rate)
+            .saturating_add(actual),
+    )?;
+    Ok(surface)
 }
 
 /// Output formats.
@@ -152,15 +329,7 @@ pub fn run(args: &G2Args) -> Result<()> {
     };
     // `--c` (validated by clap: in [0, 1], else a usage error) with K = 1 by default.
     let mixed = super::adjustable::for_surface(&args.adjust);
-    let surface = match mixed {
-        Some(m) => {
-            check_memory(mesh, scheme, m.steps)
-                .with_context(|| format!("{}: --adjust-steps {}", input.name, m.steps))?;
-            G2Surface::new_mixed(mesh, &options, m)
-        }
-        None => G2Surface::new(mesh, &options),
-    }
-    .with_context(|| input.name.clone())?;
+    let surface = build_within(args, &input.name, mesh, fmt, &options, mixed)?;
     let adjust_flags = mixed.map_or(String::new(), |m| {
         format!(" --c {} --adjust-steps {}", m.scheme.c(), m.steps)
     });

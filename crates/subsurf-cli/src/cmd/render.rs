@@ -136,8 +136,9 @@ fn estimate_memory(mesh: &subsurf::mesh::PolyMesh, options: &Options, opts: &Ren
     drawing_memory(mesh, opts).saturating_add(geometry)
 }
 
-/// Peak memory of the picture and of the drawn vertices of `mesh` with `opts`.
-fn drawing_memory(mesh: &subsurf::mesh::PolyMesh, opts: &Render) -> u64 {
+/// Peak memory of the picture and of the drawn vertices of `mesh` with `opts` (also
+/// `subsurf g2`'s pictures).
+pub(crate) fn drawing_memory(mesh: &subsurf::mesh::PolyMesh, opts: &Render) -> u64 {
     let pixels = u64::from(opts.width) * u64::from(opts.height) * BYTES_PER_PIXEL;
     let vertices = match opts.geometry {
         Geometry::Limit { rate } => crate::memory::tessellation_vertices(mesh, rate),

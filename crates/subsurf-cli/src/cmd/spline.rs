@@ -13,7 +13,9 @@ use subsurf::io::stl::write_stl;
 use subsurf::spline::export::{
     scalar_colours, split_by_face, write_obj_coloured, write_ply_attributes, PlyAttributes, PALETTE,
 };
-use subsurf::spline::{compare_with_limit, face_colours, tessellate, QuadSpline};
+use subsurf::spline::{
+    compare_with_limit, face_colours, quad_control_mesh, tessellate, SubBasisSurface,
+};
 
 use crate::cmd::tessellate::Format;
 use crate::input::Input;
@@ -65,9 +67,50 @@ pub struct SplineArgs {
     /// edges at irregular vertices.
     #[arg(long)]
     pub report: bool,
+    /// Refuse to start when the estimated memory exceeds this (suffixes K, M, G, T: powers
+    /// of 1024) [default: the memory the system reports as available].
+    #[arg(long, value_name = "BYTES", value_parser = crate::parse_bytes)]
+    pub max_memory: Option<u64>,
     /// Print no notes.
     #[arg(short, long)]
     pub quiet: bool,
+}
+
+/// Peak bytes per sub-basis piece of the surface (a piece is 40 bytes; measured with the
+/// rest of the surface at poles of valence 1000 and 2000: 42–44).
+const BYTES_PER_PIECE: u64 = 48;
+
+/// Peak bytes per face of the surface besides its pieces and samples (its rational
+/// patch, the topology, the input; measured on a closed 400 × 400 quad torus: 980).
+const BYTES_PER_FACE: u64 = 1280;
+
+/// Peak bytes per tessellation sample, writing included (measured between rates 512 and
+/// 1024 on the cube: 193 for OBJ and PLY, with --basis or --colour-faces PLY; 215 for
+/// --colour-faces OBJ between rates 128 and 256).
+const BYTES_PER_SAMPLE: u64 = 256;
+
+/// An upper bound of the peak memory of `subsurf spline` on the quad mesh `mesh` at `rate`:
+/// every face keeps the sub-basis pieces of its four corners, `1 + 2 n` for a corner of
+/// valence `n` (so a pole of valence `n` costs `n (2 n + 1)` pieces: quadratic), and the
+/// tessellation has at most `(rate + 1)²` samples per face. Measured (release build, peak
+/// RSS by `/usr/bin/time -v`), in RELIABILITY.md.
+fn estimate_memory(mesh: &subsurf::mesh::PolyMesh, rate: u32) -> u64 {
+    let mut faces_at = vec![0u64; mesh.num_vertices()];
+    for f in mesh.faces() {
+        for &v in f {
+            faces_at[v as usize] += 1;
+        }
+    }
+    let pieces = mesh
+        .faces()
+        .flat_map(|f| f.iter().map(|&v| 1 + 2 * faces_at[v as usize]))
+        .fold(0u64, u64::saturating_add);
+    let faces = mesh.num_faces() as u64;
+    let samples = crate::memory::tessellation_vertices(mesh, rate);
+    pieces
+        .saturating_mul(BYTES_PER_PIECE)
+        .saturating_add(faces.saturating_mul(BYTES_PER_FACE))
+        .saturating_add(samples.saturating_mul(BYTES_PER_SAMPLE))
 }
 
 /// Runs `subsurf spline`.
@@ -99,9 +142,22 @@ pub fn run(args: &SplineArgs) -> Result<()> {
             input.name
         );
     }
-    let spline = QuadSpline::new(&input.obj.mesh).with_context(|| input.name.clone())?;
-    let (mesh, surface) = (&spline.control, &spline.surface);
-    if spline.subdivided && !args.quiet {
+    let (control, subdivided) =
+        quad_control_mesh(&input.obj.mesh).with_context(|| input.name.clone())?;
+    crate::memory::check(
+        &input.name,
+        &format!("the spline surface at rate {}", args.rate),
+        estimate_memory(&control, args.rate),
+        args.max_memory,
+        if args.rate > 1 {
+            "use a lower --rate"
+        } else {
+            "the mesh is too large (a vertex of valence n costs n (2n + 1) sub-basis pieces)"
+        },
+    )?;
+    let surface = SubBasisSurface::new(&control).with_context(|| input.name.clone())?;
+    let (mesh, surface) = (control.as_ref(), &surface);
+    if subdivided && !args.quiet {
         eprintln!(
             "note: {}: the mesh has non-quad faces; applied one Catmull-Clark step first \
              ({} quads, {} control points)",

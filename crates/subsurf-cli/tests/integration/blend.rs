@@ -142,3 +142,185 @@ fn g1_fill_needs_patches_sharing_tangent_planes() {
     );
     assert!(!dir.path().join("out2.obj").exists());
 }
+
+#[test]
+fn errors_name_the_input_file_or_standard_input() {
+    let one_patch = {
+        let v: serde_json::Value = serde_json::from_str(BLEND3).unwrap();
+        serde_json::to_string(&serde_json::Value::Array(vec![v[0].clone()])).unwrap()
+    };
+    let two_curves = r#"[
+      {"type": "bspline-curve", "degree": 3, "knots": [0,0,0,0,1,1,1,1],
+       "points": [[0,0,0],[1,0,0],[2,0,0],[3,0,0]]},
+      {"type": "bspline-curve", "degree": 3, "knots": [0,0,0,0,1,1,1,1],
+       "points": [[3,0,0],[3,1,0],[3,2,0],[3,3,0]]}
+    ]"#;
+    let dir = dir_with(&[("c.json", two_curves), ("p.json", &one_patch)]);
+    for (args, input, expected) in [
+        (
+            vec!["fill", "c.json"],
+            None,
+            "c.json: sides of the hole: got 2",
+        ),
+        (
+            vec!["blend", "p.json"],
+            None,
+            "p.json: patches to blend: got 1",
+        ),
+        (
+            vec!["fill", "-"],
+            Some(two_curves),
+            "<stdin>: sides of the hole: got 2",
+        ),
+        (
+            vec!["blend", "-"],
+            Some(one_patch.as_str()),
+            "<stdin>: patches to blend: got 1",
+        ),
+        (vec!["blend", "-"], Some(two_curves), "<stdin>[0]: a curve"),
+    ] {
+        let mut all = args.clone();
+        all.extend(["-o", "out.obj"]);
+        let o = match input {
+            Some(text) => run_with_stdin(dir.path(), &all, text),
+            None => run_in(dir.path(), &all),
+        };
+        assert_code(&o, 1);
+        assert!(
+            stderr(&o).contains(&format!("error: {expected}")),
+            "{args:?}: {}",
+            stderr(&o)
+        );
+        assert!(!dir.path().join("out.obj").exists());
+    }
+}
+
+#[test]
+fn fill_refuses_a_bulge_that_would_overflow() {
+    let dir = dir_with(&[("h.json", HOLE3)]);
+    let o = run_in(
+        dir.path(),
+        &["fill", "h.json", "-o", "out.obj", "--bulge", "1e308"],
+    );
+    assert_code(&o, 1);
+    let e = stderr(&o);
+    assert!(
+        e.starts_with("error: h.json: bulge 1e308 moves the fill's centre"),
+        "{e}"
+    );
+    assert!(e.contains("use a smaller bulge"), "{e}");
+    assert!(!dir.path().join("out.obj").exists());
+    for bad in ["--bulge=inf", "--bulge=-inf", "--bulge=nan"] {
+        let o = run_in(dir.path(), &["fill", "h.json", "-o", "out.obj", bad]);
+        assert_code(&o, 2);
+        assert!(
+            stderr(&o).contains("is not a finite number"),
+            "{}",
+            stderr(&o)
+        );
+    }
+    // Large but representable: accepted.
+    let o = run_in(
+        dir.path(),
+        &[
+            "fill", "h.json", "-o", "out.obj", "--bulge", "1e6", "--levels", "1",
+        ],
+    );
+    assert_code(&o, 0);
+}
+
+/// `text` (a JSON array of patches) with `weights` added: `w(k, i, j)` for patch `k`.
+fn with_weights(text: &str, w: impl Fn(usize, usize, usize) -> f64) -> String {
+    let mut v: serde_json::Value = serde_json::from_str(text).unwrap();
+    for (k, doc) in v.as_array_mut().unwrap().iter_mut().enumerate() {
+        let rows = doc["points"].as_array().unwrap();
+        let weights: Vec<Vec<f64>> = rows
+            .iter()
+            .enumerate()
+            .map(|(i, row)| {
+                (0..row.as_array().unwrap().len())
+                    .map(|j| w(k, i, j))
+                    .collect()
+            })
+            .collect();
+        doc["weights"] = serde_json::json!(weights);
+    }
+    serde_json::to_string_pretty(&v).unwrap()
+}
+
+#[test]
+fn nurbs_patches_are_blended_and_filled() {
+    let ones = |_: usize, _: usize, _: usize| 1.0;
+    let varied = |k: usize, i: usize, j: usize| 0.6 + 0.25 * ((k + 2 * i + 3 * j) % 4) as f64;
+    for (cmd, text, extra) in [
+        ("blend", BLEND3, vec![]),
+        ("fill", HOLE3, vec![]),
+        ("fill", HOLE3_G1, vec!["--g1"]),
+    ] {
+        let dir = dir_with(&[
+            ("poly.json", text),
+            ("ones.json", &with_weights(text, ones)),
+            ("varied.json", &with_weights(text, varied)),
+        ]);
+        let run = |input: &str, out: &str| {
+            let mut args = vec![cmd, input, "-o", out, "--levels", "2"];
+            args.extend(&extra);
+            run_in(dir.path(), &args)
+        };
+        assert_code(&run("poly.json", "poly.obj"), 0);
+        // Weights 1: exactly the polynomial blend or fill (the tessellated base patches,
+        // evaluated as NURBS, may differ in the last bits).
+        assert_code(&run("ones.json", "ones.obj"), 0);
+        let read = |f: &str| fs::read_to_string(dir.path().join(f)).unwrap();
+        let group = |text: String| {
+            let start = text
+                .find(&format!("\ng {cmd}\n"))
+                .expect("the method's group");
+            let rest = &text[start + 1..];
+            let end = rest[2..].find("\ng ").map_or(rest.len(), |e| e + 2);
+            rest[..end].to_owned()
+        };
+        assert_eq!(
+            group(read("ones.obj")),
+            group(read("poly.obj")),
+            "{cmd} {extra:?}"
+        );
+        let o = run("varied.json", "varied.obj");
+        if extra.is_empty() {
+            assert_code(&o, 0);
+            assert_ne!(read("varied.obj"), read("poly.obj"));
+        } else {
+            // The G1 fill takes polynomial patches (or one weight per patch) only.
+            assert_code(&o, 1);
+            assert!(
+                stderr(&o).contains("varied.json[0]: patch 0 is rational with unequal weights"),
+                "{}",
+                stderr(&o)
+            );
+        }
+    }
+}
+
+#[test]
+fn blend_and_fill_refuse_jobs_over_max_memory() {
+    let dir = dir_with(&[("b.json", BLEND5), ("h.json", HOLE5)]);
+    for args in [
+        vec!["blend", "b.json", "--levels", "8"],
+        vec!["fill", "h.json", "--levels", "8"],
+        vec!["fill", "h.json", "--levels", "1", "--samples", "256"],
+    ] {
+        let mut all = args.clone();
+        all.extend(["-o", "out.obj", "--max-memory", "32M"]);
+        let o = run_in(dir.path(), &all);
+        assert_code(&o, 1);
+        let e = stderr(&o);
+        let file = args[1];
+        assert!(e.starts_with(&format!("error: {file}: ")), "{e}");
+        assert!(
+            e.contains("needs about")
+                && e.contains("MiB, more than the limit of 32 MiB (--max-memory)"),
+            "{e}"
+        );
+        assert!(!dir.path().join("out.obj").exists());
+    }
+}

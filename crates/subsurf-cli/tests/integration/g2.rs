@@ -291,3 +291,45 @@ fn png_with_shape_parameter_compares_with_the_mixed_surface() {
     assert_ne!(g2, mixed);
     assert_ne!(mixed, cc);
 }
+
+/// `--rate` sizes the tessellation and the picture: refused up front above --max-memory
+/// (exit 1, nothing written); JSON output does not depend on the rate.
+#[test]
+fn large_rates_are_refused_up_front() {
+    let dir = dir_with(&[("cube.obj", CUBE)]);
+    for (out, what) in [("out.obj", "tessellating"), ("out.png", "drawing")] {
+        let o = run_in(
+            dir.path(),
+            &[
+                "g2",
+                "cube.obj",
+                "-o",
+                out,
+                "--rate",
+                "4096",
+                "--max-memory",
+                "1G",
+            ],
+        );
+        assert_code(&o, 1);
+        let e = stderr(&o);
+        let prefix = format!("error: cube.obj: {what} the G2 surface at rate 4096 needs about ");
+        assert!(e.starts_with(&prefix), "{e}");
+        assert!(e.contains("(--max-memory); use a lower --rate"), "{e}");
+        assert!(!dir.path().join(out).exists());
+    }
+    let o = run_in(
+        dir.path(),
+        &[
+            "g2",
+            "cube.obj",
+            "-o",
+            "out.json",
+            "--rate",
+            "4096",
+            "--max-memory",
+            "64M",
+        ],
+    );
+    assert_code(&o, 0);
+}

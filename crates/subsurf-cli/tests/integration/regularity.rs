@@ -195,3 +195,30 @@ fn reads_standard_input_and_forces_planar() {
     let v: serde_json::Value = serde_json::from_str(&stdout(&o)).expect("JSON");
     assert_eq!(v["dimension"], "planar");
 }
+
+/// Sampling and plotting are refused up front above --max-memory (exit 1, no plot).
+#[test]
+fn jobs_over_max_memory_are_refused_up_front() {
+    let dir = dir_with(&[("gear.obj", GEAR)]);
+    for args in [
+        vec!["--sample", "1024"],
+        vec!["--sample", "0", "--plot", "fans.svg"],
+    ] {
+        let mut all = vec!["regularity", "gear.obj", "--max-memory", "100K"];
+        all.extend(&args);
+        let o = run_in(dir.path(), &all);
+        assert_code(&o, 1);
+        let e = stderr(&o);
+        assert!(e.starts_with("error: gear.obj: "), "{e}");
+        assert!(
+            e.contains("more than the limit of 100 KiB (--max-memory)"),
+            "{e}"
+        );
+        assert!(!dir.path().join("fans.svg").exists());
+    }
+    let o = run_in(
+        dir.path(),
+        &["regularity", "gear.obj", "--local", "--max-memory", "256M"],
+    );
+    assert_code(&o, 0);
+}

@@ -234,3 +234,78 @@ fn tags_are_ignored_with_a_note() {
     assert_code(&o, 0);
     assert!(stderr(&o).is_empty(), "{}", stderr(&o));
 }
+
+/// A closed quad mesh with two poles of valence `n`: pole, a ring of `2n` points joined to
+/// it by `n` quads, a second ring, the other pole.
+fn two_poles(n: usize) -> String {
+    let mut text = String::from("v 0 0 1\n");
+    for ring in [0.7, -0.7] {
+        for j in 0..2 * n {
+            let a = std::f64::consts::PI * j as f64 / n as f64;
+            text += &format!("v {} {} {ring}\n", 0.5 * a.cos(), 0.5 * a.sin());
+        }
+    }
+    text += "v 0 0 -1\n";
+    let a = |j: usize| 2 + j % (2 * n);
+    let b = |j: usize| 2 + 2 * n + j % (2 * n);
+    let q = 4 * n + 2;
+    for i in 0..n {
+        text += &format!("f 1 {} {} {}\n", a(2 * i), a(2 * i + 1), a(2 * i + 2));
+        text += &format!("f {q} {} {} {}\n", b(2 * i + 2), b(2 * i + 1), b(2 * i));
+    }
+    for j in 0..2 * n {
+        text += &format!("f {} {} {} {}\n", a(j), b(j), b(j + 1), a(j + 1));
+    }
+    text
+}
+
+/// The rate and the poles' valence size the job: both are refused up front when the
+/// estimate exceeds --max-memory (exit 1, nothing written), in the form of `tessellate`.
+#[test]
+fn large_rates_and_poles_are_refused_up_front() {
+    let dir = dir_with(&[("cube.obj", CUBE), ("pole.obj", &two_poles(4000))]);
+    for (file, rate, limit, hint) in [
+        ("cube.obj", "4096", "1G", "use a lower --rate"),
+        (
+            "pole.obj",
+            "1",
+            "512M",
+            "the mesh is too large (a vertex of valence n",
+        ),
+    ] {
+        let o = run_in(
+            dir.path(),
+            &[
+                "spline",
+                file,
+                "-o",
+                "out.obj",
+                "--rate",
+                rate,
+                "--max-memory",
+                limit,
+            ],
+        );
+        assert_code(&o, 1);
+        let e = stderr(&o);
+        let prefix = format!("error: {file}: the spline surface at rate {rate} needs about ");
+        assert!(e.starts_with(&prefix), "{e}");
+        assert!(e.contains(&format!("(--max-memory); {hint}")), "{e}");
+        assert!(!dir.path().join("out.obj").exists());
+    }
+    // Within the limit, the same jobs at a low rate run.
+    let o = run_in(
+        dir.path(),
+        &[
+            "spline",
+            "cube.obj",
+            "-o",
+            "out.obj",
+            "--rate",
+            "4",
+            "--max-memory",
+            "64M",
+        ],
+    );
+    assert_code(&o, 0);
+}

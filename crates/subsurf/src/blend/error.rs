@@ -130,6 +130,14 @@ pub enum BlendError {
         /// How far from coplanar (relative).
         residual: f64,
     },
+    /// A rational patch with unequal weights given to the G1 fill, whose construction
+    /// (seed 002, Algorithm 2: the G1 conditions between adjacent Bézier patches) is for
+    /// polynomial patches.
+    #[error("patch {index} is rational with unequal weights: the G1 fill meets polynomial patches only (the fill without G1 takes rational patches)")]
+    RationalG1 {
+        /// Index in the input list.
+        index: usize,
+    },
     /// A bad option value.
     #[error("{0}")]
     Option(String),
@@ -145,7 +153,8 @@ impl BlendError {
             | Self::Unsupported { index, .. }
             | Self::NotClamped { index, .. }
             | Self::Corner { index, .. }
-            | Self::TangentPlane { index, .. } => Some(index),
+            | Self::TangentPlane { index, .. }
+            | Self::RationalG1 { index } => Some(index),
             _ => None,
         }
     }

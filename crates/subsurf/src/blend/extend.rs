@@ -124,7 +124,11 @@ pub fn add_extension_layer(mesh: &PolyMesh, interval: f64) -> Result<PolyMesh, B
         verts.extend_from_slice(f);
         offsets.push(verts.len() as u32);
     };
-    for (&a, &b) in &out_edge {
+    // In the order of the boundary edges' first vertices, so that the output does not
+    // depend on the hash map's order (the same input gives the same mesh).
+    let mut boundary_edges: Vec<(u32, u32)> = out_edge.iter().map(|(&a, &b)| (a, b)).collect();
+    boundary_edges.sort_unstable();
+    for (a, b) in boundary_edges {
         let (oa, ob) = (o_out[&a], o_in[&b]);
         push(&[b, a, oa, ob], &mut offsets, &mut verts);
         let d = own.get(&key(a, b)).copied().unwrap_or(1.0);
@@ -143,8 +147,27 @@ pub fn add_extension_layer(mesh: &PolyMesh, interval: f64) -> Result<PolyMesh, B
             }
         }
     }
+    // Each new vertex has the weight of the boundary vertex it was made from (its position
+    // and weight never reach the surface, but must be valid).
+    let new_weights = if mesh.knots.weights.is_empty() {
+        Vec::new()
+    } else {
+        let w = super::homogeneous::mesh_weights(mesh);
+        let mut all = w.clone();
+        all.resize(pos.len(), 1.0);
+        for (&v, &o) in o_in.iter().chain(&o_out) {
+            all[o as usize] = w[v as usize];
+        }
+        for f in &corner_faces {
+            all[f[2] as usize] = w[f[0] as usize];
+        }
+        crate::mesh::VertexWeight::tags(&all)
+    };
     let mut out = PolyMesh::new(pos, offsets, verts)?;
     out.knots = mesh.knots.clone();
+    if !new_weights.is_empty() {
+        out.knots.weights = new_weights;
+    }
     out.tags = mesh.tags.clone();
     for (a, b, d) in new_intervals {
         push_interval(&mut out, a, b, d);

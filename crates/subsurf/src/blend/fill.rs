@@ -60,10 +60,13 @@ use std::collections::HashMap;
 
 use super::extend::add_extension_layer;
 use super::grid::{intervals, push_interval};
-use super::skirt::{nurss_refine_once, real_part, refine_with_skirt};
+use super::homogeneous::{
+    curve_of, mean, mesh_weights, weighted, weighted_mesh, BoundaryCurve, Patch,
+};
+use super::skirt::{merge_degenerate, nurss_refine_once, real_part, refine_with_skirt};
 use super::BlendError;
 use crate::mesh::PolyMesh;
-use crate::nurbs::{BSplineCurve, BSplineSurface, KnotVector};
+use crate::nurbs::{BSplineCurve, BSplineSurface, Curve, KnotVector};
 
 /// Fewest sides of a hole.
 pub const MIN_SIDES: usize = 3;
@@ -90,21 +93,35 @@ impl Default for FillOptions {
     }
 }
 
-/// The boundary curve `S(u_3, v)` of a bicubic patch's first-row side, clamped.
+/// The boundary curve `S(u_3, v)` of a bicubic patch's first-row side, clamped. For a
+/// homogeneous patch (`D = 4`, points `(w P, w)`) this is the homogeneous boundary curve,
+/// whose projection is the NURBS boundary.
 ///
 /// # Errors
 /// [`BlendError::Degree`], [`BlendError::Unsupported`] naming patch `index`.
-pub fn patch_boundary(s: &BSplineSurface<3>, index: usize) -> Result<BSplineCurve<3>, BlendError> {
+pub fn patch_boundary<const D: usize>(
+    s: &BSplineSurface<D>,
+    index: usize,
+) -> Result<BSplineCurve<D>, BlendError> {
     super::patch::check_bicubic(s, index)?;
     let (nu, nv) = s.size();
     let u0 = s.domain().0 .0;
     let mut pts = Vec::with_capacity(nv);
     for j in 0..nv {
-        let col: Vec<[f64; 3]> = (0..nu).map(|i| s.points()[i * nv + j]).collect();
+        let col: Vec<[f64; D]> = (0..nu).map(|i| s.points()[i * nv + j]).collect();
         let c = BSplineCurve::new(s.knots_u().clone(), col)?;
         pts.push(c.eval(u0)?);
     }
     clamp(&BSplineCurve::new(s.knots_v().clone(), pts)?)
+}
+
+/// [`patch_boundary`] of a polynomial or rational patch, as a polynomial or rational curve
+/// (a NURBS patch's boundary is the projection of its homogeneous boundary curve).
+///
+/// # Errors
+/// As [`patch_boundary`].
+pub fn surface_boundary<P: Patch>(s: &P, index: usize) -> Result<Curve, BlendError> {
+    curve_of(patch_boundary(&s.homogeneous(), index)?)
 }
 
 /// The same cubic curve on its domain with clamped knots (end knots of multiplicity 4), by
@@ -115,7 +132,7 @@ pub fn patch_boundary(s: &BSplineSurface<3>, index: usize) -> Result<BSplineCurv
 ///
 /// # Errors
 /// [`BlendError::Degree`] unless cubic; [`BlendError::Unsupported`] if closed.
-pub fn clamp(c: &BSplineCurve<3>) -> Result<BSplineCurve<3>, BlendError> {
+pub fn clamp<const D: usize>(c: &BSplineCurve<D>) -> Result<BSplineCurve<D>, BlendError> {
     check_curve(c, 0)?;
     let (a, b) = c.domain();
     let mut c = c.clone();
@@ -137,7 +154,7 @@ pub fn clamp(c: &BSplineCurve<3>) -> Result<BSplineCurve<3>, BlendError> {
     Ok(BSplineCurve::new(KnotVector::new(3, knots)?, points)?)
 }
 
-fn check_curve(c: &BSplineCurve<3>, index: usize) -> Result<(), BlendError> {
+fn check_curve<const D: usize>(c: &BSplineCurve<D>, index: usize) -> Result<(), BlendError> {
     if c.degree() != 3 {
         return Err(BlendError::Degree {
             what: "curve",
@@ -156,16 +173,42 @@ fn check_curve(c: &BSplineCurve<3>, index: usize) -> Result<(), BlendError> {
 }
 
 /// The curve traversed backwards (`t ↦ a + b − t`).
-pub fn reversed(c: &BSplineCurve<3>) -> Result<BSplineCurve<3>, BlendError> {
+pub fn reversed<const D: usize>(c: &BSplineCurve<D>) -> Result<BSplineCurve<D>, BlendError> {
     let t = c.knots().as_slice();
     let (lo, hi) = (t[0], t[t.len() - 1]);
     let knots: Vec<f64> = t.iter().rev().map(|&x| lo + hi - x).collect();
-    let pts: Vec<[f64; 3]> = c.points().iter().rev().copied().collect();
+    let pts: Vec<[f64; D]> = c.points().iter().rev().copied().collect();
     Ok(BSplineCurve::new(KnotVector::new(c.degree(), knots)?, pts)?)
 }
 
 fn dist(a: [f64; 3], b: [f64; 3]) -> f64 {
     ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+}
+
+/// The weight of a control point: `p[3]` of a homogeneous point (`D = 4`), else 1.
+fn weight_of<const D: usize>(p: &[f64; D]) -> f64 {
+    if D == 4 {
+        p[D - 1]
+    } else {
+        1.0
+    }
+}
+
+/// The Cartesian point of a control point: `(x, y, z) / w` of a homogeneous point (`D = 4`),
+/// else the point.
+fn cart_of<const D: usize>(p: &[f64; D]) -> [f64; 3] {
+    let w = weight_of(p);
+    [p[0] / w, p[1] / w, p[2] / w]
+}
+
+/// The control point of Cartesian `c` with the weight of `p`.
+fn with_cart<const D: usize>(p: &[f64; D], c: [f64; 3]) -> [f64; D] {
+    let w = weight_of(p);
+    let mut out = *p;
+    for k in 0..3 {
+        out[k] = w * c[k];
+    }
+    out
 }
 
 /// Clamps, orients and chains `curves` into a closed loop (curve `k` ends where curve
@@ -174,10 +217,10 @@ fn dist(a: [f64; 3], b: [f64; 3]) -> f64 {
 /// # Errors
 /// [`BlendError::Count`], [`BlendError::Degree`], [`BlendError::Unsupported`],
 /// [`BlendError::ShortCurve`], [`BlendError::Corner`] naming the curve.
-pub fn chain_curves(
-    curves: &[BSplineCurve<3>],
+pub fn chain_curves<const D: usize>(
+    curves: &[BSplineCurve<D>],
     tolerance: f64,
-) -> Result<Vec<BSplineCurve<3>>, BlendError> {
+) -> Result<Vec<BSplineCurve<D>>, BlendError> {
     let n = curves.len();
     if !(MIN_SIDES..=MAX_SIDES).contains(&n) {
         return Err(BlendError::Count {
@@ -206,10 +249,13 @@ pub fn chain_curves(
         }
         cs.push(c);
     }
-    let ends = |c: &BSplineCurve<3>| (c.points()[0], c.points()[c.points().len() - 1]);
+    let ends = |c: &BSplineCurve<D>| {
+        let p = c.points();
+        (cart_of(&p[0]), cart_of(&p[p.len() - 1]))
+    };
     let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
     for c in &cs {
-        for p in c.points() {
+        for p in c.points().iter().map(cart_of) {
             for k in 0..3 {
                 lo[k] = lo[k].min(p[k]);
                 hi[k] = hi[k].max(p[k]);
@@ -253,7 +299,7 @@ pub fn chain_curves(
             let c = &out[idx];
             let mut pts = c.points().to_vec();
             let i = if last { pts.len() - 1 } else { 0 };
-            pts[i] = m;
+            pts[i] = with_cart(&pts[i], m);
             out[idx] = BSplineCurve::new(c.knots().clone(), pts)?;
         }
     }
@@ -270,7 +316,9 @@ pub fn chain_curves(
 ///
 /// # Errors
 /// [`BlendError::Nurbs`] (none in practice for valid curves).
-pub fn equalize_end_spans(curves: &[BSplineCurve<3>]) -> Result<Vec<BSplineCurve<3>>, BlendError> {
+pub fn equalize_end_spans<const D: usize>(
+    curves: &[BSplineCurve<D>],
+) -> Result<Vec<BSplineCurve<D>>, BlendError> {
     curves
         .iter()
         .map(|c| {
@@ -297,18 +345,19 @@ pub fn equalize_end_spans(curves: &[BSplineCurve<3>]) -> Result<Vec<BSplineCurve
 
 /// The fill control mesh of a chained loop of clamped curves (from [`chain_curves`] and
 /// [`equalize_end_spans`]), with its extension layer (see the
-/// [module documentation](self)).
+/// [module documentation](self)). Homogeneous curves (`D = 4`, points `(w P, w)`, from
+/// NURBS curves whose weights agree at the shared corners) give a rational mesh: layer 1
+/// keeps the curves' weights, every other point gets their mean (see
+/// [`super::homogeneous`]).
 ///
 /// # Errors
-/// [`BlendError::Option`] for a non-finite bulge, [`BlendError::ShortCurve`] for a curve
-/// with fewer than 6 control points (equalized curves have at least 6);
-/// [`BlendError::Mesh`].
-pub fn fill_control_mesh(curves: &[BSplineCurve<3>], bulge: f64) -> Result<PolyMesh, BlendError> {
-    if !bulge.is_finite() {
-        return Err(BlendError::Option(format!(
-            "bulge {bulge} must be a finite number"
-        )));
-    }
+/// [`BlendError::Option`] for a non-finite bulge or one that moves the centre beyond
+/// [`crate::mesh::MAX_COORDINATE`], [`BlendError::ShortCurve`] for a curve with fewer than 6
+/// control points (equalized curves have at least 6); [`BlendError::Mesh`].
+pub fn fill_control_mesh<const D: usize>(
+    curves: &[BSplineCurve<D>],
+    bulge: f64,
+) -> Result<PolyMesh, BlendError> {
     let n = curves.len();
     for (index, c) in curves.iter().enumerate() {
         if c.points().len() < 6 {
@@ -320,15 +369,19 @@ pub fn fill_control_mesh(curves: &[BSplineCurve<3>], bulge: f64) -> Result<PolyM
     }
     let m: Vec<usize> = curves.iter().map(|c| c.points().len() - 1).collect();
     let mut pos: Vec<[f64; 3]> = Vec::new();
+    let mut weights: Vec<f64> = Vec::new();
     // Layer 1: corner k, then the inner points of side k.
     let mut corner = vec![0u32; n];
     let mut inner_p = vec![Vec::new(); n];
     for k in 0..n {
         corner[k] = pos.len() as u32;
-        pos.push(curves[k].points()[0]);
-        for j in 1..m[k] {
-            inner_p[k].push(pos.len() as u32);
-            pos.push(curves[k].points()[j]);
+        for j in 0..m[k] {
+            if j > 0 {
+                inner_p[k].push(pos.len() as u32);
+            }
+            let q = &curves[k].points()[j];
+            pos.push(cart_of(q));
+            weights.push(weight_of(q));
         }
     }
     let p = |k: usize, j: usize| -> u32 {
@@ -340,34 +393,7 @@ pub fn fill_control_mesh(curves: &[BSplineCurve<3>], bulge: f64) -> Result<PolyM
             inner_p[k][j - 1]
         }
     };
-    let boundary: Vec<[f64; 3]> = (0..n)
-        .flat_map(|k| (0..m[k]).map(move |j| (k, j)))
-        .map(|(k, j)| pos[p(k, j) as usize])
-        .collect();
-    let nb = boundary.len() as f64;
-    let mut g = [0.0; 3];
-    for q in &boundary {
-        for k in 0..3 {
-            g[k] += q[k] / nb;
-        }
-    }
-    let h = boundary.iter().map(|&q| dist(q, g)).sum::<f64>() / nb;
-    let mut normal = [0.0; 3];
-    for (i, a) in boundary.iter().enumerate() {
-        let b = boundary[(i + 1) % boundary.len()];
-        normal[0] += (a[1] - b[1]) * (a[2] + b[2]);
-        normal[1] += (a[2] - b[2]) * (a[0] + b[0]);
-        normal[2] += (a[0] - b[0]) * (a[1] + b[1]);
-    }
-    let len = dist(normal, [0.0; 3]);
-    if len > 0.0 {
-        normal = normal.map(|x| x / len);
-    }
-    let gp = [
-        g[0] + bulge * h * normal[0],
-        g[1] + bulge * h * normal[1],
-        g[2] + bulge * h * normal[2],
-    ];
+    let gp = bulged_centre(&pos, bulge)?;
     let toward = |a: [f64; 3], f: f64| {
         [
             a[0] + (gp[0] - a[0]) * f,
@@ -457,7 +483,9 @@ pub fn fill_control_mesh(curves: &[BSplineCurve<3>], bulge: f64) -> Result<PolyM
     } else {
         faces.push(ring);
     }
-    let mut mesh = PolyMesh::from_faces(pos, &faces)?;
+    let free = mean(weights.iter().copied());
+    weights.resize(pos.len(), free);
+    let mut mesh = weighted_mesh(pos, &weights, &faces)?;
     let mut side_sum = 0.0;
     let mut side_count = 0usize;
     for k in 0..n {
@@ -497,12 +525,66 @@ pub fn fill_control_mesh(curves: &[BSplineCurve<3>], bulge: f64) -> Result<PolyM
     add_extension_layer(&mesh, 0.0)
 }
 
+/// The fill's centre `G' = G + bulge · h · n` of the closed boundary polygon `boundary`:
+/// `G` the centroid of its points, `h` their mean distance from `G`, `n` the unit Newell
+/// normal (oriented by the polygon's direction).
+///
+/// # Errors
+/// [`BlendError::Option`] for a non-finite `bulge`, or one that puts `G'` beyond
+/// [`crate::mesh::MAX_COORDINATE`] in a coordinate (refinement multiplies coordinates; below
+/// that bound every product is finite).
+pub(crate) fn bulged_centre(boundary: &[[f64; 3]], bulge: f64) -> Result<[f64; 3], BlendError> {
+    if !bulge.is_finite() {
+        return Err(BlendError::Option(format!(
+            "bulge {bulge} must be a finite number"
+        )));
+    }
+    let nb = boundary.len() as f64;
+    let mut g = [0.0; 3];
+    for q in boundary {
+        for k in 0..3 {
+            g[k] += q[k] / nb;
+        }
+    }
+    let h = boundary.iter().map(|&q| dist(q, g)).sum::<f64>() / nb;
+    let mut normal = [0.0; 3];
+    for (i, a) in boundary.iter().enumerate() {
+        let b = boundary[(i + 1) % boundary.len()];
+        normal[0] += (a[1] - b[1]) * (a[2] + b[2]);
+        normal[1] += (a[2] - b[2]) * (a[0] + b[0]);
+        normal[2] += (a[0] - b[0]) * (a[1] + b[1]);
+    }
+    let len = dist(normal, [0.0; 3]);
+    if len > 0.0 {
+        normal = normal.map(|x| x / len);
+    }
+    let gp = [
+        g[0] + bulge * h * normal[0],
+        g[1] + bulge * h * normal[1],
+        g[2] + bulge * h * normal[2],
+    ];
+    if gp
+        .iter()
+        .any(|c| !c.is_finite() || c.abs() > crate::mesh::MAX_COORDINATE)
+    {
+        return Err(BlendError::Option(format!(
+            "bulge {bulge:e} moves the fill's centre {:.3e} away from the boundary (the bulge \
+             times the hole's mean radius {h:.3e}); coordinates must stay below 1e75 in \
+             magnitude: use a smaller bulge",
+            (bulge * h).abs()
+        )));
+    }
+    Ok(gp)
+}
+
 /// A filled hole.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Fill {
     /// The boundary curves, clamped, oriented, chained and with equalized end spans
-    /// ([`equalize_end_spans`]): the input curves as point sets, reparametrized affinely.
-    pub curves: Vec<BSplineCurve<3>>,
+    /// ([`equalize_end_spans`]): the input curves as point sets, reparametrized affinely
+    /// (rational curves whose weights disagree at the corners also by
+    /// [`match_corner_weights`]).
+    pub curves: Vec<Curve>,
     /// The fill control mesh with its extension layer.
     pub control: PolyMesh,
     /// The refined mesh, extension layer included.
@@ -510,25 +592,29 @@ pub struct Fill {
 }
 
 impl Fill {
-    /// The fill surface: the real part of the refined mesh (its control points).
+    /// The fill surface: the real part of the refined mesh (its control points), with the
+    /// vertices that zero knot intervals make coincide merged
+    /// ([`super::skirt::merge_degenerate`]).
     ///
     /// # Errors
     /// None in practice.
     pub fn surface(&self) -> Result<PolyMesh, BlendError> {
-        real_part(&self.refined)
+        merge_degenerate(&real_part(&self.refined)?)
     }
 
     /// The limit of the fill along its boundary, exactly: the refined mesh's real boundary
     /// loop, cut at the corners (vertices whose two loop edges both have interval 0) into
     /// one clamped cubic B-spline per side (control points along the loop, knots from the
-    /// loop's intervals, starting at the input curve's first knot). Side `k` runs from
-    /// corner `k` to corner `k + 1` like [`curves`](Self::curves)`[k]`.
+    /// loop's intervals, starting at the input curve's first knot; rational, with the
+    /// mesh's weights, when the fill is). Side `k` runs from corner `k` to corner `k + 1`
+    /// like [`curves`](Self::curves)`[k]`.
     ///
     /// # Errors
     /// [`BlendError::Grid`] if the loop does not have one corner per side (also when a
     /// curve has an interior knot of multiplicity 3, which looks like a corner).
-    pub fn boundary_curves(&self) -> Result<Vec<BSplineCurve<3>>, BlendError> {
+    pub fn boundary_curves(&self) -> Result<Vec<Curve>, BlendError> {
         let real = real_part(&self.refined)?;
+        let w = mesh_weights(&real);
         let iv = intervals(&real);
         let d = |a: u32, b: u32| iv.get(&(a.min(b), a.max(b))).copied().unwrap_or(1.0);
         let mut count: HashMap<(u32, u32), u32> = HashMap::new();
@@ -580,7 +666,10 @@ impl Fill {
             let (i0, i1) = (corners[(first + s) % n], corners[(first + s + 1) % n]);
             let len = (i1 + l - i0) % l;
             let ids: Vec<u32> = (0..=len).map(|t| lp[(i0 + t) % l]).collect();
-            let pts: Vec<[f64; 3]> = ids.iter().map(|&v| real.positions()[v as usize]).collect();
+            let pts: Vec<[f64; 4]> = ids
+                .iter()
+                .map(|&v| weighted(real.positions()[v as usize], w[v as usize]))
+                .collect();
             let t0 = self.curves[s].knots().as_slice()[0];
             let mut knots = vec![t0, t0, t0];
             for w in ids.windows(2) {
@@ -589,28 +678,150 @@ impl Fill {
             }
             let last = knots[knots.len() - 1];
             knots.extend([last, last]);
-            out.push(BSplineCurve::new(KnotVector::new(3, knots)?, pts)?);
+            out.push(curve_of(BSplineCurve::new(
+                KnotVector::new(3, knots)?,
+                pts,
+            )?)?);
         }
         Ok(out)
     }
 }
 
-/// Fills the hole bounded by `curves` (Algorithm 1): chains them ([`chain_curves`]), builds
-/// [`fill_control_mesh`] and refines it `levels` times with NURSS and skirt removal.
+/// Fills the hole bounded by `curves` (Algorithm 1), polynomial ([`BSplineCurve<3>`]),
+/// rational ([`NurbsCurve`](crate::nurbs::NurbsCurve)) or either ([`Curve`]): chains them
+/// ([`chain_curves`]), matches rational curves' weights at the corners
+/// ([`match_corner_weights`]), builds [`fill_control_mesh`] and refines it `levels` times
+/// with NURSS (in homogeneous coordinates when rational) and skirt removal.
 ///
 /// # Errors
 /// As [`chain_curves`] and [`fill_control_mesh`]; NURSS errors.
-pub fn fill(
-    curves: &[BSplineCurve<3>],
+pub fn fill<C: BoundaryCurve>(
+    curves: &[C],
     levels: u32,
     opts: &FillOptions,
 ) -> Result<Fill, BlendError> {
-    let curves = equalize_end_spans(&chain_curves(curves, opts.corner_tolerance)?)?;
-    let control = fill_control_mesh(&curves, opts.bulge)?;
+    let homogeneous: Vec<BSplineCurve<4>> = curves
+        .iter()
+        .map(|c| c.homogeneous().into_owned())
+        .collect();
+    let chained = match_corner_weights(chain_curves(&homogeneous, opts.corner_tolerance)?)?;
+    let prepared = equalize_end_spans(&chained)?;
+    let control = fill_control_mesh(&prepared, opts.bulge)?;
     let refined = refine_with_skirt(&control, levels, &mut [], nurss_refine_once)?;
     Ok(Fill {
-        curves,
+        curves: prepared
+            .into_iter()
+            .map(curve_of)
+            .collect::<Result<_, _>>()?,
         control,
         refined,
     })
+}
+
+/// Rational curves chained around a hole (from [`chain_curves`]: clamped, curve `k` ending
+/// where curve `k + 1` starts) with one weight at each shared corner, as the fill mesh
+/// needs (a corner is one vertex of both sides), the curves unchanged as point sets.
+///
+/// Two changes keep a NURBS curve as a point set: multiplying all its homogeneous points by
+/// a constant, and a rational linear (Möbius) reparametrization, which also changes the
+/// ratio of its end weights (see [`reweight_ends`]). Corner `k` needs
+/// `λ_{k−1} e_{k−1} = λ_k s_k` (`s_k`, `e_k` the first and last weight of curve `k`, `λ_k`
+/// its constant), solvable around the loop exactly when `Π s_k / e_k = 1`. So each curve's
+/// ratio `e_k / s_k` is first multiplied by `φ = (Π s_k / e_k)^{1/N}` (a Möbius
+/// reparametrization, shared equally by the `N` curves), then `λ_0 = 1`,
+/// `λ_k = λ_{k−1} e_{k−1} / s_k`. Curves whose weights are all 1 (polynomial) are returned
+/// as they are.
+///
+/// # Errors
+/// [`BlendError::Nurbs`] (none in practice for valid curves).
+pub fn match_corner_weights(
+    curves: Vec<BSplineCurve<4>>,
+) -> Result<Vec<BSplineCurve<4>>, BlendError> {
+    if curves
+        .iter()
+        .all(|c| c.points().iter().all(|p| p[3] == 1.0))
+    {
+        return Ok(curves);
+    }
+    let ends = |c: &BSplineCurve<4>| {
+        let p = c.points();
+        (p[0][3], p[p.len() - 1][3])
+    };
+    let n = curves.len() as f64;
+    let log_ratio: f64 = curves
+        .iter()
+        .map(|c| {
+            let (s, e) = ends(c);
+            s.ln() - e.ln()
+        })
+        .sum::<f64>();
+    let phi = (log_ratio / n).exp();
+    let mut out = Vec::with_capacity(curves.len());
+    for c in &curves {
+        let c = if phi == 1.0 {
+            c.clone()
+        } else {
+            reweight_ends(c, phi)?
+        };
+        let lambda = match out.last() {
+            None => 1.0,
+            Some(prev) => ends(prev).1 / ends(&c).0,
+        };
+        let pts = c.points().iter().map(|p| p.map(|x| x * lambda)).collect();
+        out.push(BSplineCurve::new(c.knots().clone(), pts)?);
+    }
+    Ok(out)
+}
+
+/// The clamped cubic homogeneous curve `c` on the same domain `[a, b]` reparametrized by a
+/// rational linear map that fixes `a` and `b`, so that the ratio of its last weight to its
+/// first is multiplied by `phi > 0`; the projected curve is the same point set.
+///
+/// With `y = (t − a) / (b − a)` the old parameter and `x` the new one, normalized,
+/// `y = g(x) = x / (ρ + (1 − ρ) x)` (`ρ > 0`, increasing, `g(0) = 0`, `g(1) = 1`). Each
+/// B-spline `N_{i,p}(g(x))` is a spline in `x` of degree `p` over `(ρ + (1 − ρ) x)^p`,
+/// supported on the mapped knots `x_j = g⁻¹(y_j) = ρ y_j / (1 − y_j + ρ y_j)`, so it is
+/// `κ_i N'_{i,p}(x) / (ρ + (1 − ρ) x)^p` with `κ_i = Π_{j=1..p} (ρ + (1 − ρ) x_{i+j})` (for
+/// `p = 1` directly from `N_{i,1}`; for higher degrees by the recurrence; Lee & Lucian,
+/// "Möbius reparametrizations of rational B-splines", CAGD 8(3), 1991; The NURBS Book
+/// §6.4). The common denominator cancels in the rational curve, so the curve in `x` has the
+/// knots `x_j` and the homogeneous points `κ_i P^w_i`. Clamped ends give `κ_0 = ρ^p`,
+/// `κ_n = 1`: the end-weight ratio is multiplied by `ρ^{−p}`, hence `ρ = phi^{−1/p}`.
+///
+/// # Errors
+/// [`BlendError::Nurbs`] for an unclamped curve's knots (none for [`clamp`]ed curves).
+pub fn reweight_ends(c: &BSplineCurve<4>, phi: f64) -> Result<BSplineCurve<4>, BlendError> {
+    let p = c.degree();
+    let rho = phi.powf(-1.0 / p as f64);
+    let (a, b) = c.domain();
+    let t = c.knots().as_slice();
+    let last = t.len() - 1;
+    let x: Vec<f64> = t
+        .iter()
+        .enumerate()
+        .map(|(j, &tj)| {
+            let y = ((tj - a) / (b - a)).clamp(0.0, 1.0);
+            if j <= p || tj <= a {
+                0.0
+            } else if j >= last - p || tj >= b {
+                1.0
+            } else {
+                rho * y / (1.0 - y + rho * y)
+            }
+        })
+        .collect();
+    let knots: Vec<f64> = x
+        .iter()
+        .map(|&xj| if xj == 1.0 { b } else { a + (b - a) * xj })
+        .collect();
+    let points = c
+        .points()
+        .iter()
+        .enumerate()
+        .map(|(i, q)| {
+            let kappa: f64 = (1..=p).map(|j| rho + (1.0 - rho) * x[i + j]).product();
+            q.map(|v| v * kappa)
+        })
+        .collect();
+    Ok(BSplineCurve::new(KnotVector::new(p, knots)?, points)?)
 }

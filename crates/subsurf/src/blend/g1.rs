@@ -37,9 +37,10 @@
 use std::collections::HashMap;
 
 use super::extend::add_extension_layer;
-use super::fill::{chain_curves, patch_boundary, FillOptions};
+use super::fill::{bulged_centre, chain_curves, patch_boundary, FillOptions};
 use super::grid::{intervals, push_interval};
-use super::skirt::{nurss_refine_once, real_part, refine_with_skirt};
+use super::homogeneous::{cart, Patch};
+use super::skirt::{merge_degenerate, nurss_refine_once, real_part, refine_with_skirt};
 use super::BlendError;
 use crate::mesh::PolyMesh;
 use crate::nurbs::{BSplineCurve, BSplineSurface, KnotVector};
@@ -119,12 +120,15 @@ pub struct BoundaryRows {
 }
 
 impl G1Fill {
-    /// The fill surface: the real part of the refined mesh.
+    /// The fill surface: the real part of the refined mesh, with the vertices that the
+    /// tripled knots make coincide merged ([`super::skirt::merge_degenerate`]: the quads
+    /// between them have zero area; merged, the mesh keeps every other face and vertex and
+    /// stays watertight).
     ///
     /// # Errors
     /// None in practice.
     pub fn surface(&self) -> Result<PolyMesh, BlendError> {
-        real_part(&self.refined)
+        merge_degenerate(&real_part(&self.refined)?)
     }
 
     /// The exact limit boundary and cross-boundary derivative of every side, read from the
@@ -247,6 +251,25 @@ impl G1Fill {
     }
 }
 
+/// The polynomial patch of homogeneous `s` (patch `index`) whose weights are all equal
+/// (a NURBS patch with one weight is that polynomial patch).
+///
+/// # Errors
+/// [`BlendError::RationalG1`] for unequal weights: the G1 construction above is for
+/// polynomial patches.
+fn polynomial(s: &BSplineSurface<4>, index: usize) -> Result<BSplineSurface<3>, BlendError> {
+    let w0 = s.points()[0][3];
+    if s.points().iter().any(|p| p[3] != w0) {
+        return Err(BlendError::RationalG1 { index });
+    }
+    let points = s.points().iter().map(cart).collect();
+    Ok(BSplineSurface::new(
+        s.knots_u().clone(),
+        s.knots_v().clone(),
+        points,
+    )?)
+}
+
 /// Inserts every interior knot of `c` up to multiplicity 3 (a piecewise Bézier curve).
 fn triple_interior_knots(c: &BSplineCurve<3>) -> Result<BSplineCurve<3>, BlendError> {
     let (a, b) = c.domain();
@@ -270,13 +293,15 @@ fn triple_interior_knots(c: &BSplineCurve<3>) -> Result<BSplineCurve<3>, BlendEr
 
 /// Fills the hole bounded by the first-row boundaries of `patches` G1 (Algorithm 2): the
 /// limit interpolates the boundary curves and corners and has the base patches' normal
-/// along every boundary (see the [module documentation](self)).
+/// along every boundary (see the [module documentation](self)). The patches are polynomial,
+/// or rational with one weight each (which are polynomial patches).
 ///
 /// # Errors
 /// As [`super::fill::fill`] for the boundary curves; [`BlendError::TangentPlane`] when two
-/// patches do not share the tangent plane at their common corner.
-pub fn fill_g1(
-    patches: &[BSplineSurface<3>],
+/// patches do not share the tangent plane at their common corner;
+/// [`BlendError::RationalG1`] for a patch with unequal weights.
+pub fn fill_g1<P: Patch>(
+    patches: &[P],
     levels: u32,
     opts: &FillOptions,
 ) -> Result<G1Fill, BlendError> {
@@ -286,6 +311,11 @@ pub fn fill_g1(
             opts.bulge
         )));
     }
+    let patches = patches
+        .iter()
+        .enumerate()
+        .map(|(k, p)| polynomial(&p.homogeneous(), k))
+        .collect::<Result<Vec<_>, _>>()?;
     let curves = patches
         .iter()
         .enumerate()
@@ -422,24 +452,7 @@ pub fn fill_g1(
         }
     }
     let m = ring1.len();
-    let nb = m as f64;
-    let mut g = [0.0; 3];
-    for q in &ring1 {
-        g = add(g, scale(*q, 1.0 / nb));
-    }
-    let h = ring1.iter().map(|&q| norm(sub(q, g))).sum::<f64>() / nb;
-    let mut normal = [0.0; 3];
-    for (i, a) in ring1.iter().enumerate() {
-        let b = ring1[(i + 1) % m];
-        normal[0] += (a[1] - b[1]) * (a[2] + b[2]);
-        normal[1] += (a[2] - b[2]) * (a[0] + b[0]);
-        normal[2] += (a[0] - b[0]) * (a[1] + b[1]);
-    }
-    let len = norm(normal);
-    if len > 0.0 {
-        normal = scale(normal, 1.0 / len);
-    }
-    let gp = add(g, scale(normal, opts.bulge * h));
+    let gp = bulged_centre(&ring1, opts.bulge)?;
     let ring3: Vec<V3> = ring2
         .iter()
         .map(|&q| add(q, scale(sub(gp, q), 1.0 / 3.0)))

@@ -173,6 +173,37 @@ impl VertexGrid {
         rows: Range<usize>,
         cols: Range<usize>,
     ) -> Result<BSplineSurface<3>, BlendError> {
+        self.spline_of(mesh, rows, cols, |v| mesh.positions()[v as usize])
+    }
+
+    /// [`bspline`](Self::bspline) of the homogeneous points `(w x, w y, w z, w)`, with the
+    /// weights of the mesh's [`crate::mesh::VertexWeight`] tags (untagged: 1): the exact
+    /// limit of a rational mesh over the grid is its projection (see
+    /// [`super::homogeneous`]).
+    ///
+    /// # Errors
+    /// As [`bspline`](Self::bspline).
+    pub fn homogeneous_bspline(
+        &self,
+        mesh: &PolyMesh,
+        rows: Range<usize>,
+        cols: Range<usize>,
+    ) -> Result<BSplineSurface<4>, BlendError> {
+        let w = super::homogeneous::mesh_weights(mesh);
+        self.spline_of(mesh, rows, cols, |v| {
+            super::homogeneous::weighted(mesh.positions()[v as usize], w[v as usize])
+        })
+    }
+
+    /// The B-spline over `rows` × `cols` with knots from `mesh`'s intervals and the control
+    /// point `point(v)` of each grid vertex `v`.
+    fn spline_of<const D: usize>(
+        &self,
+        mesh: &PolyMesh,
+        rows: Range<usize>,
+        cols: Range<usize>,
+        point: impl Fn(u32) -> [f64; D],
+    ) -> Result<BSplineSurface<D>, BlendError> {
         if rows.len() < 4 || cols.len() < 4 || rows.end > self.rows || cols.end > self.cols {
             return Err(grid_err(format!(
                 "a B-spline needs a range of at least 4×4 inside the {}×{} grid",
@@ -251,7 +282,7 @@ impl VertexGrid {
         let mut points = Vec::with_capacity(rows.len() * cols.len());
         for r in rows.clone() {
             for c in cols.clone() {
-                points.push(mesh.positions()[self.at(r, c) as usize]);
+                points.push(point(self.at(r, c)));
             }
         }
         Ok(BSplineSurface::new(ku, kv, points)?)

@@ -38,12 +38,15 @@
 //! C2. [`Blend::boundary_spline`] evaluates it exactly from the refined mesh (see
 //! [`super::grid`]); the tests compare position, first and second derivatives with `P_k`.
 
+use std::borrow::Cow;
+
 use super::grid::{push_interval, VertexGrid};
+use super::homogeneous::{cart, mean, weighted_mesh, Patch};
 use super::patch::check_bicubic;
-use super::skirt::{nurss_refine_once, real_part, refine_with_skirt};
+use super::skirt::{merge_degenerate, nurss_refine_once, real_part, refine_with_skirt};
 use super::BlendError;
 use crate::mesh::PolyMesh;
-use crate::nurbs::BSplineSurface;
+use crate::nurbs::{BSplineSurface, Surface};
 
 /// Most patches [`blend_control_mesh`] takes.
 pub const MAX_PATCHES: usize = 64;
@@ -75,13 +78,16 @@ impl Layout {
     }
 }
 
-/// Builds the blend control mesh of `patches` (see the [module documentation](self)).
+/// Builds the blend control mesh of `patches` (see the [module documentation](self)):
+/// polynomial patches, or rational ones refined in homogeneous coordinates (see
+/// [`super::homogeneous`]: rows 0 to 3 keep the patch's points and weights, the phantom row
+/// and the gap columns get the mean weight of the points they are made from).
 ///
 /// # Errors
 /// [`BlendError::Count`] for fewer than 2 (or more than [`MAX_PATCHES`]) patches;
 /// [`BlendError::Degree`], [`BlendError::Unsupported`], [`BlendError::TooSmall`] naming the
 /// patch; [`BlendError::Mesh`] for non-finite points.
-pub fn blend_control_mesh(patches: &[BSplineSurface<3>]) -> Result<BlendMesh, BlendError> {
+pub fn blend_control_mesh<P: Patch>(patches: &[P]) -> Result<BlendMesh, BlendError> {
     let n = patches.len();
     if !(2..=MAX_PATCHES).contains(&n) {
         return Err(BlendError::Count {
@@ -91,6 +97,7 @@ pub fn blend_control_mesh(patches: &[BSplineSurface<3>]) -> Result<BlendMesh, Bl
             max: MAX_PATCHES,
         });
     }
+    let patches: Vec<Cow<'_, BSplineSurface<4>>> = patches.iter().map(Patch::homogeneous).collect();
     for (k, s) in patches.iter().enumerate() {
         check_bicubic(s, k)?;
         let (rows, columns) = s.size();
@@ -103,21 +110,29 @@ pub fn blend_control_mesh(patches: &[BSplineSurface<3>]) -> Result<BlendMesh, Bl
         }
     }
     let mut pos: Vec<[f64; 3]> = Vec::new();
+    let mut weight: Vec<f64> = Vec::new();
     let mut strip_start = Vec::with_capacity(n);
     let mut cols = Vec::with_capacity(n);
-    for s in patches {
+    for s in &patches {
         let (_, nv) = s.size();
         strip_start.push(pos.len() as u32);
         cols.push(nv);
         let p = |i: usize, j: usize| s.points()[i * nv + j];
         for r in 0..5 {
             for j in 0..nv {
-                pos.push(if r == 0 {
+                if r == 0 {
                     let (a, b) = (p(0, j), p(1, j));
-                    [2.0 * a[0] - b[0], 2.0 * a[1] - b[1], 2.0 * a[2] - b[2]]
+                    let (ca, cb) = (cart(&a), cart(&b));
+                    pos.push([
+                        2.0 * ca[0] - cb[0],
+                        2.0 * ca[1] - cb[1],
+                        2.0 * ca[2] - cb[2],
+                    ]);
+                    weight.push(mean([a[3], b[3]]));
                 } else {
-                    p(r - 1, j)
-                });
+                    pos.push(cart(&p(r - 1, j)));
+                    weight.push(p(r - 1, j)[3]);
+                }
             }
         }
     }
@@ -126,13 +141,15 @@ pub fn blend_control_mesh(patches: &[BSplineSurface<3>]) -> Result<BlendMesh, Bl
         gap_start.push(pos.len() as u32);
         let next = (k + 1) % n;
         for r in 0..5 {
-            let a = pos[(strip_start[k] as usize) + r * cols[k] + cols[k] - 1];
-            let b = pos[(strip_start[next] as usize) + r * cols[next]];
+            let ia = (strip_start[k] as usize) + r * cols[k] + cols[k] - 1;
+            let ib = (strip_start[next] as usize) + r * cols[next];
+            let (a, b) = (pos[ia], pos[ib]);
             pos.push([
                 0.5 * (a[0] + b[0]),
                 0.5 * (a[1] + b[1]),
                 0.5 * (a[2] + b[2]),
             ]);
+            weight.push(mean([weight[ia], weight[ib]]));
         }
     }
     let lay = Layout {
@@ -146,7 +163,7 @@ pub fn blend_control_mesh(patches: &[BSplineSurface<3>]) -> Result<BlendMesh, Bl
     let mut next_interval: Vec<f64> = Vec::new();
     // Per band column: the intervals of its four cross edges (rows r → r + 1).
     let mut cross: Vec<[f64; 4]> = Vec::new();
-    let u_spans = |s: &BSplineSurface<3>| {
+    let u_spans = |s: &BSplineSurface<4>| {
         let t = s.knots_u().as_slice();
         [t[2] - t[1], t[3] - t[2], t[4] - t[3], t[5] - t[4]]
     };
@@ -190,6 +207,7 @@ pub fn blend_control_mesh(patches: &[BSplineSurface<3>]) -> Result<BlendMesh, Bl
             }
         }
         pos.push(centre);
+        weight.push(mean(ring.iter().map(|&w| weight[w as usize])));
         for i in (0..m).step_by(2) {
             faces.push(vec![c, ring[i], ring[i + 1], ring[(i + 2) % m]]);
             spoke.push((c, ring[i]));
@@ -197,7 +215,7 @@ pub fn blend_control_mesh(patches: &[BSplineSurface<3>]) -> Result<BlendMesh, Bl
     } else {
         faces.push(ring.clone());
     }
-    let mut mesh = PolyMesh::from_faces(pos, &faces)?;
+    let mut mesh = weighted_mesh(pos, &weight, &faces)?;
     for c in 0..m {
         let (a, b) = (&band[c], &band[(c + 1) % m]);
         for r in 0..5 {
@@ -258,12 +276,14 @@ pub struct Blend {
 }
 
 impl Blend {
-    /// The blend surface: the real part of the refined mesh (its control points).
+    /// The blend surface: the real part of the refined mesh (its control points), with
+    /// the vertices that zero knot intervals make coincide merged
+    /// ([`super::skirt::merge_degenerate`]: no face of zero area).
     ///
     /// # Errors
     /// None in practice ([`BlendError::Holes`]).
     pub fn surface(&self) -> Result<PolyMesh, BlendError> {
-        real_part(&self.refined)
+        merge_degenerate(&real_part(&self.refined)?)
     }
 
     /// The exact limit of the blend next to patch `k`, as a bicubic B-spline in the patch's
@@ -271,27 +291,49 @@ impl Blend {
     /// `v ∈ [v_3, v_{n+1}]`. It is the B-spline of the refined strip's real rows and the
     /// columns from the child of column 0 to the child of column `n`, with the refined
     /// intervals (see [`super::grid`]); position, `∂/∂u` and `∂²/∂u²` on `u = u_3` equal the
-    /// patch's (C2).
+    /// patch's (C2). For rational patches this is the Cartesian part of the homogeneous
+    /// limit; use [`boundary_surface`](Self::boundary_surface).
     ///
     /// # Errors
     /// [`BlendError::Grid`] if `k` is out of range or the grid is not a tensor product.
     pub fn boundary_spline(&self, k: usize) -> Result<BSplineSurface<3>, BlendError> {
+        let (g, rows, cols) = self.strip_range(k)?;
+        g.bspline(&self.refined, rows, cols)
+    }
+
+    /// [`boundary_spline`](Self::boundary_spline) for polynomial or rational patches: the
+    /// exact limit next to patch `k` as the projection of the homogeneous B-spline of the
+    /// refined strip (a [`Surface::Nurbs`] when some weight is not 1), which joins a NURBS
+    /// patch C2 (see [`super::homogeneous`]).
+    ///
+    /// # Errors
+    /// As [`boundary_spline`](Self::boundary_spline).
+    pub fn boundary_surface(&self, k: usize) -> Result<Surface, BlendError> {
+        let (g, rows, cols) = self.strip_range(k)?;
+        super::homogeneous::surface_of(g.homogeneous_bspline(&self.refined, rows, cols)?)
+    }
+
+    /// Strip `k`'s grid and the rows and columns of its limit next to the patch.
+    fn strip_range(
+        &self,
+        k: usize,
+    ) -> Result<(&VertexGrid, std::ops::Range<usize>, std::ops::Range<usize>), BlendError> {
         let g = self
             .strips
             .get(k)
             .ok_or_else(|| BlendError::Grid(format!("no patch {k}")))?;
         let step = 1usize << self.levels;
-        let cols = step..g.cols - step;
-        g.bspline(&self.refined, 0..g.rows - 1, cols)
+        Ok((g, 0..g.rows - 1, step..g.cols - step))
     }
 }
 
-/// Blends `patches` C2: builds [`blend_control_mesh`] and refines it `levels` times with
+/// Blends `patches` C2 (polynomial [`BSplineSurface<3>`], rational [`crate::nurbs::NurbsSurface`] or
+/// either, [`Surface`]): builds [`blend_control_mesh`] and refines it `levels` times with
 /// NURSS and skirt removal (the paper shows 6 levels).
 ///
 /// # Errors
 /// As [`blend_control_mesh`]; NURSS errors.
-pub fn blend(patches: &[BSplineSurface<3>], levels: u32) -> Result<Blend, BlendError> {
+pub fn blend<P: Patch>(patches: &[P], levels: u32) -> Result<Blend, BlendError> {
     let control = blend_control_mesh(patches)?;
     let mut strips = control.strips.clone();
     let refined = refine_with_skirt(&control.mesh, levels, &mut strips, nurss_refine_once)?;

@@ -12,6 +12,10 @@
 //! - [`join`]: C2 blending of N bicubic patches ([`blend()`]).
 //! - [`fill`](mod@fill): N-sided hole filling (Algorithm 1, corner interpolating).
 //! - [`g1`]: N-sided hole filling, G1 (Algorithm 2).
+//!
+//! Patches and curves may be rational (NURBS): the methods run on their homogeneous
+//! B-splines, which non-uniform Catmull-Clark refines as it refines rational meshes
+//! ([`homogeneous`]).
 
 mod error;
 
@@ -19,10 +23,12 @@ pub mod extend;
 pub mod fill;
 pub mod g1;
 pub mod grid;
+pub mod homogeneous;
 pub mod join;
 pub mod patch;
 pub mod skirt;
 
 pub use error::BlendError;
 pub use fill::{fill, Fill, FillOptions};
+pub use homogeneous::{BoundaryCurve, Patch};
 pub use join::{blend, blend_control_mesh, Blend, BlendMesh};

@@ -14,8 +14,9 @@
 //! the extension layer, which skirt removal drops.
 
 use super::grid::{grid_mesh, VertexGrid};
+use super::homogeneous::{cart, mean, Patch};
 use super::BlendError;
-use crate::mesh::PolyMesh;
+use crate::mesh::{PolyMesh, VertexWeight};
 use crate::nurbs::{BSplineSurface, KnotVector};
 
 /// A control mesh with an extension layer and the grid of its vertices.
@@ -35,7 +36,10 @@ pub fn is_clamped(k: &KnotVector) -> bool {
 }
 
 /// Checks that `s` is an open, bicubic patch; `index` names it in errors.
-pub(crate) fn check_bicubic(s: &BSplineSurface<3>, index: usize) -> Result<(), BlendError> {
+pub(crate) fn check_bicubic<const D: usize>(
+    s: &BSplineSurface<D>,
+    index: usize,
+) -> Result<(), BlendError> {
     let (p, q) = s.degrees();
     if p != 3 || q != 3 {
         return Err(BlendError::Degree {
@@ -56,12 +60,16 @@ pub(crate) fn check_bicubic(s: &BSplineSurface<3>, index: usize) -> Result<(), B
 }
 
 /// The corner-interpolating control mesh of a clamped bicubic patch (see the
-/// [module documentation](self)).
+/// [module documentation](self)), polynomial or rational: a NURBS patch's net keeps its
+/// weights (the phantom points get the mean weight of the two points they reflect), and
+/// NURSS refines it in homogeneous coordinates, so the limit is the NURBS patch (see
+/// [`super::homogeneous`]).
 ///
 /// # Errors
 /// [`BlendError::Degree`], [`BlendError::Unsupported`] (closed), [`BlendError::NotClamped`].
-pub fn corner_interpolating_mesh(s: &BSplineSurface<3>) -> Result<GridControlMesh, BlendError> {
-    check_bicubic(s, 0)?;
+pub fn corner_interpolating_mesh<P: Patch>(patch: &P) -> Result<GridControlMesh, BlendError> {
+    let s = patch.homogeneous();
+    check_bicubic(&s, 0)?;
     for (k, direction) in [(s.knots_u(), "u"), (s.knots_v(), "v")] {
         if !is_clamped(k) {
             return Err(BlendError::NotClamped {
@@ -71,7 +79,7 @@ pub fn corner_interpolating_mesh(s: &BSplineSurface<3>) -> Result<GridControlMes
         }
     }
     let (nu, nv) = s.size();
-    let at = |i: isize, j: isize| -> [f64; 3] {
+    let at = |i: isize, j: isize| -> ([f64; 3], f64) {
         // Phantom points by reflection: 2 b_0 − b_1 beyond each end.
         let fold = |k: isize, n: usize| -> (usize, usize, bool) {
             if k < 0 {
@@ -84,7 +92,8 @@ pub fn corner_interpolating_mesh(s: &BSplineSurface<3>) -> Result<GridControlMes
         };
         let (i0, i1, ri) = fold(i, nu);
         let (j0, j1, rj) = fold(j, nv);
-        let p = |a: usize, b: usize| s.points()[a * nv + b];
+        let p = |a: usize, b: usize| cart(&s.points()[a * nv + b]);
+        let w = |a: usize, b: usize| s.points()[a * nv + b][3];
         let mut out = [0.0; 3];
         for k in 0..3 {
             let row = |jj: usize| {
@@ -96,13 +105,21 @@ pub fn corner_interpolating_mesh(s: &BSplineSurface<3>) -> Result<GridControlMes
             };
             out[k] = if rj { 2.0 * row(j0) - row(j1) } else { row(j0) };
         }
-        out
+        let weight = if ri || rj {
+            mean([w(i0, j0), w(i1, j0), w(i0, j1), w(i1, j1)])
+        } else {
+            w(i0, j0)
+        };
+        (out, weight)
     };
     let (rows, cols) = (nu + 2, nv + 2);
     let mut points = Vec::with_capacity(rows * cols);
+    let mut weights = Vec::with_capacity(rows * cols);
     for r in 0..rows as isize {
         for c in 0..cols as isize {
-            points.push(at(r - 1, c - 1));
+            let (p, w) = at(r - 1, c - 1);
+            points.push(p);
+            weights.push(w);
         }
     }
     // Grid edge k joins net indices k − 1 and k: the knot span [t_{k+1}, t_{k+2}].
@@ -110,7 +127,8 @@ pub fn corner_interpolating_mesh(s: &BSplineSurface<3>) -> Result<GridControlMes
         |t: &[f64], n: usize| -> Vec<f64> { (0..n + 1).map(|k| t[k + 2] - t[k + 1]).collect() };
     let du = spans(s.knots_u().as_slice(), nu);
     let dv = spans(s.knots_v().as_slice(), nv);
-    let (mesh, mut grid) = grid_mesh(rows, cols, points, &du, &dv)?;
+    let (mut mesh, mut grid) = grid_mesh(rows, cols, points, &du, &dv)?;
+    mesh.knots.weights = VertexWeight::tags(&weights);
     grid.origin = (s.knots_u().as_slice()[1], s.knots_v().as_slice()[1]);
     Ok(GridControlMesh { mesh, grid })
 }

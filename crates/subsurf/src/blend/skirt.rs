@@ -269,6 +269,96 @@ pub fn real_part(mesh: &PolyMesh) -> Result<PolyMesh, BlendError> {
     Ok(keep_faces(mesh, &keep)?.mesh)
 }
 
+/// Relative distance (times the bounding-box diagonal) within which the two ends of an edge
+/// of zero knot interval count as one point for [`merge_degenerate`].
+pub const MERGE_TOLERANCE: f64 = 1e-12;
+
+/// `mesh` (a real part, for output) with the two ends of every edge of knot interval 0 that
+/// coincide (within [`MERGE_TOLERANCE`] of the bounding-box diagonal) merged into one
+/// vertex, and the faces that this leaves with fewer than three vertices dropped.
+///
+/// Why they coincide: a run of `k ≥ 2` edges of interval 0 along a row is a knot of
+/// multiplicity `k + 1 ≥ 3`, where the `k − 1` inner control points of a cubic are all the
+/// curve's point there (inserting a knot of multiplicity 3 repeats that point; The NURBS
+/// Book eq. 5.15 with `α = 0` or `1`). Every refinement step doubles the run, so the G1 fill
+/// ([`super::g1`], whose boundary knots are tripled) gets more such points each level, and
+/// the quads between two of them have zero area (two opposite sides of length 0). Merging
+/// the points collapses each such quad onto an edge and turns a quad with one such side into
+/// a triangle; every other face and vertex keeps its position, and the mesh stays
+/// watertight: an edge two faces shared is still shared by two. The first of the merged
+/// vertices (in order) is kept, with its position, weight and tags.
+///
+/// # Errors
+/// [`BlendError::Mesh`] (none in practice), [`BlendError::Holes`].
+pub fn merge_degenerate(mesh: &PolyMesh) -> Result<PolyMesh, BlendError> {
+    let diagonal = mesh.bounding_box().map_or(0.0, |(lo, hi)| {
+        (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f64>().sqrt()
+    });
+    let tolerance = MERGE_TOLERANCE * diagonal;
+    let pos = mesh.positions();
+    let mut parent: Vec<u32> = (0..mesh.num_vertices() as u32).collect();
+    fn root(parent: &mut [u32], mut v: u32) -> u32 {
+        while parent[v as usize] != v {
+            let up = parent[parent[v as usize] as usize];
+            parent[v as usize] = up;
+            v = up;
+        }
+        v
+    }
+    let mut merged = false;
+    for t in mesh.knots.intervals.iter().filter(|t| t.interval == 0.0) {
+        let (a, b) = (pos[t.v0 as usize], pos[t.v1 as usize]);
+        let d = (0..3).map(|k| (a[k] - b[k]).powi(2)).sum::<f64>().sqrt();
+        if d <= tolerance {
+            let (ra, rb) = (root(&mut parent, t.v0), root(&mut parent, t.v1));
+            if ra != rb {
+                parent[ra.max(rb) as usize] = ra.min(rb);
+                merged = true;
+            }
+        }
+    }
+    if !merged {
+        return Ok(mesh.clone());
+    }
+    let map: Vec<u32> = (0..parent.len() as u32)
+        .map(|v| root(&mut parent, v))
+        .collect();
+    let mut offsets = vec![0u32];
+    let mut verts = Vec::with_capacity(mesh.face_verts().len());
+    for fv in mesh.faces() {
+        let n = fv.len();
+        let start = verts.len();
+        for (i, &v) in fv.iter().enumerate() {
+            let (m, next) = (map[v as usize], map[fv[(i + 1) % n] as usize]);
+            if m != next {
+                verts.push(m);
+            }
+        }
+        if verts.len() - start < 3 {
+            verts.truncate(start);
+        } else {
+            offsets.push(verts.len() as u32);
+        }
+    }
+    let mut out = PolyMesh::new(pos.to_vec(), offsets, verts)?;
+    let mut knots = mesh.knots.clone();
+    for t in &mut knots.intervals {
+        (t.v0, t.v1) = (map[t.v0 as usize], map[t.v1 as usize]);
+    }
+    knots.intervals.retain(|t| t.v0 != t.v1);
+    knots.weights.retain(|w| map[w.vertex as usize] == w.vertex);
+    let mut tags = mesh.tags.clone();
+    for c in &mut tags.creases {
+        (c.v0, c.v1) = (map[c.v0 as usize], map[c.v1 as usize]);
+    }
+    tags.creases.retain(|c| c.v0 != c.v1);
+    tags.corners.retain(|c| map[c.vertex as usize] == c.vertex);
+    out.knots = knots;
+    out.tags = tags;
+    let all = vec![true; out.num_faces()];
+    Ok(keep_faces(&out, &all)?.mesh)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

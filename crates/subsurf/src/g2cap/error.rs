@@ -62,6 +62,10 @@ pub enum G2Error {
         /// Patch index.
         patch: usize,
     },
+    /// The limit surface would exceed the memory limit of
+    /// [`G2Surface::new_within`](super::G2Surface::new_within).
+    #[error(transparent)]
+    TooLarge(crate::limit::BuildError),
     /// A tessellation rate of 0, or one whose output would not fit 32-bit indices.
     #[error("cannot tessellate at rate {rate}: {reason}")]
     Rate {

@@ -215,7 +215,21 @@ impl G2Surface {
     /// [`G2Error::Mesh`] for an invalid mesh; [`G2Error::Inconsistent`] if a cap's
     /// constraints cannot be met (not expected).
     pub fn new(mesh: &PolyMesh, options: &G2SurfaceOptions) -> Result<Self, G2Error> {
-        Self::build(mesh, options, None)
+        Self::build(mesh, options, None, None)
+    }
+
+    /// [`new`](Self::new), building the Catmull-Clark limit surface within `max_bytes`
+    /// ([`LimitSurface::new_within`]: the build stops as soon as the neighbourhoods of
+    /// irregular faces it finds would take its estimate over the limit).
+    ///
+    /// # Errors
+    /// As [`new`](Self::new); [`G2Error::TooLarge`] over the limit.
+    pub fn new_within(
+        mesh: &PolyMesh,
+        options: &G2SurfaceOptions,
+        max_bytes: u64,
+    ) -> Result<Self, G2Error> {
+        Self::build(mesh, options, None, Some(max_bytes))
     }
 
     /// Builds the G2 surface of the *mixed* surface of `mesh` ([`MixedSurface`]: `k =
@@ -239,15 +253,24 @@ impl G2Surface {
             return Self::new(mesh, options);
         }
         let surface = MixedSurface::new(mesh, options.scheme, mixed)?;
-        Self::build(mesh, options, Some(surface))
+        Self::build(mesh, options, Some(surface), None)
     }
 
     fn build(
         mesh: &PolyMesh,
         options: &G2SurfaceOptions,
         mixed: Option<MixedSurface>,
+        max_bytes: Option<u64>,
     ) -> Result<Self, G2Error> {
-        let limit = LimitSurface::new(mesh, options.scheme)?;
+        let limit = match max_bytes {
+            None => LimitSurface::new(mesh, options.scheme)?,
+            Some(max) => {
+                LimitSurface::new_within(mesh, options.scheme, max).map_err(|e| match e {
+                    crate::limit::BuildError::Mesh(m) => G2Error::Mesh(m),
+                    e => G2Error::TooLarge(e),
+                })?
+            }
+        };
         let (topo, _) = Topology::from_mesh(mesh, &options.scheme)?;
         let has_ngon = (0..topo.num_faces()).any(|f| topo.face_vertices(f).len() != 4);
         // Caps must lie inside one face of the c-refined mesh (module docs).

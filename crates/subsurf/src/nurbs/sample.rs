@@ -54,6 +54,41 @@ pub fn sample_count(knots: &KnotVector, per_span: usize) -> u64 {
 }
 
 impl Curve {
+    /// The knot vector.
+    pub fn knots(&self) -> &KnotVector {
+        match self {
+            Curve::BSpline(c) => c.knots(),
+            Curve::Nurbs(c) => c.knots(),
+        }
+    }
+
+    /// The parameter domain `[t_p, t_N]`.
+    pub fn domain(&self) -> (f64, f64) {
+        match self {
+            Curve::BSpline(c) => c.domain(),
+            Curve::Nurbs(c) => c.domain(),
+        }
+    }
+
+    /// The Cartesian control points (of a NURBS curve: as given, without weights).
+    pub fn points(&self) -> &[[f64; 3]] {
+        match self {
+            Curve::BSpline(c) => c.points(),
+            Curve::Nurbs(c) => c.points(),
+        }
+    }
+
+    /// The point at `t` (de Boor; rational: the projection of the homogeneous curve).
+    ///
+    /// # Errors
+    /// [`NurbsError::ParameterOutOfDomain`] outside the domain.
+    pub fn eval(&self, t: f64) -> Result<[f64; 3], NurbsError> {
+        match self {
+            Curve::BSpline(c) => c.eval(t),
+            Curve::Nurbs(c) => c.eval(t),
+        }
+    }
+
     /// Points on the curve at [`sample_parameters`] (`per_span` segments per knot span).
     ///
     /// # Errors

@@ -19,9 +19,12 @@
 //! - *Boundaries.* At a boundary vertex a rotation that would leave the mesh reads the one
 //!   met the other way round (`d± = 2 d+` or `2 d−`); if both leave, the edge's own interval
 //!   (`d± = 2 d`): the intervals of a mirror image across the boundary. With these, a regular
-//!   open grid refines exactly as the tensor-product B-spline of the grid extended by its
-//!   mirror image (phantom points `2 P_0 − P_1`, mirrored intervals), and with equal intervals
-//!   the rules are Catmull-Clark's.
+//!   open grid with sharp corners ([`crate::mesh::BoundaryInterpolation::EdgeAndCorner`])
+//!   refines exactly as the tensor-product B-spline of the grid extended by its mirror image
+//!   (phantom points `2 P_0 − P_1`, mirrored intervals); with edge-only boundaries the
+//!   boundary rules read the intervals round a corner instead, so next to the corners (the
+//!   corner, its two boundary neighbours, its two boundary edges) the points differ.
+//!   With equal intervals the rules are Catmull-Clark's.
 //!
 //! # Sharp edges and vertices
 //! Boundary edges, non-manifold edges and infinitely sharp creases use the cubic B-spline

@@ -103,7 +103,7 @@ pub use exact::Sign;
 pub use frame::{Frames, NoFrame};
 pub use neighbourhood::{Block, Inapplicable};
 pub use report::{
-    check_regularity, Certificate, Class, ComponentCones, Counts, FaceReport, Mode, Refusal,
-    RegularityOptions, RegularityReport,
+    check_regularity, check_regularity_with, Certificate, Class, ComponentCones, Counts,
+    FaceReport, Mode, Refusal, RegularityOptions, RegularityReport,
 };
 pub use sample::{Sample, Sampled};

@@ -277,6 +277,21 @@ pub fn check_regularity(
     mesh: &PolyMesh,
     options: &RegularityOptions,
 ) -> Result<RegularityReport, RegularityError> {
+    check_regularity_with(mesh, options, None)
+}
+
+/// [`check_regularity`], sampling `surface` when given: the exact limit surface of `mesh`
+/// under `options.scheme`, built by the caller (for example within a memory limit, by
+/// [`LimitSurface::builder`]; faces it has no surface of are not sampled). `None`: built
+/// here when `options.samples > 0`.
+///
+/// # Errors
+/// As [`check_regularity`].
+pub fn check_regularity_with(
+    mesh: &PolyMesh,
+    options: &RegularityOptions,
+    surface: Option<&LimitSurface>,
+) -> Result<RegularityReport, RegularityError> {
     mesh.validate()?;
     let (t, _) = Topology::from_mesh(mesh, &options.scheme)?;
     let pos = mesh.positions();
@@ -337,13 +352,20 @@ pub fn check_regularity(
     }
     let faces_list: Vec<u32> = (0..t.num_faces() as u32).collect();
     let sampled = if options.samples > 0 {
-        let surface = LimitSurface::new(mesh, options.scheme)?;
+        let built;
+        let surface = match surface {
+            Some(s) => s,
+            None => {
+                built = LimitSurface::new(mesh, options.scheme)?;
+                &built
+            }
+        };
         let scale = mesh.bounding_box().map_or(1.0, |(lo, hi)| {
             let d = [hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]];
             d[0].hypot(d[1]).hypot(d[2])
         });
         sample_faces(
-            &surface,
+            surface,
             &faces_list,
             options.samples,
             dimension,

@@ -12,15 +12,19 @@ use subsurf::blend::BlendError;
 use subsurf::blend::{blend, blend_control_mesh};
 use subsurf::nurbs::{BSplineCurve, BSplineSurface, KnotVector};
 
-fn norm(a: [f64; 3]) -> f64 {
+pub(crate) fn norm(a: [f64; 3]) -> f64 {
     (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt()
 }
 
-fn diff(a: [f64; 3], b: [f64; 3]) -> f64 {
+pub(crate) fn diff(a: [f64; 3], b: [f64; 3]) -> f64 {
     norm([a[0] - b[0], a[1] - b[1], a[2] - b[2]])
 }
 
-fn surface(ku: Vec<f64>, kv: Vec<f64>, f: impl Fn(usize, usize) -> [f64; 3]) -> BSplineSurface<3> {
+pub(crate) fn surface(
+    ku: Vec<f64>,
+    kv: Vec<f64>,
+    f: impl Fn(usize, usize) -> [f64; 3],
+) -> BSplineSurface<3> {
     let ku = KnotVector::new(3, ku).unwrap();
     let kv = KnotVector::new(3, kv).unwrap();
     let (nu, nv) = (ku.num_points(), kv.num_points());
@@ -106,7 +110,7 @@ fn the_corner_interpolating_limit_of_a_clamped_patch_is_the_patch() {
 
 /// `n` patches around the origin, each over an angular sector, first row at the inner
 /// radius; sizes, knots and heights differ per patch.
-fn ring_of_patches(n: usize) -> Vec<BSplineSurface<3>> {
+pub(crate) fn ring_of_patches(n: usize) -> Vec<BSplineSurface<3>> {
     (0..n)
         .map(|k| {
             let rows = 4 + k % 3;
@@ -216,7 +220,7 @@ fn blend_rejects_unfit_patches_naming_them() {
 
 /// `n` clamped boundary curves with 5 or 6 control points and non-uniform knots around a
 /// wavy loop; curve `k` runs from corner `k` to corner `k + 1`.
-fn hole_curves(n: usize) -> Vec<BSplineCurve<3>> {
+pub(crate) fn hole_curves(n: usize) -> Vec<BSplineCurve<3>> {
     let corner = |k: usize| {
         let a = std::f64::consts::TAU * k as f64 / n as f64;
         [2.0 * a.cos(), 2.0 * a.sin(), 0.4 * (3.0 * a).cos()]
@@ -383,7 +387,7 @@ fn blossoms(knots: &[f64]) -> Vec<[f64; 3]> {
 /// `n` bicubic patches around a hole, all exact pieces of the graph `z = q(x, y)` (quadratic):
 /// patch `k` maps `(u, v)` affinely to `C_k + v (C_{k+1} − C_k) / v_max + u o_k` (`o_k`
 /// outward), so neighbours share corners and tangent planes there.
-fn graph_patches(n: usize) -> Vec<BSplineSurface<3>> {
+pub(crate) fn graph_patches(n: usize) -> Vec<BSplineSurface<3>> {
     let q = |x: f64, y: f64| 0.3 * x * x - 0.2 * x * y + 0.15 * y * y + 0.1 * x;
     let corner = |k: usize| {
         let a = std::f64::consts::TAU * k as f64 / n as f64 + 0.3;
@@ -483,7 +487,7 @@ fn check_g1(n: usize, levels: u32) {
     );
 }
 
-fn cross3(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+pub(crate) fn cross3(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     [
         a[1] * b[2] - a[2] * b[1],
         a[2] * b[0] - a[0] * b[2],

@@ -10,6 +10,7 @@ mod common;
 
 mod adjustable;
 mod blend;
+mod blend_rational;
 mod cross_scheme;
 mod g2cap;
 mod g2cap_iges;
