@@ -2,6 +2,10 @@
 //!
 //! This file holds the argument definitions, the dispatch to one module per subcommand and
 //! the exit codes: 0 success, 1 bad input or any other failure, 2 usage error (clap's).
+//!
+//! Output goes through `output::print` and `output::eprint_line`, never `println!` and
+//! friends, which panic when standard output or error is closed or full.
+#![deny(clippy::print_stdout, clippy::print_stderr)]
 
 mod cmd;
 mod input;

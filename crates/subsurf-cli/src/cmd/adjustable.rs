@@ -55,11 +55,11 @@ pub fn surface_kind(
         None if args.c.is_some() => SchemeKind::Adjustable,
         None if subsurf::nurss::has_knots(&input.obj.mesh) => {
             if !quiet {
-                eprintln!(
+                crate::output::eprint_line(&format!(
                     "note: {} has knot interval or weight tags: sampling the non-uniform \
                      (NURSS) surface (--scheme catmull-clark ignores them)",
                     input.name
-                );
+                ));
             }
             SchemeKind::Nurss
         }

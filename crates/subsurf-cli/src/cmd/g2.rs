@@ -317,7 +317,12 @@ pub fn run(args: &G2Args) -> Result<()> {
     }
     let out = Output::new(&args.output);
     out.check()?;
-    let input = Input::read_surface(&args.input, None)?;
+    let input = Input::read_surface(&args.input, args.max_memory)?;
+    if !args.quiet {
+        for w in input.warnings() {
+            crate::output::eprint_line(&format!("warning: {w}"));
+        }
+    }
     let scheme = args
         .scheme
         .over(input.obj.options)
@@ -334,12 +339,12 @@ pub fn run(args: &G2Args) -> Result<()> {
         format!(" --c {} --adjust-steps {}", m.scheme.c(), m.steps)
     });
     if !args.quiet && !surface.uncapped().is_empty() {
-        eprintln!(
+        crate::output::eprint_line(&format!(
             "note: {}: {} extraordinary vertices or face centres keep Catmull-Clark \
              (boundary, crease or feature nearby)",
             input.name,
             surface.uncapped().len()
-        );
+        ));
     }
     match fmt {
         Format::Obj => {
@@ -425,9 +430,9 @@ pub fn run(args: &G2Args) -> Result<()> {
             surface.uncapped().len()
         );
         if matches!(out, Output::Stdout) {
-            eprint!("{text}");
+            crate::output::eprint_line(text.trim_end_matches('\n'));
         } else {
-            print!("{text}");
+            crate::output::print(&text)?;
         }
         for u in surface.uncapped() {
             let what = match (u.vertex, u.face) {
@@ -437,9 +442,9 @@ pub fn run(args: &G2Args) -> Result<()> {
             };
             let line = format!("  {what} (valence {}): {}", u.valence, u.reason);
             if matches!(out, Output::Stdout) {
-                eprintln!("{line}");
+                crate::output::eprint_line(&line);
             } else {
-                println!("{line}");
+                crate::output::print(&format!("{line}\n"))?;
             }
         }
     }

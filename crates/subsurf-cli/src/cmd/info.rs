@@ -19,7 +19,7 @@ pub fn run(args: &InfoArgs) -> Result<()> {
         input.check_strict()?;
     }
     for w in input.warnings() {
-        eprintln!("warning: {w}");
+        crate::output::eprint_line(&format!("warning: {w}"));
     }
     let file = input.obj.options;
     let chosen = FileOptions {

@@ -141,7 +141,7 @@ pub fn run(args: &LimitArgs) -> Result<()> {
     let input = Input::read_surface(&args.input, args.max_memory)?;
     if !args.quiet {
         for w in input.warnings() {
-            eprintln!("warning: {w}");
+            crate::output::eprint_line(&format!("warning: {w}"));
         }
     }
     let options = args

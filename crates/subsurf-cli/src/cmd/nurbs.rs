@@ -37,7 +37,7 @@ pub fn run(args: &NurbsArgs) -> Result<()> {
     }
     let items = read_geometry(&args.input)?;
     let Some(path) = &args.output else {
-        print!("{}", summary(&items));
+        crate::output::print(&summary(&items))?;
         return Ok(());
     };
     if let Some(n) = args.sample {

@@ -127,7 +127,10 @@ pub fn run(args: &RegularityArgs) -> Result<()> {
     if let Some(o) = &plot_out {
         o.check()?;
     }
-    let input = Input::read_surface(&args.input, None)?;
+    let input = Input::read_surface(&args.input, args.max_memory)?;
+    for w in input.warnings() {
+        crate::output::eprint_line(&format!("warning: {w}"));
+    }
     let scheme = args
         .scheme
         .over(input.obj.options)

@@ -29,7 +29,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let input = Input::read_surface(&args.input, args.max_memory)?;
     if !args.quiet {
         for w in input.warnings() {
-            eprintln!("warning: {w}");
+            crate::output::eprint_line(&format!("warning: {w}"));
         }
     }
     let options = args
@@ -40,11 +40,11 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     if args.level.is_none() && args.limit_rate.is_none() {
         let rate = default_rate(&input.obj.mesh);
         if rate < DEFAULT_RATE && !args.quiet {
-            eprintln!(
+            crate::output::eprint_line(&format!(
                 "note: {}: the mesh is large; drawing its limit surface at rate {rate} \
                  (--limit-rate sets it)",
                 input.name
-            );
+            ));
         }
         opts.geometry = Geometry::Limit { rate };
     }
@@ -102,11 +102,11 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         Err(e) => return Err(e).with_context(|| input.name.clone()),
     };
     if let (Some((lo, hi)), false) = (r.curvature_range, args.quiet) {
-        eprintln!(
+        crate::output::eprint_line(&format!(
             "note: {}: {} curvature colour range {lo:.6e} .. {hi:.6e}",
             input.name,
             args.curvature.as_deref().unwrap_or_default()
-        );
+        ));
     }
     out.write(|w| write_png(w, &r.image))
 }

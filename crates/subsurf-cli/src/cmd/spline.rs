@@ -134,13 +134,18 @@ pub fn run(args: &SplineArgs) -> Result<()> {
         bail!("--report prints to standard output: write the surface to a file, not '-'");
     }
     out.check()?;
-    let input = Input::read_surface(&args.input, None)?;
+    let input = Input::read_surface(&args.input, args.max_memory)?;
+    if !args.quiet {
+        for w in input.warnings() {
+            crate::output::eprint_line(&format!("warning: {w}"));
+        }
+    }
     if !input.obj.mesh.tags.is_empty() && !args.quiet {
-        eprintln!(
+        crate::output::eprint_line(&format!(
             "note: {}: crease, corner and hole tags are ignored (the spline surface has no \
              sharp features)",
             input.name
-        );
+        ));
     }
     let (control, subdivided) =
         quad_control_mesh(&input.obj.mesh).with_context(|| input.name.clone())?;
@@ -158,24 +163,24 @@ pub fn run(args: &SplineArgs) -> Result<()> {
     let surface = SubBasisSurface::new(&control).with_context(|| input.name.clone())?;
     let (mesh, surface) = (control.as_ref(), &surface);
     if subdivided && !args.quiet {
-        eprintln!(
+        crate::output::eprint_line(&format!(
             "note: {}: the mesh has non-quad faces; applied one Catmull-Clark step first \
              ({} quads, {} control points)",
             input.name,
             mesh.num_faces(),
             mesh.num_vertices()
-        );
+        ));
     }
     let missing = (0..mesh.num_faces())
         .filter(|&f| !surface.has_surface(f))
         .count();
     if missing > 0 && !args.quiet {
-        eprintln!(
+        crate::output::eprint_line(&format!(
             "note: {}: {missing} of {} faces have no surface (a corner on the boundary, \
              non-manifold or of valence 2)",
             input.name,
             mesh.num_faces()
-        );
+        ));
     }
     if let Some(v) = args.basis {
         if v as usize >= mesh.num_vertices() {
@@ -303,28 +308,29 @@ pub fn run(args: &SplineArgs) -> Result<()> {
     }
     if args.report {
         let c = compare_with_limit(surface, mesh, args.rate.clamp(2, 16))?;
-        println!(
-            "{}: spline surface vs Catmull-Clark limit surface, {} faces, {} samples",
-            input.name, c.faces, c.samples
-        );
-        println!(
-            "distance at equal parameters: max {:.6e} ({:.3}% of the bounding-box diagonal {:.6}) \
-             on face {}, rms {:.6e}",
+        let report = format!(
+            "{}: spline surface vs Catmull-Clark limit surface, {} faces, {} samples\n\
+             distance at equal parameters: max {:.6e} ({:.3}% of the bounding-box diagonal \
+             {:.6}) on face {}, rms {:.6e}\n\
+             normal jumps across edges at irregular vertices ({} edges): max {:.4} deg, mean \
+             of per-edge max {:.4} deg; at the irregular vertices themselves: max {:.2e} deg\n\
+             normal jumps across edges between regular vertices ({} edges): max {:.2e} deg\n",
+            input.name,
+            c.faces,
+            c.samples,
             c.max_distance,
             100.0 * c.max_distance / c.size.max(f64::MIN_POSITIVE),
             c.size,
             c.max_distance_face,
-            c.rms_distance
+            c.rms_distance,
+            c.irregular_edges,
+            c.max_jump_irregular,
+            c.mean_jump_irregular,
+            c.max_jump_at_vertices,
+            c.regular_edges,
+            c.max_jump_regular
         );
-        println!(
-            "normal jumps across edges at irregular vertices ({} edges): max {:.4} deg, mean of \
-             per-edge max {:.4} deg; at the irregular vertices themselves: max {:.2e} deg",
-            c.irregular_edges, c.max_jump_irregular, c.mean_jump_irregular, c.max_jump_at_vertices
-        );
-        println!(
-            "normal jumps across edges between regular vertices ({} edges): max {:.2e} deg",
-            c.regular_edges, c.max_jump_regular
-        );
+        crate::output::print(&report)?;
     }
     Ok(())
 }

@@ -86,11 +86,11 @@ fn run_nurss(
     let t = subsurf::nurss::tessellate(mesh, options, args.rate, triangles)
         .with_context(|| input.name.clone())?;
     if t.rate != args.rate && !args.quiet {
-        eprintln!(
+        crate::output::eprint_line(&format!(
             "note: {}: rate {} rounded up to {}: the NURSS surface is sampled through \
              refinement (2^L samples per edge)",
             input.name, args.rate, t.rate
-        );
+        ));
     }
     let mut comment = command_line(args, options, &input.name);
     comment.insert_str("subsurf tessellate".len(), " --scheme nurss");
@@ -121,7 +121,7 @@ pub fn run(args: &TessellateArgs) -> Result<()> {
     let input = Input::read_surface(&args.input, args.max_memory)?;
     if !args.quiet {
         for w in input.warnings() {
-            eprintln!("warning: {w}");
+            crate::output::eprint_line(&format!("warning: {w}"));
         }
     }
     let options = args
@@ -169,7 +169,7 @@ pub fn run(args: &TessellateArgs) -> Result<()> {
     let t = tessellate(&surface, surface_mesh, &options, rate, triangles)
         .with_context(|| input.name.clone())?;
     if t.rate != rate && !args.quiet {
-        eprintln!(
+        crate::output::eprint_line(&format!(
             "note: {}: rate {} rounded up to {}, as the mesh has non-quad faces \
              (each of their sub-faces gets {} × {} quads)",
             input.name,
@@ -177,7 +177,7 @@ pub fn run(args: &TessellateArgs) -> Result<()> {
             t.rate,
             t.rate / 2,
             t.rate / 2
-        );
+        ));
     }
     let mut comment = command_line(args, &options, &input.name);
     if let Some(m) = mixed {

@@ -865,3 +865,51 @@ fn a_closed_pipe_on_standard_output_exits_zero() {
         assert_eq!(stderr(&o), "", "{args:?}");
     }
 }
+
+/// A full disk on standard output is an error (exit 1, a message on stderr), never a
+/// panic, for every command that prints, and a full standard error does not panic either.
+#[cfg(target_os = "linux")]
+#[test]
+fn a_full_standard_output_is_an_error_not_a_panic() {
+    use std::process::{Command, Stdio};
+    let patches = include_str!("../../../../examples/patches/blend3.json");
+    let dir = dir_with(&[("cube.obj", CUBE), ("p.json", patches)]);
+    let full = || {
+        fs::OpenOptions::new()
+            .write(true)
+            .open("/dev/full")
+            .expect("/dev/full")
+    };
+    for args in [
+        &["info", "cube.obj"][..],
+        &["info", "cube.obj", "--json"],
+        &["bench", "cube.obj", "-l", "1", "--reps", "1"],
+        &["nurbs", "p.json"],
+        &["spline", "cube.obj", "-o", "s.obj", "--report"],
+        &["g2", "cube.obj", "-o", "g.obj", "--report"],
+        &["regularity", "cube.obj"],
+        &["subdivide", "cube.obj", "-o", "-"],
+        &["limit", "cube.obj", "--grid", "2", "-o", "-"],
+    ] {
+        let o = Command::new(env!("CARGO_BIN_EXE_subsurf"))
+            .current_dir(dir.path())
+            .args(args)
+            .stdin(Stdio::null())
+            .stdout(full())
+            .output()
+            .expect("cannot run subsurf");
+        let err = stderr(&o);
+        assert!(!err.contains("panicked"), "{args:?}: {err}");
+        assert_code(&o, 1);
+        assert!(err.contains("No space left on device"), "{args:?}: {err}");
+        // Errors to a full standard error: still no panic (exit 101).
+        let o = Command::new(env!("CARGO_BIN_EXE_subsurf"))
+            .current_dir(dir.path())
+            .args(["subdivide", "missing.obj", "-o", "x.obj"])
+            .stdin(Stdio::null())
+            .stderr(full())
+            .output()
+            .expect("cannot run subsurf");
+        assert_code(&o, 1);
+    }
+}
