@@ -129,21 +129,21 @@ enum Command {
     /// Build a mesh whose smooth (NURSS) limit surface passes through cubic NURBS curves.
     #[command(after_help = cmd::interpolate::INTERPOLATE_EXAMPLES)]
     Interpolate(cmd::interpolate::InterpolateArgs),
-    /// Sample the sub-basis spline surface (seed 000) on a watertight grid; write OBJ, PLY or STL.
+    /// Sample the sub-basis spline surface on a watertight grid; write OBJ, PLY, STL or glTF.
     #[command(after_help = cmd::spline::SPLINE_EXAMPLES)]
     Spline(cmd::spline::SplineArgs),
     /// Certify that the limit surface is regular (no vanishing normal, no fold) from the
-    /// control net's difference cones (seed 004); exit 3 when not certified.
+    /// control net's difference cones (Wang et al. 2016); exit 3 when not certified.
     #[command(after_help = cmd::regularity::REGULARITY_EXAMPLES)]
     Regularity(cmd::regularity::RegularityArgs),
-    /// Replace the surface at extraordinary vertices by G2 bi-septic caps (seed 003); write a
+    /// Replace the surface at extraordinary vertices by G2 bi-septic caps (Tang et al. 2017); write a
     /// tessellation (OBJ) or the patches' control points (JSON), optionally a continuity report.
     #[command(after_help = cmd::g2::G2_EXAMPLES)]
     G2(cmd::g2::G2Args),
-    /// Blend N bicubic B-spline patches C2 with a NURSS surface (skirt removal, seed 002).
+    /// Blend N bicubic B-spline patches C2 with a NURSS surface (skirt removal).
     #[command(after_help = cmd::blend::BLEND_EXAMPLES)]
     Blend(cmd::blend::BlendArgs),
-    /// Fill an N-sided hole bounded by cubic curves or patches (corner interpolating, seed 002).
+    /// Fill an N-sided hole bounded by cubic curves or patches (corner interpolating).
     #[command(after_help = cmd::fill::FILL_EXAMPLES)]
     Fill(cmd::fill::FillArgs),
 }

@@ -1,4 +1,4 @@
-//! Mixed subdivision (seed 003, "混合细分"): `k` steps of the shape-adjustable scheme with
+//! Mixed subdivision ([Tang et al. 2017], "混合细分"): `k` steps of the shape-adjustable scheme with
 //! parameter `c` ([`crate::scheme::adjustable`]), then Catmull-Clark to the limit.
 //!
 //! The limit of mixed subdivision is the Catmull-Clark limit surface of the control mesh
@@ -6,7 +6,7 @@
 //! to level `k`, then a [`LimitSurface`] on the result — so it is exact everywhere, and on
 //! regular regions each patch is the bicubic B-spline patch of the `c`-refined net,
 //! `P(u, v) = U·M·(S G Sᵀ)·Mᵀ·Vᵀ` with `M` the B-spline matrix and `S` the `c`-scheme's
-//! local refinement matrix (spec 003).
+//! local refinement matrix.
 //!
 //! # Faces of the input and faces of the refined mesh
 //! Refinement numbers child faces from their parents (see `ARCHITECTURE.md`): after the

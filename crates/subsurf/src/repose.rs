@@ -297,7 +297,7 @@ impl Reposer {
         Self::build(base, opts, Scheme::Mixed(mixed))
     }
 
-    /// [`new`](Self::new) for non-uniform subdivision (NURSS, seed 001): each pose is
+    /// [`new`](Self::new) for non-uniform subdivision (NURSS, [JOS 2003]): each pose is
     /// refined as [`crate::nurss::subdivide`] refines it, with the base mesh's knot
     /// intervals ([`RefinePlan::new_nurss`]). A rational base mesh (weight tags) keeps its
     /// weights: a pose moves the points, each keeps the weight of its vertex; the refined

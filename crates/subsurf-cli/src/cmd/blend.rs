@@ -1,5 +1,5 @@
 //! `subsurf blend`: join N bicubic B-spline or NURBS patches C2 with a non-uniform
-//! Catmull-Clark (NURSS) blend surface refined with skirt removal (seed 002 §3.1).
+//! Catmull-Clark (NURSS) blend surface refined with skirt removal ([Jiang et al.] §3.1).
 
 use std::path::{Path, PathBuf};
 

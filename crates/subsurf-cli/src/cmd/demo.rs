@@ -7,9 +7,9 @@
 //!   caps where there are interior extraordinary vertices, the sub-basis spline on closed
 //!   quad meshes, the regularity certificate on planar nets);
 //! - cubic curves ([`CURVES`], `examples/curves/`): a control mesh whose NURSS limit surface
-//!   interpolates them (seed 001);
+//!   interpolates them ([JOS 2003]);
 //! - bicubic patches ([`PATCHES`], `examples/patches/`): C2 blending and N-sided hole
-//!   filling (seed 002).
+//!   filling ([Jiang et al.]).
 //!
 //! Every method writes its files (OBJ, GLB or JSON models, PNG pictures) into the output
 //! directory and returns them with a one-line caption; a method that does not apply to an

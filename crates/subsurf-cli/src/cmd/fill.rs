@@ -1,5 +1,5 @@
 //! `subsurf fill`: fill an N-sided hole bounded by cubic B-spline curves or patches with a
-//! corner-interpolating non-uniform Catmull-Clark (NURSS) surface (seed 002, Algorithm 1).
+//! corner-interpolating non-uniform Catmull-Clark (NURSS) surface ([Jiang et al.], Algorithm 1).
 
 use std::path::PathBuf;
 

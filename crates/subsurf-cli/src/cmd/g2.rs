@@ -1,5 +1,5 @@
 //! `subsurf g2`: the Catmull-Clark surface with G2 caps at the extraordinary vertices
-//! (seed 003): a tessellation (OBJ) or the patches' Bézier control points (JSON), and
+//! ([Tang et al. 2017]): a tessellation (OBJ) or the patches' Bézier control points (JSON), and
 //! optionally the continuity report; with `--c C [--adjust-steps K]` of the mixed
 //! (shape-adjustable) surface instead of Catmull-Clark.
 

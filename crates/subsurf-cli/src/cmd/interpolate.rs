@@ -1,6 +1,6 @@
 //! `subsurf interpolate`: a control mesh whose non-uniform Catmull-Clark (NURSS) limit
 //! surface passes through the given cubic B-spline / NURBS curves (symmetric zonal meshes,
-//! seed 001), optionally refined or moved onto the limit surface, with the curves as OBJ
+//! [JOS 2003]), optionally refined or moved onto the limit surface, with the curves as OBJ
 //! polylines for checking.
 
 use std::path::PathBuf;
@@ -60,7 +60,7 @@ pub struct InterpolateArgs {
     pub side: Option<[f64; 3]>,
     /// Host quad mesh (OBJ) whose edges contain the control polygons: the zones are inserted
     /// into it along the polygons (knot intervals and, at control points of valence > 4,
-    /// auxiliary side intervals set as seed 001's Fig. 11 requires).
+    /// auxiliary side intervals set as [JOS 2003]'s Fig. 11 requires).
     #[arg(long, value_name = "HOST.obj")]
     pub host: Option<PathBuf>,
     /// Refine L levels with NURSS before writing (0: the control mesh).

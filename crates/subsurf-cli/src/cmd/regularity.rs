@@ -1,5 +1,5 @@
 //! `subsurf regularity`: certify that the Catmull-Clark limit surface of a quad net is
-//! regular (seed 004), compare with dense samples of the exact limit surface, and print a
+//! regular ([Wang et al. 2016]), compare with dense samples of the exact limit surface, and print a
 //! summary or JSON; optionally draw the net with its u- and v-difference fans.
 //!
 //! Exit status: 0 when every face is certified, 3 when not, 1 on bad input.
@@ -21,7 +21,7 @@ use crate::SchemeArgs;
 
 /// Help text after the options.
 pub const REGULARITY_EXAMPLES: &str = "\
-Checks the sufficient condition of Wang, Lin, Wang and Lu (seed 004) for nets whose interior
+Checks the sufficient condition of Wang, Lin, Wang and Lu ([Wang et al. 2016]) for nets whose interior
 vertices have valence 4: the cone of the u-differences and the cone of the v-differences of
 the control net meet only at the origin (and not along opposite rays). Global: one cone pair
 per connected component (the paper's Theorem 3); --local: each face's own 4x4 patch

@@ -1,4 +1,4 @@
-//! `subsurf spline`: the sub-basis spline surface (seed 000) of a quad mesh, tessellated and
+//! `subsurf spline`: the sub-basis spline surface ([Sub-basis splines]) of a quad mesh, tessellated and
 //! written as OBJ, PLY or STL, optionally with alternating patch colours, one basis function
 //! as a scalar, or a comparison with the Catmull-Clark limit surface.
 

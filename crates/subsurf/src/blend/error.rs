@@ -131,7 +131,7 @@ pub enum BlendError {
         residual: f64,
     },
     /// A rational patch with unequal weights given to the G1 fill, whose construction
-    /// (seed 002, Algorithm 2: the G1 conditions between adjacent Bézier patches) is for
+    /// ([Jiang et al.], Algorithm 2: the G1 conditions between adjacent Bézier patches) is for
     /// polynomial patches.
     #[error("patch {index} is rational with unequal weights: the G1 fill meets polynomial patches only (the fill without G1 takes rational patches)")]
     RationalG1 {

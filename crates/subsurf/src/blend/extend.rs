@@ -9,7 +9,7 @@ use super::skirt::boundary_vertices;
 use super::BlendError;
 use crate::mesh::PolyMesh;
 
-/// Adds one ring of quads outside the boundary of `mesh` (seed 002, Algorithm 1 step 2):
+/// Adds one ring of quads outside the boundary of `mesh` ([Jiang et al.], Algorithm 1 step 2):
 /// - each boundary edge `a → b` gets the quad `(b, a, o_a, o_b)`; its edges leaving the old
 ///   boundary (`a`–`o_a`) get `interval`, the outer edge the boundary edge's own interval;
 /// - a boundary vertex with two faces gets one outward vertex `2 v − w` (`w` the mean of its

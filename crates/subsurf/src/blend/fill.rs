@@ -1,4 +1,4 @@
-//! N-sided hole filling with a corner-interpolating NURSS surface (seed 002 §3.2,
+//! N-sided hole filling with a corner-interpolating NURSS surface ([Jiang et al.] §3.2,
 //! Algorithm 1).
 //!
 //! # Input

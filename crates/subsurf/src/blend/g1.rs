@@ -1,4 +1,4 @@
-//! G1 N-sided hole filling (seed 002 §3.3, Algorithm 2): the fill interpolates the boundary
+//! G1 N-sided hole filling ([Jiang et al.] §3.3, Algorithm 2): the fill interpolates the boundary
 //! curves of N bicubic patches and meets every patch with a continuous normal.
 //!
 //! # Layout

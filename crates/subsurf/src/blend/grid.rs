@@ -5,7 +5,7 @@
 //! Where every vertex of a quad grid is regular (valence 4, its four faces in the grid or
 //! continuing it), one NURSS step is exactly midpoint knot insertion into the
 //! tensor-product cubic B-spline whose control net is the grid and whose knot intervals are
-//! the grid's edge intervals (Sederberg et al. 1998, §3; seed 001 spec). So the limit
+//! the grid's edge intervals (Sederberg et al. 1998, §3; [JOS 2003]). So the limit
 //! surface over such a grid *is* that B-spline — with the convention that the control
 //! polygon edge `c_i c_{i+1}` carries the knot span `[t_{i+2}, t_{i+3}]` — and
 //! [`VertexGrid::bspline`] evaluates it exactly by de Boor, including derivatives. Only the

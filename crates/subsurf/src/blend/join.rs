@@ -1,4 +1,4 @@
-//! C2 blending of N bicubic B-spline patches with NURSS and skirt removal (seed 002 §3.1).
+//! C2 blending of N bicubic B-spline patches with NURSS and skirt removal ([Jiang et al.] §3.1).
 //!
 //! # Input
 //! N ≥ 2 open bicubic patches `P_k` (control nets `b^k_{i,j}`, `i = 0..=m_k` along `u`,

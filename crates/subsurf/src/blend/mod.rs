@@ -1,4 +1,4 @@
-//! Seed 002 (Catmull-Clark surfaces for NURBS patch blending and N-sided hole filling):
+//! [Jiang et al.] (docs/references.md: NURBS patch blending and N-sided hole filling):
 //! skirt-removal refinement for open meshes, corner interpolation with zero knot intervals,
 //! C2 blending of bicubic B-spline patches and N-sided hole filling with non-uniform
 //! Catmull-Clark (NURSS, [`crate::nurss`]).

@@ -1,4 +1,4 @@
-//! Corner (end) interpolation with zero intervals (seed 002 §3.2): a clamped bicubic
+//! Corner (end) interpolation with zero intervals ([Jiang et al.] §3.2): a clamped bicubic
 //! B-spline patch as a NURSS control mesh whose skirt-removal limit is the patch itself,
 //! boundary curves and corners included.
 //!

@@ -1,4 +1,4 @@
-//! Skirt removal ("contour deletion", seed 002 §2.2): refinement of an open mesh that
+//! Skirt removal ("contour deletion", [Jiang et al.] §2.2): refinement of an open mesh that
 //! never uses a boundary rule, for any subdivision scheme with Catmull-Clark topology.
 //!
 //! # The extension layer

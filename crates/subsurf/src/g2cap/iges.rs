@@ -99,7 +99,7 @@ pub fn to_iges(doc: &SurfaceJson, name: &str) -> String {
     let patches: Vec<&PatchJson> = doc.patches().collect();
     let mut out = String::new();
     let start = [
-        "subsurf: G2 surface (seed 003) as Bezier patches, IGES 5.3 entity 128.",
+        "subsurf: G2 surface (Tang et al. 2017) as Bezier patches, IGES 5.3 entity 128.",
         "Cap patches (degree 7) first, then the bicubic patches.",
     ];
     for (k, s) in start.iter().enumerate() {

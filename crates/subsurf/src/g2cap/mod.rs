@@ -2,7 +2,7 @@
 //! Catmull-Clark surface, the `n` patches at the vertex are replaced by `n` bi-septic
 //! (degree 7×7) Bézier patches that join each other and the surrounding bicubic
 //! B-spline patches with curvature continuity (G2). After Loop & Schaefer, *G2 tensor
-//! product splines over extraordinary vertices*, SGP 2008, as restated in seed 003
+//! product splines over extraordinary vertices*, SGP 2008, as [Tang et al. 2017] uses them
 //! (§3.2), with the transition maps re-derived (the seed's formulas are damaged).
 //!
 //! # Layout
@@ -89,7 +89,7 @@
 //! [`G2Surface`] does this for every interior smooth EV of a mesh (valence 3..=16, also
 //! the centres of n-gons); vertices on boundaries or creases, or next to them, keep the
 //! Catmull-Clark surface. [`G2Surface::new_mixed`] does the same for the mixed
-//! (shape-adjustable) surface of seed 003: only the surrounding bicubics change (those of
+//! (shape-adjustable) surface of [Tang et al. 2017]: only the surrounding bicubics change (those of
 //! the `c`-refined net), and with them the outer rows of the caps.
 
 mod bernstein;

@@ -15,7 +15,7 @@
 //! `dₖ`). Per edge this is `R₀ xᵢ + R₁ xᵢ₊₁ = 0` with the *same* `R₀, R₁` for every edge;
 //! the energy ([`super::energy`]) is `Σᵢ xᵢᵀ H xᵢ`.
 //!
-//! # Fourier split (seed 003, §3.2; Loop & Schaefer 2008, §4)
+//! # Fourier split ([Tang et al. 2017], §3.2; Loop & Schaefer 2008, §4)
 //! The system commutes with the cyclic shift of the patches, so in the real discrete
 //! Fourier basis of the sector index it is block diagonal. With `θ = 2πk/n` and
 //! `xᵢ = a cos iθ + b sin iθ` (`a, b ∈ ℝ⁶⁴`, one frequency `k`),

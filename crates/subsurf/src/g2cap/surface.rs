@@ -17,7 +17,7 @@
 //!
 //! # The mixed (shape-adjustable) surface
 //! [`G2Surface::new_mixed`] caps the limit surface of mixed subdivision ([`MixedSurface`]:
-//! `k` steps of the adjustable scheme with parameter `c`, then Catmull-Clark; seed 003).
+//! `k` steps of the adjustable scheme with parameter `c`, then Catmull-Clark; [Tang et al. 2017]).
 //! Its regular part is the bicubic B-spline of the `c`-refined net, but only *per face of
 //! the refined mesh*: for `c ≠ ½` that net is not the Catmull-Clark refinement of a coarser
 //! one, so a square larger than a refined face holds several bicubic pieces. The caps

@@ -1,4 +1,4 @@
-//! Control points shared by several curves: *joint polygon groups* (seed 001, §2 and
+//! Control points shared by several curves: *joint polygon groups* ([JOS 2003], §2 and
 //! Corollary 1), and two curves ending at one point joined into one zone.
 //!
 //! # A joint polygon group

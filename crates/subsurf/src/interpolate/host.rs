@@ -1,5 +1,5 @@
 //! Embedding the zones in a user-given host mesh whose edges contain the curves' control
-//! polygons (seed 001, §3 "embedded in a polygonal mesh", Fig. 11).
+//! polygons ([JOS 2003], §3 "embedded in a polygonal mesh", Fig. 11).
 //!
 //! # What the host must be
 //! Every control point of a curve is a host vertex (matched by position within

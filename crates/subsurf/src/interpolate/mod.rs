@@ -1,4 +1,4 @@
-//! Subdivision surfaces that interpolate cubic B-spline and NURBS curves (seed 001: "symmetric
+//! Subdivision surfaces that interpolate cubic B-spline and NURBS curves ([JOS 2003]: "symmetric
 //! zonal meshes"; non-uniform Catmull-Clark, [`crate::nurss`], does the refinement).
 //!
 //! Around the control polygon of each curve (the *middle polygon*) a strip of quads is built,
@@ -22,7 +22,7 @@
 //! | [`host`] | zones cut into a host mesh along its edges; the auxiliary intervals of Fig. 11 |
 //! | [`track`] | the middle polygon at any refinement level |
 //!
-//! Source: Zheng Jianmin et al. (seed 001), "Subdivision surfaces interpolating cubic NURBS
+//! Source: [JOS 2003] (docs/references.md), "Subdivision surfaces interpolating cubic NURBS
 //! curves" (Chinese, with English abstract), §2–3, Lemma 1, Theorem 1, Corollary 1.
 //!
 //! ```

@@ -1,6 +1,6 @@
 //! The symmetric zonal mesh: one column of three points `(P_i + o_i, P_i, P_i − o_i)` per
 //! middle-polygon point and two quads per middle-polygon edge, with the knot intervals and
-//! weights of seed 001's Theorem 1. Points shared by zones (joint polygon groups, joins) are
+//! weights of [JOS 2003]'s Theorem 1. Points shared by zones (joint polygon groups, joins) are
 //! one mesh vertex each, made once.
 //!
 //! # The conditions of Lemma 1 / Theorem 1, and how they are met

@@ -143,7 +143,7 @@ fn levels_for(divisions: u32) -> u64 {
 impl LimitSurface {
     /// Estimated bytes of building the surface of `mesh` ([`LimitSurface::new`]), apart
     /// from its configurations: `24 MiB + 768 B × (vertices + faces)`, and `4 KiB` per
-    /// corner of each face of more than [`LARGE_FACE`](super::local::LARGE_FACE) corners
+    /// corner of each face of more than `LARGE_FACE` corners
     /// (its shared region, refined once).
     ///
     /// A surface's irregular faces take one configuration tree per distinct

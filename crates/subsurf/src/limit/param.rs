@@ -27,7 +27,7 @@
 //! [`LimitSurface`]: super::LimitSurface
 //! [`SurfacePoint`]: super::SurfacePoint
 
-/// The `(u, v)` layout of a face of `size` vertices (see the [module docs](self)).
+/// The `(u, v)` layout of a face of `size` vertices (see the module `limit::param`).
 ///
 /// ```
 /// use subsurf::limit::Parameterization;

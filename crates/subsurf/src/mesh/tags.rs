@@ -62,7 +62,7 @@ pub struct EdgeInterval {
 
 /// An *auxiliary* knot interval on one side of an edge (OBJ `t sideinterval 3/1/0 f v0 v1
 /// d`): the interval of edge `v0`–`v1` as read from inside face `face` on the first
-/// subdivision step (seed 001 §2, "auxiliary intervals"); sides without one read the edge's
+/// subdivision step ([JOS 2003] §2, "auxiliary intervals"); sides without one read the edge's
 /// interval. Only the base mesh has them.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SideInterval {

@@ -4,7 +4,7 @@
 //! regular grids (one step = midpoint knot insertion in every span) and extends them to any
 //! topology; optional rational weights (refined in homogeneous coordinates, so NURBS nets of
 //! cylinders and tori stay exact) and auxiliary per-face-side intervals on the base mesh
-//! (seed 001 §2).
+//! ([JOS 2003] §2).
 //!
 //! # API
 //! - [`Nurss`]: one level alive at a time. [`Nurss::new`] reads a [`PolyMesh`] and its
@@ -459,7 +459,7 @@ impl Nurss {
 }
 
 impl RefinePlan {
-    /// The plan of non-uniform Catmull-Clark subdivision (NURSS, seed 001): as
+    /// The plan of non-uniform Catmull-Clark subdivision (NURSS, [JOS 2003]): as
     /// [`new`](Self::new), with the knot intervals of `mesh` ([`PolyMesh::knots`]), as
     /// [`Nurss`] refines it. Every level is sparse rows: their weights
     /// depend on the intervals, so no fixed kernel applies (see "Schemes" in

@@ -35,7 +35,7 @@
 //!
 //! Any other face (an extraordinary vertex, a crease or a boundary near unequal intervals, a
 //! face whose own span is a zero interval) is [`NurssEvalError::NotExact`], naming the face
-//! and the reason: sample it through refinement instead ([`super::tessellate`]).
+//! and the reason: sample it through refinement instead ([`super::tessellate()`]).
 
 use super::{Nurss, NurssError};
 use crate::limit::{Derivatives, EvalError, LimitSurface, Order, Parameterization, SurfacePoint};

@@ -9,9 +9,9 @@
 //!
 //! # How the rules read intervals
 //! - *Side intervals.* Inside face `f`, edge `j` of the face reads [`NurssKnots::side`]: the
-//!   auxiliary interval of that side when the level has them (the base mesh only, seed 001
+//!   auxiliary interval of that side when the level has them (the base mesh only, [JOS 2003]
 //!   §2), else the edge's interval. An edge's *own* interval ([`NurssKnots::own`]) is the
-//!   mean of its sides (seed 001: `d_ij = (d+_ij + d−_ij) / 2`), which is the edge's interval
+//!   mean of its sides ([JOS 2003]: `d_ij = (d+_ij + d−_ij) / 2`), which is the edge's interval
 //!   when no side is tagged.
 //! - *Rotations.* `d±_X` for edge `k` around vertex `X` reads edge `k + 2` on the side of the
 //!   face the rotation passes last (face `k + 1`) and edge `k − 2` on the side of face

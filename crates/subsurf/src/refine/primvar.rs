@@ -40,10 +40,8 @@ pub fn interpolate<const D: usize>(
 /// Interpolates `src` (values at the vertices of `parent`) to `dst` (values at the
 /// vertices of `child`, the refinement of `parent`) with the masks of `rules`: the face
 /// points (centroids) first, then the edge and vertex points, which read them. Every
-/// scheme of the Catmull-Clark family refines the same topology ([`refine_topology`]), so
-/// the scheme changes the weights only.
-///
-/// [`refine_topology`]: super::refine_topology
+/// scheme of the Catmull-Clark family refines the same topology, so the scheme changes the
+/// weights only.
 ///
 /// # Panics
 /// If `src.len() != parent.num_vertices()` or `dst.len() != child.num_vertices()`.

@@ -1,5 +1,5 @@
 //! Masks of the shape-adjustable Catmull-Clark scheme with parameter `0 ≤ c ≤ 1`
-//! (seed 003, "shape-adjustable Catmull-Clark"; restated in the project's spec 003).
+//! ([Tang et al. 2017], "shape-adjustable Catmull-Clark"; docs/references.md).
 //!
 //! For a vertex `v` of valence `n` with far edge ends `eᵢ` and new face points `Fᵢ`:
 //! - face point: `F = (1/m) Σ` of the face's `m` vertices (as Catmull-Clark);
@@ -12,7 +12,7 @@
 //! The seed's text lost its exponents; this form is the one with all the properties the
 //! seed states, each checked by a test below: the weights sum to 1 (affine invariance);
 //! `c = ½` gives Catmull-Clark exactly (`(n−2)/n`, `1/n²`, `1/n²`, and the edge mask
-//! `¼, ¼, ¼, ¼`; every weight is then bit for bit the [`catmark`] one); `c = 0` leaves
+//! `¼, ¼, ¼, ¼`; every weight is then bit for bit the [`CatmullClark`] one); `c = 0` leaves
 //! every old vertex where it is (vertex weight 1, edge points are midpoints, face points
 //! centroids: the bilinear refinement of the control mesh); and on a regular grid
 //! (`n = 4`) the masks are the tensor product of the curve scheme
@@ -29,7 +29,7 @@
 //! OpenSubdiv handles them for Catmull-Clark (sharpness decays one per step, or by
 //! Chaikin's rule; in the step where a feature becomes smooth, the edge mask is
 //! `s·crease + (1 − s)·smooth` and the vertex mask blends the parent-rule and child-rule
-//! masks by [`crease::fractional_weight`]), with the `c` masks in place of the cubic ones.
+//! masks by [`fractional_weight`](super::crease::fractional_weight)), with the `c` masks in place of the cubic ones.
 //! Non-manifold edges with `m ≠ 2` faces give each face point `c/m` (Catmull-Clark: `½/m`).
 //! With [`TriangleSubdivision::Smooth`] a triangle's face weight `f` (0.47 in
 //! Catmull-Clark) scales with `2c`, as every face weight does: faces `2c·f`, ends

@@ -1,5 +1,5 @@
 //! A rational bicubic spline surface on irregular quad meshes from sub-basis functions
-//! (seed 000: "a B-spline method on irregular meshes by decomposition and classification of
+//! ([Sub-basis splines]: "a B-spline method on irregular meshes by decomposition and classification of
 //! the uniform bicubic B-spline basis function").
 //!
 //! The uniform cubic B-spline `N_i` splits into three C1 pieces `B^{-1}, B^0, B^1`, each living on

@@ -1,5 +1,5 @@
 //! [`SubBasis`]: one sub-basis function of class 1, 2 or 3 on the star of a vertex of
-//! valence `n` (seed 000, sections 1.2 and 2.2–2.3).
+//! valence `n` ([Sub-basis splines], sections 1.2 and 2.2–2.3).
 //!
 //! # Domain
 //! The `n` quads around a vertex map to `n` unit rhombi around the origin with angle
@@ -93,7 +93,7 @@ const DAMPING_STEPS: usize = 400;
 /// Bézier coefficients in `(−SNAP·w, 0)` are rounding residue of a tight bound: set to 0.
 const SNAP: f64 = 1e-12;
 
-/// The three classes of sub-basis functions (seed 000, section 1.2).
+/// The three classes of sub-basis functions ([Sub-basis splines], section 1.2).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Class {
     /// Class 1: the centre piece `w^{0,0}`, owned by the star's centre vertex; centre value

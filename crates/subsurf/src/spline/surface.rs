@@ -1,5 +1,5 @@
 //! [`SubBasisSurface`]: the rational bicubic spline surface `P(u,v) = Σ ϖ_i(u,v) P_i` of a quad
-//! mesh (seed 000, eq. 12), evaluated face by face.
+//! mesh ([Sub-basis splines], eq. 12), evaluated face by face.
 
 use super::error::SplineError;
 use super::patch::{bernstein, net_index, RationalPatch, AB};
@@ -41,7 +41,7 @@ enum FaceSurface {
     Patch(Box<FacePatch>),
 }
 
-/// The sub-basis spline surface of a quad mesh (seed 000).
+/// The sub-basis spline surface of a quad mesh ([Sub-basis splines]).
 ///
 /// Every control point `P_i` of valence `n` owns a basis function `W_i` made of `2n + 1`
 /// sub-basis pieces: its class-1 piece on its own star, one class-2 piece on the star of each
