@@ -44,6 +44,7 @@ fn hollerith(s: &str) -> String {
 
 /// One 80-column record: `data` (≤ 72 columns) padded, the section letter, the number.
 fn record(data: &str, section: char, seq: usize) -> String {
+    debug_assert!(data.len() <= 72, "an IGES record holds 72 columns: {data}");
     format!("{data:<72}{section}{seq:>7}\n")
 }
 
@@ -99,7 +100,7 @@ pub fn to_iges(doc: &SurfaceJson, name: &str) -> String {
     let patches: Vec<&PatchJson> = doc.patches().collect();
     let mut out = String::new();
     let start = [
-        "subsurf: G2 surface (Tang et al. 2017) as Bezier patches, IGES 5.3 entity 128.",
+        "subsurf: G2 surface (Tang et al. 2017) as Bezier patches, entity 128.",
         "Cap patches (degree 7) first, then the bicubic patches.",
     ];
     for (k, s) in start.iter().enumerate() {
