@@ -74,7 +74,8 @@ mod subdivide;
 struct ReadmeDoctests;
 
 pub use info::{mesh_info, MeshInfo};
-pub use mixed::{Mixed, MixedSurface};
+pub use mixed::MixedSurface;
+pub use scheme::adjustable::Mixed;
 pub use repose::{PoseError, Reposer};
 pub use subdivide::{
     estimate_memory, subdivide, subdivide_with_progress, Error, SubdivideOptions, Subdivision,

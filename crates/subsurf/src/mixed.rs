@@ -23,51 +23,8 @@
 
 use crate::limit::{Derivatives, EvalError, LimitSurface, Order, SurfacePoint};
 use crate::mesh::{Options, PolyMesh};
-use crate::scheme::adjustable::Adjustable;
+use crate::scheme::adjustable::Mixed;
 use crate::subdivide::{subdivide_mixed, Error, SubdivideOptions};
-
-/// Parameters of mixed subdivision: the adjustable scheme and how many steps use it.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Mixed {
-    /// The shape-adjustable scheme (parameter `c`).
-    pub scheme: Adjustable,
-    /// Number of leading refinement steps that use `scheme`; later steps are
-    /// Catmull-Clark. `u32::MAX`: every step.
-    pub steps: u32,
-}
-
-impl Mixed {
-    /// Catmull-Clark on every step (no adjusted step).
-    pub(crate) const CATMULL_CLARK: Mixed = Mixed {
-        scheme: Adjustable::CATMULL_CLARK,
-        steps: 0,
-    };
-
-    /// Every refinement step uses `scheme`.
-    pub fn all(scheme: Adjustable) -> Self {
-        Self {
-            scheme,
-            steps: u32::MAX,
-        }
-    }
-
-    /// The masks of step `l` (from 1): `scheme` on the first `steps`, then Catmull-Clark.
-    pub(crate) fn step(self, l: u32) -> Adjustable {
-        if l <= self.steps {
-            self.scheme
-        } else {
-            Adjustable::CATMULL_CLARK
-        }
-    }
-
-    /// The schemes of the steps after the first `k`.
-    pub(crate) fn after(self, k: u32) -> Mixed {
-        Mixed {
-            steps: self.steps.saturating_sub(k),
-            ..self
-        }
-    }
-}
 
 /// The exact limit surface of mixed subdivision, evaluable at `(input face, u, v)` with
 /// the parametrisation of [`LimitSurface`] on the *input* mesh (see the module docs).

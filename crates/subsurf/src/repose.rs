@@ -26,7 +26,7 @@
 
 use crate::limit::{largest_coordinate, normals_into, VertexLimitRows};
 use crate::mesh::{check_coordinates, MeshError, PolyMesh, Topology, TopologyWarning};
-use crate::mixed::Mixed;
+use crate::scheme::adjustable::Mixed;
 use crate::nurss::{LimitRows, NurssOptions};
 use crate::refine::{refine_topology, PlanScratch, RefinePlan};
 use crate::subdivide::{

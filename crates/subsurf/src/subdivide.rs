@@ -2,7 +2,7 @@
 
 use crate::limit;
 use crate::mesh::{Corner, Crease, MeshError, Options, PolyMesh, Tags, Topology, TopologyWarning};
-use crate::mixed::Mixed;
+use crate::scheme::adjustable::Mixed;
 use crate::refine::interpolate;
 use crate::refine::{interpolate_with, refine_topology, refine_topology_for_output};
 

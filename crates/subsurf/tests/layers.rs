@@ -38,7 +38,6 @@ const KNOWN: &[(&str, &str)] = &[
     ("interpolate", "io"),
     ("mixed", "subdivide"),
     ("refine", "limit"),
-    ("refine", "mixed"),
 ];
 
 fn layer(module: &str) -> Option<usize> {

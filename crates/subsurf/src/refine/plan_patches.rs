@@ -103,7 +103,7 @@ use super::plan_ring::{descendants, ring_net, Kernel, RingGroups, RingNet, RingP
 use crate::cpu::{has_avx2_fma, has_avx512f};
 use crate::limit::patch::{refinement_patch_cells, Cell, Sharp};
 use crate::mesh::{CreaseMethod, Options, Topology};
-use crate::mixed::Mixed;
+use crate::scheme::adjustable::Mixed;
 
 /// Faces of a layer's level per run: the unit of parallel work. A run applies all its
 /// patches, of every kind, before the next: neighbouring patches share cache lines of the

@@ -81,7 +81,7 @@
 //! [`refine_topology`]: super::topology::refine_topology
 
 use crate::mesh::{Corner, Crease, Options, PolyMesh, Topology};
-use crate::mixed::Mixed;
+use crate::scheme::adjustable::Mixed;
 
 use super::plan::RefinePlan;
 use super::plan_patches::{grid_indices, prefetch_next, ring_span, Runs, SharedOut, NOT_OWNED};

@@ -149,6 +149,50 @@ impl Default for Adjustable {
     }
 }
 
+/// Parameters of mixed subdivision ([Tang et al. 2017]): the adjustable scheme on the first
+/// `steps` refinement steps, then Catmull-Clark.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Mixed {
+    /// The shape-adjustable scheme (parameter `c`).
+    pub scheme: Adjustable,
+    /// Number of leading refinement steps that use `scheme`; later steps are
+    /// Catmull-Clark. `u32::MAX`: every step.
+    pub steps: u32,
+}
+
+impl Mixed {
+    /// Catmull-Clark on every step (no adjusted step).
+    pub(crate) const CATMULL_CLARK: Mixed = Mixed {
+        scheme: Adjustable::CATMULL_CLARK,
+        steps: 0,
+    };
+
+    /// Every refinement step uses `scheme`.
+    pub fn all(scheme: Adjustable) -> Self {
+        Self {
+            scheme,
+            steps: u32::MAX,
+        }
+    }
+
+    /// The masks of step `l` (from 1): `scheme` on the first `steps`, then Catmull-Clark.
+    pub(crate) fn step(self, l: u32) -> Adjustable {
+        if l <= self.steps {
+            self.scheme
+        } else {
+            Adjustable::CATMULL_CLARK
+        }
+    }
+
+    /// The schemes of the steps after the first `k`.
+    pub(crate) fn after(self, k: u32) -> Mixed {
+        Mixed {
+            steps: self.steps.saturating_sub(k),
+            ..self
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
