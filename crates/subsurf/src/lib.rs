@@ -75,8 +75,8 @@ struct ReadmeDoctests;
 
 pub use info::{mesh_info, MeshInfo};
 pub use mixed::MixedSurface;
-pub use scheme::adjustable::Mixed;
 pub use repose::{PoseError, Reposer};
+pub use scheme::adjustable::Mixed;
 pub use subdivide::{
     estimate_memory, subdivide, subdivide_with_progress, Error, SubdivideOptions, Subdivision,
 };

@@ -26,9 +26,9 @@
 
 use crate::limit::{largest_coordinate, normals_into, VertexLimitRows};
 use crate::mesh::{check_coordinates, MeshError, PolyMesh, Topology, TopologyWarning};
-use crate::scheme::adjustable::Mixed;
 use crate::nurss::{LimitRows, NurssOptions};
 use crate::refine::{refine_topology, PlanScratch, RefinePlan};
+use crate::scheme::adjustable::Mixed;
 use crate::subdivide::{
     estimate_memory, subdivide, subdivide_mixed, Error, SubdivideOptions, Subdivision,
 };

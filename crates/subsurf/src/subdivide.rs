@@ -2,9 +2,9 @@
 
 use crate::limit;
 use crate::mesh::{Corner, Crease, MeshError, Options, PolyMesh, Tags, Topology, TopologyWarning};
-use crate::scheme::adjustable::Mixed;
 use crate::refine::interpolate;
 use crate::refine::{interpolate_with, refine_topology, refine_topology_for_output};
+use crate::scheme::adjustable::Mixed;
 
 /// What [`subdivide`] should do.
 #[derive(Clone, Debug, Default, PartialEq)]

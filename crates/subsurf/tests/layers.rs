@@ -37,7 +37,6 @@ const KNOWN: &[(&str, &str)] = &[
     ("g2cap", "render"),
     ("interpolate", "io"),
     ("mixed", "subdivide"),
-    ("refine", "limit"),
 ];
 
 fn layer(module: &str) -> Option<usize> {

@@ -50,8 +50,8 @@ use super::G2Error;
 use crate::limit::{Derivatives, EvalError, LimitSurface, SurfacePoint};
 use crate::mesh::{Options, PolyMesh, Rule, Topology};
 use crate::mixed::MixedSurface;
-use crate::scheme::adjustable::Mixed;
 use crate::scheme::adjustable::Adjustable;
+use crate::scheme::adjustable::Mixed;
 use rayon::prelude::*;
 use std::collections::HashMap;
 

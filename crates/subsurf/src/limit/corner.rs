@@ -11,11 +11,11 @@
 
 use super::bspline::Derivatives;
 use super::local::{Local, Reach, Region, HIGH_VALENCE};
-use super::patch::{regular_corner, Sharp};
 use crate::geom::{self, V3};
 use crate::hash::FxHasher;
 use crate::mesh::{Options, Topology};
 use crate::refine::interpolate;
+use crate::refine::patch::{regular_corner, Sharp};
 use crate::scheme::catmark::{self, VertexMask};
 use std::collections::HashMap;
 use std::hash::BuildHasherDefault;
@@ -110,7 +110,7 @@ impl CornerLimit {
 
 /// Whether corner `k` of face `face` of `t` is where the limit is taken from
 /// [`corner_limit`] rather than from patches further down: it is not a regular patch
-/// corner (see [`super::patch`]) and no semi-sharp vertex or edge sharpness is left at it,
+/// corner (see [`crate::refine::patch`]) and no semi-sharp vertex or edge sharpness is left at it,
 /// so that its rule no longer changes under refinement.
 pub(super) fn is_limit_corner(t: &Topology, face: usize, k: usize) -> bool {
     let c = t.face_vertices(face)[k] as usize;

@@ -47,8 +47,8 @@
 //! 0.3 to 9.7 and every side, and against OpenSubdiv's `Bfr` on the regression shapes.
 
 use super::bspline::{basis, tensor_batch, transpose_bases, Batch, Lanes, Order, LANES};
-use super::patch::{patch_cells, walk, Cell, Corner, Sharp};
 use crate::mesh::{CreaseMethod, Options, Topology};
+use crate::refine::patch::{patch_cells, walk, Cell, Corner, Sharp};
 use crate::scheme::crease;
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex};

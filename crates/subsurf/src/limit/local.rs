@@ -93,10 +93,10 @@
 //! went to building subsets and refining topology, 20 % to finding each face's patch
 //! again.)
 
-use super::patch::{regular_patch_cells, Net};
 use super::surface::Shared;
 use super::tree::{Tree, TreeCache};
 use crate::mesh::{CreaseMethod, Options, Topology};
+use crate::refine::patch::{regular_patch_cells, Net};
 use crate::refine::{interpolate, refine_topology};
 use std::collections::{HashMap, HashSet};
 use std::sync::{Arc, Mutex, OnceLock};

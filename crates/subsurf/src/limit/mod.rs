@@ -15,13 +15,14 @@ mod crease_patch;
 mod local;
 mod memory;
 mod param;
-pub(crate) mod patch;
 mod rows;
 mod stencil;
 mod surface;
 mod tessellate;
 mod tree;
 mod vertex_rows;
+
+use crate::refine::patch::Index;
 
 pub use bspline::{Derivatives, Order};
 pub use builder::SurfaceBuilder;
@@ -281,42 +282,5 @@ fn lock<T>(m: &std::sync::Mutex<T>) -> std::sync::MutexGuard<'_, T> {
     match m.lock() {
         Ok(g) => g,
         Err(poisoned) => poisoned.into_inner(),
-    }
-}
-
-/// An index type of the compact tables of configuration trees: 8-bit or 16-bit where the
-/// indices fit (nearly always: a tree node reads a few dozen to a few thousand points),
-/// else 32-bit.
-trait Index: Copy {
-    /// `x` if it fits.
-    fn narrow(x: u32) -> Option<Self>;
-    /// The index.
-    fn get(self) -> usize;
-}
-
-/// [`Index`] for unsigned types narrower than `u32`.
-macro_rules! narrow_index {
-    ($($t:ty),*) => {$(
-        impl Index for $t {
-            fn narrow(x: u32) -> Option<Self> {
-                <$t>::try_from(x).ok()
-            }
-            #[inline]
-            fn get(self) -> usize {
-                usize::from(self)
-            }
-        }
-    )*};
-}
-
-narrow_index!(u8, u16);
-
-impl Index for u32 {
-    fn narrow(x: u32) -> Option<Self> {
-        Some(x)
-    }
-    #[inline]
-    fn get(self) -> usize {
-        self as usize
     }
 }

@@ -3,7 +3,7 @@
 //!
 //! # Method
 //! The limit surface over a *regular* quad is one bicubic B-spline patch
-//! ([`super::patch`]), evaluated in closed form; so is a quad that is regular but for one
+//! ([`crate::refine::patch`]), evaluated in closed form; so is a quad that is regular but for one
 //! straight semi-sharp crease ([`super::crease_patch`]: the tensor product of the
 //! B-spline basis along the crease and the crease curve scheme's limit functions across
 //! it). Any other face (next to an extraordinary vertex, a dart, other semi-sharp
@@ -72,11 +72,11 @@ use super::local::{
     ShapeCache, HIGH_VALENCE,
 };
 use super::memory::{Budget, BuildError};
-use super::patch::{plain_net, regular_patch_cells, Net};
 use super::tree::{
     by_quadrant, scale_at, take_corners, Ctx, Kid, Leaf, Query, Scratch, Sink, Tree, TreeCache,
 };
 use crate::mesh::{MeshError, Options, PolyMesh, Topology};
+use crate::refine::patch::{plain_net, regular_patch_cells, Net};
 use rayon::prelude::*;
 use std::borrow::Cow;
 use std::sync::atomic::{AtomicBool, Ordering};

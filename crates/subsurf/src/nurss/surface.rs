@@ -324,7 +324,7 @@ fn tensor_patch(nurss: &Nurss, f: usize) -> Result<NurbsSurface, &'static str> {
     if t.face_vertices(f).len() != 4 {
         return Err("the face is not a quad, and its 1-ring has unequal knot intervals");
     }
-    let cells = crate::limit::patch::regular_patch_cells(t, f)
+    let cells = crate::refine::patch::regular_patch_cells(t, f)
         .ok_or("a corner of the face is extraordinary, or on a boundary or crease")?;
     let mut net = [0u32; 16];
     for (slot, c) in net.iter_mut().zip(cells.as_flattened()) {

@@ -26,6 +26,7 @@
 //! ```
 
 pub mod nurss;
+pub(crate) mod patch;
 pub mod plan;
 mod plan_patches;
 mod plan_ring;

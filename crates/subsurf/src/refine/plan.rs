@@ -95,8 +95,8 @@ use super::topology::{refine_topology, run, split_pieces};
 use crate::mesh::{
     MeshError, Options, PolyMesh, Rule, Topology, TopologyWarning, TriangleSubdivision,
 };
-use crate::scheme::adjustable::Mixed;
 use crate::scheme::adjustable::Adjustable;
+use crate::scheme::adjustable::Mixed;
 use crate::scheme::catmark::{self, VertexContext, VertexMask};
 use crate::scheme::Rules;
 

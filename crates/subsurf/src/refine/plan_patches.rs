@@ -28,7 +28,7 @@
 //! vertices (else it may be a ring patch; on holes too, whose vertices follow the same
 //! rules): its four corners are
 //! smooth valence-4 vertices with no sharp or semi-sharp edge, surrounded by quads, or
-//! regular boundary, crease and corner vertices (see [`crate::limit::patch`]).
+//! regular boundary, crease and corner vertices (see [`super::patch`]).
 //! Refinement inside a smooth such quad only ever applies the
 //! smooth regular masks: the vertices that level `l + 1` puts within half a parent edge of
 //! the quad come from the masks of its corners, of the twelve edges at them and of the nine
@@ -59,7 +59,7 @@
 //!
 //! A semi-sharp crease or corner is such a sharp side for the `d` levels of a patch when it
 //! keeps the crease rules through all of them: with the uniform decay, sharpness at least
-//! `d` ([`Sharp::for_levels`](crate::limit::patch::Sharp::for_levels) says why). The
+//! `d` ([`Sharp::for_levels`](crate::refine::patch::Sharp::for_levels) says why). The
 //! sharpness-6 creases of `catmark_bishop` and `catmark_pawn` are patch sides from level 2
 //! on.
 //!
@@ -98,10 +98,10 @@ use std::ops::Range;
 
 use rayon::prelude::*;
 
+use super::patch::{refinement_patch_cells, Cell, Sharp};
 use super::plan_ring::{descendants, ring_net, Kernel, RingGroups, RingNet, RingPatches};
 #[cfg(target_arch = "x86_64")]
 use crate::cpu::{has_avx2_fma, has_avx512f};
-use crate::limit::patch::{refinement_patch_cells, Cell, Sharp};
 use crate::mesh::{CreaseMethod, Options, Topology};
 use crate::scheme::adjustable::Mixed;
 

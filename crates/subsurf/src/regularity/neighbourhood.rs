@@ -13,8 +13,8 @@
 //! need not be listed).
 
 // The limit surface's regular-patch test: the certificate reads the same neighbourhoods.
-use crate::limit::patch::{regular_corner, regular_patch_cells, walk, Sharp};
 use crate::mesh::{Rule, Topology};
+use crate::refine::patch::{regular_corner, regular_patch_cells, walk, Sharp};
 use crate::scheme::crease;
 
 /// The 16 cells of a patch neighbourhood: a vertex, or `None` for a phantom point.
@@ -91,7 +91,7 @@ impl std::fmt::Display for Inapplicable {
 }
 
 /// The patch neighbourhood of face `f` of `t`: the control net of the limit surface's
-/// regular patch (`limit::patch::regular_patch_cells`, so the certificate applies to exactly the faces
+/// regular patch (`refine::patch::regular_patch_cells`, so the certificate applies to exactly the faces
 /// that are bicubic patches there), phantom cells left out; or why there is none.
 pub fn block(t: &Topology, f: usize) -> Result<Block, Inapplicable> {
     let fv = t.face_vertices(f);

@@ -19,10 +19,46 @@
 //! infinitely sharp crease do not influence each other, so each side is such a patch.
 //! This is the construction of OpenSubdiv's regular boundary and corner patches.
 
-use super::Index;
 use crate::mesh::{CreaseMethod, Rule, Topology};
 use crate::scheme::crease;
 use std::sync::OnceLock;
+
+/// An index type of the compact tables of configuration trees: 8-bit or 16-bit where the
+/// indices fit (nearly always: a tree node reads a few dozen to a few thousand points),
+/// else 32-bit.
+pub(crate) trait Index: Copy {
+    /// `x` if it fits.
+    fn narrow(x: u32) -> Option<Self>;
+    /// The index.
+    fn get(self) -> usize;
+}
+
+/// [`Index`] for unsigned types narrower than `u32`.
+macro_rules! narrow_index {
+    ($($t:ty),*) => {$(
+        impl Index for $t {
+            fn narrow(x: u32) -> Option<Self> {
+                <$t>::try_from(x).ok()
+            }
+            #[inline]
+            fn get(self) -> usize {
+                usize::from(self)
+            }
+        }
+    )*};
+}
+
+narrow_index!(u8, u16);
+
+impl Index for u32 {
+    fn narrow(x: u32) -> Option<Self> {
+        Some(x)
+    }
+    #[inline]
+    fn get(self) -> usize {
+        self as usize
+    }
+}
 
 /// Which edges and vertices the patch tests treat as infinitely sharp: those that are
 /// (sharpness ≥ 10, boundary and non-manifold edges) and, for a bounded number of
@@ -158,9 +194,9 @@ impl Cell {
 /// The vertex indices are of type `I`: `u32`, or `u8` in configuration trees, whose nets
 /// index a node's refined points ([`Net::narrow`]).
 ///
-/// [`LimitSurface::set_positions`]: super::LimitSurface::set_positions
+/// [`LimitSurface::set_positions`]: crate::limit::LimitSurface::set_positions
 #[derive(Clone, Debug)]
-pub(super) enum Net<I = u32> {
+pub(crate) enum Net<I = u32> {
     Plain([I; 16]),
     /// Vertex `v[4 i + j]` in cell `[i][j]` (0 in a phantom cell), and the sharp sides
     /// in [`fill_phantoms`]' order.
@@ -169,7 +205,7 @@ pub(super) enum Net<I = u32> {
 }
 
 impl Net {
-    pub(super) fn new(cells: [[Cell; 4]; 4]) -> Self {
+    pub(crate) fn new(cells: [[Cell; 4]; 4]) -> Self {
         let is_vertex = |c: &Cell| c.len == 1 && c.weights[0] == 1.0;
         let verts = |keep: &dyn Fn(&Cell) -> bool| -> [u32; 16] {
             std::array::from_fn(|k| {
@@ -196,7 +232,7 @@ impl Net {
     }
 
     /// The same net with indices of type `J`, if they fit.
-    pub(super) fn narrow<J: Index>(&self) -> Option<Net<J>> {
+    pub(crate) fn narrow<J: Index>(&self) -> Option<Net<J>> {
         let narrow = |v: &[u32; 16]| -> Option<[J; 16]> {
             let mut out = [J::narrow(0)?; 16];
             for (o, &x) in out.iter_mut().zip(v) {
@@ -215,7 +251,7 @@ impl Net {
 impl<I: Index> Net<I> {
     /// The control points `cp[i][j]` for vertex positions `pos` (`i` along `u`, `j` along
     /// `v`).
-    pub(super) fn eval(&self, pos: &[[f64; 3]]) -> [[[f64; 3]; 4]; 4] {
+    pub(crate) fn eval(&self, pos: &[[f64; 3]]) -> [[[f64; 3]; 4]; 4] {
         let mut cp = [[[0.0; 3]; 4]; 4];
         self.eval_into(pos, &mut cp);
         cp
@@ -224,7 +260,7 @@ impl<I: Index> Net<I> {
     /// [`eval`](Self::eval) into `cp`, every point overwritten: where the net is not
     /// inlined into its caller, a returned net was copied again (`memmove`, 2–5 % of
     /// evaluating a tree of creases).
-    pub(super) fn eval_into(&self, pos: &[[f64; 3]], cp: &mut [[[f64; 3]; 4]; 4]) {
+    pub(crate) fn eval_into(&self, pos: &[[f64; 3]], cp: &mut [[[f64; 3]; 4]; 4]) {
         let cp = cp.as_flattened_mut();
         match self {
             Net::Plain(v) => {
@@ -257,7 +293,7 @@ impl<I: Index> Net<I> {
 
     /// The cells the net stands for.
     #[cfg(test)]
-    pub(super) fn cells(&self) -> [[Cell; 4]; 4] {
+    pub(crate) fn cells(&self) -> [[Cell; 4]; 4] {
         match self {
             Net::Plain(v) => sided_cells(&wide(v), [false; 4]),
             Net::Sided(v, sides) => table_cells(&wide(v), *sides),
@@ -362,7 +398,7 @@ pub(crate) fn refinement_patch_cells(
 /// The 4×4 control net of quad `f` with the corner analysis `corner`, with phantom points
 /// across the sides that `sharp` takes as infinitely sharp, if every corner passes
 /// `corner` (on holes too: the callers that need a limit surface check for holes).
-pub(super) fn patch_cells(
+pub(crate) fn patch_cells(
     t: &Topology,
     f: usize,
     corner: impl Fn(usize) -> Option<Corner>,
@@ -433,7 +469,7 @@ fn net_cell(k: usize, off: (i32, i32)) -> (usize, usize) {
 /// The same net as [`regular_patch_cells`] finds by walking each corner's edges, with a
 /// fraction of the reads: a limit surface keeps nothing for such a face and gathers its
 /// net when it is evaluated (its builder checks that both agree).
-pub(super) fn plain_net(t: &Topology, f: usize) -> Option<[u32; 16]> {
+pub(crate) fn plain_net(t: &Topology, f: usize) -> Option<[u32; 16]> {
     /// `net_cell(k, off)` as `4 i + j`, for the offsets `(0, 0)`, `(−1, 0)`, `(−1, −1)`,
     /// `(0, −1)` of the corner itself and its diagonal face's next three vertices.
     const CELLS: [[usize; 4]; 4] = [[5, 1, 0, 4], [9, 8, 12, 13], [10, 14, 15, 11], [6, 7, 3, 2]];
