@@ -265,3 +265,9 @@ fn quadrant(u: f64, v: f64) -> (usize, f64, f64) {
         (false, true) => (3, 2.0 * u, 2.0 * v - 1.0),
     }
 }
+
+impl crate::limit::Surface for MixedSurface {
+    fn evaluate(&self, p: SurfacePoint) -> Result<Derivatives, EvalError> {
+        self.eval_point(p)
+    }
+}

@@ -36,18 +36,17 @@ use subsurf::io::gltf::{face_edges, write_glb, GlbLines, GlbMesh};
 use subsurf::io::input::MeshFormat;
 use subsurf::io::obj::write_groups_obj;
 use subsurf::io::obj::{parse_obj, write_obj, WriteOptions};
-use subsurf::limit::{tessellate, Derivatives, EvalError, LimitSurface, SurfacePoint};
+use subsurf::limit::{self, tessellate, LimitSurface};
 use subsurf::mesh::{Options, PolyMesh};
 use subsurf::nurbs::{Geometry as NurbsGeometry, Surface};
 use subsurf::nurss::NurssOptions;
 use subsurf::regularity::{check_regularity, plot, Mode, RegularityOptions};
 use subsurf::render::curvature::CurvatureKind;
 use subsurf::render::{
-    render_detailed, render_surface, write_png, Geometry, Paint, Render, RgbImage, SampledSurface,
-    Up,
+    render_detailed, render_surface, write_png, Geometry, Paint, Render, RgbImage, Up,
 };
 use subsurf::scheme::adjustable::Adjustable;
-use subsurf::spline::{QuadSpline, SplineError, SubBasisSurface};
+use subsurf::spline::QuadSpline;
 use subsurf::{Mixed, SubdivideOptions};
 
 use super::subdivide::{command_line, refine, refine_mixed, write};
@@ -754,8 +753,8 @@ fn g2_caps(ctx: &Ctx) -> Result<Vec<Item>> {
         "whole surface"
     };
     let (view, zoom) = closeup.map_or((ctx.ex.view, 1.0), |c| (c.1, c.2));
-    let g2: &dyn SampledSurface = &surface;
-    let draw = |paint: Paint, range: Option<(f64, f64)>, s: Option<&dyn SampledSurface>| {
+    let g2: &dyn limit::Surface = &surface;
+    let draw = |paint: Paint, range: Option<(f64, f64)>, s: Option<&dyn limit::Surface>| {
         let (width, height) = if paint == Paint::Zebra { G2_SIZE } else { SIZE };
         let opts = Render {
             curvature_range: range,
@@ -819,19 +818,6 @@ fn g2_caps(ctx: &Ctx) -> Result<Vec<Item>> {
     Ok(items)
 }
 
-/// The sub-basis spline surface as a [`SampledSurface`], for the renderer.
-struct SplineSurface<'a>(&'a SubBasisSurface);
-
-impl SampledSurface for SplineSurface<'_> {
-    fn sample(&self, p: SurfacePoint) -> Result<Derivatives, EvalError> {
-        self.0.eval(p.face, p.u, p.v).map_err(|e| match e {
-            SplineError::NoSurface { face, .. } => EvalError::Hole { face },
-            SplineError::NoSuchFace { face, count } => EvalError::NoSuchFace { face, count },
-            _ => EvalError::BadParameter { u: p.u, v: p.v },
-        })
-    }
-}
-
 /// The sub-basis spline on closed meshes without tags: its tessellation, and pictures with
 /// the patches in alternating colours (as in the paper's Fig. 7) and as zebra stripes.
 fn spline(ctx: &Ctx) -> Result<Vec<Item>> {
@@ -865,7 +851,7 @@ fn spline(ctx: &Ctx) -> Result<Vec<Item>> {
         caption: format!("sub-basis spline surface, {rate} x {rate} quads per patch"),
         counts: Some((tess.num_vertices(), tess.num_faces())),
     }];
-    let s = SplineSurface(surface);
+    let s: &dyn limit::Surface = surface;
     for (paint, suffix, caption) in [
         (
             Paint::Faces,
@@ -879,7 +865,7 @@ fn spline(ctx: &Ctx) -> Result<Vec<Item>> {
         ),
     ] {
         let opts = picture(Geometry::Limit { rate }, paint, ctx.ex.view);
-        let r = render_surface(mesh, &ctx.options, &opts, Some(&s))
+        let r = render_surface(mesh, &ctx.options, &opts, Some(s))
             .with_context(|| format!("{}: spline picture", ctx.input.name))?;
         items.push(png_item(
             ctx.dir,
@@ -1246,20 +1232,20 @@ mod tests {
             .unwrap()
             .mesh;
         let spline = QuadSpline::new(&cube).unwrap();
-        let s = SplineSurface(&spline.surface);
-        let p = SurfacePoint {
+        let s: &dyn limit::Surface = &spline.surface;
+        let p = limit::SurfacePoint {
             face: 2,
             subface: 0,
             u: 0.25,
             v: 0.7,
         };
-        let a = s.sample(p).unwrap();
+        let a = s.evaluate(p).unwrap();
         let b = spline.surface.eval(2, 0.25, 0.7).unwrap();
         assert_eq!(format!("{a:?}"), format!("{b:?}"));
-        let bad = SurfacePoint { face: 99, ..p };
+        let bad = limit::SurfacePoint { face: 99, ..p };
         assert!(matches!(
-            s.sample(bad),
-            Err(EvalError::NoSuchFace { face: 99, .. })
+            s.evaluate(bad),
+            Err(limit::EvalError::NoSuchFace { face: 99, .. })
         ));
     }
 

@@ -11,10 +11,10 @@ use subsurf::g2cap::{
     continuity_report, patches_json, tessellate, to_iges, G2Surface, G2SurfaceOptions,
 };
 use subsurf::io::obj::{write_obj, WriteOptions};
-use subsurf::limit::{Derivatives, EvalError, SurfacePoint};
+use subsurf::limit::{Derivatives, EvalError, Surface, SurfacePoint};
 use subsurf::mesh::Options;
 use subsurf::render::{
-    curvature::CurvatureKind, render_surface, write_png, Geometry, Paint, Render, SampledSurface,
+    curvature::CurvatureKind, render_surface, write_png, Geometry, Paint, Render,
 };
 use subsurf::{estimate_memory, SubdivideOptions};
 
@@ -386,11 +386,11 @@ pub fn run(args: &G2Args) -> Result<()> {
             if let Some(v) = args.view {
                 opts.view = v;
             }
-            let g2: &dyn SampledSurface = &surface;
+            let g2: &dyn Surface = &surface;
             let uncapped = Uncapped(&surface);
             let drawn_surface = match (args.compare, surface.mixed().is_some()) {
                 (false, _) => Some(g2),
-                (true, true) => Some(&uncapped as &dyn SampledSurface),
+                (true, true) => Some(&uncapped as &dyn Surface),
                 (true, false) => None,
             };
             let drawn = render_surface(mesh, &scheme, &opts, drawn_surface)
@@ -454,8 +454,8 @@ pub fn run(args: &G2Args) -> Result<()> {
 /// The surface without caps (`--compare` with `--c`: the mixed surface).
 struct Uncapped<'a>(&'a G2Surface);
 
-impl SampledSurface for Uncapped<'_> {
-    fn sample(&self, p: SurfacePoint) -> Result<Derivatives, EvalError> {
+impl Surface for Uncapped<'_> {
+    fn evaluate(&self, p: SurfacePoint) -> Result<Derivatives, EvalError> {
         self.0.eval_uncapped(p)
     }
 }

@@ -675,9 +675,9 @@ fn build_cap(
     }))
 }
 
-impl crate::render::SampledSurface for G2Surface {
+impl crate::limit::Surface for G2Surface {
     /// [`G2Surface::eval_point`]; its only errors are those of the Catmull-Clark evaluator.
-    fn sample(&self, p: SurfacePoint) -> Result<Derivatives, crate::limit::EvalError> {
+    fn evaluate(&self, p: SurfacePoint) -> Result<Derivatives, crate::limit::EvalError> {
         self.eval_point(p).map_err(|e| match e {
             G2Error::Eval(e) => e,
             _ => crate::limit::EvalError::BadParameter { u: p.u, v: p.v },

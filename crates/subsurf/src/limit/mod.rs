@@ -12,6 +12,7 @@ pub mod bspline;
 mod builder;
 mod corner;
 mod crease_patch;
+mod eval;
 mod local;
 mod memory;
 mod param;
@@ -26,6 +27,7 @@ use crate::refine::patch::Index;
 
 pub use bspline::{Derivatives, Order};
 pub use builder::SurfaceBuilder;
+pub use eval::Surface;
 pub use memory::BuildError;
 pub use param::Parameterization;
 pub use stencil::{LimitStencils, StencilError};

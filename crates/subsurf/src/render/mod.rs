@@ -276,28 +276,6 @@ pub fn render_detailed(
     render_surface(mesh, options, opts, None)
 }
 
-/// A surface over the faces of a mesh that the renderer can sample instead of the
-/// Catmull-Clark limit surface (e.g. [`G2Surface`](crate::g2cap::G2Surface)): position and
-/// first and second derivatives at a point, addressed as in
-/// [`LimitSurface`](crate::limit::LimitSurface).
-pub trait SampledSurface: Sync {
-    /// Position and derivatives at `p`.
-    ///
-    /// # Errors
-    /// As [`LimitSurface::eval_point`](crate::limit::LimitSurface::eval_point).
-    fn sample(&self, p: crate::limit::SurfacePoint)
-        -> Result<crate::limit::Derivatives, EvalError>;
-}
-
-impl SampledSurface for crate::limit::LimitSurface {
-    fn sample(
-        &self,
-        p: crate::limit::SurfacePoint,
-    ) -> Result<crate::limit::Derivatives, EvalError> {
-        self.eval_point(p)
-    }
-}
-
 /// [`render_detailed`], drawing `surface` (sampled on the limit surface's grid, see
 /// [`Geometry::Limit`]) instead of the limit surface of `mesh` when given.
 ///
@@ -307,7 +285,7 @@ pub fn render_surface(
     mesh: &PolyMesh,
     options: &Options,
     opts: &Render,
-    surface: Option<&dyn SampledSurface>,
+    surface: Option<&dyn crate::limit::Surface>,
 ) -> Result<Rendered, RenderError> {
     check(opts)?;
     let scene = match surface {

@@ -3,8 +3,9 @@
 
 use super::camera::{Camera, Projected};
 use super::curvature::{Curvature, CurvatureKind};
-use super::{Geometry, Paint, Render, RenderError, SampledSurface};
+use super::{Geometry, Paint, Render, RenderError};
 use crate::geom::{self, V3};
+use crate::limit::Surface;
 use crate::limit::{tessellate, LimitSurface, SurfacePoint};
 use crate::mesh::{Options, PolyMesh};
 use crate::{subdivide, SubdivideOptions};
@@ -60,7 +61,7 @@ impl Scene {
         mesh: &PolyMesh,
         options: &Options,
         opts: &Render,
-        surface: Option<&dyn SampledSurface>,
+        surface: Option<&dyn Surface>,
     ) -> Result<Self, RenderError> {
         let faces = drawn_faces(mesh, opts.geometry);
         if faces > MAX_DRAWN_FACES as u128 {
@@ -462,7 +463,7 @@ impl LimitGrid {
         options: &Options,
         rate: u32,
         with_curvature: bool,
-        other: Option<&dyn SampledSurface>,
+        other: Option<&dyn Surface>,
         max_bytes: Option<u64>,
     ) -> Result<Self, RenderError> {
         let surface = match max_bytes {
@@ -543,7 +544,7 @@ impl LimitGrid {
         let mut curv = Vec::new();
         for (i, chunk) in g.points.chunks(CHUNK).enumerate() {
             let evaluated = match other {
-                Some(o) => chunk.par_iter().map(|&p| o.sample(p)).collect(),
+                Some(o) => chunk.par_iter().map(|&p| o.evaluate(p)).collect(),
                 None => surface.eval_many(chunk),
             };
             for (j, d) in evaluated.into_iter().enumerate() {

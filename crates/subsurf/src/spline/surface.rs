@@ -388,3 +388,19 @@ fn build_face(
         patch: RationalPatch { net },
     }))
 }
+
+/// The sub-basis spline surface in the vocabulary of every surface: a face without a surface
+/// (a corner the spline does not cover) reads as a hole.
+impl crate::limit::Surface for SubBasisSurface {
+    fn evaluate(
+        &self,
+        p: crate::limit::SurfacePoint,
+    ) -> Result<Derivatives, crate::limit::EvalError> {
+        use crate::limit::EvalError;
+        self.eval(p.face, p.u, p.v).map_err(|e| match e {
+            SplineError::NoSurface { face, .. } => EvalError::Hole { face },
+            SplineError::NoSuchFace { face, count } => EvalError::NoSuchFace { face, count },
+            _ => EvalError::BadParameter { u: p.u, v: p.v },
+        })
+    }
+}
