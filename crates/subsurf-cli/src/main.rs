@@ -129,7 +129,7 @@ enum Command {
     /// Build a mesh whose smooth (NURSS) limit surface passes through cubic NURBS curves.
     #[command(after_help = cmd::interpolate::INTERPOLATE_EXAMPLES)]
     Interpolate(cmd::interpolate::InterpolateArgs),
-    /// Sample the sub-basis spline surface on a watertight grid; write OBJ, PLY, STL or glTF.
+    /// Sample the sub-basis spline surface on a watertight grid; write OBJ, PLY or STL.
     #[command(after_help = cmd::spline::SPLINE_EXAMPLES)]
     Spline(cmd::spline::SplineArgs),
     /// Certify that the limit surface is regular (no vanishing normal, no fold) from the

@@ -59,7 +59,7 @@ fn files(command: &Command) -> (Vec<&Path>, Vec<Out<'_>>) {
         }
         Command::Spline(a) => {
             inputs.push(&a.input);
-            outputs.push(out("--output", &a.output, &[Obj, Ply, Stl, Glb]));
+            outputs.push(out("--output", &a.output, &[Obj, Ply, Stl]));
         }
         Command::Regularity(a) => {
             inputs.push(&a.input);

@@ -14,7 +14,8 @@ use subsurf::spline::export::{
     scalar_colours, split_by_face, write_obj_coloured, write_ply_attributes, PlyAttributes, PALETTE,
 };
 use subsurf::spline::{
-    compare_with_limit, face_colours, quad_control_mesh, tessellate, SubBasisSurface,
+    compare_with_limit, face_colours, quad_control_mesh, tessellate, SplineTessellation,
+    SubBasisSurface,
 };
 
 use crate::cmd::tessellate::Format;
@@ -205,15 +206,31 @@ pub fn run(args: &SplineArgs) -> Result<()> {
             .map_or(String::new(), |v| format!(" --basis {v}")),
         input.name
     );
+    write_surface(&out, format, args, &t, surface, mesh, &comment)?;
+    if args.report {
+        print_report(&input.name, surface, mesh, args.rate)?;
+    }
+    Ok(())
+}
+
+/// Writes `t`, the tessellation of `surface`, to `out` in `format`: coloured by
+/// face (`--colour-faces`), by one control point's basis function (`--basis`), or plain.
+fn write_surface(
+    out: &Output,
+    format: Format,
+    args: &SplineArgs,
+    t: &SplineTessellation,
+    surface: &SubBasisSurface,
+    mesh: &subsurf::mesh::PolyMesh,
+    comment: &str,
+) -> Result<()> {
     if args.colour_faces {
         let colour = face_colours(mesh)?;
         let rgb = |f: u32| PALETTE[colour[f as usize] as usize % PALETTE.len()];
         match format {
             Format::Obj => {
-                let (p, n, c, fo, fv) = split_by_face(&t, rgb);
-                out.write(|mut w| {
-                    write_obj_coloured(&mut w, &p, Some(&n), &c, &fo, &fv, &comment)
-                })?;
+                let (p, n, c, fo, fv) = split_by_face(t, rgb);
+                out.write(|mut w| write_obj_coloured(&mut w, &p, Some(&n), &c, &fo, &fv, comment))?;
             }
             _ => {
                 let fc: Vec<[u8; 3]> = t.source.iter().map(|&f| rgb(f)).collect();
@@ -249,7 +266,7 @@ pub fn run(args: &SplineArgs) -> Result<()> {
                     &colours,
                     &t.face_offsets,
                     &t.face_verts,
-                    &comment,
+                    comment,
                 )
             })?,
             _ => {
@@ -282,7 +299,7 @@ pub fn run(args: &SplineArgs) -> Result<()> {
                 let opts = WriteOptions {
                     normals: Some(&t.normals),
                     scheme: None,
-                    comment: Some(&comment),
+                    comment: Some(comment),
                 };
                 out.write(|mut w| write_obj(&mut w, &m, &opts))?;
             }
@@ -301,36 +318,44 @@ pub fn run(args: &SplineArgs) -> Result<()> {
                     &t.positions,
                     &t.face_offsets,
                     &t.face_verts,
-                    &comment,
+                    comment,
                 )
             })?,
         }
     }
-    if args.report {
-        let c = compare_with_limit(surface, mesh, args.rate.clamp(2, 16))?;
-        let report = format!(
-            "{}: spline surface vs Catmull-Clark limit surface, {} faces, {} samples\n\
-             distance at equal parameters: max {:.6e} ({:.3}% of the bounding-box diagonal \
-             {:.6}) on face {}, rms {:.6e}\n\
-             normal jumps across edges at irregular vertices ({} edges): max {:.4} deg, mean \
-             of per-edge max {:.4} deg; at the irregular vertices themselves: max {:.2e} deg\n\
-             normal jumps across edges between regular vertices ({} edges): max {:.2e} deg\n",
-            input.name,
-            c.faces,
-            c.samples,
-            c.max_distance,
-            100.0 * c.max_distance / c.size.max(f64::MIN_POSITIVE),
-            c.size,
-            c.max_distance_face,
-            c.rms_distance,
-            c.irregular_edges,
-            c.max_jump_irregular,
-            c.mean_jump_irregular,
-            c.max_jump_at_vertices,
-            c.regular_edges,
-            c.max_jump_regular
-        );
-        crate::output::print(&report)?;
-    }
+    Ok(())
+}
+
+/// Prints the comparison of `surface` with the Catmull-Clark limit surface of `mesh`.
+fn print_report(
+    name: &str,
+    surface: &SubBasisSurface,
+    mesh: &subsurf::mesh::PolyMesh,
+    rate: u32,
+) -> Result<()> {
+    let c = compare_with_limit(surface, mesh, rate.clamp(2, 16))?;
+    let report = format!(
+        "{}: spline surface vs Catmull-Clark limit surface, {} faces, {} samples\n\
+         distance at equal parameters: max {:.6e} ({:.3}% of the bounding-box diagonal \
+         {:.6}) on face {}, rms {:.6e}\n\
+         normal jumps across edges at irregular vertices ({} edges): max {:.4} deg, mean \
+         of per-edge max {:.4} deg; at the irregular vertices themselves: max {:.2e} deg\n\
+         normal jumps across edges between regular vertices ({} edges): max {:.2e} deg\n",
+        name,
+        c.faces,
+        c.samples,
+        c.max_distance,
+        100.0 * c.max_distance / c.size.max(f64::MIN_POSITIVE),
+        c.size,
+        c.max_distance_face,
+        c.rms_distance,
+        c.irregular_edges,
+        c.max_jump_irregular,
+        c.mean_jump_irregular,
+        c.max_jump_at_vertices,
+        c.regular_edges,
+        c.max_jump_regular
+    );
+    crate::output::print(&report)?;
     Ok(())
 }
