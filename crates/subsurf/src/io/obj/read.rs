@@ -787,6 +787,26 @@ fn resolve(
     }
 }
 
+/// A tag line's name, its counts `ni/nf/ns` as written and read, and its line.
+struct Tag<'a> {
+    name: &'static str,
+    counts: &'a str,
+    ni: usize,
+    nf: usize,
+    ns: usize,
+    line: usize,
+}
+
+impl Tag<'_> {
+    /// The message for counts other than `expected`.
+    fn bad_counts(&self, expected: &str) -> String {
+        format!(
+            "t {}: unexpected counts {} (expected {expected})",
+            self.name, self.counts
+        )
+    }
+}
+
 /// Parses a non-negative 0-based tag index; indices not (yet) in range are deferred.
 fn tag_index(
     tok: &str,
@@ -1069,143 +1089,22 @@ impl Parser {
                 "t {name}: counts {counts} call for {needed} values, but the line has {found}"
             ));
         }
-        let bad_counts =
-            |expected: &str| format!("t {name}: unexpected counts {counts} (expected {expected})");
+        let tag = Tag {
+            name,
+            counts,
+            ni,
+            nf,
+            ns,
+            line,
+        };
         match name {
-            "crease" => {
-                if ni < 2 || ns != 0 || !(nf == 0 || nf == 1 || nf == ni - 1) {
-                    return Err(bad_counts(
-                        "2/1/0 for one edge, or N/1/0, N/(N-1)/0 or N/0/0 for a chain of N vertices",
-                    ));
-                }
-                let nv = self.positions.len();
-                let verts = (&mut toks)
-                    .take(ni)
-                    .map(|t| tag_index(t, name, nv, line, &mut self.tag_vertices))
-                    .collect::<Result<Vec<u32>, String>>()?;
-                let weights = (&mut toks)
-                    .take(nf)
-                    .map(|t| sharpness(t, name))
-                    .collect::<Result<Vec<f32>, String>>()?;
-                for (i, pair) in verts.windows(2).enumerate() {
-                    let s = match nf {
-                        0 => SHARPNESS_INFINITE,
-                        1 => weights.first().copied().unwrap_or(SHARPNESS_INFINITE),
-                        _ => weights.get(i).copied().unwrap_or(SHARPNESS_INFINITE),
-                    };
-                    if let [v0, v1] = *pair {
-                        self.tags.creases.push(Crease {
-                            v0,
-                            v1,
-                            sharpness: s,
-                        });
-                    }
-                }
-            }
-            "corner" => {
-                if ni < 1 || ns != 0 || !(nf == 0 || nf == 1 || nf == ni) {
-                    return Err(bad_counts("1/1/0, or N/1/0, N/N/0 or N/0/0 for N vertices"));
-                }
-                let nv = self.positions.len();
-                let verts = (&mut toks)
-                    .take(ni)
-                    .map(|t| tag_index(t, name, nv, line, &mut self.tag_vertices))
-                    .collect::<Result<Vec<u32>, String>>()?;
-                let weights = (&mut toks)
-                    .take(nf)
-                    .map(|t| sharpness(t, name))
-                    .collect::<Result<Vec<f32>, String>>()?;
-                for (i, &vertex) in verts.iter().enumerate() {
-                    let s = match nf {
-                        0 => SHARPNESS_INFINITE,
-                        1 => weights.first().copied().unwrap_or(SHARPNESS_INFINITE),
-                        _ => weights.get(i).copied().unwrap_or(SHARPNESS_INFINITE),
-                    };
-                    self.tags.corners.push(Corner {
-                        vertex,
-                        sharpness: s,
-                    });
-                }
-            }
-            "hole" => {
-                if nf != 0 || ns != 0 {
-                    return Err(bad_counts("N/0/0 for N faces"));
-                }
-                let nfaces = self.face_lines.len();
-                for t in toks {
-                    let f = tag_index(t, name, nfaces, line, &mut self.tag_faces)?;
-                    self.tags.holes.push(f);
-                }
-            }
-            "interval" | "sideinterval" => {
-                let side = name == "sideinterval";
-                let ni_expected = if side { 3 } else { 2 };
-                if (ni, nf, ns) != (ni_expected, 1, 0) {
-                    return Err(bad_counts(if side {
-                        "3/1/0: face, two vertices, interval"
-                    } else {
-                        "2/1/0: two vertices, interval"
-                    }));
-                }
-                let face = if side {
-                    let nfaces = self.face_lines.len();
-                    let tok = toks.next().unwrap_or("");
-                    Some(tag_index(tok, name, nfaces, line, &mut self.tag_faces)?)
-                } else {
-                    None
-                };
-                let nv = self.positions.len();
-                let mut vert = || {
-                    let tok = toks.next().unwrap_or("");
-                    tag_index(tok, name, nv, line, &mut self.tag_vertices)
-                };
-                let (v0, v1) = (vert()?, vert()?);
-                if v0 == v1 {
-                    return Err(format!(
-                        "t {name}: an edge needs two different vertices, found {v0} twice"
-                    ));
-                }
-                let interval = knot_interval(toks.next().unwrap_or(""), name)?;
-                match face {
-                    Some(face) => {
-                        self.knots.side_intervals.push(SideInterval {
-                            face,
-                            v0,
-                            v1,
-                            interval,
-                        });
-                        self.knot_lines.side_intervals.push(line);
-                    }
-                    None => {
-                        self.knots.intervals.push(EdgeInterval { v0, v1, interval });
-                        self.knot_lines.intervals.push(line);
-                    }
-                }
-            }
-            "weight" => {
-                if (ni, nf, ns) != (1, 1, 0) {
-                    return Err(bad_counts("1/1/0: vertex, weight"));
-                }
-                let nv = self.positions.len();
-                let tok = toks.next().unwrap_or("");
-                let vertex = tag_index(tok, name, nv, line, &mut self.tag_vertices)?;
-                let tok = toks.next().unwrap_or("");
-                let weight = match tok.parse::<f64>() {
-                    Ok(w) if w.is_finite() && w > 0.0 => w,
-                    _ => {
-                        return Err(format!(
-                            "t weight: rational weight '{tok}' must be a finite number > 0"
-                        ))
-                    }
-                };
-                self.knots.weights.push(VertexWeight { vertex, weight });
-                self.knot_lines.weights.push(line);
-            }
+            "crease" => self.tag_crease(toks, &tag),
+            "corner" => self.tag_corner(toks, &tag),
+            "hole" => self.tag_hole(toks, &tag),
+            "interval" | "sideinterval" => self.tag_interval(toks, &tag),
+            "weight" => self.tag_weight(toks, &tag),
             "interpolateboundary" => {
-                if (ni, nf, ns) != (1, 0, 0) {
-                    return Err(bad_counts("1/0/0"));
-                }
-                let tok = toks.next().unwrap_or("");
+                let tok = Self::option_token(toks, &tag, (1, 0, 0))?;
                 let value: i64 = tok
                     .parse()
                     .map_err(|_| format!("t {name}: '{tok}' is not an integer"))?;
@@ -1216,27 +1115,179 @@ impl Parser {
                     )
                 })?;
                 self.options.boundary = Some(mode);
+                Ok(())
             }
             "creasemethod" => {
-                if (ni, nf, ns) != (0, 0, 1) {
-                    return Err(bad_counts("0/0/1"));
-                }
-                let tok = toks.next().unwrap_or("");
+                let tok = Self::option_token(toks, &tag, (0, 0, 1))?;
                 let method: CreaseMethod = tok.parse().map_err(|e| format!("t {name}: {e}"))?;
                 self.options.crease_method = Some(method);
+                Ok(())
             }
             _ => {
                 // smoothtriangles
-                if (ni, nf, ns) != (0, 0, 1) {
-                    return Err(bad_counts("0/0/1"));
-                }
-                let tok = toks.next().unwrap_or("");
+                let tok = Self::option_token(toks, &tag, (0, 0, 1))?;
                 let rule: TriangleSubdivision =
                     tok.parse().map_err(|e| format!("t {name}: {e}"))?;
                 self.options.triangles = Some(rule);
+                Ok(())
+            }
+        }
+    }
+
+    /// The vertices of a crease or corner tag, and the sharpness of each: one for all
+    /// (`nf` 1), one each (`nf` = `each`), or infinitely sharp (`nf` 0).
+    fn sharp_vertices(
+        &mut self,
+        mut toks: SplitAsciiWhitespace<'_>,
+        tag: &Tag,
+        each: usize,
+    ) -> Result<Vec<(u32, f32)>, String> {
+        let nv = self.positions.len();
+        let verts = (&mut toks)
+            .take(tag.ni)
+            .map(|t| tag_index(t, tag.name, nv, tag.line, &mut self.tag_vertices))
+            .collect::<Result<Vec<u32>, String>>()?;
+        let weights = (&mut toks)
+            .take(tag.nf)
+            .map(|t| sharpness(t, tag.name))
+            .collect::<Result<Vec<f32>, String>>()?;
+        let s = |i: usize| match tag.nf {
+            0 => SHARPNESS_INFINITE,
+            1 => weights.first().copied().unwrap_or(SHARPNESS_INFINITE),
+            _ if tag.nf == each => weights.get(i).copied().unwrap_or(SHARPNESS_INFINITE),
+            _ => SHARPNESS_INFINITE,
+        };
+        Ok(verts.iter().enumerate().map(|(i, &v)| (v, s(i))).collect())
+    }
+
+    /// `t crease N/nf/0 v…`: a chain of N vertices, sharpness for all or per edge.
+    fn tag_crease(&mut self, toks: SplitAsciiWhitespace<'_>, tag: &Tag) -> Result<(), String> {
+        let (ni, nf, ns) = (tag.ni, tag.nf, tag.ns);
+        if ni < 2 || ns != 0 || !(nf == 0 || nf == 1 || nf == ni - 1) {
+            return Err(tag.bad_counts(
+                "2/1/0 for one edge, or N/1/0, N/(N-1)/0 or N/0/0 for a chain of N vertices",
+            ));
+        }
+        let verts = self.sharp_vertices(toks, tag, ni - 1)?;
+        for pair in verts.windows(2) {
+            if let [(v0, sharpness), (v1, _)] = *pair {
+                self.tags.creases.push(Crease { v0, v1, sharpness });
             }
         }
         Ok(())
+    }
+
+    /// `t corner N/nf/0 v…`: N vertices, sharpness for all or each.
+    fn tag_corner(&mut self, toks: SplitAsciiWhitespace<'_>, tag: &Tag) -> Result<(), String> {
+        let (ni, nf, ns) = (tag.ni, tag.nf, tag.ns);
+        if ni < 1 || ns != 0 || !(nf == 0 || nf == 1 || nf == ni) {
+            return Err(tag.bad_counts("1/1/0, or N/1/0, N/N/0 or N/0/0 for N vertices"));
+        }
+        for (vertex, sharpness) in self.sharp_vertices(toks, tag, ni)? {
+            self.tags.corners.push(Corner { vertex, sharpness });
+        }
+        Ok(())
+    }
+
+    /// `t hole N/0/0 f…`: N faces.
+    fn tag_hole(&mut self, toks: SplitAsciiWhitespace<'_>, tag: &Tag) -> Result<(), String> {
+        if tag.nf != 0 || tag.ns != 0 {
+            return Err(tag.bad_counts("N/0/0 for N faces"));
+        }
+        let nfaces = self.face_lines.len();
+        for t in toks {
+            let f = tag_index(t, tag.name, nfaces, tag.line, &mut self.tag_faces)?;
+            self.tags.holes.push(f);
+        }
+        Ok(())
+    }
+
+    /// `t interval 2/1/0 v0 v1 d` and `t sideinterval 3/1/0 f v0 v1 d`: knot intervals.
+    fn tag_interval(
+        &mut self,
+        mut toks: SplitAsciiWhitespace<'_>,
+        tag: &Tag,
+    ) -> Result<(), String> {
+        let name = tag.name;
+        let side = name == "sideinterval";
+        let ni_expected = if side { 3 } else { 2 };
+        if (tag.ni, tag.nf, tag.ns) != (ni_expected, 1, 0) {
+            return Err(tag.bad_counts(if side {
+                "3/1/0: face, two vertices, interval"
+            } else {
+                "2/1/0: two vertices, interval"
+            }));
+        }
+        let face = if side {
+            let nfaces = self.face_lines.len();
+            let tok = toks.next().unwrap_or("");
+            Some(tag_index(tok, name, nfaces, tag.line, &mut self.tag_faces)?)
+        } else {
+            None
+        };
+        let nv = self.positions.len();
+        let mut vert = || {
+            let tok = toks.next().unwrap_or("");
+            tag_index(tok, name, nv, tag.line, &mut self.tag_vertices)
+        };
+        let (v0, v1) = (vert()?, vert()?);
+        if v0 == v1 {
+            return Err(format!(
+                "t {name}: an edge needs two different vertices, found {v0} twice"
+            ));
+        }
+        let interval = knot_interval(toks.next().unwrap_or(""), name)?;
+        match face {
+            Some(face) => {
+                self.knots.side_intervals.push(SideInterval {
+                    face,
+                    v0,
+                    v1,
+                    interval,
+                });
+                self.knot_lines.side_intervals.push(tag.line);
+            }
+            None => {
+                self.knots.intervals.push(EdgeInterval { v0, v1, interval });
+                self.knot_lines.intervals.push(tag.line);
+            }
+        }
+        Ok(())
+    }
+
+    /// `t weight 1/1/0 v w`: a rational weight.
+    fn tag_weight(&mut self, mut toks: SplitAsciiWhitespace<'_>, tag: &Tag) -> Result<(), String> {
+        if (tag.ni, tag.nf, tag.ns) != (1, 1, 0) {
+            return Err(tag.bad_counts("1/1/0: vertex, weight"));
+        }
+        let nv = self.positions.len();
+        let tok = toks.next().unwrap_or("");
+        let vertex = tag_index(tok, tag.name, nv, tag.line, &mut self.tag_vertices)?;
+        let tok = toks.next().unwrap_or("");
+        let weight = match tok.parse::<f64>() {
+            Ok(w) if w.is_finite() && w > 0.0 => w,
+            _ => {
+                return Err(format!(
+                    "t weight: rational weight '{tok}' must be a finite number > 0"
+                ))
+            }
+        };
+        self.knots.weights.push(VertexWeight { vertex, weight });
+        self.knot_lines.weights.push(tag.line);
+        Ok(())
+    }
+
+    /// The one value of an option tag with counts `expected`.
+    fn option_token<'a>(
+        mut toks: SplitAsciiWhitespace<'a>,
+        tag: &Tag,
+        expected: (usize, usize, usize),
+    ) -> Result<&'a str, String> {
+        if (tag.ni, tag.nf, tag.ns) != expected {
+            let (ni, nf, ns) = expected;
+            return Err(tag.bad_counts(&format!("{ni}/{nf}/{ns}")));
+        }
+        Ok(toks.next().unwrap_or(""))
     }
 
     /// The checks that need the whole file, then the mesh.
