@@ -99,6 +99,7 @@ fn parse_threads(s: &str) -> Result<usize, String> {
 enum Command {
     /// Refine an OBJ mesh N levels with Catmull-Clark and write it as OBJ.
     #[command(after_help = SUBDIVIDE_EXAMPLES)]
+    #[command(mut_arg("c", |a| a.help("Shape parameter of the adjustable scheme, in [0, 1]: 0.5 is Catmull-Clark, smaller stays closer to the control mesh (0: the mesh itself), larger moves away from it; needs --scheme adjustable")), mut_arg("adjust_steps", |a| a.help("Use the adjustable scheme for the first K steps only, then Catmull-Clark (mixed subdivision) [default: every level]")))]
     Subdivide(SubdivideArgs),
     /// Print a summary of an OBJ mesh: counts, valences, boundaries, manifoldness, tags.
     #[command(after_help = INFO_EXAMPLES)]
@@ -109,19 +110,23 @@ enum Command {
     /// Sample the exact limit surface on an N×N grid per quad face and per sub-face of other
     /// faces (osd-oracle limit layout, Bfr's parameterisation).
     #[command(after_help = LIMIT_EXAMPLES)]
+    #[command(mut_arg("c", |a| a.help("Shape parameter of the adjustable scheme, in [0, 1]: 0.5 is Catmull-Clark, smaller stays closer to the control mesh (0: the mesh itself), larger moves away from it: samples the mixed limit surface")), mut_arg("adjust_steps", |a| a.help("Use the adjustable scheme for the first K steps only, then Catmull-Clark (mixed subdivision) [default: 1]")))]
     Limit(LimitArgs),
     /// Sample the exact limit surface on a watertight grid; write OBJ, PLY or STL.
     #[command(after_help = TESSELLATE_EXAMPLES)]
+    #[command(mut_arg("c", |a| a.help("Shape parameter of the adjustable scheme, in [0, 1]: 0.5 is Catmull-Clark, smaller stays closer to the control mesh (0: the mesh itself), larger moves away from it: tessellates the mixed limit surface")), mut_arg("adjust_steps", |a| a.help("Use the adjustable scheme for the first K steps only, then Catmull-Clark (mixed subdivision) [default: 1]")))]
     Tessellate(TessellateArgs),
     /// Refine a base mesh once, then each pose (the base's vertices moved) with a re-posing
     /// plan; write each refined pose as OBJ.
     #[command(after_help = cmd::repose::REPOSE_EXAMPLES)]
+    #[command(mut_arg("c", |a| a.help("Shape parameter of the adjustable scheme, in [0, 1]: 0.5 is Catmull-Clark, smaller stays closer to the control mesh (0: the mesh itself), larger moves away from it; needs --scheme adjustable")), mut_arg("adjust_steps", |a| a.help("Use the adjustable scheme for the first K steps only, then Catmull-Clark (mixed subdivision) [default: every level]")))]
     Repose(cmd::repose::ReposeArgs),
     /// Time uniform refinement (topology + positions, no output), like `osd-oracle bench`.
     #[command(after_help = BENCH_EXAMPLES)]
     Bench(BenchArgs),
     /// Draw the limit surface (or a refined mesh) to a PNG: shaded, zebra stripes, curvature.
     #[command(after_help = RENDER_EXAMPLES)]
+    #[command(mut_arg("c", |a| a.help("Shape parameter of the adjustable scheme, in [0, 1]: 0.5 is Catmull-Clark, smaller stays closer to the control mesh (0: the mesh itself), larger moves away from it: draws the mixed limit surface (--control-mesh then draws the c-refined mesh)")), mut_arg("adjust_steps", |a| a.help("Use the adjustable scheme for the first K steps only, then Catmull-Clark (mixed subdivision) [default: 1]")))]
     Render(RenderArgs),
     /// Read NURBS curves and surfaces (JSON or OBJ free-form): summary, conversion, samples.
     #[command(after_help = NURBS_EXAMPLES)]
@@ -139,6 +144,7 @@ enum Command {
     /// Replace the surface at extraordinary vertices by G2 bi-septic caps (Tang et al. 2017); write a
     /// tessellation (OBJ) or the patches' control points (JSON), optionally a continuity report.
     #[command(after_help = cmd::g2::G2_EXAMPLES)]
+    #[command(mut_arg("c", |a| a.help("Shape parameter of the adjustable scheme, in [0, 1]: 0.5 is Catmull-Clark, smaller stays closer to the control mesh (0: the mesh itself), larger moves away from it: the G2 caps go on the mixed surface")), mut_arg("adjust_steps", |a| a.help("Use the adjustable scheme for the first K steps only, then Catmull-Clark (mixed subdivision) [default: 1]")))]
     G2(cmd::g2::G2Args),
     /// Blend N bicubic B-spline patches C2 with a NURSS surface (skirt removal).
     #[command(after_help = cmd::blend::BLEND_EXAMPLES)]
@@ -480,13 +486,11 @@ pub enum SchemeKind {
 #[derive(Debug, Args)]
 pub struct AdjustArgs {
     /// Shape parameter of the adjustable scheme, in [0, 1]: 0.5 is Catmull-Clark, smaller
-    /// stays closer to the control mesh (0: the mesh itself), larger moves away from it
-    /// (subdivide, repose: with --scheme adjustable; tessellate, render, limit: the mixed limit surface,
-    /// and render --control-mesh then draws the c-refined mesh; g2: its G2 surface).
+    /// stays closer to the control mesh (0: the mesh itself), larger moves away from it.
     #[arg(long = "c", value_name = "C", allow_negative_numbers = true, value_parser = cmd::adjustable::parse_c)]
     pub c: Option<f64>,
     /// Use the adjustable scheme for the first K steps only, then Catmull-Clark (mixed
-    /// subdivision) [default: subdivide, repose: every level; tessellate, render, limit, g2: 1].
+    /// subdivision).
     #[arg(long, value_name = "K", requires = "c")]
     pub adjust_steps: Option<u32>,
 }
