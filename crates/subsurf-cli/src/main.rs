@@ -112,7 +112,7 @@ enum Command {
     #[command(after_help = LIMIT_EXAMPLES)]
     #[command(mut_arg("c", |a| a.help("Shape parameter of the adjustable scheme, in [0, 1]: 0.5 is Catmull-Clark, smaller stays closer to the control mesh (0: the mesh itself), larger moves away from it: samples the mixed limit surface")), mut_arg("adjust_steps", |a| a.help("Use the adjustable scheme for the first K steps only, then Catmull-Clark (mixed subdivision) [default: 1]")))]
     Limit(LimitArgs),
-    /// Sample the exact limit surface on a watertight grid; write OBJ, PLY or STL.
+    /// Sample the exact limit surface on a watertight grid; write OBJ, PLY, STL or binary glTF.
     #[command(after_help = TESSELLATE_EXAMPLES)]
     #[command(mut_arg("c", |a| a.help("Shape parameter of the adjustable scheme, in [0, 1]: 0.5 is Catmull-Clark, smaller stays closer to the control mesh (0: the mesh itself), larger moves away from it: tessellates the mixed limit surface")), mut_arg("adjust_steps", |a| a.help("Use the adjustable scheme for the first K steps only, then Catmull-Clark (mixed subdivision) [default: 1]")))]
     Tessellate(TessellateArgs),

@@ -27,7 +27,8 @@ tags (its outer ring is the extension layer).
 
 Examples:
   subsurf blend examples/patches/blend3.json -o blend3.obj
-  subsurf blend examples/patches/blend5.json -o blend5.obj --levels 6 --control-mesh blend5-control.obj";
+  subsurf blend examples/patches/blend5.json -o blend5.obj --levels 6 \\
+      --control-mesh blend5-control.obj";
 
 /// Arguments of `subsurf blend`.
 #[derive(Debug, Args)]
