@@ -346,15 +346,39 @@ pub fn run(args: &G2Args) -> Result<()> {
             surface.uncapped().len()
         ));
     }
+    write_output(args, &out, fmt, &surface, &scheme, &input, &adjust_flags)?;
+    if args.report {
+        print_report(
+            &out,
+            &surface,
+            &input.name,
+            mixed.map(|_| adjust_flags.trim()),
+        )?;
+    }
+    Ok(())
+}
+
+/// Writes `surface` to `out` in `fmt`: a tessellation (OBJ), a picture (PNG), or the
+/// patches' control points (JSON, IGES).
+fn write_output(
+    args: &G2Args,
+    out: &Output,
+    fmt: Format,
+    surface: &G2Surface,
+    scheme: &Options,
+    input: &Input,
+    adjust_flags: &str,
+) -> Result<()> {
+    let (name, mesh) = (input.name.as_str(), &input.obj.mesh);
     match fmt {
         Format::Obj => {
-            let t = tessellate(&surface, mesh, args.rate).with_context(|| input.name.clone())?;
-            let poly = t.to_polymesh().with_context(|| input.name.clone())?;
+            let t = tessellate(surface, mesh, args.rate).with_context(|| name.to_owned())?;
+            let poly = t.to_polymesh().with_context(|| name.to_owned())?;
             let comment = format!(
                 "subsurf g2 --rate {}{} {}: {} caps",
                 args.rate,
                 adjust_flags,
-                input.name,
+                name,
                 surface.caps().len()
             );
             out.write(|mut w| {
@@ -386,24 +410,24 @@ pub fn run(args: &G2Args) -> Result<()> {
             if let Some(v) = args.view {
                 opts.view = v;
             }
-            let g2: &dyn Surface = &surface;
-            let uncapped = Uncapped(&surface);
+            let g2: &dyn Surface = surface;
+            let uncapped = Uncapped(surface);
             let drawn_surface = match (args.compare, surface.mixed().is_some()) {
                 (false, _) => Some(g2),
                 (true, true) => Some(&uncapped as &dyn Surface),
                 (true, false) => None,
             };
-            let drawn = render_surface(mesh, &scheme, &opts, drawn_surface)
-                .with_context(|| input.name.clone())?;
+            let drawn = render_surface(mesh, scheme, &opts, drawn_surface)
+                .with_context(|| name.to_owned())?;
             out.write(|w| write_png(w, &drawn.image))?;
         }
         Format::Json => {
-            let doc = patches_json(&surface, mesh).with_context(|| input.name.clone())?;
+            let doc = patches_json(surface, mesh).with_context(|| name.to_owned())?;
             let text = doc.to_json();
             out.write(|w| writeln!(w, "{text}"))?;
         }
         Format::Iges => {
-            let doc = patches_json(&surface, mesh).with_context(|| input.name.clone())?;
+            let doc = patches_json(surface, mesh).with_context(|| name.to_owned())?;
             let name = args
                 .output
                 .file_name()
@@ -413,39 +437,38 @@ pub fn run(args: &G2Args) -> Result<()> {
             out.write(|w| w.write_all(text.as_bytes()))?;
         }
     }
-    if args.report {
-        let r = continuity_report(&surface, 24).with_context(|| input.name.clone())?;
-        let text = format!(
-            "{}{}: {} caps, {} left with Catmull-Clark; 24 samples per boundary\n{r}",
-            input.name,
-            if mixed.is_some() {
-                format!(
-                    " ({}; the Catmull-Clark rows are the mixed surface without caps)",
-                    adjust_flags.trim()
-                )
-            } else {
-                String::new()
-            },
-            surface.caps().len(),
-            surface.uncapped().len()
-        );
+    Ok(())
+}
+
+/// Prints the continuity report of `surface` (to standard error when the surface goes to
+/// standard output); `mixed`: the `--c` flags of a mixed surface.
+fn print_report(out: &Output, surface: &G2Surface, name: &str, mixed: Option<&str>) -> Result<()> {
+    let r = continuity_report(surface, 24).with_context(|| name.to_owned())?;
+    let text = format!(
+        "{}{}: {} caps, {} left with Catmull-Clark; 24 samples per boundary\n{r}",
+        name,
+        mixed.map_or(String::new(), |flags| {
+            format!(" ({flags}; the Catmull-Clark rows are the mixed surface without caps)")
+        }),
+        surface.caps().len(),
+        surface.uncapped().len()
+    );
+    if matches!(out, Output::Stdout) {
+        crate::output::eprint_line(text.trim_end_matches('\n'));
+    } else {
+        crate::output::print(&text)?;
+    }
+    for u in surface.uncapped() {
+        let what = match (u.vertex, u.face) {
+            (Some(v), _) => format!("vertex {v}"),
+            (None, Some(f)) => format!("centre of face {f}"),
+            _ => "?".into(),
+        };
+        let line = format!("  {what} (valence {}): {}", u.valence, u.reason);
         if matches!(out, Output::Stdout) {
-            crate::output::eprint_line(text.trim_end_matches('\n'));
+            crate::output::eprint_line(&line);
         } else {
-            crate::output::print(&text)?;
-        }
-        for u in surface.uncapped() {
-            let what = match (u.vertex, u.face) {
-                (Some(v), _) => format!("vertex {v}"),
-                (None, Some(f)) => format!("centre of face {f}"),
-                _ => "?".into(),
-            };
-            let line = format!("  {what} (valence {}): {}", u.valence, u.reason);
-            if matches!(out, Output::Stdout) {
-                crate::output::eprint_line(&line);
-            } else {
-                crate::output::print(&format!("{line}\n"))?;
-            }
+            crate::output::print(&format!("{line}\n"))?;
         }
     }
     Ok(())
