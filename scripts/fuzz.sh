@@ -24,7 +24,7 @@ set -euo pipefail
 
 secs=${1:-60}
 shift || true
-all_targets=(obj_reader topology refine_step limit_eval json_reader geometry_reader)
+all_targets=(obj_reader topology refine_step limit_eval json_reader geometry_reader ply_reader)
 if [ $# -gt 0 ]; then targets=("$@"); else targets=("${all_targets[@]}"); fi
 
 root=$(cd "$(dirname "$0")/.." && pwd)
