@@ -83,7 +83,7 @@ fn refine_level5(c: &mut Criterion) {
         let (mesh, scheme) = load(shape);
         let opts = SubdivideOptions {
             levels: 5,
-            scheme,
+            options: scheme,
             ..SubdivideOptions::default()
         };
         for (n, pool) in &pools {
@@ -112,7 +112,7 @@ fn limit_level3(c: &mut Criterion) {
         let (mesh, scheme) = load(shape);
         let opts = SubdivideOptions {
             levels: 3,
-            scheme,
+            options: scheme,
             limit: true,
             ..SubdivideOptions::default()
         };

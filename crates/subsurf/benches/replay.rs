@@ -57,7 +57,7 @@ fn setup() -> (rayon::ThreadPool, PolyMesh, Options, SubdivideOptions) {
     let (mesh, scheme) = load(SHAPE);
     let opts = SubdivideOptions {
         levels: LEVELS,
-        scheme,
+        options: scheme,
         ..SubdivideOptions::default()
     };
     (pool, mesh, scheme, opts)
@@ -167,7 +167,7 @@ fn replay_nurss_level5(c: &mut Criterion) {
     let mesh = nurss_bishop(&mesh);
     let opts = NurssOptions {
         levels: LEVELS,
-        scheme,
+        options: scheme,
         ..NurssOptions::default()
     };
     apply_full_build(
@@ -186,13 +186,13 @@ fn replay_nurss_limit_level4(c: &mut Criterion) {
     let mesh = nurss_bishop(&mesh);
     let opts = SubdivideOptions {
         levels: LIMIT_LEVELS,
-        scheme,
+        options: scheme,
         limit: true,
         ..SubdivideOptions::default()
     };
     let nurss_opts = NurssOptions {
         levels: LIMIT_LEVELS,
-        scheme,
+        options: scheme,
         limit: true,
         ..NurssOptions::default()
     };

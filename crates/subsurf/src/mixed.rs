@@ -67,7 +67,7 @@ impl MixedSurface {
     pub fn new(mesh: &PolyMesh, options: Options, mixed: Mixed) -> Result<Self, Error> {
         let opts = SubdivideOptions {
             levels: mixed.steps,
-            scheme: options,
+            options,
             limit: false,
             keep_holes: true,
             max_memory: None,

@@ -245,7 +245,7 @@ pub enum PoseError {
 
 impl Reposer {
     /// Refines `base` with `opts` (as [`subdivide`]) and builds the plan that re-poses the
-    /// result. The base mesh's tags (creases, corners, holes) and `opts.scheme` hold for
+    /// result. The base mesh's tags (creases, corners, holes) and `opts.options` hold for
     /// every pose.
     ///
     /// With `opts.limit`, each pose gives the limit positions and the limit normals
@@ -364,7 +364,7 @@ impl Reposer {
                 // The limit positions come from the rows below, as every pose's.
                 let nurss_opts = NurssOptions {
                     levels: opts.levels,
-                    scheme: opts.scheme,
+                    options: opts.options,
                     limit: false,
                     keep_holes: opts.keep_holes,
                 };
@@ -389,13 +389,13 @@ impl Reposer {
             opts.levels
         };
         let plan = match scheme {
-            Scheme::CatmullClark => RefinePlan::new(base, opts.scheme, plan_levels)?,
+            Scheme::CatmullClark => RefinePlan::new(base, opts.options, plan_levels)?,
             // The level that limit masks may add is Catmull-Clark's, as in `subdivide_mixed`.
             Scheme::Mixed(m) => {
                 let steps = m.steps.min(opts.levels);
-                RefinePlan::new_mixed(base, opts.scheme, plan_levels, Mixed { steps, ..m })?
+                RefinePlan::new_mixed(base, opts.options, plan_levels, Mixed { steps, ..m })?
             }
-            Scheme::Nurss => RefinePlan::new_nurss(base, opts.scheme, plan_levels)?,
+            Scheme::Nurss => RefinePlan::new_nurss(base, opts.options, plan_levels)?,
         };
         // NURSS in homogeneous points when rational or mapped to the limit (whose rows map
         // homogeneous points).
@@ -415,12 +415,12 @@ impl Reposer {
         }
         let limit = match sub.normals {
             Some(normals) => {
-                let (mut level, _) = Topology::from_mesh(base, &opts.scheme)?;
+                let (mut level, _) = Topology::from_mesh(base, &opts.options)?;
                 for _ in 0..opts.levels {
-                    level = refine_topology(&level, &opts.scheme, true);
+                    level = refine_topology(&level, &opts.options, true);
                 }
                 let map = if plan_levels > opts.levels {
-                    let rows = refine_topology(&level, &opts.scheme, true);
+                    let rows = refine_topology(&level, &opts.options, true);
                     LimitMap::new(&rows, &level, normals)
                 } else {
                     LimitMap::new(&level, &level, normals)
@@ -588,7 +588,7 @@ mod tests {
         for keep_holes in [false, true] {
             let opts = SubdivideOptions {
                 levels: 3,
-                scheme: Options::default(),
+                options: Options::default(),
                 keep_holes,
                 ..Default::default()
             };

@@ -11,8 +11,8 @@ use crate::scheme::adjustable::Mixed;
 pub struct SubdivideOptions {
     /// Number of uniform refinement steps (0 leaves the mesh as it is).
     pub levels: u32,
-    /// Scheme options (boundary interpolation, crease method, triangle rule).
-    pub scheme: Options,
+    /// The rules' options: boundary interpolation, crease method, triangle rule.
+    pub options: Options,
     /// Move the last level's vertices to their limit positions and compute limit normals.
     pub limit: bool,
     /// Keep hole faces in the output (tagged as holes) so that the result can be refined
@@ -194,7 +194,7 @@ fn subdivide_steps(
         }));
     }
 
-    let (mut level, warnings) = Topology::from_mesh(mesh, &opts.scheme)?;
+    let (mut level, warnings) = Topology::from_mesh(mesh, &opts.options)?;
     let mut pos = mesh.positions().to_vec();
     // The parent of the last level, when that level is built without edge vertices.
     let mut parent = None;
@@ -203,16 +203,16 @@ fn subdivide_steps(
         // The last level needs its full adjacency only for limit masks, and its edge
         // vertices only for the output's creases, which are read from its parent.
         let child = if last && !opts.limit {
-            refine_topology_for_output(&level, &opts.scheme)
+            refine_topology_for_output(&level, &opts.options)
         } else {
-            refine_topology(&level, &opts.scheme, true)
+            refine_topology(&level, &opts.options, true)
         };
         let mut next = vec![[0.0; 3]; child.num_vertices()];
         match mixed {
             Some(m) if l <= m.steps => {
-                interpolate_with(&level, &child, &opts.scheme, m.scheme, &pos, &mut next)
+                interpolate_with(&level, &child, &opts.options, m.scheme, &pos, &mut next)
             }
-            _ => interpolate(&level, &child, &opts.scheme, &pos, &mut next),
+            _ => interpolate(&level, &child, &opts.options, &pos, &mut next),
         }
         let p = std::mem::replace(&mut level, child);
         if last && !opts.limit {
@@ -223,14 +223,14 @@ fn subdivide_steps(
     }
 
     let normals = if opts.limit {
-        Some(limit_in_place(&level, &opts.scheme, &mut pos))
+        Some(limit_in_place(&level, &opts.options, &mut pos))
     } else {
         None
     };
     let out = output_mesh(
         level,
         parent.as_ref(),
-        opts.scheme.boundary == crate::mesh::BoundaryInterpolation::None,
+        opts.options.boundary == crate::mesh::BoundaryInterpolation::None,
         pos,
         opts.keep_holes,
     );

@@ -85,7 +85,7 @@ pub fn check_surface_flags(given: Option<SchemeKind>, args: &AdjustArgs) {
 pub fn refined_mesh(input: &Input, options: Options, mixed: Mixed) -> Result<PolyMesh> {
     let opts = SubdivideOptions {
         levels: mixed.steps,
-        scheme: options,
+        options,
         keep_holes: true,
         max_memory: crate::memory::available(),
         ..SubdivideOptions::default()

@@ -30,7 +30,7 @@ pub fn run(args: &BenchArgs, threads: usize) -> Result<()> {
     }
     let opts = SubdivideOptions {
         levels: args.levels,
-        scheme: args
+        options: args
             .scheme
             .over(input.obj.options)
             .resolve(Options::default()),
@@ -58,7 +58,7 @@ pub fn run(args: &BenchArgs, threads: usize) -> Result<()> {
         let blocks = (u64::from(n) * u64::from(n))
             .saturating_mul(POINT_BYTES * FACES_PER_BLOCK as u64)
             .saturating_mul(pool.current_num_threads() as u64);
-        return bench_limit(input, opts.scheme, n, reps, &pool, |mesh, options| {
+        return bench_limit(input, opts.options, n, reps, &pool, |mesh, options| {
             guard.limit_surface(mesh, options, n, blocks)
         });
     }
@@ -77,7 +77,7 @@ pub fn run(args: &BenchArgs, threads: usize) -> Result<()> {
     crate::memory::check(&input.name, &what, estimate, args.max_memory, hint)?;
     crate::memory::for_refinement(estimate);
     if args.replay {
-        return bench_replay(&input, opts.scheme, args.levels, reps, &pool);
+        return bench_replay(&input, opts.options, args.levels, reps, &pool);
     }
     let mut verts = 0;
     let times = time_reps(&pool, reps, || {

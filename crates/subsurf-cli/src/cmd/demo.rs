@@ -519,7 +519,7 @@ fn catmull_clark(ctx: &Ctx) -> Result<Vec<Item>> {
     for limit in [false, true].into_iter().filter(|&l| !l || ctx.ex.limit) {
         let opts = SubdivideOptions {
             levels: LEVELS,
-            scheme: ctx.options,
+            options: ctx.options,
             limit,
             ..Default::default()
         };
@@ -638,7 +638,7 @@ fn adjustable(ctx: &Ctx) -> Result<Vec<Item>> {
         let scheme = Adjustable::new(c)?;
         let opts = SubdivideOptions {
             levels: ADJUSTABLE_LEVELS,
-            scheme: ctx.options,
+            options: ctx.options,
             ..Default::default()
         };
         let all = Mixed::all(scheme);
@@ -692,7 +692,7 @@ fn nurss(ctx: &Ctx) -> Result<Vec<Item>> {
     for limit in [false, true] {
         let opts = NurssOptions {
             levels: LEVELS,
-            scheme: ctx.options,
+            options: ctx.options,
             limit,
             keep_holes: false,
         };

@@ -488,7 +488,7 @@ impl Surface for Uncapped<'_> {
 fn check_memory(mesh: &subsurf::mesh::PolyMesh, scheme: Options, steps: u32) -> Result<()> {
     let opts = SubdivideOptions {
         levels: steps,
-        scheme,
+        options: scheme,
         keep_holes: true,
         ..SubdivideOptions::default()
     };

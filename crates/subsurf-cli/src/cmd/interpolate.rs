@@ -134,7 +134,7 @@ pub fn run(args: &InterpolateArgs) -> Result<()> {
     // and 70, 229, 860 MiB).
     let refined = subsurf::SubdivideOptions {
         levels: levels + u32::from(args.tessellate),
-        scheme: Default::default(),
+        options: Default::default(),
         limit: false,
         keep_holes: false,
         max_memory: None,

@@ -128,7 +128,7 @@ fn estimate_memory(mesh: &subsurf::mesh::PolyMesh, options: &Options, opts: &Ren
             mesh,
             &subsurf::SubdivideOptions {
                 levels: l,
-                scheme: *options,
+                options: *options,
                 ..subsurf::SubdivideOptions::default()
             },
         ),

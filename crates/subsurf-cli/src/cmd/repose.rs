@@ -88,7 +88,7 @@ pub fn run(args: &ReposeArgs) -> Result<()> {
     let mixed = super::adjustable::for_subdivide(kind, &args.adjust);
     let opts = SubdivideOptions {
         levels: args.levels,
-        scheme: args
+        options: args
             .scheme
             .over(base.obj.options)
             .resolve(Options::default()),
@@ -152,7 +152,7 @@ pub fn run(args: &ReposeArgs) -> Result<()> {
         );
         let write_opts = WriteOptions {
             normals: reposer.normals(),
-            scheme: Some(opts.scheme),
+            scheme: Some(opts.options),
             comment: Some(&comment),
         };
         let refined = reposer.mesh();

@@ -29,7 +29,7 @@ pub fn run(args: &SubdivideArgs) -> Result<()> {
     }
     let opts = SubdivideOptions {
         levels: args.levels,
-        scheme: args
+        options: args
             .scheme
             .over(input.obj.options)
             .resolve(Options::default()),
@@ -40,7 +40,7 @@ pub fn run(args: &SubdivideArgs) -> Result<()> {
     crate::memory::for_refinement(subsurf::estimate_memory(&input.obj.mesh, &opts));
     let mut flags = String::new();
     if let Some(angle) = args.crease_angle {
-        add_angle_creases(&mut input, &opts.scheme, angle, args.sharpness)?;
+        add_angle_creases(&mut input, &opts.options, angle, args.sharpness)?;
         flags = format!("--crease-angle {angle} --sharpness {}", args.sharpness);
     }
     let kind = scheme_kind(args.scheme_kind, &input, &progress, args.quiet);
@@ -97,7 +97,7 @@ fn run_nurss(
 ) -> Result<()> {
     let nopts = NurssOptions {
         levels: opts.levels,
-        scheme: opts.scheme,
+        options: opts.options,
         limit: opts.limit,
         keep_holes: opts.keep_holes,
     };
@@ -134,7 +134,7 @@ fn run_nurss(
     progress.set_message(format!("writing {}", out.name()));
     let write_opts = WriteOptions {
         normals: None,
-        scheme: Some(opts.scheme),
+        scheme: Some(opts.options),
         comment: Some(&comment),
     };
     out.write(|mut w| write_obj(&mut w, &sub.mesh, &write_opts))
@@ -226,7 +226,7 @@ pub fn write(
     progress.set_message(format!("writing {}", out.name()));
     let write_opts = WriteOptions {
         normals: sub.normals.as_deref(),
-        scheme: Some(opts.scheme),
+        scheme: Some(opts.options),
         comment: Some(comment),
     };
     out.write(|mut w| write_obj(&mut w, &sub.mesh, &write_opts))
@@ -250,7 +250,7 @@ pub fn command_line_of(
     flags: &str,
     inputs: &str,
 ) -> String {
-    let s = &opts.scheme;
+    let s = &opts.options;
     let mut line = format!(
         "subsurf {command} -l {} --boundary {} --crease-method {}",
         opts.levels, s.boundary, s.crease_method
@@ -282,7 +282,7 @@ mod tests {
     fn command_line_lists_effective_options() {
         let opts = SubdivideOptions {
             levels: 3,
-            scheme: Options {
+            options: Options {
                 boundary: BoundaryInterpolation::EdgeAndCorner,
                 crease_method: CreaseMethod::Chaikin,
                 triangles: TriangleSubdivision::Smooth,

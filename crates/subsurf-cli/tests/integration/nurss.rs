@@ -35,7 +35,7 @@ fn knot_tags_select_nurss_with_a_note() {
     let input = parse_obj(GRID.as_bytes(), "grid.obj").unwrap();
     let opts = NurssOptions {
         levels: 2,
-        scheme: input.options.resolve(Options::default()),
+        options: input.options.resolve(Options::default()),
         ..NurssOptions::default()
     };
     let lib = subsurf::nurss::subdivide(&input.mesh, &opts).unwrap();

@@ -219,7 +219,7 @@ impl Interpolation {
             &self.mesh,
             &NurssOptions {
                 levels,
-                scheme: Options::default(),
+                options: Options::default(),
                 limit,
                 keep_holes: false,
             },

@@ -528,9 +528,9 @@ fn project(p: &[f64; 4], rational: bool) -> [f64; 3] {
 pub struct NurssOptions {
     /// Number of refinement steps.
     pub levels: u32,
-    /// Scheme options (boundary interpolation; the crease method and triangle rule do not
+    /// The rules' options (boundary interpolation; the crease method and triangle rule do not
     /// apply: NURSS has no semi-sharp creases and its own rules for every face size).
-    pub scheme: Options,
+    pub options: Options,
     /// Move the last level's vertices to their limit positions ([`Nurss::limit_points`]).
     pub limit: bool,
     /// Keep hole faces in the output (tagged as holes).
@@ -565,7 +565,7 @@ pub(crate) fn refined(mesh: &PolyMesh, opts: &NurssOptions) -> Result<Nurss, Nur
             faces,
         });
     }
-    let mut s = Nurss::new(mesh, &opts.scheme)?;
+    let mut s = Nurss::new(mesh, &opts.options)?;
     s.refine(opts.levels);
     Ok(s)
 }

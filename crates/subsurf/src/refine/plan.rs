@@ -1129,7 +1129,7 @@ mod tests {
             let got = plan.apply(obj.mesh.positions());
             let opts = crate::SubdivideOptions {
                 levels,
-                scheme: options,
+                options,
                 ..Default::default()
             };
             let sub = crate::subdivide(&obj.mesh, &opts).unwrap();

@@ -135,7 +135,7 @@ impl Scene {
             mesh,
             &SubdivideOptions {
                 levels,
-                scheme: *options,
+                options: *options,
                 keep_holes: true,
                 ..SubdivideOptions::default()
             },

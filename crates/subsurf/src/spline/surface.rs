@@ -96,7 +96,7 @@ pub fn quad_control_mesh(mesh: &PolyMesh) -> Result<(Cow<'_, PolyMesh>, bool), S
     }
     let opts = SubdivideOptions {
         levels: 1,
-        scheme: Options::default(),
+        options: Options::default(),
         ..Default::default()
     };
     let out = subdivide(mesh, &opts).map_err(|e| SplineError::Subdivide(e.to_string()))?;

@@ -124,7 +124,7 @@ fn c_one_half_reproduces_opensubdiv_on_every_golden_shape() {
         for case in &cases {
             let opts = SubdivideOptions {
                 levels: case.level,
-                scheme: options,
+                options,
                 limit: case.limit,
                 ..Default::default()
             };
@@ -173,7 +173,7 @@ fn c_zero_leaves_the_control_mesh_fixed() {
         let base = Topology::from_mesh(&mesh, &options).expect("valid").0;
         let opts = SubdivideOptions {
             levels: 1,
-            scheme: options,
+            options,
             ..Default::default()
         };
         let out = subdivide_mixed(&mesh, &opts, Mixed::all(adj(0.0))).expect("refines");
@@ -352,7 +352,7 @@ fn check_tensor_product(g: &Grid, c: f64, closed: bool) -> Grid {
     };
     let opts = SubdivideOptions {
         levels: 1,
-        scheme: options,
+        options,
         ..Default::default()
     };
     let out = subdivide_mixed(&mesh, &opts, Mixed::all(adj(c))).expect("refines");
@@ -445,7 +445,7 @@ fn refinement_is_affine_invariant_for_every_c() {
             for steps in [1, 2] {
                 let opts = SubdivideOptions {
                     levels: 3,
-                    scheme: options,
+                    options,
                     ..Default::default()
                 };
                 let mixed = Mixed {
@@ -473,7 +473,7 @@ fn steps_beyond_k_are_catmull_clark() {
     };
     let opts = |levels| SubdivideOptions {
         levels,
-        scheme: options,
+        options,
         ..Default::default()
     };
     let both = subdivide_mixed(&mesh, &opts(3), mixed).expect("refines");

@@ -79,7 +79,7 @@ fn refine(
 ) -> Result<PolyMesh, String> {
     let opts = SubdivideOptions {
         levels,
-        scheme: options,
+        options,
         limit: false,
         keep_holes: true,
         max_memory: None,
@@ -99,7 +99,7 @@ fn refine(
                 mesh,
                 &NurssOptions {
                     levels,
-                    scheme: options,
+                    options,
                     limit: false,
                     keep_holes: true,
                 },

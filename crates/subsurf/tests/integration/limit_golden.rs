@@ -429,7 +429,7 @@ fn one_ring(mesh: &PolyMesh, v: u32) -> PolyMesh {
 fn refine(mesh: &PolyMesh, levels: u32, scheme: Options) -> PolyMesh {
     let opts = SubdivideOptions {
         levels,
-        scheme,
+        options: scheme,
         keep_holes: true,
         ..Default::default()
     };
@@ -1168,7 +1168,7 @@ fn chaikin_limit_is_the_limit_of_refinement() {
             &mesh,
             &SubdivideOptions {
                 levels: 5,
-                scheme,
+                options: scheme,
                 limit: true,
                 ..Default::default()
             },

@@ -498,7 +498,7 @@ fn equal_intervals_give_catmull_clark_on_opensubdiv_shapes() {
             &obj.mesh,
             &SubdivideOptions {
                 levels: 2,
-                scheme,
+                options: scheme,
                 keep_holes: true,
                 ..Default::default()
             },
@@ -547,7 +547,7 @@ fn equal_intervals_limit_points_are_catmull_clark_limit_points() {
             &obj.mesh,
             &SubdivideOptions {
                 levels: 1,
-                scheme,
+                options: scheme,
                 limit: true,
                 keep_holes: true,
                 ..Default::default()

@@ -430,7 +430,7 @@ fn check_shape(name: &str) -> ShapeReport {
         };
         let opts = SubdivideOptions {
             levels: case.level,
-            scheme,
+            options: scheme,
             limit: case.limit,
             keep_holes: false,
             max_memory: None,

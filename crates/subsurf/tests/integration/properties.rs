@@ -409,7 +409,7 @@ proptest! {
         }
         let opts = SubdivideOptions {
             levels,
-            scheme: spec.options,
+            options: spec.options,
             limit,
             keep_holes: true,
             max_memory: None,
@@ -685,7 +685,7 @@ proptest! {
         let chi = euler_characteristic(&mesh);
         let out = run(&mesh, &SubdivideOptions {
             levels,
-            scheme: spec.options,
+            options: spec.options,
             keep_holes: true,
             ..Default::default()
         });
@@ -793,7 +793,7 @@ fn check_two_step(
 ) -> Result<usize, String> {
     let opts = |levels, limit| SubdivideOptions {
         levels,
-        scheme: options,
+        options,
         limit,
         keep_holes,
         max_memory: None,
@@ -825,7 +825,7 @@ fn check_two_step(
     let staged = subdivide(
         &obj.mesh,
         &SubdivideOptions {
-            scheme: read_options,
+            options: read_options,
             ..opts(b, limit)
         },
     )
@@ -1101,7 +1101,7 @@ fn two_step_refinement_keeps_a_creased_boundary_in_boundary_none() {
         &mesh,
         &SubdivideOptions {
             levels: 2,
-            scheme: options,
+            options,
             ..Default::default()
         },
     );
@@ -1373,7 +1373,7 @@ proptest! {
         let (mesh, base_sigma) = spec.build();
         let out = run(&mesh, &SubdivideOptions {
             levels,
-            scheme: spec.options,
+            options: spec.options,
             limit,
             keep_holes,
             max_memory: None,

@@ -75,7 +75,7 @@ fn deform(p: &[[f64; 3]]) -> Vec<[f64; 3]> {
 fn subdivided(mesh: &PolyMesh, options: Options, levels: u32) -> Vec<[f64; 3]> {
     let opts = SubdivideOptions {
         levels,
-        scheme: options,
+        options,
         ..SubdivideOptions::default()
     };
     subdivide(mesh, &opts)
@@ -158,7 +158,7 @@ fn mixed_plan_equals_subdivide_mixed_on_all_shapes() {
                 for (what, m) in [("original", &mesh), ("moved", &moved)] {
                     let opts = SubdivideOptions {
                         levels,
-                        scheme: options,
+                        options,
                         ..SubdivideOptions::default()
                     };
                     let want = subdivide_mixed(m, &opts, mixed).expect("subdivide_mixed");
@@ -258,7 +258,7 @@ fn nurss_plan_equals_nurss_subdivide_on_all_shapes() {
             for (what, m) in [("original", &mesh), ("moved", &moved)] {
                 let opts = NurssOptions {
                     levels,
-                    scheme: options,
+                    options,
                     ..NurssOptions::default()
                 };
                 let want = nurss::subdivide(m, &opts).expect("nurss::subdivide");
@@ -300,7 +300,7 @@ fn nurss_reposer_poses_rational_meshes() {
     let mesh = with_knots(&bishop, 7, true);
     let opts = SubdivideOptions {
         levels: 2,
-        scheme: options,
+        options,
         ..SubdivideOptions::default()
     };
     for (levels, limit) in [(2, false), (0, true), (1, true), (2, true)] {
@@ -313,7 +313,7 @@ fn nurss_reposer_poses_rational_meshes() {
         assert!(reposer.normals().is_none());
         let nurss_opts = NurssOptions {
             levels,
-            scheme: options,
+            options,
             limit,
             ..NurssOptions::default()
         };
@@ -602,7 +602,7 @@ fn reposer_limit_equals_subdivide_on_all_shapes() {
         for (levels, mixed) in (0..=2).flat_map(|l| [(l, None), (l, Some(mixed))]) {
             let opts = SubdivideOptions {
                 levels,
-                scheme: options,
+                options,
                 limit: true,
                 ..SubdivideOptions::default()
             };
