@@ -77,7 +77,8 @@ fn assert_interpolates(curve: &Curve, levels: u32) {
     );
 }
 
-fn bspline(knots: Vec<f64>, pts: Vec<V3>) -> Curve {
+/// A cubic B-spline curve with these knots and control points.
+pub(crate) fn bspline(knots: Vec<f64>, pts: Vec<V3>) -> Curve {
     Curve::BSpline(BSplineCurve::new(KnotVector::new(3, knots).unwrap(), pts).unwrap())
 }
 
@@ -336,7 +337,7 @@ fn side_vector_and_width_place_the_side_points() {
 
 /// Two curves crossing at X = (0, 0, 0): `a` along x (symmetric neighbours ±(1,0,0)), `b`
 /// along y (±(0, 1.2, 0)), each with equal intervals around X.
-fn crossing_pair() -> (Curve, Curve) {
+pub(crate) fn crossing_pair() -> (Curve, Curve) {
     let a = bspline(
         vec![0.0, 0.0, 0.0, 0.0, 1.0, 2.0, 3.0, 4.0, 4.0, 4.0, 4.0],
         vec![
@@ -485,8 +486,10 @@ fn degree_other_than_three_is_refused_naming_the_curve() {
     assert!(err.to_string().contains("rim"), "{err}");
 }
 
+/// Three curves crossing at one point make six branches there, more than a joint polygon
+/// group takes (at most four: the paper's Corollary 1).
 #[test]
-fn three_curves_through_one_point_are_refused() {
+fn six_branches_at_one_point_are_refused() {
     let (a, b) = crossing_pair();
     let c = bspline(
         vec![0.0, 0.0, 0.0, 0.0, 1.0, 2.0, 2.0, 2.0, 2.0],

@@ -20,6 +20,7 @@ use subsurf::nurbs::{BSplineCurve, Curve, Geometry, KnotVector, NurbsCurve};
 use subsurf::nurss::Nurss;
 
 use crate::common::curves;
+use crate::interpolate::{bspline, crossing_pair};
 use curves::{blossom, check_middle, dist, eval, knots, middle_knots, size, V3};
 
 /// Refined middle polygons (levels 0..=levels) against the blossoms and limit points against
@@ -78,10 +79,6 @@ fn build(curves: &[Curve], names: &[&str]) -> Result<Interpolation, InterpolateE
         .map(|(c, n)| CubicCurve::new(c, n).unwrap())
         .collect();
     interpolate_curves(&cc, &InterpolateOptions::default())
-}
-
-fn bspline(knots: Vec<f64>, pts: Vec<V3>) -> Curve {
-    Curve::BSpline(BSplineCurve::new(KnotVector::new(3, knots).unwrap(), pts).unwrap())
 }
 
 /// Uniform unclamped knots `0, 1, 2, …` for `n` control points (an end with `d_1 = d_2`).
@@ -408,35 +405,6 @@ fn lines_closer_than_30_degrees_are_refused_naming_the_curves_and_the_angle() {
 
 // ---------------------------------------------------------------------------------------
 // Item 5: no unused vertices
-
-/// Two curves crossing at the origin (the pair of `interpolate.rs`).
-fn crossing_pair() -> (Curve, Curve) {
-    let a = bspline(
-        vec![0.0, 0.0, 0.0, 0.0, 1.0, 2.0, 3.0, 4.0, 4.0, 4.0, 4.0],
-        vec![
-            [-3.0, 0.5, 0.8],
-            [-2.0, -0.4, 0.2],
-            [-1.0, 0.0, 0.1],
-            [0.0, 0.0, 0.0],
-            [1.0, 0.0, -0.1],
-            [2.0, 0.6, 0.3],
-            [3.2, 0.0, 0.9],
-        ],
-    );
-    let b = bspline(
-        vec![0.0, 0.0, 0.0, 0.0, 0.8, 1.6, 2.4, 3.2, 3.2, 3.2, 3.2],
-        vec![
-            [0.3, -3.5, 0.5],
-            [-0.5, -2.4, 0.0],
-            [0.0, -1.2, 0.1],
-            [0.0, 0.0, 0.0],
-            [0.0, 1.2, -0.1],
-            [0.4, 2.4, 0.2],
-            [0.0, 3.6, 0.7],
-        ],
-    );
-    (a, b)
-}
 
 fn unused_vertices(m: &PolyMesh) -> usize {
     let mut used = vec![false; m.num_vertices()];
