@@ -136,7 +136,7 @@ fn ply_reads_as_the_obj() {
             assert_eq!(run("named.obj"), want, "{name}: PLY named .obj, {args:?}");
         }
         let mut a = vec!["subdivide", "-", "-o", "-", "-l", "1"];
-        let o = run_bytes(dir.path(), &a, &ply(&obj, "binary_little_endian"));
+        let o = run_with_bytes(dir.path(), &a, &ply(&obj, "binary_little_endian"));
         assert_code(&o, 0);
         a[1] = "m.obj";
         assert_eq!(
@@ -144,27 +144,6 @@ fn ply_reads_as_the_obj() {
             without_names(&run_in(dir.path(), &a).stdout)
         );
     }
-}
-
-/// Runs `subsurf args` in `dir` with `input` on standard input.
-fn run_bytes(dir: &Path, args: &[&str], input: &[u8]) -> std::process::Output {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_subsurf"))
-        .current_dir(dir)
-        .args(args)
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("cannot run subsurf");
-    let mut stdin = child.stdin.take().expect("piped stdin");
-    let input = input.to_vec();
-    let feeder = std::thread::spawn(move || {
-        // The child may stop reading early: ignore broken pipes.
-        let _ = stdin.write_all(&input);
-    });
-    let out = child.wait_with_output().expect("wait for subsurf");
-    let _ = feeder.join();
-    out
 }
 
 /// Every command that reads a polygon mesh reads PLY as it reads OBJ: the same output
@@ -252,7 +231,7 @@ fn other_formats_are_named() {
         }
     }
     let glb = fs::read(dir.path().join("cube.glb")).unwrap();
-    let o = run_bytes(dir.path(), &["info", "-"], &glb);
+    let o = run_with_bytes(dir.path(), &["info", "-"], &glb);
     assert_code(&o, 1);
     assert!(stderr(&o).starts_with("error: <stdin>: this looks like a binary glTF"));
     assert!(!listing(dir.path()).contains(&"out.obj".to_owned()));
@@ -288,7 +267,7 @@ fn errors_on_standard_input_name_stdin() {
             if args[0] == "info" && message.contains("no faces") {
                 continue;
             }
-            let o = run_bytes(dir.path(), args, input);
+            let o = run_with_bytes(dir.path(), args, input);
             assert_code(&o, 1);
             assert!(stderr(&o).starts_with(message), "{args:?}: {}", stderr(&o));
             assert!(o.stdout.is_empty(), "{args:?}");
@@ -418,7 +397,7 @@ fn cr_line_ends_read_as_lf() {
     assert_code(&b, 0);
     assert_eq!(without_names(&a.stdout), without_names(&b.stdout));
     let bad = "v 0 0 0\rv 1 0 0\rv 1 1 0\rf 1 2 3 7\r";
-    let o = run_bytes(dir.path(), &["info", "-"], bad.as_bytes());
+    let o = run_with_bytes(dir.path(), &["info", "-"], bad.as_bytes());
     assert_code(&o, 1);
     assert!(stderr(&o).starts_with("error: <stdin>:4: f: vertex index 7 is out of range"));
 }

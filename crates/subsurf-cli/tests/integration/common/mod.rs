@@ -45,6 +45,12 @@ pub fn run_in(dir: &Path, args: &[&str]) -> Output {
 }
 
 pub fn run_with_stdin(dir: &Path, args: &[&str], input: &str) -> Output {
+    run_with_bytes(dir, args, input.as_bytes())
+}
+
+/// Runs `subsurf args` in `dir` with `input` on standard input, written from a thread of
+/// its own (the child may stop reading early: a broken pipe is not an error here).
+pub fn run_with_bytes(dir: &Path, args: &[&str], input: &[u8]) -> Output {
     let mut child = Command::new(env!("CARGO_BIN_EXE_subsurf"))
         .current_dir(dir)
         .args(args)
@@ -54,9 +60,13 @@ pub fn run_with_stdin(dir: &Path, args: &[&str], input: &str) -> Output {
         .spawn()
         .expect("cannot run subsurf");
     let mut stdin = child.stdin.take().expect("piped stdin");
-    stdin.write_all(input.as_bytes()).expect("write stdin");
-    drop(stdin);
-    child.wait_with_output().expect("wait for subsurf")
+    let input = input.to_vec();
+    let feeder = std::thread::spawn(move || {
+        let _ = stdin.write_all(&input);
+    });
+    let out = child.wait_with_output().expect("wait for subsurf");
+    let _ = feeder.join();
+    out
 }
 
 pub fn stdout(o: &Output) -> String {
