@@ -101,9 +101,7 @@ fn run_nurss(
         limit: opts.limit,
         keep_holes: opts.keep_holes,
     };
-    // NURSS keeps every level complete and refines homogeneous points: about twice what
-    // Catmull-Clark needs.
-    let estimate = subsurf::estimate_memory(&input.obj.mesh, opts).saturating_mul(2);
+    let estimate = subsurf::nurss::estimate_memory(&input.obj.mesh, &nopts);
     let what = format!("refining to level {} with --scheme nurss", opts.levels);
     crate::memory::check(
         &input.name,

@@ -546,6 +546,21 @@ pub struct NurssSubdivision {
     pub warnings: Vec<TopologyWarning>,
 }
 
+/// Estimated peak memory in bytes of [`subdivide`] with `opts`, saturating at
+/// `u64::MAX`: twice [`crate::estimate_memory`] of Catmull-Clark to the same level, as
+/// NURSS keeps every level complete (with its knot intervals) and refines homogeneous
+/// points.
+pub fn estimate_memory(mesh: &PolyMesh, opts: &NurssOptions) -> u64 {
+    let cc = crate::SubdivideOptions {
+        levels: opts.levels,
+        options: opts.options,
+        limit: opts.limit,
+        keep_holes: opts.keep_holes,
+        max_memory: None,
+    };
+    crate::estimate_memory(mesh, &cc).saturating_mul(2)
+}
+
 /// Refines `mesh` (with its [`PolyMesh::knots`]) `opts.levels` times with non-uniform
 /// Catmull-Clark, optionally moving the last level to the limit surface.
 ///
