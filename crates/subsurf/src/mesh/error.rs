@@ -124,6 +124,18 @@ pub enum MeshError {
         /// What overflowed.
         what: String,
     },
+    /// A refined mesh (or its limit surface) given with its input has another number of
+    /// faces than the refinement makes
+    /// ([`MixedSurface::from_refined`](crate::MixedSurface::from_refined)).
+    #[error(
+        "the refined mesh has {found} faces, not the {expected} that refining the input makes"
+    )]
+    NotRefined {
+        /// Faces the refinement makes.
+        expected: u64,
+        /// Faces given.
+        found: usize,
+    },
 }
 
 /// Something accepted but worth telling the user (OpenSubdiv reports these too).

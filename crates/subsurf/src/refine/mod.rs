@@ -25,14 +25,17 @@
 //! assert!(temp.iter().all(|t| (0.0..=1.0).contains(&t[0])));
 //! ```
 
-pub mod nurss;
+mod error;
+pub(crate) mod nurss;
 pub(crate) mod patch;
 pub mod plan;
 mod plan_patches;
 mod plan_ring;
 mod primvar;
 mod topology;
+pub(crate) mod uniform;
 
+pub use error::Error;
 pub(crate) use plan::refinement_rows;
 pub use plan::{PlanScratch, RefinePlan};
 pub use primvar::{interpolate, interpolate_with};

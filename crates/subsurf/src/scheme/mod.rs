@@ -18,7 +18,9 @@
 pub mod adjustable;
 pub mod catmark;
 pub mod crease;
+mod kind;
 pub mod nurss;
 mod rules;
 
+pub use kind::Scheme;
 pub use rules::Rules;

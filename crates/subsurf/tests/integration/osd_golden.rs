@@ -430,6 +430,7 @@ fn check_shape(name: &str) -> ShapeReport {
         };
         let opts = SubdivideOptions {
             levels: case.level,
+            scheme: subsurf::Scheme::CatmullClark,
             options: scheme,
             limit: case.limit,
             keep_holes: false,
