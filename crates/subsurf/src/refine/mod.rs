@@ -25,6 +25,7 @@
 //! assert!(temp.iter().all(|t| (0.0..=1.0).contains(&t[0])));
 //! ```
 
+mod loop_;
 pub mod nurss;
 pub(crate) mod patch;
 pub mod plan;
@@ -32,7 +33,11 @@ mod plan_patches;
 mod plan_ring;
 mod primvar;
 mod topology;
+mod tri_topology;
 
+pub use loop_::{interpolate_loop, LoopRefiner};
+#[allow(unused_imports)] // routed to by the facade's scheme choice
+pub(crate) use loop_::{subdivide_bilinear, subdivide_loop};
 pub(crate) use plan::refinement_rows;
 pub use plan::{PlanScratch, RefinePlan};
 pub use primvar::{interpolate, interpolate_with};
