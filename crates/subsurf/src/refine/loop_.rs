@@ -385,3 +385,176 @@ fn output_mesh(
     };
     m
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::CreaseMethod;
+
+    /// An `n × n` grid of squares, each cut into two triangles along alternating
+    /// diagonals, with heights `z(i, j)`.
+    fn tri_grid(n: u32, z: impl Fn(u32, u32) -> f64) -> PolyMesh {
+        let id = |i: u32, j: u32| i * (n + 1) + j;
+        let mut pos = Vec::new();
+        for i in 0..=n {
+            for j in 0..=n {
+                pos.push([j as f64, i as f64, z(i, j)]);
+            }
+        }
+        let mut faces = Vec::new();
+        for i in 0..n {
+            for j in 0..n {
+                let (a, b, c, d) = (id(i, j), id(i, j + 1), id(i + 1, j + 1), id(i + 1, j));
+                if (i + j) % 2 == 0 {
+                    faces.extend([[a, b, c], [a, c, d]]);
+                } else {
+                    faces.extend([[a, b, d], [b, c, d]]);
+                }
+            }
+        }
+        PolyMesh::from_faces(pos, &faces).unwrap()
+    }
+
+    /// A grid with semi-sharp creases (decaying at different levels, meeting at a vertex
+    /// with three sharp edges), an infinitely sharp one and a semi-sharp corner.
+    fn creased_grid() -> PolyMesh {
+        let mut m = tri_grid(4, |i, j| ((i * 7 + j * 3) % 5) as f64 * 0.3);
+        let crease = |v0, v1, sharpness| Crease { v0, v1, sharpness };
+        m.tags.creases = vec![
+            crease(6, 7, 2.5),
+            crease(7, 8, 1.25),
+            crease(7, 12, 0.5),
+            crease(16, 17, 10.0),
+            crease(17, 18, 10.0),
+        ];
+        m.tags.corners = vec![Corner {
+            vertex: 13,
+            sharpness: 1.5,
+        }];
+        m
+    }
+
+    fn run_loop(m: &PolyMesh, o: &Options, levels: u32) -> PolyMesh {
+        subdivide_loop(m, o, levels, true, &mut |_, _| {})
+            .unwrap()
+            .0
+    }
+
+    #[test]
+    fn a_face_that_is_not_a_triangle_is_named() {
+        let m = PolyMesh::from_faces(
+            vec![[0.0; 3], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]],
+            &[vec![0u32, 1, 2], vec![0, 2, 3, 1]],
+        )
+        .unwrap();
+        let want = MeshError::NotTriangle { face: 1, count: 4 };
+        let got = subdivide_loop(&m, &Options::default(), 1, false, &mut |_, _| {});
+        assert_eq!(got.unwrap_err(), want);
+        assert_eq!(LoopRefiner::new(&m, Options::default()).unwrap_err(), want);
+        assert!(want.to_string().contains("face 1 has 4 vertices"));
+    }
+
+    /// Refining the output of `a` levels (whose tags carry the remaining sharpness and
+    /// the holes) `b` more levels gives the result of `a + b` levels. The two number edges
+    /// differently (the output's edges are numbered afresh when it is read), so new
+    /// vertices come in another order; the children of the output's vertices keep their
+    /// indices in both, and their positions, which depend on everything around them, are
+    /// compared.
+    #[test]
+    fn refining_the_output_again_continues_the_refinement() {
+        let m = creased_grid();
+        for method in [CreaseMethod::Uniform, CreaseMethod::Chaikin] {
+            for boundary in [
+                BoundaryInterpolation::EdgeOnly,
+                BoundaryInterpolation::EdgeAndCorner,
+                BoundaryInterpolation::None,
+            ] {
+                let o = Options {
+                    crease_method: method,
+                    boundary,
+                    ..Options::default()
+                };
+                let all = run_loop(&m, &o, 3);
+                let first = run_loop(&m, &o, 1);
+                let again = run_loop(&first, &o, 2);
+                assert_eq!(all.num_vertices(), again.num_vertices());
+                assert_eq!(all.num_faces(), again.num_faces());
+                assert_eq!(all.tags.holes.len(), again.tags.holes.len());
+                let n = first.num_vertices();
+                for (p, q) in all.positions()[..n].iter().zip(&again.positions()[..n]) {
+                    for k in 0..3 {
+                        assert!((p[k] - q[k]).abs() < 1e-13, "{method:?} {boundary:?}");
+                    }
+                }
+            }
+        }
+    }
+
+    /// Loop's masks are affine combinations: refining an affinely mapped mesh is mapping
+    /// the refined mesh; a flat mesh stays flat (creases, corners and all).
+    #[test]
+    fn loop_is_affine_invariant_and_keeps_a_flat_mesh_flat() {
+        let m = creased_grid();
+        let o = Options::default();
+        let map = |p: &[f64; 3]| {
+            [
+                2.0 * p[0] - 0.5 * p[1] + 0.25 * p[2] + 3.0,
+                0.3 * p[0] + 1.5 * p[1] - p[2] - 1.0,
+                -0.7 * p[0] + 0.2 * p[1] + 0.9 * p[2] + 0.5,
+            ]
+        };
+        let mut moved = m.clone();
+        let pos: Vec<[f64; 3]> = m.positions().iter().map(map).collect();
+        moved.positions_mut().copy_from_slice(&pos);
+        let a = run_loop(&m, &o, 3);
+        let b = run_loop(&moved, &o, 3);
+        for (p, q) in a.positions().iter().zip(b.positions()) {
+            let p = map(p);
+            for k in 0..3 {
+                assert!((p[k] - q[k]).abs() < 1e-12);
+            }
+        }
+        let mut flat = m.clone();
+        for p in flat.positions_mut() {
+            p[2] = 0.25 * p[0] - 0.5 * p[1] + 1.0;
+        }
+        let r = run_loop(&flat, &o, 3);
+        assert!(r
+            .positions()
+            .iter()
+            .all(|p| (p[2] - (0.25 * p[0] - 0.5 * p[1] + 1.0)).abs() < 1e-12));
+    }
+
+    /// Bilinear: vertices stay, new points lie on the input's faces, sharpness changes
+    /// nothing, and boundary mode `None` makes no holes (OpenSubdiv's rule for schemes
+    /// without a neighbourhood).
+    #[test]
+    fn bilinear_refines_on_the_faces_and_ignores_sharpness() {
+        let m = creased_grid();
+        let plain = {
+            let mut p = m.clone();
+            p.tags = Tags::default();
+            p
+        };
+        let none = Options {
+            boundary: BoundaryInterpolation::None,
+            ..Options::default()
+        };
+        let (a, _) = subdivide_bilinear(&m, &none, 2, false, &mut |_, _| {}).unwrap();
+        let (b, _) =
+            subdivide_bilinear(&plain, &Options::default(), 2, false, &mut |_, _| {}).unwrap();
+        assert_eq!(a.positions(), b.positions());
+        assert_eq!(a.num_faces(), 4 * m.face_verts().len());
+        assert_eq!(&a.positions()[..m.num_vertices()], m.positions());
+        // On a flat mesh every point stays on the plane.
+        let mut flat = plain.clone();
+        for p in flat.positions_mut() {
+            p[2] = 2.0 * p[0] + p[1];
+        }
+        let (f, _) = subdivide_bilinear(&flat, &none, 3, false, &mut |_, _| {}).unwrap();
+        assert!(f
+            .positions()
+            .iter()
+            .all(|p| (p[2] - 2.0 * p[0] - p[1]).abs() < 1e-12));
+    }
+}
