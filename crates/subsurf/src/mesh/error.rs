@@ -13,6 +13,14 @@ pub enum MeshError {
         /// Its vertex count.
         count: usize,
     },
+    /// A face that is not a triangle given to a scheme that refines triangles only (Loop).
+    #[error("face {face} has {count} vertices; Loop subdivision needs a mesh of triangles only")]
+    NotTriangle {
+        /// Face index.
+        face: usize,
+        /// Its vertex count.
+        count: usize,
+    },
     /// A face refers to a vertex that does not exist.
     #[error("face {face} refers to vertex {index}, but the mesh has {count} vertices")]
     VertexOutOfRange {

@@ -26,6 +26,7 @@
 //! ```
 
 mod error;
+mod loop_;
 pub(crate) mod nurss;
 pub(crate) mod patch;
 pub mod plan;
@@ -33,9 +34,12 @@ mod plan_patches;
 mod plan_ring;
 mod primvar;
 mod topology;
+mod tri_topology;
 pub(crate) mod uniform;
 
 pub use error::Error;
+pub use loop_::{interpolate_loop, LoopRefiner};
+pub(crate) use loop_::{subdivide_bilinear, subdivide_loop};
 pub(crate) use plan::refinement_rows;
 pub use plan::{PlanScratch, RefinePlan};
 pub use primvar::{interpolate, interpolate_with};

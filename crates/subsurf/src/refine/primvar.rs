@@ -55,8 +55,6 @@ pub fn interpolate_with<R: Rules, const D: usize>(
 ) {
     let nv = parent.num_vertices();
     let nf = parent.num_faces();
-    // Child edge `s + 2e + k` is the half of parent edge `e` at its end `k`.
-    let s = parent.face_verts.len();
     assert_eq!(src.len(), nv, "source has the wrong number of values");
     assert_eq!(
         dst.len(),
@@ -126,25 +124,16 @@ pub fn interpolate_with<R: Rules, const D: usize>(
                 );
                 continue;
             }
-            pe.clear();
-            pe.extend(edges.iter().map(|&e| parent.edge_sharpness[e as usize]));
-            ce.clear();
-            ce.extend(
-                edges
-                    .iter()
-                    .zip(parent.vertex_edge_locals(v))
-                    .map(|(&e, &l)| child.edge_sharpness[s + 2 * e as usize + l as usize]),
+            sharp_vertex_mask(
+                parent,
+                child,
+                options,
+                rules,
+                v,
+                (&mut pe, &mut ce),
+                &mut mask,
+                &mut child_mask,
             );
-            let ctx = VertexContext {
-                parent_rule: ptag.rule,
-                child_rule: child.vert_tags[v].get().rule,
-                parent_sharpness: parent.vert_sharpness[v],
-                child_sharpness: child.vert_sharpness[v],
-                parent_edges: &pe,
-                child_edges: &ce,
-                num_faces: faces.len(),
-            };
-            rules.vertex_mask(options.crease_method, &ctx, &mut mask, &mut child_mask);
             let mut acc = [0.0; D];
             if mask.has_faces {
                 for (&f, &w) in faces.iter().zip(&mask.faces) {
@@ -164,6 +153,45 @@ pub fn interpolate_with<R: Rules, const D: usize>(
         || run_chunks(edge_pts, edge_pass),
         || run_chunks(vert_pts, vertex_pass),
     );
+}
+
+/// The mask of vertex `v` of `parent` whose rule is not smooth (or whose child's rule
+/// differs) into `mask` ([`Rules::vertex_mask`] with the sharpness of its edges before
+/// and after the step, gathered into the scratch vectors `pe` and `ce`). The child level
+/// numbers the half of parent edge `e` at its end `l` as `S + 2e + l`, with `S` the
+/// parent's face-vertex count (quad and triangle splits alike).
+#[allow(clippy::too_many_arguments)]
+pub(super) fn sharp_vertex_mask<R: Rules>(
+    parent: &Topology,
+    child: &Topology,
+    options: &Options,
+    rules: R,
+    v: usize,
+    (pe, ce): (&mut Vec<f32>, &mut Vec<f32>),
+    mask: &mut VertexMask,
+    child_mask: &mut VertexMask,
+) {
+    let s = parent.face_verts.len();
+    let edges = parent.vertex_edges(v);
+    pe.clear();
+    pe.extend(edges.iter().map(|&e| parent.edge_sharpness[e as usize]));
+    ce.clear();
+    ce.extend(
+        edges
+            .iter()
+            .zip(parent.vertex_edge_locals(v))
+            .map(|(&e, &l)| child.edge_sharpness[s + 2 * e as usize + l as usize]),
+    );
+    let ctx = VertexContext {
+        parent_rule: parent.vert_tags[v].get().rule,
+        child_rule: child.vert_tags[v].get().rule,
+        parent_sharpness: parent.vert_sharpness[v],
+        child_sharpness: child.vert_sharpness[v],
+        parent_edges: pe,
+        child_edges: ce,
+        num_faces: parent.vertex_faces(v).len(),
+    };
+    rules.vertex_mask(options.crease_method, &ctx, mask, child_mask);
 }
 
 /// Runs `f(start, chunk)` over `out` in chunks, in parallel when large.

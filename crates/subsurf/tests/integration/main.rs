@@ -30,6 +30,7 @@ mod nurss;
 mod nurss_surface;
 mod obj_io;
 mod osd_golden;
+mod osd_golden_schemes;
 mod ply_io;
 mod properties;
 mod regularity;
