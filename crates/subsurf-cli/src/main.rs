@@ -480,6 +480,12 @@ pub enum SchemeKind {
     /// Non-uniform Catmull-Clark (NURSS): knot intervals on edges and rational weights from
     /// the file's tags (untagged edges: interval 1; all equal: Catmull-Clark).
     Nurss,
+    /// Loop, for triangle meshes, exactly as OpenSubdiv (refinement only: no --limit,
+    /// limit, tessellate or repose yet).
+    Loop,
+    /// Bilinear, exactly as OpenSubdiv: the control mesh split, not smoothed (refinement
+    /// only: no --limit, limit, tessellate or repose yet).
+    Bilinear,
 }
 
 /// Flags of the shape-adjustable scheme.

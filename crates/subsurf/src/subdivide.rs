@@ -3,9 +3,10 @@
 
 use crate::limit;
 use crate::mesh::{Options, PolyMesh, Topology, TopologyWarning};
-use crate::refine::uniform::{estimate_uniform, refine_uniform};
+use crate::refine::uniform::{estimate_uniform, refine_uniform, Steps};
 use crate::refine::Error;
 use crate::refine::{interpolate, refine_topology};
+use crate::scheme::adjustable::Mixed;
 use crate::scheme::Scheme;
 
 /// What [`subdivide`] should do.
@@ -45,10 +46,16 @@ pub struct Subdivision {
 /// level complete (with its knot intervals) and refines homogeneous points: twice
 /// Catmull-Clark's estimate.
 pub fn estimate_memory(mesh: &PolyMesh, opts: &SubdivideOptions) -> u64 {
-    let cc = estimate_uniform(mesh, opts.levels, opts.limit);
-    match opts.scheme {
-        Scheme::Nurss => cc.saturating_mul(2),
-        _ => cc,
+    match Steps::of(opts.scheme) {
+        Some(steps) => estimate_uniform(mesh, steps, opts.levels, opts.limit),
+        // NURSS: Catmull-Clark's estimate, twice.
+        None => estimate_uniform(
+            mesh,
+            Steps::Family(Mixed::CATMULL_CLARK),
+            opts.levels,
+            opts.limit,
+        )
+        .saturating_mul(2),
     }
 }
 
@@ -67,7 +74,8 @@ pub fn estimate_memory(mesh: &PolyMesh, opts: &SubdivideOptions) -> u64 {
 ///
 /// # Errors
 /// [`Error::Mesh`] for an invalid mesh or tags; [`Error::Nurss`] for bad knot tags or a
-/// semi-sharp crease with NURSS; [`Error::TooLarge`] when the estimated memory exceeds
+/// semi-sharp crease with NURSS; [`Error::Unsupported`] for moving to the limit with Loop or
+/// bilinear; [`Error::TooLarge`] when the estimated memory exceeds
 /// `opts.max_memory` or the result would exceed 32-bit indices.
 pub fn subdivide(mesh: &PolyMesh, opts: &SubdivideOptions) -> Result<Subdivision, Error> {
     subdivide_with_progress(mesh, opts, &mut |_, _| {})
@@ -90,7 +98,13 @@ pub fn subdivide_with_progress(
             });
         }
     }
-    let Some(mixed) = opts.scheme.mixed() else {
+    if opts.limit && matches!(opts.scheme, Scheme::Loop | Scheme::Bilinear) {
+        return Err(Error::Unsupported {
+            what: "moving to the limit",
+            scheme: opts.scheme.name(),
+        });
+    }
+    let Some(steps) = Steps::of(opts.scheme) else {
         let s = crate::nurss::refined(mesh, &opts.options, opts.levels, progress)?;
         return Ok(Subdivision {
             mesh: s.output_mesh(opts.keep_holes, opts.limit),
@@ -101,7 +115,7 @@ pub fn subdivide_with_progress(
     let mut u = refine_uniform(
         mesh,
         &opts.options,
-        mixed,
+        steps,
         opts.levels,
         opts.limit,
         progress,

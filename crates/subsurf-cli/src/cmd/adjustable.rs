@@ -31,6 +31,8 @@ pub fn for_subdivide(kind: SchemeKind, args: &AdjustArgs) -> Scheme {
         (_, Some(_)) => usage_error("--c and --adjust-steps need --scheme adjustable"),
         (SchemeKind::Nurss, None) => Scheme::Nurss,
         (SchemeKind::CatmullClark, None) => Scheme::CatmullClark,
+        (SchemeKind::Loop, None) => Scheme::Loop,
+        (SchemeKind::Bilinear, None) => Scheme::Bilinear,
     }
 }
 
@@ -74,6 +76,10 @@ pub fn check_surface_flags(given: Option<SchemeKind>, args: &AdjustArgs) {
     let c = args.c.is_some();
     match given {
         Some(SchemeKind::Adjustable) if !c => usage_error("--scheme adjustable needs --c C"),
+        Some(SchemeKind::Loop | SchemeKind::Bilinear) => usage_error(
+            "exact limit evaluation of the loop and bilinear schemes is not available yet: \
+             use subdivide --scheme loop|bilinear",
+        ),
         Some(SchemeKind::Nurss | SchemeKind::CatmullClark) if c => {
             usage_error("--c applies to --scheme adjustable only")
         }

@@ -54,8 +54,8 @@ pub fn run(args: &SubdivideArgs) -> Result<()> {
 pub fn scheme_flags(scheme: Scheme, levels: u32) -> String {
     match scheme {
         Scheme::Adjustable(m) => super::adjustable::flags(m, levels),
-        Scheme::Nurss => "--scheme nurss".to_owned(),
-        _ => String::new(),
+        Scheme::CatmullClark => String::new(),
+        other => format!("--scheme {}", other.name()),
     }
 }
 

@@ -24,6 +24,14 @@ pub enum Error {
     /// semi-sharp crease.
     #[error(transparent)]
     Nurss(#[from] NurssError),
+    /// The operation is not available for this scheme (e.g. moving to the limit with Loop).
+    #[error("{what} is not available for the {scheme} scheme")]
+    Unsupported {
+        /// The operation (`"moving to the limit"`, `"building a re-posing plan"`).
+        what: &'static str,
+        /// The scheme's name ([`Scheme::name`](crate::scheme::Scheme::name)).
+        scheme: &'static str,
+    },
 }
 
 /// A byte count as messages give it: MiB rounded up, or KiB (rounded up) below 1 MiB.

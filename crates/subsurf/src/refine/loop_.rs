@@ -2,18 +2,13 @@
 //! bilinear subdivision ([`scheme::bilinear`](crate::scheme::bilinear)), as OpenSubdiv
 //! refines them: the topology once ([`LoopRefiner`], or the quad split's
 //! [`TopologyRefiner`](super::TopologyRefiner) for bilinear), then any primvar through it
-//! ([`interpolate_loop`], or [`interpolate_with`] and [`Bilinear`]); and the one-call
-//! refinements of a mesh, which keep the remaining sharpness in the output's tags as
-//! [`subdivide`](fn@crate::subdivide) does.
+//! ([`interpolate_loop`], or [`interpolate_with`](super::interpolate_with) and
+//! [`Bilinear`](crate::scheme::bilinear::Bilinear)). [`subdivide`](fn@crate::subdivide)
+//! refines a mesh with either through `refine::uniform`.
 
 use super::primvar::{axpy, run_chunks, sharp_vertex_mask};
 use super::tri_topology::refine_tri_topology;
-use super::{interpolate_with, refine_topology};
-use crate::mesh::{
-    BoundaryInterpolation, Corner, Crease, MeshError, Options, PolyMesh, Rule, Tags, Topology,
-    TopologyWarning,
-};
-use crate::scheme::bilinear::Bilinear;
+use crate::mesh::{MeshError, Options, PolyMesh, Rule, Topology, TopologyWarning};
 use crate::scheme::catmark::VertexMask;
 use crate::scheme::loop_::Loop;
 use crate::scheme::Rules;
@@ -237,158 +232,45 @@ impl LoopRefiner {
     }
 }
 
-/// [`MeshError::TooLarge`] when `levels` steps of a split into `4` children per face
-/// (after the first step's `first_faces`) would overflow 32-bit indices.
-fn check_size(mesh: &PolyMesh, first_faces: u64, levels: u32) -> Result<(), MeshError> {
-    if levels == 0 {
-        return Ok(());
-    }
-    let shift = 2 * (levels as u64 - 1);
-    // Child edges ≤ 3 × faces and vertices ≤ faces + edges + vertices, at every level.
-    let faces = if shift >= 60 {
-        u64::MAX
-    } else {
-        first_faces.saturating_mul(1 << shift)
-    };
-    if faces
-        .saturating_mul(4)
-        .saturating_add(mesh.num_vertices() as u64)
-        >= u32::MAX as u64
-    {
-        return Err(MeshError::TooLarge {
-            what: format!("level {levels} ({faces} faces)"),
-        });
-    }
-    Ok(())
-}
-
-/// Refines the triangle mesh `mesh` uniformly `levels` times with Loop as OpenSubdiv does
-/// (same rules for boundaries, creases, corners, holes and non-manifold topology; same
-/// vertex and face order), calling `progress(level_done, levels)` after each level.
-/// Returns the last level (all its vertices; its faces without holes unless
-/// `keep_holes`, which keeps them tagged), with the sharpness still left in its tags, and
-/// the warnings about the input.
-///
-/// # Errors
-/// [`MeshError::NotTriangle`] naming the first face that is not a triangle; an invalid
-/// mesh; [`MeshError::TooLarge`] when the result would exceed 32-bit indices.
-#[allow(dead_code)] // routed to by the facade's scheme choice
-pub(crate) fn subdivide_loop(
-    mesh: &PolyMesh,
-    options: &Options,
-    levels: u32,
-    keep_holes: bool,
-    progress: &mut dyn FnMut(u32, u32),
-) -> Result<(PolyMesh, Vec<TopologyWarning>), MeshError> {
-    mesh.validate()?;
-    check_triangles(mesh)?;
-    check_size(mesh, 4 * mesh.num_faces() as u64, levels)?;
-    let (mut level, warnings) = Topology::from_mesh(mesh, options)?;
-    let mut pos = mesh.positions().to_vec();
-    for l in 1..=levels {
-        let child = refine_tri_topology(&level, options);
-        let mut next = vec![[0.0; 3]; child.num_vertices()];
-        interpolate_loop(&level, &child, options, &pos, &mut next);
-        level = child;
-        pos = next;
-        progress(l, levels);
-    }
-    let explicit = options.boundary == BoundaryInterpolation::None;
-    Ok((output_mesh(&level, explicit, pos, keep_holes), warnings))
-}
-
-/// Refines `mesh` (any polygons) uniformly `levels` times with the bilinear scheme as
-/// OpenSubdiv does: the Catmull-Clark split and numbering, centroids, midpoints and the
-/// vertices themselves ([`Bilinear`]); no faces are holes for boundary mode `None`
-/// ([`Bilinear::topology_options`]). Output, progress and errors as
-/// [`subdivide_loop`] (without the triangle check).
-#[allow(dead_code)] // routed to by the facade's scheme choice
-pub(crate) fn subdivide_bilinear(
-    mesh: &PolyMesh,
-    options: &Options,
-    levels: u32,
-    keep_holes: bool,
-    progress: &mut dyn FnMut(u32, u32),
-) -> Result<(PolyMesh, Vec<TopologyWarning>), MeshError> {
-    mesh.validate()?;
-    check_size(mesh, mesh.face_verts().len() as u64, levels)?;
-    let options = Bilinear::topology_options(options);
-    let (mut level, warnings) = Topology::from_mesh(mesh, &options)?;
-    let mut pos = mesh.positions().to_vec();
-    for l in 1..=levels {
-        let child = refine_topology(&level, &options, true);
-        let mut next = vec![[0.0; 3]; child.num_vertices()];
-        interpolate_with(&level, &child, &options, Bilinear, &pos, &mut next);
-        level = child;
-        pos = next;
-        progress(l, levels);
-    }
-    Ok((output_mesh(&level, false, pos, keep_holes), warnings))
-}
-
-/// The output mesh of a complete refined level: all vertices (OpenSubdiv's numbering),
-/// the faces that are not holes (all, holes tagged, with `keep_holes`), and the sharpness
-/// still left as tags, leaving out what reading the mesh back re-derives (boundary edges
-/// unless `explicit_boundary`, non-manifold edges and vertices, sharpened corners), as
-/// [`subdivide`](fn@crate::subdivide) writes its output.
-fn output_mesh(
-    level: &Topology,
-    explicit_boundary: bool,
-    pos: Vec<[f64; 3]>,
-    keep_holes: bool,
-) -> PolyMesh {
-    let nf = level.num_faces();
-    let creases = (0..level.num_edges())
-        .filter_map(|e| {
-            let t = level.edge_tag(e);
-            let s = level.edge_sharpness(e);
-            let keep = !t.non_manifold && (!t.boundary || explicit_boundary);
-            let [v0, v1] = level.edge_vertices(e);
-            (s > 0.0 && keep).then_some(Crease {
-                v0,
-                v1,
-                sharpness: s,
-            })
-        })
-        .collect();
-    let corners = (0..level.num_vertices())
-        .filter_map(|v| {
-            let s = level.vertex_sharpness(v);
-            let t = level.vertex_tag(v);
-            (s > 0.0 && !t.non_manifold && !t.sharpened_corner).then_some(Corner {
-                vertex: v as u32,
-                sharpness: s,
-            })
-        })
-        .collect();
-    let holes = if keep_holes {
-        (0..nf as u32)
-            .filter(|&f| level.is_hole(f as usize))
-            .collect()
-    } else {
-        Vec::new()
-    };
-    let mut offsets = Vec::with_capacity(nf + 1);
-    let mut verts = Vec::with_capacity(level.face_verts().len());
-    offsets.push(0u32);
-    for f in 0..nf {
-        if keep_holes || !level.is_hole(f) {
-            verts.extend_from_slice(level.face_vertices(f));
-            offsets.push(verts.len() as u32);
-        }
-    }
-    let mut m = PolyMesh::new_unchecked(pos, offsets, verts);
-    m.tags = Tags {
-        holes,
-        creases,
-        corners,
-    };
-    m
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::mesh::{BoundaryInterpolation, Corner, Crease, Tags};
+    use crate::refine::uniform::{refine_uniform, Steps};
+
+    /// `mesh` refined `levels` times with `steps`, as `subdivide` refines it.
+    fn refine(
+        mesh: &PolyMesh,
+        options: &Options,
+        steps: Steps,
+        levels: u32,
+        keep_holes: bool,
+    ) -> Result<(PolyMesh, Vec<TopologyWarning>), MeshError> {
+        mesh.validate()?;
+        let mut u = refine_uniform(mesh, options, steps, levels, false, &mut |_, _| {})?;
+        let warnings = std::mem::take(&mut u.warnings);
+        Ok((u.into_mesh(keep_holes), warnings))
+    }
+
+    fn subdivide_loop(
+        mesh: &PolyMesh,
+        options: &Options,
+        levels: u32,
+        keep_holes: bool,
+        _: &mut dyn FnMut(u32, u32),
+    ) -> Result<(PolyMesh, Vec<TopologyWarning>), MeshError> {
+        refine(mesh, options, Steps::Loop, levels, keep_holes)
+    }
+
+    fn subdivide_bilinear(
+        mesh: &PolyMesh,
+        options: &Options,
+        levels: u32,
+        keep_holes: bool,
+        _: &mut dyn FnMut(u32, u32),
+    ) -> Result<(PolyMesh, Vec<TopologyWarning>), MeshError> {
+        refine(mesh, options, Steps::Bilinear, levels, keep_holes)
+    }
     use crate::mesh::CreaseMethod;
 
     /// An `n × n` grid of squares, each cut into two triangles along alternating

@@ -39,7 +39,6 @@ pub(crate) mod uniform;
 
 pub use error::Error;
 pub use loop_::{interpolate_loop, LoopRefiner};
-pub(crate) use loop_::{subdivide_bilinear, subdivide_loop};
 pub(crate) use plan::refinement_rows;
 pub use plan::{PlanScratch, RefinePlan};
 pub use primvar::{interpolate, interpolate_with};

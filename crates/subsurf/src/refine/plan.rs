@@ -234,7 +234,8 @@ impl RefinePlan {
     ///
     /// # Errors
     /// [`Error::Mesh`] for an invalid mesh or tags, or when the last level would exceed
-    /// 32-bit indices; [`Error::Nurss`] for bad knot tags or semi-sharp creases with NURSS.
+    /// 32-bit indices; [`Error::Nurss`] for bad knot tags or semi-sharp creases with NURSS;
+    /// [`Error::Unsupported`] for Loop and bilinear, whose plans are not built yet.
     pub fn new(
         mesh: &PolyMesh,
         scheme: Scheme,
@@ -243,7 +244,11 @@ impl RefinePlan {
     ) -> Result<Self, Error> {
         match scheme.mixed() {
             Some(mixed) => Ok(Self::build(mesh, options, levels, BASE_RING_DEPTH, mixed)?),
-            None => Ok(super::nurss::plan(mesh, options, levels)?),
+            None if scheme == Scheme::Nurss => Ok(super::nurss::plan(mesh, options, levels)?),
+            None => Err(Error::Unsupported {
+                what: "building a re-posing plan",
+                scheme: scheme.name(),
+            }),
         }
     }
 
@@ -340,7 +345,13 @@ impl RefinePlan {
     ///
     /// [`estimate_memory`]: crate::estimate_memory
     pub fn estimate_memory(mesh: &PolyMesh, levels: u32) -> u64 {
-        super::uniform::estimate_uniform(mesh, levels, false).saturating_mul(2)
+        super::uniform::estimate_uniform(
+            mesh,
+            super::uniform::Steps::Family(Mixed::CATMULL_CLARK),
+            levels,
+            false,
+        )
+        .saturating_mul(2)
     }
 
     /// Number of patches: faces whose last levels the plan computes by the bicubic kernel

@@ -1,14 +1,52 @@
-//! Uniform refinement of a mesh's positions with a scheme of the Catmull-Clark family
-//! (Catmull-Clark, or the shape-adjustable masks on leading steps), to a mesh that carries
-//! the sharpness still left: the refinement under [`subdivide`](fn@crate::subdivide), which
-//! adds the memory guard, the limit and the other schemes.
+//! Uniform refinement of a mesh's positions with every scheme whose levels are refined one
+//! after the other from positions alone (all but NURSS, which carries knot intervals:
+//! `refine::nurss`), to a mesh that carries the sharpness still left: the refinement under
+//! [`subdivide`](fn@crate::subdivide), which adds the memory guard and the limit.
 
+use super::loop_::{check_triangles, interpolate_loop};
+use super::tri_topology::refine_tri_topology;
 use super::{interpolate, interpolate_with, refine_topology, refine_topology_for_output};
 use crate::mesh::{
     BoundaryInterpolation, Corner, Crease, MeshError, Options, PolyMesh, Tags, Topology,
     TopologyWarning,
 };
 use crate::scheme::adjustable::Mixed;
+use crate::scheme::bilinear::Bilinear;
+use crate::scheme::Scheme;
+
+/// How each level of a uniform refinement is made: the schemes [`refine_uniform`] refines.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum Steps {
+    /// The Catmull-Clark split; the adjustable masks on the first `steps` levels, then
+    /// Catmull-Clark's ([`Mixed::CATMULL_CLARK`]: Catmull-Clark throughout).
+    Family(Mixed),
+    /// The Catmull-Clark split with [`Bilinear`] masks.
+    Bilinear,
+    /// The triangle split with Loop's masks (`interpolate_loop`).
+    Loop,
+}
+
+impl Steps {
+    /// The steps of `scheme`, `None` for NURSS.
+    pub(crate) fn of(scheme: Scheme) -> Option<Self> {
+        match scheme {
+            Scheme::CatmullClark => Some(Self::Family(Mixed::CATMULL_CLARK)),
+            Scheme::Adjustable(m) => Some(Self::Family(m)),
+            Scheme::Bilinear => Some(Self::Bilinear),
+            Scheme::Loop => Some(Self::Loop),
+            Scheme::Nurss => None,
+        }
+    }
+
+    /// The options the topology is built with: bilinear makes no holes for boundary mode
+    /// `None` ([`Bilinear::topology_options`]).
+    fn topology_options(self, options: &Options) -> Options {
+        match self {
+            Self::Bilinear => Bilinear::topology_options(options),
+            _ => *options,
+        }
+    }
+}
 
 /// The last level of a uniform refinement and the positions of its vertices.
 pub(crate) struct Uniform {
@@ -34,23 +72,27 @@ const BYTES_PER_FACE: u64 = 160;
 /// adjacency and three more position-sized buffers.
 const LIMIT_BYTES_PER_FACE: u64 = 200;
 
-/// Estimated peak memory in bytes of refining `mesh` `levels` times with a scheme of the
-/// Catmull-Clark family, and of moving the last level to the limit with `limit`,
+/// Estimated peak memory in bytes of refining `mesh` `levels` times with `steps`, and of
+/// moving the last level to the limit with `limit`,
 /// saturating at `u64::MAX`.
-pub(crate) fn estimate_uniform(mesh: &PolyMesh, levels: u32, limit: bool) -> u64 {
+pub(crate) fn estimate_uniform(mesh: &PolyMesh, steps: Steps, levels: u32, limit: bool) -> u64 {
     let per_face = BYTES_PER_FACE + if limit { LIMIT_BYTES_PER_FACE } else { 0 };
-    refined_faces(mesh, levels)
+    refined_faces(mesh, steps, levels)
         .saturating_mul(per_face)
         .saturating_add(mesh.num_vertices() as u64 * 64)
 }
 
-/// Number of faces after `levels` uniform steps: the face-vertex count `S` for the first
-/// step (every face of size `n` gives `n` quads), then ×4 per step. Saturates.
-pub(crate) fn refined_faces(mesh: &PolyMesh, levels: u32) -> u64 {
+/// Number of faces after `levels` uniform steps of `steps`: the first step makes the
+/// face-vertex count `S` (every face of size `n` gives `n` quads), or four triangles per
+/// triangle with Loop, then ×4 per step. Saturates.
+pub(crate) fn refined_faces(mesh: &PolyMesh, steps: Steps, levels: u32) -> u64 {
     if levels == 0 {
         return mesh.num_faces() as u64;
     }
-    let s = mesh.face_verts().len() as u64;
+    let s = match steps {
+        Steps::Loop => 4 * mesh.num_faces() as u64,
+        _ => mesh.face_verts().len() as u64,
+    };
     let shift = 2 * (levels as u64 - 1);
     if shift >= 64 {
         return if s == 0 { 0 } else { u64::MAX };
@@ -58,27 +100,30 @@ pub(crate) fn refined_faces(mesh: &PolyMesh, levels: u32) -> u64 {
     s.saturating_mul(1u64 << shift)
 }
 
-/// Refines `mesh` uniformly `levels` times, the first `mixed.steps` steps with the
-/// shape-adjustable masks `mixed.scheme`, the others with Catmull-Clark's, as
-/// OpenSubdiv refines it (same rules for boundaries, creases, corners, holes, triangles and
-/// non-manifold topology; same vertex and face order). Only the last two levels are kept
-/// in memory. With `complete`, the last level has its full adjacency (for limit masks).
+/// Refines `mesh` uniformly `levels` times with `steps` as OpenSubdiv refines it (same
+/// rules for boundaries, creases, corners, holes, triangles and non-manifold topology; same
+/// vertex and face order). Only the last two levels are kept in memory. With `complete`,
+/// the last level has its full adjacency (for limit masks; Loop's levels always have it).
 /// `progress(level_done, levels)` is called after each level. `mesh` has been validated
 /// ([`PolyMesh::validate`]).
 ///
 /// # Errors
-/// [`MeshError`] for invalid tags, or [`MeshError::TooLarge`] when the last
-/// level would exceed 32-bit indices.
+/// [`MeshError`] for invalid tags; [`MeshError::NotTriangle`] naming the first face of
+/// `mesh` that is not a triangle, with Loop; [`MeshError::TooLarge`] when the last level
+/// would exceed 32-bit indices.
 pub(crate) fn refine_uniform(
     mesh: &PolyMesh,
     options: &Options,
-    mixed: Mixed,
+    steps: Steps,
     levels: u32,
     complete: bool,
     progress: &mut dyn FnMut(u32, u32),
 ) -> Result<Uniform, MeshError> {
+    if steps == Steps::Loop {
+        check_triangles(mesh)?;
+    }
     // Vertices of the last level ≤ faces + edges + vertices ≤ ~4 × faces: keep that in u32.
-    let faces = refined_faces(mesh, levels);
+    let faces = refined_faces(mesh, steps, levels);
     if faces
         .saturating_mul(4)
         .saturating_add(mesh.num_vertices() as u64)
@@ -88,26 +133,30 @@ pub(crate) fn refine_uniform(
             what: format!("level {levels} ({faces} faces)"),
         });
     }
+    let options = &steps.topology_options(options);
     let (mut level, warnings) = Topology::from_mesh(mesh, options)?;
     let mut pos = mesh.positions().to_vec();
     let mut parent = None;
     for l in 1..=levels {
-        let last = l == levels;
         // The last level needs its full adjacency only for limit masks, and its edge
         // vertices only for the output's creases, which are read from its parent.
-        let child = if last && !complete {
-            refine_topology_for_output(&level, options)
-        } else {
-            refine_topology(&level, options, true)
+        let for_output = l == levels && !complete && steps != Steps::Loop;
+        let child = match steps {
+            Steps::Loop => refine_tri_topology(&level, options),
+            _ if for_output => refine_topology_for_output(&level, options),
+            _ => refine_topology(&level, options, true),
         };
         let mut next = vec![[0.0; 3]; child.num_vertices()];
-        if l <= mixed.steps {
-            interpolate_with(&level, &child, options, mixed.scheme, &pos, &mut next);
-        } else {
-            interpolate(&level, &child, options, &pos, &mut next);
+        match steps {
+            Steps::Family(m) if l <= m.steps => {
+                interpolate_with(&level, &child, options, m.scheme, &pos, &mut next)
+            }
+            Steps::Family(_) => interpolate(&level, &child, options, &pos, &mut next),
+            Steps::Bilinear => interpolate_with(&level, &child, options, Bilinear, &pos, &mut next),
+            Steps::Loop => interpolate_loop(&level, &child, options, &pos, &mut next),
         }
         let p = std::mem::replace(&mut level, child);
-        if last && !complete {
+        if for_output {
             parent = Some(p);
         }
         pos = next;
@@ -122,8 +171,9 @@ pub(crate) fn refine_uniform(
     })
 }
 
-/// `mesh` refined `levels` times with `mixed` ([`refine_uniform`]) as a mesh, holes kept
-/// (tagged) with `keep_holes`: what the paper methods refine control meshes with.
+/// `mesh` refined `levels` times with the Catmull-Clark family's `mixed` steps
+/// ([`refine_uniform`]) as a mesh, holes kept (tagged) with `keep_holes`: what the paper
+/// methods refine control meshes with.
 ///
 /// # Errors
 /// [`MeshError`] for an invalid mesh, and as [`refine_uniform`].
@@ -135,7 +185,14 @@ pub(crate) fn refine_mesh(
     keep_holes: bool,
 ) -> Result<PolyMesh, MeshError> {
     mesh.validate()?;
-    let u = refine_uniform(mesh, options, mixed, levels, false, &mut |_, _| {})?;
+    let u = refine_uniform(
+        mesh,
+        options,
+        Steps::Family(mixed),
+        levels,
+        false,
+        &mut |_, _| {},
+    )?;
     Ok(u.into_mesh(keep_holes))
 }
 

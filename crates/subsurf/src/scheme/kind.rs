@@ -43,26 +43,37 @@ pub enum Scheme {
     /// ([`NurssError::SemiSharp`](crate::nurss::NurssError::SemiSharp)); masks in
     /// [`nurss`](super::nurss).
     Nurss,
+    /// Loop subdivision of triangle meshes (C. Loop, "Smooth subdivision surfaces based on
+    /// triangles", M.S. thesis, University of Utah, 1987) with OpenSubdiv's rules for
+    /// boundaries, creases, corners and non-manifold topology (`Sdc::SCHEME_LOOP`); masks in
+    /// [`loop_`](super::loop_). A face that is not a triangle is an error naming it.
+    Loop,
+    /// Bilinear subdivision (`Sdc::SCHEME_BILINEAR`): the Catmull-Clark split of any
+    /// polygons with face centroids, edge midpoints and the vertices themselves, so the
+    /// surface is the control mesh; masks in [`bilinear`](super::bilinear).
+    Bilinear,
 }
 
 impl Scheme {
     /// The scheme's name as the command line spells it: `catmull-clark`, `adjustable`,
-    /// `nurss`.
+    /// `nurss`, `loop`, `bilinear`.
     pub fn name(&self) -> &'static str {
         match self {
             Self::CatmullClark => "catmull-clark",
             Self::Adjustable(_) => "adjustable",
             Self::Nurss => "nurss",
+            Self::Loop => "loop",
+            Self::Bilinear => "bilinear",
         }
     }
 
     /// The scheme as [`Mixed`] steps when it is of the Catmull-Clark family with uniform
-    /// knots (Catmull-Clark: no adjusted step), `None` for NURSS.
+    /// knots (Catmull-Clark: no adjusted step), `None` for the others.
     pub(crate) fn mixed(&self) -> Option<Mixed> {
         match *self {
             Self::CatmullClark => Some(Mixed::CATMULL_CLARK),
             Self::Adjustable(m) => Some(m),
-            Self::Nurss => None,
+            Self::Nurss | Self::Loop | Self::Bilinear => None,
         }
     }
 }

@@ -2,8 +2,7 @@
 //!
 //! OpenSubdiv's 25 Loop regression shapes (`tests/shapes/osd/loop_*.obj`) and 3 bilinear ones
 //! (`bilinear_*.obj`), copied verbatim from OpenSubdiv 3.6.0, are refined to levels 1–4 with
-//! [`LoopRefiner`] and [`interpolate_loop`] (Loop), or with [`TopologyRefiner`] and
-//! [`interpolate_with`]`(.., Bilinear, ..)` (bilinear), and compared with what OpenSubdiv 3.5
+//! [`subdivide`] and [`Scheme::Loop`] or [`Scheme::Bilinear`], and compared with what OpenSubdiv 3.5
 //! computed for the same file with `SCHEME_LOOP` / `SCHEME_BILINEAR`
 //! (`tests/golden/osd_schemes/<shape>.txt.gz`, written by `scripts/make-golden-schemes.sh`
 //! through `osd-oracle refine --scheme loop|bilinear`; format and provenance in
@@ -11,7 +10,9 @@
 //! vertex count (hole-only vertices included), faces written (holes left out) with their
 //! sizes and their list in order (FNV-1a hash), sampled positions index for index within
 //! `1e-12 ×` the input's bounding-box diagonal, and sums over all vertices. Refined positions
-//! only: limit evaluation for these schemes is not compared here.
+//! only: limit evaluation for these schemes is not compared here. The lower-level paths,
+//! [`LoopRefiner`] with `interpolate_loop` and [`TopologyRefiner`] with
+//! [`interpolate_with`]`(.., Bilinear, ..)`, give the same bits (`refiners_equal_subdivide`).
 
 use std::fmt::Write as _;
 
@@ -23,6 +24,7 @@ use subsurf::io::obj::read_obj;
 use subsurf::mesh::{MeshError, Options, PolyMesh, Topology};
 use subsurf::refine::{interpolate_with, LoopRefiner, TopologyRefiner};
 use subsurf::scheme::bilinear::Bilinear;
+use subsurf::{subdivide, Scheme, SubdivideOptions};
 
 const REL_TOL: f64 = 1e-12;
 const LEVELS: [u32; 4] = [1, 2, 3, 4];
@@ -40,7 +42,23 @@ fn written(level: &Topology, pos: Vec<[f64; 3]>) -> PolyMesh {
     PolyMesh::from_faces(pos, &faces).expect("a refined level is a valid mesh")
 }
 
-/// `mesh` refined `levels` times with Loop.
+/// `mesh` refined `levels` times with `scheme` by the facade, hole faces left out.
+fn refine_with(
+    mesh: &PolyMesh,
+    scheme: Scheme,
+    options: Options,
+    levels: u32,
+) -> Result<PolyMesh, subsurf::Error> {
+    let opts = SubdivideOptions {
+        levels,
+        scheme,
+        options,
+        ..Default::default()
+    };
+    Ok(subdivide(mesh, &opts)?.mesh)
+}
+
+/// `mesh` refined `levels` times with [`LoopRefiner`].
 fn refine_loop(mesh: &PolyMesh, options: Options, levels: u32) -> Result<PolyMesh, MeshError> {
     let mut r = LoopRefiner::new(mesh, options)?;
     r.refine_uniform(levels);
@@ -48,7 +66,7 @@ fn refine_loop(mesh: &PolyMesh, options: Options, levels: u32) -> Result<PolyMes
     Ok(written(r.level(levels as usize), pos))
 }
 
-/// `mesh` refined `levels` times with the bilinear scheme.
+/// `mesh` refined `levels` times with the bilinear scheme on a [`TopologyRefiner`].
 fn refine_bilinear(mesh: &PolyMesh, options: Options, levels: u32) -> Result<PolyMesh, MeshError> {
     let options = Bilinear::topology_options(&options);
     let mut r = TopologyRefiner::new(mesh, options)?;
@@ -99,10 +117,11 @@ fn check(prefix: &str) -> (String, Vec<String>) {
                 failures.push(format!("{what}: the oracle failed on it"));
                 continue;
             };
-            let run = || match prefix {
-                "loop_" => refine_loop(&obj.mesh, options, case.level),
-                _ => refine_bilinear(&obj.mesh, options, case.level),
+            let scheme = match prefix {
+                "loop_" => Scheme::Loop,
+                _ => Scheme::Bilinear,
             };
+            let run = || refine_with(&obj.mesh, scheme, options, case.level);
             let mesh = match quiet_catch(run) {
                 Ok(Ok(m)) => m,
                 Ok(Err(e)) => {
@@ -204,4 +223,37 @@ fn osd_golden_schemes_data_is_complete() {
         }
     }
     assert!(problems.is_empty(), "{}", problems.join("\n"));
+}
+
+/// The refiners give `subdivide`'s bits: positions, faces and written faces, every shape at
+/// levels 1–3.
+#[test]
+fn refiners_equal_subdivide() {
+    let mut cases = 0;
+    for (prefix, scheme) in [("loop_", Scheme::Loop), ("bilinear_", Scheme::Bilinear)] {
+        for name in shape_names_with_prefix(prefix) {
+            let obj = read_obj(&shapes_dir().join(format!("{name}.obj"))).expect("shape");
+            let options = obj.options.resolve(Options::default());
+            for levels in 1..=3 {
+                let facade = refine_with(&obj.mesh, scheme, options, levels).expect("subdivide");
+                let refiner = match scheme {
+                    Scheme::Loop => refine_loop(&obj.mesh, options, levels),
+                    _ => refine_bilinear(&obj.mesh, options, levels),
+                }
+                .expect("refiner");
+                assert_eq!(
+                    facade.positions(),
+                    refiner.positions(),
+                    "{name} level {levels}"
+                );
+                assert_eq!(
+                    facade.face_verts(),
+                    refiner.face_verts(),
+                    "{name} level {levels}"
+                );
+                cases += 1;
+            }
+        }
+    }
+    assert_eq!(cases, 3 * 28);
 }
