@@ -59,6 +59,27 @@ pub enum MeshError {
         /// Number of positions given.
         found: usize,
     },
+    /// A face-varying channel is malformed (its values, or its index count against the
+    /// mesh's face-vertices).
+    #[error("face-varying channel '{channel}': {message}")]
+    BadFaceVarying {
+        /// The channel's name.
+        channel: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// A face refers to a face-varying value that does not exist.
+    #[error("face {face} refers to value {index} of face-varying channel '{channel}', which has {count} values")]
+    FaceVaryingOutOfRange {
+        /// The channel's name.
+        channel: String,
+        /// Face index.
+        face: usize,
+        /// The bad value index.
+        index: u64,
+        /// Number of values of the channel.
+        count: usize,
+    },
     /// The face offsets of a CSR face list are not a valid prefix sum.
     #[error("face offsets are malformed: {0}")]
     BadFaceOffsets(String),
