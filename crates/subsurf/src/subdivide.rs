@@ -3,7 +3,10 @@
 use crate::limit;
 use crate::mesh::{Corner, Crease, MeshError, Options, PolyMesh, Tags, Topology, TopologyWarning};
 use crate::refine::interpolate;
-use crate::refine::{interpolate_with, refine_topology, refine_topology_for_output};
+use crate::refine::{
+    interpolate_with, refine_topology, refine_topology_for_output, FaceVaryingRefiner,
+};
+use crate::scheme::catmark::CatmullClark;
 use crate::scheme::adjustable::Mixed;
 
 /// What [`subdivide`] should do.
@@ -14,6 +17,7 @@ pub struct SubdivideOptions {
     /// The rules' options: boundary interpolation, crease method, triangle rule.
     pub options: Options,
     /// Move the last level's vertices to their limit positions and compute limit normals.
+    /// Face-varying channels are refined to the last level but not moved to their limit.
     pub limit: bool,
     /// Keep hole faces in the output (tagged as holes) so that the result can be refined
     /// again with the same outcome; by default holes are left out, as OpenSubdiv does.
@@ -196,6 +200,7 @@ fn subdivide_steps(
 
     let (mut level, warnings) = Topology::from_mesh(mesh, &opts.options)?;
     let mut pos = mesh.positions().to_vec();
+    let mut fvar = FaceVaryingRefiner::new(&level, &mesh.face_varying, &opts.options);
     // The parent of the last level, when that level is built without edge vertices.
     let mut parent = None;
     for l in 1..=opts.levels {
@@ -210,9 +215,13 @@ fn subdivide_steps(
         let mut next = vec![[0.0; 3]; child.num_vertices()];
         match mixed {
             Some(m) if l <= m.steps => {
-                interpolate_with(&level, &child, &opts.options, m.scheme, &pos, &mut next)
+                interpolate_with(&level, &child, &opts.options, m.scheme, &pos, &mut next);
+                fvar.refine(&level, &child, &opts.options, m.scheme);
             }
-            _ => interpolate(&level, &child, &opts.options, &pos, &mut next),
+            _ => {
+                interpolate(&level, &child, &opts.options, &pos, &mut next);
+                fvar.refine(&level, &child, &opts.options, CatmullClark);
+            }
         }
         let p = std::mem::replace(&mut level, child);
         if last && !opts.limit {
@@ -227,13 +236,15 @@ fn subdivide_steps(
     } else {
         None
     };
-    let out = output_mesh(
+    let face_varying = fvar.finish(&level, opts.keep_holes);
+    let mut out = output_mesh(
         level,
         parent.as_ref(),
         opts.options.boundary == crate::mesh::BoundaryInterpolation::None,
         pos,
         opts.keep_holes,
     );
+    out.face_varying = face_varying;
     Ok(Subdivision {
         mesh: out,
         normals,

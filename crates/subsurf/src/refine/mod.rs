@@ -25,6 +25,7 @@
 //! assert!(temp.iter().all(|t| (0.0..=1.0).contains(&t[0])));
 //! ```
 
+mod face_varying;
 pub mod nurss;
 pub(crate) mod patch;
 pub mod plan;
@@ -34,6 +35,7 @@ mod primvar;
 mod topology;
 
 pub(crate) use plan::refinement_rows;
+pub use face_varying::FaceVaryingRefiner;
 pub use plan::{PlanScratch, RefinePlan};
 pub use primvar::{interpolate, interpolate_with};
 pub(crate) use topology::{refine_topology, refine_topology_for_output};
