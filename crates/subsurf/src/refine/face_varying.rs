@@ -188,17 +188,31 @@ impl FvarLevel {
                 l.face_values[t.face_offsets[f as usize] as usize + k as usize]
             }));
             l.mark_seams(t, v, &vals, &mut mismatch);
-            // Distinct values in order of first appearance, and each face's sibling.
+            // Distinct values in order of first appearance, and each face's sibling, found
+            // as OpenSubdiv finds them: a value equal to the previous face's is that
+            // sibling; otherwise, with two values so far, a value other than the first is
+            // a new sibling even if it is the second (so A B A B gives three siblings, the
+            // last B a value of its own), and beyond two values the list is searched.
             let first = l.slot_values.len();
             l.slot_values.push(vals.first().copied().unwrap_or(0));
+            let mut prev_sib = 0;
             for (i, &x) in vals.iter().enumerate() {
-                let sib = match l.slot_values[first..].iter().position(|&y| y == x) {
-                    Some(s) => s,
-                    None => {
-                        l.slot_values.push(x);
-                        l.slot_values.len() - 1 - first
+                let unique = &l.slot_values[first..];
+                let sib = if i == 0 || x == vals[i - 1] {
+                    prev_sib
+                } else if unique.len() == 1 || (unique.len() == 2 && unique[0] != x) {
+                    l.slot_values.push(x);
+                    l.slot_values.len() - 1 - first
+                } else {
+                    match unique.iter().position(|&y| y == x) {
+                        Some(s) => s,
+                        None => {
+                            l.slot_values.push(x);
+                            l.slot_values.len() - 1 - first
+                        }
                     }
                 };
+                prev_sib = sib;
                 let f = faces[i] as usize;
                 let at = t.face_offsets[f] as usize + t.vertex_face_locals(v)[i] as usize;
                 l.face_siblings[at] = sib as u16;
