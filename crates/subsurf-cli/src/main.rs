@@ -583,7 +583,7 @@ fn fvar_parser() -> impl TypedValueParser<Value = FaceVaryingInterpolation> {
         "boundaries",
         "all",
     ])
-        .try_map(|s| s.parse::<FaceVaryingInterpolation>())
+    .try_map(|s| s.parse::<FaceVaryingInterpolation>())
 }
 
 fn crease_method_parser() -> impl TypedValueParser<Value = CreaseMethod> {

@@ -6,8 +6,8 @@ use crate::refine::interpolate;
 use crate::refine::{
     interpolate_with, refine_topology, refine_topology_for_output, FaceVaryingRefiner,
 };
-use crate::scheme::catmark::CatmullClark;
 use crate::scheme::adjustable::Mixed;
+use crate::scheme::catmark::CatmullClark;
 
 /// What [`subdivide`] should do.
 #[derive(Clone, Debug, Default, PartialEq)]

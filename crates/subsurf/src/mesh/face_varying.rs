@@ -57,7 +57,12 @@ impl FaceVarying {
     }
 
     /// Builds a channel without checks, for refinement (valid by construction).
-    pub(crate) fn new_unchecked(name: String, dim: usize, values: Vec<f64>, indices: Vec<u32>) -> Self {
+    pub(crate) fn new_unchecked(
+        name: String,
+        dim: usize,
+        values: Vec<f64>,
+        indices: Vec<u32>,
+    ) -> Self {
         Self {
             name,
             dim,

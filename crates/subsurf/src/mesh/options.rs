@@ -189,10 +189,7 @@ impl FaceVaryingInterpolation {
 
     /// Inverse of [`from_tag_value`](Self::from_tag_value).
     pub fn tag_value(self) -> i64 {
-        Self::ALL_MODES
-            .iter()
-            .position(|&m| m == self)
-            .unwrap_or(5) as i64
+        Self::ALL_MODES.iter().position(|&m| m == self).unwrap_or(5) as i64
     }
 }
 

@@ -184,9 +184,11 @@ impl FvarLevel {
         for v in 0..nv {
             let faces = t.vertex_faces(v);
             vals.clear();
-            vals.extend(faces.iter().zip(t.vertex_face_locals(v)).map(|(&f, &k)| {
-                l.face_values[t.face_offsets[f as usize] as usize + k as usize]
-            }));
+            vals.extend(
+                faces.iter().zip(t.vertex_face_locals(v)).map(|(&f, &k)| {
+                    l.face_values[t.face_offsets[f as usize] as usize + k as usize]
+                }),
+            );
             l.mark_seams(t, v, &vals, &mut mismatch);
             // Distinct values in order of first appearance, and each face's sibling, found
             // as OpenSubdiv finds them: a value equal to the previous face's is that
@@ -488,7 +490,9 @@ impl FvarLevel {
         let inside: Vec<usize> = if e > s {
             (s as usize + 1..=e as usize).collect()
         } else if s > e {
-            (s as usize + 1..edges.len()).chain(0..=e as usize).collect()
+            (s as usize + 1..edges.len())
+                .chain(0..=e as usize)
+                .collect()
         } else {
             Vec::new()
         };
@@ -497,7 +501,8 @@ impl FvarLevel {
         for k in inside {
             let pe = edges[k] as usize;
             out.0.push(p.edge_sharpness[pe]);
-            out.1.push(c.edge_sharpness[k0 + 2 * pe + locals[k] as usize]);
+            out.1
+                .push(c.edge_sharpness[k0 + 2 * pe + locals[k] as usize]);
         }
     }
 
@@ -668,7 +673,9 @@ impl FvarLevel {
             }
             let (edges, locals) = (p.vertex_edges(v), p.vertex_edge_locals(v));
             let child_semi = |k: usize| {
-                sharp::is_semi_sharp(c.edge_sharpness[s + 2 * edges[k] as usize + locals[k] as usize])
+                sharp::is_semi_sharp(
+                    c.edge_sharpness[s + 2 * edges[k] as usize + locals[k] as usize],
+                )
             };
             for slot in slots.clone() {
                 let t = self.tags[slot];
@@ -818,7 +825,11 @@ pub(crate) fn interpolate<R: Rules>(
             let pt = pf.tags[pslot];
             if pt.semi_sharp {
                 // A value sharpened by the other one decays with it.
-                let from = if pt.dep_sharp { ps.start + (1 - k) } else { pslot };
+                let from = if pt.dep_sharp {
+                    ps.start + (1 - k)
+                } else {
+                    pslot
+                };
                 let corner = pf.fractional_weight(p, c, options, v, from);
                 vw = (1.0 - corner) * centre_w + corner;
                 ew = (1.0 - corner) * end_w;
@@ -889,7 +900,8 @@ impl FaceVaryingRefiner {
                     (0..last.num_faces())
                         .filter(|&f| !last.is_hole(f))
                         .flat_map(|f| {
-                            let o = last.face_offsets[f] as usize..last.face_offsets[f + 1] as usize;
+                            let o =
+                                last.face_offsets[f] as usize..last.face_offsets[f + 1] as usize;
                             level.face_values[o].iter().copied()
                         })
                         .collect()

@@ -34,8 +34,8 @@ mod plan_ring;
 mod primvar;
 mod topology;
 
-pub(crate) use plan::refinement_rows;
 pub use face_varying::FaceVaryingRefiner;
+pub(crate) use plan::refinement_rows;
 pub use plan::{PlanScratch, RefinePlan};
 pub use primvar::{interpolate, interpolate_with};
 pub(crate) use topology::{refine_topology, refine_topology_for_output};

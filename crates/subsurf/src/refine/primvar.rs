@@ -200,7 +200,13 @@ pub(super) fn edge_mask_at<R: Rules>(
     let child_rule = child.vert_tags[parent.num_vertices() + parent.num_faces() + e]
         .get()
         .rule;
-    rules.edge_mask(options, parent.edge_sharpness[e], child_rule, faces.len(), tri)
+    rules.edge_mask(
+        options,
+        parent.edge_sharpness[e],
+        child_rule,
+        faces.len(),
+        tri,
+    )
 }
 
 /// The mask of parent vertex `v`'s child vertex into `mask` (OpenSubdiv's

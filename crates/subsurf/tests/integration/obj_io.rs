@@ -389,6 +389,7 @@ fn scheme_option_tags() {
             boundary: Some(BoundaryInterpolation::EdgeAndCorner),
             crease_method: Some(CreaseMethod::Chaikin),
             triangles: Some(TriangleSubdivision::Smooth),
+            face_varying: None,
         }
     );
     let o = parse("t interpolateboundary 1/0/0 0\nt creasemethod 0/0/1 uniform\nt smoothtriangles 0/0/1 catmark\n");
@@ -1029,6 +1030,7 @@ fn written_file_layout() {
             boundary: BoundaryInterpolation::EdgeAndCorner,
             crease_method: CreaseMethod::Chaikin,
             triangles: TriangleSubdivision::Smooth,
+            ..Options::default()
         }),
         normals: None,
     };
@@ -1138,6 +1140,7 @@ fn round_trip_is_bit_exact() {
         boundary: BoundaryInterpolation::None,
         crease_method: CreaseMethod::Chaikin,
         triangles: TriangleSubdivision::Catmark,
+        ..Options::default()
     };
     let text = write_to_string(
         &m,

@@ -1029,6 +1029,7 @@ fn all_options() -> Vec<Options> {
                     boundary,
                     crease_method,
                     triangles,
+                    ..Options::default()
                 });
             }
         }

@@ -7,8 +7,8 @@
 use super::{FileOptions, ObjError, ObjFile, UnsupportedTag};
 use crate::mesh::{
     BoundaryInterpolation, Corner, Crease, CreaseMethod, EdgeInterval, FaceVarying,
-    FaceVaryingInterpolation, KnotTagError, KnotTags,
-    MeshError, PolyMesh, SideInterval, Tags, TriangleSubdivision, VertexWeight, SHARPNESS_INFINITE,
+    FaceVaryingInterpolation, KnotTagError, KnotTags, MeshError, PolyMesh, SideInterval, Tags,
+    TriangleSubdivision, VertexWeight, SHARPNESS_INFINITE,
 };
 use std::path::Path;
 use std::str::SplitAsciiWhitespace;
@@ -1422,7 +1422,8 @@ impl Parser {
         let face_texcoords = self.face_texcoords.finish(corners);
         if let Some(indices) = &face_texcoords {
             let uv = uv_channel(&self.texcoords, indices.clone());
-            mesh.face_varying.push(uv.map_err(|e| err(None, e.to_string()))?);
+            mesh.face_varying
+                .push(uv.map_err(|e| err(None, e.to_string()))?);
         }
         if let Err(e) = mesh.knots.validate(&mesh) {
             let (list, index) = e.entry();
@@ -1449,7 +1450,11 @@ impl Parser {
 /// The face-varying channel `"uv"` of the `vt` records: `(u, v)`, or `(u, v, w)` when a
 /// record has a `w` other than 0. The indices are in range (checked before).
 fn uv_channel(texcoords: &[[f64; 3]], indices: Vec<u32>) -> Result<FaceVarying, MeshError> {
-    let dim = if texcoords.iter().any(|t| t[2] != 0.0) { 3 } else { 2 };
+    let dim = if texcoords.iter().any(|t| t[2] != 0.0) {
+        3
+    } else {
+        2
+    };
     let values = texcoords.iter().flat_map(|t| t[..dim].to_vec()).collect();
     FaceVarying::new("uv", dim, values, indices)
 }
