@@ -716,6 +716,7 @@ mod tests {
             boundary: Some(BoundaryInterpolation::None),
             crease_method: Some(CreaseMethod::Chaikin),
             triangles: Some(TriangleSubdivision::Smooth),
+            face_varying: None,
         };
         let none = SchemeArgs {
             boundary: None,

@@ -285,6 +285,7 @@ mod tests {
                 boundary: BoundaryInterpolation::EdgeAndCorner,
                 crease_method: CreaseMethod::Chaikin,
                 triangles: TriangleSubdivision::Smooth,
+                ..Options::default()
             },
             limit: true,
             keep_holes: false,

@@ -82,7 +82,7 @@ impl FaceVarying {
         if self.dim == 0 {
             return Err(self.bad("its values have 0 components".into()));
         }
-        if self.values.len() % self.dim != 0 {
+        if !self.values.len().is_multiple_of(self.dim) {
             return Err(self.bad(format!(
                 "{} numbers do not make whole values of {} components",
                 self.values.len(),
