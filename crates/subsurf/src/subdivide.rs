@@ -20,6 +20,7 @@ pub struct SubdivideOptions {
     pub options: Options,
     /// Move the last level's vertices to their limit positions and compute limit normals
     /// (NURSS: limit positions only, [`Nurss::limit_points`](crate::nurss::Nurss::limit_points)).
+    /// Face-varying channels are refined to the last level but not moved to their limit.
     pub limit: bool,
     /// Keep hole faces in the output (tagged as holes) so that the result can be refined
     /// again with the same outcome; by default holes are left out, as OpenSubdiv does.
@@ -104,12 +105,22 @@ pub fn subdivide_with_progress(
             scheme: opts.scheme.name(),
         });
     }
+    // Face-varying data on Loop's split and with NURSS's intervals is not refined yet: the
+    // output has none, with a warning.
+    let fvar_warning = (!mesh.face_varying.is_empty()
+        && matches!(opts.scheme, Scheme::Loop | Scheme::Nurss))
+    .then(|| TopologyWarning::FaceVaryingNotRefined {
+        channels: mesh.face_varying.len(),
+        scheme: opts.scheme.name(),
+    });
     let Some(steps) = Steps::of(opts.scheme) else {
         let s = crate::nurss::refined(mesh, &opts.options, opts.levels, progress)?;
+        let mut warnings = s.warnings().to_vec();
+        warnings.extend(fvar_warning);
         return Ok(Subdivision {
             mesh: s.output_mesh(opts.keep_holes, opts.limit),
             normals: None,
-            warnings: s.warnings().to_vec(),
+            warnings,
         });
     };
     let mut u = refine_uniform(
@@ -123,7 +134,8 @@ pub fn subdivide_with_progress(
     let normals = opts
         .limit
         .then(|| limit_in_place(&u.level, &opts.options, &mut u.positions));
-    let warnings = std::mem::take(&mut u.warnings);
+    let mut warnings = std::mem::take(&mut u.warnings);
+    warnings.extend(fvar_warning);
     Ok(Subdivision {
         mesh: u.into_mesh(opts.keep_holes),
         normals,

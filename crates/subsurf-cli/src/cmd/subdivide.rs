@@ -1,7 +1,7 @@
 //! `subsurf subdivide`: read OBJ, refine, write OBJ.
 
 use anyhow::{Context, Result};
-use subsurf::io::obj::{write_obj, WriteOptions};
+use subsurf::io::obj::{write_obj, FileOptions, WriteOptions};
 use subsurf::mesh::{crease_by_angle, Options, TriangleSubdivision};
 use subsurf::{subdivide_with_progress, Scheme, SubdivideOptions, Subdivision};
 
@@ -29,10 +29,11 @@ pub fn run(args: &SubdivideArgs) -> Result<()> {
     let opts = SubdivideOptions {
         levels: args.levels,
         scheme: super::adjustable::for_subdivide(kind, &args.adjust),
-        options: args
-            .scheme
-            .over(input.obj.options)
-            .resolve(Options::default()),
+        options: FileOptions {
+            face_varying: args.fvar.or(input.obj.options.face_varying),
+            ..args.scheme.over(input.obj.options)
+        }
+        .resolve(Options::default()),
         limit: args.limit,
         keep_holes: args.keep_holes,
         max_memory: args.max_memory.or_else(crate::memory::available),
@@ -214,6 +215,7 @@ mod tests {
                 boundary: BoundaryInterpolation::EdgeAndCorner,
                 crease_method: CreaseMethod::Chaikin,
                 triangles: TriangleSubdivision::Smooth,
+                ..Options::default()
             },
             limit: true,
             keep_holes: false,

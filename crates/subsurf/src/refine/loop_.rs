@@ -6,7 +6,7 @@
 //! [`Bilinear`](crate::scheme::bilinear::Bilinear)). [`subdivide`](fn@crate::subdivide)
 //! refines a mesh with either through `refine::uniform`.
 
-use super::primvar::{axpy, run_chunks, sharp_vertex_mask};
+use super::primvar::{axpy, run_chunks, vertex_mask_at};
 use super::tri_topology::refine_tri_topology;
 use crate::mesh::{MeshError, Options, PolyMesh, Rule, Topology, TopologyWarning};
 use crate::scheme::catmark::VertexMask;
@@ -98,16 +98,8 @@ pub fn interpolate_loop<const D: usize>(
                 );
                 continue;
             }
-            sharp_vertex_mask(
-                parent,
-                child,
-                options,
-                Loop,
-                v,
-                (&mut pe, &mut ce),
-                &mut mask,
-                &mut child_mask,
-            );
+            let scratch = (&mut pe, &mut ce, &mut child_mask);
+            vertex_mask_at(parent, child, options, Loop, v, &mut mask, scratch);
             // Loop's vertex masks have no face weights.
             debug_assert!(!mask.has_faces || mask.faces.iter().all(|&w| w == 0.0));
             let mut acc = [0.0; D];

@@ -26,6 +26,7 @@
 //! ```
 
 mod error;
+mod face_varying;
 mod loop_;
 pub(crate) mod nurss;
 pub(crate) mod patch;
@@ -38,6 +39,7 @@ mod tri_topology;
 pub(crate) mod uniform;
 
 pub use error::Error;
+pub use face_varying::FaceVaryingRefiner;
 pub use loop_::{interpolate_loop, LoopRefiner};
 pub(crate) use plan::refinement_rows;
 pub use plan::{PlanScratch, RefinePlan};

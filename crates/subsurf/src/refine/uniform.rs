@@ -5,13 +5,16 @@
 
 use super::loop_::{check_triangles, interpolate_loop};
 use super::tri_topology::refine_tri_topology;
-use super::{interpolate, interpolate_with, refine_topology, refine_topology_for_output};
+use super::{
+    interpolate, interpolate_with, refine_topology, refine_topology_for_output, FaceVaryingRefiner,
+};
 use crate::mesh::{
     BoundaryInterpolation, Corner, Crease, MeshError, Options, PolyMesh, Tags, Topology,
     TopologyWarning,
 };
 use crate::scheme::adjustable::Mixed;
 use crate::scheme::bilinear::Bilinear;
+use crate::scheme::catmark::CatmullClark;
 use crate::scheme::Scheme;
 
 /// How each level of a uniform refinement is made: the schemes [`refine_uniform`] refines.
@@ -60,6 +63,8 @@ pub(crate) struct Uniform {
     pub(crate) positions: Vec<[f64; 3]>,
     /// Warnings about the base mesh.
     pub(crate) warnings: Vec<TopologyWarning>,
+    /// The face-varying channels, refined to the last level.
+    face_varying: FaceVaryingRefiner,
     boundary: BoundaryInterpolation,
 }
 
@@ -136,6 +141,12 @@ pub(crate) fn refine_uniform(
     let options = &steps.topology_options(options);
     let (mut level, warnings) = Topology::from_mesh(mesh, options)?;
     let mut pos = mesh.positions().to_vec();
+    // Face-varying data on Loop's split is not refined yet (`subdivide` warns).
+    let channels = match steps {
+        Steps::Loop => &[][..],
+        _ => &mesh.face_varying[..],
+    };
+    let mut fvar = FaceVaryingRefiner::new(&level, channels, options);
     let mut parent = None;
     for l in 1..=levels {
         // The last level needs its full adjacency only for limit masks, and its edge
@@ -149,11 +160,20 @@ pub(crate) fn refine_uniform(
         let mut next = vec![[0.0; 3]; child.num_vertices()];
         match steps {
             Steps::Family(m) if l <= m.steps => {
-                interpolate_with(&level, &child, options, m.scheme, &pos, &mut next)
+                interpolate_with(&level, &child, options, m.scheme, &pos, &mut next);
+                fvar.refine(&level, &child, options, m.scheme);
             }
-            Steps::Family(_) => interpolate(&level, &child, options, &pos, &mut next),
-            Steps::Bilinear => interpolate_with(&level, &child, options, Bilinear, &pos, &mut next),
-            Steps::Loop => interpolate_loop(&level, &child, options, &pos, &mut next),
+            Steps::Family(_) => {
+                interpolate(&level, &child, options, &pos, &mut next);
+                fvar.refine(&level, &child, options, CatmullClark);
+            }
+            Steps::Bilinear => {
+                interpolate_with(&level, &child, options, Bilinear, &pos, &mut next);
+                fvar.refine(&level, &child, options, Bilinear);
+            }
+            Steps::Loop => {
+                interpolate_loop(&level, &child, options, &pos, &mut next);
+            }
         }
         let p = std::mem::replace(&mut level, child);
         if for_output {
@@ -167,6 +187,7 @@ pub(crate) fn refine_uniform(
         parent,
         positions: pos,
         warnings,
+        face_varying: fvar,
         boundary: options.boundary,
     })
 }
@@ -197,15 +218,19 @@ pub(crate) fn refine_mesh(
 }
 
 impl Uniform {
-    /// The refined mesh ([`output_mesh`]), holes kept (tagged) with `keep_holes`.
+    /// The refined mesh ([`output_mesh`]) with its face-varying channels, holes kept
+    /// (tagged) with `keep_holes`.
     pub(crate) fn into_mesh(self, keep_holes: bool) -> PolyMesh {
-        output_mesh(
+        let face_varying = self.face_varying.finish(&self.level, keep_holes);
+        let mut m = output_mesh(
             self.level,
             self.parent.as_ref(),
             self.boundary == BoundaryInterpolation::None,
             self.positions,
             keep_holes,
-        )
+        );
+        m.face_varying = face_varying;
+        m
     }
 }
 

@@ -40,7 +40,7 @@ fn shape_names() -> Vec<String> {
         .filter_map(|e| {
             let p = e.ok()?.path();
             let stem = p.file_stem()?.to_string_lossy().into_owned();
-            (p.extension()? == "obj").then_some(stem)
+            (p.extension()? == "obj" && stem.starts_with("catmark_")).then_some(stem)
         })
         .collect();
     names.sort();

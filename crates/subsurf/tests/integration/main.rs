@@ -12,6 +12,7 @@ mod adjustable;
 mod blend;
 mod blend_rational;
 mod cross_scheme;
+mod fvar_golden;
 mod g2cap;
 mod g2cap_iges;
 mod g2cap_mixed;

@@ -1032,6 +1032,7 @@ fn all_options() -> Vec<Options> {
                     boundary,
                     crease_method,
                     triangles,
+                    ..Options::default()
                 });
             }
         }
