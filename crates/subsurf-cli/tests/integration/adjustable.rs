@@ -124,7 +124,11 @@ fn bad_parameters_are_usage_errors() {
             &["--scheme", "adjustable", "--adjust-steps", "1"][..],
             "--c",
         ),
-        (&["--scheme", "loop", "--c", "0.3"][..], "loop"),
+        (
+            &["--scheme", "loop", "--c", "0.3"][..],
+            "--scheme adjustable",
+        ),
+        (&["--scheme", "doo-sabin", "--c", "0.3"][..], "doo-sabin"),
     ] {
         let mut all = vec!["subdivide", "cube.obj", "-o", "out.obj"];
         all.extend(args);

@@ -233,7 +233,14 @@ fn unknown_scheme_is_a_usage_error() {
     let dir = dir_with(&[("grid.obj", GRID)]);
     let o = run_in(
         dir.path(),
-        &["subdivide", "grid.obj", "-o", "x.obj", "--scheme", "loop"],
+        &[
+            "subdivide",
+            "grid.obj",
+            "-o",
+            "x.obj",
+            "--scheme",
+            "doo-sabin",
+        ],
     );
     assert_code(&o, 2);
     assert!(stderr(&o).contains("nurss"), "{}", stderr(&o));
