@@ -34,7 +34,8 @@ largest position gap, normal angle and relative jump of the normal curvature acr
 the G2 surface and for Catmull-Clark (to standard error when the surface goes to standard
 output). A .png output draws the G2 surface (the same renderer as 'subsurf render'), plain,
 with --zebra reflection lines or --curvature gauss|mean|max from its exact derivatives;
---compare draws plain Catmull-Clark instead, for side-by-side pictures.
+--compare draws plain Catmull-Clark instead, for side-by-side pictures (give both the same
+--range, so that one colour means one curvature in both).
 With --c C the surface is the mixed (shape-adjustable) one: K steps (--adjust-steps, default
 1) of the adjustable scheme with parameter C, then Catmull-Clark, so that outside the caps it
 is the bicubic B-spline of the C-refined mesh; the caps join it G2, and the report's and
@@ -77,6 +78,16 @@ pub struct G2Args {
     /// With a .png output: draw plain Catmull-Clark instead of the G2 surface.
     #[arg(long)]
     pub compare: bool,
+    /// With --curvature: fixed colour range instead of the automatic one (give both pictures
+    /// of a comparison the same range).
+    #[arg(long, value_name = "MIN,MAX", requires = "curvature", allow_hyphen_values = true, value_parser = super::render::parse_pair)]
+    pub range: Option<(f64, f64)>,
+    /// With a .png output: magnify the fitted view F times around the picture's centre.
+    #[arg(long, value_name = "F", default_value_t = 1.0, value_parser = super::render::parse_zoom)]
+    pub zoom: f64,
+    /// With a .png output: picture size in pixels.
+    #[arg(long, value_name = "WxH", default_value = "800x600", value_parser = super::render::parse_size)]
+    pub size: (u32, u32),
     #[command(flatten)]
     pub scheme: SchemeArgs,
     #[command(flatten)]
@@ -113,10 +124,10 @@ const IGES_BYTES: (u64, u64) = (8192, 49152);
 /// The memory that the output sizes, for `fmt`: the OBJ tessellation's samples or the
 /// picture's drawn vertices and pixels (as `subsurf render` estimates them) at `rate`, or,
 /// once `surface` is built, the JSON or IGES document of its patches. An upper bound of
-/// the measured peak beyond the limit surface (RELIABILITY.md).
+/// the measured peak beyond the limit surface (RELIABILITY.md). `size`: the picture's.
 fn output_memory(
     mesh: &subsurf::mesh::PolyMesh,
-    rate: u32,
+    (rate, size): (u32, (u32, u32)),
     fmt: Format,
     patches: (u64, u64),
 ) -> u64 {
@@ -133,6 +144,8 @@ fn output_memory(
             mesh,
             &Render {
                 geometry: Geometry::Limit { rate },
+                width: size.0,
+                height: size.1,
                 ..Default::default()
             },
         )
@@ -186,7 +199,12 @@ fn patch_bound(mesh: &subsurf::mesh::PolyMesh, steps: Option<u32>) -> (u64, u64)
 }
 
 /// The G2 surface's own patches and the output, for `patches` (squares, cap patches).
-fn job_memory(mesh: &subsurf::mesh::PolyMesh, rate: u32, fmt: Format, patches: (u64, u64)) -> u64 {
+fn job_memory(
+    mesh: &subsurf::mesh::PolyMesh,
+    rate: (u32, (u32, u32)),
+    fmt: Format,
+    patches: (u64, u64),
+) -> u64 {
     patches
         .0
         .saturating_mul(SURFACE_BYTES.0)
@@ -232,7 +250,7 @@ fn build_within(
     let check = |estimate: u64| crate::memory::check(name, &what, estimate, args.max_memory, hint);
     let reserved = job_memory(
         mesh,
-        args.rate,
+        (args.rate, args.size),
         fmt,
         patch_bound(mesh, mixed.map(|m| m.steps)),
     );
@@ -253,7 +271,12 @@ fn build_within(
         ),
         s => s.with_context(|| name.to_owned())?,
     };
-    let actual = job_memory(mesh, args.rate, fmt, patch_counts(&surface, mesh));
+    let actual = job_memory(
+        mesh,
+        (args.rate, args.size),
+        fmt,
+        patch_counts(&surface, mesh),
+    );
     check(
         surface
             .limit()
@@ -396,6 +419,10 @@ fn write_output(
         Format::Png => {
             let mut opts = Render {
                 geometry: Geometry::Limit { rate: args.rate },
+                width: args.size.0,
+                height: args.size.1,
+                zoom: args.zoom,
+                curvature_range: args.range,
                 ..Default::default()
             };
             if args.zebra {
