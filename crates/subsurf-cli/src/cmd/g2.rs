@@ -28,8 +28,8 @@ every n-gon) gets a cap of n bi-septic Bezier patches that join each other and t
 surrounding bicubic B-spline patches with curvature continuity (G2); vertices on boundaries
 or creases keep Catmull-Clark (listed with --report). OBJ output is a tessellation, N x N
 quads per face (ceil(N/2) per sub-face of an n-gon), with normals; JSON output lists every
-patch's control points (schema in the README); .igs/.iges output writes the same patches as
-IGES 5.3 rational B-spline surfaces (entity 128). --report prints, for every cap boundary, the
+patch's control points (schema in docs/adjustable-g2.md); .igs/.iges output writes the same
+patches as IGES 5.3 rational B-spline surfaces (entity 128). --report prints, for every cap boundary, the
 largest position gap, normal angle and relative jump of the normal curvature across it, for
 the G2 surface and for Catmull-Clark (to standard error when the surface goes to standard
 output). A .png output draws the G2 surface (the same renderer as 'subsurf render'), plain,
