@@ -1289,7 +1289,7 @@ fn gallery_html(sections: &[Section]) -> String {
          figcaption { font-size: 0.85em; margin-top: 0.3em; }\n\
          ul.models { font-size: 0.9em; }\n\
          nav ul { columns: 4 12em; }\n\
-         #lightbox { position: fixed; inset: 0; background: rgba(20, 20, 24, 0.92); \
+         #lightbox { position: fixed; inset: 0; background: rgba(20, 20, 24, 0.97); \
          display: flex; flex-direction: column; align-items: center; justify-content: center; \
          cursor: zoom-out; z-index: 10; }\n\
          #lightbox[hidden] { display: none; }\n\
