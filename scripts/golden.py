@@ -1,12 +1,15 @@
 #!/usr/bin/env python3
-"""Golden data for crates/subsurf/tests/integration/osd_golden.rs from the OpenSubdiv oracle.
+"""Golden data for crates/subsurf/tests/integration/osd_golden.rs (and, with --scheme loop or
+bilinear, osd_golden_schemes.rs) from the OpenSubdiv oracle.
 
-Called by scripts/make-golden.sh (see there and crates/subsurf/tests/golden/README.md).
+Called by scripts/make-golden.sh and scripts/make-golden-schemes.sh (see there and
+crates/subsurf/tests/golden/README.md).
 For every shape SHAPES/<name>.obj it runs
 
     osd-oracle refine SHAPE LEVEL --boundary none|corner|edge [--limit]
+               [--scheme loop|bilinear --no-fvar]
 
-for LEVEL in 1..4 (refine and limit) and writes one gzip-compressed text file
+for LEVEL in 1..4 (refine and limit, or the --modes given) and writes one gzip-compressed text file
 OUT/<name>.txt.gz:
 
     # osd-oracle (OpenSubdiv 3.5, Debian libosd-dev) golden data for <name>.obj; produced by scripts/make-golden.sh
@@ -62,8 +65,11 @@ def g17(x):
     return "%.17g" % x
 
 
-def run_case(oracle, shape, level, mode, boundary, timeout):
+def run_case(oracle, shape, level, mode, boundary, timeout, scheme):
     cmd = [oracle, "refine", shape, str(level), "--boundary", BOUNDARY_ARG[boundary]]
+    if scheme != "catmark":
+        # Positions only: the shapes' texture coordinates would turn faces into `f v/vt`.
+        cmd += ["--scheme", scheme, "--no-fvar"]
     if mode == "limit":
         cmd.append("--limit")
     try:
@@ -111,15 +117,18 @@ def run_case(oracle, shape, level, mode, boundary, timeout):
 
 
 def do_shape(job):
-    oracle, shape, outdir, levels, timeout = job
+    oracle, shape, outdir, levels, timeout, scheme, modes = job
     name = os.path.basename(shape)[:-4]
     boundary = boundary_of(shape)
     t0 = time.time()
-    parts = [HEADER.format(name=name) + "\n", "shape %s boundary %s\n" % (name, boundary)]
+    header = HEADER.format(name=name)
+    if scheme != "catmark":
+        header = header.replace("make-golden.sh", "make-golden-schemes.sh (scheme %s)" % scheme)
+    parts = [header + "\n", "shape %s boundary %s\n" % (name, boundary)]
     notes = []
     for level in levels:
-        for mode in ("refine", "limit"):
-            text, note = run_case(oracle, shape, level, mode, boundary, timeout)
+        for mode in modes:
+            text, note = run_case(oracle, shape, level, mode, boundary, timeout, scheme)
             parts.append(text)
             if note:
                 notes.append("%s level %d %s: %s" % (name, level, mode, note))
@@ -139,6 +148,8 @@ def main():
     ap.add_argument("--levels", default="1,2,3,4")
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
     ap.add_argument("--timeout", type=int, default=600, help="seconds per oracle run")
+    ap.add_argument("--scheme", default="catmark", choices=["catmark", "loop", "bilinear"])
+    ap.add_argument("--modes", default="refine,limit", help="refine,limit or one of them")
     ap.add_argument("only", nargs="*", help="shape names (default: all)")
     a = ap.parse_args()
     levels = [int(x) for x in a.levels.split(",")]
@@ -146,7 +157,8 @@ def main():
     if a.only:
         shapes = [s for s in shapes if os.path.basename(s)[:-4] in a.only]
     os.makedirs(a.out, exist_ok=True)
-    jobs = [(a.oracle, s, a.out, levels, a.timeout) for s in shapes]
+    modes = a.modes.split(",")
+    jobs = [(a.oracle, s, a.out, levels, a.timeout, a.scheme, modes) for s in shapes]
     total = 0
     notes = []
     with multiprocessing.Pool(a.jobs) as pool:

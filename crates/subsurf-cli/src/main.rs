@@ -23,7 +23,9 @@ use std::process::ExitCode;
 use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
 use clap::{Args, Parser, Subcommand};
 use subsurf::io::obj::FileOptions;
-use subsurf::mesh::{BoundaryInterpolation, CreaseMethod, TriangleSubdivision};
+use subsurf::mesh::{
+    BoundaryInterpolation, CreaseMethod, FaceVaryingInterpolation, TriangleSubdivision,
+};
 
 /// mimalloc keeps freed memory for reuse in large regions backed by transparent huge pages:
 /// refinement writes hundreds of MB of fresh buffers, and with the system allocator the
@@ -432,6 +434,11 @@ pub struct SubdivideArgs {
     pub scheme_kind: Option<SchemeKind>,
     #[command(flatten)]
     pub adjust: AdjustArgs,
+    /// Face-varying (texture coordinate) interpolation: none, corners-only, corners-plus1,
+    /// corners-plus2, boundaries or all (OpenSubdiv's FVarLinearInterpolation) [default:
+    /// the file's t facevaryinginterpolateboundary tag, else all].
+    #[arg(long, value_name = "MODE", value_parser = fvar_parser())]
+    pub fvar: Option<FaceVaryingInterpolation>,
     /// Move the last level's vertices to the limit surface and write limit normals.
     #[arg(long)]
     pub limit: bool,
@@ -480,6 +487,12 @@ pub enum SchemeKind {
     /// Non-uniform Catmull-Clark (NURSS): knot intervals on edges and rational weights from
     /// the file's tags (untagged edges: interval 1; all equal: Catmull-Clark).
     Nurss,
+    /// Loop, for triangle meshes, exactly as OpenSubdiv (refinement only: no --limit,
+    /// limit, tessellate or repose yet).
+    Loop,
+    /// Bilinear, exactly as OpenSubdiv: the control mesh split, not smoothed (refinement
+    /// only: no --limit, limit, tessellate or repose yet).
+    Bilinear,
 }
 
 /// Flags of the shape-adjustable scheme.
@@ -519,6 +532,7 @@ impl SchemeArgs {
                 .smooth_triangles
                 .then_some(TriangleSubdivision::Smooth)
                 .or(file.triangles),
+            face_varying: file.face_varying,
         }
     }
 }
@@ -564,6 +578,18 @@ fn boundary_parser() -> impl TypedValueParser<Value = BoundaryInterpolation> {
         PossibleValue::new("none"),
     ])
     .try_map(|s| s.parse::<BoundaryInterpolation>())
+}
+
+fn fvar_parser() -> impl TypedValueParser<Value = FaceVaryingInterpolation> {
+    PossibleValuesParser::new([
+        "none",
+        "corners-only",
+        "corners-plus1",
+        "corners-plus2",
+        "boundaries",
+        "all",
+    ])
+    .try_map(|s| s.parse::<FaceVaryingInterpolation>())
 }
 
 fn crease_method_parser() -> impl TypedValueParser<Value = CreaseMethod> {
@@ -696,6 +722,7 @@ mod tests {
             boundary: Some(BoundaryInterpolation::None),
             crease_method: Some(CreaseMethod::Chaikin),
             triangles: Some(TriangleSubdivision::Smooth),
+            face_varying: None,
         };
         let none = SchemeArgs {
             boundary: None,

@@ -5,11 +5,11 @@
 //! Run with `cargo bench -p subsurf --bench replay`. Throughput is in output vertices per
 //! second. Building the plan is benched too (`replay_l5/build`), since it is paid once per
 //! topology. `replay_mixed_l5` does the same for mixed subdivision against
-//! [`subdivide_mixed`]: the shape-adjustable scheme with `c = 0.3` on every level, on the
+//! [`subdivide`] with `Scheme::Adjustable`: the shape-adjustable scheme with `c = 0.3` on every level, on the
 //! first level only, and on the first four, then Catmull-Clark. `replay_nurss_l5` does it
-//! for non-uniform subdivision against [`nurss::subdivide`]: the bishop with its creases
+//! for non-uniform subdivision against [`subdivide`] with `Scheme::Nurss`: the bishop with its creases
 //! infinitely sharp and an interval of 1–3 on every edge; `replay_nurss_limit_l4` poses
-//! its limit positions (`Reposer::new_nurss` with `limit`) against `nurss::subdivide` with
+//! its limit positions (`Reposer::new` with `Scheme::Nurss` and `limit`) against `subdivide` with
 //! the limit, at level 4.
 
 use std::path::PathBuf;
@@ -18,10 +18,9 @@ use std::time::Duration;
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use subsurf::io::obj::read_obj;
 use subsurf::mesh::{EdgeInterval, Options, PolyMesh, SHARPNESS_INFINITE};
-use subsurf::nurss::{self, NurssOptions};
 use subsurf::refine::{PlanScratch, RefinePlan};
 use subsurf::scheme::adjustable::Adjustable;
-use subsurf::{subdivide, subdivide_mixed, Mixed, Reposer, SubdivideOptions};
+use subsurf::{subdivide, Mixed, Reposer, Scheme, SubdivideOptions};
 
 /// The allocator of the `subsurf` binary, so that the full refinement compared with is the
 /// one `subsurf bench` measures (see the crate docs, "Speed: choose the global allocator").
@@ -102,7 +101,7 @@ fn replay_level5(c: &mut Criterion) {
         &pool,
         "replay_l5",
         &mesh,
-        || RefinePlan::new(&mesh, scheme, LEVELS),
+        || RefinePlan::new(&mesh, Scheme::CatmullClark, scheme, LEVELS),
         || subdivide(&mesh, &opts).expect("subdivide failed"),
     );
 }
@@ -125,7 +124,7 @@ fn replay_mixed_level5(c: &mut Criterion) {
             steps,
         };
         let plan = pool
-            .install(|| RefinePlan::new_mixed(&mesh, scheme, LEVELS, mixed))
+            .install(|| RefinePlan::new(&mesh, Scheme::Adjustable(mixed), scheme, LEVELS))
             .expect("plan failed");
         group.throughput(Throughput::Elements(plan.num_vertices() as u64));
         let mut out = Vec::new();
@@ -135,8 +134,16 @@ fn replay_mixed_level5(c: &mut Criterion) {
         });
         group.bench_function(format!("subdivide/{what}/{SHAPE}"), |b| {
             b.iter(|| {
-                pool.install(|| subdivide_mixed(&mesh, &opts, mixed))
-                    .expect("subdivide failed")
+                pool.install(|| {
+                    subdivide(
+                        &mesh,
+                        &SubdivideOptions {
+                            scheme: Scheme::Adjustable(mixed),
+                            ..opts.clone()
+                        },
+                    )
+                })
+                .expect("subdivide failed")
             })
         });
     }
@@ -165,18 +172,19 @@ fn nurss_bishop(mesh: &PolyMesh) -> PolyMesh {
 fn replay_nurss_level5(c: &mut Criterion) {
     let (pool, mesh, scheme, _) = setup();
     let mesh = nurss_bishop(&mesh);
-    let opts = NurssOptions {
+    let opts = SubdivideOptions {
+        scheme: Scheme::Nurss,
         levels: LEVELS,
         options: scheme,
-        ..NurssOptions::default()
+        ..Default::default()
     };
     apply_full_build(
         c,
         &pool,
         "replay_nurss_l5",
         &mesh,
-        || RefinePlan::new_nurss(&mesh, scheme, LEVELS),
-        || nurss::subdivide(&mesh, &opts).expect("subdivide failed"),
+        || RefinePlan::new(&mesh, Scheme::Nurss, scheme, LEVELS),
+        || subdivide(&mesh, &opts).expect("subdivide failed"),
     );
 }
 
@@ -184,19 +192,14 @@ fn replay_nurss_limit_level4(c: &mut Criterion) {
     const LIMIT_LEVELS: u32 = 4;
     let (pool, mesh, scheme, _) = setup();
     let mesh = nurss_bishop(&mesh);
-    let opts = SubdivideOptions {
+    let nurss_opts = SubdivideOptions {
+        scheme: Scheme::Nurss,
         levels: LIMIT_LEVELS,
         options: scheme,
         limit: true,
-        ..SubdivideOptions::default()
+        ..Default::default()
     };
-    let nurss_opts = NurssOptions {
-        levels: LIMIT_LEVELS,
-        options: scheme,
-        limit: true,
-        ..NurssOptions::default()
-    };
-    let build = || Reposer::new_nurss(&mesh, &opts).expect("reposer failed");
+    let build = || Reposer::new(&mesh, &nurss_opts).expect("reposer failed");
     let mut reposer = pool.install(build);
     let mut group = c.benchmark_group("replay_nurss_limit_l4");
     group
@@ -215,7 +218,7 @@ fn replay_nurss_limit_level4(c: &mut Criterion) {
         })
     });
     group.bench_function(format!("subdivide/{SHAPE}"), |b| {
-        b.iter(|| pool.install(|| nurss::subdivide(&mesh, &nurss_opts).expect("subdivide failed")))
+        b.iter(|| pool.install(|| subdivide(&mesh, &nurss_opts).expect("subdivide failed")))
     });
     group.bench_function(format!("build/{SHAPE}"), |b| b.iter(|| pool.install(build)));
     group.finish();

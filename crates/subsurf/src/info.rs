@@ -1,7 +1,7 @@
 //! [`mesh_info`]: a summary of a mesh for `subsurf info`.
 
 use crate::mesh::{Options, PolyMesh, Topology};
-use crate::subdivide::Error;
+use crate::refine::Error;
 use std::collections::BTreeMap;
 
 /// Counts and classification of a mesh.

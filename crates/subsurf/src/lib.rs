@@ -96,9 +96,10 @@ mod docs_doctests {
 
 pub use info::{mesh_info, MeshInfo};
 pub use mixed::MixedSurface;
+pub use refine::Error;
 pub use repose::{PoseError, Reposer};
 pub use scheme::adjustable::Mixed;
+pub use scheme::Scheme;
 pub use subdivide::{
-    estimate_memory, subdivide, subdivide_with_progress, Error, SubdivideOptions, Subdivision,
+    estimate_memory, subdivide, subdivide_with_progress, SubdivideOptions, Subdivision,
 };
-pub use subdivide::{subdivide_mixed, subdivide_mixed_with_progress};

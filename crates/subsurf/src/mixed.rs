@@ -2,7 +2,7 @@
 //! parameter `c` ([`crate::scheme::adjustable`]), then Catmull-Clark to the limit.
 //!
 //! The limit of mixed subdivision is the Catmull-Clark limit surface of the control mesh
-//! refined `k` times with `c`. [`MixedSurface`] builds exactly that — [`subdivide_mixed`]
+//! refined `k` times with `c`. [`MixedSurface`] builds exactly that — [`subdivide`](fn@crate::subdivide) with [`Scheme::Adjustable`](crate::Scheme::Adjustable)
 //! to level `k`, then a [`LimitSurface`] on the result — so it is exact everywhere, and on
 //! regular regions each patch is the bicubic B-spline patch of the `c`-refined net,
 //! `P(u, v) = U·M·(S G Sᵀ)·Mᵀ·Vᵀ` with `M` the B-spline matrix and `S` the `c`-scheme's
@@ -22,9 +22,10 @@
 //! ([`MixedSurface::refined_point`] exposes it).
 
 use crate::limit::{Derivatives, EvalError, LimitSurface, Order, SurfacePoint};
+use crate::mesh::MeshError;
 use crate::mesh::{Options, PolyMesh};
+use crate::refine::uniform::refine_mesh;
 use crate::scheme::adjustable::Mixed;
-use crate::subdivide::{subdivide_mixed, Error, SubdivideOptions};
 
 /// The exact limit surface of mixed subdivision, evaluable at `(input face, u, v)` with
 /// the parametrisation of [`LimitSurface`] on the *input* mesh (see the module docs).
@@ -62,21 +63,14 @@ impl MixedSurface {
     /// surface of the result.
     ///
     /// # Errors
-    /// [`Error::Mesh`] for an invalid mesh, or when `mixed.steps` is so large (e.g.
+    /// [`MeshError`] for an invalid mesh, or when `mixed.steps` is so large (e.g.
     /// [`Mixed::all`]'s `u32::MAX`) that the refined mesh would not fit in 32-bit indices.
-    pub fn new(mesh: &PolyMesh, options: Options, mixed: Mixed) -> Result<Self, Error> {
-        let opts = SubdivideOptions {
-            levels: mixed.steps,
-            options,
-            limit: false,
-            keep_holes: true,
-            max_memory: None,
-        };
-        let sub = subdivide_mixed(mesh, &opts, mixed)?;
-        let surface = LimitSurface::new(&sub.mesh, options)?;
+    pub fn new(mesh: &PolyMesh, options: Options, mixed: Mixed) -> Result<Self, MeshError> {
+        let refined = refine_mesh(mesh, &options, mixed, mixed.steps, true)?;
+        let surface = LimitSurface::new(&refined, options)?;
         Ok(Self {
             mixed,
-            refined: sub.mesh,
+            refined,
             surface,
             offsets: mesh.face_offsets().to_vec(),
         })
@@ -84,19 +78,19 @@ impl MixedSurface {
 
     /// The mixed surface of `mesh` from its control mesh `refined`, refined as
     /// [`new`](Self::new) refines it (`mixed.steps` adjustable steps, holes kept: e.g. by
-    /// [`subdivide_mixed`]), and `surface`, the Catmull-Clark limit surface of `refined`
+    /// [`subdivide`](fn@crate::subdivide) with [`Scheme::Adjustable`](crate::Scheme::Adjustable)), and `surface`, the Catmull-Clark limit surface of `refined`
     /// (built by the caller, e.g. within a memory limit:
     /// [`LimitSurface::builder`](crate::limit::LimitSurface::builder)).
     ///
     /// # Errors
-    /// [`Error::NotRefined`] when `refined` or `surface` has another number of faces than
+    /// [`MeshError::NotRefined`] when `refined` or `surface` has another number of faces than
     /// `mixed.steps` steps of `mesh` make.
     pub fn from_refined(
         mesh: &PolyMesh,
         refined: PolyMesh,
         surface: LimitSurface,
         mixed: Mixed,
-    ) -> Result<Self, Error> {
+    ) -> Result<Self, MeshError> {
         let expected = match mixed.steps {
             0 => mesh.num_faces() as u64,
             k => (mesh.face_verts().len() as u64)
@@ -105,7 +99,7 @@ impl MixedSurface {
         };
         for found in [refined.num_faces(), surface.num_faces()] {
             if found as u64 != expected {
-                return Err(Error::NotRefined { expected, found });
+                return Err(MeshError::NotRefined { expected, found });
             }
         }
         Ok(Self {

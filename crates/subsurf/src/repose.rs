@@ -8,10 +8,8 @@
 //! scans and random semi-sharp creases refined 2–3 levels; `BENCHMARKS.md`), and gives
 //! the positions
 //! [`subdivide`] would give on the moved mesh, to rounding (within 1e-14 of the mesh's
-//! size; see the plan's accuracy notes). [`Reposer::new_mixed`] does the same for mixed
-//! subdivision ([`subdivide_mixed`]: the shape-adjustable scheme on the first levels),
-//! [`Reposer::new_nurss`] for non-uniform subdivision ([`crate::nurss::subdivide`]: knot
-//! intervals, and rational weights, which stay with their vertices from pose to pose).
+//! size; see the plan's accuracy notes), whatever the scheme: for non-uniform subdivision
+//! ([`Scheme::Nurss`]) rational weights stay with their vertices from pose to pose.
 //!
 //! With [`SubdivideOptions::limit`], the limit positions and normals too: the limit masks
 //! of the refined level ([`crate::limit::limit_points`], OpenSubdiv's
@@ -26,12 +24,11 @@
 
 use crate::limit::{largest_coordinate, normals_into, VertexLimitRows};
 use crate::mesh::{check_coordinates, MeshError, PolyMesh, Topology, TopologyWarning};
-use crate::nurss::{LimitRows, NurssOptions};
-use crate::refine::{refine_topology, PlanScratch, RefinePlan};
+use crate::nurss::LimitRows;
+use crate::refine::{refine_topology, Error, PlanScratch, RefinePlan};
 use crate::scheme::adjustable::Mixed;
-use crate::subdivide::{
-    estimate_memory, subdivide, subdivide_mixed, Error, SubdivideOptions, Subdivision,
-};
+use crate::scheme::Scheme;
+use crate::subdivide::{estimate_memory, subdivide, SubdivideOptions, Subdivision};
 
 /// A subdivision that can be re-posed: the refined mesh of a base mesh, recomputed for new
 /// base positions with a [`RefinePlan`] instead of a full refinement.
@@ -74,14 +71,6 @@ pub struct Reposer {
     limit: Option<Box<LimitMap>>,
     /// For a rational NURSS mesh or the NURSS limit: the plan maps homogeneous points.
     homogeneous: Option<Box<Homogeneous>>,
-}
-
-/// The scheme a [`Reposer`] refines with.
-#[derive(Clone, Copy, Debug)]
-enum Scheme {
-    CatmullClark,
-    Mixed(Mixed),
-    Nurss,
 }
 
 /// The weights of a NURSS base mesh (1 unless rational), the homogeneous points
@@ -244,90 +233,41 @@ pub enum PoseError {
 }
 
 impl Reposer {
-    /// Refines `base` with `opts` (as [`subdivide`]) and builds the plan that re-poses the
-    /// result. The base mesh's tags (creases, corners, holes) and `opts.options` hold for
-    /// every pose.
+    /// Refines `base` with `opts` (as [`subdivide`], with `opts.scheme`) and builds the plan
+    /// that re-poses the result. The base mesh's tags (creases, corners, holes; knot
+    /// intervals and weights with [`Scheme::Nurss`]) and `opts.options` hold for every pose.
     ///
     /// With `opts.limit`, each pose gives the limit positions and the limit normals
     /// ([`normals`](Self::normals)), as [`subdivide`] does; building then refines the
     /// topology once more, with the last level's full adjacency, for its limit masks.
+    /// NURSS gives limit positions only ([`crate::nurss::Nurss::limit_points`], within
+    /// 1e-14 of the size: rows of weights on the refined level, applied after the plan).
     ///
-    /// # Errors
-    /// As [`subdivide`], the memory estimate ([`Error::TooLarge`]) counting the plan too
-    /// ([`RefinePlan::estimate_memory`]).
-    pub fn new(base: &PolyMesh, opts: &SubdivideOptions) -> Result<Self, Error> {
-        Self::build(base, opts, Scheme::CatmullClark)
-    }
-
-    /// [`new`](Self::new) for mixed subdivision: each pose is refined as
-    /// [`subdivide_mixed`] refines it, the first `mixed.steps` levels with the
-    /// shape-adjustable masks ([`RefinePlan::new_mixed`]).
-    ///
-    /// ```
-    /// use subsurf::mesh::PolyMesh;
-    /// use subsurf::scheme::adjustable::Adjustable;
-    /// use subsurf::{subdivide_mixed, Mixed, Reposer, SubdivideOptions};
-    ///
-    /// let corners: Vec<[f64; 3]> = (0..8)
-    ///     .map(|i| [(i & 1) as f64, (i >> 1 & 1) as f64, (i >> 2) as f64])
-    ///     .collect();
-    /// let faces = [[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]];
-    /// let cube = PolyMesh::from_faces(corners.clone(), &faces)?;
-    /// let opts = SubdivideOptions { levels: 3, ..Default::default() };
-    /// // Closer to the control mesh than Catmull-Clark: c = 0.2 at every level.
-    /// let mixed = Mixed::all(Adjustable::new(0.2)?);
-    /// let mut reposer = Reposer::new_mixed(&cube, &opts, mixed)?;
-    ///
-    /// let stretched: Vec<[f64; 3]> = corners.iter().map(|p| [2.0 * p[0], p[1], p[2]]).collect();
-    /// let posed = reposer.pose(&stretched)?.clone();
-    /// let full = subdivide_mixed(&PolyMesh::from_faces(stretched, &faces)?, &opts, mixed)?.mesh;
-    /// for (a, b) in posed.positions().iter().zip(full.positions()) {
-    ///     assert!((0..3).all(|i| (a[i] - b[i]).abs() < 1e-14));
-    /// }
-    /// # Ok::<(), Box<dyn std::error::Error>>(())
-    /// ```
-    ///
-    /// # Errors
-    /// As [`new`](Self::new).
-    pub fn new_mixed(
-        base: &PolyMesh,
-        opts: &SubdivideOptions,
-        mixed: Mixed,
-    ) -> Result<Self, Error> {
-        Self::build(base, opts, Scheme::Mixed(mixed))
-    }
-
-    /// [`new`](Self::new) for non-uniform subdivision (NURSS, [JOS 2003]): each pose is
-    /// refined as [`crate::nurss::subdivide`] refines it, with the base mesh's knot
-    /// intervals ([`RefinePlan::new_nurss`]). A rational base mesh (weight tags) keeps its
-    /// weights: a pose moves the points, each keeps the weight of its vertex; the refined
-    /// mesh keeps the refined intervals and weights as tags ([`PolyMesh::knots`]). With
-    /// [`SubdivideOptions::limit`], each pose gives the limit positions
-    /// ([`crate::nurss::Nurss::limit_points`], within 1e-14 of the size: rows of weights on
-    /// the refined level, applied after the plan; no normals).
+    /// A rational NURSS base mesh (weight tags) keeps its weights: a pose moves the points,
+    /// each keeps the weight of its vertex; the refined mesh keeps the refined intervals and
+    /// weights as tags ([`PolyMesh::knots`]).
     ///
     /// ```
     /// use subsurf::mesh::{EdgeInterval, PolyMesh};
-    /// use subsurf::nurss::{subdivide, NurssOptions};
-    /// use subsurf::{Reposer, SubdivideOptions};
+    /// use subsurf::{subdivide, Reposer, Scheme, SubdivideOptions};
     ///
     /// let corners: Vec<[f64; 3]> = (0..8)
     ///     .map(|i| [(i & 1) as f64, (i >> 1 & 1) as f64, (i >> 2) as f64])
     ///     .collect();
     /// let faces = [[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]];
     /// let mut cube = PolyMesh::from_faces(corners.clone(), &faces)?;
-    /// // Edges along x three times as long in parameter as the others.
+    /// // Non-uniform: edges along x three times as long in parameter as the others.
     /// for [a, b] in [[0, 1], [2, 3], [4, 5], [6, 7]] {
     ///     cube.knots.intervals.push(EdgeInterval { v0: a, v1: b, interval: 3.0 });
     /// }
-    /// let opts = SubdivideOptions { levels: 3, ..Default::default() };
-    /// let mut reposer = Reposer::new_nurss(&cube, &opts)?;
+    /// let opts = SubdivideOptions { levels: 3, scheme: Scheme::Nurss, ..Default::default() };
+    /// let mut reposer = Reposer::new(&cube, &opts)?;
     ///
     /// let stretched: Vec<[f64; 3]> = corners.iter().map(|p| [2.0 * p[0], p[1], p[2]]).collect();
     /// let posed = reposer.pose(&stretched)?.clone();
     /// let mut moved = cube.clone();
     /// moved.positions_mut().copy_from_slice(&stretched);
-    /// let full = subdivide(&moved, &NurssOptions { levels: 3, ..Default::default() })?.mesh;
+    /// let full = subdivide(&moved, &opts)?.mesh;
     /// for (a, b) in posed.positions().iter().zip(full.positions()) {
     ///     assert!((0..3).all(|i| (a[i] - b[i]).abs() < 1e-14));
     /// }
@@ -335,19 +275,12 @@ impl Reposer {
     /// ```
     ///
     /// # Errors
-    /// As [`crate::nurss::subdivide`] ([`Error::Nurss`]: bad knot tags, semi-sharp
-    /// creases) and the memory estimate ([`Error::TooLarge`]).
-    pub fn new_nurss(base: &PolyMesh, opts: &SubdivideOptions) -> Result<Self, Error> {
-        Self::build(base, opts, Scheme::Nurss)
-    }
-
-    /// [`new`](Self::new), with the masks of `scheme`.
-    fn build(base: &PolyMesh, opts: &SubdivideOptions, scheme: Scheme) -> Result<Self, Error> {
+    /// As [`subdivide`] ([`Error::Mesh`], [`Error::Nurss`]), the memory estimate
+    /// ([`Error::TooLarge`]) counting the plan too ([`Reposer::estimate_memory`]).
+    pub fn new(base: &PolyMesh, opts: &SubdivideOptions) -> Result<Self, Error> {
+        let scheme = opts.scheme;
         if let Some(limit) = opts.max_memory {
-            let estimate = match scheme {
-                Scheme::Nurss => Self::estimate_memory_nurss(base, opts),
-                _ => Self::estimate_memory(base, opts),
-            };
+            let estimate = Self::estimate_memory(base, opts);
             if estimate > limit {
                 return Err(Error::TooLarge {
                     levels: opts.levels,
@@ -358,25 +291,17 @@ impl Reposer {
         }
         let mut nurss_limit = None;
         let sub = match scheme {
-            Scheme::CatmullClark => subdivide(base, opts)?,
-            Scheme::Mixed(m) => subdivide_mixed(base, opts, m)?,
             Scheme::Nurss => {
                 // The limit positions come from the rows below, as every pose's.
-                let nurss_opts = NurssOptions {
-                    levels: opts.levels,
-                    options: opts.options,
-                    limit: false,
-                    keep_holes: opts.keep_holes,
-                };
-                let s = crate::nurss::refined(base, &nurss_opts)?;
+                let s = crate::nurss::refined(base, &opts.options, opts.levels, &mut |_, _| {})?;
                 nurss_limit = opts.limit.then(|| s.limit_rows());
-                let sub = s.subdivision(&nurss_opts);
                 Subdivision {
-                    mesh: sub.mesh,
-                    warnings: sub.warnings,
+                    mesh: s.output_mesh(opts.keep_holes, false),
+                    warnings: s.warnings().to_vec(),
                     normals: None,
                 }
             }
+            _ => subdivide(base, opts)?,
         };
         // Limit masks need quads around each vertex: on a base mesh with other faces,
         // refined 0 levels, they are taken one level further down (as `subdivide` does).
@@ -388,15 +313,15 @@ impl Reposer {
         } else {
             opts.levels
         };
-        let plan = match scheme {
-            Scheme::CatmullClark => RefinePlan::new(base, opts.options, plan_levels)?,
-            // The level that limit masks may add is Catmull-Clark's, as in `subdivide_mixed`.
-            Scheme::Mixed(m) => {
-                let steps = m.steps.min(opts.levels);
-                RefinePlan::new_mixed(base, opts.options, plan_levels, Mixed { steps, ..m })?
-            }
-            Scheme::Nurss => RefinePlan::new_nurss(base, opts.options, plan_levels)?,
+        // The level that limit masks may add is Catmull-Clark's, as in `subdivide`.
+        let plan_scheme = match scheme {
+            Scheme::Adjustable(m) => Scheme::Adjustable(Mixed {
+                steps: m.steps.min(opts.levels),
+                ..m
+            }),
+            s => s,
         };
+        let plan = RefinePlan::new(base, plan_scheme, opts.options, plan_levels)?;
         // NURSS in homogeneous points when rational or mapped to the limit (whose rows map
         // homogeneous points).
         let mut homogeneous = (nurss && (!base.knots.weights.is_empty() || nurss_limit.is_some()))
@@ -497,27 +422,27 @@ impl Reposer {
     /// at `u64::MAX`: [`estimate_memory`] of the refinement plus
     /// [`RefinePlan::estimate_memory`]. `new` refuses to start above
     /// [`SubdivideOptions::max_memory`]; check it first to say so in your own terms.
-    pub fn estimate_memory(base: &PolyMesh, opts: &SubdivideOptions) -> u64 {
-        estimate_memory(base, opts).saturating_add(RefinePlan::estimate_memory(base, opts.levels))
-    }
-
-    /// [`estimate_memory`](Self::estimate_memory) of [`new_nurss`](Self::new_nurss): NURSS
-    /// refinement keeps every level complete and refines homogeneous points (twice
+    ///
+    /// NURSS refinement keeps every level complete and refines homogeneous points (twice
     /// [`estimate_memory`] of Catmull-Clark's), and the plan is sparse rows on every level
-    /// ([`RefinePlan::estimate_memory`] covers them). The limit refines the last level's
-    /// topology once more (its vertices' fans) while the last level is kept complete with its
-    /// masks: three times Catmull-Clark's estimate of one level more (`catmark_bishop` with
-    /// intervals, levels 3–5: estimates 129, 512, 2046 MiB, measured peaks of `repose
+    /// ([`RefinePlan::estimate_memory`] covers them). Its limit refines the last level's
+    /// topology once more (its vertices' fans) while the last level is kept complete with
+    /// its masks: three times Catmull-Clark's estimate of one level more (`catmark_bishop`
+    /// with intervals, levels 3–5: estimates 129, 512, 2046 MiB, measured peaks of `repose
     /// --limit` 141, 483, 1838 MiB, the process itself included).
-    pub fn estimate_memory_nurss(base: &PolyMesh, opts: &SubdivideOptions) -> u64 {
+    pub fn estimate_memory(base: &PolyMesh, opts: &SubdivideOptions) -> u64 {
+        let plan = RefinePlan::estimate_memory(base, opts.levels);
+        if opts.scheme != Scheme::Nurss {
+            return estimate_memory(base, opts).saturating_add(plan);
+        }
         let refined = SubdivideOptions {
             levels: opts.levels.saturating_add(u32::from(opts.limit)),
             limit: false,
+            scheme: Scheme::CatmullClark,
             ..opts.clone()
         };
         let copies = if opts.limit { 3 } else { 2 };
-        (estimate_memory(base, &refined).saturating_mul(copies))
-            .saturating_add(RefinePlan::estimate_memory(base, opts.levels))
+        (estimate_memory(base, &refined).saturating_mul(copies)).saturating_add(plan)
     }
 
     /// The refined mesh, with the positions of the last pose (at first, the base mesh's).
@@ -527,7 +452,7 @@ impl Reposer {
 
     /// The limit normals of the last pose, one per vertex of [`mesh`](Self::mesh), when
     /// the options asked for the limit ([`SubdivideOptions::limit`]; not for NURSS, whose
-    /// limit has no normals, as in [`crate::nurss::subdivide`]).
+    /// limit has no normals, as in [`subdivide`]).
     pub fn normals(&self) -> Option<&[[f64; 3]]> {
         self.limit.as_ref().map(|l| l.normals.as_slice())
     }

@@ -1,19 +1,26 @@
-//! The one-call facade: [`subdivide`] a [`PolyMesh`] to a level, optionally to the limit.
+//! The one-call facade: [`subdivide`] a [`PolyMesh`] to a level with any [`Scheme`],
+//! optionally to the limit.
 
 use crate::limit;
-use crate::mesh::{Corner, Crease, MeshError, Options, PolyMesh, Tags, Topology, TopologyWarning};
-use crate::refine::interpolate;
-use crate::refine::{interpolate_with, refine_topology, refine_topology_for_output};
+use crate::mesh::{Options, PolyMesh, Topology, TopologyWarning};
+use crate::refine::uniform::{estimate_uniform, refine_uniform, Steps};
+use crate::refine::Error;
+use crate::refine::{interpolate, refine_topology};
 use crate::scheme::adjustable::Mixed;
+use crate::scheme::Scheme;
 
 /// What [`subdivide`] should do.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct SubdivideOptions {
     /// Number of uniform refinement steps (0 leaves the mesh as it is).
     pub levels: u32,
+    /// The subdivision scheme.
+    pub scheme: Scheme,
     /// The rules' options: boundary interpolation, crease method, triangle rule.
     pub options: Options,
-    /// Move the last level's vertices to their limit positions and compute limit normals.
+    /// Move the last level's vertices to their limit positions and compute limit normals
+    /// (NURSS: limit positions only, [`Nurss::limit_points`](crate::nurss::Nurss::limit_points)).
+    /// Face-varying channels are refined to the last level but not moved to their limit.
     pub limit: bool,
     /// Keep hole faces in the output (tagged as holes) so that the result can be refined
     /// again with the same outcome; by default holes are left out, as OpenSubdiv does.
@@ -25,102 +32,52 @@ pub struct SubdivideOptions {
 /// The result of [`subdivide`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct Subdivision {
-    /// The refined mesh. Its tags carry the sharpness still left at the last level.
+    /// The refined mesh. Its tags carry the sharpness still left at the last level, and
+    /// with [`Scheme::Nurss`] its knot intervals and weights ([`PolyMesh::knots`]).
     pub mesh: PolyMesh,
-    /// Unit limit normals per vertex, when [`SubdivideOptions::limit`] was set.
+    /// Unit limit normals per vertex, when [`SubdivideOptions::limit`] was set (not for
+    /// NURSS).
     pub normals: Option<Vec<[f64; 3]>>,
     /// Warnings about the input (ignored tags, non-manifold elements).
     pub warnings: Vec<TopologyWarning>,
 }
 
-/// Errors of [`subdivide`].
-#[derive(Clone, Debug, PartialEq, thiserror::Error)]
-pub enum Error {
-    /// The input mesh is invalid.
-    #[error(transparent)]
-    Mesh(#[from] MeshError),
-    /// The requested level would need more memory than allowed.
-    #[error("refining to level {levels} needs about {}, more than the limit of {}; use a lower level", ByteSize(*estimate), ByteSize(*limit))]
-    TooLarge {
-        /// Requested level.
-        levels: u32,
-        /// Estimated bytes.
-        estimate: u64,
-        /// Allowed bytes.
-        limit: u64,
-    },
-    /// Non-uniform (NURSS) refinement of the mesh failed: a bad knot tag, a semi-sharp
-    /// crease ([`Reposer::new_nurss`](crate::Reposer::new_nurss)).
-    #[error(transparent)]
-    Nurss(#[from] crate::nurss::NurssError),
-    /// A refined mesh (or its limit surface) given with its input has another number of
-    /// faces than the refinement makes
-    /// ([`MixedSurface::from_refined`](crate::MixedSurface::from_refined)).
-    #[error(
-        "the refined mesh has {found} faces, not the {expected} that refining the input makes"
-    )]
-    NotRefined {
-        /// Faces the refinement makes.
-        expected: u64,
-        /// Faces given.
-        found: usize,
-    },
-}
-
-/// A byte count as messages give it: MiB rounded up, or KiB (rounded up) below 1 MiB.
-struct ByteSize(u64);
-
-impl std::fmt::Display for ByteSize {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        if self.0 < 1 << 20 {
-            write!(f, "{} KiB", self.0.div_ceil(1 << 10))
-        } else {
-            write!(f, "{} MiB", self.0.div_ceil(1 << 20))
-        }
-    }
-}
-
-/// Bytes per face of the last level held at once by [`subdivide`]: the child's faces, edge
-/// vertices, tags and sharpness (~60 B), a quarter of a complete parent level (~50 B), two
-/// position buffers (~30 B) and the output copy of the faces (16 B). Measured peaks are
-/// ~130 B per output face (`BENCHMARKS.md`); the estimate errs high.
-const BYTES_PER_FACE: u64 = 160;
-/// Extra bytes per face when limit positions are requested: the last level's full
-/// adjacency and three more position-sized buffers.
-const LIMIT_BYTES_PER_FACE: u64 = 200;
-
-/// Number of faces after `levels` uniform steps: the face-vertex count `S` for the first
-/// step (every face of size `n` gives `n` quads), then ×4 per step. Saturates.
-fn refined_faces(mesh: &PolyMesh, levels: u32) -> u64 {
-    if levels == 0 {
-        return mesh.num_faces() as u64;
-    }
-    let s = mesh.face_verts().len() as u64;
-    let shift = 2 * (levels as u64 - 1);
-    if shift >= 64 {
-        return if s == 0 { 0 } else { u64::MAX };
-    }
-    s.saturating_mul(1u64 << shift)
-}
-
-/// Estimated peak memory in bytes of [`subdivide`] with `opts` (the levels, and whether
-/// limit positions are computed), saturating at `u64::MAX`.
+/// Estimated peak memory in bytes of [`subdivide`] with `opts` (the scheme, the levels,
+/// and whether limit positions are computed), saturating at `u64::MAX`. NURSS keeps every
+/// level complete (with its knot intervals) and refines homogeneous points: twice
+/// Catmull-Clark's estimate.
 pub fn estimate_memory(mesh: &PolyMesh, opts: &SubdivideOptions) -> u64 {
-    let per_face = BYTES_PER_FACE + if opts.limit { LIMIT_BYTES_PER_FACE } else { 0 };
-    refined_faces(mesh, opts.levels)
-        .saturating_mul(per_face)
-        .saturating_add(mesh.num_vertices() as u64 * 64)
+    match Steps::of(opts.scheme) {
+        Some(steps) => estimate_uniform(mesh, steps, opts.levels, opts.limit),
+        // NURSS: Catmull-Clark's estimate, twice.
+        None => estimate_uniform(
+            mesh,
+            Steps::Family(Mixed::CATMULL_CLARK),
+            opts.levels,
+            opts.limit,
+        )
+        .saturating_mul(2),
+    }
 }
 
-/// Refines `mesh` uniformly `opts.levels` times with Catmull-Clark as OpenSubdiv does
+/// Refines `mesh` uniformly `opts.levels` times with `opts.scheme`, optionally moving the
+/// result to the limit. Catmull-Clark and the adjustable scheme refine as OpenSubdiv does
 /// (same rules for boundaries, creases, corners, holes, triangles and non-manifold
-/// topology; same vertex and face order), optionally moving the result to the limit.
+/// topology; same vertex and face order); so does NURSS, whose numbering is Catmull-Clark's.
 ///
-/// Only the last two levels are kept in memory while refining.
+/// With `opts.limit` the last level is moved to its limit: for the adjustable scheme, the
+/// limit of the mixed scheme with `min(steps, opts.levels)` adjustable steps, which is the
+/// Catmull-Clark limit of the last level (see [`MixedSurface`](crate::MixedSurface) for
+/// evaluation anywhere on it).
+///
+/// Only the last two levels are kept in memory while refining (NURSS: the last level and
+/// its knot intervals).
 ///
 /// # Errors
-/// [`Error::Mesh`] for an invalid mesh or tags; [`Error::TooLarge`] when the estimated
-/// memory exceeds `opts.max_memory` or the result would exceed 32-bit indices.
+/// [`Error::Mesh`] for an invalid mesh or tags; [`Error::Nurss`] for bad knot tags or a
+/// semi-sharp crease with NURSS; [`Error::Unsupported`] for moving to the limit with Loop or
+/// bilinear; [`Error::TooLarge`] when the estimated memory exceeds
+/// `opts.max_memory` or the result would exceed 32-bit indices.
 pub fn subdivide(mesh: &PolyMesh, opts: &SubdivideOptions) -> Result<Subdivision, Error> {
     subdivide_with_progress(mesh, opts, &mut |_, _| {})
 }
@@ -129,46 +86,6 @@ pub fn subdivide(mesh: &PolyMesh, opts: &SubdivideOptions) -> Result<Subdivision
 pub fn subdivide_with_progress(
     mesh: &PolyMesh,
     opts: &SubdivideOptions,
-    progress: &mut dyn FnMut(u32, u32),
-) -> Result<Subdivision, Error> {
-    subdivide_steps(mesh, opts, None, progress)
-}
-
-/// Mixed subdivision: like [`subdivide`], but the first `mixed.steps` levels use the
-/// shape-adjustable masks with parameter `mixed.scheme` ([`crate::scheme::adjustable`]),
-/// the remaining levels Catmull-Clark. Topology, numbering, tags and sharpness decay are
-/// those of [`subdivide`]; with `c = ½` the result is [`subdivide`]'s (to rounding).
-///
-/// With `opts.limit` the last level is moved to its Catmull-Clark limit: the limit of the
-/// mixed scheme with `min(mixed.steps, opts.levels)` adjustable steps (see
-/// [`MixedSurface`](crate::MixedSurface) for evaluation anywhere on it).
-///
-/// # Errors
-/// As [`subdivide`].
-pub fn subdivide_mixed(
-    mesh: &PolyMesh,
-    opts: &SubdivideOptions,
-    mixed: Mixed,
-) -> Result<Subdivision, Error> {
-    subdivide_steps(mesh, opts, Some(mixed), &mut |_, _| {})
-}
-
-/// [`subdivide_mixed`], calling `progress(level_done, levels)` after each level.
-pub fn subdivide_mixed_with_progress(
-    mesh: &PolyMesh,
-    opts: &SubdivideOptions,
-    mixed: Mixed,
-    progress: &mut dyn FnMut(u32, u32),
-) -> Result<Subdivision, Error> {
-    subdivide_steps(mesh, opts, Some(mixed), progress)
-}
-
-/// The refinement loop of [`subdivide`] and [`subdivide_mixed`]: level `l` uses the
-/// adjustable masks when `l <= mixed.steps`, Catmull-Clark otherwise.
-fn subdivide_steps(
-    mesh: &PolyMesh,
-    opts: &SubdivideOptions,
-    mixed: Option<Mixed>,
     progress: &mut dyn FnMut(u32, u32),
 ) -> Result<Subdivision, Error> {
     mesh.validate()?;
@@ -182,60 +99,45 @@ fn subdivide_steps(
             });
         }
     }
-    // Vertices of the last level ≤ faces + edges + vertices ≤ ~4 × faces: keep that in u32.
-    let faces = refined_faces(mesh, opts.levels);
-    if faces
-        .saturating_mul(4)
-        .saturating_add(mesh.num_vertices() as u64)
-        >= u32::MAX as u64
-    {
-        return Err(Error::Mesh(MeshError::TooLarge {
-            what: format!("level {} ({faces} faces)", opts.levels),
-        }));
+    if opts.limit && matches!(opts.scheme, Scheme::Loop | Scheme::Bilinear) {
+        return Err(Error::Unsupported {
+            what: "moving to the limit",
+            scheme: opts.scheme.name(),
+        });
     }
-
-    let (mut level, warnings) = Topology::from_mesh(mesh, &opts.options)?;
-    let mut pos = mesh.positions().to_vec();
-    // The parent of the last level, when that level is built without edge vertices.
-    let mut parent = None;
-    for l in 1..=opts.levels {
-        let last = l == opts.levels;
-        // The last level needs its full adjacency only for limit masks, and its edge
-        // vertices only for the output's creases, which are read from its parent.
-        let child = if last && !opts.limit {
-            refine_topology_for_output(&level, &opts.options)
-        } else {
-            refine_topology(&level, &opts.options, true)
-        };
-        let mut next = vec![[0.0; 3]; child.num_vertices()];
-        match mixed {
-            Some(m) if l <= m.steps => {
-                interpolate_with(&level, &child, &opts.options, m.scheme, &pos, &mut next)
-            }
-            _ => interpolate(&level, &child, &opts.options, &pos, &mut next),
-        }
-        let p = std::mem::replace(&mut level, child);
-        if last && !opts.limit {
-            parent = Some(p);
-        }
-        pos = next;
-        progress(l, opts.levels);
-    }
-
-    let normals = if opts.limit {
-        Some(limit_in_place(&level, &opts.options, &mut pos))
-    } else {
-        None
+    // Face-varying data on Loop's split and with NURSS's intervals is not refined yet: the
+    // output has none, with a warning.
+    let fvar_warning = (!mesh.face_varying.is_empty()
+        && matches!(opts.scheme, Scheme::Loop | Scheme::Nurss))
+    .then(|| TopologyWarning::FaceVaryingNotRefined {
+        channels: mesh.face_varying.len(),
+        scheme: opts.scheme.name(),
+    });
+    let Some(steps) = Steps::of(opts.scheme) else {
+        let s = crate::nurss::refined(mesh, &opts.options, opts.levels, progress)?;
+        let mut warnings = s.warnings().to_vec();
+        warnings.extend(fvar_warning);
+        return Ok(Subdivision {
+            mesh: s.output_mesh(opts.keep_holes, opts.limit),
+            normals: None,
+            warnings,
+        });
     };
-    let out = output_mesh(
-        level,
-        parent.as_ref(),
-        opts.options.boundary == crate::mesh::BoundaryInterpolation::None,
-        pos,
-        opts.keep_holes,
-    );
+    let mut u = refine_uniform(
+        mesh,
+        &opts.options,
+        steps,
+        opts.levels,
+        opts.limit,
+        progress,
+    )?;
+    let normals = opts
+        .limit
+        .then(|| limit_in_place(&u.level, &opts.options, &mut u.positions));
+    let mut warnings = std::mem::take(&mut u.warnings);
+    warnings.extend(fvar_warning);
     Ok(Subdivision {
-        mesh: out,
+        mesh: u.into_mesh(opts.keep_holes),
         normals,
         warnings,
     })
@@ -268,113 +170,4 @@ fn limit_in_place(level: &Topology, options: &Options, pos: &mut [[f64; 3]]) -> 
     };
     pos.copy_from_slice(&lim);
     limit::normals(level, pos, &t1, &t2)
-}
-
-/// The output mesh of a refined level: all vertices (OpenSubdiv's numbering), the faces
-/// that are not holes (all of them, holes tagged, with `keep_holes`), and the sharpness
-/// still left, as tags — so that refining the output `b` more levels gives the same
-/// result as refining the input `a + b` levels. Sharpness that the next run re-derives
-/// by itself (boundary and non-manifold edges, sharpened corners and non-manifold
-/// vertices) is not written.
-///
-/// `parent` is given when `level` was built by `refine_topology_for_output`, without edge
-/// vertices: the crease tags then come from the parent's edges.
-///
-/// The level is consumed: when every face is kept (no holes, or `keep_holes`) its face
-/// arrays become the mesh's without a copy (at level 6 of `catmark_bishop`, 76 MB that
-/// would otherwise be allocated, faulted in and copied), and the scans for remaining
-/// sharpness run in parallel on large levels.
-fn output_mesh(
-    mut level: Topology,
-    parent: Option<&Topology>,
-    explicit_boundary: bool,
-    pos: Vec<[f64; 3]>,
-    keep_holes: bool,
-) -> PolyMesh {
-    let nf = level.num_faces();
-    let holes: Vec<u32> = if keep_holes && level.has_holes() {
-        (0..nf as u32)
-            .filter(|&f| level.is_hole(f as usize))
-            .collect()
-    } else {
-        Vec::new()
-    };
-    let drop_holes = !keep_holes && level.has_holes() && (0..nf).any(|f| level.is_hole(f));
-    // Boundary edges are sharpened again when the output is read back, except that with
-    // `BoundaryInterpolation::None` their explicit sharpness decides which faces are
-    // holes: there, write them all (the holes themselves are tagged).
-    let crease = |e: usize, [v0, v1]: [u32; 2]| {
-        let t = level.edge_tag(e);
-        let s = level.edge_sharpness(e);
-        let keep = !t.non_manifold && (!t.boundary || explicit_boundary);
-        (s > 0.0 && keep).then_some(Crease {
-            v0,
-            v1,
-            sharpness: s,
-        })
-    };
-    let corner = |v: usize| {
-        let s = level.vertex_sharpness(v);
-        let t = level.vertex_tag(v);
-        (s > 0.0 && !t.non_manifold && !t.sharpened_corner).then_some(Corner {
-            vertex: v as u32,
-            sharpness: s,
-        })
-    };
-    let creases = || match parent {
-        None => filter_map_indices(level.num_edges(), |e| crease(e, level.edge_vertices(e))),
-        Some(p) => {
-            // Child edges `0..S` lie inside parent faces and are never sharp; `S + 2e + k`
-            // joins the child of parent edge `e` to the end `k` of that edge.
-            let s = p.face_verts().len();
-            debug_assert!((0..s).all(|e| level.edge_sharpness(e) == 0.0));
-            let ec0 = (p.num_vertices() + p.num_faces()) as u32;
-            filter_map_indices(2 * p.num_edges(), |i| {
-                let e = i / 2;
-                crease(s + i, [ec0 + e as u32, p.edge_vertices(e)[i % 2]])
-            })
-        }
-    };
-    let (creases, corners) =
-        rayon::join(creases, || filter_map_indices(level.num_vertices(), corner));
-    let tags = Tags {
-        holes,
-        creases,
-        corners,
-    };
-    let (offsets, verts) = if drop_holes {
-        let mut offsets = Vec::with_capacity(nf + 1);
-        let mut verts = Vec::with_capacity(level.face_verts().len());
-        offsets.push(0u32);
-        for f in 0..nf {
-            if !level.is_hole(f) {
-                verts.extend_from_slice(level.face_vertices(f));
-                offsets.push(verts.len() as u32);
-            }
-        }
-        (offsets, verts)
-    } else {
-        (
-            std::mem::take(&mut level.face_offsets),
-            std::mem::take(&mut level.face_verts),
-        )
-    };
-    drop(level);
-    let mut m = PolyMesh::new_unchecked(pos, offsets, verts);
-    m.tags = tags;
-    m
-}
-
-/// `(0..n).filter_map(f).collect()`, in parallel (keeping the order) when `n` is large.
-fn filter_map_indices<T: Send>(n: usize, f: impl Fn(usize) -> Option<T> + Sync + Send) -> Vec<T> {
-    use rayon::prelude::*;
-    if n < 64 * 1024 {
-        (0..n).filter_map(f).collect()
-    } else {
-        (0..n)
-            .into_par_iter()
-            .with_min_len(16 * 1024)
-            .filter_map(f)
-            .collect()
-    }
 }

@@ -33,18 +33,39 @@ const LAYERS: &[&[&str]] = &[
 
 /// Upward uses still to be removed: (from module, to module).
 const KNOWN: &[(&str, &str)] = &[
-    // `subdivide` (the function, its options and error) is the facade's; the methods that
-    // refine call it. It belongs with `refine`, behind the scheme parameter.
-    ("blend", "subdivide"),
-    ("mixed", "subdivide"),
-    ("render", "subdivide"),
-    ("spline", "subdivide"),
     // Curves read as the NURBS readers give them, with their source lines.
     ("interpolate", "io"),
 ];
 
 fn layer(module: &str) -> Option<usize> {
     LAYERS.iter().position(|l| l.contains(&module))
+}
+
+/// The module each item re-exported at the crate root comes from (`pub use m::{a, b};` in
+/// `lib.rs`), so that `crate::a` counts as a use of `m`.
+fn root_exports(lib: &str) -> Vec<(String, String)> {
+    let mut out = Vec::new();
+    for item in code(lib).split(';') {
+        let Some(path) = item.trim().strip_prefix("pub use ") else {
+            continue;
+        };
+        let Some((module, rest)) = path.split_once("::") else {
+            continue;
+        };
+        let names = match rest.rsplit_once("::") {
+            _ if rest.starts_with('{') => rest.trim_matches(|c| c == '{' || c == '}').to_string(),
+            Some((_, last)) => last.to_string(),
+            None => rest.to_string(),
+        };
+        for name in names.split(',') {
+            let name = name.trim();
+            let name = name.rsplit("::").next().unwrap_or(name);
+            if !name.is_empty() {
+                out.push((name.to_string(), module.trim().to_string()));
+            }
+        }
+    }
+    out
 }
 
 /// The code of `text` before its unit tests, without comments.
@@ -88,11 +109,16 @@ fn targets(after: &str) -> Vec<String> {
     out
 }
 
-fn visit(dir: &Path, src: &Path, found: &mut BTreeSet<(String, String, String)>) {
+fn visit(
+    dir: &Path,
+    src: &Path,
+    exports: &[(String, String)],
+    found: &mut BTreeSet<(String, String, String)>,
+) {
     for entry in fs::read_dir(dir).expect("source directory") {
         let path = entry.expect("directory entry").path();
         if path.is_dir() {
-            visit(&path, src, found);
+            visit(&path, src, exports, found);
             continue;
         }
         if path.extension().and_then(|e| e.to_str()) != Some("rs") {
@@ -110,7 +136,11 @@ fn visit(dir: &Path, src: &Path, found: &mut BTreeSet<(String, String, String)>)
         };
         let text = code(&fs::read_to_string(&path).expect("readable source"));
         for (i, _) in text.match_indices("crate::") {
-            for to in targets(&text[i + 7..]) {
+            for name in targets(&text[i + 7..]) {
+                let to = exports
+                    .iter()
+                    .find(|(item, _)| *item == name)
+                    .map_or(name, |(_, module)| module.clone());
                 if layer(&to).is_some_and(|l| l > from_layer) {
                     found.insert((from.clone(), to, rel.display().to_string()));
                 }
@@ -122,8 +152,16 @@ fn visit(dir: &Path, src: &Path, found: &mut BTreeSet<(String, String, String)>)
 #[test]
 fn layers_run_one_way() {
     let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let lib = fs::read_to_string(src.join("lib.rs")).expect("lib.rs");
+    let exports = root_exports(&lib);
+    assert!(
+        exports
+            .iter()
+            .any(|(item, m)| item == "subdivide" && m == "subdivide"),
+        "lib.rs's re-exports were not read: {exports:?}"
+    );
     let mut found = BTreeSet::new();
-    visit(&src, &src, &mut found);
+    visit(&src, &src, &exports, &mut found);
     let edges: BTreeSet<(&str, &str)> = found
         .iter()
         .map(|(a, b, _)| (a.as_str(), b.as_str()))

@@ -57,7 +57,7 @@ fn apply_into_does_not_allocate() {
         let path = format!("{}/tests/shapes/osd/{name}.obj", env!("CARGO_MANIFEST_DIR"));
         let obj = read_obj(Path::new(&path)).unwrap();
         let options = obj.options.resolve(Options::default());
-        let plan = RefinePlan::new(&obj.mesh, options, 4).unwrap();
+        let plan = RefinePlan::new(&obj.mesh, subsurf::Scheme::CatmullClark, options, 4).unwrap();
         assert!(plan.num_patches() > 0, "{name}");
         let pos = obj.mesh.positions();
         let wide: Vec<[f64; 5]> = pos.iter().map(|p| [p[0], p[1], p[2], 1.0, 0.5]).collect();

@@ -6,7 +6,7 @@ use clap::error::ErrorKind;
 use clap::CommandFactory;
 use subsurf::mesh::{Options, PolyMesh};
 use subsurf::scheme::adjustable::Adjustable;
-use subsurf::{subdivide_mixed, Mixed, SubdivideOptions};
+use subsurf::{subdivide, Mixed, Scheme, SubdivideOptions};
 
 use crate::input::Input;
 use crate::{AdjustArgs, SchemeKind};
@@ -22,14 +22,17 @@ pub fn parse_c(s: &str) -> Result<f64, String> {
     }
 }
 
-/// The mixed-subdivision parameters of `subdivide`'s flags: `None` for plain
-/// Catmull-Clark. `--c` with another scheme than `adjustable` is a usage error (exit 2).
-pub fn for_subdivide(kind: SchemeKind, args: &AdjustArgs) -> Option<Mixed> {
+/// The scheme of `subdivide`'s and `repose`'s flags. `--c` with another scheme than
+/// `adjustable` is a usage error (exit 2).
+pub fn for_subdivide(kind: SchemeKind, args: &AdjustArgs) -> Scheme {
     match (kind, args.c) {
-        (SchemeKind::Adjustable, Some(c)) => Some(mixed(c, args.adjust_steps)),
+        (SchemeKind::Adjustable, Some(c)) => Scheme::Adjustable(mixed(c, args.adjust_steps)),
         (SchemeKind::Adjustable, None) => usage_error("--scheme adjustable needs --c C"),
         (_, Some(_)) => usage_error("--c and --adjust-steps need --scheme adjustable"),
-        (_, None) => None,
+        (SchemeKind::Nurss, None) => Scheme::Nurss,
+        (SchemeKind::CatmullClark, None) => Scheme::CatmullClark,
+        (SchemeKind::Loop, None) => Scheme::Loop,
+        (SchemeKind::Bilinear, None) => Scheme::Bilinear,
     }
 }
 
@@ -73,6 +76,10 @@ pub fn check_surface_flags(given: Option<SchemeKind>, args: &AdjustArgs) {
     let c = args.c.is_some();
     match given {
         Some(SchemeKind::Adjustable) if !c => usage_error("--scheme adjustable needs --c C"),
+        Some(SchemeKind::Loop | SchemeKind::Bilinear) => usage_error(
+            "exact limit evaluation of the loop and bilinear schemes is not available yet: \
+             use subdivide --scheme loop|bilinear",
+        ),
         Some(SchemeKind::Nurss | SchemeKind::CatmullClark) if c => {
             usage_error("--c applies to --scheme adjustable only")
         }
@@ -85,12 +92,13 @@ pub fn check_surface_flags(given: Option<SchemeKind>, args: &AdjustArgs) {
 pub fn refined_mesh(input: &Input, options: Options, mixed: Mixed) -> Result<PolyMesh> {
     let opts = SubdivideOptions {
         levels: mixed.steps,
+        scheme: Scheme::Adjustable(mixed),
         options,
         keep_holes: true,
         max_memory: crate::memory::available(),
         ..SubdivideOptions::default()
     };
-    let sub = subdivide_mixed(&input.obj.mesh, &opts, mixed)
+    let sub = subdivide(&input.obj.mesh, &opts)
         .with_context(|| format!("{}: --adjust-steps {}", input.name, mixed.steps))?;
     Ok(sub.mesh)
 }
@@ -156,15 +164,22 @@ mod tests {
             adjust_steps: None,
         };
         assert_eq!(
-            for_subdivide(SchemeKind::Adjustable, &args).map(|m| m.steps),
-            Some(u32::MAX)
+            for_subdivide(SchemeKind::Adjustable, &args),
+            Scheme::Adjustable(Mixed {
+                scheme: Adjustable::new(0.2).expect("valid"),
+                steps: u32::MAX
+            })
         );
         assert_eq!(for_surface(&args).map(|m| m.steps), Some(1));
         let none = AdjustArgs {
             c: None,
             adjust_steps: None,
         };
-        assert_eq!(for_subdivide(SchemeKind::CatmullClark, &none), None);
+        assert_eq!(
+            for_subdivide(SchemeKind::CatmullClark, &none),
+            Scheme::CatmullClark
+        );
+        assert_eq!(for_subdivide(SchemeKind::Nurss, &none), Scheme::Nurss);
         assert_eq!(for_surface(&none), None);
     }
 

@@ -113,7 +113,7 @@ fn bench_replay(
     let mesh = &input.obj.mesh;
     let t0 = Instant::now();
     let plan = pool
-        .install(|| RefinePlan::new(mesh, options, levels))
+        .install(|| RefinePlan::new(mesh, subsurf::Scheme::CatmullClark, options, levels))
         .with_context(|| input.name.clone())?;
     let build = t0.elapsed().as_secs_f64();
     // The build's temporaries go back to the system before the buffers are allocated.

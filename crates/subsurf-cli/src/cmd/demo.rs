@@ -43,7 +43,6 @@ use subsurf::io::obj::{parse_obj, write_obj, WriteOptions};
 use subsurf::limit::{self, tessellate, LimitSurface};
 use subsurf::mesh::{Options, PolyMesh};
 use subsurf::nurbs::{Geometry as NurbsGeometry, Surface};
-use subsurf::nurss::NurssOptions;
 use subsurf::regularity::{check_regularity, plot, Mode, RegularityOptions};
 use subsurf::render::curvature::{sample_curvature, CurvatureKind};
 use subsurf::render::{
@@ -51,9 +50,9 @@ use subsurf::render::{
 };
 use subsurf::scheme::adjustable::Adjustable;
 use subsurf::spline::QuadSpline;
-use subsurf::{Mixed, SubdivideOptions};
+use subsurf::{Mixed, Scheme, SubdivideOptions};
 
-use super::subdivide::{command_line, refine, refine_mixed, write};
+use super::subdivide::{command_line, refine, write};
 use crate::input::Input;
 use crate::output::Output;
 use crate::progress::Progress;
@@ -691,15 +690,15 @@ fn adjustable(ctx: &Ctx) -> Result<Vec<Item>> {
     }
     let mut items = Vec::new();
     for c in ADJUSTABLE_C {
-        let scheme = Adjustable::new(c)?;
+        let all = Mixed::all(Adjustable::new(c)?);
         let opts = SubdivideOptions {
             levels: ADJUSTABLE_LEVELS,
+            scheme: Scheme::Adjustable(all),
             options: ctx.options,
             ..Default::default()
         };
-        let all = Mixed::all(scheme);
         let progress = Progress::new(ADJUSTABLE_LEVELS, true);
-        let sub = refine_mixed(ctx.input, &opts, Some(all), &progress, true)?;
+        let sub = refine(ctx.input, &opts, &progress, true)?;
         let comment = format!(
             "{} {}",
             command_line(&opts, &ctx.input.name),
@@ -715,8 +714,8 @@ fn adjustable(ctx: &Ctx) -> Result<Vec<Item>> {
         )?);
 
         let mixed = Mixed {
-            scheme,
             steps: ADJUSTABLE_STEPS,
+            ..all
         };
         let refined = super::adjustable::refined_mesh(ctx.input, ctx.options, mixed)?;
         let rate = super::adjustable::refined_rate(ctx.ex.rate, ADJUSTABLE_STEPS);
@@ -746,13 +745,14 @@ fn nurss(ctx: &Ctx) -> Result<Vec<Item>> {
     let mut items = Vec::new();
     let mut limit_mesh = None;
     for limit in [false, true] {
-        let opts = NurssOptions {
+        let opts = SubdivideOptions {
             levels: LEVELS,
+            scheme: Scheme::Nurss,
             options: ctx.options,
             limit,
-            keep_holes: false,
+            ..Default::default()
         };
-        let sub = subsurf::nurss::subdivide(ctx.mesh(), &opts)?;
+        let sub = subsurf::subdivide(ctx.mesh(), &opts)?;
         let (suffix, what) = if limit {
             ("nurss-limit", ", moved to the limit surface")
         } else {
@@ -829,8 +829,8 @@ fn g2_caps(ctx: &Ctx) -> Result<Vec<Item>> {
     let surface = G2Surface::new(
         mesh,
         &G2SurfaceOptions {
-            scheme: ctx.options,
-            levels: None,
+            options: ctx.options,
+            ..Default::default()
         },
     )?;
     if surface.caps().is_empty() {

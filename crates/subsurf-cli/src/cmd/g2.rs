@@ -16,6 +16,7 @@ use subsurf::mesh::Options;
 use subsurf::render::{
     curvature::CurvatureKind, render_surface, write_png, Geometry, Paint, Render,
 };
+use subsurf::Scheme;
 use subsurf::{estimate_memory, SubdivideOptions};
 
 use crate::input::Input;
@@ -255,15 +256,16 @@ fn build_within(
         patch_bound(mesh, mixed.map(|m| m.steps)),
     );
     check(subsurf::limit::LimitSurface::estimate_build_memory(mesh).saturating_add(reserved))?;
-    let surface = match (mixed, limit) {
-        (Some(m), _) => {
-            check_memory(mesh, options.scheme, m.steps)
-                .with_context(|| format!("{name}: --adjust-steps {}", m.steps))?;
-            G2Surface::new_mixed(mesh, options, m)
-        }
-        (None, Some(limit)) => G2Surface::new_within(mesh, options, limit.saturating_sub(reserved)),
-        (None, None) => G2Surface::new(mesh, options),
+    if let Some(m) = mixed {
+        check_memory(mesh, options.options, m.steps)
+            .with_context(|| format!("{name}: --adjust-steps {}", m.steps))?;
+    }
+    let options = G2SurfaceOptions {
+        scheme: mixed.map_or(Scheme::CatmullClark, Scheme::Adjustable),
+        max_memory: limit.map(|l| l.saturating_sub(reserved)),
+        ..*options
     };
+    let surface = G2Surface::new(mesh, &options);
     let surface = match surface {
         Err(subsurf::g2cap::G2Error::TooLarge(e)) => anyhow::bail!(
             "{name}: {what} needs more than {}: {e}; {hint}",
@@ -352,8 +354,8 @@ pub fn run(args: &G2Args) -> Result<()> {
         .resolve(Options::default());
     let mesh = &input.obj.mesh;
     let options = G2SurfaceOptions {
-        scheme,
-        levels: None,
+        options: scheme,
+        ..Default::default()
     };
     // `--c` (validated by clap: in [0, 1], else a usage error) with K = 1 by default.
     let mixed = super::adjustable::for_surface(&args.adjust);

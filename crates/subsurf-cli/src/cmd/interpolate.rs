@@ -134,10 +134,7 @@ pub fn run(args: &InterpolateArgs) -> Result<()> {
     // and 70, 229, 860 MiB).
     let refined = subsurf::SubdivideOptions {
         levels: levels + u32::from(args.tessellate),
-        options: Default::default(),
-        limit: false,
-        keep_holes: false,
-        max_memory: None,
+        ..Default::default()
     };
     let estimate = subsurf::estimate_memory(&zones.mesh, &refined)
         .saturating_mul(3)

@@ -85,9 +85,9 @@ pub fn run(args: &ReposeArgs) -> Result<()> {
     let base = Input::read_surface(&args.base, args.max_memory)?;
     let progress = Progress::counting(args.poses.len() as u64, "poses", args.quiet);
     let kind = super::subdivide::scheme_kind(args.scheme_kind, &base, &progress, args.quiet);
-    let mixed = super::adjustable::for_subdivide(kind, &args.adjust);
     let opts = SubdivideOptions {
         levels: args.levels,
+        scheme: super::adjustable::for_subdivide(kind, &args.adjust),
         options: args
             .scheme
             .over(base.obj.options)
@@ -97,11 +97,7 @@ pub fn run(args: &ReposeArgs) -> Result<()> {
         max_memory: None,
     };
     let mesh = &base.obj.mesh;
-    let estimate = if kind == SchemeKind::Nurss {
-        Reposer::estimate_memory_nurss(mesh, &opts)
-    } else {
-        Reposer::estimate_memory(mesh, &opts)
-    };
+    let estimate = Reposer::estimate_memory(mesh, &opts);
     let what = format!("refining to level {} and planning re-posing", opts.levels);
     crate::memory::check(
         &base.name,
@@ -112,17 +108,8 @@ pub fn run(args: &ReposeArgs) -> Result<()> {
     )?;
     crate::memory::for_refinement(estimate);
     progress.set_message(format!("refining {} and planning re-posing", base.name));
-    let reposer = match (kind, mixed) {
-        (SchemeKind::Nurss, _) => Reposer::new_nurss(mesh, &opts),
-        (_, Some(m)) => Reposer::new_mixed(mesh, &opts, m),
-        (_, None) => Reposer::new(mesh, &opts),
-    };
-    let mut reposer = reposer.with_context(|| base.name.clone())?;
-    let flags = match (kind, mixed) {
-        (SchemeKind::Nurss, _) => "--scheme nurss".to_owned(),
-        (_, Some(m)) => super::adjustable::flags(m, opts.levels),
-        (_, None) => String::new(),
-    };
+    let mut reposer = Reposer::new(mesh, &opts).with_context(|| base.name.clone())?;
+    let flags = super::subdivide::scheme_flags(opts.scheme, opts.levels);
     if !args.quiet {
         for w in base.warnings() {
             progress.warn(&w);

@@ -1,11 +1,9 @@
 //! `subsurf subdivide`: read OBJ, refine, write OBJ.
 
 use anyhow::{Context, Result};
-use subsurf::io::obj::{write_obj, WriteOptions};
+use subsurf::io::obj::{write_obj, FileOptions, WriteOptions};
 use subsurf::mesh::{crease_by_angle, Options, TriangleSubdivision};
-use subsurf::nurss::NurssOptions;
-use subsurf::{subdivide_mixed_with_progress, Mixed};
-use subsurf::{subdivide_with_progress, SubdivideOptions, Subdivision};
+use subsurf::{subdivide_with_progress, Scheme, SubdivideOptions, Subdivision};
 
 use crate::input::Input;
 use crate::output::Output;
@@ -27,38 +25,39 @@ pub fn run(args: &SubdivideArgs) -> Result<()> {
             progress.warn(&w);
         }
     }
+    let kind = scheme_kind(args.scheme_kind, &input, &progress, args.quiet);
     let opts = SubdivideOptions {
         levels: args.levels,
-        options: args
-            .scheme
-            .over(input.obj.options)
-            .resolve(Options::default()),
+        scheme: super::adjustable::for_subdivide(kind, &args.adjust),
+        options: FileOptions {
+            face_varying: args.fvar.or(input.obj.options.face_varying),
+            ..args.scheme.over(input.obj.options)
+        }
+        .resolve(Options::default()),
         limit: args.limit,
         keep_holes: args.keep_holes,
         max_memory: args.max_memory.or_else(crate::memory::available),
     };
     crate::memory::for_refinement(subsurf::estimate_memory(&input.obj.mesh, &opts));
-    let mut flags = String::new();
+    let mut flags = scheme_flags(opts.scheme, opts.levels);
     if let Some(angle) = args.crease_angle {
         add_angle_creases(&mut input, &opts.options, angle, args.sharpness)?;
-        flags = format!("--crease-angle {angle} --sharpness {}", args.sharpness);
+        let angle = format!("--crease-angle {angle} --sharpness {}", args.sharpness);
+        flags = [flags, angle].join(" ").trim().to_owned();
     }
-    let kind = scheme_kind(args.scheme_kind, &input, &progress, args.quiet);
-    let mixed = super::adjustable::for_subdivide(kind, &args.adjust);
-    if kind == SchemeKind::Nurss {
-        return run_nurss(args, &input, &opts, &flags, &out, &progress);
-    }
-    if let Some(m) = mixed {
-        let adjust = super::adjustable::flags(m, opts.levels);
-        flags = if flags.is_empty() {
-            adjust
-        } else {
-            format!("{adjust} {flags}")
-        };
-    }
-    let sub = refine_mixed(&input, &opts, mixed, &progress, args.quiet)?;
+    let sub = refine(&input, &opts, &progress, args.quiet)?;
     let comment = command_line_with(&opts, &flags, &args.input.display().to_string());
     write(&out, &sub, &opts, &comment, &progress)
+}
+
+/// The flags that select `scheme` (refining `levels` levels), for output headers: none for
+/// Catmull-Clark.
+pub fn scheme_flags(scheme: Scheme, levels: u32) -> String {
+    match scheme {
+        Scheme::Adjustable(m) => super::adjustable::flags(m, levels),
+        Scheme::CatmullClark => String::new(),
+        other => format!("--scheme {}", other.name()),
+    }
 }
 
 /// The scheme: `--scheme` (`given`) when given, else NURSS for a file with knot tags (with
@@ -83,59 +82,6 @@ pub fn scheme_kind(
         }
         None => SchemeKind::CatmullClark,
     }
-}
-
-/// `subsurf subdivide --scheme nurss`: non-uniform Catmull-Clark with the file's knot
-/// intervals and weights; the output carries the refined intervals as `t interval` tags.
-fn run_nurss(
-    args: &SubdivideArgs,
-    input: &Input,
-    opts: &SubdivideOptions,
-    flags: &str,
-    out: &Output,
-    progress: &Progress,
-) -> Result<()> {
-    let nopts = NurssOptions {
-        levels: opts.levels,
-        options: opts.options,
-        limit: opts.limit,
-        keep_holes: opts.keep_holes,
-    };
-    let estimate = subsurf::nurss::estimate_memory(&input.obj.mesh, &nopts);
-    let what = format!("refining to level {} with --scheme nurss", opts.levels);
-    crate::memory::check(
-        &input.name,
-        &what,
-        estimate,
-        args.max_memory,
-        "use a lower level",
-    )?;
-    progress.set_message(format!("refining {}", input.name));
-    let sub =
-        subsurf::nurss::subdivide(&input.obj.mesh, &nopts).with_context(|| input.name.clone())?;
-    progress.level_done(opts.levels, opts.levels);
-    if !args.quiet {
-        for w in sub
-            .warnings
-            .iter()
-            .filter_map(|w| input.topology_warning(w))
-        {
-            progress.warn(&w);
-        }
-    }
-    let nurss_flags = if flags.is_empty() {
-        "--scheme nurss".to_owned()
-    } else {
-        format!("--scheme nurss {flags}")
-    };
-    let comment = command_line_with(opts, &nurss_flags, &args.input.display().to_string());
-    progress.set_message(format!("writing {}", out.name()));
-    let write_opts = WriteOptions {
-        normals: None,
-        scheme: Some(opts.options),
-        comment: Some(&comment),
-    };
-    out.write(|mut w| write_obj(&mut w, &sub.mesh, &write_opts))
 }
 
 /// Puts a crease of `sharpness` on every edge of `input` whose dihedral angle exceeds
@@ -182,25 +128,10 @@ pub fn refine(
     progress: &Progress,
     quiet: bool,
 ) -> Result<Subdivision> {
-    refine_mixed(input, opts, None, progress, quiet)
-}
-
-/// [`refine`], with the first levels refined by the adjustable scheme when `mixed` is
-/// given (mixed subdivision).
-pub fn refine_mixed(
-    input: &Input,
-    opts: &SubdivideOptions,
-    mixed: Option<Mixed>,
-    progress: &Progress,
-    quiet: bool,
-) -> Result<Subdivision> {
     progress.set_message(format!("refining {}", input.name));
     let mut report = |done, levels| progress.level_done(done, levels);
-    let sub = match mixed {
-        Some(m) => subdivide_mixed_with_progress(&input.obj.mesh, opts, m, &mut report),
-        None => subdivide_with_progress(&input.obj.mesh, opts, &mut report),
-    }
-    .with_context(|| input.name.clone())?;
+    let sub = subdivide_with_progress(&input.obj.mesh, opts, &mut report)
+        .with_context(|| input.name.clone())?;
     if !quiet {
         for w in sub
             .warnings
@@ -284,10 +215,12 @@ mod tests {
                 boundary: BoundaryInterpolation::EdgeAndCorner,
                 crease_method: CreaseMethod::Chaikin,
                 triangles: TriangleSubdivision::Smooth,
+                ..Options::default()
             },
             limit: true,
             keep_holes: false,
             max_memory: None,
+            scheme: Scheme::CatmullClark,
         };
         assert_eq!(
             command_line(&opts, "in.obj"),

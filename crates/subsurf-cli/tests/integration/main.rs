@@ -23,6 +23,7 @@ mod nurss;
 mod regularity;
 mod render;
 mod repose;
+mod schemes;
 mod signals;
 mod spline;
 mod tessellate;

@@ -7,7 +7,8 @@ use crate::common;
 use common::*;
 use subsurf::io::obj::parse_obj;
 use subsurf::mesh::Options;
-use subsurf::nurss::{Nurss, NurssOptions};
+use subsurf::nurss::Nurss;
+use subsurf::{Scheme, SubdivideOptions};
 
 /// The bundled example: a 5×5 grid with intervals 3 and 0.
 const GRID: &str = include_str!("../../../../examples/meshes/nurss-grid.obj");
@@ -33,12 +34,13 @@ fn knot_tags_select_nurss_with_a_note() {
     // Same result as the library's NURSS, and the refined intervals are in the output.
     let out = read(dir.path(), "out.obj");
     let input = parse_obj(GRID.as_bytes(), "grid.obj").unwrap();
-    let opts = NurssOptions {
+    let opts = SubdivideOptions {
         levels: 2,
+        scheme: Scheme::Nurss,
         options: input.options.resolve(Options::default()),
-        ..NurssOptions::default()
+        ..Default::default()
     };
-    let lib = subsurf::nurss::subdivide(&input.mesh, &opts).unwrap();
+    let lib = subsurf::subdivide(&input.mesh, &opts).unwrap();
     assert_eq!(out.mesh.positions(), lib.mesh.positions());
     assert_eq!(out.mesh.knots, lib.mesh.knots);
     assert!(out.mesh.knots.intervals.iter().any(|t| t.interval == 0.75));

@@ -38,6 +38,7 @@ use super::grid::VertexGrid;
 use super::BlendError;
 use crate::mesh::{Corner, Crease, EdgeInterval, KnotTags, Options, PolyMesh, Tags, Topology};
 use crate::nurss::Nurss;
+use crate::scheme::adjustable::Mixed;
 
 /// Boundary vertices of `mesh`: vertices on an edge that only one face uses.
 pub fn boundary_vertices(mesh: &PolyMesh) -> Vec<bool> {
@@ -199,15 +200,10 @@ pub fn nurss_refine_once(mesh: &PolyMesh) -> Result<PolyMesh, BlendError> {
 /// One Catmull-Clark step of `mesh` (OpenSubdiv's rules; intervals are ignored).
 ///
 /// # Errors
-/// [`BlendError::Subdivide`] from [`crate::subdivide`](fn@crate::subdivide).
+/// [`BlendError::Subdivide`] for an invalid mesh.
 pub fn catmark_refine_once(mesh: &PolyMesh) -> Result<PolyMesh, BlendError> {
-    let opts = crate::SubdivideOptions {
-        levels: 1,
-        keep_holes: true,
-        ..Default::default()
-    };
-    crate::subdivide(mesh, &opts)
-        .map(|s| s.mesh)
+    let options = crate::mesh::Options::default();
+    crate::refine::uniform::refine_mesh(mesh, &options, Mixed::CATMULL_CLARK, 1, true)
         .map_err(|e| BlendError::Subdivide(e.to_string()))
 }
 

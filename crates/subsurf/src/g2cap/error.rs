@@ -12,10 +12,10 @@ pub enum G2Error {
     /// Evaluation of the Catmull-Clark surface failed (or a point is outside the domain).
     #[error(transparent)]
     Eval(#[from] EvalError),
-    /// The `c`-refined mesh of [`G2Surface::new_mixed`](super::G2Surface::new_mixed)
-    /// could not be built.
-    #[error(transparent)]
-    Subdivide(#[from] crate::Error),
+    /// G2 caps are built on the Catmull-Clark surface or the adjustable scheme's
+    /// ([`G2SurfaceOptions::scheme`](super::G2SurfaceOptions::scheme)), not on this one.
+    #[error("G2 caps are built on catmull-clark or adjustable surfaces, not on {0} ones")]
+    Scheme(&'static str),
     /// A cap needs at least 3 patches and at most [`super::MAX_CAP_VALENCE`].
     #[error("valence {valence} is outside the supported range 3..={max}")]
     Valence {
@@ -63,7 +63,7 @@ pub enum G2Error {
         patch: usize,
     },
     /// The limit surface would exceed the memory limit of
-    /// [`G2Surface::new_within`](super::G2Surface::new_within).
+    /// [`G2Surface::new`](super::G2Surface::new) with [`G2SurfaceOptions::max_memory`](super::G2SurfaceOptions::max_memory).
     #[error(transparent)]
     TooLarge(crate::limit::BuildError),
     /// A tessellation rate of 0, or one whose output would not fit 32-bit indices.

@@ -211,7 +211,7 @@ pub struct SurfaceJson {
     pub version: u32,
     /// Isolation levels `L`: bicubic squares have side `2⁻ᴸ` (`2¹⁻ᴸ` on sub-faces).
     pub levels: u32,
-    /// For the G2 surface of a mixed surface ([`G2Surface::new_mixed`]): its parameters
+    /// For the G2 surface of a mixed surface ([`G2Surface::new`] with [`Scheme::Adjustable`](crate::Scheme::Adjustable)): its parameters
     /// (absent for Catmull-Clark).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub mixed: Option<MixedJson>,

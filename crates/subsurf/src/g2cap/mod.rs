@@ -88,7 +88,7 @@
 //! kept as the reference (same caps to its own rounding, `~10⁻¹⁰`).
 //! [`G2Surface`] does this for every interior smooth EV of a mesh (valence 3..=16, also
 //! the centres of n-gons); vertices on boundaries or creases, or next to them, keep the
-//! Catmull-Clark surface. [`G2Surface::new_mixed`] does the same for the mixed
+//! Catmull-Clark surface. [`G2Surface::new`] with [`Scheme::Adjustable`](crate::Scheme::Adjustable) does the same for the mixed
 //! (shape-adjustable) surface of [Tang et al. 2017]: only the surrounding bicubics change (those of
 //! the `c`-refined net), and with them the outer rows of the caps.
 

@@ -43,7 +43,7 @@ pub enum Side {
     /// The G2 surface (caps).
     G2,
     /// Plain Catmull-Clark on the same boundaries (the mixed surface without caps, for
-    /// [`G2Surface::new_mixed`](super::G2Surface::new_mixed)).
+    /// [`G2Surface::new`](super::G2Surface::new) with [`Scheme::Adjustable`](crate::Scheme::Adjustable)).
     CatmullClark,
 }
 
@@ -244,7 +244,7 @@ impl std::fmt::Display for ContinuityReport {
 /// boundaries (cap patch at `(x, 1)` and `(1, y)` against the Catmull-Clark surface, which
 /// is the bicubic neighbour there and C2 across that edge), and, for comparison, the
 /// Catmull-Clark surface ([`G2Surface::eval_uncapped`]: the mixed surface for
-/// [`G2Surface::new_mixed`]) across the same inner boundaries (its outer boundaries are
+/// [`G2Surface::new`] with [`Scheme::Adjustable`](crate::Scheme::Adjustable)) across the same inner boundaries (its outer boundaries are
 /// C2). Derivatives are compared in cap coordinates.
 ///
 /// # Errors

@@ -16,7 +16,7 @@
 //! only changes these bicubic patches.
 //!
 //! # The mixed (shape-adjustable) surface
-//! [`G2Surface::new_mixed`] caps the limit surface of mixed subdivision ([`MixedSurface`]:
+//! [`G2Surface::new`] with [`Scheme::Adjustable`](crate::Scheme::Adjustable) caps the limit surface of mixed subdivision ([`MixedSurface`]:
 //! `k` steps of the adjustable scheme with parameter `c`, then Catmull-Clark; [Tang et al. 2017]).
 //! Its regular part is the bicubic B-spline of the `c`-refined net, but only *per face of
 //! the refined mesh*: for `c ≠ ½` that net is not the Catmull-Clark refinement of a coarser
@@ -29,7 +29,7 @@
 //! the outer bicubics are recovered from the mixed surface, evaluated at the input's
 //! `(face, u, v)` through [`MixedSurface::eval_point`], and the caps are solved from them.
 //!
-//! `c = ½` (and `k = 0`) *is* Catmull-Clark, and [`G2Surface::new_mixed`] then builds
+//! `c = ½` (and `k = 0`) *is* Catmull-Clark, and [`G2Surface::new`] with [`Scheme::Adjustable`](crate::Scheme::Adjustable) then builds
 //! exactly [`G2Surface::new`]'s surface, from the Catmull-Clark evaluator. (Through the
 //! refined mesh the same surface differs only by rounding: the outer bicubics by
 //! `~2·10⁻¹⁶`, the caps by `~3·10⁻¹³` — [`CapSolver`] is well conditioned; the tests
@@ -51,18 +51,27 @@ use crate::limit::{Derivatives, EvalError, LimitSurface, SurfacePoint};
 use crate::mesh::{Options, PolyMesh, Rule, Topology};
 use crate::mixed::MixedSurface;
 use crate::scheme::adjustable::Adjustable;
-use crate::scheme::adjustable::Mixed;
+use crate::scheme::Scheme;
 use rayon::prelude::*;
 use std::collections::HashMap;
 
 /// Options of [`G2Surface::new`].
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct G2SurfaceOptions {
-    /// The Catmull-Clark options (boundary interpolation etc.) of the surrounding surface.
-    pub scheme: Options,
-    /// Isolation levels `L` (≥ 2; `None`: 2, or 3 with non-quad faces; with
-    /// [`G2Surface::new_mixed`] at least `k + 1` for `k` adjustable steps).
+    /// The scheme of the surrounding surface: Catmull-Clark, or the shape-adjustable scheme
+    /// ([`Scheme::Adjustable`]: the caps join the mixed surface, [`MixedSurface`]). NURSS is
+    /// refused ([`G2Error::Scheme`]).
+    pub scheme: Scheme,
+    /// The rules' options (boundary interpolation etc.) of the surrounding surface.
+    pub options: Options,
+    /// Isolation levels `L` (≥ 2; `None`: 2, or 3 with non-quad faces; with `k` adjustable
+    /// steps at least `k + 1`).
     pub levels: Option<u32>,
+    /// Stop building the Catmull-Clark limit surface as soon as the neighbourhoods of
+    /// irregular faces it finds would take its estimate over this many bytes
+    /// ([`LimitSurface::new_within`]; [`G2Error::TooLarge`]). Not applied to the mixed
+    /// surface, whose build is bounded by its refined mesh.
+    pub max_memory: Option<u64>,
 }
 
 /// Where one cap patch lies: corner `corner` of sub-face `subface` of base face `face`,
@@ -187,12 +196,12 @@ pub struct Uncapped {
 /// The G2 surface of a mesh: Catmull-Clark (bicubic B-spline after isolation) with a G2
 /// cap at every interior smooth extraordinary vertex of valence 3..=16 and at the centre
 /// of every interior `n`-gon ([`new`](Self::new)); or the same for the mixed
-/// (shape-adjustable) surface ([`new_mixed`](Self::new_mixed)). See the
+/// (shape-adjustable) surface ([`new`](Self::new) with [`Scheme::Adjustable`](crate::Scheme::Adjustable)). See the
 /// [module docs](self) for the layout.
 #[derive(Clone, Debug)]
 pub struct G2Surface {
     limit: LimitSurface,
-    /// The mixed surface underneath, for [`G2Surface::new_mixed`].
+    /// The mixed surface underneath, for [`G2Surface::new`] with [`Scheme::Adjustable`](crate::Scheme::Adjustable).
     mixed: Option<MixedSurface>,
     levels: u32,
     caps: Vec<CapInfo>,
@@ -210,51 +219,28 @@ struct Candidate {
 }
 
 impl G2Surface {
-    /// Builds the surface of `mesh`.
-    ///
-    /// # Errors
-    /// [`G2Error::Mesh`] for an invalid mesh; [`G2Error::Inconsistent`] if a cap's
-    /// constraints cannot be met (not expected).
-    pub fn new(mesh: &PolyMesh, options: &G2SurfaceOptions) -> Result<Self, G2Error> {
-        Self::build(mesh, options, None, None)
-    }
-
-    /// [`new`](Self::new), building the Catmull-Clark limit surface within `max_bytes`
-    /// ([`LimitSurface::new_within`]: the build stops as soon as the neighbourhoods of
-    /// irregular faces it finds would take its estimate over the limit).
-    ///
-    /// # Errors
-    /// As [`new`](Self::new); [`G2Error::TooLarge`] over the limit.
-    pub fn new_within(
-        mesh: &PolyMesh,
-        options: &G2SurfaceOptions,
-        max_bytes: u64,
-    ) -> Result<Self, G2Error> {
-        Self::build(mesh, options, None, Some(max_bytes))
-    }
-
-    /// Builds the G2 surface of the *mixed* surface of `mesh` ([`MixedSurface`]: `k =
-    /// mixed.steps` steps of the shape-adjustable scheme with parameter `c`, then
-    /// Catmull-Clark): outside the caps it is the mixed surface (the bicubic B-spline of
-    /// the `c`-refined net), and the caps join it G2. Evaluation is at the input's
-    /// `(face, u, v)` as for [`new`](Self::new). The isolation level is raised to at least
-    /// `k + 1` (see the [module docs](self)). With `c = ½` or `k = 0` the mixed surface is
-    /// the Catmull-Clark surface and the result is exactly [`new`](Self::new)'s (with no
+    /// Builds the surface of `mesh`: the surface of `options.scheme` outside the caps, and
+    /// the caps joined to it G2. With [`Scheme::Adjustable`] (`k = mixed.steps` steps of
+    /// the shape-adjustable scheme with parameter `c`, then Catmull-Clark) the surrounding
+    /// surface is the mixed surface ([`MixedSurface`]: the bicubic B-spline of the
+    /// `c`-refined net), evaluated at the input's `(face, u, v)`, and the isolation level is
+    /// raised to at least `k + 1` (see the [module docs](self)); with `c = ½` or `k = 0` it
+    /// is the Catmull-Clark surface and the result is exactly Catmull-Clark's (with no
     /// [`mixed`](Self::mixed) surface).
     ///
     /// # Errors
-    /// As [`new`](Self::new), and [`G2Error::Subdivide`] if the refined mesh cannot be
-    /// built (too many steps for 32-bit indices).
-    pub fn new_mixed(
-        mesh: &PolyMesh,
-        options: &G2SurfaceOptions,
-        mixed: Mixed,
-    ) -> Result<Self, G2Error> {
-        if mixed.steps == 0 || mixed.scheme == Adjustable::CATMULL_CLARK {
-            return Self::new(mesh, options);
-        }
-        let surface = MixedSurface::new(mesh, options.scheme, mixed)?;
-        Self::build(mesh, options, Some(surface), None)
+    /// [`G2Error::Mesh`] for an invalid mesh (or a refined mesh beyond 32-bit indices);
+    /// [`G2Error::Scheme`] for NURSS; [`G2Error::TooLarge`] over `options.max_memory`;
+    /// [`G2Error::Inconsistent`] if a cap's constraints cannot be met (not expected).
+    pub fn new(mesh: &PolyMesh, options: &G2SurfaceOptions) -> Result<Self, G2Error> {
+        let mixed = match options.scheme {
+            Scheme::CatmullClark => None,
+            Scheme::Adjustable(m) if m.steps == 0 || m.scheme == Adjustable::CATMULL_CLARK => None,
+            Scheme::Adjustable(m) => Some(MixedSurface::new(mesh, options.options, m)?),
+            s => return Err(G2Error::Scheme(s.name())),
+        };
+        let max_bytes = options.max_memory.filter(|_| mixed.is_none());
+        Self::build(mesh, options, mixed, max_bytes)
     }
 
     fn build(
@@ -264,15 +250,15 @@ impl G2Surface {
         max_bytes: Option<u64>,
     ) -> Result<Self, G2Error> {
         let limit = match max_bytes {
-            None => LimitSurface::new(mesh, options.scheme)?,
+            None => LimitSurface::new(mesh, options.options)?,
             Some(max) => {
-                LimitSurface::new_within(mesh, options.scheme, max).map_err(|e| match e {
+                LimitSurface::new_within(mesh, options.options, max).map_err(|e| match e {
                     crate::limit::BuildError::Mesh(m) => G2Error::Mesh(m),
                     e => G2Error::TooLarge(e),
                 })?
             }
         };
-        let (topo, _) = Topology::from_mesh(mesh, &options.scheme)?;
+        let (topo, _) = Topology::from_mesh(mesh, &options.options)?;
         let has_ngon = (0..topo.num_faces()).any(|f| topo.face_vertices(f).len() != 4);
         // Caps must lie inside one face of the c-refined mesh (module docs).
         let min_levels = mixed
@@ -330,20 +316,20 @@ impl G2Surface {
     }
 
     /// The Catmull-Clark limit surface of the input mesh (outside the caps the two agree,
-    /// unless the surface was built with [`new_mixed`](Self::new_mixed): then see
+    /// unless the surface was built with [`new`](Self::new) with [`Scheme::Adjustable`](crate::Scheme::Adjustable): then see
     /// [`eval_uncapped`](Self::eval_uncapped)). Its faces and sub-faces are the domain.
     pub fn limit(&self) -> &LimitSurface {
         &self.limit
     }
 
     /// The mixed surface underneath, for a surface built with
-    /// [`new_mixed`](Self::new_mixed).
+    /// [`new`](Self::new) with [`Scheme::Adjustable`](crate::Scheme::Adjustable).
     pub fn mixed(&self) -> Option<&MixedSurface> {
         self.mixed.as_ref()
     }
 
     /// The surface without caps at a point: the Catmull-Clark limit surface, or the mixed
-    /// surface for [`new_mixed`](Self::new_mixed). Outside the caps it equals
+    /// surface for [`new`](Self::new) with [`Scheme::Adjustable`](crate::Scheme::Adjustable). Outside the caps it equals
     /// [`eval_point`](Self::eval_point).
     ///
     /// # Errors

@@ -60,7 +60,7 @@ pub use track::refine_polyline;
 use crate::io::geometry::SourcedGeometry;
 use crate::mesh::{Options, PolyMesh};
 use crate::nurbs::Geometry;
-use crate::nurss::{subdivide as nurss_subdivide, NurssError, NurssOptions};
+use crate::nurss::NurssError;
 
 /// Default zone width, relative to the size (bounding-box diagonal of the control points)
 /// of each curve.
@@ -215,16 +215,10 @@ impl Interpolation {
     /// # Errors
     /// [`NurssError`] (too many levels for the index range).
     pub fn refined_mesh(&self, levels: u32, limit: bool) -> Result<PolyMesh, NurssError> {
-        let out = nurss_subdivide(
-            &self.mesh,
-            &NurssOptions {
-                levels,
-                options: Options::default(),
-                limit,
-                keep_holes: false,
-            },
-        )?;
-        Ok(out.mesh)
+        Ok(
+            crate::nurss::refined(&self.mesh, &Options::default(), levels, &mut |_, _| {})?
+                .output_mesh(false, limit),
+        )
     }
 
     /// The limit surface sampled by refining `levels` times and moving to the limit:

@@ -352,10 +352,18 @@ fn obj_mesh(bytes: &[u8], name: &str, limit: Option<u64>) -> Result<MeshFile, Re
             },
         })?,
     };
+    let mut ignored = Vec::new();
+    if !obj.normals.is_empty() {
+        ignored.push(format!(
+            "{} normals (vn): normals are not refinable data (limit normals replace them \
+             where a command computes them, e.g. subdivide --limit)",
+            obj.normals.len()
+        ));
+    }
     Ok(MeshFile {
         format: MeshFormat::Obj,
         obj,
-        ignored: Vec::new(),
+        ignored,
     })
 }
 

@@ -46,7 +46,10 @@
 //! reading a written file gives bit-identical positions, and sharpness values as
 //! round-trip exact `f32`.
 
-use crate::mesh::{BoundaryInterpolation, CreaseMethod, Options, PolyMesh, TriangleSubdivision};
+use crate::mesh::{
+    BoundaryInterpolation, CreaseMethod, FaceVaryingInterpolation, Options, PolyMesh,
+    TriangleSubdivision,
+};
 
 mod describe;
 pub mod freeform;
@@ -90,6 +93,8 @@ pub struct FileOptions {
     pub crease_method: Option<CreaseMethod>,
     /// `t smoothtriangles`.
     pub triangles: Option<TriangleSubdivision>,
+    /// `t facevaryinginterpolateboundary` (with `t facevaryingpropagatecorners` folded in).
+    pub face_varying: Option<FaceVaryingInterpolation>,
 }
 
 impl FileOptions {
@@ -99,6 +104,7 @@ impl FileOptions {
             boundary: self.boundary.unwrap_or(defaults.boundary),
             crease_method: self.crease_method.unwrap_or(defaults.crease_method),
             triangles: self.triangles.unwrap_or(defaults.triangles),
+            face_varying: self.face_varying.unwrap_or(defaults.face_varying),
         }
     }
 }

@@ -13,6 +13,14 @@ pub enum MeshError {
         /// Its vertex count.
         count: usize,
     },
+    /// A face that is not a triangle given to a scheme that refines triangles only (Loop).
+    #[error("face {face} has {count} vertices; Loop subdivision needs a mesh of triangles only")]
+    NotTriangle {
+        /// Face index.
+        face: usize,
+        /// Its vertex count.
+        count: usize,
+    },
     /// A face refers to a vertex that does not exist.
     #[error("face {face} refers to vertex {index}, but the mesh has {count} vertices")]
     VertexOutOfRange {
@@ -58,6 +66,27 @@ pub enum MeshError {
         expected: usize,
         /// Number of positions given.
         found: usize,
+    },
+    /// A face-varying channel is malformed (its values, or its index count against the
+    /// mesh's face-vertices).
+    #[error("face-varying channel '{channel}': {message}")]
+    BadFaceVarying {
+        /// The channel's name.
+        channel: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// A face refers to a face-varying value that does not exist.
+    #[error("face {face} refers to value {index} of face-varying channel '{channel}', which has {count} values")]
+    FaceVaryingOutOfRange {
+        /// The channel's name.
+        channel: String,
+        /// Face index.
+        face: usize,
+        /// The bad value index.
+        index: u64,
+        /// Number of values of the channel.
+        count: usize,
     },
     /// The face offsets of a CSR face list are not a valid prefix sum.
     #[error("face offsets are malformed: {0}")]
@@ -124,6 +153,18 @@ pub enum MeshError {
         /// What overflowed.
         what: String,
     },
+    /// A refined mesh (or its limit surface) given with its input has another number of
+    /// faces than the refinement makes
+    /// ([`MixedSurface::from_refined`](crate::MixedSurface::from_refined)).
+    #[error(
+        "the refined mesh has {found} faces, not the {expected} that refining the input makes"
+    )]
+    NotRefined {
+        /// Faces the refinement makes.
+        expected: u64,
+        /// Faces given.
+        found: usize,
+    },
 }
 
 /// Something accepted but worth telling the user (OpenSubdiv reports these too).
@@ -162,6 +203,14 @@ pub enum TopologyWarning {
         /// The first one.
         first: u32,
     },
+    /// The mesh has face-varying channels (texture coordinates) that this scheme does not
+    /// refine yet; the result has none.
+    FaceVaryingNotRefined {
+        /// How many channels.
+        channels: usize,
+        /// The scheme ([`Scheme::name`](crate::scheme::Scheme::name)).
+        scheme: &'static str,
+    },
 }
 
 impl TopologyWarning {
@@ -179,6 +228,9 @@ impl TopologyWarning {
             }
             Self::NonManifoldEdges { .. } => "are treated as infinitely sharp, as OpenSubdiv does",
             Self::NonManifoldVertices { .. } => "are treated as sharp, as OpenSubdiv does",
+            Self::FaceVaryingNotRefined { .. } => {
+                "are not refined by this scheme yet: the output has no texture coordinates"
+            }
         }
     }
 }
@@ -205,6 +257,11 @@ impl std::fmt::Display for TopologyWarning {
             Self::NonManifoldVertices { count, first } => write!(
                 f,
                 "{count} non-manifold vertex/vertices (first: {first}) {then}"
+            ),
+            Self::FaceVaryingNotRefined { channels, scheme } => write!(
+                f,
+                "{channels} face-varying channel(s) (texture coordinates) with the {scheme} \
+                 scheme {then}"
             ),
         }
     }

@@ -11,6 +11,7 @@
 
 mod crease_angle;
 mod error;
+mod face_varying;
 mod options;
 mod packed;
 mod polymesh;
@@ -20,7 +21,10 @@ mod topology;
 
 pub use crease_angle::{crease_by_angle, CreaseAngleError};
 pub use error::{MeshError, TopologyWarning};
-pub use options::{BoundaryInterpolation, CreaseMethod, Options, TriangleSubdivision};
+pub use face_varying::FaceVarying;
+pub use options::{
+    BoundaryInterpolation, CreaseMethod, FaceVaryingInterpolation, Options, TriangleSubdivision,
+};
 pub(crate) use packed::PackedTopology;
 pub(crate) use polymesh::check_coordinates;
 pub use polymesh::{PolyMesh, MAX_COORDINATE};

@@ -137,6 +137,90 @@ impl fmt::Display for TriangleSubdivision {
     }
 }
 
+/// Where face-varying data (texture coordinates) is interpolated linearly instead of
+/// smoothly: OpenSubdiv's `Sdc::Options::FVarLinearInterpolation`, in its order, from
+/// completely smooth to completely linear. "Corners" are face-varying boundary values
+/// with a single face; "boundaries" are all face-varying boundaries (seams and mesh
+/// boundaries). Where face-varying data is continuous and away from boundaries, every mode
+/// but [`All`](Self::All) uses the vertex rules. OBJ tag
+/// `t facevaryinginterpolateboundary 1/0/0 K`, `K` = 0..5 in the order below.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum FaceVaryingInterpolation {
+    /// `FVAR_LINEAR_NONE`: smooth everywhere; boundaries are cubic B-spline creases and
+    /// corners are smooth (Hbr's "edge only").
+    None,
+    /// `FVAR_LINEAR_CORNERS_ONLY`: sharpen corners only.
+    CornersOnly,
+    /// `FVAR_LINEAR_CORNERS_PLUS1`: sharpen corners, junctions of three or more regions,
+    /// and the two values of a vertex when either has an infinitely sharp or
+    /// discontinuous edge inside its span (Hbr's "edge and corner").
+    CornersPlus1,
+    /// `FVAR_LINEAR_CORNERS_PLUS2`: like [`CornersPlus1`](Self::CornersPlus1), and both
+    /// values of a vertex when one of them is a corner, and darts (Hbr's "edge and corner"
+    /// with "propagate corners").
+    CornersPlus2,
+    /// `FVAR_LINEAR_BOUNDARIES`: linear along every face-varying boundary (Hbr's
+    /// "always sharp").
+    Boundaries,
+    /// `FVAR_LINEAR_ALL` (the default): linear everywhere (bilinear refinement of the
+    /// values).
+    #[default]
+    All,
+}
+
+impl FaceVaryingInterpolation {
+    /// Every mode, in the order of the OBJ tag's value.
+    pub const ALL_MODES: [Self; 6] = [
+        Self::None,
+        Self::CornersOnly,
+        Self::CornersPlus1,
+        Self::CornersPlus2,
+        Self::Boundaries,
+        Self::All,
+    ];
+
+    /// The mode of OpenSubdiv's `t facevaryinginterpolateboundary` tag value (0 none ..
+    /// 5 all).
+    pub fn from_tag_value(v: i64) -> Option<Self> {
+        usize::try_from(v)
+            .ok()
+            .and_then(|i| Self::ALL_MODES.get(i).copied())
+    }
+
+    /// Inverse of [`from_tag_value`](Self::from_tag_value).
+    pub fn tag_value(self) -> i64 {
+        Self::ALL_MODES.iter().position(|&m| m == self).unwrap_or(5) as i64
+    }
+}
+
+impl FromStr for FaceVaryingInterpolation {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        Self::ALL_MODES
+            .iter()
+            .copied()
+            .find(|m| m.to_string() == s)
+            .ok_or_else(|| {
+                format!(
+                    "unknown face-varying mode '{s}' (expected none, corners-only, corners-plus1, corners-plus2, boundaries or all)"
+                )
+            })
+    }
+}
+
+impl fmt::Display for FaceVaryingInterpolation {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Self::None => "none",
+            Self::CornersOnly => "corners-only",
+            Self::CornersPlus1 => "corners-plus1",
+            Self::CornersPlus2 => "corners-plus2",
+            Self::Boundaries => "boundaries",
+            Self::All => "all",
+        })
+    }
+}
+
 /// Scheme options of a mesh (OpenSubdiv's `Sdc::Options`, Catmull-Clark scheme).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub struct Options {
@@ -146,4 +230,6 @@ pub struct Options {
     pub crease_method: CreaseMethod,
     /// Edge rule next to triangles.
     pub triangles: TriangleSubdivision,
+    /// Linear interpolation of face-varying data ([`crate::mesh::FaceVarying`]).
+    pub face_varying: FaceVaryingInterpolation,
 }

@@ -2,7 +2,7 @@
 
 use std::hash::BuildHasherDefault;
 
-use super::{KnotTags, MeshError, Tags, TopologyWarning};
+use super::{FaceVarying, KnotTags, MeshError, Tags, TopologyWarning};
 use crate::hash::FxHasher;
 
 type BuildFx = BuildHasherDefault<FxHasher>;
@@ -40,6 +40,10 @@ pub struct PolyMesh {
     /// Knot intervals and rational weights for non-uniform Catmull-Clark subdivision
     /// ([`crate::nurss`]); Catmull-Clark ignores them. Checked by [`KnotTags::validate`].
     pub knots: KnotTags,
+    /// Face-varying channels (texture coordinates and any other data per face corner),
+    /// each with one index per face-vertex; the OBJ reader names its `vt` channel `"uv"`.
+    /// Checked by [`validate`](Self::validate).
+    pub face_varying: Vec<FaceVarying>,
 }
 
 /// A mesh lent: what [`LimitSurface::new`](crate::limit::LimitSurface::new) copies.
@@ -110,6 +114,7 @@ impl PolyMesh {
             face_verts,
             tags: Tags::default(),
             knots: KnotTags::default(),
+            face_varying: Vec::new(),
         }
     }
 
@@ -157,7 +162,11 @@ impl PolyMesh {
                 }
             }
         }
-        self.validate_tags()
+        self.validate_tags()?;
+        for channel in &self.face_varying {
+            channel.validate(&self.face_offsets)?;
+        }
+        Ok(())
     }
 
     /// The first face that lists a vertex more than once, as an error.
@@ -274,7 +283,7 @@ impl PolyMesh {
     }
 
     /// The mesh's positions, face offsets and face vertices (CSR) and tags, taken apart
-    /// (the knot tags are dropped).
+    /// (the knot tags and face-varying channels are dropped).
     pub(crate) fn into_parts(self) -> (Vec<[f64; 3]>, Vec<u32>, Vec<u32>, Tags) {
         (
             self.positions,

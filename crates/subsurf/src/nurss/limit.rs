@@ -68,11 +68,11 @@
 use nalgebra::{DMatrix, RowDVector};
 use rayon::prelude::*;
 
-use super::{project, Nurss};
 use crate::mesh::{Rule, Topology};
 use crate::refine::nurss::{
     across_values, child_knots, effective_knots, refine_nurss_step, AcrossValues, NurssMasks,
 };
+use crate::refine::nurss::{project, Nurss};
 use crate::refine::refine_topology;
 use crate::scheme::nurss::{
     curve_edge_weights, edge_weights, face_weights, midpoint_weights, vertex_weights, RingIntervals,
@@ -158,7 +158,7 @@ impl Nurss {
 
 /// The limit point of every vertex of a level as a row of weights on the level's points
 /// (CSR): [`Nurss::limit_rows`], the rows of re-posing the limit
-/// ([`crate::Reposer::new_nurss`]).
+/// ([`crate::Reposer::new`] with [`Scheme::Nurss`](crate::Scheme::Nurss)).
 #[derive(Clone, Debug, Default)]
 pub(crate) struct LimitRows {
     offsets: Vec<u32>,

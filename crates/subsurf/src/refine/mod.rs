@@ -25,14 +25,22 @@
 //! assert!(temp.iter().all(|t| (0.0..=1.0).contains(&t[0])));
 //! ```
 
-pub mod nurss;
+mod error;
+mod face_varying;
+mod loop_;
+pub(crate) mod nurss;
 pub(crate) mod patch;
 pub mod plan;
 mod plan_patches;
 mod plan_ring;
 mod primvar;
 mod topology;
+mod tri_topology;
+pub(crate) mod uniform;
 
+pub use error::Error;
+pub use face_varying::FaceVaryingRefiner;
+pub use loop_::{interpolate_loop, LoopRefiner};
 pub(crate) use plan::refinement_rows;
 pub use plan::{PlanScratch, RefinePlan};
 pub use primvar::{interpolate, interpolate_with};

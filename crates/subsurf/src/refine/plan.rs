@@ -23,9 +23,9 @@
 //! # Schemes
 //! The shape-adjustable scheme with parameter `c` ([`crate::scheme::adjustable`], which
 //! gives its source) changes weights only, never the topology, numbering or sharpness
-//! decay, so its refinement is linear in the positions too. [`RefinePlan::new_mixed`] builds the plan of mixed subdivision
-//! ([`subdivide_mixed`](crate::subdivide_mixed): the adjustable masks on the first `k`
-//! levels, then Catmull-Clark): its sparse rows take each level's masks from that level's
+//! decay, so its refinement is linear in the positions too. The plan of mixed subdivision
+//! ([`Scheme::Adjustable`]: the adjustable masks on the first `k` levels, then
+//! Catmull-Clark): its sparse rows take each level's masks from that level's
 //! scheme. Its patches carry over as well: on a regular grid the adjustable masks are the
 //! tensor product of the curve scheme `(c/4, 1 − c/2, c/4)`, `(½, ½)`, which has the cubic
 //! B-spline's support, so a regular patch's kernel is the same `W P Wᵀ` with `W` computed
@@ -35,11 +35,11 @@
 //! composes the levels it spans, each with its own scheme's rules, so it may span the last
 //! adjusted levels and the first Catmull-Clark ones.
 //!
-//! Non-uniform subdivision (NURSS; [`RefinePlan::new_nurss`], see [`crate::nurss`]) is
+//! Non-uniform subdivision ([`Scheme::Nurss`], see [`crate::nurss`]) is
 //! linear in the (homogeneous) points too: its weights depend on the knot intervals, which
 //! refinement computes level by level from the base mesh's, never on the positions. Its
 //! plan is sparse rows on every level, each the row of `refine::nurss`'s masks (the same
-//! weights [`interpolate_nurss`](super::nurss::interpolate_nurss) applies, computed once per
+//! weights `refine::nurss::interpolate_nurss` applies, computed once per
 //! level with face points and edge midpoints expanded into parent vertices). No patch
 //! kernel applies: with unequal intervals the regular grid is a non-uniform B-spline, whose
 //! weights vary from quad to quad.
@@ -92,13 +92,14 @@ use rayon::prelude::*;
 use super::nurss::{child_knots, NurssKnots, NurssMasks};
 use super::plan_patches::{Claims, PatchLayer, BASE_RING_DEPTH, QUAD_DEPTH};
 use super::topology::{refine_topology, run, split_pieces};
+use super::Error;
 use crate::mesh::{
     MeshError, Options, PolyMesh, Rule, Topology, TopologyWarning, TriangleSubdivision,
 };
 use crate::scheme::adjustable::Adjustable;
 use crate::scheme::adjustable::Mixed;
 use crate::scheme::catmark::{self, VertexContext, VertexMask};
-use crate::scheme::Rules;
+use crate::scheme::{Rules, Scheme};
 
 /// Rows per block: the unit of parallel work when applying a step, and of building it.
 const BLOCK: usize = 1024;
@@ -112,13 +113,13 @@ const PAR_MIN_ROWS: usize = 16 * 1024;
 /// ```
 /// use subsurf::mesh::{Options, PolyMesh};
 /// use subsurf::refine::RefinePlan;
-/// use subsurf::{subdivide, SubdivideOptions};
+/// use subsurf::{subdivide, Scheme, SubdivideOptions};
 ///
 /// let mut quad = PolyMesh::from_faces(
 ///     vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]],
 ///     &[[0u32, 1, 2, 3]],
 /// ).unwrap();
-/// let plan = RefinePlan::new(&quad, Options::default(), 3).unwrap();
+/// let plan = RefinePlan::new(&quad, Scheme::CatmullClark, Options::default(), 3).unwrap();
 /// // Move a corner up: re-posing costs one sparse product per level.
 /// quad.positions_mut()[2][2] = 1.0;
 /// let moved = plan.apply(quad.positions());
@@ -200,38 +201,31 @@ pub struct PlanScratch<const D: usize = 3> {
 
 impl RefinePlan {
     /// Builds the plan that maps the positions of `mesh` (or any values at its vertices)
-    /// to those of its uniform refinement to `levels`, with the scheme `options` and the
-    /// mesh's tags, exactly as [`subdivide`](fn@crate::subdivide) would refine it.
+    /// to those of its uniform refinement to `levels` with `scheme`, the rules' `options`
+    /// and the mesh's tags, exactly as [`subdivide`](fn@crate::subdivide) would refine it
+    /// (see "Schemes" in the module documentation for how each scheme is stored).
     ///
-    /// # Errors
-    /// [`MeshError`] for an invalid mesh or tags, or when the last level would exceed
-    /// 32-bit indices.
-    pub fn new(mesh: &PolyMesh, options: Options, levels: u32) -> Result<Self, MeshError> {
-        Self::build(mesh, options, levels, BASE_RING_DEPTH, None)
-    }
-
-    /// The plan of mixed subdivision: as [`new`](Self::new), but the first `mixed.steps`
-    /// levels apply the shape-adjustable masks with parameter `mixed.scheme`, as
-    /// [`subdivide_mixed`](crate::subdivide_mixed) refines (see "Schemes" in the module
-    /// documentation).
+    /// With [`Scheme::Nurss`], a mesh with weights (`t weight` tags) is rational: NURSS
+    /// refines its homogeneous points `(w x, w y, w z, w)`, and so must the plan; divide by
+    /// the last coordinate after applying it ([`Reposer`](crate::Reposer) does both).
     ///
     /// ```
     /// use subsurf::mesh::{Options, PolyMesh};
     /// use subsurf::refine::RefinePlan;
     /// use subsurf::scheme::adjustable::Adjustable;
-    /// use subsurf::{subdivide_mixed, Mixed, SubdivideOptions};
+    /// use subsurf::{subdivide, Mixed, Scheme, SubdivideOptions};
     ///
     /// let mut quad = PolyMesh::from_faces(
     ///     vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]],
     ///     &[[0u32, 1, 2, 3]],
     /// )?;
     /// // c = 0.3 for the first two of four levels, then Catmull-Clark.
-    /// let mixed = Mixed { scheme: Adjustable::new(0.3)?, steps: 2 };
-    /// let plan = RefinePlan::new_mixed(&quad, Options::default(), 4, mixed)?;
+    /// let scheme = Scheme::Adjustable(Mixed { scheme: Adjustable::new(0.3)?, steps: 2 });
+    /// let plan = RefinePlan::new(&quad, scheme, Options::default(), 4)?;
     /// quad.positions_mut()[2][2] = 1.0;
     /// let moved = plan.apply(quad.positions());
-    /// let opts = SubdivideOptions { levels: 4, ..Default::default() };
-    /// let full = subdivide_mixed(&quad, &opts, mixed)?;
+    /// let opts = SubdivideOptions { levels: 4, scheme, ..Default::default() };
+    /// let full = subdivide(&quad, &opts)?;
     /// for (a, b) in moved.iter().zip(full.mesh.positions()) {
     ///     assert!((0..3).all(|k| (a[k] - b[k]).abs() < 1e-14));
     /// }
@@ -239,20 +233,29 @@ impl RefinePlan {
     /// ```
     ///
     /// # Errors
-    /// As [`new`](Self::new).
-    pub fn new_mixed(
+    /// [`Error::Mesh`] for an invalid mesh or tags, or when the last level would exceed
+    /// 32-bit indices; [`Error::Nurss`] for bad knot tags or semi-sharp creases with NURSS;
+    /// [`Error::Unsupported`] for Loop and bilinear, whose plans are not built yet.
+    pub fn new(
         mesh: &PolyMesh,
+        scheme: Scheme,
         options: Options,
         levels: u32,
-        mixed: Mixed,
-    ) -> Result<Self, MeshError> {
-        Self::build(mesh, options, levels, BASE_RING_DEPTH, Some(mixed))
+    ) -> Result<Self, Error> {
+        match scheme.mixed() {
+            Some(mixed) => Ok(Self::build(mesh, options, levels, BASE_RING_DEPTH, mixed)?),
+            None if scheme == Scheme::Nurss => Ok(super::nurss::plan(mesh, options, levels)?),
+            None => Err(Error::Unsupported {
+                what: "building a re-posing plan",
+                scheme: scheme.name(),
+            }),
+        }
     }
 
     /// The plan of NURSS refinement from the complete level `level` (the base level of a
     /// [`Nurss`](crate::nurss::Nurss), whose warnings are `warnings`) with the intervals
     /// `knots`, `levels` times: sparse rows of [`NurssMasks`] on every level
-    /// ([`new_nurss`](Self::new_nurss) checks the mesh and reads its tags).
+    /// ([`new`](Self::new) checks the mesh and reads its tags).
     pub(crate) fn from_nurss(
         mut level: Topology,
         mut knots: NurssKnots,
@@ -288,18 +291,17 @@ impl RefinePlan {
     /// [`new`](Self::new) with patches of at most `max_depth` levels (none below 2; past
     /// [`QUAD_DEPTH`], only on the base mesh's faces that are not quads, when it refines
     /// [`BASE_RING_DEPTH`] levels), and the adjustable masks on the first levels that
-    /// `mixed` says.
+    /// `mixed` says ([`Mixed::CATMULL_CLARK`]: none).
     pub(super) fn build(
         mesh: &PolyMesh,
         options: Options,
         levels: u32,
         max_depth: u32,
-        mixed: Option<Mixed>,
+        mixed: Mixed,
     ) -> Result<Self, MeshError> {
         mesh.validate()?;
         check_size(mesh, levels)?;
         let (mut level, warnings) = Topology::from_mesh(mesh, &options)?;
-        let mixed = mixed.unwrap_or(Mixed::CATMULL_CLARK);
         let depth = if levels < 2 || max_depth < 2 {
             0
         } else if levels == BASE_RING_DEPTH
@@ -336,18 +338,20 @@ impl RefinePlan {
 
     /// Estimated peak memory in bytes of building a plan for `mesh` to `levels` and
     /// applying it once, saturating at `u64::MAX`: twice [`estimate_memory`] of a
-    /// refinement to the same level (building holds the last four levels at once; the
+    /// Catmull-Clark refinement to the same level (building holds the last four levels at once; the
     /// measured peak of `subsurf bench --replay` on `catmark_bishop` to level 6 is
     /// ~120 bytes per output face, the estimate 320). Check it before [`new`](Self::new)
     /// to refuse a level that would not fit instead of failing to allocate.
     ///
     /// [`estimate_memory`]: crate::estimate_memory
     pub fn estimate_memory(mesh: &PolyMesh, levels: u32) -> u64 {
-        let opts = crate::SubdivideOptions {
+        super::uniform::estimate_uniform(
+            mesh,
+            super::uniform::Steps::Family(Mixed::CATMULL_CLARK),
             levels,
-            ..Default::default()
-        };
-        crate::estimate_memory(mesh, &opts).saturating_mul(2)
+            false,
+        )
+        .saturating_mul(2)
     }
 
     /// Number of patches: faces whose last levels the plan computes by the bicubic kernel
@@ -1124,7 +1128,8 @@ mod tests {
         let (obj, options) = shape("catmark_pole360");
         for levels in 1..=3 {
             // Sparse rows only (patches are not near the pole; see `patches_match_rows`).
-            let plan = RefinePlan::build(&obj.mesh, options, levels, 0, None).unwrap();
+            let plan =
+                RefinePlan::build(&obj.mesh, options, levels, 0, Mixed::CATMULL_CLARK).unwrap();
             let exact = apply_dd(&plan, obj.mesh.positions());
             let got = plan.apply(obj.mesh.positions());
             let opts = crate::SubdivideOptions {
@@ -1174,10 +1179,11 @@ mod tests {
         let size = (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f64>().sqrt();
         let (mut edge_patches, mut ring_patches) = (0, 0);
         for levels in 2..=4 {
-            let rows = RefinePlan::build(mesh, options, levels, 0, None).unwrap();
+            let rows = RefinePlan::build(mesh, options, levels, 0, Mixed::CATMULL_CLARK).unwrap();
             let want = rows.apply(pos);
             for depth in 2..=BASE_RING_DEPTH {
-                let plan = RefinePlan::build(mesh, options, levels, depth, None).unwrap();
+                let plan =
+                    RefinePlan::build(mesh, options, levels, depth, Mixed::CATMULL_CLARK).unwrap();
                 // (A face is a patch once its corners are smooth or regular: on every
                 // level of a mesh without sharp features.)
                 assert!(
@@ -1212,7 +1218,7 @@ mod tests {
         for name in ["catmark_pawn", "catmark_torus_creases0", "catmark_bishop"] {
             check_patches(name);
             let (obj, options) = shape(name);
-            let plan = RefinePlan::new(&obj.mesh, options, 4).unwrap();
+            let plan = RefinePlan::new(&obj.mesh, Scheme::CatmullClark, options, 4).unwrap();
             let tail = plan.tail.as_ref().unwrap();
             let rows = tail.out_rows.len() as f64 / tail.num_out as f64;
             // Measured: 9 % (pawn), 11 % (torus_creases0), 14 % (bishop) of level 4.
@@ -1255,7 +1261,7 @@ mod tests {
         // The torus has no boundary and no infinitely sharp edge: its edge patches are
         // at the semi-sharp creases. With Chaikin's decay they are not patches.
         let (obj, options) = shape("catmark_torus_creases0");
-        let plan = RefinePlan::new(&obj.mesh, options, 4).unwrap();
+        let plan = RefinePlan::new(&obj.mesh, Scheme::CatmullClark, options, 4).unwrap();
         assert!(plan
             .tail
             .iter()
@@ -1265,7 +1271,7 @@ mod tests {
             crease_method: crate::mesh::CreaseMethod::Chaikin,
             ..options
         };
-        let plan = RefinePlan::new(&obj.mesh, chaikin, 4).unwrap();
+        let plan = RefinePlan::new(&obj.mesh, Scheme::CatmullClark, chaikin, 4).unwrap();
         assert!(plan
             .tail
             .iter()
@@ -1383,7 +1389,7 @@ mod tests {
     #[test]
     fn rare_rings_are_rows() {
         let (obj, options) = shape("catmark_pyramid");
-        let plan = RefinePlan::new(&obj.mesh, options, 2).unwrap();
+        let plan = RefinePlan::new(&obj.mesh, Scheme::CatmullClark, options, 2).unwrap();
         let layers = &plan.tail.as_ref().unwrap().layers;
         assert_eq!(layers.len(), 1);
         assert_eq!(layers[0].rings.len(), 4);
@@ -1409,7 +1415,8 @@ mod tests {
         let (_, rings) = check_mesh_patches(&tri, Options::default(), "bishop_tri");
         assert!(rings > 0);
         for levels in 2..=5 {
-            let plan = RefinePlan::new(&tri, Options::default(), levels).unwrap();
+            let plan =
+                RefinePlan::new(&tri, Scheme::CatmullClark, Options::default(), levels).unwrap();
             let tail = plan.tail.as_ref().unwrap();
             let depths: Vec<u32> = tail.layers.iter().map(|l| l.depth()).collect();
             let first = levels.min(3) + u32::from(levels == 4);
@@ -1464,7 +1471,7 @@ mod tests {
             // Ring patches at boundary corners too leave 5.5 %, 1.2 % and 0.28 % of the
             // output (measured in each mode) to sparse rows at levels 2 to 4.
             for (levels, bound) in [(2, 0.07), (3, 0.02), (4, 0.005)] {
-                let plan = RefinePlan::new(&open, options, levels).unwrap();
+                let plan = RefinePlan::new(&open, Scheme::CatmullClark, options, levels).unwrap();
                 let tail = plan.tail.as_ref().unwrap();
                 let rows = tail.out_rows.len() as f64 / tail.num_out as f64;
                 assert!(
@@ -1479,7 +1486,8 @@ mod tests {
     #[test]
     fn classes_are_shared() {
         let (obj, _) = shape("catmark_torus");
-        let plan = RefinePlan::build(&obj.mesh, Options::default(), 3, 0, None).unwrap();
+        let plan =
+            RefinePlan::build(&obj.mesh, Options::default(), 3, 0, Mixed::CATMULL_CLARK).unwrap();
         let last = plan.steps.last().unwrap();
         // Regular quads: face points, smooth edge points and valence-4 vertex points.
         assert_eq!(last.class_offsets.len() - 1, 3);

@@ -55,7 +55,7 @@
 //! P₁) = P₀` and the edge rule the phantom `(3 P₀ − P₁)/2` as before, so along the side
 //! the tensor product applies `(c/4, 1 − c/2, c/4)` and the midpoint, the adjustable
 //! scheme's crease rules; its corners stay fixed. `tests/integration/replay.rs` compares
-//! such plans with [`subdivide_mixed`](crate::subdivide_mixed) on every regression shape.
+//! such plans with [`subdivide`](fn@crate::subdivide) with [`Scheme::Adjustable`](crate::Scheme::Adjustable) on every regression shape.
 //!
 //! A semi-sharp crease or corner is such a sharp side for the `d` levels of a patch when it
 //! keeps the crease rules through all of them: with the uniform decay, sharpness at least

@@ -368,7 +368,7 @@ impl Kernel {
     pub(super) fn new(key: &[u32], depth: u32, options: &Options, mixed: Mixed) -> Option<Kernel> {
         let mesh = template(key)?;
         let points = mesh.num_vertices();
-        let plan = RefinePlan::build(&mesh, *options, depth, 0, Some(mixed)).ok()?;
+        let plan = RefinePlan::build(&mesh, *options, depth, 0, mixed).ok()?;
         let (mut level, _) = Topology::from_mesh(&mesh, options).ok()?;
         let mut levels = Vec::with_capacity(depth as usize);
         for _ in 1..depth {

@@ -55,8 +55,6 @@ pub fn interpolate_with<R: Rules, const D: usize>(
 ) {
     let nv = parent.num_vertices();
     let nf = parent.num_faces();
-    // Child edge `s + 2e + k` is the half of parent edge `e` at its end `k`.
-    let s = parent.face_verts.len();
     assert_eq!(src.len(), nv, "source has the wrong number of values");
     assert_eq!(
         dst.len(),
@@ -72,7 +70,6 @@ pub fn interpolate_with<R: Rules, const D: usize>(
 
     // Edge points.
     let tri_option = options.triangles == crate::mesh::TriangleSubdivision::Smooth;
-    let is_tri = |f: Option<&u32>| f.is_some_and(|&f| parent.face_vertices(f as usize).len() == 3);
     let edge_pass = |(start, out): (usize, &mut [[f64; D]])| {
         for (i, o) in out.iter_mut().enumerate() {
             let e = start + i;
@@ -85,9 +82,7 @@ pub fn interpolate_with<R: Rules, const D: usize>(
                 *o = rules.smooth_edge_point([pa, pb], [f0, f1]);
                 continue;
             }
-            let tri = [is_tri(faces.first()), is_tri(faces.get(1))];
-            let child_rule = child.vert_tags[nv + nf + e].get().rule;
-            let m = rules.edge_mask(options, sharp, child_rule, faces.len(), tri);
+            let m = edge_mask_at(parent, child, options, rules, e);
             let mut acc = [0.0; D];
             for k in 0..D {
                 acc[k] = m.vertex * (pa[k] + pb[k]);
@@ -126,25 +121,8 @@ pub fn interpolate_with<R: Rules, const D: usize>(
                 );
                 continue;
             }
-            pe.clear();
-            pe.extend(edges.iter().map(|&e| parent.edge_sharpness[e as usize]));
-            ce.clear();
-            ce.extend(
-                edges
-                    .iter()
-                    .zip(parent.vertex_edge_locals(v))
-                    .map(|(&e, &l)| child.edge_sharpness[s + 2 * e as usize + l as usize]),
-            );
-            let ctx = VertexContext {
-                parent_rule: ptag.rule,
-                child_rule: child.vert_tags[v].get().rule,
-                parent_sharpness: parent.vert_sharpness[v],
-                child_sharpness: child.vert_sharpness[v],
-                parent_edges: &pe,
-                child_edges: &ce,
-                num_faces: faces.len(),
-            };
-            rules.vertex_mask(options.crease_method, &ctx, &mut mask, &mut child_mask);
+            let scratch = (&mut pe, &mut ce, &mut child_mask);
+            vertex_mask_at(parent, child, options, rules, v, &mut mask, scratch);
             let mut acc = [0.0; D];
             if mask.has_faces {
                 for (&f, &w) in faces.iter().zip(&mask.faces) {
@@ -204,4 +182,66 @@ pub(super) fn face_points<const D: usize>(
         }
     };
     run_chunks(face_pts, face_pass);
+}
+
+/// The mask of parent edge `e`'s child vertex (OpenSubdiv's `ComputeEdgeVertexMask`): the
+/// scheme's [`Rules::edge_mask`] for the edge's sharpness, its faces (and which of the first
+/// two are triangles) and the rule of its child vertex in `child`.
+pub(super) fn edge_mask_at<R: Rules>(
+    parent: &Topology,
+    child: &Topology,
+    options: &Options,
+    rules: R,
+    e: usize,
+) -> catmark::EdgeMask {
+    let faces = parent.edge_face_list(e);
+    let is_tri = |f: Option<&u32>| f.is_some_and(|&f| parent.face_vertices(f as usize).len() == 3);
+    let tri = [is_tri(faces.first()), is_tri(faces.get(1))];
+    let child_rule = child.vert_tags[parent.num_vertices() + parent.num_faces() + e]
+        .get()
+        .rule;
+    rules.edge_mask(
+        options,
+        parent.edge_sharpness[e],
+        child_rule,
+        faces.len(),
+        tri,
+    )
+}
+
+/// The mask of parent vertex `v`'s child vertex into `mask` (OpenSubdiv's
+/// `ComputeVertexVertexMask`): the scheme's [`Rules::vertex_mask`] for the parent and
+/// child rules and sharpness of `v` and of its edges (the child edge `S + 2e + k` is the
+/// half of parent edge `e` at its end `k`, `S` the parent's face-vertex count). `scratch`
+/// holds the two sharpness lists and the child rule's mask.
+pub(super) fn vertex_mask_at<R: Rules>(
+    parent: &Topology,
+    child: &Topology,
+    options: &Options,
+    rules: R,
+    v: usize,
+    mask: &mut VertexMask,
+    (pe, ce, child_mask): (&mut Vec<f32>, &mut Vec<f32>, &mut VertexMask),
+) {
+    let s = parent.face_verts.len();
+    let edges = parent.vertex_edges(v);
+    pe.clear();
+    pe.extend(edges.iter().map(|&e| parent.edge_sharpness[e as usize]));
+    ce.clear();
+    ce.extend(
+        edges
+            .iter()
+            .zip(parent.vertex_edge_locals(v))
+            .map(|(&e, &l)| child.edge_sharpness[s + 2 * e as usize + l as usize]),
+    );
+    let ctx = VertexContext {
+        parent_rule: parent.vert_tags[v].get().rule,
+        child_rule: child.vert_tags[v].get().rule,
+        parent_sharpness: parent.vert_sharpness[v],
+        child_sharpness: child.vert_sharpness[v],
+        parent_edges: pe,
+        child_edges: ce,
+        num_faces: parent.vertex_faces(v).len(),
+    };
+    rules.vertex_mask(options.crease_method, &ctx, mask, child_mask);
 }

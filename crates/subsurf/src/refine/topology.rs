@@ -38,7 +38,7 @@ pub(super) fn rot(n: usize, corner: usize) -> usize {
 /// runs the edge away from `v` (which picks the child of a degenerate edge, whose two ends
 /// are both `v`: the first child when leaving, the second when entering).
 #[inline]
-fn edge_child_at(p: &Topology, s: u32, e: u32, v: u32, leaving: bool) -> u32 {
+pub(super) fn edge_child_at(p: &Topology, s: u32, e: u32, v: u32, leaving: bool) -> u32 {
     let [a, b] = p.edge_verts[e as usize];
     let k = if a == b { !leaving } else { a != v };
     s + 2 * e + k as u32
@@ -286,7 +286,7 @@ fn refine(p: &Topology, options: &Options, full: bool, with_edge_verts: bool) ->
     }
 
     let (edge_tags, edge_sharpness) = child_edge_tags(p, options.crease_method);
-    let (vert_tags, vert_sharpness) = child_vertex_tags(p, &edge_tags);
+    let (vert_tags, vert_sharpness) = child_vertex_tags(p, &edge_tags, nf);
     let mut child = Topology {
         num_vertices: cnv as u32,
         face_offsets,
@@ -311,7 +311,10 @@ fn refine(p: &Topology, options: &Options, full: bool, with_edge_verts: bool) ->
 /// Tags and sharpness of the child edges (OpenSubdiv's `propagateComponentTags` and
 /// `subdivideEdgeSharpness`): edges inside parent faces are smooth; the halves of a parent
 /// edge inherit its tag, and semi-sharp ones decay.
-fn child_edge_tags(p: &Topology, method: CreaseMethod) -> (Vec<PackedEdgeTag>, Vec<f32>) {
+pub(super) fn child_edge_tags(
+    p: &Topology,
+    method: CreaseMethod,
+) -> (Vec<PackedEdgeTag>, Vec<f32>) {
     let s = p.face_verts.len();
     let ne = p.num_edges();
     let mut tags = filled(s + 2 * ne, PackedEdgeTag::default());
@@ -369,12 +372,14 @@ fn child_edge_tags(p: &Topology, method: CreaseMethod) -> (Vec<PackedEdgeTag>, V
 /// `propagateComponentTags`, `subdivideVertexSharpness`, `reclassifySemisharpVertices`):
 /// vertex children inherit and decay, and are re-classified where sharp features decayed;
 /// face children are smooth; edge children are creases where the edge was sharp.
-fn child_vertex_tags(
+/// `nf` is the number of face children, which come between the vertex and the edge
+/// children: one per parent face for quad splits, none for triangle splits.
+pub(super) fn child_vertex_tags(
     p: &Topology,
     edge_tags: &[PackedEdgeTag],
+    nf: usize,
 ) -> (Vec<PackedVertexTag>, Vec<f32>) {
     let nv = p.num_vertices();
-    let nf = p.num_faces();
     let ne = p.num_edges();
     let s = p.face_verts.len();
     let mut tags = filled(nv + nf + ne, PackedVertexTag::default());

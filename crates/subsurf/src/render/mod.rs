@@ -210,9 +210,6 @@ pub enum RenderError {
     /// Evaluating the limit surface failed (not expected for a surface of this mesh).
     #[error(transparent)]
     Eval(#[from] EvalError),
-    /// Refining the mesh failed.
-    #[error(transparent)]
-    Subdivide(#[from] crate::Error),
     /// Too many polygons to draw.
     #[error("drawing this would take about {faces} polygons, more than {limit}: use a lower rate or level")]
     TooLarge {

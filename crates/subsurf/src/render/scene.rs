@@ -8,7 +8,8 @@ use crate::geom::{self, V3};
 use crate::limit::Surface;
 use crate::limit::{tessellate, LimitSurface, SurfacePoint};
 use crate::mesh::{Options, PolyMesh};
-use crate::{subdivide, SubdivideOptions};
+use crate::refine::uniform::refine_mesh;
+use crate::scheme::adjustable::Mixed;
 use rayon::prelude::*;
 
 /// Points evaluated per call of [`LimitSurface::eval_many`] (bounds the memory of the
@@ -131,16 +132,7 @@ impl Scene {
 
     /// The mesh refined `levels` times (holes left out), normals averaged from its faces.
     fn from_level(mesh: &PolyMesh, options: &Options, levels: u32) -> Result<Self, RenderError> {
-        let out = subdivide(
-            mesh,
-            &SubdivideOptions {
-                levels,
-                options: *options,
-                keep_holes: true,
-                ..SubdivideOptions::default()
-            },
-        )?;
-        let m = &out.mesh;
+        let m = &refine_mesh(mesh, options, Mixed::CATMULL_CLARK, levels, true)?;
         let mut hole = vec![false; m.num_faces()];
         for &h in &m.tags.holes {
             if let Some(x) = hole.get_mut(h as usize) {

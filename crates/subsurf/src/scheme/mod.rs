@@ -7,18 +7,24 @@
 //!   tangent masks.
 //! - [`adjustable`]: the shape-adjustable Catmull-Clark scheme with parameter `c`
 //!   (`c = ½` is Catmull-Clark).
+//! - [`bilinear`]: OpenSubdiv's bilinear scheme (midpoints and centroids, any polygons).
+//! - [`loop_`]: Loop's triangle scheme with OpenSubdiv's rules for creases and corners.
 //! - [`nurss`]: non-uniform Catmull-Clark (knot intervals on edges, Sederberg et al. 1998).
 //! - [`Rules`]: the rules that pick a vertex's or edge's mask, written once for the
-//!   Catmull-Clark family; [`catmark::CatmullClark`] and [`adjustable::Adjustable`] give
-//!   their weights.
+//!   Catmull-Clark family and shared by Loop; [`catmark::CatmullClark`],
+//!   [`adjustable::Adjustable`], [`bilinear::Bilinear`] and [`loop_::Loop`] give their weights.
 //!
 //! A mask is a set of weights on the parent's vertex, the far ends of its edges, and
 //! its faces' centres (refinement) or the vertices opposite in its faces (limit masks).
 
 pub mod adjustable;
+pub mod bilinear;
 pub mod catmark;
 pub mod crease;
+mod kind;
+pub mod loop_;
 pub mod nurss;
 mod rules;
 
+pub use kind::Scheme;
 pub use rules::Rules;

@@ -10,7 +10,9 @@ use crate::mesh::{CreaseMethod, Options, Rule};
 
 /// A scheme of the Catmull-Clark family: face points are centroids, and the edge and
 /// vertex points follow from the weights below by the shared rules of
-/// [`edge_mask`](Rules::edge_mask) and [`vertex_mask`](Rules::vertex_mask).
+/// [`edge_mask`](Rules::edge_mask) and [`vertex_mask`](Rules::vertex_mask). Loop
+/// ([`super::loop_::Loop`]) shares the rules: it has no face points, and the face weights
+/// of its edge masks weigh the vertex opposite the edge in each triangle.
 pub trait Rules: Copy + Send + Sync {
     /// The mask of a smooth edge with `num_faces` faces, the first two of which are
     /// triangles as `tri` says.

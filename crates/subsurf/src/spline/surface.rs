@@ -7,7 +7,8 @@ use super::subbasis::Class;
 use super::table::{valence_table, ValenceTable};
 use crate::limit::Derivatives;
 use crate::mesh::{Options, PolyMesh, Topology};
-use crate::{subdivide, SubdivideOptions};
+use crate::refine::uniform::refine_mesh;
+use crate::scheme::adjustable::Mixed;
 use rayon::prelude::*;
 use std::borrow::Cow;
 use std::collections::HashMap;
@@ -94,13 +95,9 @@ pub fn quad_control_mesh(mesh: &PolyMesh) -> Result<(Cow<'_, PolyMesh>, bool), S
     if mesh.faces().all(|f| f.len() == 4) {
         return Ok((Cow::Borrowed(mesh), false));
     }
-    let opts = SubdivideOptions {
-        levels: 1,
-        options: Options::default(),
-        ..Default::default()
-    };
-    let out = subdivide(mesh, &opts).map_err(|e| SplineError::Subdivide(e.to_string()))?;
-    Ok((Cow::Owned(out.mesh), true))
+    let out = refine_mesh(mesh, &Options::default(), Mixed::CATMULL_CLARK, 1, false)
+        .map_err(|e| SplineError::Subdivide(e.to_string()))?;
+    Ok((Cow::Owned(out), true))
 }
 
 /// A [`SubBasisSurface`] of any polygon mesh, with the quad control mesh it was built on.

@@ -1,8 +1,8 @@
 //! # Properties every refinement scheme shares, checked for all of them at once
 //!
 //! The schemes — Catmull-Clark ([`subsurf::subdivide`]), the shape-adjustable scheme with
-//! parameter `c` ([`subsurf::subdivide_mixed`] with every step adjustable), non-uniform
-//! Catmull-Clark ([`subsurf::nurss::subdivide`], random positive knot intervals) and skirt
+//! parameter `c` ([`subsurf::Scheme::Adjustable`] with every step adjustable), non-uniform
+//! Catmull-Clark ([`subsurf::Scheme::Nurss`], random positive knot intervals) and skirt
 //! removal ([`subsurf::blend::skirt::refine_with_skirt`] over Catmull-Clark and over NURSS
 //! steps) — are each tested on their own elsewhere. Here the same properties run over all of
 //! them, on random meshes, through their public APIs:
@@ -35,9 +35,8 @@ use proptest::prelude::*;
 
 use subsurf::blend::skirt::{catmark_refine_once, nurss_refine_once, refine_with_skirt};
 use subsurf::mesh::{Corner, Crease, CreaseMethod, EdgeInterval, Options, PolyMesh, Tags};
-use subsurf::nurss::{self, NurssOptions};
 use subsurf::scheme::adjustable::Adjustable;
-use subsurf::{subdivide, subdivide_mixed, Mixed, SubdivideOptions};
+use subsurf::{subdivide, Mixed, SubdivideOptions};
 
 use crate::common::schemes;
 use crate::common::schemes::SplitMix64 as Rng;
@@ -52,9 +51,9 @@ use schemes::{config, fail, mat_vec, options_strategy, scale_of, Mat3, P3};
 enum Scheme {
     /// Catmull-Clark as OpenSubdiv ([`subdivide`]).
     CatmullClark,
-    /// The shape-adjustable scheme with this `c`, every step ([`subdivide_mixed`]).
+    /// The shape-adjustable scheme with this `c`, every step ([`subsurf::Scheme::Adjustable`]).
     Adjustable(f64),
-    /// Non-uniform Catmull-Clark with the mesh's knot intervals ([`nurss::subdivide`]).
+    /// Non-uniform Catmull-Clark with the mesh's knot intervals ([`subsurf::Scheme::Nurss`]).
     Nurss,
     /// Skirt removal over Catmull-Clark steps.
     SkirtCatmark,
@@ -77,35 +76,26 @@ fn refine(
     options: Options,
     levels: u32,
 ) -> Result<PolyMesh, String> {
-    let opts = SubdivideOptions {
-        levels,
-        options,
-        limit: false,
-        keep_holes: true,
-        max_memory: None,
+    let refine_with = |scheme| {
+        let opts = SubdivideOptions {
+            levels,
+            scheme,
+            options,
+            keep_holes: true,
+            ..Default::default()
+        };
+        subdivide(mesh, &opts)
+            .map(|s| s.mesh)
+            .map_err(|e| e.to_string())
     };
     let out =
         match scheme {
-            Scheme::CatmullClark => subdivide(mesh, &opts)
-                .map(|s| s.mesh)
-                .map_err(|e| e.to_string()),
+            Scheme::CatmullClark => refine_with(subsurf::Scheme::CatmullClark),
             Scheme::Adjustable(c) => {
                 let adj = Adjustable::new(c).map_err(|e| e.to_string())?;
-                subdivide_mixed(mesh, &opts, Mixed::all(adj))
-                    .map(|s| s.mesh)
-                    .map_err(|e| e.to_string())
+                refine_with(subsurf::Scheme::Adjustable(Mixed::all(adj)))
             }
-            Scheme::Nurss => nurss::subdivide(
-                mesh,
-                &NurssOptions {
-                    levels,
-                    options,
-                    limit: false,
-                    keep_holes: true,
-                },
-            )
-            .map(|s| s.mesh)
-            .map_err(|e| e.to_string()),
+            Scheme::Nurss => refine_with(subsurf::Scheme::Nurss),
             Scheme::SkirtCatmark => refine_with_skirt(mesh, levels, &mut [], catmark_refine_once)
                 .map_err(|e| e.to_string()),
             Scheme::SkirtNurss => refine_with_skirt(mesh, levels, &mut [], nurss_refine_once)

@@ -8,7 +8,7 @@ use subsurf::g2cap::{continuity_report, DenseCapSolver, G2Surface, G2SurfaceOpti
 use subsurf::limit::SurfacePoint;
 use subsurf::mesh::{Options, PolyMesh};
 use subsurf::scheme::adjustable::Adjustable;
-use subsurf::{Mixed, MixedSurface};
+use subsurf::{Mixed, MixedSurface, Scheme};
 
 use crate::common;
 use common::{cube, double_cone, example};
@@ -93,7 +93,14 @@ fn c_one_half_is_the_catmull_clark_g2_surface() {
                 );
                 assert!(dist(a.p, b.p) <= 1e-14, "{what}, k = {k}, {p:?}");
             }
-            let half = G2Surface::new_mixed(&mesh, &opts, mixed(0.5, k)).unwrap();
+            let half = G2Surface::new(
+                &mesh,
+                &G2SurfaceOptions {
+                    scheme: Scheme::Adjustable(mixed(0.5, k)),
+                    ..opts
+                },
+            )
+            .unwrap();
             let d = difference(&cc, &half, &mesh, what);
             assert!(d <= 1e-12, "{what}, k = {k}: {d:e}");
         }
@@ -109,13 +116,27 @@ fn caps_tend_to_the_catmull_clark_caps_as_c_tends_to_one_half() {
     let opts = G2SurfaceOptions::default();
     let cc = G2Surface::new(&mesh, &opts).unwrap();
     for c in [0.5 - 1e-12, 0.5 + 1e-12] {
-        let near = G2Surface::new_mixed(&mesh, &opts, mixed(c, 1)).unwrap();
+        let near = G2Surface::new(
+            &mesh,
+            &G2SurfaceOptions {
+                scheme: Scheme::Adjustable(mixed(c, 1)),
+                ..opts
+            },
+        )
+        .unwrap();
         assert!(near.mixed().is_some());
         let d = difference(&cc, &near, &mesh, "near ½");
         eprintln!("c = {c}: largest difference {d:e}");
         assert!(d <= 1e-12, "c = {c}: {d:e}");
     }
-    let far = G2Surface::new_mixed(&mesh, &opts, mixed(0.45, 1)).unwrap();
+    let far = G2Surface::new(
+        &mesh,
+        &G2SurfaceOptions {
+            scheme: Scheme::Adjustable(mixed(0.45, 1)),
+            ..opts
+        },
+    )
+    .unwrap();
     assert!(difference(&cc, &far, &mesh, "c = 0.45") > 1e-3);
 }
 
@@ -133,7 +154,14 @@ fn caps_join_the_mixed_surface_g2() {
     ] {
         for (c, k) in [(0.3, 1), (0.7, 1), (0.3, 2)] {
             let what = format!("{what}, c = {c}, k = {k}");
-            let s = G2Surface::new_mixed(&mesh, &G2SurfaceOptions::default(), mixed(c, k)).unwrap();
+            let s = G2Surface::new(
+                &mesh,
+                &G2SurfaceOptions {
+                    scheme: Scheme::Adjustable(mixed(c, k)),
+                    ..G2SurfaceOptions::default()
+                },
+            )
+            .unwrap();
             assert_eq!(s.levels(), 2.max(k + 1), "{what}");
             assert!(s.uncapped().is_empty(), "{what}: {:?}", s.uncapped());
             assert_eq!(s.caps().len(), caps, "{what}");
@@ -163,7 +191,14 @@ fn outside_the_caps_it_is_the_mixed_surface() {
     let half = G2Surface::new(&mesh, &opts).unwrap();
     for c in [0.3, 0.7] {
         let m = mixed(c, 1);
-        let s = G2Surface::new_mixed(&mesh, &opts, m).unwrap();
+        let s = G2Surface::new(
+            &mesh,
+            &G2SurfaceOptions {
+                scheme: Scheme::Adjustable(m),
+                ..opts
+            },
+        )
+        .unwrap();
         let reference = MixedSurface::new(&mesh, Options::default(), m).unwrap();
         let (mut outside, mut inside) = (0, 0);
         let mut from_half = 0.0f64;
@@ -201,7 +236,14 @@ fn isolation_level_is_at_least_steps_plus_one() {
         levels: Some(2),
         ..Default::default()
     };
-    let s = G2Surface::new_mixed(&cube(), &opts, mixed(0.3, 3)).unwrap();
+    let s = G2Surface::new(
+        &cube(),
+        &G2SurfaceOptions {
+            scheme: Scheme::Adjustable(mixed(0.3, 3)),
+            ..opts
+        },
+    )
+    .unwrap();
     assert_eq!(s.levels(), 4);
     assert_eq!(s.caps().len(), 8);
     assert!(s.mixed().is_some());
@@ -214,7 +256,14 @@ fn isolation_level_is_at_least_steps_plus_one() {
 fn mixed_caps_are_the_all_sectors_solution() {
     let mesh = double_cone(5, 8);
     for (c, k) in [(0.3, 1), (0.7, 2)] {
-        let s = G2Surface::new_mixed(&mesh, &G2SurfaceOptions::default(), mixed(c, k)).unwrap();
+        let s = G2Surface::new(
+            &mesh,
+            &G2SurfaceOptions {
+                scheme: Scheme::Adjustable(mixed(c, k)),
+                ..G2SurfaceOptions::default()
+            },
+        )
+        .unwrap();
         let mut worst = 0.0f64;
         for info in s.caps() {
             let n = info.cap.valence();

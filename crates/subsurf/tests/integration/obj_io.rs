@@ -129,14 +129,25 @@ fn face_with_texture_and_normal_indices() {
 #[test]
 fn corner_attributes_are_none_unless_every_corner_has_one() {
     let obj = parse(&format!(
-        "{QUAD}v 2 0 0\nvt 0 0\nvn 0 0 1\nf 1/1/1 2/1/1 3/1/1\nf 1 3 4 5\n"
+        "{QUAD}v 2 0 0\nvt 0 0\nvn 0 0 1\nf 1/1/1 2/1/1 3/1/1\nf 1/1 3/1 4/1 5/1\n"
     ));
     assert_eq!(faces(&obj), vec![vec![0, 1, 2], vec![0, 2, 3, 4]]);
-    assert_eq!(obj.face_texcoords, None);
+    assert_eq!(obj.face_texcoords, Some(vec![0; 7]));
     assert_eq!(obj.face_normals, None);
-    // Mixed forms within one face are fine too.
-    let obj = parse(&format!("{QUAD}vt 0 0\nf 1/1 2 3\n"));
-    assert_eq!(obj.face_texcoords, None);
+    assert_eq!(obj.mesh.face_varying.len(), 1);
+    assert_eq!(obj.mesh.face_varying[0].name(), "uv");
+}
+
+#[test]
+fn faces_with_and_without_texture_coordinates_are_refused_at_the_line() {
+    // Texture coordinates are face-varying data: dropping them silently would lose the
+    // mapping, and refining with half of them is impossible.
+    let e = parse_obj(format!("{QUAD}vt 0 0\nf 1/1 2 3\n").as_bytes(), NAME).unwrap_err();
+    assert_eq!(e.line, Some(6), "{e}");
+    assert!(e.message.contains("texture coordinates"), "{e}");
+    let text = format!("{QUAD}v 2 0 0\nvt 0 0\nf 1/1 2/1 3/1\nf 1 3 4 5\n");
+    let e = parse_obj(text.as_bytes(), NAME).unwrap_err();
+    assert_eq!(e.line, Some(8), "{e}");
 }
 
 #[test]
@@ -145,7 +156,7 @@ fn negative_indices_are_relative_to_what_is_defined_so_far() {
         "v 0 0 0\nv 1 0 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvn 0 0 1\n\
          f -3/-3/-1 -2/-2/-1 -1/-1/-1\n\
          v 0 1 0\n\
-         f -4 -2 -1\n",
+         f -4/-3 -2/-1 -1/-2\n",
     );
     assert_eq!(faces(&obj), vec![vec![0, 1, 2], vec![0, 2, 3]]);
     assert_eq!(obj.face_lines, vec![8, 10]);
@@ -389,6 +400,7 @@ fn scheme_option_tags() {
             boundary: Some(BoundaryInterpolation::EdgeAndCorner),
             crease_method: Some(CreaseMethod::Chaikin),
             triangles: Some(TriangleSubdivision::Smooth),
+            face_varying: None,
         }
     );
     let o = parse("t interpolateboundary 1/0/0 0\nt creasemethod 0/0/1 uniform\nt smoothtriangles 0/0/1 catmark\n");
@@ -431,13 +443,7 @@ fn unsupported_tags_are_recorded_with_their_lines() {
         .collect();
     assert_eq!(
         names,
-        vec![
-            (6, "vertexedit"),
-            (7, "edgeedit"),
-            (8, "faceedit"),
-            (9, "facevaryinginterpolateboundary"),
-            (10, "facevaryingpropagatecorners"),
-        ]
+        vec![(6, "vertexedit"), (7, "edgeedit"), (8, "faceedit"),]
     );
     assert_eq!(
         obj.unsupported_tags[0],
@@ -1029,6 +1035,7 @@ fn written_file_layout() {
             boundary: BoundaryInterpolation::EdgeAndCorner,
             crease_method: CreaseMethod::Chaikin,
             triangles: TriangleSubdivision::Smooth,
+            ..Options::default()
         }),
         normals: None,
     };
@@ -1138,6 +1145,7 @@ fn round_trip_is_bit_exact() {
         boundary: BoundaryInterpolation::None,
         crease_method: CreaseMethod::Chaikin,
         triangles: TriangleSubdivision::Catmark,
+        ..Options::default()
     };
     let text = write_to_string(
         &m,

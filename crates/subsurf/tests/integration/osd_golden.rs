@@ -1,6 +1,6 @@
 //! # subsurf against OpenSubdiv, shape by shape
 //!
-//! Every one of OpenSubdiv's 87 regression shapes (`tests/shapes/osd/*.obj`, copied verbatim
+//! Every one of OpenSubdiv's 87 Catmull-Clark regression shapes (`tests/shapes/osd/catmark_*.obj`, copied verbatim
 //! from OpenSubdiv 3.6.0) is refined with Catmull-Clark to levels 1, 2, 3 and 4, once plainly
 //! ("refine") and once with the last level's vertices moved to their limit positions ("limit"),
 //! and the result is compared with what OpenSubdiv 3.5 itself computed for the same file
@@ -74,44 +74,44 @@ const SAMPLES: usize = 256;
 
 /// One golden file: what OpenSubdiv produced for one shape.
 #[derive(Debug)]
-struct Golden {
-    name: String,
-    boundary: BoundaryInterpolation,
-    cases: Vec<GoldenCase>,
+pub(super) struct Golden {
+    pub(super) name: String,
+    pub(super) boundary: BoundaryInterpolation,
+    pub(super) cases: Vec<GoldenCase>,
 }
 
 #[derive(Debug)]
-struct GoldenCase {
-    level: u32,
-    limit: bool,
-    expect: Expect,
+pub(super) struct GoldenCase {
+    pub(super) level: u32,
+    pub(super) limit: bool,
+    pub(super) expect: Expect,
 }
 
 #[derive(Debug)]
-enum Expect {
+pub(super) enum Expect {
     /// The oracle did not produce this case (the reason it gave).
     OracleFailed(String),
     Data(CaseData),
 }
 
 #[derive(Debug)]
-struct CaseData {
-    verts: usize,
+pub(super) struct CaseData {
+    pub(super) verts: usize,
     faces: usize,
     /// Face size → count.
-    sizes: BTreeMap<usize, usize>,
+    pub(super) sizes: BTreeMap<usize, usize>,
     facehash: u64,
     /// Σx, Σy, Σz, Σ(x²+y²+z²).
     sums: [f64; 4],
     /// (index, position) as OpenSubdiv printed them.
-    samples: Vec<(usize, [f64; 3])>,
+    pub(super) samples: Vec<(usize, [f64; 3])>,
 }
 
-fn crate_dir() -> PathBuf {
+pub(super) fn crate_dir() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
-fn shapes_dir() -> PathBuf {
+pub(super) fn shapes_dir() -> PathBuf {
     crate_dir().join("tests/shapes/osd")
 }
 
@@ -119,20 +119,32 @@ fn golden_dir() -> PathBuf {
     crate_dir().join("tests/golden/osd")
 }
 
-/// Names (without `.obj`) of all shapes, sorted.
+/// Names (without `.obj`) of all Catmull-Clark shapes, sorted.
 fn shape_names() -> Vec<String> {
+    shape_names_with_prefix("catmark_")
+}
+
+/// Names (without `.obj`) of the shapes whose names start with `prefix` (the scheme's
+/// name), sorted.
+pub(super) fn shape_names_with_prefix(prefix: &str) -> Vec<String> {
     let mut names: Vec<String> = std::fs::read_dir(shapes_dir())
         .expect("tests/shapes/osd is missing")
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
         .filter_map(|f| f.strip_suffix(".obj").map(str::to_owned))
+        .filter(|f| f.starts_with(prefix))
         .collect();
     names.sort();
-    assert!(!names.is_empty(), "no shapes in tests/shapes/osd");
+    assert!(!names.is_empty(), "no {prefix}* shapes in tests/shapes/osd");
     names
 }
 
 fn load_golden(name: &str) -> Result<Golden, String> {
-    let path = golden_dir().join(format!("{name}.txt.gz"));
+    load_golden_from(&golden_dir(), name)
+}
+
+/// The golden file `DIR/<name>.txt.gz`.
+pub(super) fn load_golden_from(dir: &std::path::Path, name: &str) -> Result<Golden, String> {
+    let path = dir.join(format!("{name}.txt.gz"));
     let file = std::fs::File::open(&path).map_err(|e| format!("{}: {e}", path.display()))?;
     let mut text = String::new();
     GzDecoder::new(file)
@@ -246,7 +258,7 @@ fn empty_case() -> CaseData {
 }
 
 /// The indices that are sampled out of `n` vertices.
-fn sample_indices(n: usize) -> Vec<usize> {
+pub(super) fn sample_indices(n: usize) -> Vec<usize> {
     if n <= SAMPLES {
         (0..n).collect()
     } else {
@@ -291,7 +303,7 @@ fn fmt_sizes(sizes: &BTreeMap<usize, usize>) -> String {
         .join(",")
 }
 
-fn diagonal(mesh: &PolyMesh) -> f64 {
+pub(super) fn diagonal(mesh: &PolyMesh) -> f64 {
     match mesh.bounding_box() {
         Some((lo, hi)) => {
             ((hi[0] - lo[0]).powi(2) + (hi[1] - lo[1]).powi(2) + (hi[2] - lo[2]).powi(2)).sqrt()
@@ -319,7 +331,7 @@ thread_local! {
 /// Runs `f`, turning a panic into `Err("message at file:line")` for the report instead of
 /// printing it (hundreds of identical panic messages would bury the report). Panics elsewhere,
 /// and on other threads, are printed as usual.
-fn quiet_catch<R>(f: impl FnOnce() -> R) -> Result<R, String> {
+pub(super) fn quiet_catch<R>(f: impl FnOnce() -> R) -> Result<R, String> {
     static HOOK: Once = Once::new();
     HOOK.call_once(|| {
         let previous = std::panic::take_hook();
@@ -430,6 +442,7 @@ fn check_shape(name: &str) -> ShapeReport {
         };
         let opts = SubdivideOptions {
             levels: case.level,
+            scheme: subsurf::Scheme::CatmullClark,
             options: scheme,
             limit: case.limit,
             keep_holes: false,
@@ -474,7 +487,7 @@ fn all_cases(golden: &Golden) -> Vec<(u32, bool)> {
 
 /// Compares one refined mesh with OpenSubdiv's; pushes one line per kind of difference and
 /// reports the largest sampled error relative to `diag` through `max_err`.
-fn compare_case(
+pub(super) fn compare_case(
     what: &str,
     mesh: &PolyMesh,
     want: &CaseData,
@@ -810,7 +823,7 @@ fn osd_golden_data_is_complete() {
 
 /// The boundary mode a shape's OBJ text asks for, read directly from its tags (independent of
 /// the library's reader): `t interpolateboundary 1/0/0 K`, edge-only when absent.
-fn boundary_tag(obj: &str) -> BoundaryInterpolation {
+pub(super) fn boundary_tag(obj: &str) -> BoundaryInterpolation {
     let mut b = BoundaryInterpolation::EdgeOnly;
     for line in obj.lines() {
         let t: Vec<&str> = line.split_whitespace().collect();

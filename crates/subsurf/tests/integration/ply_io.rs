@@ -151,12 +151,14 @@ fn ply(mesh: &PolyMesh, encoding: PlyEncoding, layout: Layout) -> Vec<u8> {
     out
 }
 
-/// OpenSubdiv's pawn (quads and more) without its tags, which PLY does not hold.
+/// OpenSubdiv's pawn (quads and more) without its tags and texture coordinates, which
+/// these PLY files do not hold.
 fn pawn() -> PolyMesh {
     let path = osd_shapes_dir().join("catmark_pawn.obj");
     let text = std::fs::read(&path).expect("shape file");
     let mut mesh = parse_obj(&text[..], "pawn").expect("valid OBJ").mesh;
     mesh.tags = Default::default();
+    mesh.face_varying.clear();
     mesh
 }
 

@@ -409,6 +409,7 @@ proptest! {
         }
         let opts = SubdivideOptions {
             levels,
+            scheme: subsurf::Scheme::CatmullClark,
             options: spec.options,
             limit,
             keep_holes: true,
@@ -685,6 +686,7 @@ proptest! {
         let chi = euler_characteristic(&mesh);
         let out = run(&mesh, &SubdivideOptions {
             levels,
+            scheme: subsurf::Scheme::CatmullClark,
             options: spec.options,
             keep_holes: true,
             ..Default::default()
@@ -793,6 +795,7 @@ fn check_two_step(
 ) -> Result<usize, String> {
     let opts = |levels, limit| SubdivideOptions {
         levels,
+        scheme: subsurf::Scheme::CatmullClark,
         options,
         limit,
         keep_holes,
@@ -1029,6 +1032,7 @@ fn all_options() -> Vec<Options> {
                     boundary,
                     crease_method,
                     triangles,
+                    ..Options::default()
                 });
             }
         }
@@ -1101,6 +1105,7 @@ fn two_step_refinement_keeps_a_creased_boundary_in_boundary_none() {
         &mesh,
         &SubdivideOptions {
             levels: 2,
+            scheme: subsurf::Scheme::CatmullClark,
             options,
             ..Default::default()
         },
@@ -1373,6 +1378,7 @@ proptest! {
         let (mesh, base_sigma) = spec.build();
         let out = run(&mesh, &SubdivideOptions {
             levels,
+            scheme: subsurf::Scheme::CatmullClark,
             options: spec.options,
             limit,
             keep_holes,
@@ -1743,6 +1749,7 @@ fn bad_tags_are_rejected() {
             &m,
             &SubdivideOptions {
                 levels: 1,
+                scheme: subsurf::Scheme::CatmullClark,
                 ..Default::default()
             },
         )
@@ -1861,6 +1868,7 @@ fn memory_limit_refuses_deep_refinement() {
         &mesh,
         &SubdivideOptions {
             levels: 6,
+            scheme: subsurf::Scheme::CatmullClark,
             max_memory: Some(1000),
             ..Default::default()
         },
@@ -1952,6 +1960,7 @@ fn faces_that_repeat_a_vertex_refine_alike_from_any_corner() {
         let mesh = PolyMesh::from_faces(p.clone(), &[vec![0, 1, 2, 3], second]).expect("mesh");
         let opts = SubdivideOptions {
             levels: 2,
+            scheme: subsurf::Scheme::CatmullClark,
             ..SubdivideOptions::default()
         };
         let mut points: Vec<[u64; 3]> = subdivide(&mesh, &opts)

@@ -9,16 +9,16 @@
 //! `1e-14 ×` the bounding-box diagonal of the input — both on the original positions and
 //! after moving every vertex (the plan does not depend on positions). The same holds for
 //! the plans of mixed subdivision (the shape-adjustable scheme on the first levels) against
-//! [`subdivide_mixed`], and for [`subsurf::Reposer`] with the limit.
+//! [`subdivide`] with `Scheme::Adjustable`, and for [`subsurf::Reposer`] with the limit.
 
 use subsurf::io::obj::read_obj;
 use subsurf::mesh::{
     EdgeInterval, KnotTags, Options, PolyMesh, SideInterval, VertexWeight, SHARPNESS_INFINITE,
 };
-use subsurf::nurss::{self, NurssOptions};
+use subsurf::nurss;
 use subsurf::refine::{PlanScratch, RefinePlan};
 use subsurf::scheme::adjustable::Adjustable;
-use subsurf::{subdivide, subdivide_mixed, Mixed, SubdivideOptions};
+use subsurf::{subdivide, Mixed, Scheme, SubdivideOptions};
 
 use crate::common::{osd_shapes, osd_shapes_dir, Rng};
 
@@ -99,7 +99,7 @@ fn plan_equals_subdivide_on_all_shapes() {
         // then refine four levels at once.
         let non_quads = (0..mesh.num_faces()).any(|f| mesh.face(f).len() != 4);
         for levels in 1..=3 + u32::from(non_quads) {
-            let plan = RefinePlan::new(&mesh, options, levels).expect("plan");
+            let plan = RefinePlan::new(&mesh, Scheme::CatmullClark, options, levels).expect("plan");
             assert_eq!(plan.levels(), levels, "{name}");
             for (what, m) in [("original", &mesh), ("moved", &moved)] {
                 let want = subdivided(m, options, levels);
@@ -130,7 +130,7 @@ fn plan_equals_subdivide_on_all_shapes() {
 }
 
 /// Mixed subdivision (the shape-adjustable masks on the first levels, then Catmull-Clark)
-/// re-posed on every regression shape: `RefinePlan::new_mixed` equals `subdivide_mixed`
+/// re-posed on every regression shape: `RefinePlan::new` with `Scheme::Adjustable` equals `subdivide`
 /// within `1e-14 ×` the diagonal at levels 1–4, with `c` = 0 (the bilinear refinement of
 /// the control mesh), 0.3 and 0.8, adjusted at every level (the plan's patches then apply
 /// the adjustable masks), at the first one and at the first two (Catmull-Clark's patches
@@ -152,7 +152,8 @@ fn mixed_plan_equals_subdivide_mixed_on_all_shapes() {
                 steps,
             };
             for levels in 1..=4 {
-                let plan = RefinePlan::new_mixed(&mesh, options, levels, mixed).expect("plan");
+                let plan = RefinePlan::new(&mesh, Scheme::Adjustable(mixed), options, levels)
+                    .expect("plan");
                 assert_eq!(plan.levels(), levels, "{name}");
                 patches[i] += plan.num_patches();
                 for (what, m) in [("original", &mesh), ("moved", &moved)] {
@@ -161,7 +162,14 @@ fn mixed_plan_equals_subdivide_mixed_on_all_shapes() {
                         options,
                         ..SubdivideOptions::default()
                     };
-                    let want = subdivide_mixed(m, &opts, mixed).expect("subdivide_mixed");
+                    let want = subdivide(
+                        m,
+                        &SubdivideOptions {
+                            scheme: Scheme::Adjustable(mixed),
+                            ..opts.clone()
+                        },
+                    )
+                    .expect("subdivide");
                     let got = plan.apply(m.positions());
                     let tol = REL_TOL * diagonal(m.positions());
                     let (d, at) = max_diff(&got, want.mesh.positions());
@@ -235,8 +243,8 @@ fn with_knots(mesh: &PolyMesh, seed: u64, rational: bool) -> PolyMesh {
 
 /// Non-uniform subdivision (NURSS, seed 001) re-posed on every regression shape, with
 /// random knot intervals (zero ones included), auxiliary side intervals, and rational
-/// weights on every other shape: `RefinePlan::new_nurss` applied to the homogeneous points
-/// `(w x, w y, w z, w)`, divided by `w`, equals `nurss::subdivide` within `1e-14 ×` the
+/// weights on every other shape: `RefinePlan::new` with `Scheme::Nurss` applied to the homogeneous points
+/// `(w x, w y, w z, w)`, divided by `w`, equals `subdivide` within `1e-14 ×` the
 /// diagonal at levels 1–3, before and after moving the vertices.
 #[test]
 fn nurss_plan_equals_nurss_subdivide_on_all_shapes() {
@@ -250,18 +258,19 @@ fn nurss_plan_equals_nurss_subdivide_on_all_shapes() {
             .positions_mut()
             .copy_from_slice(&deform(mesh.positions()));
         for levels in 1..=3 {
-            let plan = match RefinePlan::new_nurss(&mesh, options, levels) {
+            let plan = match RefinePlan::new(&mesh, Scheme::Nurss, options, levels) {
                 Ok(plan) => plan,
                 Err(e) => panic!("{name} level {levels}: {e}"),
             };
             assert_eq!((plan.num_patches(), plan.levels()), (0, levels));
             for (what, m) in [("original", &mesh), ("moved", &moved)] {
-                let opts = NurssOptions {
+                let opts = SubdivideOptions {
+                    scheme: Scheme::Nurss,
                     levels,
                     options,
-                    ..NurssOptions::default()
+                    ..Default::default()
                 };
-                let want = nurss::subdivide(m, &opts).expect("nurss::subdivide");
+                let want = subdivide(m, &opts).expect("subdivide");
                 let mut w = vec![1.0; m.num_vertices()];
                 for t in &m.knots.weights {
                     w[t.vertex as usize] = t.weight;
@@ -289,7 +298,7 @@ fn nurss_plan_equals_nurss_subdivide_on_all_shapes() {
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 
-/// `Reposer::new_nurss` poses a rational mesh as `nurss::subdivide` refines it, pose
+/// `Reposer::new` with `Scheme::Nurss` poses a rational mesh as `subdivide` refines it, pose
 /// after pose (the weights stay with the vertices), and keeps the refined intervals and
 /// weights as tags; with the limit too, at levels 0–2 (at level 0 the limit reads the
 /// base mesh's triangles through the one step that makes them quads); it refuses semi-sharp
@@ -300,6 +309,7 @@ fn nurss_reposer_poses_rational_meshes() {
     let mesh = with_knots(&bishop, 7, true);
     let opts = SubdivideOptions {
         levels: 2,
+        scheme: Scheme::Nurss,
         options,
         ..SubdivideOptions::default()
     };
@@ -309,13 +319,14 @@ fn nurss_reposer_poses_rational_meshes() {
             limit,
             ..opts.clone()
         };
-        let mut reposer = subsurf::Reposer::new_nurss(&mesh, &opts).expect("reposer");
+        let mut reposer = subsurf::Reposer::new(&mesh, &opts).expect("reposer");
         assert!(reposer.normals().is_none());
-        let nurss_opts = NurssOptions {
+        let nurss_opts = SubdivideOptions {
+            scheme: Scheme::Nurss,
             levels,
             options,
             limit,
-            ..NurssOptions::default()
+            ..Default::default()
         };
         let mut m = mesh.clone();
         for pose in 0..3 {
@@ -323,9 +334,7 @@ fn nurss_reposer_poses_rational_meshes() {
                 let next = deform(m.positions());
                 m.positions_mut().copy_from_slice(&next);
             }
-            let want = nurss::subdivide(&m, &nurss_opts)
-                .expect("nurss::subdivide")
-                .mesh;
+            let want = subdivide(&m, &nurss_opts).expect("subdivide").mesh;
             let got = reposer.pose(m.positions()).expect("pose");
             let (d, at) = max_diff(got.positions(), want.positions());
             assert!(
@@ -340,7 +349,7 @@ fn nurss_reposer_poses_rational_meshes() {
         }
     }
     assert!(matches!(
-        subsurf::Reposer::new_nurss(&bishop, &opts),
+        subsurf::Reposer::new(&bishop, &opts),
         Err(subsurf::Error::Nurss(nurss::NurssError::SemiSharp { .. }))
     ));
 }
@@ -362,8 +371,10 @@ fn parallel_plan_is_deterministic_and_exact() {
             .build()
             .unwrap()
     };
-    let plan1 = pool(1).install(|| RefinePlan::new(&mesh, options, levels).unwrap());
-    let plan2 = pool(2).install(|| RefinePlan::new(&mesh, options, levels).unwrap());
+    let plan1 =
+        pool(1).install(|| RefinePlan::new(&mesh, Scheme::CatmullClark, options, levels).unwrap());
+    let plan2 =
+        pool(2).install(|| RefinePlan::new(&mesh, Scheme::CatmullClark, options, levels).unwrap());
     let moved = deform(mesh.positions());
     let a = pool(1).install(|| plan1.apply(&moved));
     let b = pool(2).install(|| plan2.apply(&moved));
@@ -384,7 +395,7 @@ fn parallel_plan_is_deterministic_and_exact() {
 #[test]
 fn apply_into_reuses_buffers() {
     let (mesh, options) = load("catmark_pawn");
-    let plan = RefinePlan::new(&mesh, options, 3).unwrap();
+    let plan = RefinePlan::new(&mesh, Scheme::CatmullClark, options, 3).unwrap();
     let mut out = Vec::new();
     let mut scratch = PlanScratch::default();
     let mut pos = mesh.positions().to_vec();
@@ -404,12 +415,12 @@ fn apply_into_reuses_buffers() {
 #[test]
 fn primvars_and_level_zero() {
     let (mesh, options) = load("catmark_chaikin1");
-    let plan = RefinePlan::new(&mesh, options, 2).unwrap();
+    let plan = RefinePlan::new(&mesh, Scheme::CatmullClark, options, 2).unwrap();
     let ones = vec![[1.0]; mesh.num_vertices()];
     for x in plan.apply(&ones) {
         assert!((x[0] - 1.0).abs() < 1e-14);
     }
-    let id = RefinePlan::new(&mesh, options, 0).unwrap();
+    let id = RefinePlan::new(&mesh, Scheme::CatmullClark, options, 0).unwrap();
     assert_eq!(id.num_vertices(), mesh.num_vertices());
     assert_eq!(id.apply(mesh.positions()), mesh.positions());
     assert_eq!(id.num_weights(), 0);
@@ -421,7 +432,7 @@ fn primvars_and_level_zero() {
 #[test]
 fn patches_for_any_width() {
     let (mesh, options) = load("catmark_pawn");
-    let plan = RefinePlan::new(&mesh, options, 4).unwrap();
+    let plan = RefinePlan::new(&mesh, Scheme::CatmullClark, options, 4).unwrap();
     assert!(plan.num_patches() > 0);
     let pos = deform(mesh.positions());
     let want = plan.apply(&pos);
@@ -451,7 +462,7 @@ fn memory_estimate_covers_the_plan() {
     // Quads, and triangles (whose ring patches refine four levels at once at level 4).
     for mesh in [load("catmark_pawn").0, scrambled_triangle_torus(12)] {
         for levels in 1..=4 {
-            let plan = RefinePlan::new(&mesh, options, levels).unwrap();
+            let plan = RefinePlan::new(&mesh, Scheme::CatmullClark, options, levels).unwrap();
             let estimate = RefinePlan::estimate_memory(&mesh, levels);
             let output = (24 * plan.num_vertices()) as u64;
             assert!(
@@ -468,7 +479,7 @@ fn memory_estimate_covers_the_plan() {
 #[should_panic(expected = "base values")]
 fn wrong_base_length_panics() {
     let (mesh, options) = load("catmark_cube");
-    let plan = RefinePlan::new(&mesh, options, 1).unwrap();
+    let plan = RefinePlan::new(&mesh, Scheme::CatmullClark, options, 1).unwrap();
     plan.apply(&mesh.positions()[1..]);
 }
 
@@ -560,7 +571,7 @@ fn many_ring_shapes_in_units_of_several_runs() {
     let mut m = mesh.clone();
     m.positions_mut().copy_from_slice(&moved);
     for levels in [3, 4] {
-        let plan = RefinePlan::new(&mesh, options, levels).unwrap();
+        let plan = RefinePlan::new(&mesh, Scheme::CatmullClark, options, levels).unwrap();
         assert!(plan.num_patches() > 4000);
         let a = pool(1).install(|| plan.apply(&moved));
         let b = pool(2).install(|| plan.apply(&moved));
@@ -582,7 +593,7 @@ fn many_ring_shapes_in_units_of_several_runs() {
 /// cancel to rounding noise for parallel (`limit::normals`): on the non-manifold and
 /// valence-2 shapes, exact tests gave normals of noise, in any direction.
 ///
-/// The same for mixed subdivision, `Reposer::new_mixed` against `subdivide_mixed` (`c =
+/// The same for mixed subdivision, `Reposer::new` against `subdivide`, both with `Scheme::Adjustable` (`c =
 /// 0.3` on the first level; at level 0 the limit is Catmull-Clark's, and on shapes with
 /// faces other than quads the plan then refines one Catmull-Clark level for the limit
 /// masks).
@@ -607,13 +618,25 @@ fn reposer_limit_equals_subdivide_on_all_shapes() {
                 ..SubdivideOptions::default()
             };
             let mut reposer = match mixed {
-                Some(m) => subsurf::Reposer::new_mixed(&mesh, &opts, m),
+                Some(m) => subsurf::Reposer::new(
+                    &mesh,
+                    &SubdivideOptions {
+                        scheme: Scheme::Adjustable(m),
+                        ..opts.clone()
+                    },
+                ),
                 None => subsurf::Reposer::new(&mesh, &opts),
             }
             .expect("reposer");
             for (what, m) in [("moved", &moved), ("original", &mesh)] {
                 let want = match mixed {
-                    Some(mixed) => subdivide_mixed(m, &opts, mixed),
+                    Some(mixed) => subdivide(
+                        m,
+                        &SubdivideOptions {
+                            scheme: Scheme::Adjustable(mixed),
+                            ..opts.clone()
+                        },
+                    ),
                     None => subdivide(m, &opts),
                 }
                 .expect("subdivide");

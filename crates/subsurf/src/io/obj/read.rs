@@ -6,8 +6,9 @@
 
 use super::{FileOptions, ObjError, ObjFile, UnsupportedTag};
 use crate::mesh::{
-    BoundaryInterpolation, Corner, Crease, CreaseMethod, EdgeInterval, KnotTagError, KnotTags,
-    MeshError, PolyMesh, SideInterval, Tags, TriangleSubdivision, VertexWeight, SHARPNESS_INFINITE,
+    BoundaryInterpolation, Corner, Crease, CreaseMethod, EdgeInterval, FaceVarying,
+    FaceVaryingInterpolation, KnotTagError, KnotTags, MeshError, PolyMesh, SideInterval, Tags,
+    TriangleSubdivision, VertexWeight, SHARPNESS_INFINITE,
 };
 use std::path::Path;
 use std::str::SplitAsciiWhitespace;
@@ -590,10 +591,13 @@ impl Deferred {
     }
 }
 
-/// Per-corner `vt` or `vn` indices, kept only while every corner has one.
+/// Per-corner `vt` or `vn` indices, kept only while every corner has one, and the first
+/// face (by line) whose corners have none and have some.
 struct CornerIndices {
     all: bool,
     indices: Vec<u32>,
+    first_without: Option<usize>,
+    first_with: Option<usize>,
 }
 
 impl Default for CornerIndices {
@@ -601,12 +605,22 @@ impl Default for CornerIndices {
         Self {
             all: true,
             indices: Vec::new(),
+            first_without: None,
+            first_with: None,
         }
     }
 }
 
 impl CornerIndices {
-    fn push(&mut self, index: Option<u32>) {
+    fn push(&mut self, index: Option<u32>, line: usize) {
+        match index {
+            Some(_) => {
+                self.first_with.get_or_insert(line);
+            }
+            None => {
+                self.first_without.get_or_insert(line);
+            }
+        }
         if self.all {
             match index {
                 Some(i) => self.indices.push(i),
@@ -620,12 +634,20 @@ impl CornerIndices {
 
     /// Appends the indices of the corners read after these.
     fn append(&mut self, next: CornerIndices) {
+        self.first_with = self.first_with.or(next.first_with);
+        self.first_without = self.first_without.or(next.first_without);
         if !next.all {
             self.all = false;
             self.indices = Vec::new();
         } else if self.all {
             self.indices.extend_from_slice(&next.indices);
         }
+    }
+
+    /// When some corners have indices and some have none: the line of the first face of
+    /// the second kind.
+    fn mixed(&self) -> Option<usize> {
+        Some(self.first_with?.max(self.first_without?))
     }
 
     fn finish(self, corners: usize) -> Option<Vec<u32>> {
@@ -657,6 +679,9 @@ struct Parser {
     /// `t interval`, `t sideinterval`, `t weight`, and the line of each entry.
     knots: KnotTags,
     knot_lines: KnotLines,
+    /// `t facevaryingpropagatecorners 1/0/0 1`: Hbr's flag, which with its "edge and
+    /// corner" mode (`corners-plus1`) makes OpenSubdiv's `corners-plus2`.
+    propagate_corners: bool,
 }
 
 /// Source lines of the [`KnotTags`] entries, list by list.
@@ -689,6 +714,7 @@ impl Default for Parser {
             unsupported_tags: Vec::new(),
             knots: KnotTags::default(),
             knot_lines: KnotLines::default(),
+            propagate_corners: false,
         }
     }
 }
@@ -1018,7 +1044,7 @@ impl Parser {
                     )?)
                 }
             };
-            self.face_texcoords.push(ti);
+            self.face_texcoords.push(ti, line);
             let ni = match n {
                 None => None,
                 Some(n) => {
@@ -1027,7 +1053,7 @@ impl Parser {
                     Some(resolve(raw, n, nn, line, fwd, "normal", "normals")?)
                 }
             };
-            self.face_normals.push(ni);
+            self.face_normals.push(ni, line);
         }
         let face = self.face_verts.get(start..).unwrap_or(&[]);
         if face.len() < 3 {
@@ -1064,6 +1090,8 @@ impl Parser {
             "interpolateboundary" => "interpolateboundary",
             "creasemethod" => "creasemethod",
             "smoothtriangles" => "smoothtriangles",
+            "facevaryinginterpolateboundary" => "facevaryinginterpolateboundary",
+            "facevaryingpropagatecorners" => "facevaryingpropagatecorners",
             "interval" => "interval",
             "sideinterval" => "sideinterval",
             "weight" => "weight",
@@ -1115,6 +1143,29 @@ impl Parser {
                     )
                 })?;
                 self.options.boundary = Some(mode);
+                Ok(())
+            }
+            "facevaryinginterpolateboundary" => {
+                let tok = Self::option_token(toks, &tag, (1, 0, 0))?;
+                let value: i64 = tok
+                    .parse()
+                    .map_err(|_| format!("t {name}: '{tok}' is not an integer"))?;
+                let mode = FaceVaryingInterpolation::from_tag_value(value).ok_or_else(|| {
+                    format!(
+                        "t {name}: unknown value {value} (expected 0 none, 1 corners-only, \
+                         2 corners-plus1, 3 corners-plus2, 4 boundaries or 5 all)"
+                    )
+                })?;
+                self.options.face_varying = Some(mode);
+                Ok(())
+            }
+            "facevaryingpropagatecorners" => {
+                let tok = Self::option_token(toks, &tag, (1, 0, 0))?;
+                self.propagate_corners = match tok {
+                    "0" => false,
+                    "1" => true,
+                    _ => return Err(format!("t {name}: '{tok}' is not 0 or 1")),
+                };
                 Ok(())
             }
             "creasemethod" => {
@@ -1334,8 +1385,22 @@ impl Parser {
                 format!("t {what}: face index {i} is out of range: the file has {nf} faces (tag indices are 0-based)"),
             ));
         }
+        if let Some(line) = self.face_texcoords.mixed() {
+            problems.push((
+                line,
+                "f: some faces have texture coordinates (v/vt) and some have none; give every \
+                 corner of every face a vt index, or none"
+                    .into(),
+            ));
+        }
         if let Some((line, message)) = problems.into_iter().min_by_key(|p| p.0) {
             return Err(err(Some(line), message));
+        }
+        let mut options = self.options;
+        if self.propagate_corners
+            && options.face_varying == Some(FaceVaryingInterpolation::CornersPlus1)
+        {
+            options.face_varying = Some(FaceVaryingInterpolation::CornersPlus2);
         }
 
         let corners = self.face_verts.len();
@@ -1354,6 +1419,12 @@ impl Parser {
             })?;
         mesh.tags = self.tags;
         mesh.knots = self.knots;
+        let face_texcoords = self.face_texcoords.finish(corners);
+        if let Some(indices) = &face_texcoords {
+            let uv = uv_channel(&self.texcoords, indices.clone());
+            mesh.face_varying
+                .push(uv.map_err(|e| err(None, e.to_string()))?);
+        }
         if let Err(e) = mesh.knots.validate(&mesh) {
             let (list, index) = e.entry();
             let lines = match list {
@@ -1367,13 +1438,25 @@ impl Parser {
             mesh,
             texcoords: self.texcoords,
             normals: self.normals,
-            face_texcoords: self.face_texcoords.finish(corners),
+            face_texcoords,
             face_normals: self.face_normals.finish(corners),
             face_lines,
-            options: self.options,
+            options,
             unsupported_tags: self.unsupported_tags,
         })
     }
+}
+
+/// The face-varying channel `"uv"` of the `vt` records: `(u, v)`, or `(u, v, w)` when a
+/// record has a `w` other than 0. The indices are in range (checked before).
+fn uv_channel(texcoords: &[[f64; 3]], indices: Vec<u32>) -> Result<FaceVarying, MeshError> {
+    let dim = if texcoords.iter().any(|t| t[2] != 0.0) {
+        3
+    } else {
+        2
+    };
+    let values = texcoords.iter().flat_map(|t| t[..dim].to_vec()).collect();
+    FaceVarying::new("uv", dim, values, indices)
 }
 
 #[cfg(test)]

@@ -2,7 +2,7 @@
 
 use super::WriteOptions;
 use crate::io::push_decimal;
-use crate::mesh::{CreaseMethod, PolyMesh, TriangleSubdivision};
+use crate::mesh::{CreaseMethod, FaceVaryingInterpolation, PolyMesh, TriangleSubdivision};
 use std::io::{self, Write};
 
 /// Bytes gathered before handing them to the writer.
@@ -14,10 +14,13 @@ const HOLES_PER_LINE: usize = 1000;
 /// Writes `mesh` (with its tags) as OBJ.
 ///
 /// The output is: a header comment (`# written by subsurf VERSION`, then `opts.comment`),
-/// `v x y z` per vertex, `vn x y z` per vertex when `opts.normals` is given, one `f` line per
-/// face (1-based, `f a//a b//b ...` with normals), then the tags: `t interpolateboundary`
-/// (and `t creasemethod 0/0/1 chaikin`, `t smoothtriangles 0/0/1 smooth` when they differ
-/// from the defaults) when `opts.scheme` is given, one `t crease 2/1/0` per crease, one
+/// `v x y z` per vertex, `vn x y z` per vertex when `opts.normals` is given, `vt` per value
+/// of the face-varying channel named `"uv"` (other channels are not written), one `f` line per
+/// face (1-based, `f a//a b//b ...` with normals, `f a/t b/u ...` or `f a/t/a ...` with
+/// texture coordinates), then the tags: `t interpolateboundary`
+/// (and `t creasemethod 0/0/1 chaikin`, `t smoothtriangles 0/0/1 smooth`,
+/// `t facevaryinginterpolateboundary 1/0/0 K` when they differ from the defaults) when
+/// `opts.scheme` is given, one `t crease 2/1/0` per crease, one
 /// `t corner 1/1/0` per corner, `t hole N/0/0` lines of up to 1000 faces, and the knot tags
 /// of [`PolyMesh::knots`] (`t interval`, `t sideinterval`, `t weight`; see [`super`]).
 ///
@@ -84,15 +87,35 @@ pub fn write_obj<W: std::io::Write>(
         write_triples(&mut buf, w, b"vn ", normals)?;
     }
 
+    let uv = mesh.face_varying.iter().find(|c| c.name() == "uv");
+    if let Some(uv) = uv {
+        uv.validate(mesh.face_offsets())
+            .map_err(|e| invalid_data(e.to_string()))?;
+        for t in uv.values().chunks_exact(uv.dim()) {
+            buf.extend_from_slice(b"vt");
+            for &x in t {
+                buf.push(b' ');
+                push_decimal(&mut buf, x);
+            }
+            buf.push(b'\n');
+            flush(&mut buf, w, false)?;
+        }
+    }
+
     let with_normals = opts.normals.is_some();
-    for face in mesh.faces() {
+    let uv_indices = uv.map(|c| c.indices());
+    for (face, &start) in mesh.faces().zip(mesh.face_offsets()) {
         buf.push(b'f');
-        for &v in face {
+        for (k, &v) in face.iter().enumerate() {
             let v = u64::from(v) + 1;
             buf.push(b' ');
             push_u64(&mut buf, v);
+            if let Some(t) = uv_indices {
+                buf.push(b'/');
+                push_u64(&mut buf, u64::from(t[start as usize + k]) + 1);
+            }
             if with_normals {
-                buf.extend_from_slice(b"//");
+                buf.extend_from_slice(if uv_indices.is_some() { b"/" } else { b"//" });
                 push_u64(&mut buf, v);
             }
         }
@@ -111,6 +134,13 @@ pub fn write_obj<W: std::io::Write>(
         }
         if scheme.triangles == TriangleSubdivision::Smooth {
             buf.extend_from_slice(b"t smoothtriangles 0/0/1 smooth\n");
+        }
+        if scheme.face_varying != FaceVaryingInterpolation::default() {
+            writeln!(
+                buf,
+                "t facevaryinginterpolateboundary 1/0/0 {}",
+                scheme.face_varying.tag_value()
+            )?;
         }
     }
     for c in &mesh.tags.creases {

@@ -26,13 +26,18 @@ pub fn osd_shapes_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/shapes/osd")
 }
 
-/// Every `*.obj` of OpenSubdiv's regression shapes, sorted by name, with the scheme
-/// options of its tags.
+/// Every Catmull-Clark regression shape of OpenSubdiv's (`catmark_*.obj`; the Loop and
+/// bilinear ones are `osd_golden_schemes.rs`'s), sorted by name, with the scheme options of
+/// its tags.
 pub fn osd_shapes() -> Vec<(String, PolyMesh, Options)> {
     let mut paths: Vec<PathBuf> = std::fs::read_dir(osd_shapes_dir())
         .expect("shapes directory")
         .map(|e| e.expect("directory entry").path())
         .filter(|p| p.extension().is_some_and(|e| e == "obj"))
+        .filter(|p| {
+            p.file_name()
+                .is_some_and(|n| n.to_string_lossy().starts_with("catmark_"))
+        })
         .collect();
     paths.sort();
     assert!(paths.len() >= 80, "expected the 87 OpenSubdiv shapes");

@@ -51,6 +51,7 @@ pub fn options_strategy() -> impl Strategy<Value = Options> {
         } else {
             TriangleSubdivision::Catmark
         },
+        ..Options::default()
     })
 }
 

@@ -5,7 +5,7 @@
 //!
 //! A step's weights depend on the topology and the intervals only: `NurssMasks` computes
 //! them once per level; [`interpolate_nurss`] applies them to data, and re-posing plans
-//! ([`crate::refine::RefinePlan::new_nurss`]) store them as rows.
+//! ([`crate::refine::RefinePlan::new`] with [`Scheme::Nurss`](crate::Scheme::Nurss)) store them as rows.
 //!
 //! # How the rules read intervals
 //! - *Side intervals.* Inside face `f`, edge `j` of the face reads [`NurssKnots::side`]: the
@@ -40,9 +40,9 @@
 
 use rayon::prelude::*;
 
-use super::refine_topology;
-use super::topology::{chunk_ranges, collect, parallel, run, split_pieces, CHUNK};
 use crate::mesh::{Options, Rule, Topology};
+use crate::refine::refine_topology;
+use crate::refine::topology::{chunk_ranges, collect, parallel, run, split_pieces, CHUNK};
 use crate::scheme::nurss::{
     curve_edge_weights, curve_vertex_weights, edge_weights, face_edge_interval, face_weights,
     midpoint_weights, vertex_weights, RingIntervals,
@@ -302,7 +302,7 @@ enum VertexRule {
 /// data, computed once from the level's topology and knot intervals (and nothing else:
 /// the step is linear in the data). [`apply`](Self::apply) refines data with them;
 /// [`row`](Self::row) gives one child vertex's weights on the parent vertices, the rows of
-/// a re-posing plan ([`crate::refine::RefinePlan::new_nurss`]).
+/// a re-posing plan ([`crate::refine::RefinePlan::new`]).
 ///
 /// The rules are those of the [module documentation](self), with the weights of
 /// [`crate::scheme::nurss`]: face points on their face's vertices; edge midpoints `M` on

@@ -1,0 +1,126 @@
+//! `--scheme loop` and `--scheme bilinear`: refinement as the library's `subdivide` gives it,
+//! a quad for Loop refused naming the face, and the operations not available yet refused with
+//! a message (never another scheme's surface).
+
+use crate::common;
+
+use common::*;
+use subsurf::io::obj::parse_obj;
+use subsurf::mesh::Options;
+use subsurf::{Scheme, SubdivideOptions};
+
+/// A square pyramid without its base, as four triangles, with a crease along one edge.
+const TRIANGLES: &str = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0.5 0.5 1\n\
+                         f 1 2 5\nf 2 3 5\nf 3 4 5\nf 4 1 5\nt crease 2/1/0 0 4 1.5\n";
+
+/// The same with the last two triangles as one quad.
+const WITH_QUAD: &str = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0.5 0.5 1\n\
+                         f 1 2 5\nf 2 3 5\nf 3 4 1 5\n";
+
+fn library(scheme: Scheme, levels: u32) -> subsurf::mesh::PolyMesh {
+    let input = parse_obj(TRIANGLES.as_bytes(), "tri.obj").expect("valid OBJ");
+    let opts = SubdivideOptions {
+        levels,
+        scheme,
+        options: input.options.resolve(Options::default()),
+        ..Default::default()
+    };
+    subsurf::subdivide(&input.mesh, &opts)
+        .expect("refines")
+        .mesh
+}
+
+#[test]
+fn loop_and_bilinear_refine_as_the_library() {
+    let dir = dir_with(&[("tri.obj", TRIANGLES)]);
+    for (name, scheme) in [("loop", Scheme::Loop), ("bilinear", Scheme::Bilinear)] {
+        let out = format!("{name}.obj");
+        let o = run_in(
+            dir.path(),
+            &[
+                "subdivide",
+                "tri.obj",
+                "-o",
+                &out,
+                "-l",
+                "2",
+                "--scheme",
+                name,
+            ],
+        );
+        assert_code(&o, 0);
+        let text = std::fs::read_to_string(dir.path().join(&out)).expect("output written");
+        assert!(
+            text.contains(&format!("--scheme {name}")),
+            "the header names the scheme: {text:.300}"
+        );
+        let got = parse_obj(text.as_bytes(), &out).expect("valid output");
+        let want = library(scheme, 2);
+        assert_eq!(got.mesh.positions(), want.positions(), "{name}");
+        assert_eq!(got.mesh.face_verts(), want.face_verts(), "{name}");
+        let sizes: Vec<usize> = got.mesh.faces().map(<[u32]>::len).collect();
+        let n = if scheme == Scheme::Loop { 3 } else { 4 };
+        assert!(sizes.iter().all(|&s| s == n), "{name}: faces of {n}");
+    }
+    // Loop and Catmull-Clark differ: the scheme is not ignored.
+    assert_ne!(
+        library(Scheme::Loop, 1).positions(),
+        library(Scheme::CatmullClark, 1).positions()
+    );
+}
+
+#[test]
+fn loop_refuses_a_quad_naming_it() {
+    let dir = dir_with(&[("quad.obj", WITH_QUAD)]);
+    let o = run_in(
+        dir.path(),
+        &["subdivide", "quad.obj", "-o", "out.obj", "--scheme", "loop"],
+    );
+    assert_code(&o, 1);
+    let err = stderr(&o);
+    assert!(err.contains("quad.obj") && err.contains("face"), "{err}");
+    assert!(!dir.path().join("out.obj").exists());
+}
+
+#[test]
+fn operations_not_available_yet_are_refused() {
+    let dir = dir_with(&[("tri.obj", TRIANGLES)]);
+    let o = run_in(
+        dir.path(),
+        &[
+            "subdivide",
+            "tri.obj",
+            "-o",
+            "out.obj",
+            "--scheme",
+            "loop",
+            "--limit",
+        ],
+    );
+    assert_code(&o, 1);
+    assert!(stderr(&o).contains("moving to the limit"), "{}", stderr(&o));
+    let o = run_in(
+        dir.path(),
+        &[
+            "repose", "tri.obj", "tri.obj", "-o", "poses", "--scheme", "bilinear",
+        ],
+    );
+    assert_code(&o, 1);
+    assert!(stderr(&o).contains("re-posing"), "{}", stderr(&o));
+    for args in [
+        ["tessellate", "--rate", "4", "-o", "out.obj"],
+        ["limit", "--grid", "3", "-o", "out.txt"],
+    ] {
+        let cmd = args[0];
+        let mut args = args.to_vec();
+        args.extend(["tri.obj", "--scheme", "loop"]);
+        let o = run_in(dir.path(), &args);
+        assert_code(&o, 2);
+        assert!(
+            stderr(&o).contains("not available yet"),
+            "{cmd}: {}",
+            stderr(&o)
+        );
+    }
+    assert!(!dir.path().join("out.obj").exists());
+}

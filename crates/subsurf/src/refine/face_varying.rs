@@ -1,0 +1,913 @@
+//! Refinement of face-varying data ([`FaceVarying`]: texture coordinates and any data per
+//! face corner) alongside the vertex topology, as OpenSubdiv refines its face-varying
+//! channels (`Vtr::internal::FVarLevel`, `FVarRefinement` and
+//! `Far::PrimvarRefiner::InterpolateFaceVarying`).
+//!
+//! # The face-varying topology of a level ([`FvarLevel`])
+//! Each vertex has one or more *values* (siblings): the distinct values its faces give it,
+//! numbered in order of first appearance around the vertex. An edge whose two faces give
+//! either end different values is *discontinuous* (a seam). A vertex whose values are
+//! laid out as its vertex topology (one value, no seam, and not a boundary that the mode
+//! makes linear) *matches*: its value is refined with the vertex masks of the scheme
+//! ([`Rules`]), smooth, crease or corner as the vertex's sharpness says. The values of a
+//! vertex that does not match each cover a span of its faces and are classified from
+//! their span and the mode ([`FaceVaryingInterpolation`]):
+//! - a *corner* (one face, or sharpened by the mode, an infinitely sharp edge inside the
+//!   span, a non-manifold vertex or a disjoint span) keeps its value;
+//! - a *crease* (a smooth face-varying boundary) takes the scheme's crease rule along the
+//!   two boundary values at the ends of its span (`¾ v + ⅛ (a + b)` for Catmull-Clark);
+//! - a *semi-sharp* value (a span with a semi-sharp edge, or a semi-sharp vertex) is a
+//!   corner until the sharpness has decayed, then a crease, blended during the step it
+//!   decays by OpenSubdiv's fractional weight.
+//!
+//! Face points are centroids of the face's values. A child of an edge takes the edge
+//! mask of the scheme when the edge is continuous, else one value per face of the edge,
+//! the midpoint of that face's two values.
+//!
+//! # Numbering of child values (OpenSubdiv's)
+//! Child values are numbered by child vertex (the children of vertices, then faces, then
+//! edges, [`super::topology`]'s order), each child vertex's values in sibling order: a
+//! vertex's child has its parent's values in the same order, a face's child one value, an
+//! edge's child one value, or one per face of the edge (in the edge's face order) when the
+//! edge is discontinuous.
+
+use super::primvar::{edge_mask_at, vertex_mask_at};
+use super::topology::rot;
+use crate::mesh::sharpness as sharp;
+use crate::mesh::{
+    BoundaryInterpolation, FaceVarying, FaceVaryingInterpolation, Options, Topology,
+};
+use crate::scheme::catmark::{self, VertexMask};
+use crate::scheme::{crease, Rules};
+
+/// The classification of a face-varying value (OpenSubdiv's `FVarLevel::ValueTag`, the
+/// part that refinement reads).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+struct ValueTag {
+    /// The vertex's face-varying topology does not match its vertex topology.
+    mismatch: bool,
+    /// A smooth face-varying boundary (otherwise a corner).
+    crease: bool,
+    /// A corner that becomes a crease once its semi-sharp features have decayed.
+    semi_sharp: bool,
+    /// Semi-sharp because the vertex's other value is.
+    dep_sharp: bool,
+}
+
+impl ValueTag {
+    fn is_corner(self) -> bool {
+        !self.crease
+    }
+}
+
+/// Per edge: discontinuous (a seam), and linear (a boundary the mode makes linear).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+struct EdgeTag {
+    mismatch: bool,
+    linear: bool,
+}
+
+/// The faces of a vertex that one of its values covers, and the features inside
+/// (OpenSubdiv's `FVarLevel::ValueSpan`).
+#[derive(Clone, Copy, Debug, Default)]
+struct Span {
+    size: u16,
+    start: u16,
+    discts: u16,
+    semi: u16,
+    inf: u16,
+}
+
+/// The mode's consequences (OpenSubdiv's `completeTopologyFromFaceValues`).
+#[derive(Clone, Copy, Debug)]
+struct Mode {
+    /// Everything linear.
+    linear: bool,
+    /// Face-varying boundaries linear.
+    linear_boundaries: bool,
+    /// A vertex's two values sharpen each other.
+    dependent: bool,
+    /// Single-face values are corners.
+    corners_sharp: bool,
+    /// Smooth corners of the vertex boundary become face-varying corners.
+    sharpen_smooth_corners: bool,
+    /// One corner sharpens both values of a vertex.
+    sharpen_both: bool,
+    /// Interior vertices with a single seam are corners.
+    sharpen_darts: bool,
+}
+
+impl Mode {
+    fn new(options: &Options) -> Self {
+        use FaceVaryingInterpolation as F;
+        let m = options.face_varying;
+        let linear_boundaries = matches!(m, F::All | F::Boundaries);
+        let corners_sharp = m != F::None;
+        Self {
+            linear: m == F::All,
+            linear_boundaries,
+            dependent: matches!(m, F::CornersPlus1 | F::CornersPlus2),
+            corners_sharp,
+            sharpen_smooth_corners: options.boundary != BoundaryInterpolation::EdgeAndCorner
+                && corners_sharp,
+            sharpen_both: m == F::CornersPlus2,
+            sharpen_darts: m == F::CornersPlus2 || linear_boundaries,
+        }
+    }
+}
+
+/// The face-varying topology of one level of one channel. Values are addressed by *slot*
+/// (`vert_offsets[v] + sibling`); `slot_values` maps a slot to the index of its value in
+/// the level's value array (the user's indices at the base level, the slot itself below).
+#[derive(Clone, Debug)]
+pub(crate) struct FvarLevel {
+    mode: Mode,
+    /// Per face-vertex: the value index.
+    face_values: Vec<u32>,
+    /// Per face-vertex: which of its vertex's values it takes.
+    face_siblings: Vec<u16>,
+    /// Per vertex (`V + 1` prefix sums): its first slot.
+    vert_offsets: Vec<u32>,
+    slot_values: Vec<u32>,
+    tags: Vec<ValueTag>,
+    /// Per slot: the vertex-face positions whose faces hold a crease's two end values.
+    ends: Vec<[u16; 2]>,
+    edge_tags: Vec<EdgeTag>,
+}
+
+impl FvarLevel {
+    fn count(&self, v: usize) -> usize {
+        (self.vert_offsets[v + 1] - self.vert_offsets[v]) as usize
+    }
+
+    fn slots(&self, v: usize) -> std::ops::Range<usize> {
+        self.vert_offsets[v] as usize..self.vert_offsets[v + 1] as usize
+    }
+
+    /// Number of values of the level (beyond the base level: of the refined channel).
+    pub(crate) fn num_slots(&self) -> usize {
+        self.slot_values.len()
+    }
+
+    /// The sibling of vertex `v` in its `i`-th face.
+    fn vertex_face_sibling(&self, t: &Topology, v: usize, i: usize) -> usize {
+        let f = t.vertex_faces(v)[i] as usize;
+        self.face_siblings[t.face_offsets[f] as usize + t.vertex_face_locals(v)[i] as usize]
+            as usize
+    }
+
+    /// The value at corner `k` (taken cyclically) of face `f`.
+    fn face_value(&self, t: &Topology, f: usize, k: usize) -> u32 {
+        let (a, b) = (t.face_offsets[f] as usize, t.face_offsets[f + 1] as usize);
+        self.face_values[a + k % (b - a)]
+    }
+
+    /// The base level of a channel whose corner values are `indices` (OpenSubdiv's
+    /// `FVarLevel::completeTopologyFromFaceValues`): seams, values per vertex, and the
+    /// classification of the values of vertices that do not match.
+    pub(crate) fn base(t: &Topology, indices: &[u32], options: &Options) -> Self {
+        let nv = t.num_vertices();
+        let mode = Mode::new(options);
+        let mut l = Self {
+            mode,
+            face_values: indices.to_vec(),
+            face_siblings: vec![0; indices.len()],
+            vert_offsets: Vec::with_capacity(nv + 1),
+            slot_values: Vec::with_capacity(nv),
+            tags: Vec::new(),
+            ends: Vec::new(),
+            edge_tags: vec![EdgeTag::default(); t.num_edges()],
+        };
+        let mut mismatch = vec![false; nv];
+        l.vert_offsets.push(0);
+        let mut vals = Vec::new();
+        for v in 0..nv {
+            let faces = t.vertex_faces(v);
+            vals.clear();
+            vals.extend(
+                faces.iter().zip(t.vertex_face_locals(v)).map(|(&f, &k)| {
+                    l.face_values[t.face_offsets[f as usize] as usize + k as usize]
+                }),
+            );
+            l.mark_seams(t, v, &vals, &mut mismatch);
+            // Distinct values in order of first appearance, and each face's sibling, found
+            // as OpenSubdiv finds them: a value equal to the previous face's is that
+            // sibling; otherwise, with two values so far, a value other than the first is
+            // a new sibling even if it is the second (so A B A B gives three siblings, the
+            // last B a value of its own), and beyond two values the list is searched.
+            let first = l.slot_values.len();
+            l.slot_values.push(vals.first().copied().unwrap_or(0));
+            let mut prev_sib = 0;
+            for (i, &x) in vals.iter().enumerate() {
+                let unique = &l.slot_values[first..];
+                let sib = if i == 0 || x == vals[i - 1] {
+                    prev_sib
+                } else if unique.len() == 1 || (unique.len() == 2 && unique[0] != x) {
+                    l.slot_values.push(x);
+                    l.slot_values.len() - 1 - first
+                } else {
+                    match unique.iter().position(|&y| y == x) {
+                        Some(s) => s,
+                        None => {
+                            l.slot_values.push(x);
+                            l.slot_values.len() - 1 - first
+                        }
+                    }
+                };
+                prev_sib = sib;
+                let f = faces[i] as usize;
+                let at = t.face_offsets[f] as usize + t.vertex_face_locals(v)[i] as usize;
+                l.face_siblings[at] = sib as u16;
+            }
+            let count = l.slot_values.len() - first;
+            if t.vert_tags[v].get().non_manifold && count > 1 {
+                mismatch[v] = true;
+            }
+            l.vert_offsets.push(l.slot_values.len() as u32);
+        }
+        l.tags = vec![ValueTag::default(); l.slot_values.len()];
+        l.ends = vec![[0, 0]; l.slot_values.len()];
+        let mut spans = Vec::new();
+        for v in (0..nv).filter(|&v| mismatch[v]) {
+            l.classify(t, v, &mut spans);
+        }
+        l
+    }
+
+    /// Tags the seams at vertex `v` (its faces give `vals`) and the vertices they make
+    /// mismatch, and the boundaries the mode makes linear.
+    fn mark_seams(&mut self, t: &Topology, v: usize, vals: &[u32], mismatch: &mut [bool]) {
+        let vtag = t.vert_tags[v].get();
+        let (edges, nf) = (t.vertex_edges(v), vals.len());
+        let linear = self.mode.linear_boundaries;
+        let mut seams = Vec::new();
+        if !vtag.non_manifold {
+            for i in vtag.boundary as usize..nf {
+                let prev = if i == 0 { nf - 1 } else { i - 1 };
+                if vals[i] != vals[prev] {
+                    seams.push(edges[i] as usize);
+                }
+            }
+        } else if nf > 0 {
+            for (&e, &end) in edges.iter().zip(t.vertex_edge_locals(v)) {
+                let e = e as usize;
+                let faces = t.edge_face_list(e);
+                if faces.len() < 2 {
+                    continue;
+                }
+                let locals = &t.edge_face_local[t.edge_face_offsets[e] as usize..];
+                let value_in = |j: usize| {
+                    let f = faces[j] as usize;
+                    let k = locals[j] as usize;
+                    let reversed = t.edge_verts[e][0] != t.face_vertices(f)[k];
+                    self.face_value(t, f, k + ((end != 0) != reversed) as usize)
+                };
+                let v0 = value_in(0);
+                if (1..faces.len()).any(|j| value_in(j) != v0) {
+                    seams.push(e);
+                }
+            }
+        }
+        for e in seams {
+            let [a, b] = t.edge_verts[e];
+            mismatch[a as usize] = true;
+            mismatch[b as usize] = true;
+            self.edge_tags[e] = EdgeTag {
+                mismatch: true,
+                linear,
+            };
+        }
+        if vtag.boundary && !mismatch[v] {
+            if linear && nf > 0 {
+                mismatch[v] = true;
+                let boundary_edges: Vec<u32> = if !vtag.non_manifold {
+                    vec![edges[0], edges[edges.len() - 1]]
+                } else {
+                    let tags = &t.edge_tags;
+                    edges
+                        .iter()
+                        .copied()
+                        .filter(|&e| tags[e as usize].get().boundary)
+                        .collect()
+                };
+                for e in boundary_edges {
+                    self.edge_tags[e as usize].linear = true;
+                }
+            } else if nf == 1 && self.mode.sharpen_smooth_corners {
+                mismatch[v] = true;
+            }
+        }
+    }
+
+    /// Classifies the values of a vertex that does not match (corner, crease or
+    /// semi-sharp) and records the ends of its creases.
+    fn classify(&mut self, t: &Topology, v: usize, spans: &mut Vec<Span>) {
+        let vtag = t.vert_tags[v].get();
+        let count = self.count(v);
+        let nf = t.vertex_faces(v).len();
+        let m = self.mode;
+        let mut all_sharp = m.linear_boundaries
+            || vtag.inf_sharp
+            || vtag.non_manifold
+            || (m.dependent && count > 2)
+            || (m.sharpen_darts && count == 1 && !vtag.boundary);
+        self.spans(t, v, spans);
+        let mut dependent_to_sharpen = false;
+        if !all_sharp && m.dependent && count == 2 {
+            let (a, b) = (spans[0], spans[1]);
+            all_sharp = a.inf > 0 || b.inf > 0 || a.discts > 0 || b.discts > 0;
+            if m.sharpen_both {
+                all_sharp |= a.size == 1 || b.size == 1;
+            }
+            dependent_to_sharpen = (a.semi > 0) != (b.semi > 0);
+        }
+        for (i, slot) in self.slots(v).enumerate() {
+            let mut tag = ValueTag {
+                mismatch: true,
+                ..ValueTag::default()
+            };
+            let span = spans[i];
+            if span.discts == 0 {
+                let inf = all_sharp || span.inf > 0 || (span.size == 1 && m.corners_sharp);
+                if !inf {
+                    if span.semi > 0 || vtag.semi_sharp {
+                        tag.semi_sharp = true;
+                    } else if dependent_to_sharpen {
+                        tag.semi_sharp = true;
+                        tag.dep_sharp = true;
+                    } else {
+                        tag.crease = true;
+                    }
+                    if !m.linear_boundaries {
+                        let last = span.start.wrapping_add(span.size).wrapping_sub(1);
+                        let end = if i == 0 && span.start != 0 {
+                            last.wrapping_sub(nf as u16)
+                        } else {
+                            last
+                        };
+                        self.ends[slot] = [span.start, end];
+                    }
+                }
+            }
+            self.tags[slot] = tag;
+        }
+    }
+
+    /// The span of each value of vertex `v` into `out` (OpenSubdiv's
+    /// `FVarLevel::gatherValueSpans`).
+    fn spans(&self, t: &Topology, v: usize, out: &mut Vec<Span>) {
+        let count = self.count(v);
+        out.clear();
+        out.resize(count, Span::default());
+        let (edges, nf) = (t.vertex_edges(v), t.vertex_faces(v).len());
+        let boundary = edges.len() > nf;
+        let add = |span: &mut Span, e: u32| {
+            let e = e as usize;
+            let tag = t.edge_tags[e].get();
+            if self.edge_tags[e].mismatch {
+                span.discts += 1;
+            } else if tag.inf_sharp {
+                span.inf += 1;
+            } else if tag.semi_sharp {
+                span.semi += 1;
+            }
+        };
+        if t.vert_tags[v].get().non_manifold {
+            out.iter_mut().for_each(|s| s.discts = 1);
+        } else if count == 1 && !boundary {
+            // An interior vertex with one value: disjoint if more than one seam.
+            let s = &mut out[0];
+            for (i, &e) in edges.iter().enumerate() {
+                if self.edge_tags[e as usize].mismatch {
+                    if s.size > 0 {
+                        s.discts = 1;
+                        break;
+                    }
+                    s.size = nf as u16;
+                    s.start = i as u16;
+                } else {
+                    add(s, e);
+                }
+            }
+            s.size = nf as u16;
+        } else {
+            let sib = |i: usize| self.vertex_face_sibling(t, v, i);
+            out[0].size = 1;
+            let wraps = !boundary && sib(nf - 1) == 0;
+            if wraps {
+                add(&mut out[0], edges[0]);
+            }
+            for i in 1..nf {
+                let s = &mut out[sib(i)];
+                if sib(i) == sib(i - 1) {
+                    add(s, edges[i]);
+                } else {
+                    if s.size > 0 {
+                        s.discts += 1;
+                    }
+                    s.start = i as u16;
+                }
+                s.size += 1;
+            }
+            if wraps {
+                out[0].discts = out[0].discts.wrapping_sub(1);
+            }
+        }
+    }
+
+    /// The values at the two ends of edge `e` in its `i`-th face (OpenSubdiv's
+    /// `getEdgeFaceValues`; the order of the two does not matter to their users).
+    fn edge_face_values(&self, t: &Topology, e: usize, i: usize) -> [u32; 2] {
+        let [a, b] = t.edge_verts[e];
+        if self.count(a as usize) + self.count(b as usize) > 2 {
+            let f = t.edge_face_list(e)[i] as usize;
+            let k = t.edge_face_local[t.edge_face_offsets[e] as usize + i] as usize;
+            [self.face_value(t, f, k), self.face_value(t, f, k + 1)]
+        } else {
+            let at = |v: u32| self.slot_values[self.vert_offsets[v as usize] as usize];
+            [at(a), at(b)]
+        }
+    }
+
+    /// The value at the far end of the `i`-th edge of vertex `v`, seen from the values of
+    /// `v` (OpenSubdiv's `getVertexEdgeValues`, for a vertex that matches).
+    fn vertex_edge_value(&self, t: &Topology, v: usize, i: usize) -> u32 {
+        let e = t.vertex_edges(v)[i] as usize;
+        let other = t.edge_verts[e][(t.vertex_edge_locals(v)[i] == 0) as usize] as usize;
+        if self.count(other) == 1 {
+            return self.slot_values[self.vert_offsets[other] as usize];
+        }
+        let vtag = t.vert_tags[v].get();
+        let (faces, locals) = (t.vertex_faces(v), t.vertex_face_locals(v));
+        if !vtag.non_manifold {
+            if vtag.boundary && i == t.vertex_edges(v).len() - 1 {
+                let f = faces[i - 1] as usize;
+                let n = t.face_vertices(f).len();
+                self.face_value(t, f, locals[i - 1] as usize + n - 1)
+            } else {
+                self.face_value(t, faces[i] as usize, locals[i] as usize + 1)
+            }
+        } else {
+            let f = t.edge_face_list(e)[0] as usize;
+            let k = t.edge_face_local[t.edge_face_offsets[e] as usize] as usize;
+            if other as u32 == t.face_vertices(f)[k] {
+                self.face_value(t, f, k)
+            } else {
+                self.face_value(t, f, k + 1)
+            }
+        }
+    }
+
+    /// The two boundary values next to the crease value `sibling` of vertex `v`: the
+    /// value after `v` in the span's first face and before it in its last (OpenSubdiv's
+    /// `getVertexCreaseEndValues`).
+    fn crease_end_values(&self, t: &Topology, v: usize, sibling: usize) -> [u32; 2] {
+        let [s, e] = self.ends[self.vert_offsets[v] as usize + sibling];
+        let (faces, locals) = (t.vertex_faces(v), t.vertex_face_locals(v));
+        let f0 = faces[s as usize] as usize;
+        let f1 = faces[e as usize] as usize;
+        let n1 = t.face_vertices(f1).len();
+        [
+            self.face_value(t, f0, locals[s as usize] as usize + 1),
+            self.face_value(t, f1, locals[e as usize] as usize + n1 - 1),
+        ]
+    }
+
+    /// The sharpness of the edges inside the span of crease value `slot` of vertex `v`
+    /// (between its first and last face), before (`p`) and after (`c`) the step.
+    fn span_sharpness(
+        &self,
+        p: &Topology,
+        c: &Topology,
+        v: usize,
+        slot: usize,
+        out: &mut (Vec<f32>, Vec<f32>),
+    ) {
+        let [s, e] = self.ends[slot];
+        let edges = p.vertex_edges(v);
+        let locals = p.vertex_edge_locals(v);
+        let k0 = p.face_verts.len();
+        let inside: Vec<usize> = if e > s {
+            (s as usize + 1..=e as usize).collect()
+        } else if s > e {
+            (s as usize + 1..edges.len())
+                .chain(0..=e as usize)
+                .collect()
+        } else {
+            Vec::new()
+        };
+        out.0.clear();
+        out.1.clear();
+        for k in inside {
+            let pe = edges[k] as usize;
+            out.0.push(p.edge_sharpness[pe]);
+            out.1
+                .push(c.edge_sharpness[k0 + 2 * pe + locals[k] as usize]);
+        }
+    }
+
+    /// OpenSubdiv's `FVarRefinement::getFractionalWeight`: the weight of the corner rule
+    /// for semi-sharp value `slot` of vertex `v` during the step from `p` to `c`.
+    fn fractional_weight(
+        &self,
+        p: &Topology,
+        c: &Topology,
+        options: &Options,
+        v: usize,
+        slot: usize,
+    ) -> f64 {
+        let mut sh = (Vec::new(), Vec::new());
+        self.span_sharpness(p, c, v, slot, &mut sh);
+        crease::fractional_weight(
+            options.crease_method,
+            p.vert_sharpness[v],
+            c.vert_sharpness[v],
+            &sh.0,
+            &sh.1,
+        ) as f64
+    }
+}
+
+impl FvarLevel {
+    /// The face-varying topology of `c`, the refinement of `p` (OpenSubdiv's
+    /// `FVarRefinement::applyRefinement`): child values numbered as the module docs say,
+    /// tags inherited (a discontinuous or linear edge's child values are creases, or
+    /// corners when boundaries are linear), crease ends carried down, and semi-sharp
+    /// values that have decayed reclassified as creases. Reads of `c` are limited to its
+    /// sharpness and vertex tags, so `c` may be a level built for output only.
+    pub(crate) fn refine(&self, p: &Topology, c: &Topology) -> Self {
+        let (nv, nf, ne) = (p.num_vertices(), p.num_faces(), p.num_edges());
+        let s = p.face_verts.len();
+        let smooth = !self.mode.linear_boundaries;
+        // Values per child vertex: vertices, faces, edges.
+        let mut vert_offsets = Vec::with_capacity(nv + nf + ne + 1);
+        vert_offsets.push(0u32);
+        let mut at = 0u32;
+        let mut push = |n: usize| {
+            at += n as u32;
+            vert_offsets.push(at);
+        };
+        (0..nv).for_each(|v| push(self.count(v)));
+        (0..nf).for_each(|_| push(1));
+        for e in 0..ne {
+            push(if self.edge_tags[e].mismatch {
+                p.edge_face_list(e).len()
+            } else {
+                1
+            });
+        }
+        let total = at as usize;
+        let mut tags = vec![ValueTag::default(); total];
+        let mut ends = vec![[0u16; 2]; total];
+        for v in 0..nv {
+            let (ps, cs) = (self.slots(v), vert_offsets[v] as usize);
+            tags[cs..cs + ps.len()].copy_from_slice(&self.tags[ps.clone()]);
+            ends[cs..cs + ps.len()].copy_from_slice(&self.ends[ps]);
+        }
+        let split = ValueTag {
+            mismatch: true,
+            crease: smooth,
+            ..ValueTag::default()
+        };
+        for e in 0..ne {
+            let et = self.edge_tags[e];
+            if et.mismatch || et.linear {
+                let cv = nv + nf + e;
+                for (i, slot) in (vert_offsets[cv]..vert_offsets[cv + 1]).enumerate() {
+                    tags[slot as usize] = split;
+                    // Each face of the edge has two child faces at its child vertex.
+                    ends[slot as usize] = [2 * i as u16, 2 * i as u16 + 1];
+                }
+            }
+        }
+        let mut edge_tags = vec![EdgeTag::default(); s + 2 * ne];
+        for e in 0..ne {
+            edge_tags[s + 2 * e] = self.edge_tags[e];
+            edge_tags[s + 2 * e + 1] = self.edge_tags[e];
+        }
+        let mut child = Self {
+            mode: self.mode,
+            face_values: vec![0; 4 * s],
+            face_siblings: vec![0; 4 * s],
+            vert_offsets,
+            slot_values: (0..total as u32).collect(),
+            tags,
+            ends,
+            edge_tags,
+        };
+        self.child_faces(p, &mut child);
+        if smooth {
+            child.reclassify_semi_sharp(p, c);
+        }
+        child
+    }
+
+    /// The values of the child faces: the child of face `f` at corner `j` is the quad
+    /// `[child of vertex j, child of edge j, child of f, child of edge j-1]` (rotated for
+    /// quads, as [`super::topology`] lays it out); a vertex's child takes the sibling of
+    /// its parent in `f`, an edge's child with one value per face the position of `f`
+    /// among the edge's faces.
+    fn child_faces(&self, p: &Topology, child: &mut Self) {
+        let (nv, nf) = (p.num_vertices() as u32, p.num_faces() as u32);
+        let edge_sibling = |e: u32, f: u32| -> u16 {
+            let cv = (nv + nf + e) as usize;
+            if child.vert_offsets[cv + 1] - child.vert_offsets[cv] == 1 {
+                return 0;
+            }
+            let faces = p.edge_face_list(e as usize);
+            faces.iter().rposition(|&g| g == f).unwrap_or(0) as u16
+        };
+        let (mut values, mut siblings) = (
+            std::mem::take(&mut child.face_values),
+            std::mem::take(&mut child.face_siblings),
+        );
+        for f in 0..p.num_faces() {
+            let o = p.face_offsets[f] as usize;
+            let (fv, fe) = (p.face_vertices(f), p.face_edge_list(f));
+            let n = fv.len();
+            for j in 0..n {
+                let jp = if j == 0 { n - 1 } else { j - 1 };
+                let corners = [
+                    (fv[j], self.face_siblings[o + j]),
+                    (nv + nf + fe[j], edge_sibling(fe[j], f as u32)),
+                    (nv + f as u32, 0),
+                    (nv + nf + fe[jp], edge_sibling(fe[jp], f as u32)),
+                ];
+                let r = rot(n, j);
+                for (k, &(cv, sib)) in corners.iter().enumerate() {
+                    let at = 4 * (o + j) + (k + r) % 4;
+                    values[at] = child.vert_offsets[cv as usize] + sib as u32;
+                    siblings[at] = sib;
+                }
+            }
+        }
+        child.face_values = values;
+        child.face_siblings = siblings;
+    }
+
+    /// Semi-sharp values of the children of vertices whose sharpness has decayed become
+    /// creases (OpenSubdiv's `FVarRefinement::reclassifySemisharpValues`).
+    fn reclassify_semi_sharp(&mut self, p: &Topology, c: &Topology) {
+        let s = p.face_verts.len();
+        for v in 0..p.num_vertices() {
+            let slots = self.slots(v);
+            if !self.tags[slots.start].mismatch {
+                continue;
+            }
+            let (pt, ct) = (p.vert_tags[v].get(), c.vert_tags[v].get());
+            if (!pt.semi_sharp && !pt.semi_sharp_edges) || ct.semi_sharp || ct.inf_sharp {
+                continue;
+            }
+            let to_crease = |t: &mut ValueTag| {
+                t.semi_sharp = false;
+                t.dep_sharp = false;
+                t.crease = true;
+            };
+            if !ct.semi_sharp_edges {
+                for t in &mut self.tags[slots] {
+                    if t.semi_sharp {
+                        to_crease(t);
+                    }
+                }
+                continue;
+            }
+            let (edges, locals) = (p.vertex_edges(v), p.vertex_edge_locals(v));
+            let child_semi = |k: usize| {
+                sharp::is_semi_sharp(
+                    c.edge_sharpness[s + 2 * edges[k] as usize + locals[k] as usize],
+                )
+            };
+            for slot in slots.clone() {
+                let t = self.tags[slot];
+                if !t.semi_sharp || t.dep_sharp {
+                    continue;
+                }
+                let [a, b] = self.ends[slot].map(usize::from);
+                let still = if b > a {
+                    (a + 1..=b).any(child_semi)
+                } else if a > b {
+                    (a + 1..edges.len()).chain(0..=b).any(child_semi)
+                } else {
+                    false
+                };
+                if !still {
+                    to_crease(&mut self.tags[slot]);
+                }
+            }
+            if slots.len() == 2 && self.mode.dependent {
+                let (i, j) = (slots.start, slots.start + 1);
+                if self.tags[i].dep_sharp && !self.tags[j].semi_sharp {
+                    self.tags[i].dep_sharp = false;
+                } else if self.tags[j].dep_sharp && !self.tags[i].semi_sharp {
+                    self.tags[j].dep_sharp = false;
+                }
+            }
+        }
+    }
+}
+
+/// `acc += w · x` over `dim` components.
+#[inline]
+fn axpy(acc: &mut [f64], w: f64, x: &[f64]) {
+    for (a, &b) in acc.iter_mut().zip(x) {
+        *a += w * b;
+    }
+}
+
+/// Refines the values `src` (`dim` numbers each, indexed as level `pf` of topology `p`
+/// indexes them) to the values of `cf`, the refinement of `pf` onto `c` (the refinement
+/// of `p`), into `dst` (`dim · cf.num_slots()` numbers): OpenSubdiv's
+/// `PrimvarRefiner::InterpolateFaceVarying` with the masks of `rules` (face points, then
+/// edge and vertex points, which read them).
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn interpolate<R: Rules>(
+    p: &Topology,
+    c: &Topology,
+    pf: &FvarLevel,
+    cf: &FvarLevel,
+    options: &Options,
+    rules: R,
+    dim: usize,
+    src: &[f64],
+    dst: &mut [f64],
+) {
+    let (nv, nf) = (p.num_vertices(), p.num_faces());
+    let val = |i: u32| &src[dim * i as usize..dim * (i as usize + 1)];
+    let face0 = cf.vert_offsets[nv] as usize;
+    let edge0 = cf.vert_offsets[nv + nf] as usize;
+    let (vert_out, rest) = dst.split_at_mut(dim * face0);
+    let (face_out, edge_out) = rest.split_at_mut(dim * (edge0 - face0));
+    // Face points.
+    for (f, out) in face_out.chunks_exact_mut(dim).enumerate() {
+        out.fill(0.0);
+        let w = catmark::face_point_weight(p.face_vertices(f).len());
+        let o = p.face_offsets[f] as usize..p.face_offsets[f + 1] as usize;
+        for &x in &pf.face_values[o] {
+            axpy(out, 1.0, val(x));
+        }
+        out.iter_mut().for_each(|x| *x *= w);
+    }
+    let face_out: &[f64] = face_out;
+    let face_pt = |f: u32| &face_out[dim * f as usize..dim * (f as usize + 1)];
+    // Edge points.
+    for e in 0..p.num_edges() {
+        let cv = nv + nf + e;
+        let slots = cf.slots(cv);
+        let first = dim * (slots.start - edge0);
+        if !cf.tags[slots.start].mismatch {
+            let out = &mut edge_out[first..first + dim];
+            out.fill(0.0);
+            let [a, b] = pf.edge_face_values(p, e, 0);
+            if pf.mode.linear {
+                axpy(out, 0.5, val(a));
+                axpy(out, 0.5, val(b));
+                continue;
+            }
+            let m = edge_mask_at(p, c, options, rules, e);
+            axpy(out, m.vertex, val(a));
+            axpy(out, m.vertex, val(b));
+            if !m.is_crease() {
+                for (j, &f) in p.edge_face_list(e).iter().enumerate() {
+                    let w = if j < 2 { m.faces[j] } else { m.other_faces };
+                    axpy(out, w, face_pt(f));
+                }
+            }
+        } else {
+            for i in 0..slots.len() {
+                let out = &mut edge_out[first + dim * i..first + dim * (i + 1)];
+                out.fill(0.0);
+                let [a, b] = pf.edge_face_values(p, e, i);
+                axpy(out, 0.5, val(a));
+                axpy(out, 0.5, val(b));
+            }
+        }
+    }
+    // Vertex points.
+    let (mut mask, mut cmask) = (VertexMask::default(), VertexMask::default());
+    let (mut pe, mut ce) = (Vec::new(), Vec::new());
+    for v in 0..nv {
+        let (ps, cs) = (pf.slots(v), cf.slots(v));
+        let out_all = &mut vert_out[dim * cs.start..dim * cs.end];
+        if !cf.tags[cs.start].mismatch {
+            let out = &mut out_all[..dim];
+            out.fill(0.0);
+            let pv = val(pf.slot_values[ps.start]);
+            if pf.mode.linear || p.vertex_edges(v).is_empty() {
+                out.copy_from_slice(pv);
+                continue;
+            }
+            let scratch = (&mut pe, &mut ce, &mut cmask);
+            vertex_mask_at(p, c, options, rules, v, &mut mask, scratch);
+            if mask.has_faces {
+                for (&f, &w) in p.vertex_faces(v).iter().zip(&mask.faces) {
+                    axpy(out, w, face_pt(f));
+                }
+            }
+            if mask.has_edges {
+                for (i, &w) in mask.edges.iter().enumerate() {
+                    axpy(out, w, val(pf.vertex_edge_value(p, v, i)));
+                }
+            }
+            axpy(out, mask.vertex, pv);
+            continue;
+        }
+        let [end_w, centre_w, _] = rules.crease_vertex_weights();
+        for (k, out) in out_all.chunks_exact_mut(dim).enumerate() {
+            let pslot = ps.start + k;
+            let pv = val(pf.slot_values[pslot]);
+            out.fill(0.0);
+            if pf.mode.linear || cf.tags[cs.start + k].is_corner() {
+                out.copy_from_slice(pv);
+                continue;
+            }
+            let [a, b] = pf.crease_end_values(p, v, k);
+            let (mut ew, mut vw) = (end_w, centre_w);
+            let pt = pf.tags[pslot];
+            if pt.semi_sharp {
+                // A value sharpened by the other one decays with it.
+                let from = if pt.dep_sharp {
+                    ps.start + (1 - k)
+                } else {
+                    pslot
+                };
+                let corner = pf.fractional_weight(p, c, options, v, from);
+                vw = (1.0 - corner) * centre_w + corner;
+                ew = (1.0 - corner) * end_w;
+            }
+            axpy(out, ew, val(a));
+            axpy(out, ew, val(b));
+            axpy(out, vw, pv);
+        }
+    }
+}
+
+/// The face-varying channels of a mesh refined level by level next to its vertex
+/// topology: each channel's current [`FvarLevel`] and values.
+#[derive(Clone, Debug)]
+pub struct FaceVaryingRefiner {
+    channels: Vec<(FvarLevel, Vec<f64>)>,
+    names: Vec<(String, usize)>,
+}
+
+impl FaceVaryingRefiner {
+    /// The base level of every channel of a mesh whose base topology is `base`.
+    pub fn new(base: &Topology, channels: &[FaceVarying], options: &Options) -> Self {
+        Self {
+            channels: channels
+                .iter()
+                .map(|ch| {
+                    (
+                        FvarLevel::base(base, ch.indices(), options),
+                        ch.values().to_vec(),
+                    )
+                })
+                .collect(),
+            names: channels
+                .iter()
+                .map(|ch| (ch.name().to_string(), ch.dim()))
+                .collect(),
+        }
+    }
+
+    /// Whether there are no channels.
+    pub fn is_empty(&self) -> bool {
+        self.channels.is_empty()
+    }
+
+    /// Refines every channel from `p` to `c` (the refinement of `p`, possibly built for
+    /// output only) with the masks of `rules`.
+    pub fn refine<R: Rules>(&mut self, p: &Topology, c: &Topology, options: &Options, rules: R) {
+        for ((level, values), (_, dim)) in self.channels.iter_mut().zip(&self.names) {
+            let child = level.refine(p, c);
+            let mut next = vec![0.0; dim * child.num_slots()];
+            interpolate(p, c, level, &child, options, rules, *dim, values, &mut next);
+            *level = child;
+            *values = next;
+        }
+    }
+
+    /// The channels of the last level `last`, their faces those of `last` that are kept:
+    /// all of them with `keep_holes`, else those that are not holes (as the output mesh
+    /// of [`crate::subdivide()`] keeps them).
+    pub fn finish(self, last: &Topology, keep_holes: bool) -> Vec<FaceVarying> {
+        self.channels
+            .into_iter()
+            .zip(self.names)
+            .map(|((level, values), (name, dim))| {
+                let indices = if keep_holes || !last.has_holes() {
+                    level.face_values
+                } else {
+                    (0..last.num_faces())
+                        .filter(|&f| !last.is_hole(f))
+                        .flat_map(|f| {
+                            let o =
+                                last.face_offsets[f] as usize..last.face_offsets[f + 1] as usize;
+                            level.face_values[o].iter().copied()
+                        })
+                        .collect()
+                };
+                FaceVarying::new_unchecked(name, dim, values, indices)
+            })
+            .collect()
+    }
+}

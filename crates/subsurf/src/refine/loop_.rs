@@ -1,0 +1,434 @@
+//! Loop subdivision of triangle meshes ([`scheme::loop_`](crate::scheme::loop_)) and
+//! bilinear subdivision ([`scheme::bilinear`](crate::scheme::bilinear)), as OpenSubdiv
+//! refines them: the topology once ([`LoopRefiner`], or the quad split's
+//! [`TopologyRefiner`](super::TopologyRefiner) for bilinear), then any primvar through it
+//! ([`interpolate_loop`], or [`interpolate_with`](super::interpolate_with) and
+//! [`Bilinear`](crate::scheme::bilinear::Bilinear)). [`subdivide`](fn@crate::subdivide)
+//! refines a mesh with either through `refine::uniform`.
+
+use super::primvar::{axpy, run_chunks, vertex_mask_at};
+use super::tri_topology::refine_tri_topology;
+use crate::mesh::{MeshError, Options, PolyMesh, Rule, Topology, TopologyWarning};
+use crate::scheme::catmark::VertexMask;
+use crate::scheme::loop_::Loop;
+use crate::scheme::Rules;
+
+/// [`MeshError::NotTriangle`] for the first face of `mesh` that is not a triangle.
+pub(crate) fn check_triangles(mesh: &PolyMesh) -> Result<(), MeshError> {
+    match mesh.faces().position(|f| f.len() != 3) {
+        Some(face) => Err(MeshError::NotTriangle {
+            face,
+            count: mesh.faces().nth(face).map_or(0, <[u32]>::len),
+        }),
+        None => Ok(()),
+    }
+}
+
+/// Interpolates `src` (values at the vertices of the triangle mesh `parent`) to `dst`
+/// (values at the vertices of `child`, its triangle split by [`LoopRefiner`]) with Loop's
+/// masks ([`Loop`], with the rules of [`Rules`]): the edge points first
+/// (`⅜(v₀ + v₁) + ⅛(o₀ + o₁)` when smooth), then the vertex points
+/// (`(1 − nβₙ) v + βₙ Σ eᵢ` when smooth), as OpenSubdiv's `PrimvarRefiner::Interpolate`.
+///
+/// # Panics
+/// If `src.len() != parent.num_vertices()` or `dst.len() != child.num_vertices()`.
+pub fn interpolate_loop<const D: usize>(
+    parent: &Topology,
+    child: &Topology,
+    options: &Options,
+    src: &[[f64; D]],
+    dst: &mut [[f64; D]],
+) {
+    let nv = parent.num_vertices();
+    assert_eq!(src.len(), nv, "source has the wrong number of values");
+    assert_eq!(
+        dst.len(),
+        child.num_vertices(),
+        "destination has the wrong number of values"
+    );
+    let (vert_pts, edge_pts) = dst.split_at_mut(nv);
+    // The vertex of face `f` opposite its edge `i`.
+    let opposite =
+        |f: u32, i: u16| &src[parent.face_vertices(f as usize)[(i as usize + 2) % 3] as usize];
+    let edge_pass = |(start, out): (usize, &mut [[f64; D]])| {
+        for (i, o) in out.iter_mut().enumerate() {
+            let e = start + i;
+            let [a, b] = parent.edge_verts[e];
+            let faces = parent.edge_face_list(e);
+            let local = &parent.edge_face_local[parent.edge_face_offsets[e] as usize..];
+            let sharp = parent.edge_sharpness[e];
+            let (pa, pb) = (&src[a as usize], &src[b as usize]);
+            if sharp <= 0.0 && faces.len() == 2 {
+                let opp = [opposite(faces[0], local[0]), opposite(faces[1], local[1])];
+                *o = Loop.smooth_edge_point([pa, pb], opp);
+                continue;
+            }
+            let child_rule = child.vert_tags[nv + e].get().rule;
+            let m = Loop.edge_mask(options, sharp, child_rule, faces.len(), [false; 2]);
+            let mut acc: [f64; D] = std::array::from_fn(|k| m.vertex * (pa[k] + pb[k]));
+            if !m.is_crease() {
+                for (j, (&f, &l)) in faces.iter().zip(local).enumerate() {
+                    let w = if j < 2 { m.faces[j] } else { m.other_faces };
+                    axpy(&mut acc, w, opposite(f, l));
+                }
+            }
+            *o = acc;
+        }
+    };
+    let vertex_pass = |(start, out): (usize, &mut [[f64; D]])| {
+        let (mut mask, mut child_mask) = (VertexMask::default(), VertexMask::default());
+        let (mut pe, mut ce) = (Vec::new(), Vec::new());
+        for (i, o) in out.iter_mut().enumerate() {
+            let v = start + i;
+            let p = &src[v];
+            let n = parent.vertex_faces(v).len();
+            if parent.vertex_edges(v).is_empty() {
+                *o = *p;
+                continue;
+            }
+            if matches!(parent.vert_tags[v].get().rule, Rule::Smooth | Rule::Dart) {
+                // OpenSubdiv's valence here is the face count (equal to the edge count at
+                // the manifold interior vertices that smooth rules apply to).
+                let ends = parent.vertex_neighbours(v).take(n);
+                *o = Loop.smooth_vertex_point(
+                    n,
+                    p,
+                    ends.map(|x| &src[x as usize]),
+                    std::iter::empty(),
+                );
+                continue;
+            }
+            let scratch = (&mut pe, &mut ce, &mut child_mask);
+            vertex_mask_at(parent, child, options, Loop, v, &mut mask, scratch);
+            // Loop's vertex masks have no face weights.
+            debug_assert!(!mask.has_faces || mask.faces.iter().all(|&w| w == 0.0));
+            let mut acc = [0.0; D];
+            if mask.has_edges {
+                for (x, &w) in parent.vertex_neighbours(v).zip(&mask.edges) {
+                    axpy(&mut acc, w, &src[x as usize]);
+                }
+            }
+            axpy(&mut acc, mask.vertex, p);
+            *o = acc;
+        }
+    };
+    rayon::join(
+        || run_chunks(edge_pts, edge_pass),
+        || run_chunks(vert_pts, vertex_pass),
+    );
+}
+
+/// A base triangle [`Topology`] and its uniform Loop refinements, level by level (the
+/// counterpart of [`TopologyRefiner`](super::TopologyRefiner) for Loop): refine the
+/// topology once, then any number of primvars through it.
+///
+/// ```
+/// use subsurf::mesh::{Options, PolyMesh};
+/// use subsurf::refine::LoopRefiner;
+///
+/// let tet = PolyMesh::from_faces(
+///     vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+///     &[[0u32, 2, 1], [0, 1, 3], [1, 2, 3], [2, 0, 3]],
+/// ).unwrap();
+/// let mut r = LoopRefiner::new(&tet, Options::default()).unwrap();
+/// r.refine_uniform(2);
+/// assert_eq!(r.level(2).num_faces(), 64);
+/// let pos = r.interpolate_all(tet.positions());
+/// assert_eq!(pos.len(), r.level(2).num_vertices());
+/// ```
+#[derive(Clone, Debug)]
+pub struct LoopRefiner {
+    levels: Vec<Topology>,
+    options: Options,
+    warnings: Vec<TopologyWarning>,
+}
+
+impl LoopRefiner {
+    /// Builds the base level of `mesh` (see [`Topology::from_mesh`]).
+    ///
+    /// # Errors
+    /// [`MeshError::NotTriangle`] naming the first face that is not a triangle; the errors
+    /// of [`Topology::from_mesh`].
+    pub fn new(mesh: &PolyMesh, options: Options) -> Result<Self, MeshError> {
+        check_triangles(mesh)?;
+        let (base, warnings) = Topology::from_mesh(mesh, &options)?;
+        Ok(Self {
+            levels: vec![base],
+            options,
+            warnings,
+        })
+    }
+
+    /// Refines until there are `levels` levels beyond the base.
+    pub fn refine_uniform(&mut self, levels: u32) {
+        while self.levels.len() <= levels as usize {
+            self.refine_one();
+        }
+    }
+
+    /// Adds one level: every triangle split into four.
+    pub fn refine_one(&mut self) {
+        let last = self.levels.last().expect("the base level always exists");
+        let child = refine_tri_topology(last, &self.options);
+        self.levels.push(child);
+    }
+
+    /// Level `i` (0 is the base).
+    ///
+    /// # Panics
+    /// If `i > max_level()`.
+    pub fn level(&self, i: usize) -> &Topology {
+        &self.levels[i]
+    }
+
+    /// The deepest level refined so far.
+    pub fn max_level(&self) -> usize {
+        self.levels.len() - 1
+    }
+
+    /// Scheme options.
+    pub fn options(&self) -> &Options {
+        &self.options
+    }
+
+    /// Warnings about the base mesh.
+    pub fn warnings(&self) -> &[TopologyWarning] {
+        &self.warnings
+    }
+
+    /// Interpolates values from level `level - 1` to level `level` ([`interpolate_loop`]).
+    pub fn interpolate<const D: usize>(
+        &self,
+        level: usize,
+        src: &[[f64; D]],
+        dst: &mut [[f64; D]],
+    ) {
+        interpolate_loop(
+            &self.levels[level - 1],
+            &self.levels[level],
+            &self.options,
+            src,
+            dst,
+        );
+    }
+
+    /// Interpolates base-level values to the deepest level.
+    pub fn interpolate_all<const D: usize>(&self, base: &[[f64; D]]) -> Vec<[f64; D]> {
+        let mut cur = base.to_vec();
+        for l in 1..self.levels.len() {
+            let mut next = vec![[0.0; D]; self.levels[l].num_vertices()];
+            self.interpolate(l, &cur, &mut next);
+            cur = next;
+        }
+        cur
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::{BoundaryInterpolation, Corner, Crease, Tags};
+    use crate::refine::uniform::{refine_uniform, Steps};
+
+    /// `mesh` refined `levels` times with `steps`, as `subdivide` refines it.
+    fn refine(
+        mesh: &PolyMesh,
+        options: &Options,
+        steps: Steps,
+        levels: u32,
+        keep_holes: bool,
+    ) -> Result<(PolyMesh, Vec<TopologyWarning>), MeshError> {
+        mesh.validate()?;
+        let mut u = refine_uniform(mesh, options, steps, levels, false, &mut |_, _| {})?;
+        let warnings = std::mem::take(&mut u.warnings);
+        Ok((u.into_mesh(keep_holes), warnings))
+    }
+
+    fn subdivide_loop(
+        mesh: &PolyMesh,
+        options: &Options,
+        levels: u32,
+        keep_holes: bool,
+        _: &mut dyn FnMut(u32, u32),
+    ) -> Result<(PolyMesh, Vec<TopologyWarning>), MeshError> {
+        refine(mesh, options, Steps::Loop, levels, keep_holes)
+    }
+
+    fn subdivide_bilinear(
+        mesh: &PolyMesh,
+        options: &Options,
+        levels: u32,
+        keep_holes: bool,
+        _: &mut dyn FnMut(u32, u32),
+    ) -> Result<(PolyMesh, Vec<TopologyWarning>), MeshError> {
+        refine(mesh, options, Steps::Bilinear, levels, keep_holes)
+    }
+    use crate::mesh::CreaseMethod;
+
+    /// An `n × n` grid of squares, each cut into two triangles along alternating
+    /// diagonals, with heights `z(i, j)`.
+    fn tri_grid(n: u32, z: impl Fn(u32, u32) -> f64) -> PolyMesh {
+        let id = |i: u32, j: u32| i * (n + 1) + j;
+        let mut pos = Vec::new();
+        for i in 0..=n {
+            for j in 0..=n {
+                pos.push([j as f64, i as f64, z(i, j)]);
+            }
+        }
+        let mut faces = Vec::new();
+        for i in 0..n {
+            for j in 0..n {
+                let (a, b, c, d) = (id(i, j), id(i, j + 1), id(i + 1, j + 1), id(i + 1, j));
+                if (i + j) % 2 == 0 {
+                    faces.extend([[a, b, c], [a, c, d]]);
+                } else {
+                    faces.extend([[a, b, d], [b, c, d]]);
+                }
+            }
+        }
+        PolyMesh::from_faces(pos, &faces).unwrap()
+    }
+
+    /// A grid with semi-sharp creases (decaying at different levels, meeting at a vertex
+    /// with three sharp edges), an infinitely sharp one and a semi-sharp corner.
+    fn creased_grid() -> PolyMesh {
+        let mut m = tri_grid(4, |i, j| ((i * 7 + j * 3) % 5) as f64 * 0.3);
+        let crease = |v0, v1, sharpness| Crease { v0, v1, sharpness };
+        m.tags.creases = vec![
+            crease(6, 7, 2.5),
+            crease(7, 8, 1.25),
+            crease(7, 12, 0.5),
+            crease(16, 17, 10.0),
+            crease(17, 18, 10.0),
+        ];
+        m.tags.corners = vec![Corner {
+            vertex: 13,
+            sharpness: 1.5,
+        }];
+        m
+    }
+
+    fn run_loop(m: &PolyMesh, o: &Options, levels: u32) -> PolyMesh {
+        subdivide_loop(m, o, levels, true, &mut |_, _| {})
+            .unwrap()
+            .0
+    }
+
+    #[test]
+    fn a_face_that_is_not_a_triangle_is_named() {
+        let m = PolyMesh::from_faces(
+            vec![[0.0; 3], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]],
+            &[vec![0u32, 1, 2], vec![0, 2, 3, 1]],
+        )
+        .unwrap();
+        let want = MeshError::NotTriangle { face: 1, count: 4 };
+        let got = subdivide_loop(&m, &Options::default(), 1, false, &mut |_, _| {});
+        assert_eq!(got.unwrap_err(), want);
+        assert_eq!(LoopRefiner::new(&m, Options::default()).unwrap_err(), want);
+        assert!(want.to_string().contains("face 1 has 4 vertices"));
+    }
+
+    /// Refining the output of `a` levels (whose tags carry the remaining sharpness and
+    /// the holes) `b` more levels gives the result of `a + b` levels. The two number edges
+    /// differently (the output's edges are numbered afresh when it is read), so new
+    /// vertices come in another order; the children of the output's vertices keep their
+    /// indices in both, and their positions, which depend on everything around them, are
+    /// compared.
+    #[test]
+    fn refining_the_output_again_continues_the_refinement() {
+        let m = creased_grid();
+        for method in [CreaseMethod::Uniform, CreaseMethod::Chaikin] {
+            for boundary in [
+                BoundaryInterpolation::EdgeOnly,
+                BoundaryInterpolation::EdgeAndCorner,
+                BoundaryInterpolation::None,
+            ] {
+                let o = Options {
+                    crease_method: method,
+                    boundary,
+                    ..Options::default()
+                };
+                let all = run_loop(&m, &o, 3);
+                let first = run_loop(&m, &o, 1);
+                let again = run_loop(&first, &o, 2);
+                assert_eq!(all.num_vertices(), again.num_vertices());
+                assert_eq!(all.num_faces(), again.num_faces());
+                assert_eq!(all.tags.holes.len(), again.tags.holes.len());
+                let n = first.num_vertices();
+                for (p, q) in all.positions()[..n].iter().zip(&again.positions()[..n]) {
+                    for k in 0..3 {
+                        assert!((p[k] - q[k]).abs() < 1e-13, "{method:?} {boundary:?}");
+                    }
+                }
+            }
+        }
+    }
+
+    /// Loop's masks are affine combinations: refining an affinely mapped mesh is mapping
+    /// the refined mesh; a flat mesh stays flat (creases, corners and all).
+    #[test]
+    fn loop_is_affine_invariant_and_keeps_a_flat_mesh_flat() {
+        let m = creased_grid();
+        let o = Options::default();
+        let map = |p: &[f64; 3]| {
+            [
+                2.0 * p[0] - 0.5 * p[1] + 0.25 * p[2] + 3.0,
+                0.3 * p[0] + 1.5 * p[1] - p[2] - 1.0,
+                -0.7 * p[0] + 0.2 * p[1] + 0.9 * p[2] + 0.5,
+            ]
+        };
+        let mut moved = m.clone();
+        let pos: Vec<[f64; 3]> = m.positions().iter().map(map).collect();
+        moved.positions_mut().copy_from_slice(&pos);
+        let a = run_loop(&m, &o, 3);
+        let b = run_loop(&moved, &o, 3);
+        for (p, q) in a.positions().iter().zip(b.positions()) {
+            let p = map(p);
+            for k in 0..3 {
+                assert!((p[k] - q[k]).abs() < 1e-12);
+            }
+        }
+        let mut flat = m.clone();
+        for p in flat.positions_mut() {
+            p[2] = 0.25 * p[0] - 0.5 * p[1] + 1.0;
+        }
+        let r = run_loop(&flat, &o, 3);
+        assert!(r
+            .positions()
+            .iter()
+            .all(|p| (p[2] - (0.25 * p[0] - 0.5 * p[1] + 1.0)).abs() < 1e-12));
+    }
+
+    /// Bilinear: vertices stay, new points lie on the input's faces, sharpness changes
+    /// nothing, and boundary mode `None` makes no holes (OpenSubdiv's rule for schemes
+    /// without a neighbourhood).
+    #[test]
+    fn bilinear_refines_on_the_faces_and_ignores_sharpness() {
+        let m = creased_grid();
+        let plain = {
+            let mut p = m.clone();
+            p.tags = Tags::default();
+            p
+        };
+        let none = Options {
+            boundary: BoundaryInterpolation::None,
+            ..Options::default()
+        };
+        let (a, _) = subdivide_bilinear(&m, &none, 2, false, &mut |_, _| {}).unwrap();
+        let (b, _) =
+            subdivide_bilinear(&plain, &Options::default(), 2, false, &mut |_, _| {}).unwrap();
+        assert_eq!(a.positions(), b.positions());
+        assert_eq!(a.num_faces(), 4 * m.face_verts().len());
+        assert_eq!(&a.positions()[..m.num_vertices()], m.positions());
+        // On a flat mesh every point stays on the plane.
+        let mut flat = plain.clone();
+        for p in flat.positions_mut() {
+            p[2] = 2.0 * p[0] + p[1];
+        }
+        let (f, _) = subdivide_bilinear(&flat, &none, 3, false, &mut |_, _| {}).unwrap();
+        assert!(f
+            .positions()
+            .iter()
+            .all(|p| (p[2] - 2.0 * p[0] - p[1]).abs() < 1e-12));
+    }
+}

@@ -1,0 +1,344 @@
+//! Uniform refinement of a mesh's positions with every scheme whose levels are refined one
+//! after the other from positions alone (all but NURSS, which carries knot intervals:
+//! `refine::nurss`), to a mesh that carries the sharpness still left: the refinement under
+//! [`subdivide`](fn@crate::subdivide), which adds the memory guard and the limit.
+
+use super::loop_::{check_triangles, interpolate_loop};
+use super::tri_topology::refine_tri_topology;
+use super::{
+    interpolate, interpolate_with, refine_topology, refine_topology_for_output, FaceVaryingRefiner,
+};
+use crate::mesh::{
+    BoundaryInterpolation, Corner, Crease, MeshError, Options, PolyMesh, Tags, Topology,
+    TopologyWarning,
+};
+use crate::scheme::adjustable::Mixed;
+use crate::scheme::bilinear::Bilinear;
+use crate::scheme::catmark::CatmullClark;
+use crate::scheme::Scheme;
+
+/// How each level of a uniform refinement is made: the schemes [`refine_uniform`] refines.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum Steps {
+    /// The Catmull-Clark split; the adjustable masks on the first `steps` levels, then
+    /// Catmull-Clark's ([`Mixed::CATMULL_CLARK`]: Catmull-Clark throughout).
+    Family(Mixed),
+    /// The Catmull-Clark split with [`Bilinear`] masks.
+    Bilinear,
+    /// The triangle split with Loop's masks (`interpolate_loop`).
+    Loop,
+}
+
+impl Steps {
+    /// The steps of `scheme`, `None` for NURSS.
+    pub(crate) fn of(scheme: Scheme) -> Option<Self> {
+        match scheme {
+            Scheme::CatmullClark => Some(Self::Family(Mixed::CATMULL_CLARK)),
+            Scheme::Adjustable(m) => Some(Self::Family(m)),
+            Scheme::Bilinear => Some(Self::Bilinear),
+            Scheme::Loop => Some(Self::Loop),
+            Scheme::Nurss => None,
+        }
+    }
+
+    /// The options the topology is built with: bilinear makes no holes for boundary mode
+    /// `None` ([`Bilinear::topology_options`]).
+    fn topology_options(self, options: &Options) -> Options {
+        match self {
+            Self::Bilinear => Bilinear::topology_options(options),
+            _ => *options,
+        }
+    }
+}
+
+/// The last level of a uniform refinement and the positions of its vertices.
+pub(crate) struct Uniform {
+    /// The last level: complete (with its full adjacency) when asked for, else without
+    /// edge vertices (`refine_topology_for_output`).
+    pub(crate) level: Topology,
+    /// The level before the last when the last is not complete: its edges give the
+    /// output's creases.
+    parent: Option<Topology>,
+    /// The positions of the last level's vertices (OpenSubdiv's numbering).
+    pub(crate) positions: Vec<[f64; 3]>,
+    /// Warnings about the base mesh.
+    pub(crate) warnings: Vec<TopologyWarning>,
+    /// The face-varying channels, refined to the last level.
+    face_varying: FaceVaryingRefiner,
+    boundary: BoundaryInterpolation,
+}
+
+/// Bytes per face of the last level held at once by [`refine_uniform`]: the child's faces, edge
+/// vertices, tags and sharpness (~60 B), a quarter of a complete parent level (~50 B), two
+/// position buffers (~30 B) and the output copy of the faces (16 B). Measured peaks are
+/// ~130 B per output face (`BENCHMARKS.md`); the estimate errs high.
+const BYTES_PER_FACE: u64 = 160;
+/// Extra bytes per face when limit positions are requested: the last level's full
+/// adjacency and three more position-sized buffers.
+const LIMIT_BYTES_PER_FACE: u64 = 200;
+
+/// Estimated peak memory in bytes of refining `mesh` `levels` times with `steps`, and of
+/// moving the last level to the limit with `limit`,
+/// saturating at `u64::MAX`.
+pub(crate) fn estimate_uniform(mesh: &PolyMesh, steps: Steps, levels: u32, limit: bool) -> u64 {
+    let per_face = BYTES_PER_FACE + if limit { LIMIT_BYTES_PER_FACE } else { 0 };
+    refined_faces(mesh, steps, levels)
+        .saturating_mul(per_face)
+        .saturating_add(mesh.num_vertices() as u64 * 64)
+}
+
+/// Number of faces after `levels` uniform steps of `steps`: the first step makes the
+/// face-vertex count `S` (every face of size `n` gives `n` quads), or four triangles per
+/// triangle with Loop, then ×4 per step. Saturates.
+pub(crate) fn refined_faces(mesh: &PolyMesh, steps: Steps, levels: u32) -> u64 {
+    if levels == 0 {
+        return mesh.num_faces() as u64;
+    }
+    let s = match steps {
+        Steps::Loop => 4 * mesh.num_faces() as u64,
+        _ => mesh.face_verts().len() as u64,
+    };
+    let shift = 2 * (levels as u64 - 1);
+    if shift >= 64 {
+        return if s == 0 { 0 } else { u64::MAX };
+    }
+    s.saturating_mul(1u64 << shift)
+}
+
+/// Refines `mesh` uniformly `levels` times with `steps` as OpenSubdiv refines it (same
+/// rules for boundaries, creases, corners, holes, triangles and non-manifold topology; same
+/// vertex and face order). Only the last two levels are kept in memory. With `complete`,
+/// the last level has its full adjacency (for limit masks; Loop's levels always have it).
+/// `progress(level_done, levels)` is called after each level. `mesh` has been validated
+/// ([`PolyMesh::validate`]).
+///
+/// # Errors
+/// [`MeshError`] for invalid tags; [`MeshError::NotTriangle`] naming the first face of
+/// `mesh` that is not a triangle, with Loop; [`MeshError::TooLarge`] when the last level
+/// would exceed 32-bit indices.
+pub(crate) fn refine_uniform(
+    mesh: &PolyMesh,
+    options: &Options,
+    steps: Steps,
+    levels: u32,
+    complete: bool,
+    progress: &mut dyn FnMut(u32, u32),
+) -> Result<Uniform, MeshError> {
+    if steps == Steps::Loop {
+        check_triangles(mesh)?;
+    }
+    // Vertices of the last level ≤ faces + edges + vertices ≤ ~4 × faces: keep that in u32.
+    let faces = refined_faces(mesh, steps, levels);
+    if faces
+        .saturating_mul(4)
+        .saturating_add(mesh.num_vertices() as u64)
+        >= u32::MAX as u64
+    {
+        return Err(MeshError::TooLarge {
+            what: format!("level {levels} ({faces} faces)"),
+        });
+    }
+    let options = &steps.topology_options(options);
+    let (mut level, warnings) = Topology::from_mesh(mesh, options)?;
+    let mut pos = mesh.positions().to_vec();
+    // Face-varying data on Loop's split is not refined yet (`subdivide` warns).
+    let channels = match steps {
+        Steps::Loop => &[][..],
+        _ => &mesh.face_varying[..],
+    };
+    let mut fvar = FaceVaryingRefiner::new(&level, channels, options);
+    let mut parent = None;
+    for l in 1..=levels {
+        // The last level needs its full adjacency only for limit masks, and its edge
+        // vertices only for the output's creases, which are read from its parent.
+        let for_output = l == levels && !complete && steps != Steps::Loop;
+        let child = match steps {
+            Steps::Loop => refine_tri_topology(&level, options),
+            _ if for_output => refine_topology_for_output(&level, options),
+            _ => refine_topology(&level, options, true),
+        };
+        let mut next = vec![[0.0; 3]; child.num_vertices()];
+        match steps {
+            Steps::Family(m) if l <= m.steps => {
+                interpolate_with(&level, &child, options, m.scheme, &pos, &mut next);
+                fvar.refine(&level, &child, options, m.scheme);
+            }
+            Steps::Family(_) => {
+                interpolate(&level, &child, options, &pos, &mut next);
+                fvar.refine(&level, &child, options, CatmullClark);
+            }
+            Steps::Bilinear => {
+                interpolate_with(&level, &child, options, Bilinear, &pos, &mut next);
+                fvar.refine(&level, &child, options, Bilinear);
+            }
+            Steps::Loop => {
+                interpolate_loop(&level, &child, options, &pos, &mut next);
+            }
+        }
+        let p = std::mem::replace(&mut level, child);
+        if for_output {
+            parent = Some(p);
+        }
+        pos = next;
+        progress(l, levels);
+    }
+    Ok(Uniform {
+        level,
+        parent,
+        positions: pos,
+        warnings,
+        face_varying: fvar,
+        boundary: options.boundary,
+    })
+}
+
+/// `mesh` refined `levels` times with the Catmull-Clark family's `mixed` steps
+/// ([`refine_uniform`]) as a mesh, holes kept (tagged) with `keep_holes`: what the paper
+/// methods refine control meshes with.
+///
+/// # Errors
+/// [`MeshError`] for an invalid mesh, and as [`refine_uniform`].
+pub(crate) fn refine_mesh(
+    mesh: &PolyMesh,
+    options: &Options,
+    mixed: Mixed,
+    levels: u32,
+    keep_holes: bool,
+) -> Result<PolyMesh, MeshError> {
+    mesh.validate()?;
+    let u = refine_uniform(
+        mesh,
+        options,
+        Steps::Family(mixed),
+        levels,
+        false,
+        &mut |_, _| {},
+    )?;
+    Ok(u.into_mesh(keep_holes))
+}
+
+impl Uniform {
+    /// The refined mesh ([`output_mesh`]) with its face-varying channels, holes kept
+    /// (tagged) with `keep_holes`.
+    pub(crate) fn into_mesh(self, keep_holes: bool) -> PolyMesh {
+        let face_varying = self.face_varying.finish(&self.level, keep_holes);
+        let mut m = output_mesh(
+            self.level,
+            self.parent.as_ref(),
+            self.boundary == BoundaryInterpolation::None,
+            self.positions,
+            keep_holes,
+        );
+        m.face_varying = face_varying;
+        m
+    }
+}
+
+/// The output mesh of a refined level: all vertices (OpenSubdiv's numbering), the faces
+/// that are not holes (all of them, holes tagged, with `keep_holes`), and the sharpness
+/// still left, as tags — so that refining the output `b` more levels gives the same
+/// result as refining the input `a + b` levels. Sharpness that the next run re-derives
+/// by itself (boundary and non-manifold edges, sharpened corners and non-manifold
+/// vertices) is not written.
+///
+/// `parent` is given when `level` was built by `refine_topology_for_output`, without edge
+/// vertices: the crease tags then come from the parent's edges.
+///
+/// The level is consumed: when every face is kept (no holes, or `keep_holes`) its face
+/// arrays become the mesh's without a copy (at level 6 of `catmark_bishop`, 76 MB that
+/// would otherwise be allocated, faulted in and copied), and the scans for remaining
+/// sharpness run in parallel on large levels.
+fn output_mesh(
+    mut level: Topology,
+    parent: Option<&Topology>,
+    explicit_boundary: bool,
+    pos: Vec<[f64; 3]>,
+    keep_holes: bool,
+) -> PolyMesh {
+    let nf = level.num_faces();
+    let holes: Vec<u32> = if keep_holes && level.has_holes() {
+        (0..nf as u32)
+            .filter(|&f| level.is_hole(f as usize))
+            .collect()
+    } else {
+        Vec::new()
+    };
+    let drop_holes = !keep_holes && level.has_holes() && (0..nf).any(|f| level.is_hole(f));
+    // Boundary edges are sharpened again when the output is read back, except that with
+    // `BoundaryInterpolation::None` their explicit sharpness decides which faces are
+    // holes: there, write them all (the holes themselves are tagged).
+    let crease = |e: usize, [v0, v1]: [u32; 2]| {
+        let t = level.edge_tag(e);
+        let s = level.edge_sharpness(e);
+        let keep = !t.non_manifold && (!t.boundary || explicit_boundary);
+        (s > 0.0 && keep).then_some(Crease {
+            v0,
+            v1,
+            sharpness: s,
+        })
+    };
+    let corner = |v: usize| {
+        let s = level.vertex_sharpness(v);
+        let t = level.vertex_tag(v);
+        (s > 0.0 && !t.non_manifold && !t.sharpened_corner).then_some(Corner {
+            vertex: v as u32,
+            sharpness: s,
+        })
+    };
+    let creases = || match parent {
+        None => filter_map_indices(level.num_edges(), |e| crease(e, level.edge_vertices(e))),
+        Some(p) => {
+            // Child edges `0..S` lie inside parent faces and are never sharp; `S + 2e + k`
+            // joins the child of parent edge `e` to the end `k` of that edge.
+            let s = p.face_verts().len();
+            debug_assert!((0..s).all(|e| level.edge_sharpness(e) == 0.0));
+            let ec0 = (p.num_vertices() + p.num_faces()) as u32;
+            filter_map_indices(2 * p.num_edges(), |i| {
+                let e = i / 2;
+                crease(s + i, [ec0 + e as u32, p.edge_vertices(e)[i % 2]])
+            })
+        }
+    };
+    let (creases, corners) =
+        rayon::join(creases, || filter_map_indices(level.num_vertices(), corner));
+    let tags = Tags {
+        holes,
+        creases,
+        corners,
+    };
+    let (offsets, verts) = if drop_holes {
+        let mut offsets = Vec::with_capacity(nf + 1);
+        let mut verts = Vec::with_capacity(level.face_verts().len());
+        offsets.push(0u32);
+        for f in 0..nf {
+            if !level.is_hole(f) {
+                verts.extend_from_slice(level.face_vertices(f));
+                offsets.push(verts.len() as u32);
+            }
+        }
+        (offsets, verts)
+    } else {
+        (
+            std::mem::take(&mut level.face_offsets),
+            std::mem::take(&mut level.face_verts),
+        )
+    };
+    drop(level);
+    let mut m = PolyMesh::new_unchecked(pos, offsets, verts);
+    m.tags = tags;
+    m
+}
+
+/// `(0..n).filter_map(f).collect()`, in parallel (keeping the order) when `n` is large.
+fn filter_map_indices<T: Send>(n: usize, f: impl Fn(usize) -> Option<T> + Sync + Send) -> Vec<T> {
+    use rayon::prelude::*;
+    if n < 64 * 1024 {
+        (0..n).filter_map(f).collect()
+    } else {
+        (0..n)
+            .into_par_iter()
+            .with_min_len(16 * 1024)
+            .filter_map(f)
+            .collect()
+    }
+}

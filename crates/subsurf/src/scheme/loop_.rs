@@ -1,0 +1,139 @@
+//! Loop subdivision of triangle meshes with OpenSubdiv's rules
+//! (`Sdc::Scheme<SCHEME_LOOP>`).
+//!
+//! Every triangle splits into four (C. Loop, "Smooth Subdivision Surfaces Based on
+//! Triangles", M.S. thesis, University of Utah, 1987, §3):
+//! - edge point, smooth: `⅜(v₀ + v₁) + ⅛(o₀ + o₁)` with `oᵢ` the vertex opposite the edge
+//!   in its two triangles (`¼/m` per opposite vertex on an edge with `m ≠ 2` faces, as
+//!   OpenSubdiv keeps the ratio of the two parts); crease: `½(v₀ + v₁)`; a semi-sharp
+//!   edge whose sharpness `s < 1` decays in the step blends the two with weight `s` on the
+//!   crease mask;
+//! - vertex point, smooth, valence `n`: `(1 − nβₙ) v + βₙ Σ eᵢ` with Loop's
+//!   `βₙ = (⅝ − (⅜ + ¼ cos(2π/n))²)/n` (thesis §3.1; `β₆ = 1/16`); crease:
+//!   `¾ v + ⅛(e_a + e_b)` along the two sharp edges; corner: `v`;
+//! - the choice of mask and the blends during a step in which a semi-sharp feature decays
+//!   are the rules of [`Rules`] (Hoppe et al., "Piecewise Smooth Surface Reconstruction",
+//!   SIGGRAPH 1994, for the sharp masks; DeRose, Kass, Truong, "Subdivision Surfaces in
+//!   Character Animation", SIGGRAPH 1998, §3, for semi-sharp creases), shared with the
+//!   Catmull-Clark family.
+//!
+//! Loop has no face points: in the masks of this scheme the face weights of an
+//! [`EdgeMask`] weigh the vertex of each incident triangle opposite the edge, and the
+//! vertex masks have no face weights.
+
+use super::catmark::EdgeMask;
+use super::Rules;
+use crate::mesh::Options;
+use std::f64::consts::PI;
+
+/// Loop's rules ([`Rules`]): OpenSubdiv's `Sdc::Scheme<SCHEME_LOOP>`. The refinement that
+/// applies them is [`refine::LoopRefiner`](crate::refine::LoopRefiner).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Loop;
+
+/// Loop's `βₙ`, the weight of each neighbour of a smooth vertex of valence `n`:
+/// `(⅝ − (⅜ + ¼ cos(2π/n))²)/n`, `1/16` at `n = 6` (computed as OpenSubdiv's
+/// `assignSmoothMaskForVertex` does, in `f64`).
+pub fn beta(n: usize) -> f64 {
+    if n == 6 {
+        return 0.0625;
+    }
+    let inv = 1.0 / n as f64;
+    let b = 0.25 * (PI * 2.0 * inv).cos() + 0.375;
+    (0.625 - b * b) * inv
+}
+
+impl Rules for Loop {
+    /// `⅜` of each end and `⅛` of each opposite vertex; `¼/m` per opposite vertex on an
+    /// edge with `m ≠ 2` faces (OpenSubdiv's `assignSmoothMaskForEdge`).
+    fn smooth_edge_mask(self, _: &Options, num_faces: usize, _: [bool; 2]) -> EdgeMask {
+        let f = if num_faces == 2 {
+            0.125
+        } else {
+            0.125 * (2.0 / num_faces as f64)
+        };
+        EdgeMask {
+            vertex: 0.375,
+            faces: [f; 2],
+            other_faces: f,
+        }
+    }
+
+    /// `(1 − nβₙ, βₙ, 0)` with [`beta`].
+    #[inline]
+    fn smooth_vertex_weights(self, n: usize) -> (f64, f64, f64) {
+        let b = beta(n);
+        (1.0 - b * n as f64, b, 0.0)
+    }
+
+    /// `(⅛, ¾, ⅛)`: the cubic B-spline's even rule, as for Catmull-Clark.
+    #[inline]
+    fn crease_vertex_weights(self) -> [f64; 3] {
+        [0.125, 0.75, 0.125]
+    }
+
+    /// `⅜(v₀ + v₁) + ⅛(o₀ + o₁)`; `faces` are the two opposite vertices.
+    #[inline]
+    fn smooth_edge_point<const D: usize>(
+        self,
+        ends: [&[f64; D]; 2],
+        opposite: [&[f64; D]; 2],
+    ) -> [f64; D] {
+        std::array::from_fn(|k| {
+            0.375 * (ends[0][k] + ends[1][k]) + 0.125 * (opposite[0][k] + opposite[1][k])
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::{CreaseMethod, Rule};
+    use crate::scheme::catmark::{VertexContext, VertexMask};
+
+    #[test]
+    fn beta_is_loops() {
+        // Loop's thesis: β₃ = 3/16, β₆ = 1/16; n → ∞: nβₙ → ⅝ − (⅝)² = 15/64 (not
+        // Warren's 3/8, which OpenSubdiv does not use).
+        assert!((beta(3) - 3.0 / 16.0).abs() < 1e-15);
+        assert!((beta(6) - 1.0 / 16.0).abs() < 1e-15);
+        assert!((beta(1000) * 1000.0 - 15.0 / 64.0).abs() < 1e-5);
+        // The formula at n = 6 agrees with the special case to rounding.
+        let b = 0.25 * (PI / 3.0).cos() + 0.375;
+        assert!(((0.625 - b * b) / 6.0 - 0.0625).abs() < 1e-16);
+    }
+
+    #[test]
+    fn masks_sum_to_one() {
+        let o = Options::default();
+        for m in [2usize, 1, 3, 4] {
+            let e = Loop.smooth_edge_mask(&o, m, [false; 2]);
+            let total = 2.0 * e.vertex
+                + if m >= 2 {
+                    e.faces[0] + e.faces[1] + (m - 2) as f64 * e.other_faces
+                } else {
+                    e.faces[0]
+                };
+            // One face: ¾ + ¼ = 1 too (⅜ + ⅜ + ¼).
+            assert!((total - 1.0).abs() < 1e-15, "m={m}: {total}");
+        }
+        let mut mask = VertexMask::default();
+        let mut child = VertexMask::default();
+        for n in 2..20 {
+            let pe = vec![0.0f32; n];
+            let ctx = VertexContext {
+                parent_rule: Rule::Smooth,
+                child_rule: Rule::Smooth,
+                parent_sharpness: 0.0,
+                child_sharpness: 0.0,
+                parent_edges: &pe,
+                child_edges: &pe,
+                num_faces: n,
+            };
+            Loop.vertex_mask(CreaseMethod::Uniform, &ctx, &mut mask, &mut child);
+            let s = mask.vertex + mask.edges.iter().sum::<f64>();
+            assert!((s - 1.0).abs() < 1e-14);
+            assert!(mask.faces.iter().all(|&w| w == 0.0));
+        }
+    }
+}
