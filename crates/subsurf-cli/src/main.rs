@@ -157,7 +157,7 @@ enum Command {
 }
 
 const NURBS_EXAMPLES: &str = "\
-Input is JSON (one document or an array, schema in the README) or OBJ free-form geometry
+Input is JSON (one document or an array, schema in docs/cli.md) or OBJ free-form geometry
 (cstype [rat] bspline|bezier, deg, curv, surf, parm, end), told apart by the first character.
 Without -o, prints one line per curve or surface. With -o, writes them as JSON (.json, or
 '-' for standard output) or OBJ free-form (.obj); both read back exactly. --sample N writes

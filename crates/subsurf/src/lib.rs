@@ -73,6 +73,27 @@ mod subdivide;
 #[doc = include_str!("../../../README.md")]
 struct ReadmeDoctests;
 
+/// The examples of the pages in `docs/`, compiled and run as doc tests (one item per page).
+#[cfg(doctest)]
+mod docs_doctests {
+    #[doc = include_str!("../../../docs/library.md")]
+    struct Library;
+    #[doc = include_str!("../../../docs/catmull-clark.md")]
+    struct CatmullClark;
+    #[doc = include_str!("../../../docs/nurss.md")]
+    struct Nurss;
+    #[doc = include_str!("../../../docs/curve-interpolation.md")]
+    struct CurveInterpolation;
+    #[doc = include_str!("../../../docs/blend.md")]
+    struct Blend;
+    #[doc = include_str!("../../../docs/adjustable-g2.md")]
+    struct AdjustableG2;
+    #[doc = include_str!("../../../docs/sub-basis-spline.md")]
+    struct SubBasisSpline;
+    #[doc = include_str!("../../../docs/regularity.md")]
+    struct Regularity;
+}
+
 pub use info::{mesh_info, MeshInfo};
 pub use mixed::MixedSurface;
 pub use refine::Error;

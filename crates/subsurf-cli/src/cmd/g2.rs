@@ -29,13 +29,14 @@ every n-gon) gets a cap of n bi-septic Bezier patches that join each other and t
 surrounding bicubic B-spline patches with curvature continuity (G2); vertices on boundaries
 or creases keep Catmull-Clark (listed with --report). OBJ output is a tessellation, N x N
 quads per face (ceil(N/2) per sub-face of an n-gon), with normals; JSON output lists every
-patch's control points (schema in the README); .igs/.iges output writes the same patches as
-IGES 5.3 rational B-spline surfaces (entity 128). --report prints, for every cap boundary, the
+patch's control points (schema in docs/adjustable-g2.md); .igs/.iges output writes the same
+patches as IGES 5.3 rational B-spline surfaces (entity 128). --report prints, for every cap boundary, the
 largest position gap, normal angle and relative jump of the normal curvature across it, for
 the G2 surface and for Catmull-Clark (to standard error when the surface goes to standard
 output). A .png output draws the G2 surface (the same renderer as 'subsurf render'), plain,
 with --zebra reflection lines or --curvature gauss|mean|max from its exact derivatives;
---compare draws plain Catmull-Clark instead, for side-by-side pictures.
+--compare draws plain Catmull-Clark instead, for side-by-side pictures (give both the same
+--range, so that one colour means one curvature in both).
 With --c C the surface is the mixed (shape-adjustable) one: K steps (--adjust-steps, default
 1) of the adjustable scheme with parameter C, then Catmull-Clark, so that outside the caps it
 is the bicubic B-spline of the C-refined mesh; the caps join it G2, and the report's and
@@ -78,6 +79,16 @@ pub struct G2Args {
     /// With a .png output: draw plain Catmull-Clark instead of the G2 surface.
     #[arg(long)]
     pub compare: bool,
+    /// With --curvature: fixed colour range instead of the automatic one (give both pictures
+    /// of a comparison the same range).
+    #[arg(long, value_name = "MIN,MAX", requires = "curvature", allow_hyphen_values = true, value_parser = super::render::parse_pair)]
+    pub range: Option<(f64, f64)>,
+    /// With a .png output: magnify the fitted view F times around the picture's centre.
+    #[arg(long, value_name = "F", default_value_t = 1.0, value_parser = super::render::parse_zoom)]
+    pub zoom: f64,
+    /// With a .png output: picture size in pixels.
+    #[arg(long, value_name = "WxH", default_value = "800x600", value_parser = super::render::parse_size)]
+    pub size: (u32, u32),
     #[command(flatten)]
     pub scheme: SchemeArgs,
     #[command(flatten)]
@@ -114,10 +125,10 @@ const IGES_BYTES: (u64, u64) = (8192, 49152);
 /// The memory that the output sizes, for `fmt`: the OBJ tessellation's samples or the
 /// picture's drawn vertices and pixels (as `subsurf render` estimates them) at `rate`, or,
 /// once `surface` is built, the JSON or IGES document of its patches. An upper bound of
-/// the measured peak beyond the limit surface (RELIABILITY.md).
+/// the measured peak beyond the limit surface (RELIABILITY.md). `size`: the picture's.
 fn output_memory(
     mesh: &subsurf::mesh::PolyMesh,
-    rate: u32,
+    (rate, size): (u32, (u32, u32)),
     fmt: Format,
     patches: (u64, u64),
 ) -> u64 {
@@ -134,6 +145,8 @@ fn output_memory(
             mesh,
             &Render {
                 geometry: Geometry::Limit { rate },
+                width: size.0,
+                height: size.1,
                 ..Default::default()
             },
         )
@@ -187,7 +200,12 @@ fn patch_bound(mesh: &subsurf::mesh::PolyMesh, steps: Option<u32>) -> (u64, u64)
 }
 
 /// The G2 surface's own patches and the output, for `patches` (squares, cap patches).
-fn job_memory(mesh: &subsurf::mesh::PolyMesh, rate: u32, fmt: Format, patches: (u64, u64)) -> u64 {
+fn job_memory(
+    mesh: &subsurf::mesh::PolyMesh,
+    rate: (u32, (u32, u32)),
+    fmt: Format,
+    patches: (u64, u64),
+) -> u64 {
     patches
         .0
         .saturating_mul(SURFACE_BYTES.0)
@@ -233,7 +251,7 @@ fn build_within(
     let check = |estimate: u64| crate::memory::check(name, &what, estimate, args.max_memory, hint);
     let reserved = job_memory(
         mesh,
-        args.rate,
+        (args.rate, args.size),
         fmt,
         patch_bound(mesh, mixed.map(|m| m.steps)),
     );
@@ -255,7 +273,12 @@ fn build_within(
         ),
         s => s.with_context(|| name.to_owned())?,
     };
-    let actual = job_memory(mesh, args.rate, fmt, patch_counts(&surface, mesh));
+    let actual = job_memory(
+        mesh,
+        (args.rate, args.size),
+        fmt,
+        patch_counts(&surface, mesh),
+    );
     check(
         surface
             .limit()
@@ -398,6 +421,10 @@ fn write_output(
         Format::Png => {
             let mut opts = Render {
                 geometry: Geometry::Limit { rate: args.rate },
+                width: args.size.0,
+                height: args.size.1,
+                zoom: args.zoom,
+                curvature_range: args.range,
                 ..Default::default()
             };
             if args.zebra {

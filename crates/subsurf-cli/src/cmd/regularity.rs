@@ -349,7 +349,7 @@ fn summary(name: &str, r: &RegularityReport, mode: Mode) -> String {
     s
 }
 
-/// The JSON report (fields documented in the README).
+/// The JSON report (fields documented in `docs/regularity.md`).
 fn json(name: &str, r: &RegularityReport, mode: Mode) -> Json {
     let c = r.counts(mode);
     let components = r

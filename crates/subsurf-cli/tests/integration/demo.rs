@@ -242,10 +242,95 @@ fn demo_builds_a_gallery_whose_pictures_all_exist() {
         has(&format!("{ex}-shaded.png"));
         has(&format!("{ex}-zebra.png"));
     }
+    has("nurss-grid-nurss-l2-edges.png");
+    check_captions(&page, &out);
     let glb = fs::read(out.join("torus-limit.glb")).expect("glb");
     assert_eq!(&glb[..4], b"glTF");
     assert!(Path::new(&out.join("cube.obj")).is_file());
     assert!(Path::new(&out.join("vase.json")).is_file());
+}
+
+/// The caption of the picture `file` in `page`.
+fn caption<'a>(page: &'a str, file: &str) -> &'a str {
+    let at = page
+        .find(&format!("<img src=\"{file}\""))
+        .unwrap_or_else(|| panic!("{file} not shown"));
+    let rest = &page[at..];
+    let start = rest.find("<figcaption>").expect("caption") + "<figcaption>".len();
+    &rest[start..start + rest[start..].find("</figcaption>").expect("caption end")]
+}
+
+/// The numbers written in `text` (decimal or with an exponent).
+fn numbers(text: &str) -> Vec<f64> {
+    text.split(|c: char| !(c.is_ascii_digit() || c == '.' || c == 'e' || c == '-'))
+        .filter_map(|w| {
+            w.trim_matches(|c| c == '.' || c == '-' || c == 'e')
+                .parse()
+                .ok()
+        })
+        .collect()
+}
+
+/// Captions state what was measured, and the pictures show what the captions say.
+fn check_captions(page: &str, out: &Path) {
+    // G2 caps: the measured jumps of the normal curvature are at rounding level for the
+    // caps and large for Catmull-Clark at the vertex; both pictures on one colour range.
+    for ex in ["cube", "pentaprism", "hut"] {
+        let g2 = caption(page, &format!("{ex}-g2-curvature.png"));
+        let jumps: Vec<f64> = numbers(g2.split("(relative)").nth(1).expect(g2))
+            .into_iter()
+            .take(3)
+            .collect();
+        assert_eq!(jumps.len(), 3, "{g2}");
+        assert!(jumps.iter().all(|&j| (0.0..1e-9).contains(&j)), "{g2}");
+        let cc = caption(page, &format!("{ex}-cc-curvature.png"));
+        let cc_jump = numbers(cc.split("up to").nth(1).expect(cc))[0];
+        assert!(cc_jump > 0.1, "{cc}");
+        // The zebra caption gives the share of pixels that differ, as measured.
+        let zebra = caption(page, &format!("{ex}-cc-zebra.png"));
+        let share = numbers(zebra.split("zebra stripes:").nth(1).expect(zebra))[0];
+        let a = image::open(out.join(format!("{ex}-cc-zebra.png")))
+            .unwrap()
+            .to_rgb8();
+        let b = image::open(out.join(format!("{ex}-g2-zebra.png")))
+            .unwrap()
+            .to_rgb8();
+        let differ = a.pixels().zip(b.pixels()).filter(|(p, q)| p != q).count();
+        let measured = 100.0 * differ as f64 / f64::from(a.width() * a.height());
+        assert!(
+            (share - measured).abs() <= 0.05 + 1e-9,
+            "{zebra}: {measured}"
+        );
+    }
+    // The pawn's mean curvature is coloured, not washed out to white by the few samples
+    // on its creases: most of the surface's pixels are clearly red or blue.
+    let img = image::open(out.join("catmark_pawn-curvature.png"))
+        .unwrap()
+        .to_rgb8();
+    let background = *img.get_pixel(0, 0);
+    let surface: Vec<_> = img.pixels().filter(|&&p| p != background).collect();
+    let coloured = surface
+        .iter()
+        .filter(|p| (i32::from(p.0[0]) - i32::from(p.0[2])).abs() > 40)
+        .count();
+    assert!(
+        coloured * 3 > surface.len(),
+        "pawn: {coloured} of {} pixels coloured",
+        surface.len()
+    );
+    // Blends: the measured match with the patches is at rounding level.
+    for ex in ["blend3", "blend5"] {
+        let c = caption(page, &format!("{ex}-zebra.png"));
+        let gap = numbers(c.split("at most").nth(1).expect(c))[0];
+        assert!(gap < 1e-9, "{c}");
+    }
+    // The captions of fills say what their zebra stripes show: no "smooth" claim.
+    for ex in ["hole3", "hole5", "hole3-g1", "hole5-g1"] {
+        let c = caption(page, &format!("{ex}-zebra.png"));
+        assert!(!c.contains("curvature continuous"), "{c}");
+    }
+    // A click enlarges a picture.
+    assert!(page.contains("id=\"lightbox\""));
 }
 
 #[test]

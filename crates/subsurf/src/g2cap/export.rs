@@ -264,7 +264,7 @@ fn cap_patch(slot: &PatchRef, patch: &BezierPatch) -> PatchJson {
 /// The whole G2 surface as Bézier patches: the caps (degree 7) and, on the squares of
 /// side `2⁻ᴸ` of every (sub-)face outside the caps, the bicubic patches (degree 3,
 /// recovered exactly from the Catmull-Clark surface by interpolation and checked; squares
-/// that are not bicubic are listed in `not_polynomial`). Schema in the README.
+/// that are not bicubic are listed in `not_polynomial`). Schema in `docs/adjustable-g2.md`.
 ///
 /// # Errors
 /// [`G2Error::Eval`] if the Catmull-Clark surface cannot be evaluated (not expected).

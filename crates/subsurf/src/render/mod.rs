@@ -361,6 +361,14 @@ pub fn render_surface(
         }
     }
     if let Some(bar) = &bar {
+        // The surface is framed left of the strip, but a zoomed view runs past it: the
+        // strip is cleared so that the bar never lies over the surface.
+        let x0 = (w - strip) as u32;
+        for y in 0..opts.height {
+            for x in x0..opts.width {
+                image.put_pixel(x, y, image::Rgb(opts.background));
+            }
+        }
         bar.draw(&mut image);
     }
     Ok(Rendered {

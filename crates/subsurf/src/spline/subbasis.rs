@@ -82,7 +82,7 @@
 //! without a tangent plane at the vertex (all centre derivatives vanish); so classes 2 and 3
 //! use the damping `λ ∈ [0, λ_n]` (scanned in 400 steps) that admits the largest slope, ties
 //! going to the larger `λ` (this turns out to be `λ = 0`, zero twists, for every `n ≥ 9` up to
-//! at least 64; slopes ≈ 0.17 and 0.043, see README). For `n ≤ 8`, `λ = 1` and the
+//! at least 64; slopes ≈ 0.17 and 0.043, see `docs/sub-basis-spline.md`). For `n ≤ 8`, `λ = 1` and the
 //! construction is the paper's.
 
 use std::f64::consts::PI;

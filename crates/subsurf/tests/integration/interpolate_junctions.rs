@@ -487,8 +487,13 @@ fn an_ending_zone_runs_on_along_the_spline_extended_by_the_phantom_point() {
 #[test]
 fn the_docs_say_where_an_ending_zone_runs() {
     let readme = include_str!("../../../../README.md");
+    let page = include_str!("../../../../docs/curve-interpolation.md");
     let crossing = include_str!("../../src/interpolate/crossing.rs");
-    for (name, text) in [("README.md", readme), ("crossing.rs", crossing)] {
+    assert!(!readme.contains("natural extension"), "README.md");
+    for (name, text) in [
+        ("docs/curve-interpolation.md", page),
+        ("crossing.rs", crossing),
+    ] {
         assert!(!text.contains("natural extension"), "{name}");
         assert!(
             text.contains("2 X − P_{n−2}") || text.contains("2X − P_{n−2}"),

@@ -253,6 +253,27 @@ fn curvature_pictures_have_a_colour_bar() {
 }
 
 #[test]
+fn a_zoomed_surface_does_not_run_under_the_colour_bar() {
+    // Zoomed in three times, the cube's surface fills the picture; the colour bar's strip
+    // on the right stays background but for the bar and its labels, and the strip's margin
+    // right of the text (the last columns) is background from top to bottom.
+    let opts = Render {
+        width: 320,
+        height: 240,
+        zoom: 3.0,
+        ..small(Paint::Curvature(CurvatureKind::Gauss))
+    };
+    let img = render(&cube(), &Options::default(), &opts).unwrap();
+    let bg = image::Rgb(opts.background);
+    assert_ne!(*img.get_pixel(100, 120), bg, "the surface fills the middle");
+    for x in 316..320 {
+        for y in 0..240 {
+            assert_eq!(*img.get_pixel(x, y), bg, "pixel ({x}, {y})");
+        }
+    }
+}
+
+#[test]
 fn faces_levels_flat_shading_and_the_control_mesh_change_the_picture() {
     let o = Options::default();
     let base = render(&cube(), &o, &small(Paint::Plain)).unwrap();
