@@ -23,11 +23,16 @@
 //! assert!((c[0] / n - 0.5).abs() < 1e-12);
 //! ```
 //!
+//! The scheme is a parameter ([`Scheme`]: Catmull-Clark, the shape-adjustable scheme,
+//! non-uniform Catmull-Clark with knot intervals, Loop, bilinear) of every operation:
+//! [`subdivide`](fn@subdivide), [`estimate_memory`], [`refine::RefinePlan::new`],
+//! [`Reposer::new`]. Face-varying data (texture coordinates, [`mesh::FaceVarying`]) is
+//! refined with the positions.
+//!
 //! Layers, bottom-up (see `ARCHITECTURE.md`): [`mesh`] (polygon meshes and their adjacency),
 //! [`scheme`] (subdivision weights only), [`refine`] (topology refinement once, then fast
-//! application to any primvar), [`limit`] (limit masks), [`io`] (files), and the one-call
-//! facade [`subdivide`](fn@subdivide). [`nurss`] is non-uniform Catmull-Clark (knot intervals on edges,
-//! rational weights), on the same topology refinement.
+//! application to any primvar), [`limit`] (exact limit evaluation), the paper methods,
+//! [`io`] (files), [`render`], and the one-call facade [`subdivide`](fn@subdivide).
 //!
 //! # Speed: choose the global allocator
 //! Refinement writes every byte of a few fresh buffers (about 100 bytes per output vertex)

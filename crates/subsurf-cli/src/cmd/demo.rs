@@ -795,13 +795,13 @@ fn nurss(ctx: &Ctx) -> Result<Vec<Item>> {
 /// The NURSS mesh after two steps with its edges, flat shaded: the refined vertices keep
 /// the spacing of the knot intervals.
 fn nurss_spacing(ctx: &Ctx) -> Result<Item> {
-    let opts = NurssOptions {
+    let opts = SubdivideOptions {
         levels: 2,
+        scheme: Scheme::Nurss,
         options: ctx.options,
-        limit: false,
-        keep_holes: false,
+        ..Default::default()
     };
-    let sub = subsurf::nurss::subdivide(ctx.mesh(), &opts)?;
+    let sub = subsurf::subdivide(ctx.mesh(), &opts)?;
     let pic = Render {
         shading: subsurf::render::Shading::Flat,
         control_mesh: true,

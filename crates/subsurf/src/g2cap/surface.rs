@@ -16,7 +16,7 @@
 //! only changes these bicubic patches.
 //!
 //! # The mixed (shape-adjustable) surface
-//! [`G2Surface::new`] with [`Scheme::Adjustable`](crate::Scheme::Adjustable) caps the limit surface of mixed subdivision ([`MixedSurface`]:
+//! [`G2Surface::new`] with [`Scheme::Adjustable`] caps the limit surface of mixed subdivision ([`MixedSurface`]:
 //! `k` steps of the adjustable scheme with parameter `c`, then Catmull-Clark; [Tang et al. 2017]).
 //! Its regular part is the bicubic B-spline of the `c`-refined net, but only *per face of
 //! the refined mesh*: for `c ≠ ½` that net is not the Catmull-Clark refinement of a coarser
@@ -29,7 +29,7 @@
 //! the outer bicubics are recovered from the mixed surface, evaluated at the input's
 //! `(face, u, v)` through [`MixedSurface::eval_point`], and the caps are solved from them.
 //!
-//! `c = ½` (and `k = 0`) *is* Catmull-Clark, and [`G2Surface::new`] with [`Scheme::Adjustable`](crate::Scheme::Adjustable) then builds
+//! `c = ½` (and `k = 0`) *is* Catmull-Clark, and [`G2Surface::new`] with [`Scheme::Adjustable`] then builds
 //! exactly [`G2Surface::new`]'s surface, from the Catmull-Clark evaluator. (Through the
 //! refined mesh the same surface differs only by rounding: the outer bicubics by
 //! `~2·10⁻¹⁶`, the caps by `~3·10⁻¹³` — [`CapSolver`] is well conditioned; the tests
@@ -196,12 +196,12 @@ pub struct Uncapped {
 /// The G2 surface of a mesh: Catmull-Clark (bicubic B-spline after isolation) with a G2
 /// cap at every interior smooth extraordinary vertex of valence 3..=16 and at the centre
 /// of every interior `n`-gon ([`new`](Self::new)); or the same for the mixed
-/// (shape-adjustable) surface ([`new`](Self::new) with [`Scheme::Adjustable`](crate::Scheme::Adjustable)). See the
+/// (shape-adjustable) surface ([`new`](Self::new) with [`Scheme::Adjustable`]). See the
 /// [module docs](self) for the layout.
 #[derive(Clone, Debug)]
 pub struct G2Surface {
     limit: LimitSurface,
-    /// The mixed surface underneath, for [`G2Surface::new`] with [`Scheme::Adjustable`](crate::Scheme::Adjustable).
+    /// The mixed surface underneath, for [`G2Surface::new`] with [`Scheme::Adjustable`].
     mixed: Option<MixedSurface>,
     levels: u32,
     caps: Vec<CapInfo>,
@@ -316,20 +316,20 @@ impl G2Surface {
     }
 
     /// The Catmull-Clark limit surface of the input mesh (outside the caps the two agree,
-    /// unless the surface was built with [`new`](Self::new) with [`Scheme::Adjustable`](crate::Scheme::Adjustable): then see
+    /// unless the surface was built with [`new`](Self::new) with [`Scheme::Adjustable`]: then see
     /// [`eval_uncapped`](Self::eval_uncapped)). Its faces and sub-faces are the domain.
     pub fn limit(&self) -> &LimitSurface {
         &self.limit
     }
 
     /// The mixed surface underneath, for a surface built with
-    /// [`new`](Self::new) with [`Scheme::Adjustable`](crate::Scheme::Adjustable).
+    /// [`new`](Self::new) with [`Scheme::Adjustable`].
     pub fn mixed(&self) -> Option<&MixedSurface> {
         self.mixed.as_ref()
     }
 
     /// The surface without caps at a point: the Catmull-Clark limit surface, or the mixed
-    /// surface for [`new`](Self::new) with [`Scheme::Adjustable`](crate::Scheme::Adjustable). Outside the caps it equals
+    /// surface for [`new`](Self::new) with [`Scheme::Adjustable`]. Outside the caps it equals
     /// [`eval_point`](Self::eval_point).
     ///
     /// # Errors

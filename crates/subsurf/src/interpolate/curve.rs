@@ -29,7 +29,7 @@
 //! `t_1 … t_{n+2}`: the `n − 1` edge intervals `d_2 … d_n` and two more, `d_1` before the
 //! first edge and `d_{n+1}` after the last. The first edge point of the zone reads the
 //! interval "before" `P_0` two steps around `P_0`; where `P_0` ends the zone the NURSS
-//! boundary rule reads the mirror image, `d_2` (see [`crate::refine::nurss`]). When
+//! boundary rule reads the mirror image, `d_2` (see `refine::nurss`). When
 //! `d_1 = d_2` (every clamped curve, where both are 0, and every uniform one) that is already
 //! right; otherwise the middle polygon gets a *phantom* point `P_{−1} = 2 P_0 − P_1` (weight
 //! `w_0`) on an edge with interval `d_1`, so the rules read `d_1` at `P_0`. The phantom only

@@ -65,7 +65,7 @@
 //! (only the names `d^{0±}_{25}`, `d^{0±}_{26}`, `d^{0±}_{20}`, `d^{0±}_{40}`, `d^{0±}_{2,10}`,
 //! `d_{29}` survive: the sides of the row, column and outward edges at the valence-5 column end
 //! `P_2`); the list above is derived from the rules of [`crate::scheme::nurss`] and
-//! [`crate::refine::nurss`] (which side a rotation reads) and verified numerically: with the
+//! `refine::nurss` (which side a rotation reads) and verified numerically: with the
 //! side intervals dropped, a curve through a valence-5 host vertex is missed by 4e-4 of its
 //! size on the first levels, with them the refined polygon is the knot-inserted one to 1e-13.
 //!

@@ -20,7 +20,7 @@
 //!   rotation-minimising frame ([`super::frame`]); near a group the group's sheared offsets,
 //!   kept (not turned across the polygon) so that the zones do not fold.
 //! - *The second edge at a column's outer end*: the zone's sides are the mesh boundary, where
-//!   NURSS reads the mirror image across the boundary (see [`crate::refine::nurss`]): both
+//!   NURSS reads the mirror image across the boundary (see `refine::nurss`): both
 //!   sides of a column read the same values, so the condition holds.
 //!
 //! # Boundary: NURSS boundary rules, not skirt removal

@@ -8,12 +8,12 @@
 //!
 //! # API
 //! - [`Nurss`]: one level alive at a time. [`Nurss::new`] reads a [`PolyMesh`] and its
-//!   [`PolyMesh::knots`] ([`KnotTags`]: intervals, side intervals, weights);
-//!   [`Nurss::from_knots`] takes a per-edge interval array for a [`Topology`] directly.
+//!   [`PolyMesh::knots`] ([`KnotTags`](crate::mesh::KnotTags): intervals, side intervals, weights);
+//!   [`Nurss::from_knots`] takes a per-edge interval array for a [`Topology`](crate::mesh::Topology) directly.
 //!   [`Nurss::step`] refines one level, [`Nurss::refine`] several; the current level is read
 //!   with [`Nurss::topology`], [`Nurss::intervals`], [`Nurss::positions`],
 //!   [`Nurss::homogeneous`], and written out with [`Nurss::to_mesh`] (intervals and weights
-//!   as [`KnotTags`], so refining `a` then `b` levels equals refining `a + b`).
+//!   as [`KnotTags`](crate::mesh::KnotTags), so refining `a` then `b` levels equals refining `a + b`).
 //! - [`Nurss::limit_points`]: the limit position of every vertex of the current level.
 //! - [`crate::subdivide`](fn@crate::subdivide) with [`Scheme::Nurss`](crate::Scheme::Nurss):
 //!   the one-call facade.
@@ -27,7 +27,7 @@
 //!   the plan underneath, [`crate::refine::RefinePlan::new`].
 //!
 //! The weights are in [`crate::scheme::nurss`], the application to a level in
-//! [`crate::refine::nurss`] (which documents how intervals are read, boundaries and sharp
+//! `refine::nurss` (which documents how intervals are read, boundaries and sharp
 //! features). Child vertices, faces and edges are numbered as Catmull-Clark's (OpenSubdiv's
 //! order), and with all intervals equal the result is Catmull-Clark's.
 //!

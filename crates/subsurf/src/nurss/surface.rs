@@ -7,7 +7,7 @@
 //! levels ([`Nurss::limit_points`]), without derivatives. Two kinds of faces do have one:
 //!
 //! - **Regular tensor-product faces.** Where one NURSS step is midpoint knot insertion into
-//!   a tensor-product cubic B-spline (Sederberg et al. 1998, §3; the [`crate::refine::nurss`]
+//!   a tensor-product cubic B-spline (Sederberg et al. 1998, §3; the `refine::nurss`
 //!   rules, which read the intervals of the edges at the vertices they refine), the limit is
 //!   that B-spline. A quad qualifies when the 16 vertices of its 4 × 4 net are interior
 //!   vertices of four quads each, with no sharp edge or vertex, and the knot intervals are
@@ -26,7 +26,7 @@
 //! - **Faces with equal intervals and weights around them.** The rules are homogeneous of
 //!   degree 0 in the intervals, and with all intervals equal they are Catmull-Clark's
 //!   (boundaries, infinitely sharp creases and corners included, see
-//!   [`crate::refine::nurss`]). The surface over a face depends on the points of its 1-ring
+//!   `refine::nurss`). The surface over a face depends on the points of its 1-ring
 //!   and on the intervals the rules read when refining it, those of the edges at the
 //!   vertices of the 1-ring; a refinement keeps them equal. So where those are all equal
 //!   (and the 1-ring's weights too, which then cancel) the surface is the Catmull-Clark limit

@@ -842,7 +842,7 @@ pub(crate) fn interpolate<R: Rules>(
 }
 
 /// The face-varying channels of a mesh refined level by level next to its vertex
-/// topology: each channel's current [`FvarLevel`] and values.
+/// topology: each channel's current level (`FvarLevel`) and values.
 #[derive(Clone, Debug)]
 pub struct FaceVaryingRefiner {
     channels: Vec<(FvarLevel, Vec<f64>)>,

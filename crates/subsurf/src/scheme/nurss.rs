@@ -9,7 +9,7 @@
 //! its eq. 1 and eq. 3).
 //!
 //! This module computes weights only; the caller reads the intervals around each element
-//! (see [`crate::refine::nurss`] for the walk, including *auxiliary* per-face-side
+//! (see `refine::nurss` for the walk, including *auxiliary* per-face-side
 //! intervals). Notation: for a vertex `X` and one of its edges, `d±_X` is the sum of the
 //! intervals of the edges met two steps counter-clockwise and two steps clockwise around `X`
 //! from that edge (at a regular valence-4 vertex, twice the interval of the edge that

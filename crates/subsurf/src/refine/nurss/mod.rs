@@ -23,7 +23,7 @@ pub enum NurssError {
     /// A knot interval, side interval or weight is invalid.
     #[error(transparent)]
     Knots(#[from] KnotTagError),
-    /// A semi-sharp crease or vertex (see the [module documentation](self)).
+    /// A semi-sharp crease or vertex (see [`crate::nurss`]).
     #[error("{what} has sharpness {sharpness}: non-uniform (NURSS) subdivision supports only smooth (0) and infinitely sharp (≥ 10) creases and corners; use a zero knot interval for a sharp feature")]
     SemiSharp {
         /// The element (`"the crease on edge (3, 4)"`, `"vertex 7"`).
