@@ -432,7 +432,7 @@ impl<'a> Cut<'a> {
             }
         }
         let mut intervals: HashMap<(u32, u32), f64> = HashMap::new();
-        // Host intervals, moved from split vertices to their side copies below.
+        // Host intervals at split vertices move to their side copies in `hand_over_side`.
         let split: HashMap<u32, ()> = paths
             .iter()
             .flat_map(|p| {
