@@ -358,7 +358,6 @@ pub fn fill_control_mesh<const D: usize>(
     curves: &[BSplineCurve<D>],
     bulge: f64,
 ) -> Result<PolyMesh, BlendError> {
-    let n = curves.len();
     for (index, c) in curves.iter().enumerate() {
         if c.points().len() < 6 {
             return Err(BlendError::ShortCurve {
@@ -367,162 +366,255 @@ pub fn fill_control_mesh<const D: usize>(
             });
         }
     }
-    let m: Vec<usize> = curves.iter().map(|c| c.points().len() - 1).collect();
     let mut pos: Vec<[f64; 3]> = Vec::new();
     let mut weights: Vec<f64> = Vec::new();
-    // Layer 1: corner k, then the inner points of side k.
-    let mut corner = vec![0u32; n];
-    let mut inner_p = vec![Vec::new(); n];
-    for k in 0..n {
-        corner[k] = pos.len() as u32;
-        for j in 0..m[k] {
-            if j > 0 {
-                inner_p[k].push(pos.len() as u32);
-            }
-            let q = &curves[k].points()[j];
-            pos.push(cart_of(q));
-            weights.push(weight_of(q));
-        }
-    }
-    let p = |k: usize, j: usize| -> u32 {
-        if j == 0 {
-            corner[k]
-        } else if j == m[k] {
-            corner[(k + 1) % n]
-        } else {
-            inner_p[k][j - 1]
-        }
-    };
+    let mut layers = FillLayers::first(curves, &mut pos, &mut weights);
     let gp = bulged_centre(&pos, bulge)?;
-    let toward = |a: [f64; 3], f: f64| {
-        [
-            a[0] + (gp[0] - a[0]) * f,
-            a[1] + (gp[1] - a[1]) * f,
-            a[2] + (gp[2] - a[2]) * f,
-        ]
-    };
-    // Layer 2: Q_k near corner k (completing the corner parallelogram), then q^k_j for
-    // j = 2 … M_k − 2.
-    let mut qc = vec![0u32; n];
-    for k in 0..n {
-        let prev = (k + n - 1) % n;
-        let (a, b, c) = (
-            pos[p(k, 1) as usize],
-            pos[p(prev, m[prev] - 1) as usize],
-            pos[corner[k] as usize],
-        );
-        qc[k] = pos.len() as u32;
-        pos.push([a[0] + b[0] - c[0], a[1] + b[1] - c[1], a[2] + b[2] - c[2]]);
-    }
-    let mut inner_q = vec![Vec::new(); n];
-    for k in 0..n {
-        for j in 2..m[k] - 1 {
-            inner_q[k].push(pos.len() as u32);
-            let a = pos[p(k, j) as usize];
-            pos.push(toward(a, 1.0 / 3.0));
-        }
-    }
-    let q = |k: usize, j: usize| -> u32 {
-        if j == 1 {
-            qc[k]
-        } else if j == m[k] - 1 {
-            qc[(k + 1) % n]
-        } else {
-            inner_q[k][j - 2]
-        }
-    };
-    // Layer 3: R_k opposite Q_k, then r^k_j for j = 3 … M_k − 3.
-    let mut rc = vec![0u32; n];
-    for k in 0..n {
-        rc[k] = pos.len() as u32;
-        let a = pos[qc[k] as usize];
-        pos.push(toward(a, 1.0 / 3.0));
-    }
-    let mut inner_r = vec![Vec::new(); n];
-    for k in 0..n {
-        for j in 3..m[k] - 2 {
-            inner_r[k].push(pos.len() as u32);
-            let a = pos[p(k, j) as usize];
-            pos.push(toward(a, 2.0 / 3.0));
-        }
-    }
-    let r = |k: usize, j: usize| -> u32 {
-        if j == 2 {
-            rc[k]
-        } else if j == m[k] - 2 {
-            rc[(k + 1) % n]
-        } else {
-            inner_r[k][j - 3]
-        }
-    };
-    let mut faces: Vec<Vec<u32>> = Vec::new();
-    for k in 0..n {
-        let prev = (k + n - 1) % n;
-        faces.push(vec![corner[k], p(k, 1), qc[k], p(prev, m[prev] - 1)]);
-        faces.push(vec![qc[k], q(k, 2), rc[k], q(prev, m[prev] - 2)]);
-        for j in 1..m[k] - 1 {
-            faces.push(vec![p(k, j), p(k, j + 1), q(k, j + 1), q(k, j)]);
-        }
-        for j in 2..m[k] - 2 {
-            faces.push(vec![q(k, j), q(k, j + 1), r(k, j + 1), r(k, j)]);
-        }
-    }
-    let ring: Vec<u32> = (0..n)
-        .flat_map(|k| (2..m[k] - 2).map(move |j| (k, j)))
-        .map(|(k, j)| r(k, j))
-        .collect();
-    let len = ring.len();
-    let mut spokes = Vec::new();
-    if len.is_multiple_of(2) && len > 4 {
-        let c = pos.len() as u32;
-        pos.push(gp);
-        for i in (1..len).step_by(2) {
-            faces.push(vec![c, ring[i], ring[(i + 1) % len], ring[(i + 2) % len]]);
-            spokes.push((c, ring[i]));
-        }
-    } else {
-        faces.push(ring);
-    }
+    layers.add_inner(&mut pos, gp);
+    let (faces, spokes) = layers.faces(&mut pos, gp);
     let free = mean(weights.iter().copied());
     weights.resize(pos.len(), free);
     let mut mesh = weighted_mesh(pos, &weights, &faces)?;
-    let mut side_sum = 0.0;
-    let mut side_count = 0usize;
-    for k in 0..n {
-        let t = curves[k].knots().as_slice();
-        for j in 0..m[k] {
-            let d = t[j + 3] - t[j + 2];
-            push_interval(&mut mesh, p(k, j), p(k, j + 1), d);
-            if j >= 1 && j + 1 < m[k] {
-                push_interval(&mut mesh, q(k, j), q(k, j + 1), d);
-            }
-            if j >= 2 && j + 2 < m[k] {
-                push_interval(&mut mesh, r(k, j), r(k, j + 1), d);
-            }
-            if d > 0.0 {
-                side_sum += d;
-                side_count += 1;
-            }
-        }
-        for j in 1..m[k] {
-            push_interval(&mut mesh, p(k, j), q(k, j), 0.0);
-        }
-        // Beyond the second layer: the end span of the neighbouring curves (1 after
-        // equalize_end_spans), the same for every second-layer vertex of the side.
-        let beyond = t[4] - t[3];
-        for j in 2..m[k] - 1 {
-            push_interval(&mut mesh, q(k, j), r(k, j), beyond);
-        }
-    }
-    let spoke = if side_count > 0 {
-        side_sum / side_count as f64
-    } else {
-        1.0
-    };
-    for (a, b) in spokes {
-        push_interval(&mut mesh, a, b, spoke);
-    }
+    layers.set_intervals(&mut mesh, curves, spokes);
     add_extension_layer(&mesh, 0.0)
+}
+
+/// The vertices of the fill control mesh's three layers ([Jiang et al.] §3.2, Algorithm 1
+/// step 1; see the module documentation):
+/// layer 1 `p^k_j` (the curves' control points), layer 2 `q^k_j` with the corner points
+/// `Q_k`, layer 3 `r^k_j` with `R_k`.
+struct FillLayers {
+    /// `M_k`: the last control point index of curve `k`.
+    m: Vec<usize>,
+    corner: Vec<u32>,
+    inner_p: Vec<Vec<u32>>,
+    qc: Vec<u32>,
+    inner_q: Vec<Vec<u32>>,
+    rc: Vec<u32>,
+    inner_r: Vec<Vec<u32>>,
+}
+
+impl FillLayers {
+    /// Layer 1: corner `k`, then the inner points of side `k`, pushed onto `pos` (Cartesian)
+    /// and `weights`.
+    fn first<const D: usize>(
+        curves: &[BSplineCurve<D>],
+        pos: &mut Vec<[f64; 3]>,
+        weights: &mut Vec<f64>,
+    ) -> Self {
+        let n = curves.len();
+        let m: Vec<usize> = curves.iter().map(|c| c.points().len() - 1).collect();
+        let mut corner = vec![0u32; n];
+        let mut inner_p = vec![Vec::new(); n];
+        for k in 0..n {
+            corner[k] = pos.len() as u32;
+            for j in 0..m[k] {
+                if j > 0 {
+                    inner_p[k].push(pos.len() as u32);
+                }
+                let q = &curves[k].points()[j];
+                pos.push(cart_of(q));
+                weights.push(weight_of(q));
+            }
+        }
+        Self {
+            m,
+            corner,
+            inner_p,
+            qc: Vec::new(),
+            inner_q: vec![Vec::new(); n],
+            rc: Vec::new(),
+            inner_r: vec![Vec::new(); n],
+        }
+    }
+
+    /// Layers 2 and 3, pushed onto `pos`: `Q_k` near corner `k` (completing the corner
+    /// parallelogram), `q^k_j` (`j = 2 … M_k − 2`) a third of the way from `p^k_j` to the
+    /// centre `gp`; `R_k` a third of the way from `Q_k` to `gp`, `r^k_j` (`j = 3 … M_k − 3`)
+    /// two thirds of the way from `p^k_j`.
+    fn add_inner(&mut self, pos: &mut Vec<[f64; 3]>, gp: [f64; 3]) {
+        let (n, m) = (self.m.len(), self.m.clone());
+        let toward = |a: [f64; 3], f: f64| {
+            [
+                a[0] + (gp[0] - a[0]) * f,
+                a[1] + (gp[1] - a[1]) * f,
+                a[2] + (gp[2] - a[2]) * f,
+            ]
+        };
+        let mut qc = vec![0u32; n];
+        for k in 0..n {
+            let prev = (k + n - 1) % n;
+            let (a, b, c) = (
+                pos[self.p(k, 1) as usize],
+                pos[self.p(prev, m[prev] - 1) as usize],
+                pos[self.corner[k] as usize],
+            );
+            qc[k] = pos.len() as u32;
+            pos.push([a[0] + b[0] - c[0], a[1] + b[1] - c[1], a[2] + b[2] - c[2]]);
+        }
+        for k in 0..n {
+            for j in 2..m[k] - 1 {
+                self.inner_q[k].push(pos.len() as u32);
+                let a = pos[self.p(k, j) as usize];
+                pos.push(toward(a, 1.0 / 3.0));
+            }
+        }
+        let mut rc = vec![0u32; n];
+        for k in 0..n {
+            rc[k] = pos.len() as u32;
+            let a = pos[qc[k] as usize];
+            pos.push(toward(a, 1.0 / 3.0));
+        }
+        for k in 0..n {
+            for j in 3..m[k] - 2 {
+                self.inner_r[k].push(pos.len() as u32);
+                let a = pos[self.p(k, j) as usize];
+                pos.push(toward(a, 2.0 / 3.0));
+            }
+        }
+        self.qc = qc;
+        self.rc = rc;
+    }
+
+    /// `p^k_j`, `j = 0 … M_k` (the corners at both ends).
+    fn p(&self, k: usize, j: usize) -> u32 {
+        let n = self.m.len();
+        if j == 0 {
+            self.corner[k]
+        } else if j == self.m[k] {
+            self.corner[(k + 1) % n]
+        } else {
+            self.inner_p[k][j - 1]
+        }
+    }
+
+    /// `q^k_j`, `j = 1 … M_k − 1` (`Q_k`, `Q_{k+1}` at the ends).
+    fn q(&self, k: usize, j: usize) -> u32 {
+        let n = self.m.len();
+        if j == 1 {
+            self.qc[k]
+        } else if j == self.m[k] - 1 {
+            self.qc[(k + 1) % n]
+        } else {
+            self.inner_q[k][j - 2]
+        }
+    }
+
+    /// `r^k_j`, `j = 2 … M_k − 2` (`R_k`, `R_{k+1}` at the ends).
+    fn r(&self, k: usize, j: usize) -> u32 {
+        let n = self.m.len();
+        if j == 2 {
+            self.rc[k]
+        } else if j == self.m[k] - 2 {
+            self.rc[(k + 1) % n]
+        } else {
+            self.inner_r[k][j - 3]
+        }
+    }
+
+    /// The quads between the layers and the middle bounded by layer 3: a fan around the
+    /// centre `gp` (pushed onto `pos`; an even ring of more than 4 points, its spokes
+    /// returned), else one polygon.
+    fn faces(&self, pos: &mut Vec<[f64; 3]>, gp: [f64; 3]) -> (Vec<Vec<u32>>, Vec<(u32, u32)>) {
+        let (n, m) = (self.m.len(), &self.m);
+        let mut faces: Vec<Vec<u32>> = Vec::new();
+        for k in 0..n {
+            let prev = (k + n - 1) % n;
+            faces.push(vec![
+                self.corner[k],
+                self.p(k, 1),
+                self.qc[k],
+                self.p(prev, m[prev] - 1),
+            ]);
+            faces.push(vec![
+                self.qc[k],
+                self.q(k, 2),
+                self.rc[k],
+                self.q(prev, m[prev] - 2),
+            ]);
+            for j in 1..m[k] - 1 {
+                faces.push(vec![
+                    self.p(k, j),
+                    self.p(k, j + 1),
+                    self.q(k, j + 1),
+                    self.q(k, j),
+                ]);
+            }
+            for j in 2..m[k] - 2 {
+                faces.push(vec![
+                    self.q(k, j),
+                    self.q(k, j + 1),
+                    self.r(k, j + 1),
+                    self.r(k, j),
+                ]);
+            }
+        }
+        let ring: Vec<u32> = (0..n)
+            .flat_map(|k| (2..m[k] - 2).map(move |j| (k, j)))
+            .map(|(k, j)| self.r(k, j))
+            .collect();
+        let len = ring.len();
+        let mut spokes = Vec::new();
+        if len.is_multiple_of(2) && len > 4 {
+            let c = pos.len() as u32;
+            pos.push(gp);
+            for i in (1..len).step_by(2) {
+                faces.push(vec![c, ring[i], ring[(i + 1) % len], ring[(i + 2) % len]]);
+                spokes.push((c, ring[i]));
+            }
+        } else {
+            faces.push(ring);
+        }
+        (faces, spokes)
+    }
+
+    /// Tags the intervals of the module documentation: the curves' spans along the three
+    /// layers, 0 from layer 1 to 2, the neighbouring curves' end span from layer 2 to 3, and
+    /// the mean positive span on the `spokes`.
+    fn set_intervals<const D: usize>(
+        &self,
+        mesh: &mut PolyMesh,
+        curves: &[BSplineCurve<D>],
+        spokes: Vec<(u32, u32)>,
+    ) {
+        let (n, m) = (self.m.len(), &self.m);
+        let mut side_sum = 0.0;
+        let mut side_count = 0usize;
+        for k in 0..n {
+            let t = curves[k].knots().as_slice();
+            for j in 0..m[k] {
+                let d = t[j + 3] - t[j + 2];
+                push_interval(mesh, self.p(k, j), self.p(k, j + 1), d);
+                if j >= 1 && j + 1 < m[k] {
+                    push_interval(mesh, self.q(k, j), self.q(k, j + 1), d);
+                }
+                if j >= 2 && j + 2 < m[k] {
+                    push_interval(mesh, self.r(k, j), self.r(k, j + 1), d);
+                }
+                if d > 0.0 {
+                    side_sum += d;
+                    side_count += 1;
+                }
+            }
+            for j in 1..m[k] {
+                push_interval(mesh, self.p(k, j), self.q(k, j), 0.0);
+            }
+            // Beyond the second layer: the end span of the neighbouring curves (1 after
+            // equalize_end_spans), the same for every second-layer vertex of the side.
+            let beyond = t[4] - t[3];
+            for j in 2..m[k] - 1 {
+                push_interval(mesh, self.q(k, j), self.r(k, j), beyond);
+            }
+        }
+        let spoke = if side_count > 0 {
+            side_sum / side_count as f64
+        } else {
+            1.0
+        };
+        for (a, b) in spokes {
+            push_interval(mesh, a, b, spoke);
+        }
+    }
 }
 
 /// The fill's centre `G' = G + bulge · h · n` of the closed boundary polygon `boundary`:

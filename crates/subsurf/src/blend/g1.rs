@@ -141,7 +141,70 @@ impl G1Fill {
         let real = real_part(&self.refined)?;
         let iv = intervals(&real);
         let d = |a: u32, b: u32| iv.get(&(a.min(b), a.max(b))).copied().unwrap_or(1.0);
-        let bad = |m: &str| BlendError::Grid(format!("fill boundary: {m}"));
+        let lp = BoundaryLoop::new(&real)?;
+        let l = lp.verts.len();
+        let pos = |v: u32| real.positions()[v as usize];
+        let n = self.curves.len();
+        let mut corner_at = Vec::with_capacity(n);
+        for c in &self.curves {
+            let target = c.points()[0];
+            let i = (0..l)
+                .min_by(|&a, &b| {
+                    norm(sub(pos(lp.verts[a]), target))
+                        .total_cmp(&norm(sub(pos(lp.verts[b]), target)))
+                })
+                .ok_or_else(|| bad_boundary("empty loop"))?;
+            corner_at.push(i);
+        }
+        let mut out = Vec::with_capacity(n);
+        for s in 0..n {
+            let (i0, i1) = (corner_at[s], corner_at[(s + 1) % n]);
+            let len = (i1 + l - i0) % l;
+            let mut idx: Vec<usize> = (0..=len).map(|t| (i0 + t) % l).collect();
+            let mut ivs: Vec<f64> = idx
+                .windows(2)
+                .map(|w| d(lp.verts[w[0]], lp.verts[w[1]]))
+                .collect();
+            trim_zero_runs(&mut idx, &mut ivs);
+            let t0 = self.curves[s].knots().as_slice()[0];
+            let mut knots = vec![t0, t0, t0];
+            for &x in &ivs {
+                let last = knots[knots.len() - 1];
+                knots.push(last + x);
+            }
+            let last = knots[knots.len() - 1];
+            knots.extend([last, last]);
+            let kv = KnotVector::new(3, knots)?;
+            let row0: Vec<V3> = idx.iter().map(|&i| pos(lp.verts[i])).collect();
+            let mut diffs = Vec::with_capacity(idx.len());
+            for &i in &idx {
+                diffs.push(sub(pos(lp.inward(i)?), pos(lp.verts[i])));
+            }
+            out.push(BoundaryRows {
+                boundary: BSplineCurve::new(kv.clone(), row0)?,
+                cross: BSplineCurve::new(kv, diffs)?,
+            });
+        }
+        Ok(out)
+    }
+}
+
+/// [`BlendError::Grid`] for a fill whose real boundary is not as [`G1Fill::boundary_rows`]
+/// needs it.
+fn bad_boundary(m: &str) -> BlendError {
+    BlendError::Grid(format!("fill boundary: {m}"))
+}
+
+/// The boundary loop of a mesh (edges with one face), from its lowest vertex in face order,
+/// with every vertex's neighbours.
+struct BoundaryLoop {
+    verts: Vec<u32>,
+    nbrs: HashMap<u32, Vec<u32>>,
+}
+
+impl BoundaryLoop {
+    /// The boundary loop of `real`; fails when there is none or it is not one closed loop.
+    fn new(real: &PolyMesh) -> Result<Self, BlendError> {
         let mut count: HashMap<(u32, u32), u32> = HashMap::new();
         for fv in real.faces() {
             for (i, &a) in fv.iter().enumerate() {
@@ -161,93 +224,66 @@ impl G1Fill {
                 nbrs.entry(b).or_default().push(a);
             }
         }
-        let start = *next.keys().min().ok_or_else(|| bad("no boundary"))?;
+        let start = *next
+            .keys()
+            .min()
+            .ok_or_else(|| bad_boundary("no boundary"))?;
         let mut lp = vec![start];
         let mut v = next[&start];
         while v != start {
             lp.push(v);
-            v = *next.get(&v).ok_or_else(|| bad("open boundary"))?;
+            v = *next.get(&v).ok_or_else(|| bad_boundary("open boundary"))?;
             if lp.len() > next.len() {
-                return Err(bad("not one loop"));
+                return Err(bad_boundary("not one loop"));
             }
         }
-        let l = lp.len();
-        let pos = |v: u32| real.positions()[v as usize];
-        // The inward neighbour of each loop vertex: the neighbour off the loop.
-        let inward = |i: usize| -> Result<u32, BlendError> {
-            let (p, n) = (lp[(i + l - 1) % l], lp[(i + 1) % l]);
-            let mut c: Vec<u32> = nbrs[&lp[i]]
-                .iter()
-                .copied()
-                .filter(|&w| w != p && w != n)
-                .collect();
-            c.sort_unstable();
-            c.dedup();
-            match c.as_slice() {
-                [w] => Ok(*w),
-                _ => Err(bad("a boundary vertex without one inward neighbour")),
-            }
-        };
-        let n = self.curves.len();
-        let mut corner_at = Vec::with_capacity(n);
-        for c in &self.curves {
-            let target = c.points()[0];
-            let i = (0..l)
-                .min_by(|&a, &b| {
-                    norm(sub(pos(lp[a]), target)).total_cmp(&norm(sub(pos(lp[b]), target)))
-                })
-                .ok_or_else(|| bad("empty loop"))?;
-            corner_at.push(i);
+        Ok(Self { verts: lp, nbrs })
+    }
+
+    /// The inward neighbour of loop vertex `i`: its one neighbour off the loop.
+    fn inward(&self, i: usize) -> Result<u32, BlendError> {
+        let (lp, l) = (&self.verts, self.verts.len());
+        let (p, n) = (lp[(i + l - 1) % l], lp[(i + 1) % l]);
+        let mut c: Vec<u32> = self.nbrs[&lp[i]]
+            .iter()
+            .copied()
+            .filter(|&w| w != p && w != n)
+            .collect();
+        c.sort_unstable();
+        c.dedup();
+        match c.as_slice() {
+            [w] => Ok(*w),
+            _ => Err(bad_boundary(
+                "a boundary vertex without one inward neighbour",
+            )),
         }
-        let mut out = Vec::with_capacity(n);
-        for s in 0..n {
-            let (i0, i1) = (corner_at[s], corner_at[(s + 1) % n]);
-            let len = (i1 + l - i0) % l;
-            let mut idx: Vec<usize> = (0..=len).map(|t| (i0 + t) % l).collect();
-            // Zero intervals double in number each step: a knot of multiplicity 3 (a corner
-            // or a tripled interior knot) becomes a run of zero edges whose inner points all
-            // equal the curve point there (inserting a knot that already has multiplicity 3
-            // repeats that point). Keep one zero edge at each end (clamped) and two in each
-            // interior run (multiplicity 3): the same curve, valid knots.
-            let mut ivs: Vec<f64> = idx.windows(2).map(|w| d(lp[w[0]], lp[w[1]])).collect();
-            while idx.len() > 3 && ivs[0] == 0.0 && ivs[1] == 0.0 {
-                idx.remove(0);
-                ivs.remove(0);
-            }
-            while idx.len() > 3 && ivs[ivs.len() - 1] == 0.0 && ivs[ivs.len() - 2] == 0.0 {
-                idx.pop();
-                ivs.pop();
-            }
-            let mut e = 0;
-            while e + 2 < ivs.len() {
-                if ivs[e] == 0.0 && ivs[e + 1] == 0.0 && ivs[e + 2] == 0.0 {
-                    // Drop the point between edges e + 1 and e + 2 (merging two zeros).
-                    idx.remove(e + 2);
-                    ivs.remove(e + 2);
-                } else {
-                    e += 1;
-                }
-            }
-            let t0 = self.curves[s].knots().as_slice()[0];
-            let mut knots = vec![t0, t0, t0];
-            for &x in &ivs {
-                let last = knots[knots.len() - 1];
-                knots.push(last + x);
-            }
-            let last = knots[knots.len() - 1];
-            knots.extend([last, last]);
-            let kv = KnotVector::new(3, knots)?;
-            let row0: Vec<V3> = idx.iter().map(|&i| pos(lp[i])).collect();
-            let mut diffs = Vec::with_capacity(idx.len());
-            for &i in &idx {
-                diffs.push(sub(pos(inward(i)?), pos(lp[i])));
-            }
-            out.push(BoundaryRows {
-                boundary: BSplineCurve::new(kv.clone(), row0)?,
-                cross: BSplineCurve::new(kv, diffs)?,
-            });
+    }
+}
+
+/// Trims the zero intervals `ivs` between the loop points `idx` of one side to valid knots.
+/// Zero intervals double in number each step: a knot of multiplicity 3 (a corner or a
+/// tripled interior knot) becomes a run of zero edges whose inner points all equal the curve
+/// point there (inserting a knot that already has multiplicity 3 repeats that point). Keeps
+/// one zero edge at each end (clamped) and two in each interior run (multiplicity 3): the
+/// same curve, valid knots.
+fn trim_zero_runs(idx: &mut Vec<usize>, ivs: &mut Vec<f64>) {
+    while idx.len() > 3 && ivs[0] == 0.0 && ivs[1] == 0.0 {
+        idx.remove(0);
+        ivs.remove(0);
+    }
+    while idx.len() > 3 && ivs[ivs.len() - 1] == 0.0 && ivs[ivs.len() - 2] == 0.0 {
+        idx.pop();
+        ivs.pop();
+    }
+    let mut e = 0;
+    while e + 2 < ivs.len() {
+        if ivs[e] == 0.0 && ivs[e + 1] == 0.0 && ivs[e + 2] == 0.0 {
+            // Drop the point between edges e + 1 and e + 2 (merging two zeros).
+            idx.remove(e + 2);
+            ivs.remove(e + 2);
+        } else {
+            e += 1;
         }
-        Ok(out)
     }
 }
 
@@ -316,14 +352,37 @@ pub fn fill_g1<P: Patch>(
         .enumerate()
         .map(|(k, p)| polynomial(&p.homogeneous(), k))
         .collect::<Result<Vec<_>, _>>()?;
+    let sides = hole_sides(&patches, opts)?;
+    let (spacing, lambda) = cross_scales(&sides)?;
+    let (beta, corner_d) = corner_cross_vectors(&sides, &lambda, spacing)?;
+    let mut ds: Vec<Vec<V3>> = Vec::with_capacity(sides.len());
+    for (k, s) in sides.iter().enumerate() {
+        ds.push(side_cross_coefficients(s, k, lambda[k], beta[k])?);
+    }
+    let mesh = g1_control_mesh(&sides, &corner_d, &ds, opts.bulge)?;
+    let control = add_extension_layer(&mesh, 0.0)?;
+    let refined = refine_with_skirt(&control, levels, &mut [], nurss_refine_once)?;
+    Ok(G1Fill {
+        curves: sides.into_iter().map(|s| s.curve).collect(),
+        control,
+        refined,
+    })
+}
+
+/// The hole's sides: the patches' boundary curves chained into a loop
+/// ([`chain_curves`]), each with its interior knots tripled and its patch, noting which
+/// curves the chaining reversed.
+fn hole_sides<'a>(
+    patches: &'a [BSplineSurface<3>],
+    opts: &FillOptions,
+) -> Result<Vec<Side<'a>>, BlendError> {
     let curves = patches
         .iter()
         .enumerate()
         .map(|(k, s)| patch_boundary(s, k))
         .collect::<Result<Vec<_>, _>>()?;
     let chained = chain_curves(&curves, opts.corner_tolerance)?;
-    let n = chained.len();
-    let mut sides = Vec::with_capacity(n);
+    let mut sides = Vec::with_capacity(chained.len());
     for (k, c) in chained.iter().enumerate() {
         let start = c.points()[0];
         let orig = &curves[k];
@@ -335,22 +394,42 @@ pub fn fill_g1<P: Patch>(
             reversed,
         });
     }
-    // Mean control-point spacing: the scale of the cross vectors.
+    Ok(sides)
+}
+
+/// The mean control-point spacing of the sides (the scale of the cross vectors) and every
+/// side's `λ_k`: the spacing over `|E|` at the middle of the side (1 where `E` vanishes).
+fn cross_scales(sides: &[Side]) -> Result<(f64, Vec<f64>), BlendError> {
     let (mut sum, mut cnt) = (0.0, 0usize);
-    for s in &sides {
+    for s in sides {
         for w in s.curve.points().windows(2) {
             sum += norm(sub(w[1], w[0]));
             cnt += 1;
         }
     }
     let spacing = if cnt > 0 { sum / cnt as f64 } else { 1.0 };
-    let mut lambda = Vec::with_capacity(n);
-    for s in &sides {
+    let mut lambda = Vec::with_capacity(sides.len());
+    for s in sides {
         let (a, b) = s.domain();
         let e = norm(s.cross(0.5 * (a + b))?);
         lambda.push(if e > 0.0 { spacing / e } else { 1.0 });
     }
-    // Corner k: solve −λ_k E_k(a) + x T_k(a) = −λ_{k−1} E_{k−1}(b) + y T_{k−1}(b).
+    Ok((spacing, lambda))
+}
+
+/// At every corner `k` ([Jiang et al.] §3.3, Algorithm 2, the paper's `x_k`, `y_k`): solves
+/// `−λ_k E_k(a) + x T_k(a) = −λ_{k−1} E_{k−1}(b) + y T_{k−1}(b)` by least squares and checks
+/// the residual (the two patches share the tangent plane). Returns `β` at the start and end
+/// of every side and the shared cross vector `d_{c_k}` at every corner.
+///
+/// # Errors
+/// [`BlendError::TangentPlane`] when the tangents are parallel or the residual is not small.
+fn corner_cross_vectors(
+    sides: &[Side],
+    lambda: &[f64],
+    spacing: f64,
+) -> Result<(Vec<[f64; 2]>, Vec<V3>), BlendError> {
+    let n = sides.len();
     let mut beta = vec![[0.0f64; 2]; n];
     let mut corner_d = vec![[0.0f64; 3]; n];
     for k in 0..n {
@@ -387,52 +466,69 @@ pub fn fill_g1<P: Patch>(
         beta[p][1] = y;
         corner_d[k] = add(scale(sides[k].cross(a)?, -lambda[k]), scale(tk, x));
     }
-    // The d_j of every side: Bézier coefficients of D = −λ E + β T per span.
-    let mut ds: Vec<Vec<V3>> = Vec::with_capacity(n);
-    for (k, s) in sides.iter().enumerate() {
-        let (a, b) = s.domain();
-        let mut spans: Vec<f64> = s
-            .curve
-            .knots()
-            .as_slice()
-            .iter()
-            .copied()
-            .filter(|&t| t >= a && t <= b)
-            .collect();
-        spans.dedup();
-        let target = |t: f64| -> Result<V3, BlendError> {
-            let bt = beta[k][0] + (beta[k][1] - beta[k][0]) * (t - a) / (b - a);
-            Ok(add(
-                scale(s.cross(t)?, -lambda[k]),
-                scale(s.tangent(t)?, bt),
-            ))
-        };
-        let mut d = Vec::new();
-        for w in spans.windows(2) {
-            let (s0, s1) = (w[0], w[1]);
-            let c0 = target(s0)?;
-            let c3 = target(s1)?;
-            let f1 = target(s0 + (s1 - s0) / 3.0)?;
-            let f2 = target(s0 + 2.0 * (s1 - s0) / 3.0)?;
-            let aa = sub(sub(scale(f1, 27.0), scale(c0, 8.0)), c3);
-            let bb = sub(sub(scale(f2, 27.0), c0), scale(c3, 8.0));
-            let c1 = scale(sub(scale(aa, 2.0), bb), 1.0 / 18.0);
-            let c2 = scale(sub(scale(bb, 2.0), aa), 1.0 / 18.0);
-            if d.is_empty() {
-                d.push(c0);
-            }
-            d.extend([c1, c2, c3]);
+    Ok((beta, corner_d))
+}
+
+/// The `d_j` of side `k` ([Jiang et al.] §3.3, Algorithm 2): the Bézier coefficients of the
+/// cubic `D = −λ E + β T` (`β` linear from `beta[0]` to `beta[1]`) on every span, exact from
+/// its values at the span's ends and thirds; one per control point of the side's curve.
+fn side_cross_coefficients(
+    s: &Side,
+    k: usize,
+    lambda: f64,
+    beta: [f64; 2],
+) -> Result<Vec<V3>, BlendError> {
+    let (a, b) = s.domain();
+    let mut spans: Vec<f64> = s
+        .curve
+        .knots()
+        .as_slice()
+        .iter()
+        .copied()
+        .filter(|&t| t >= a && t <= b)
+        .collect();
+    spans.dedup();
+    let target = |t: f64| -> Result<V3, BlendError> {
+        let bt = beta[0] + (beta[1] - beta[0]) * (t - a) / (b - a);
+        Ok(add(scale(s.cross(t)?, -lambda), scale(s.tangent(t)?, bt)))
+    };
+    let mut d = Vec::new();
+    for w in spans.windows(2) {
+        let (s0, s1) = (w[0], w[1]);
+        let c0 = target(s0)?;
+        let c3 = target(s1)?;
+        let f1 = target(s0 + (s1 - s0) / 3.0)?;
+        let f2 = target(s0 + 2.0 * (s1 - s0) / 3.0)?;
+        let aa = sub(sub(scale(f1, 27.0), scale(c0, 8.0)), c3);
+        let bb = sub(sub(scale(f2, 27.0), c0), scale(c3, 8.0));
+        let c1 = scale(sub(scale(aa, 2.0), bb), 1.0 / 18.0);
+        let c2 = scale(sub(scale(bb, 2.0), aa), 1.0 / 18.0);
+        if d.is_empty() {
+            d.push(c0);
         }
-        if d.len() != s.curve.points().len() {
-            return Err(BlendError::Grid(format!(
-                "side {k}: {} Bézier coefficients for {} control points",
-                d.len(),
-                s.curve.points().len()
-            )));
-        }
-        ds.push(d);
+        d.extend([c1, c2, c3]);
     }
-    // Rings.
+    if d.len() != s.curve.points().len() {
+        return Err(BlendError::Grid(format!(
+            "side {k}: {} Bézier coefficients for {} control points",
+            d.len(),
+            s.curve.points().len()
+        )));
+    }
+    Ok(d)
+}
+
+/// The fill's control mesh before its extension layer ([Jiang et al.] §3.3, Algorithm 2; see
+/// the module documentation's layout): ring 1 the sides' control points, ring 2 ring 1 plus the cross vectors `ds`
+/// (`d_{c_k}`, the mean of the two sides' at a corner), ring 3 a third of the way to the
+/// bulged centre, and the middle; with the intervals of the layout.
+fn g1_control_mesh(
+    sides: &[Side],
+    corner_d: &[V3],
+    ds: &[Vec<V3>],
+    bulge: f64,
+) -> Result<PolyMesh, BlendError> {
+    let n = sides.len();
     let mut ring1: Vec<V3> = Vec::new();
     let mut ring2: Vec<V3> = Vec::new();
     let mut spans1: Vec<f64> = Vec::new();
@@ -452,7 +548,7 @@ pub fn fill_g1<P: Patch>(
         }
     }
     let m = ring1.len();
-    let gp = bulged_centre(&ring1, opts.bulge)?;
+    let gp = bulged_centre(&ring1, bulge)?;
     let ring3: Vec<V3> = ring2
         .iter()
         .map(|&q| add(q, scale(sub(gp, q), 1.0 / 3.0)))
@@ -496,11 +592,5 @@ pub fn fill_g1<P: Patch>(
     for (a, b) in spokes {
         push_interval(&mut mesh, a, b, mean);
     }
-    let control = add_extension_layer(&mesh, 0.0)?;
-    let refined = refine_with_skirt(&control, levels, &mut [], nurss_refine_once)?;
-    Ok(G1Fill {
-        curves: sides.into_iter().map(|s| s.curve).collect(),
-        control,
-        refined,
-    })
+    Ok(mesh)
 }

@@ -109,11 +109,34 @@ pub fn blend_control_mesh<P: Patch>(patches: &[P]) -> Result<BlendMesh, BlendErr
             });
         }
     }
+    let (mut pos, mut weight, lay) = band_points(&patches);
+    let band = Band::new(&patches, &lay);
+    let m = band.columns.len();
+    let mut faces: Vec<Vec<u32>> = Vec::new();
+    for c in 0..m {
+        let (a, b) = (&band.columns[c], &band.columns[(c + 1) % m]);
+        for r in 0..4 {
+            faces.push(vec![a[r], a[r + 1], b[r + 1], b[r]]);
+        }
+    }
+    let spoke = fill_middle(&band, &mut pos, &mut weight, &mut faces);
+    let mut mesh = weighted_mesh(pos, &weight, &faces)?;
+    band.set_intervals(&mut mesh, spoke);
+    let strips = strip_grids(&patches, &lay);
+    Ok(BlendMesh { mesh, strips })
+}
+
+/// The band's points and weights ([Jiang et al.] §3.1; see the module documentation): per
+/// patch its strip, rows
+/// `−1..=3` (row −1 `2 b_{0,j} − b_{1,j}` with the mean weight of the two), then one gap
+/// column per patch (the mean of the two facing end columns); with their layout.
+fn band_points(patches: &[Cow<'_, BSplineSurface<4>>]) -> (Vec<[f64; 3]>, Vec<f64>, Layout) {
+    let n = patches.len();
     let mut pos: Vec<[f64; 3]> = Vec::new();
     let mut weight: Vec<f64> = Vec::new();
     let mut strip_start = Vec::with_capacity(n);
     let mut cols = Vec::with_capacity(n);
-    for s in &patches {
+    for s in patches {
         let (_, nv) = s.size();
         strip_start.push(pos.len() as u32);
         cols.push(nv);
@@ -157,46 +180,101 @@ pub fn blend_control_mesh<P: Patch>(patches: &[P]) -> Result<BlendMesh, BlendErr
         gap_start,
         cols,
     };
-    // Band columns in order around the region, with the interval of the edge to the next
-    // band column.
-    let mut band: Vec<[u32; 5]> = Vec::new();
-    let mut next_interval: Vec<f64> = Vec::new();
-    // Per band column: the intervals of its four cross edges (rows r → r + 1).
-    let mut cross: Vec<[f64; 4]> = Vec::new();
-    let u_spans = |s: &BSplineSurface<4>| {
-        let t = s.knots_u().as_slice();
-        [t[2] - t[1], t[3] - t[2], t[4] - t[3], t[5] - t[4]]
-    };
-    for k in 0..n {
-        let s = &patches[k];
-        let nxt = &patches[(k + 1) % n];
-        let v = s.knots_v().as_slice();
-        let nv = lay.cols[k];
-        for j in 0..nv {
-            band.push(std::array::from_fn(|r| lay.strip(k, r, j)));
-            next_interval.push(if j + 1 < nv {
-                v[j + 3] - v[j + 2]
-            } else {
-                v[nv + 2] - v[nv + 1]
-            });
-            cross.push(u_spans(s));
+    (pos, weight, lay)
+}
+
+/// The band's columns in order around the region, with their knot intervals.
+struct Band {
+    /// Vertices of each column, rows `−1..=3`.
+    columns: Vec<[u32; 5]>,
+    /// Per column: the interval of the edges to the next column.
+    next_interval: Vec<f64>,
+    /// Per column: the intervals of its four cross edges (rows r → r + 1).
+    cross: Vec<[f64; 4]>,
+}
+
+impl Band {
+    /// The columns of every strip and gap, with the intervals of the module documentation
+    /// ([Jiang et al.] §3.1, the paper's `e_0`, `d_s`, `d_0`):
+    /// `v_{j+3} − v_{j+2}` along a strip, `v_{n+3} − v_{n+2}` and `v_2 − v_1` on the edges
+    /// to and from a gap, `u_{r+3} − u_{r+2}` across a strip and the mean of the two strips'
+    /// across a gap.
+    fn new(patches: &[Cow<'_, BSplineSurface<4>>], lay: &Layout) -> Self {
+        let n = patches.len();
+        let mut band: Vec<[u32; 5]> = Vec::new();
+        let mut next_interval: Vec<f64> = Vec::new();
+        let mut cross: Vec<[f64; 4]> = Vec::new();
+        let u_spans = |s: &BSplineSurface<4>| {
+            let t = s.knots_u().as_slice();
+            [t[2] - t[1], t[3] - t[2], t[4] - t[3], t[5] - t[4]]
+        };
+        for k in 0..n {
+            let s = &patches[k];
+            let nxt = &patches[(k + 1) % n];
+            let v = s.knots_v().as_slice();
+            let nv = lay.cols[k];
+            for j in 0..nv {
+                band.push(std::array::from_fn(|r| lay.strip(k, r, j)));
+                next_interval.push(if j + 1 < nv {
+                    v[j + 3] - v[j + 2]
+                } else {
+                    v[nv + 2] - v[nv + 1]
+                });
+                cross.push(u_spans(s));
+            }
+            band.push(std::array::from_fn(|r| lay.gap(k, r)));
+            let vn = nxt.knots_v().as_slice();
+            next_interval.push(vn[2] - vn[1]);
+            let (a, b) = (u_spans(s), u_spans(nxt));
+            cross.push(std::array::from_fn(|r| 0.5 * (a[r] + b[r])));
         }
-        band.push(std::array::from_fn(|r| lay.gap(k, r)));
-        let vn = nxt.knots_v().as_slice();
-        next_interval.push(vn[2] - vn[1]);
-        let (a, b) = (u_spans(s), u_spans(nxt));
-        cross.push(std::array::from_fn(|r| 0.5 * (a[r] + b[r])));
-    }
-    let m = band.len();
-    let mut faces: Vec<Vec<u32>> = Vec::new();
-    for c in 0..m {
-        let (a, b) = (&band[c], &band[(c + 1) % m]);
-        for r in 0..4 {
-            faces.push(vec![a[r], a[r + 1], b[r + 1], b[r]]);
+        Self {
+            columns: band,
+            next_interval,
+            cross,
         }
     }
-    // The middle: ring = row −1 of the band, in band order.
-    let ring: Vec<u32> = band.iter().map(|col| col[0]).collect();
+
+    /// Tags the band's intervals on `mesh`, and on the fan's `spoke` edges the mean positive
+    /// interval along the band (1 when there is none).
+    fn set_intervals(&self, mesh: &mut PolyMesh, spoke: Vec<(u32, u32)>) {
+        let (band, m) = (&self.columns, self.columns.len());
+        for c in 0..m {
+            let (a, b) = (&band[c], &band[(c + 1) % m]);
+            for r in 0..5 {
+                push_interval(mesh, a[r], b[r], self.next_interval[c]);
+            }
+            for r in 0..4 {
+                push_interval(mesh, a[r], a[r + 1], self.cross[c][r]);
+            }
+        }
+        let positive: Vec<f64> = self
+            .next_interval
+            .iter()
+            .copied()
+            .filter(|&d| d > 0.0)
+            .collect();
+        let spoke_interval = if positive.is_empty() {
+            1.0
+        } else {
+            positive.iter().sum::<f64>() / positive.len() as f64
+        };
+        for (a, b) in spoke {
+            push_interval(mesh, a, b, spoke_interval);
+        }
+    }
+}
+
+/// Fills the middle bounded by the band's row −1: a fan of quads around the mean of the row
+/// (an even count of more than 4 columns; its spokes are returned), else one polygon.
+fn fill_middle(
+    band: &Band,
+    pos: &mut Vec<[f64; 3]>,
+    weight: &mut Vec<f64>,
+    faces: &mut Vec<Vec<u32>>,
+) -> Vec<(u32, u32)> {
+    let m = band.columns.len();
+    let ring: Vec<u32> = band.columns.iter().map(|col| col[0]).collect();
     let mut spoke = Vec::new();
     if m.is_multiple_of(2) && m > 4 {
         let c = pos.len() as u32;
@@ -215,26 +293,14 @@ pub fn blend_control_mesh<P: Patch>(patches: &[P]) -> Result<BlendMesh, BlendErr
     } else {
         faces.push(ring.clone());
     }
-    let mut mesh = weighted_mesh(pos, &weight, &faces)?;
-    for c in 0..m {
-        let (a, b) = (&band[c], &band[(c + 1) % m]);
-        for r in 0..5 {
-            push_interval(&mut mesh, a[r], b[r], next_interval[c]);
-        }
-        for r in 0..4 {
-            push_interval(&mut mesh, a[r], a[r + 1], cross[c][r]);
-        }
-    }
-    let positive: Vec<f64> = next_interval.iter().copied().filter(|&d| d > 0.0).collect();
-    let spoke_interval = if positive.is_empty() {
-        1.0
-    } else {
-        positive.iter().sum::<f64>() / positive.len() as f64
-    };
-    for (a, b) in spoke {
-        push_interval(&mut mesh, a, b, spoke_interval);
-    }
-    let strips = (0..n)
+    spoke
+}
+
+/// Per patch: its strip as a grid (rows `−1..=3`; columns the gap before, its own, the gap
+/// after), with origin `(u_1, v_1)`.
+fn strip_grids(patches: &[Cow<'_, BSplineSurface<4>>], lay: &Layout) -> Vec<VertexGrid> {
+    let n = patches.len();
+    (0..n)
         .map(|k| {
             let nv = lay.cols[k];
             let before = lay.gap((k + n - 1) % n, 0);
@@ -257,8 +323,7 @@ pub fn blend_control_mesh<P: Patch>(patches: &[P]) -> Result<BlendMesh, BlendErr
                 ),
             }
         })
-        .collect();
-    Ok(BlendMesh { mesh, strips })
+        .collect()
 }
 
 /// A refined blend.

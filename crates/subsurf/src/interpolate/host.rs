@@ -148,45 +148,93 @@ pub fn embed_curves(
             "the host already has auxiliary (side) intervals; the embedding sets its own".into(),
         ));
     }
-    let nv = host.num_vertices();
-    let size = super::zone::curve_size(host.positions());
-    let tol = HOST_TOLERANCE * size;
-    let faces: Vec<Vec<u32>> = host.faces().map(<[u32]>::to_vec).collect();
-    let mut directed: HashMap<(u32, u32), u32> = HashMap::new();
-    for (f, fv) in faces.iter().enumerate() {
-        let n = fv.len();
-        for i in 0..n {
-            let (a, b) = (fv[i], fv[(i + 1) % n]);
-            if directed.insert((a, b), f as u32).is_some() {
-                return Err(InterpolateError::HostMesh(format!(
-                    "the host is not an oriented manifold at its edge from vertex {} to {} (two faces run along it the same way)",
-                    a + 1,
-                    b + 1
-                )));
+    let index = HostIndex::new(host)?;
+    // 1. Paths and side walks of every curve, on the unchanged host.
+    let paths = host_paths(host, &index, curves)?;
+    check_smooth_at_polygons(host, curves, &paths)?;
+    check_shared_faces(curves, &paths)?;
+    // 2. Host intervals on the edges leaving the polygons: their mean is ê.
+    let e_hat = mean_outward_interval(&paths, &index.intervals);
+    let speed_column = e_hat * w / (1.0 - w);
+    // 3. Cut and insert.
+    let mut cut = Cut::new(host, index.faces, &index.intervals, &paths, w, e_hat);
+    let mut zones = Vec::with_capacity(curves.len());
+    for (curve, path) in curves.iter().zip(&paths) {
+        zones.push(cut.insert_zone(curve, path, speed_column)?);
+    }
+    cut.into_interpolation(host, zones)
+}
+
+/// The unchanged host, indexed for the embedding: its faces, the face running along each
+/// directed edge, its knot intervals by edge and its vertices in a hash grid.
+struct HostIndex {
+    /// Matching tolerance for control points ([`HOST_TOLERANCE`] × the bounding-box diagonal).
+    tol: f64,
+    faces: Vec<Vec<u32>>,
+    /// The face running along each directed edge `(a, b)`.
+    directed: HashMap<(u32, u32), u32>,
+    /// The host's knot interval tags, by undirected edge.
+    intervals: HashMap<(u32, u32), f64>,
+    /// Host vertices in a hash grid of cells `2 tol` wide.
+    grid: Grid,
+}
+
+impl HostIndex {
+    /// Indexes `host`; fails when two faces run along one edge the same way (the host is not
+    /// an oriented manifold).
+    fn new(host: &PolyMesh) -> Result<Self, InterpolateError> {
+        let size = super::zone::curve_size(host.positions());
+        let tol = HOST_TOLERANCE * size;
+        let faces: Vec<Vec<u32>> = host.faces().map(<[u32]>::to_vec).collect();
+        let mut directed: HashMap<(u32, u32), u32> = HashMap::new();
+        for (f, fv) in faces.iter().enumerate() {
+            let n = fv.len();
+            for i in 0..n {
+                let (a, b) = (fv[i], fv[(i + 1) % n]);
+                if directed.insert((a, b), f as u32).is_some() {
+                    return Err(InterpolateError::HostMesh(format!(
+                        "the host is not an oriented manifold at its edge from vertex {} to {} (two faces run along it the same way)",
+                        a + 1,
+                        b + 1
+                    )));
+                }
             }
         }
+        let mut intervals: HashMap<(u32, u32), f64> = HashMap::new();
+        for t in &host.knots.intervals {
+            intervals.insert(key(t.v0, t.v1), t.interval);
+        }
+        // Host vertices in a hash grid of cells 2 tol wide: a control point's match is in the
+        // cells around it (linear time in the control points, not their product with the host's
+        // vertices).
+        let mut grid = Grid::new(
+            (2.0 * tol).max(f64::MIN_POSITIVE),
+            lower_corner(host.positions().iter()),
+        );
+        for (v, p) in host.positions().iter().enumerate() {
+            grid.insert_point(p, v as u32);
+        }
+        Ok(Self {
+            tol,
+            faces,
+            directed,
+            intervals,
+            grid,
+        })
     }
-    let mut host_interval: HashMap<(u32, u32), f64> = HashMap::new();
-    for t in &host.knots.intervals {
-        host_interval.insert(key(t.v0, t.v1), t.interval);
-    }
-    let own = |a: u32, b: u32| host_interval.get(&key(a, b)).copied().unwrap_or(1.0);
+}
 
-    // Host vertices in a hash grid of cells 2 tol wide: a control point's match is in the
-    // cells around it (linear time in the control points, not their product with the host's
-    // vertices).
-    let mut grid = Grid::new(
-        (2.0 * tol).max(f64::MIN_POSITIVE),
-        lower_corner(host.positions().iter()),
-    );
-    for (v, p) in host.positions().iter().enumerate() {
-        grid.insert_point(p, v as u32);
-    }
-    // 1. Paths and side walks of every curve, on the unchanged host.
+/// The host paths of all `curves` ([`host_path`]), refusing a host vertex on two curves'
+/// polygons.
+fn host_paths(
+    host: &PolyMesh,
+    index: &HostIndex,
+    curves: &[CubicCurve],
+) -> Result<Vec<HostPath>, InterpolateError> {
     let mut used_vertex: HashMap<u32, usize> = HashMap::new();
     let mut paths = Vec::with_capacity(curves.len());
     for (c, curve) in curves.iter().enumerate() {
-        let path = host_path(host, &grid, &directed, &faces, curve, tol)?;
+        let path = host_path(host, index, curve)?;
         for &v in &path.verts {
             if let Some(&other) = used_vertex.get(&v) {
                 if other != c {
@@ -206,7 +254,16 @@ pub fn embed_curves(
         }
         paths.push(path);
     }
-    // Sharpness at a control point would override the smooth rules the theorem needs there.
+    Ok(paths)
+}
+
+/// Refuses a crease or corner tag at a split control point: sharpness there would override
+/// the smooth rules Theorem 1 of [JOS 2003] needs.
+fn check_smooth_at_polygons(
+    host: &PolyMesh,
+    curves: &[CubicCurve],
+    paths: &[HostPath],
+) -> Result<(), InterpolateError> {
     for (c, path) in paths.iter().enumerate() {
         for (j, &v) in path.verts.iter().enumerate() {
             if path.walks[j].is_none() {
@@ -235,11 +292,15 @@ pub fn embed_curves(
             }
         }
     }
-    // Host faces touched by two side walks: only the face on a polygon edge, shared by its two
-    // end points on the same side, may be.
+    Ok(())
+}
+
+/// Refuses host faces touched by two side walks: only the face on a polygon edge, shared by
+/// its two end points on the same side (and the face of a turn inside one host face, shared
+/// by the turn's vertex and both its neighbours on that side), may be.
+fn check_shared_faces(curves: &[CubicCurve], paths: &[HostPath]) -> Result<(), InterpolateError> {
     let mut touched: HashMap<u32, (usize, usize, bool)> = HashMap::new();
     for (c, path) in paths.iter().enumerate() {
-        let n = path.verts.len();
         for (j, walks) in path.walks.iter().enumerate() {
             let Some((top, bot)) = walks else { continue };
             for (side, walk) in [(true, top), (false, bot)] {
@@ -249,31 +310,7 @@ pub fn embed_curves(
                             touched.insert(f, (c, j, side));
                         }
                         Some(&(c2, j2, s2)) => {
-                            // Steps forward along the path (cyclic when closed).
-                            let ahead = |a: usize, b: usize| {
-                                if b >= a {
-                                    Some(b - a)
-                                } else if path.closed {
-                                    Some(b + n - a)
-                                } else {
-                                    None
-                                }
-                            };
-                            // Neighbours share the face on their edge; the face of a turn
-                            // inside one host face is shared by the turn's vertex and both
-                            // its neighbours on that side.
-                            let turn = |mid: usize| {
-                                path.walks[mid].as_ref().is_some_and(|(t, b)| {
-                                    (if side { t } else { b }).outward.is_empty()
-                                })
-                            };
-                            let near = match (ahead(j2, j), ahead(j, j2)) {
-                                (Some(1), _) | (_, Some(1)) => true,
-                                (Some(2), _) => turn((j2 + 1) % n),
-                                (_, Some(2)) => turn((j + 1) % n),
-                                _ => false,
-                            };
-                            if c2 != c || s2 != side || !near {
+                            if c2 != c || s2 != side || !walks_near(path, side, j, j2) {
                                 return Err(host_error(
                                     &curves[c],
                                     j,
@@ -295,10 +332,43 @@ pub fn embed_curves(
             }
         }
     }
+    Ok(())
+}
 
-    // 2. Host intervals on the edges leaving the polygons: their mean is ê.
+/// Whether path vertices `j` and `j2` may share a host face on `side` (top when true):
+/// neighbours share the face on their edge; the face of a turn inside one host face is shared
+/// by the turn's vertex and both its neighbours on that side.
+fn walks_near(path: &HostPath, side: bool, j: usize, j2: usize) -> bool {
+    let n = path.verts.len();
+    // Steps forward along the path (cyclic when closed).
+    let ahead = |a: usize, b: usize| {
+        if b >= a {
+            Some(b - a)
+        } else if path.closed {
+            Some(b + n - a)
+        } else {
+            None
+        }
+    };
+    let turn = |mid: usize| {
+        path.walks[mid]
+            .as_ref()
+            .is_some_and(|(t, b)| (if side { t } else { b }).outward.is_empty())
+    };
+    match (ahead(j2, j), ahead(j, j2)) {
+        (Some(1), _) | (_, Some(1)) => true,
+        (Some(2), _) => turn((j2 + 1) % n),
+        (_, Some(2)) => turn((j + 1) % n),
+        _ => false,
+    }
+}
+
+/// ê: the mean host interval on the host edges leaving the polygons (1 when there are none
+/// or their sum is not positive).
+fn mean_outward_interval(paths: &[HostPath], host_interval: &HashMap<(u32, u32), f64>) -> f64 {
+    let own = |a: u32, b: u32| host_interval.get(&key(a, b)).copied().unwrap_or(1.0);
     let (mut sum, mut count) = (0.0, 0usize);
-    for path in &paths {
+    for path in paths {
         for (j, walks) in path.walks.iter().enumerate() {
             let Some((top, bot)) = walks else { continue };
             for &x in top.outward.iter().chain(&bot.outward) {
@@ -307,42 +377,126 @@ pub fn embed_curves(
             }
         }
     }
-    let e_hat = if count > 0 && sum > 0.0 {
+    if count > 0 && sum > 0.0 {
         sum / count as f64
     } else {
         1.0
-    };
-    let speed_column = e_hat * w / (1.0 - w);
+    }
+}
 
-    // 3. Cut and insert.
-    let mut positions = host.positions().to_vec();
-    let mut weights = vec![1.0; nv];
-    for t in &host.knots.weights {
-        if let Some(x) = weights.get_mut(t.vertex as usize) {
-            *x = t.weight;
+/// The host being cut open along the polygons, with the zones' rows inserted: the mesh data
+/// and knot tags of the result.
+struct Cut<'a> {
+    /// The host's knot interval tags, by undirected edge.
+    host_interval: &'a HashMap<(u32, u32), f64>,
+    /// Row width fraction `w` ([`HostOptions::width`]).
+    width: f64,
+    /// ê, the mean host interval on the edges leaving the polygons.
+    e_hat: f64,
+    positions: Vec<V3>,
+    weights: Vec<f64>,
+    faces: Vec<Vec<u32>>,
+    intervals: HashMap<(u32, u32), f64>,
+    sides: Vec<SideInterval>,
+}
+
+/// One curve's zone while it is inserted: its middle polygon and scaled intervals.
+struct ZonePlan<'c> {
+    curve: &'c CubicCurve,
+    path: &'c HostPath,
+    m: MiddlePolygon,
+    /// The middle polygon's intervals times `scale`.
+    d: Vec<f64>,
+    /// [`Zone::knot_scale`].
+    scale: f64,
+    /// The column interval `e`.
+    column: f64,
+}
+
+impl<'a> Cut<'a> {
+    /// The uncut host: its positions, weights and faces, and its intervals on the edges that
+    /// touch no split vertex (those at split vertices move to their side copies).
+    fn new(
+        host: &PolyMesh,
+        faces: Vec<Vec<u32>>,
+        host_interval: &'a HashMap<(u32, u32), f64>,
+        paths: &[HostPath],
+        width: f64,
+        e_hat: f64,
+    ) -> Self {
+        let positions = host.positions().to_vec();
+        let mut weights = vec![1.0; host.num_vertices()];
+        for t in &host.knots.weights {
+            if let Some(x) = weights.get_mut(t.vertex as usize) {
+                *x = t.weight;
+            }
+        }
+        let mut intervals: HashMap<(u32, u32), f64> = HashMap::new();
+        // Host intervals at split vertices move to their side copies in `hand_over_side`.
+        let split: HashMap<u32, ()> = paths
+            .iter()
+            .flat_map(|p| {
+                p.verts
+                    .iter()
+                    .zip(&p.walks)
+                    .filter(|(_, w)| w.is_some())
+                    .map(|(&v, _)| (v, ()))
+            })
+            .collect();
+        for (&(a, b), &d) in host_interval {
+            if !split.contains_key(&a) && !split.contains_key(&b) {
+                intervals.insert((a, b), d);
+            }
+        }
+        Self {
+            host_interval,
+            width,
+            e_hat,
+            positions,
+            weights,
+            faces,
+            intervals,
+            sides: Vec::new(),
         }
     }
-    let mut faces = faces;
-    let mut intervals: HashMap<(u32, u32), f64> = HashMap::new();
-    let mut sides: Vec<SideInterval> = Vec::new();
-    // Host intervals, moved from split vertices to their side copies below.
-    let split: HashMap<u32, ()> = paths
-        .iter()
-        .flat_map(|p| {
-            p.verts
-                .iter()
-                .zip(&p.walks)
-                .filter(|(_, w)| w.is_some())
-                .map(|(&v, _)| (v, ()))
+
+    /// Inserts the zone of `curve` along `path` ([JOS 2003] §3, Fig. 11): splits every
+    /// control point into `P_j`, `T_j`, `B_j`, adds the zone's faces and sets its intervals.
+    fn insert_zone(
+        &mut self,
+        curve: &CubicCurve,
+        path: &HostPath,
+        speed_column: f64,
+    ) -> Result<Zone, InterpolateError> {
+        let z = self.plan_zone(curve, path, speed_column)?;
+        let mut top = path.verts.clone();
+        let mut bot = path.verts.clone();
+        for (j, walks) in path.walks.iter().enumerate() {
+            let Some((tw, bw)) = walks else { continue };
+            (top[j], bot[j]) = self.split_vertex(&z, j, tw, bw)?;
+        }
+        self.add_zone_faces(&z, &top, &bot);
+        Ok(Zone {
+            label: curve.label.clone(),
+            middle: path.verts.clone(),
+            closed: path.closed,
+            start_knot: z.m.start_knot,
+            first: z.m.first,
+            count: curve.len(),
+            knot_scale: z.scale,
         })
-        .collect();
-    for (&(a, b), &d) in &host_interval {
-        if !split.contains_key(&a) && !split.contains_key(&b) {
-            intervals.insert((a, b), d);
-        }
     }
-    let mut zones = Vec::with_capacity(curves.len());
-    for (curve, path) in curves.iter().zip(&paths) {
+
+    /// The curve's middle polygon (with phantom ends when open) and the knot scale and column
+    /// interval: the curve's mean interval scaled to ê and `e = ê · w / (1 − w)`, or both ê at
+    /// a turn inside one host face (see the module documentation).
+    fn plan_zone<'c>(
+        &self,
+        curve: &'c CubicCurve,
+        path: &'c HostPath,
+        speed_column: f64,
+    ) -> Result<ZonePlan<'c>, InterpolateError> {
+        let e_hat = self.e_hat;
         let m = if path.closed {
             curve.middle_polygon()
         } else {
@@ -363,165 +517,198 @@ pub fn embed_curves(
             ),
         };
         let d: Vec<f64> = m.intervals.iter().map(|x| x * scale).collect();
+        Ok(ZonePlan {
+            curve,
+            path,
+            m,
+            d,
+            scale,
+            column,
+        })
+    }
+
+    /// Splits path vertex `j` (with side walks `tw`, `bw`): moves it onto its control point
+    /// and adds `T_j = P_j + h u_j`, `B_j = P_j − h u_j`, which take over its host faces and
+    /// intervals on their sides; returns `(T_j, B_j)`.
+    fn split_vertex(
+        &mut self,
+        z: &ZonePlan,
+        j: usize,
+        tw: &SideWalk,
+        bw: &SideWalk,
+    ) -> Result<(u32, u32), InterpolateError> {
+        let (curve, path, m) = (z.curve, z.path, &z.m);
         let n = path.verts.len();
-        let edge_d = |j: usize, s: isize| -> f64 {
-            // Interval of the path edge from j to j + s.
-            if s > 0 {
-                d[j]
-            } else {
-                d[(j + n - 1) % n]
-            }
-        };
-        let mut top = path.verts.clone();
-        let mut bot = path.verts.clone();
-        for (j, walks) in path.walks.iter().enumerate() {
-            let Some((tw, bw)) = walks else { continue };
-            let v = path.verts[j];
-            let ci = j - m.first.min(j);
-            let p = curve.points[ci.min(curve.len() - 1)];
-            let wt = m.weights[j];
-            positions[v as usize] = p;
-            weights[v as usize] = wt;
-            let prev = path.verts[(j + n - 1) % n];
-            let next = path.verts[(j + 1) % n];
-            let tangent = sub(&positions[next as usize], &positions[prev as usize]);
-            let mean = |xs: &[u32]| -> V3 {
-                let mut s = [0.0; 3];
-                for &x in xs {
-                    for k in 0..3 {
-                        s[k] += positions[x as usize][k] / xs.len() as f64;
-                    }
-                }
-                s
-            };
-            // Across the polygon: from the host neighbours on one side to those on the
-            // other (from or to the control point where a side has none, a turn inside one
-            // host face).
-            let mut u = match (tw.outward.is_empty(), bw.outward.is_empty()) {
-                (false, false) => sub(&mean(&tw.outward), &mean(&bw.outward)),
-                (false, true) => sub(&mean(&tw.outward), &p),
-                _ => sub(&p, &mean(&bw.outward)),
-            };
-            let tl = norm(&tangent);
-            if tl > 0.0 {
-                let k = dot(&u, &tangent) / (tl * tl);
-                u = [
-                    u[0] - k * tangent[0],
-                    u[1] - k * tangent[1],
-                    u[2] - k * tangent[2],
-                ];
-            }
-            let shortest = tw
-                .outward
-                .iter()
-                .chain(&bw.outward)
-                .map(|&x| norm(&sub(&positions[x as usize], &p)))
-                .fold(f64::INFINITY, f64::min);
-            let ul = norm(&u);
-            let apart = shortest > 0.0 && ul > 1e-9 * shortest;
-            if !apart {
-                return Err(host_error(
-                    curve,
-                    j,
-                    path,
-                    "the host's neighbours on the two sides of the polygon are not apart across it (a fold or a degenerate host); no side direction".into(),
-                ));
-            }
-            let h = w * shortest / ul;
-            let t_id = positions.len() as u32;
-            positions.push([p[0] + h * u[0], p[1] + h * u[1], p[2] + h * u[2]]);
-            weights.push(wt);
-            let b_id = positions.len() as u32;
-            positions.push([p[0] - h * u[0], p[1] - h * u[1], p[2] - h * u[2]]);
-            weights.push(wt);
-            top[j] = t_id;
-            bot[j] = b_id;
-            let (dp, dn) = (edge_d(j, -1), edge_d(j, 1));
-            for (walk, id) in [(tw, t_id), (bw, b_id)] {
-                for &f in &walk.faces {
-                    for x in faces[f as usize].iter_mut() {
-                        if *x == v {
-                            *x = id;
-                        }
-                    }
-                }
-                let k = walk.outward.len();
-                for &x in &walk.outward {
-                    if let Some(&dh) = host_interval.get(&key(v, x)) {
-                        intervals.insert(key(id, x), dh);
-                    }
-                }
-                let mut side = |f: u32, x: u32, d: f64| {
-                    sides.push(SideInterval {
-                        face: f,
-                        v0: id,
-                        v1: x,
-                        interval: d,
-                    })
-                };
-                if k == 0 {
-                    // A turn inside one host face: every interval the first step reads at
-                    // the valence-3 side vertex is ê already (module documentation).
-                } else if k == 1 {
-                    intervals.insert(key(id, walk.outward[0]), e_hat);
-                } else {
-                    side(walk.faces[0], walk.outward[0], e_hat);
-                    side(walk.faces[k], walk.outward[k - 1], e_hat);
-                    side(walk.faces[1], walk.outward[1], dp);
-                    side(walk.faces[k - 1], walk.outward[k - 2], dn);
-                }
-            }
-            intervals.insert(key(v, t_id), column);
-            intervals.insert(key(v, b_id), column);
+        let v = path.verts[j];
+        let ci = j - m.first.min(j);
+        let p = curve.points[ci.min(curve.len() - 1)];
+        let wt = m.weights[j];
+        self.positions[v as usize] = p;
+        self.weights[v as usize] = wt;
+        let prev = path.verts[(j + n - 1) % n];
+        let next = path.verts[(j + 1) % n];
+        let positions = &self.positions;
+        let tangent = sub(&positions[next as usize], &positions[prev as usize]);
+        let u = side_direction(positions, &p, &tangent, tw, bw);
+        let shortest = tw
+            .outward
+            .iter()
+            .chain(&bw.outward)
+            .map(|&x| norm(&sub(&positions[x as usize], &p)))
+            .fold(f64::INFINITY, f64::min);
+        let ul = norm(&u);
+        let apart = shortest > 0.0 && ul > 1e-9 * shortest;
+        if !apart {
+            return Err(host_error(
+                curve,
+                j,
+                path,
+                "the host's neighbours on the two sides of the polygon are not apart across it (a fold or a degenerate host); no side direction".into(),
+            ));
         }
-        // Zone faces and the intervals along the polygon.
+        let h = self.width * shortest / ul;
+        let t_id = self.positions.len() as u32;
+        self.positions
+            .push([p[0] + h * u[0], p[1] + h * u[1], p[2] + h * u[2]]);
+        self.weights.push(wt);
+        let b_id = self.positions.len() as u32;
+        self.positions
+            .push([p[0] - h * u[0], p[1] - h * u[1], p[2] - h * u[2]]);
+        self.weights.push(wt);
+        // Intervals of the path edges towards the previous and the next point.
+        let (dp, dn) = (z.d[(j + n - 1) % n], z.d[j]);
+        for (walk, id) in [(tw, t_id), (bw, b_id)] {
+            self.hand_over_side(walk, v, id, dp, dn);
+        }
+        self.intervals.insert(key(v, t_id), z.column);
+        self.intervals.insert(key(v, b_id), z.column);
+        Ok((t_id, b_id))
+    }
+
+    /// Hands the faces and host edges of `walk` round split vertex `v` over to its side copy
+    /// `id`, and sets the intervals the first step reads at `id` (Theorem 1 of [JOS 2003] on
+    /// the first step, Fig. 11; see the module documentation): `ê` on the outward edge for one
+    /// host edge, else the four auxiliary side intervals `ê`, `ê`, `d_{j−1}` (`dp`), `d_j`
+    /// (`dn`).
+    fn hand_over_side(&mut self, walk: &SideWalk, v: u32, id: u32, dp: f64, dn: f64) {
+        let e_hat = self.e_hat;
+        for &f in &walk.faces {
+            for x in self.faces[f as usize].iter_mut() {
+                if *x == v {
+                    *x = id;
+                }
+            }
+        }
+        let k = walk.outward.len();
+        for &x in &walk.outward {
+            if let Some(&dh) = self.host_interval.get(&key(v, x)) {
+                self.intervals.insert(key(id, x), dh);
+            }
+        }
+        let mut side = |f: u32, x: u32, d: f64| {
+            self.sides.push(SideInterval {
+                face: f,
+                v0: id,
+                v1: x,
+                interval: d,
+            })
+        };
+        if k == 0 {
+            // A turn inside one host face: every interval the first step reads at
+            // the valence-3 side vertex is ê already (module documentation).
+        } else if k == 1 {
+            self.intervals.insert(key(id, walk.outward[0]), e_hat);
+        } else {
+            side(walk.faces[0], walk.outward[0], e_hat);
+            side(walk.faces[k], walk.outward[k - 1], e_hat);
+            side(walk.faces[1], walk.outward[1], dp);
+            side(walk.faces[k - 1], walk.outward[k - 2], dn);
+        }
+    }
+
+    /// The zone's faces `P_j P_{j+1} T_{j+1} T_j` and `P_j B_j B_{j+1} P_{j+1}` (triangles at
+    /// a phantom end) and the intervals `d_j` along the polygon and its two side rows.
+    fn add_zone_faces(&mut self, z: &ZonePlan, top: &[u32], bot: &[u32]) {
+        let path = z.path;
+        let n = path.verts.len();
         let edges = if path.closed { n } else { n - 1 };
         for j in 0..edges {
             let k = (j + 1) % n;
             let (p0, p1) = (path.verts[j], path.verts[k]);
             let (t0, t1, b0, b1) = (top[j], top[k], bot[j], bot[k]);
-            intervals.insert(key(p0, p1), d[j]);
+            self.intervals.insert(key(p0, p1), z.d[j]);
             if t0 == p0 {
                 // Phantom start Q = p0.
-                faces.push(vec![p0, p1, t1]);
-                faces.push(vec![p0, b1, p1]);
+                self.faces.push(vec![p0, p1, t1]);
+                self.faces.push(vec![p0, b1, p1]);
             } else if t1 == p1 {
                 // Phantom end Q' = p1.
-                faces.push(vec![p0, p1, t0]);
-                faces.push(vec![p0, b0, p1]);
+                self.faces.push(vec![p0, p1, t0]);
+                self.faces.push(vec![p0, b0, p1]);
             } else {
-                faces.push(vec![p0, p1, t1, t0]);
-                faces.push(vec![p0, b0, b1, p1]);
+                self.faces.push(vec![p0, p1, t1, t0]);
+                self.faces.push(vec![p0, b0, b1, p1]);
             }
-            intervals.insert(key(t0, t1), d[j]);
-            intervals.insert(key(b0, b1), d[j]);
+            self.intervals.insert(key(t0, t1), z.d[j]);
+            self.intervals.insert(key(b0, b1), z.d[j]);
         }
-        zones.push(Zone {
-            label: curve.label.clone(),
-            middle: path.verts.clone(),
-            closed: path.closed,
-            start_knot: m.start_knot,
-            first: m.first,
-            count: curve.len(),
-            knot_scale: scale,
-        });
     }
-    let mut mesh = PolyMesh::from_faces(positions, &faces)?;
-    mesh.tags = host.tags.clone();
-    let mut iv: Vec<EdgeInterval> = intervals
-        .into_iter()
-        .filter(|&(_, d)| d != 1.0)
-        .map(|((v0, v1), interval)| EdgeInterval { v0, v1, interval })
-        .collect();
-    iv.sort_by_key(|t| (t.v0, t.v1));
-    let weights = VertexWeight::tags(&weights);
-    mesh.knots = KnotTags {
-        intervals: iv,
-        side_intervals: sides,
-        weights,
+
+    /// The cut host as a validated mesh with the host's sharpness tags and the new knot tags
+    /// (intervals other than 1, sorted by edge), with its `zones`.
+    fn into_interpolation(
+        self,
+        host: &PolyMesh,
+        zones: Vec<Zone>,
+    ) -> Result<Interpolation, InterpolateError> {
+        let mut mesh = PolyMesh::from_faces(self.positions, &self.faces)?;
+        mesh.tags = host.tags.clone();
+        let mut iv: Vec<EdgeInterval> = self
+            .intervals
+            .into_iter()
+            .filter(|&(_, d)| d != 1.0)
+            .map(|((v0, v1), interval)| EdgeInterval { v0, v1, interval })
+            .collect();
+        iv.sort_by_key(|t| (t.v0, t.v1));
+        let weights = VertexWeight::tags(&self.weights);
+        mesh.knots = KnotTags {
+            intervals: iv,
+            side_intervals: self.sides,
+            weights,
+        };
+        mesh.validate()?;
+        Ok(Interpolation { mesh, zones })
+    }
+}
+
+/// The side direction `u_j` at control point `p`: from the mean of the host neighbours on the
+/// `B` side to the mean of those on the `T` side (from or to `p` where a side has none, a turn
+/// inside one host face), made perpendicular to the polygon's `tangent`.
+fn side_direction(positions: &[V3], p: &V3, tangent: &V3, tw: &SideWalk, bw: &SideWalk) -> V3 {
+    let mean = |xs: &[u32]| -> V3 {
+        let mut s = [0.0; 3];
+        for &x in xs {
+            for k in 0..3 {
+                s[k] += positions[x as usize][k] / xs.len() as f64;
+            }
+        }
+        s
     };
-    mesh.validate()?;
-    Ok(Interpolation { mesh, zones })
+    let mut u = match (tw.outward.is_empty(), bw.outward.is_empty()) {
+        (false, false) => sub(&mean(&tw.outward), &mean(&bw.outward)),
+        (false, true) => sub(&mean(&tw.outward), p),
+        _ => sub(p, &mean(&bw.outward)),
+    };
+    let tl = norm(tangent);
+    if tl > 0.0 {
+        let k = dot(&u, tangent) / (tl * tl);
+        u = [
+            u[0] - k * tangent[0],
+            u[1] - k * tangent[1],
+            u[2] - k * tangent[2],
+        ];
+    }
+    u
 }
 
 /// The knot interval of the polygon edges at the curve's turns inside one host face (a side
@@ -580,19 +767,36 @@ fn host_error(curve: &CubicCurve, j: usize, path: &HostPath, reason: String) -> 
 /// The host vertices of the curve's polygon (phantom ends included) and the side walks.
 fn host_path(
     host: &PolyMesh,
-    grid: &Grid,
-    directed: &HashMap<(u32, u32), u32>,
-    faces: &[Vec<u32>],
+    index: &HostIndex,
     curve: &CubicCurve,
-    tol: f64,
 ) -> Result<HostPath, InterpolateError> {
+    let mut verts = match_control_points(host, index, curve)?;
+    check_polygon_edges(index, curve, &verts)?;
+    if !curve.closed {
+        add_phantom_ends(index, curve, &mut verts)?;
+    }
+    let walks = side_walks(index, curve, &verts)?;
+    Ok(HostPath {
+        verts,
+        closed: curve.closed,
+        walks,
+    })
+}
+
+/// The host vertex of each control point: the nearest within [`HostIndex::tol`] (the lowest
+/// index among equally near ones).
+fn match_control_points(
+    host: &PolyMesh,
+    index: &HostIndex,
+    curve: &CubicCurve,
+) -> Result<Vec<u32>, InterpolateError> {
     let pos = host.positions();
-    let n = curve.len();
-    let mut verts = Vec::with_capacity(n + 2);
+    let tol = index.tol;
+    let mut verts = Vec::with_capacity(curve.len() + 2);
     for (i, p) in curve.points.iter().enumerate() {
         // The nearest host vertex within `tol` (the lowest index among equally near ones).
         let mut best: Option<(u32, f64)> = None;
-        grid.near(p, |v| {
+        index.grid.near(p, |v| {
             let d = norm(&sub(p, &pos[v as usize]));
             if d <= tol && best.is_none_or(|(bv, bd)| d < bd || (d == bd && v < bv)) {
                 best = Some((v, d));
@@ -612,21 +816,35 @@ fn host_path(
             }
         }
     }
-    let err = |i: usize, reason: String| {
-        let p = curve.points[i];
-        InterpolateError::Host {
-            curve: curve.label.clone(),
-            index: i,
-            x: p[0],
-            y: p[1],
-            z: p[2],
-            reason,
-        }
-    };
+    Ok(verts)
+}
+
+/// [`InterpolateError::Host`] naming control point `i` of `curve`.
+fn point_error(curve: &CubicCurve, i: usize, reason: String) -> InterpolateError {
+    let p = curve.points[i];
+    InterpolateError::Host {
+        curve: curve.label.clone(),
+        index: i,
+        x: p[0],
+        y: p[1],
+        z: p[2],
+        reason,
+    }
+}
+
+/// Refuses a polygon that revisits a host vertex or whose consecutive control points are not
+/// joined by an interior host edge (faces on both sides).
+fn check_polygon_edges(
+    index: &HostIndex,
+    curve: &CubicCurve,
+    verts: &[u32],
+) -> Result<(), InterpolateError> {
+    let n = curve.len();
     let mut seen: HashMap<u32, usize> = HashMap::with_capacity(n);
     for (i, &v) in verts.iter().enumerate() {
         if let Some(&j) = seen.get(&v) {
-            return Err(err(
+            return Err(point_error(
+                curve,
                 i,
                 format!("it is the same host vertex as control point {j}; the polygon must not revisit a vertex"),
             ));
@@ -637,11 +855,12 @@ fn host_path(
     for i in 0..edges {
         let (a, b) = (verts[i], verts[(i + 1) % n]);
         let (ab, ba) = (
-            directed.contains_key(&(a, b)),
-            directed.contains_key(&(b, a)),
+            index.directed.contains_key(&(a, b)),
+            index.directed.contains_key(&(b, a)),
         );
         if !ab && !ba {
-            return Err(err(
+            return Err(point_error(
+                curve,
                 i,
                 format!(
                     "no host edge joins it to control point {}; the control polygon must run along host edges",
@@ -650,7 +869,8 @@ fn host_path(
             ));
         }
         if !(ab && ba) {
-            return Err(err(
+            return Err(point_error(
+                curve,
                 i,
                 format!(
                     "the host edge to control point {} is on the host's boundary; the zone needs host faces on both sides",
@@ -659,26 +879,48 @@ fn host_path(
             ));
         }
     }
-    if !curve.closed {
-        let q0 = across(directed, faces, verts[0], verts[1]).map_err(|r| err(0, r))?;
-        let q1 = across(directed, faces, verts[n - 1], verts[n - 2]).map_err(|r| err(n - 1, r))?;
-        for (q, i) in [(q0, 0), (q1, n - 1)] {
-            if let Some(j) = verts.iter().position(|&v| v == q) {
-                return Err(err(
-                    i,
-                    format!("the host edge continuing the polygon beyond this end leads to control point {j}; the zone needs a host edge of its own there"),
-                ));
-            }
-        }
-        if q0 == q1 {
+    Ok(())
+}
+
+/// Adds an open polygon's phantom ends: the host vertex across each end from its neighbour
+/// on the polygon ([`across`]), which must be off the polygon and distinct.
+fn add_phantom_ends(
+    index: &HostIndex,
+    curve: &CubicCurve,
+    verts: &mut Vec<u32>,
+) -> Result<(), InterpolateError> {
+    let n = curve.len();
+    let (directed, faces) = (&index.directed, &index.faces);
+    let err = |i: usize, reason: String| point_error(curve, i, reason);
+    let q0 = across(directed, faces, verts[0], verts[1]).map_err(|r| err(0, r))?;
+    let q1 = across(directed, faces, verts[n - 1], verts[n - 2]).map_err(|r| err(n - 1, r))?;
+    for (q, i) in [(q0, 0), (q1, n - 1)] {
+        if let Some(j) = verts.iter().position(|&v| v == q) {
             return Err(err(
-                0,
-                "the host edges continuing both ends of the polygon meet at one vertex; use a finer host".into(),
+                i,
+                format!("the host edge continuing the polygon beyond this end leads to control point {j}; the zone needs a host edge of its own there"),
             ));
         }
-        verts.insert(0, q0);
-        verts.push(q1);
     }
+    if q0 == q1 {
+        return Err(err(
+            0,
+            "the host edges continuing both ends of the polygon meet at one vertex; use a finer host".into(),
+        ));
+    }
+    verts.insert(0, q0);
+    verts.push(q1);
+    Ok(())
+}
+
+/// The `(top, bottom)` side walks ([`walk`]) of every path vertex but the phantom ends; a
+/// control point needs a host edge on at least one side.
+fn side_walks(
+    index: &HostIndex,
+    curve: &CubicCurve,
+    verts: &[u32],
+) -> Result<Vec<Option<(SideWalk, SideWalk)>>, InterpolateError> {
+    let (directed, faces) = (&index.directed, &index.faces);
     let closed = curve.closed;
     let m = verts.len();
     let mut walks = Vec::with_capacity(m);
@@ -689,21 +931,17 @@ fn host_path(
         }
         let (u, v, w) = (verts[(j + m - 1) % m], verts[j], verts[(j + 1) % m]);
         let ci = if closed { j } else { j - 1 };
-        let top = walk(directed, faces, v, w, u, true).map_err(|r| err(ci, r))?;
-        let bot = walk(directed, faces, v, w, u, false).map_err(|r| err(ci, r))?;
+        let err = |r: String| point_error(curve, ci, r);
+        let top = walk(directed, faces, v, w, u, true).map_err(err)?;
+        let bot = walk(directed, faces, v, w, u, false).map_err(err)?;
         if top.outward.is_empty() && bot.outward.is_empty() {
             return Err(err(
-                ci,
                 "the control point has no host edge but the polygon's two (valence 2); the zone needs a host edge on at least one side".into(),
             ));
         }
         walks.push(Some((top, bot)));
     }
-    Ok(HostPath {
-        verts,
-        closed,
-        walks,
-    })
+    Ok(walks)
 }
 
 /// Faces and edges around `v` from the face on edge `v → next` (`top`: the face running

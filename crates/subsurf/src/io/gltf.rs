@@ -138,6 +138,26 @@ pub fn face_edges(face_offsets: &[u32], face_verts: &[u32]) -> Vec<[u32; 2]> {
 /// would exceed GLB's 4 GiB; [`io::ErrorKind::InvalidData`] for a non-finite value or a
 /// coordinate beyond the `f32` range.
 pub fn write_glb<W: Write>(w: &mut W, mesh: &GlbMesh) -> io::Result<()> {
+    let checked = check_glb(mesh)?;
+    let (views, bin_len) = buffer_views(mesh, &checked);
+    let root = gltf_root(mesh, &checked, &views, bin_len);
+    let text = json_chunk(root, mesh, checked.control.is_some())?;
+    write_chunks(w, mesh, &checked, &text, bin_len)
+}
+
+/// What [`check_glb`] found: the triangle count and the `f32` bounds of the surface and of the
+/// control lines, if any.
+struct GlbChecked<'a> {
+    num_triangles: u64,
+    bounds: ([f32; 3], [f32; 3]),
+    /// The control lines, when there are any.
+    control: Option<GlbLines<'a>>,
+    control_bounds: Option<([f32; 3], [f32; 3])>,
+}
+
+/// Checks `mesh` for everything [`write_glb`] refuses (see its errors) before anything is
+/// written.
+fn check_glb<'a>(mesh: &GlbMesh<'a>) -> io::Result<GlbChecked<'a>> {
     let nv = mesh.positions.len();
     super::ply::check_faces(nv, mesh.face_offsets, mesh.face_verts, usize::MAX)?;
     let num_triangles: u64 = mesh
@@ -189,9 +209,18 @@ pub fn write_glb<W: Write>(w: &mut W, mesh: &GlbMesh) -> io::Result<()> {
         }
         None => None,
     };
+    Ok(GlbChecked {
+        num_triangles,
+        bounds,
+        control,
+        control_bounds,
+    })
+}
 
-    // Buffer views, in buffer order.
-    let vec3 = 12 * nv as u64;
+/// The buffer views' lengths and targets, in buffer order (positions, normals, colours,
+/// triangle indices, control positions, control line indices), and the BIN chunk's length.
+fn buffer_views(mesh: &GlbMesh, checked: &GlbChecked) -> (Vec<(u64, Target)>, u64) {
+    let vec3 = 12 * mesh.positions.len() as u64;
     let mut views = vec![(vec3, Target::ArrayBuffer)];
     if mesh.normals.is_some() {
         views.push((vec3, Target::ArrayBuffer));
@@ -199,13 +228,18 @@ pub fn write_glb<W: Write>(w: &mut W, mesh: &GlbMesh) -> io::Result<()> {
     if mesh.colors.is_some() {
         views.push((vec3, Target::ArrayBuffer));
     }
-    views.push((12 * num_triangles, Target::ElementArrayBuffer));
-    if let Some(c) = control {
+    views.push((12 * checked.num_triangles, Target::ElementArrayBuffer));
+    if let Some(c) = checked.control {
         views.push((12 * c.positions.len() as u64, Target::ArrayBuffer));
         views.push((8 * c.lines.len() as u64, Target::ElementArrayBuffer));
     }
     let bin_len: u64 = views.iter().map(|v| v.0).sum();
+    (views, bin_len)
+}
 
+/// The glTF document: one buffer of `bin_len` bytes cut into `views`, the surface's mesh and
+/// node, the control lines' mesh and node if any, and a scene holding them.
+fn gltf_root(mesh: &GlbMesh, checked: &GlbChecked, views: &[(u64, Target)], bin_len: u64) -> Root {
     let mut root = Root {
         asset: json::Asset {
             generator: Some(format!("subsurf {}", env!("CARGO_PKG_VERSION"))),
@@ -221,7 +255,7 @@ pub fn write_glb<W: Write>(w: &mut W, mesh: &GlbMesh) -> io::Result<()> {
     });
     let mut offset = 0;
     let mut accessors = Vec::new();
-    for &(len, target) in &views {
+    for &(len, target) in views {
         let view = root.push(View {
             buffer,
             byte_length: USize64(len),
@@ -236,9 +270,30 @@ pub fn write_glb<W: Write>(w: &mut W, mesh: &GlbMesh) -> io::Result<()> {
     }
     let mut views = accessors.into_iter();
     let mut next_view = || views.next().expect("one view per accessor");
+    let surface_node = push_surface(&mut root, mesh, checked, &mut next_view);
+    let mut nodes = vec![surface_node];
+    if let (Some(c), Some(b)) = (checked.control, checked.control_bounds) {
+        nodes.push(push_control(&mut root, c, b, &mut next_view));
+    }
+    root.scene = Some(root.push(Scene {
+        extensions: None,
+        extras: Default::default(),
+        nodes,
+    }));
+    root
+}
 
+/// Pushes the surface's accessors (positions with their bounds, normals, colours, triangle
+/// indices), material, mesh and node onto `root`; returns the node.
+fn push_surface(
+    root: &mut Root,
+    mesh: &GlbMesh,
+    checked: &GlbChecked,
+    next_view: &mut impl FnMut() -> Index<View>,
+) -> Index<Node> {
+    let nv = mesh.positions.len();
     let position = root.push(accessor(next_view(), nv, Type::Vec3, ComponentType::F32));
-    set_bounds(&mut root.accessors[position.value()], bounds);
+    set_bounds(&mut root.accessors[position.value()], checked.bounds);
     let mut attributes = vec![(Semantic::Positions, position)];
     if mesh.normals.is_some() {
         let a = accessor(next_view(), nv, Type::Vec3, ComponentType::F32);
@@ -248,7 +303,7 @@ pub fn write_glb<W: Write>(w: &mut W, mesh: &GlbMesh) -> io::Result<()> {
         let a = accessor(next_view(), nv, Type::Vec3, ComponentType::F32);
         attributes.push((Semantic::Colors(0), root.push(a)));
     }
-    let count = 3 * num_triangles as usize;
+    let count = 3 * checked.num_triangles as usize;
     let indices = root.push(accessor(
         next_view(),
         count,
@@ -267,45 +322,51 @@ pub fn write_glb<W: Write>(w: &mut W, mesh: &GlbMesh) -> io::Result<()> {
         )],
         weights: None,
     });
-    let surface_node = root.push(Node {
+    root.push(Node {
         mesh: Some(surface_mesh),
         ..Default::default()
-    });
-    let mut nodes = vec![surface_node];
-    if let (Some(c), Some(b)) = (control, control_bounds) {
-        let np = c.positions.len();
-        let position = root.push(accessor(next_view(), np, Type::Vec3, ComponentType::F32));
-        set_bounds(&mut root.accessors[position.value()], b);
-        let count = 2 * c.lines.len();
-        let indices = root.push(accessor(
-            next_view(),
-            count,
-            Type::Scalar,
-            ComponentType::U32,
-        ));
-        let m = root.push(material([0.05, 0.05, 0.05, 1.0], false, true));
-        let lines = root.push(Mesh {
-            extensions: None,
-            extras: Default::default(),
-            primitives: vec![primitive(
-                vec![(Semantic::Positions, position)],
-                indices,
-                m,
-                Mode::Lines,
-            )],
-            weights: None,
-        });
-        nodes.push(root.push(Node {
-            mesh: Some(lines),
-            ..Default::default()
-        }));
-    }
-    root.scene = Some(root.push(Scene {
+    })
+}
+
+/// Pushes the control lines' accessors (positions with `bounds`, line indices), material,
+/// mesh and node onto `root`; returns the node.
+fn push_control(
+    root: &mut Root,
+    c: GlbLines,
+    bounds: ([f32; 3], [f32; 3]),
+    next_view: &mut impl FnMut() -> Index<View>,
+) -> Index<Node> {
+    let np = c.positions.len();
+    let position = root.push(accessor(next_view(), np, Type::Vec3, ComponentType::F32));
+    set_bounds(&mut root.accessors[position.value()], bounds);
+    let count = 2 * c.lines.len();
+    let indices = root.push(accessor(
+        next_view(),
+        count,
+        Type::Scalar,
+        ComponentType::U32,
+    ));
+    let m = root.push(material([0.05, 0.05, 0.05, 1.0], false, true));
+    let lines = root.push(Mesh {
         extensions: None,
         extras: Default::default(),
-        nodes,
-    }));
+        primitives: vec![primitive(
+            vec![(Semantic::Positions, position)],
+            indices,
+            m,
+            Mode::Lines,
+        )],
+        weights: None,
+    });
+    root.push(Node {
+        mesh: Some(lines),
+        ..Default::default()
+    })
+}
 
+/// The JSON chunk's text: `root` with the scene, nodes, meshes and materials named, padded
+/// with spaces to a multiple of 4 bytes.
+fn json_chunk(root: Root, mesh: &GlbMesh, control: bool) -> io::Result<Vec<u8>> {
     let mut value = root.to_value().map_err(io::Error::other)?;
     let surface_name = if mesh.name.is_empty() {
         SURFACE_NAME
@@ -316,14 +377,25 @@ pub fn write_glb<W: Write>(w: &mut W, mesh: &GlbMesh) -> io::Result<()> {
     name(&mut value, "nodes", 0, surface_name);
     name(&mut value, "meshes", 0, surface_name);
     name(&mut value, "materials", 0, "surface");
-    if control.is_some() {
+    if control {
         name(&mut value, "nodes", 1, CONTROL_MESH_NAME);
         name(&mut value, "meshes", 1, CONTROL_MESH_NAME);
         name(&mut value, "materials", 1, CONTROL_MESH_NAME);
     }
     let mut text = serde_json::to_vec(&value).map_err(io::Error::other)?;
     text.resize(text.len().next_multiple_of(4), b' ');
+    Ok(text)
+}
 
+/// Writes the GLB header, the JSON chunk `text` and the BIN chunk (`bin_len` bytes: the data
+/// of the views of [`buffer_views`], in their order) to `w`; refuses a file over 4 GiB.
+fn write_chunks<W: Write>(
+    w: &mut W,
+    mesh: &GlbMesh,
+    checked: &GlbChecked,
+    text: &[u8],
+    bin_len: u64,
+) -> io::Result<()> {
     let total = 12 + 8 + text.len() as u64 + 8 + bin_len;
     if total > u64::from(u32::MAX) {
         return Err(invalid_input(format!(
@@ -335,7 +407,7 @@ pub fn write_glb<W: Write>(w: &mut W, mesh: &GlbMesh) -> io::Result<()> {
     for x in [GLB_MAGIC, 2, total as u32, text.len() as u32, CHUNK_JSON] {
         buf.extend_from_slice(&x.to_le_bytes());
     }
-    buf.extend_from_slice(&text);
+    buf.extend_from_slice(text);
     for x in [bin_len as u32, CHUNK_BIN] {
         buf.extend_from_slice(&x.to_le_bytes());
     }
@@ -360,7 +432,7 @@ pub fn write_glb<W: Write>(w: &mut W, mesh: &GlbMesh) -> io::Result<()> {
             out.u32s(&[fv[0], fv[k], fv[k + 1]])?;
         }
     }
-    if let Some(c) = control {
+    if let Some(c) = checked.control {
         for p in c.positions {
             out.vec3(turn(p).map(|c| c as f32))?;
         }

@@ -306,75 +306,21 @@ pub fn check_regularity_with(
         Dimension::Planar => planar_orientation(mesh),
         Dimension::Spatial => Sign::Positive,
     };
-    let verdict = |test: ConeTest| match test {
-        ConeTest::Disjoint(w @ Witness::Planar { orientation: o }) => {
-            if o == orientation {
-                Certificate::Certified(w)
-            } else {
-                Certificate::Refused(Refusal::Orientation)
-            }
-        }
-        ConeTest::Disjoint(w) => Certificate::Certified(w),
-        ConeTest::Meet(o) => Certificate::Refused(Refusal::Cones(o)),
-    };
-    // Per face: patch neighbourhood, own edges, local cones.
-    let prelim: Vec<Result<Certificate, Certificate>> = (0..t.num_faces())
-        .into_par_iter()
-        .map(|f| {
-            let b = block(&t, f).map_err(Certificate::NotApplicable)?;
-            let (fu, fv) = local_differences(t.face_vertices(f), 0);
-            if let Some(&d) = fu.iter().chain(&fv).find(|&&d| is_zero(pos, d, dimension)) {
-                return Err(Certificate::Refused(Refusal::ZeroEdge(d)));
-            }
-            let (u, v) = block_differences(&b);
-            Ok(verdict(test_cones(pos, dimension, &u, &v)))
-        })
-        .collect();
+    let prelim = local_certificates(&t, pos, dimension, orientation);
     // Global cones per component.
     let frames = Frames::new(&t);
-    let mut components = Vec::new();
-    if let Ok(fr) = &frames {
-        let mut sets = vec![(BTreeSet::new(), BTreeSet::new()); fr.num_components];
-        for f in 0..t.num_faces() {
-            let (u, v) = fr.face_differences(&t, f);
-            let c = fr.component[f] as usize;
-            sets[c].0.extend(u);
-            sets[c].1.extend(v);
-        }
-        components = sets
-            .into_par_iter()
-            .map(|(u, v)| {
-                let (u, v): (Vec<_>, Vec<_>) = (u.into_iter().collect(), v.into_iter().collect());
-                let test = test_cones(pos, dimension, &u, &v);
-                ComponentCones { u, v, test }
-            })
-            .collect();
-    }
-    let faces_list: Vec<u32> = (0..t.num_faces() as u32).collect();
-    let sampled = if options.samples > 0 {
-        let built;
-        let surface = match surface {
-            Some(s) => s,
-            None => {
-                built = LimitSurface::new(mesh, options.scheme)?;
-                &built
-            }
-        };
-        let scale = mesh.bounding_box().map_or(1.0, |(lo, hi)| {
-            let d = [hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]];
-            d[0].hypot(d[1]).hypot(d[2])
-        });
-        sample_faces(
-            surface,
-            &faces_list,
-            options.samples,
-            dimension,
-            orientation,
-            scale,
-        )?
-    } else {
-        vec![None; t.num_faces()]
+    let components = match &frames {
+        Ok(fr) => component_cones(&t, fr, pos, dimension),
+        Err(_) => Vec::new(),
     };
+    let sampled = sample_limit(
+        mesh,
+        options,
+        surface,
+        t.num_faces(),
+        dimension,
+        orientation,
+    )?;
     let faces = prelim
         .into_iter()
         .enumerate()
@@ -384,7 +330,7 @@ pub fn check_regularity_with(
                 Ok(local) => {
                     let global = match &frames {
                         Err(e) => Certificate::Refused(Refusal::NoFrame(*e)),
-                        Ok(fr) => verdict(components[fr.component[f] as usize].test),
+                        Ok(fr) => verdict(components[fr.component[f] as usize].test, orientation),
                     };
                     (local, global)
                 }
@@ -409,4 +355,106 @@ pub fn check_regularity_with(
             0
         },
     })
+}
+
+/// The certificate a cone test gives ([Wang et al. 2016], Theorem 3): certified when the
+/// cones are disjoint (a planar witness only with the mesh's `orientation`), refused when
+/// they meet.
+fn verdict(test: ConeTest, orientation: Sign) -> Certificate {
+    match test {
+        ConeTest::Disjoint(w @ Witness::Planar { orientation: o }) => {
+            if o == orientation {
+                Certificate::Certified(w)
+            } else {
+                Certificate::Refused(Refusal::Orientation)
+            }
+        }
+        ConeTest::Disjoint(w) => Certificate::Certified(w),
+        ConeTest::Meet(o) => Certificate::Refused(Refusal::Cones(o)),
+    }
+}
+
+/// Per face, the local certificate from its patch neighbourhood's cones ([Wang et al. 2016],
+/// Theorem 3 on the face's own differences; see the module documentation) (`Ok`), or the
+/// certificate that settles the face locally and globally (`Err`: no applicable
+/// neighbourhood, or a zero edge of the face itself).
+fn local_certificates(
+    t: &Topology,
+    pos: &[[f64; 3]],
+    dimension: Dimension,
+    orientation: Sign,
+) -> Vec<Result<Certificate, Certificate>> {
+    (0..t.num_faces())
+        .into_par_iter()
+        .map(|f| {
+            let b = block(t, f).map_err(Certificate::NotApplicable)?;
+            let (fu, fv) = local_differences(t.face_vertices(f), 0);
+            if let Some(&d) = fu.iter().chain(&fv).find(|&&d| is_zero(pos, d, dimension)) {
+                return Err(Certificate::Refused(Refusal::ZeroEdge(d)));
+            }
+            let (u, v) = block_differences(&b);
+            Ok(verdict(test_cones(pos, dimension, &u, &v), orientation))
+        })
+        .collect()
+}
+
+/// The global cones of every connected component (in the frames `fr`): the sets of `u` and
+/// `v` differences of all its faces, and their cone test ([Wang et al. 2016], Theorem 3).
+fn component_cones(
+    t: &Topology,
+    fr: &Frames,
+    pos: &[[f64; 3]],
+    dimension: Dimension,
+) -> Vec<ComponentCones> {
+    let mut sets = vec![(BTreeSet::new(), BTreeSet::new()); fr.num_components];
+    for f in 0..t.num_faces() {
+        let (u, v) = fr.face_differences(t, f);
+        let c = fr.component[f] as usize;
+        sets[c].0.extend(u);
+        sets[c].1.extend(v);
+    }
+    sets.into_par_iter()
+        .map(|(u, v)| {
+            let (u, v): (Vec<_>, Vec<_>) = (u.into_iter().collect(), v.into_iter().collect());
+            let test = test_cones(pos, dimension, &u, &v);
+            ComponentCones { u, v, test }
+        })
+        .collect()
+}
+
+/// The sampled ground truth of every face ([`sample_faces`] on `surface`, or on the limit
+/// surface of `mesh` built here), scaled by the bounding-box diagonal; all `None` when
+/// `options.samples` is 0.
+fn sample_limit(
+    mesh: &PolyMesh,
+    options: &RegularityOptions,
+    surface: Option<&LimitSurface>,
+    num_faces: usize,
+    dimension: Dimension,
+    orientation: Sign,
+) -> Result<Vec<Option<Sampled>>, RegularityError> {
+    if options.samples == 0 {
+        return Ok(vec![None; num_faces]);
+    }
+    let faces_list: Vec<u32> = (0..num_faces as u32).collect();
+    let built;
+    let surface = match surface {
+        Some(s) => s,
+        None => {
+            built = LimitSurface::new(mesh, options.scheme)?;
+            &built
+        }
+    };
+    let scale = mesh.bounding_box().map_or(1.0, |(lo, hi)| {
+        let d = [hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]];
+        d[0].hypot(d[1]).hypot(d[2])
+    });
+    Ok(sample_faces(
+        surface,
+        &faces_list,
+        options.samples,
+        dimension,
+        orientation,
+        scale,
+    )?)
 }

@@ -68,7 +68,43 @@ pub fn compare_with_limit(
         mesh.face_verts().to_vec(),
     )?;
     let limit = LimitSurface::new(&plain, Options::default())?;
-    let faces: Vec<u32> = (0..mesh.num_faces() as u32)
+    let mut c = compare_positions(surface, &limit, mesh.num_faces(), m);
+    c.size = mesh
+        .bounding_box()
+        .map_or(0.0, |(lo, hi)| geom::norm(&geom::sub(&hi, &lo)));
+    let (topo, _) = Topology::from_mesh(mesh, &Options::default())?;
+    let jumps: Vec<(bool, f64, f64)> = (0..topo.num_edges())
+        .into_par_iter()
+        .filter_map(|e| edge_normal_jump(surface, &topo, e, m))
+        .collect();
+    let mut sum = 0.0;
+    for &(irr, interior, ends) in &jumps {
+        if irr {
+            c.irregular_edges += 1;
+            c.max_jump_irregular = c.max_jump_irregular.max(interior);
+            c.max_jump_at_vertices = c.max_jump_at_vertices.max(ends);
+            sum += interior;
+        } else {
+            c.regular_edges += 1;
+            c.max_jump_regular = c.max_jump_regular.max(interior);
+        }
+    }
+    if c.irregular_edges > 0 {
+        c.mean_jump_irregular = sum / c.irregular_edges as f64;
+    }
+    Ok(c)
+}
+
+/// The position measurements of [`Comparison`] (faces, samples, largest and RMS distance,
+/// the face of the largest): `|P_spline − P_limit|` on the `(m + 1) × (m + 1)` grid of every
+/// face of `surface` with a spline surface (of the `num_faces`), where both evaluate.
+fn compare_positions(
+    surface: &SubBasisSurface,
+    limit: &LimitSurface,
+    num_faces: usize,
+    m: usize,
+) -> Comparison {
+    let faces: Vec<u32> = (0..num_faces as u32)
         .filter(|&f| surface.has_surface(f as usize))
         .collect();
     // Per face: (max distance, sum of squares, count).
@@ -108,73 +144,59 @@ pub fn compare_with_limit(
     } else {
         0.0
     };
-    c.size = mesh
-        .bounding_box()
-        .map_or(0.0, |(lo, hi)| geom::norm(&geom::sub(&hi, &lo)));
+    c
+}
 
-    let (topo, _) = Topology::from_mesh(mesh, &Options::default())?;
+/// The normal jump across interior edge `e` when both its faces have a spline surface:
+/// `(an end has valence ≠ 4, largest angle in degrees between the two faces' unit normals
+/// at the m + 1 samples, counting a regular end with the interior, largest at an irregular
+/// end)`; `None` for a boundary edge or one without two surfaces.
+fn edge_normal_jump(
+    surface: &SubBasisSurface,
+    topo: &Topology,
+    e: usize,
+    m: usize,
+) -> Option<(bool, f64, f64)> {
     let valence = |v: u32| topo.vertex_faces(v as usize).len();
-    // Per interior edge: (irregular?, max interior jump, max jump at irregular ends).
-    let jumps: Vec<(bool, f64, f64)> = (0..topo.num_edges())
-        .into_par_iter()
-        .filter_map(|e| {
-            let ef = topo.edge_face_list(e);
-            if ef.len() != 2 || !ef.iter().all(|&f| surface.has_surface(f as usize)) {
-                return None;
+    let ef = topo.edge_face_list(e);
+    if ef.len() != 2 || !ef.iter().all(|&f| surface.has_surface(f as usize)) {
+        return None;
+    }
+    let ev = topo.edge_vertices(e);
+    let irregular = [valence(ev[0]) != 4, valence(ev[1]) != 4];
+    let normal_at = |f: u32, x: f64| -> Option<[f64; 3]> {
+        // x: fraction from ev[0] to ev[1].
+        let fv = topo.face_vertices(f as usize);
+        let i = (0..4).find(|&i| topo.face_edge_list(f as usize)[i] as usize == e)?;
+        let t = if fv[i] == ev[0] { x } else { 1.0 - x };
+        let (u, v) = match i {
+            0 => (t, 0.0),
+            1 => (1.0, t),
+            2 => (1.0 - t, 1.0),
+            _ => (0.0, 1.0 - t),
+        };
+        surface.eval(f, u, v).ok().map(|d| d.normal())
+    };
+    let (mut interior, mut ends) = (0.0f64, 0.0f64);
+    for s in 0..=m {
+        let x = s as f64 / m as f64;
+        let (Some(a), Some(b)) = (normal_at(ef[0], x), normal_at(ef[1], x)) else {
+            continue;
+        };
+        // atan2(|a × b|, a · b): accurate also for tiny angles (acos is not).
+        let ang = geom::norm(&geom::cross(&a, &b))
+            .atan2(geom::dot(&a, &b))
+            .to_degrees();
+        if s == 0 || s == m {
+            let end = if s == 0 { irregular[0] } else { irregular[1] };
+            if end {
+                ends = ends.max(ang);
+            } else {
+                interior = interior.max(ang);
             }
-            let ev = topo.edge_vertices(e);
-            let irregular = [valence(ev[0]) != 4, valence(ev[1]) != 4];
-            let normal_at = |f: u32, x: f64| -> Option<[f64; 3]> {
-                // x: fraction from ev[0] to ev[1].
-                let fv = topo.face_vertices(f as usize);
-                let i = (0..4).find(|&i| topo.face_edge_list(f as usize)[i] as usize == e)?;
-                let t = if fv[i] == ev[0] { x } else { 1.0 - x };
-                let (u, v) = match i {
-                    0 => (t, 0.0),
-                    1 => (1.0, t),
-                    2 => (1.0 - t, 1.0),
-                    _ => (0.0, 1.0 - t),
-                };
-                surface.eval(f, u, v).ok().map(|d| d.normal())
-            };
-            let (mut interior, mut ends) = (0.0f64, 0.0f64);
-            for s in 0..=m {
-                let x = s as f64 / m as f64;
-                let (Some(a), Some(b)) = (normal_at(ef[0], x), normal_at(ef[1], x)) else {
-                    continue;
-                };
-                // atan2(|a × b|, a · b): accurate also for tiny angles (acos is not).
-                let ang = geom::norm(&geom::cross(&a, &b))
-                    .atan2(geom::dot(&a, &b))
-                    .to_degrees();
-                if s == 0 || s == m {
-                    let end = if s == 0 { irregular[0] } else { irregular[1] };
-                    if end {
-                        ends = ends.max(ang);
-                    } else {
-                        interior = interior.max(ang);
-                    }
-                } else {
-                    interior = interior.max(ang);
-                }
-            }
-            Some((irregular[0] || irregular[1], interior, ends))
-        })
-        .collect();
-    let mut sum = 0.0;
-    for &(irr, interior, ends) in &jumps {
-        if irr {
-            c.irregular_edges += 1;
-            c.max_jump_irregular = c.max_jump_irregular.max(interior);
-            c.max_jump_at_vertices = c.max_jump_at_vertices.max(ends);
-            sum += interior;
         } else {
-            c.regular_edges += 1;
-            c.max_jump_regular = c.max_jump_regular.max(interior);
+            interior = interior.max(ang);
         }
     }
-    if c.irregular_edges > 0 {
-        c.mean_jump_irregular = sum / c.irregular_edges as f64;
-    }
-    Ok(c)
+    Some((irregular[0] || irregular[1], interior, ends))
 }
