@@ -10,6 +10,18 @@ pub(crate) fn sub(a: &V3, b: &V3) -> V3 {
     [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
 }
 
+/// `a + b`.
+#[inline]
+pub(crate) fn add(a: &V3, b: &V3) -> V3 {
+    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
+}
+
+/// `s a`.
+#[inline]
+pub(crate) fn scale(a: &V3, s: f64) -> V3 {
+    [a[0] * s, a[1] * s, a[2] * s]
+}
+
 /// `a · b`.
 #[inline]
 pub(crate) fn dot(a: &V3, b: &V3) -> f64 {

@@ -42,26 +42,11 @@ use super::grid::{intervals, push_interval};
 use super::homogeneous::{cart, Patch};
 use super::skirt::{merge_degenerate, nurss_refine_once, real_part, refine_with_skirt};
 use super::BlendError;
+use crate::geom;
 use crate::mesh::PolyMesh;
 use crate::nurbs::{BSplineCurve, BSplineSurface, KnotVector};
 
-type V3 = [f64; 3];
-
-fn sub(a: V3, b: V3) -> V3 {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-fn add(a: V3, b: V3) -> V3 {
-    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
-}
-fn scale(a: V3, s: f64) -> V3 {
-    [a[0] * s, a[1] * s, a[2] * s]
-}
-fn dot(a: V3, b: V3) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-fn norm(a: V3) -> f64 {
-    dot(a, a).sqrt()
-}
+use crate::geom::V3;
 
 /// One side of the hole: the chained boundary curve (interior knots tripled) and the base
 /// patch with the map from the curve's parameter to the patch's `v`.
@@ -150,8 +135,8 @@ impl G1Fill {
             let target = c.points()[0];
             let i = (0..l)
                 .min_by(|&a, &b| {
-                    norm(sub(pos(lp.verts[a]), target))
-                        .total_cmp(&norm(sub(pos(lp.verts[b]), target)))
+                    geom::norm(&geom::sub(&pos(lp.verts[a]), &target))
+                        .total_cmp(&geom::norm(&geom::sub(&pos(lp.verts[b]), &target)))
                 })
                 .ok_or_else(|| bad_boundary("empty loop"))?;
             corner_at.push(i);
@@ -178,7 +163,7 @@ impl G1Fill {
             let row0: Vec<V3> = idx.iter().map(|&i| pos(lp.verts[i])).collect();
             let mut diffs = Vec::with_capacity(idx.len());
             for &i in &idx {
-                diffs.push(sub(pos(lp.inward(i)?), pos(lp.verts[i])));
+                diffs.push(geom::sub(&pos(lp.inward(i)?), &pos(lp.verts[i])));
             }
             out.push(BoundaryRows {
                 boundary: BSplineCurve::new(kv.clone(), row0)?,
@@ -386,8 +371,8 @@ fn hole_sides<'a>(
     for (k, c) in chained.iter().enumerate() {
         let start = c.points()[0];
         let orig = &curves[k];
-        let reversed = norm(sub(start, orig.points()[0]))
-            > norm(sub(start, orig.points()[orig.points().len() - 1]));
+        let reversed = geom::norm(&geom::sub(&start, &orig.points()[0]))
+            > geom::norm(&geom::sub(&start, &orig.points()[orig.points().len() - 1]));
         sides.push(Side {
             curve: triple_interior_knots(c)?,
             patch: &patches[k],
@@ -403,7 +388,7 @@ fn cross_scales(sides: &[Side]) -> Result<(f64, Vec<f64>), BlendError> {
     let (mut sum, mut cnt) = (0.0, 0usize);
     for s in sides {
         for w in s.curve.points().windows(2) {
-            sum += norm(sub(w[1], w[0]));
+            sum += geom::norm(&geom::sub(&w[1], &w[0]));
             cnt += 1;
         }
     }
@@ -411,7 +396,7 @@ fn cross_scales(sides: &[Side]) -> Result<(f64, Vec<f64>), BlendError> {
     let mut lambda = Vec::with_capacity(sides.len());
     for s in sides {
         let (a, b) = s.domain();
-        let e = norm(s.cross(0.5 * (a + b))?);
+        let e = geom::norm(&s.cross(0.5 * (a + b))?);
         lambda.push(if e > 0.0 { spacing / e } else { 1.0 });
     }
     Ok((spacing, lambda))
@@ -437,13 +422,17 @@ fn corner_cross_vectors(
         let (a, _) = sides[k].domain();
         let (_, b) = sides[p].domain();
         let (tk, tp) = (sides[k].tangent(a)?, sides[p].tangent(b)?);
-        let rhs = sub(
-            scale(sides[k].cross(a)?, lambda[k]),
-            scale(sides[p].cross(b)?, lambda[p]),
+        let rhs = geom::sub(
+            &geom::scale(&sides[k].cross(a)?, lambda[k]),
+            &geom::scale(&sides[p].cross(b)?, lambda[p]),
         );
         // x tk − y tp = rhs, least squares.
-        let (m11, m12, m22) = (dot(tk, tk), -dot(tk, tp), dot(tp, tp));
-        let (r1, r2) = (dot(tk, rhs), -dot(tp, rhs));
+        let (m11, m12, m22) = (
+            geom::dot(&tk, &tk),
+            -geom::dot(&tk, &tp),
+            geom::dot(&tp, &tp),
+        );
+        let (r1, r2) = (geom::dot(&tk, &rhs), -geom::dot(&tp, &rhs));
         let det = m11 * m22 - m12 * m12;
         if det.abs() <= 1e-12 * m11 * m22 {
             return Err(BlendError::TangentPlane {
@@ -454,8 +443,11 @@ fn corner_cross_vectors(
         }
         let x = (r1 * m22 - r2 * m12) / det;
         let y = (m11 * r2 - m12 * r1) / det;
-        let res = norm(sub(sub(scale(tk, x), scale(tp, y)), rhs));
-        if res > 1e-7 * norm(rhs).max(spacing) {
+        let res = geom::norm(&geom::sub(
+            &geom::sub(&geom::scale(&tk, x), &geom::scale(&tp, y)),
+            &rhs,
+        ));
+        if res > 1e-7 * geom::norm(&rhs).max(spacing) {
             return Err(BlendError::TangentPlane {
                 index: k,
                 previous: p,
@@ -464,7 +456,10 @@ fn corner_cross_vectors(
         }
         beta[k][0] = x;
         beta[p][1] = y;
-        corner_d[k] = add(scale(sides[k].cross(a)?, -lambda[k]), scale(tk, x));
+        corner_d[k] = geom::add(
+            &geom::scale(&sides[k].cross(a)?, -lambda[k]),
+            &geom::scale(&tk, x),
+        );
     }
     Ok((beta, corner_d))
 }
@@ -490,7 +485,10 @@ fn side_cross_coefficients(
     spans.dedup();
     let target = |t: f64| -> Result<V3, BlendError> {
         let bt = beta[0] + (beta[1] - beta[0]) * (t - a) / (b - a);
-        Ok(add(scale(s.cross(t)?, -lambda), scale(s.tangent(t)?, bt)))
+        Ok(geom::add(
+            &geom::scale(&s.cross(t)?, -lambda),
+            &geom::scale(&s.tangent(t)?, bt),
+        ))
     };
     let mut d = Vec::new();
     for w in spans.windows(2) {
@@ -499,10 +497,16 @@ fn side_cross_coefficients(
         let c3 = target(s1)?;
         let f1 = target(s0 + (s1 - s0) / 3.0)?;
         let f2 = target(s0 + 2.0 * (s1 - s0) / 3.0)?;
-        let aa = sub(sub(scale(f1, 27.0), scale(c0, 8.0)), c3);
-        let bb = sub(sub(scale(f2, 27.0), c0), scale(c3, 8.0));
-        let c1 = scale(sub(scale(aa, 2.0), bb), 1.0 / 18.0);
-        let c2 = scale(sub(scale(bb, 2.0), aa), 1.0 / 18.0);
+        let aa = geom::sub(
+            &geom::sub(&geom::scale(&f1, 27.0), &geom::scale(&c0, 8.0)),
+            &c3,
+        );
+        let bb = geom::sub(
+            &geom::sub(&geom::scale(&f2, 27.0), &c0),
+            &geom::scale(&c3, 8.0),
+        );
+        let c1 = geom::scale(&geom::sub(&geom::scale(&aa, 2.0), &bb), 1.0 / 18.0);
+        let c2 = geom::scale(&geom::sub(&geom::scale(&bb, 2.0), &aa), 1.0 / 18.0);
         if d.is_empty() {
             d.push(c0);
         }
@@ -536,13 +540,13 @@ fn g1_control_mesh(
         let pts = s.curve.points();
         let t = s.curve.knots().as_slice();
         let p = (k + n - 1) % n;
-        let dc = scale(add(corner_d[k], ds[p][ds[p].len() - 1]), 0.5);
+        let dc = geom::scale(&geom::add(&corner_d[k], &ds[p][ds[p].len() - 1]), 0.5);
         for j in 0..pts.len() - 1 {
             ring1.push(pts[j]);
             ring2.push(if j == 0 {
-                add(pts[0], dc)
+                geom::add(&pts[0], &dc)
             } else {
-                add(pts[j], ds[k][j])
+                geom::add(&pts[j], &ds[k][j])
             });
             spans1.push(t[j + 3] - t[j + 2]);
         }
@@ -551,7 +555,7 @@ fn g1_control_mesh(
     let gp = bulged_centre(&ring1, bulge)?;
     let ring3: Vec<V3> = ring2
         .iter()
-        .map(|&q| add(q, scale(sub(gp, q), 1.0 / 3.0)))
+        .map(|&q| geom::add(&q, &geom::scale(&geom::sub(&gp, &q), 1.0 / 3.0)))
         .collect();
     let mut pos: Vec<V3> = Vec::with_capacity(3 * m + 1);
     pos.extend_from_slice(&ring1);
