@@ -1,14 +1,13 @@
 //! Loop subdivision of triangle meshes ([`scheme::loop_`](crate::scheme::loop_)) and
 //! bilinear subdivision ([`scheme::bilinear`](crate::scheme::bilinear)), as OpenSubdiv
-//! refines them: the topology once ([`LoopRefiner`], or the quad split's
-//! [`TopologyRefiner`](super::TopologyRefiner) for bilinear), then any primvar through it
+//! refines them: the topology once ([`TopologyRefiner`](super::TopologyRefiner) with
+//! [`Scheme::Loop`](crate::Scheme::Loop) or `Bilinear`), then any primvar through it
 //! ([`interpolate_loop`], or [`interpolate_with`](super::interpolate_with) and
 //! [`Bilinear`](crate::scheme::bilinear::Bilinear)). [`subdivide`](fn@crate::subdivide)
 //! refines a mesh with either through `refine::uniform`.
 
 use super::primvar::{axpy, run_chunks, vertex_mask_at};
-use super::tri_topology::refine_tri_topology;
-use crate::mesh::{MeshError, Options, PolyMesh, Rule, Topology, TopologyWarning};
+use crate::mesh::{MeshError, Options, PolyMesh, Rule, Topology};
 use crate::scheme::catmark::VertexMask;
 use crate::scheme::loop_::Loop;
 use crate::scheme::Rules;
@@ -25,7 +24,7 @@ pub(crate) fn check_triangles(mesh: &PolyMesh) -> Result<(), MeshError> {
 }
 
 /// Interpolates `src` (values at the vertices of the triangle mesh `parent`) to `dst`
-/// (values at the vertices of `child`, its triangle split by [`LoopRefiner`]) with Loop's
+/// (values at the vertices of `child`, its triangle split) with Loop's
 /// masks ([`Loop`], with the rules of [`Rules`]): the edge points first
 /// (`⅜(v₀ + v₁) + ⅛(o₀ + o₁)` when smooth), then the vertex points
 /// (`(1 − nβₙ) v + βₙ Σ eᵢ` when smooth), as OpenSubdiv's `PrimvarRefiner::Interpolate`.
@@ -118,117 +117,12 @@ pub fn interpolate_loop<const D: usize>(
     );
 }
 
-/// A base triangle [`Topology`] and its uniform Loop refinements, level by level (the
-/// counterpart of [`TopologyRefiner`](super::TopologyRefiner) for Loop): refine the
-/// topology once, then any number of primvars through it.
-///
-/// ```
-/// use subsurf::mesh::{Options, PolyMesh};
-/// use subsurf::refine::LoopRefiner;
-///
-/// let tet = PolyMesh::from_faces(
-///     vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
-///     &[[0u32, 2, 1], [0, 1, 3], [1, 2, 3], [2, 0, 3]],
-/// ).unwrap();
-/// let mut r = LoopRefiner::new(&tet, Options::default()).unwrap();
-/// r.refine_uniform(2);
-/// assert_eq!(r.level(2).num_faces(), 64);
-/// let pos = r.interpolate_all(tet.positions());
-/// assert_eq!(pos.len(), r.level(2).num_vertices());
-/// ```
-#[derive(Clone, Debug)]
-pub struct LoopRefiner {
-    levels: Vec<Topology>,
-    options: Options,
-    warnings: Vec<TopologyWarning>,
-}
-
-impl LoopRefiner {
-    /// Builds the base level of `mesh` (see [`Topology::from_mesh`]).
-    ///
-    /// # Errors
-    /// [`MeshError::NotTriangle`] naming the first face that is not a triangle; the errors
-    /// of [`Topology::from_mesh`].
-    pub fn new(mesh: &PolyMesh, options: Options) -> Result<Self, MeshError> {
-        check_triangles(mesh)?;
-        let (base, warnings) = Topology::from_mesh(mesh, &options)?;
-        Ok(Self {
-            levels: vec![base],
-            options,
-            warnings,
-        })
-    }
-
-    /// Refines until there are `levels` levels beyond the base.
-    pub fn refine_uniform(&mut self, levels: u32) {
-        while self.levels.len() <= levels as usize {
-            self.refine_one();
-        }
-    }
-
-    /// Adds one level: every triangle split into four.
-    pub fn refine_one(&mut self) {
-        let last = self.levels.last().expect("the base level always exists");
-        let child = refine_tri_topology(last, &self.options);
-        self.levels.push(child);
-    }
-
-    /// Level `i` (0 is the base).
-    ///
-    /// # Panics
-    /// If `i > max_level()`.
-    pub fn level(&self, i: usize) -> &Topology {
-        &self.levels[i]
-    }
-
-    /// The deepest level refined so far.
-    pub fn max_level(&self) -> usize {
-        self.levels.len() - 1
-    }
-
-    /// Scheme options.
-    pub fn options(&self) -> &Options {
-        &self.options
-    }
-
-    /// Warnings about the base mesh.
-    pub fn warnings(&self) -> &[TopologyWarning] {
-        &self.warnings
-    }
-
-    /// Interpolates values from level `level - 1` to level `level` ([`interpolate_loop`]).
-    pub fn interpolate<const D: usize>(
-        &self,
-        level: usize,
-        src: &[[f64; D]],
-        dst: &mut [[f64; D]],
-    ) {
-        interpolate_loop(
-            &self.levels[level - 1],
-            &self.levels[level],
-            &self.options,
-            src,
-            dst,
-        );
-    }
-
-    /// Interpolates base-level values to the deepest level.
-    pub fn interpolate_all<const D: usize>(&self, base: &[[f64; D]]) -> Vec<[f64; D]> {
-        let mut cur = base.to_vec();
-        for l in 1..self.levels.len() {
-            let mut next = vec![[0.0; D]; self.levels[l].num_vertices()];
-            self.interpolate(l, &cur, &mut next);
-            cur = next;
-        }
-        cur
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::mesh::{BoundaryInterpolation, Corner, Crease, Tags};
+    use crate::mesh::{BoundaryInterpolation, Corner, Crease, Tags, TopologyWarning};
     use crate::refine::uniform::{refine_uniform, Steps};
+    use crate::scheme::Scheme;
 
     /// `mesh` refined `levels` times with `steps`, as `subdivide` refines it.
     fn refine(
@@ -324,7 +218,11 @@ mod tests {
         let want = MeshError::NotTriangle { face: 1, count: 4 };
         let got = subdivide_loop(&m, &Options::default(), 1, false, &mut |_, _| {});
         assert_eq!(got.unwrap_err(), want);
-        assert_eq!(LoopRefiner::new(&m, Options::default()).unwrap_err(), want);
+        let refiner = super::super::TopologyRefiner::new(&m, Scheme::Loop, Options::default());
+        assert_eq!(
+            refiner.unwrap_err(),
+            super::super::Error::Mesh(want.clone())
+        );
         assert!(want.to_string().contains("face 1 has 4 vertices"));
     }
 

@@ -10,12 +10,13 @@
 //! ```
 //! use subsurf::mesh::{Options, PolyMesh};
 //! use subsurf::refine::TopologyRefiner;
+//! use subsurf::Scheme;
 //!
 //! let quad = PolyMesh::from_faces(
 //!     vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]],
 //!     &[[0u32, 1, 2, 3]],
 //! ).unwrap();
-//! let mut r = TopologyRefiner::new(&quad, Options::default()).unwrap();
+//! let mut r = TopologyRefiner::new(&quad, Scheme::CatmullClark, Options::default()).unwrap();
 //! r.refine_uniform(2);
 //! assert_eq!(r.level(2).num_faces(), 16);
 //! // Refine positions, and a scalar (say, a temperature) on the same topology.
@@ -40,29 +41,50 @@ pub(crate) mod uniform;
 
 pub use error::Error;
 pub use face_varying::FaceVaryingRefiner;
-pub use loop_::{interpolate_loop, LoopRefiner};
+pub use loop_::interpolate_loop;
 pub(crate) use plan::refinement_rows;
 pub use plan::{PlanScratch, RefinePlan};
 pub use primvar::{interpolate, interpolate_with};
 pub(crate) use topology::{refine_topology, refine_topology_for_output};
 
-use crate::mesh::{MeshError, Options, PolyMesh, Topology, TopologyWarning};
+use crate::mesh::{Options, PolyMesh, Topology, TopologyWarning};
+use crate::scheme::bilinear::Bilinear;
+use crate::scheme::Scheme;
+use uniform::Steps;
 
-/// A base [`Topology`] and its uniform refinements, level by level.
+/// A base [`Topology`] and its uniform refinements with a scheme, level by level
+/// (OpenSubdiv's `Far::TopologyRefiner`): the topology once, then any number of primvars
+/// through it. Catmull-Clark, the adjustable scheme and bilinear split every face of size
+/// `n` into `n` quads; Loop splits every triangle into four. NURSS, whose weights depend on
+/// knot intervals refined with the topology, has its own refiner, [`Nurss`](crate::nurss::Nurss).
 #[derive(Clone, Debug)]
 pub struct TopologyRefiner {
     levels: Vec<Topology>,
     options: Options,
+    steps: Steps,
     warnings: Vec<TopologyWarning>,
 }
 
 impl TopologyRefiner {
-    /// Builds the base level of `mesh` (see [`Topology::from_mesh`]).
-    pub fn new(mesh: &PolyMesh, options: Options) -> Result<Self, MeshError> {
+    /// Builds the base level of `mesh` (see [`Topology::from_mesh`]) for `scheme`.
+    ///
+    /// # Errors
+    /// [`Error::Mesh`] from [`Topology::from_mesh`], or [`MeshError::NotTriangle`](crate::mesh::MeshError::NotTriangle) naming
+    /// the first face that is not a triangle with Loop; [`Error::Unsupported`] for NURSS.
+    pub fn new(mesh: &PolyMesh, scheme: Scheme, options: Options) -> Result<Self, Error> {
+        let steps = Steps::of(scheme).ok_or(Error::Unsupported {
+            what: "a TopologyRefiner (NURSS refines with nurss::Nurss)",
+            scheme: scheme.name(),
+        })?;
+        if steps == Steps::Loop {
+            loop_::check_triangles(mesh)?;
+        }
+        let options = steps.topology_options(&options);
         let (base, warnings) = Topology::from_mesh(mesh, &options)?;
         Ok(Self {
             levels: vec![base],
             options,
+            steps,
             warnings,
         })
     }
@@ -77,7 +99,10 @@ impl TopologyRefiner {
     /// Adds one level.
     pub fn refine_one(&mut self) {
         let last = self.levels.last().expect("the base level always exists");
-        let child = topology::refine_topology(last, &self.options, true);
+        let child = match self.steps {
+            Steps::Loop => tri_topology::refine_tri_topology(last, &self.options),
+            _ => topology::refine_topology(last, &self.options, true),
+        };
         self.levels.push(child);
     }
 
@@ -94,7 +119,8 @@ impl TopologyRefiner {
         self.levels.len() - 1
     }
 
-    /// Scheme options.
+    /// Scheme options (for bilinear, as the topology was built: boundary mode `None` read
+    /// as edge-only, [`Bilinear::topology_options`](crate::scheme::bilinear::Bilinear::topology_options)).
     pub fn options(&self) -> &Options {
         &self.options
     }
@@ -104,20 +130,23 @@ impl TopologyRefiner {
         &self.warnings
     }
 
-    /// Interpolates values from level `level - 1` to level `level`.
+    /// Interpolates values from level `level - 1` to level `level` with the scheme's masks
+    /// for that step.
     pub fn interpolate<const D: usize>(
         &self,
         level: usize,
         src: &[[f64; D]],
         dst: &mut [[f64; D]],
     ) {
-        primvar::interpolate(
-            &self.levels[level - 1],
-            &self.levels[level],
-            &self.options,
-            src,
-            dst,
-        );
+        let (p, c, o) = (&self.levels[level - 1], &self.levels[level], &self.options);
+        match self.steps {
+            Steps::Family(m) if level as u64 <= u64::from(m.steps) => {
+                primvar::interpolate_with(p, c, o, m.scheme, src, dst)
+            }
+            Steps::Family(_) => primvar::interpolate(p, c, o, src, dst),
+            Steps::Bilinear => primvar::interpolate_with(p, c, o, Bilinear, src, dst),
+            Steps::Loop => loop_::interpolate_loop(p, c, o, src, dst),
+        }
     }
 
     /// Interpolates base-level values to the deepest level.

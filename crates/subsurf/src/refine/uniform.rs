@@ -43,7 +43,7 @@ impl Steps {
 
     /// The options the topology is built with: bilinear makes no holes for boundary mode
     /// `None` ([`Bilinear::topology_options`]).
-    fn topology_options(self, options: &Options) -> Options {
+    pub(crate) fn topology_options(self, options: &Options) -> Options {
         match self {
             Self::Bilinear => Bilinear::topology_options(options),
             _ => *options,

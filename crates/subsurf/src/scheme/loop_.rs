@@ -27,7 +27,7 @@ use crate::mesh::Options;
 use std::f64::consts::PI;
 
 /// Loop's rules ([`Rules`]): OpenSubdiv's `Sdc::Scheme<SCHEME_LOOP>`. The refinement that
-/// applies them is [`refine::LoopRefiner`](crate::refine::LoopRefiner).
+/// applies them is [`refine::TopologyRefiner`](crate::refine::TopologyRefiner) with [`Scheme::Loop`](crate::Scheme::Loop).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Loop;
 

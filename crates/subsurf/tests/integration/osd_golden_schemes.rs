@@ -10,9 +10,9 @@
 //! vertex count (hole-only vertices included), faces written (holes left out) with their
 //! sizes and their list in order (FNV-1a hash), sampled positions index for index within
 //! `1e-12 ×` the input's bounding-box diagonal, and sums over all vertices. Refined positions
-//! only: limit evaluation for these schemes is not compared here. The lower-level paths,
-//! [`LoopRefiner`] with `interpolate_loop` and [`TopologyRefiner`] with
-//! [`interpolate_with`]`(.., Bilinear, ..)`, give the same bits (`refiners_equal_subdivide`).
+//! only: limit evaluation for these schemes is not compared here. The lower-level path,
+//! [`TopologyRefiner`] (and [`interpolate_with`]`(.., Bilinear, ..)`), gives the same bits
+//! (`refiners_equal_subdivide`).
 
 use std::fmt::Write as _;
 
@@ -21,8 +21,8 @@ use super::osd_golden::{
     shape_names_with_prefix, shapes_dir, Expect,
 };
 use subsurf::io::obj::read_obj;
-use subsurf::mesh::{MeshError, Options, PolyMesh, Topology};
-use subsurf::refine::{interpolate_with, LoopRefiner, TopologyRefiner};
+use subsurf::mesh::{Options, PolyMesh, Topology};
+use subsurf::refine::{interpolate_with, TopologyRefiner};
 use subsurf::scheme::bilinear::Bilinear;
 use subsurf::{subdivide, Scheme, SubdivideOptions};
 
@@ -58,18 +58,22 @@ fn refine_with(
     Ok(subdivide(mesh, &opts)?.mesh)
 }
 
-/// `mesh` refined `levels` times with [`LoopRefiner`].
-fn refine_loop(mesh: &PolyMesh, options: Options, levels: u32) -> Result<PolyMesh, MeshError> {
-    let mut r = LoopRefiner::new(mesh, options)?;
+/// `mesh` refined `levels` times with Loop on a [`TopologyRefiner`].
+fn refine_loop(mesh: &PolyMesh, options: Options, levels: u32) -> Result<PolyMesh, subsurf::Error> {
+    let mut r = TopologyRefiner::new(mesh, Scheme::Loop, options)?;
     r.refine_uniform(levels);
     let pos = r.interpolate_all(mesh.positions());
     Ok(written(r.level(levels as usize), pos))
 }
 
-/// `mesh` refined `levels` times with the bilinear scheme on a [`TopologyRefiner`].
-fn refine_bilinear(mesh: &PolyMesh, options: Options, levels: u32) -> Result<PolyMesh, MeshError> {
-    let options = Bilinear::topology_options(&options);
-    let mut r = TopologyRefiner::new(mesh, options)?;
+/// `mesh` refined `levels` times with the bilinear scheme, its masks applied level by level
+/// with [`interpolate_with`] on a [`TopologyRefiner`]'s levels.
+fn refine_bilinear(
+    mesh: &PolyMesh,
+    options: Options,
+    levels: u32,
+) -> Result<PolyMesh, subsurf::Error> {
+    let mut r = TopologyRefiner::new(mesh, Scheme::Bilinear, options)?;
     r.refine_uniform(levels);
     let mut pos = mesh.positions().to_vec();
     for l in 1..=levels as usize {
@@ -77,13 +81,14 @@ fn refine_bilinear(mesh: &PolyMesh, options: Options, levels: u32) -> Result<Pol
         interpolate_with(
             r.level(l - 1),
             r.level(l),
-            &options,
+            r.options(),
             Bilinear,
             &pos,
             &mut next,
         );
         pos = next;
     }
+    assert_eq!(pos, r.interpolate_all(mesh.positions()));
     Ok(written(r.level(levels as usize), pos))
 }
 

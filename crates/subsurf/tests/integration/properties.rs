@@ -607,7 +607,7 @@ proptest! {
         let mesh = PolyMesh::from_faces(ctrl.clone(), &faces).expect("torus is valid");
         let out = run(&mesh, &SubdivideOptions { levels, limit: true, ..Default::default() });
 
-        let mut r = TopologyRefiner::new(&mesh, Options::default()).expect("torus is valid");
+        let mut r = TopologyRefiner::new(&mesh, subsurf::Scheme::CatmullClark, Options::default()).expect("torus is valid");
         r.refine_uniform(levels);
         let coords = grid_coordinates(&r, n, m).map_err(fail)?;
         let den = 1usize << levels;
@@ -836,9 +836,11 @@ fn check_two_step(
     let direct =
         subdivide(mesh, &opts(a + b, limit)).map_err(|e| format!("level {}: {e}", a + b))?;
 
-    let mut rd = TopologyRefiner::new(mesh, options).map_err(|e| e.to_string())?;
+    let mut rd = TopologyRefiner::new(mesh, subsurf::Scheme::CatmullClark, options)
+        .map_err(|e| e.to_string())?;
     rd.refine_uniform(a + b);
-    let mut rs = TopologyRefiner::new(&obj.mesh, read_options).map_err(|e| e.to_string())?;
+    let mut rs = TopologyRefiner::new(&obj.mesh, subsurf::Scheme::CatmullClark, read_options)
+        .map_err(|e| e.to_string())?;
     rs.refine_uniform(b);
     let pi = staged_correspondence(&rd, a as usize, &rs).map_err(|e| format!("{ctx}: {e}"))?;
     let (sm, dm) = (&staged.mesh, &direct.mesh);
@@ -1384,7 +1386,7 @@ proptest! {
             keep_holes,
             max_memory: None,
         });
-        let mut r = TopologyRefiner::new(&mesh, spec.options).expect("valid mesh");
+        let mut r = TopologyRefiner::new(&mesh, subsurf::Scheme::CatmullClark, spec.options).expect("valid mesh");
         r.refine_uniform(levels);
         let sigma = refined_permutation(&r, &base_sigma).map_err(fail)?;
         let pos = out.mesh.positions();
@@ -1434,7 +1436,7 @@ proptest! {
     #[test]
     fn constants_stay_constant(spec in mesh_spec(1), levels in 1u32..=3, c in -100.0..100.0f64) {
         let mesh = spec.build();
-        let mut r = TopologyRefiner::new(&mesh, spec.options).expect("valid mesh");
+        let mut r = TopologyRefiner::new(&mesh, subsurf::Scheme::CatmullClark, spec.options).expect("valid mesh");
         r.refine_uniform(levels);
         let field = vec![[c]; mesh.num_vertices()];
         let refined = r.interpolate_all(&field);
