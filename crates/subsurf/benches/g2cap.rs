@@ -1,4 +1,4 @@
-//! Criterion bench: building the G2 cap solver of one valence (seed 003) — the production
+//! Criterion bench: building the G2 cap solver of one valence ([Tang et al. 2017]) — the production
 //! per-Fourier-frequency solve ([`CapSolver`]: `⌊n/2⌋ + 1` systems of at most 50
 //! unknowns) against the reference all-sectors solve ([`DenseCapSolver`]: one system of
 //! `25n` unknowns and `72n` rows) — and completing one cap with each (applying the

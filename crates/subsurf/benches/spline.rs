@@ -1,4 +1,4 @@
-//! Criterion bench: cost per evaluated point of the sub-basis spline surface (seed 000)
+//! Criterion bench: cost per evaluated point of the sub-basis spline surface ([Sub-basis splines])
 //! against the polynomial uniform bicubic B-spline patch (`limit::bspline::eval`), both with
 //! position and first and second derivatives, and position only. The paper claims that,
 //! once the sub-basis functions are tabulated, a point costs about as much as a B-spline

@@ -277,8 +277,8 @@ pub(crate) type BasisLanes = [[Lanes; 4]; 3];
 /// multiply-adds are fused, so the last bits may differ from [`tensor_into`]'s; on a given
 /// processor a point's result does not depend on the other points of its batch. On an 8×8
 /// grid on every face of a 15 k-quad mesh (957 k points, position and first derivatives,
-/// one thread), with the nets kept across re-posing (`surface.rs`), a whole re-posed
-/// evaluation went from 870 to 274 instructions per point, 58 to 35 ms (`BENCHMARKS.md`).
+/// one thread), with the nets kept across re-posing (`surface.rs`), this takes about a
+/// third of the instructions per point of one point at a time (`BENCHMARKS.md`).
 pub(crate) fn tensor_batch(
     cp: &[[[f64; 3]; 4]; 4],
     bases: impl Bases,

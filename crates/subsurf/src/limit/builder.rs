@@ -6,8 +6,8 @@
 //! a region being edited; the faces in view) can build those alone: the surface keeps
 //! nothing for the others and refuses to evaluate them ([`EvalError::NotBuilt`]). On an
 //! all-triangle scan, whose every face is irregular, a surface of no faces takes a fifth
-//! of the memory of a full one (`nefertiti`, 99 938 triangles: 105 → 21 MiB in
-//! `subsurf bench --limit-grid 8`, which evaluates quads only).
+//! of the memory of a full one (BENCHMARKS.md; `subsurf bench --limit-grid 8` evaluates
+//! quads only).
 //!
 //! The surface of a face does not depend on which other faces are built: each face's
 //! nodes are computed from the control points and topology around it (its 1-ring, or its

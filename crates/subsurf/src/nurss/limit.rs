@@ -59,9 +59,8 @@
 //! quad, as in the control mesh of a B-spline surface): there the face-interior intervals
 //! are already half the split ones, and the first step settles the fan. Such a fan costs
 //! one step on unit points and a few squarings (about 5 at the rate `¼` of a regular grid)
-//! instead of about 20 steps: `catmark_bishop` with every interval 2 at level 4,
-//! `subdivide --limit` 1.36 → 1.16 s, the `Reposer` with the limit built in 1.3–1.4 s
-//! instead of 2.0–2.7 s (one process each). Where opposite edges differ, the face-interior
+//! instead of about 20 steps (BENCHMARKS.md has the effect on `subdivide --limit` and the
+//! `Reposer`). Where opposite edges differ, the face-interior
 //! intervals approach the split ones by half per step and never quite settle (with
 //! random intervals on the same mesh, 4 % of the fans settle, and the times are unchanged).
 

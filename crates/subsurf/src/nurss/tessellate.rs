@@ -1,7 +1,7 @@
 //! Tessellation of the NURSS limit surface through refinement.
 //!
 //! Non-uniform Catmull-Clark has no closed-form patches away from regular grids, so the
-//! surface is sampled the way seeds 001 and 002 show it: refine `L` levels, then move every
+//! surface is sampled the way [JOS 2003] and [Jiang et al.] show it: refine `L` levels, then move every
 //! vertex of the last level to its exact limit point ([`Nurss::limit_points`]). A quad of
 //! the input becomes `2^L × 2^L` quads whose corners lie on the limit surface (an `n`-gon
 //! becomes `n` quad sub-faces of `2^(L−1) × 2^(L−1)`, as in

@@ -731,9 +731,8 @@ unsafe fn patches<const N: usize, const NN: usize, const D: usize>(
 /// The outputs of one patch lie in a few dozen separate runs of the output array (the
 /// child numbering puts vertex, face and edge children of each level apart), too many
 /// streams for the hardware prefetcher, so without this each patch waits on its stores'
-/// cache misses. Measured on `catmark_bishop` (one thread, medians of 50 and 20
-/// applications, three interleaved rounds): level 5 4.2 → 3.3 ms, level 6 16.4 → 13.0 ms;
-/// prefetching two patches ahead was slower. A hint only: it never faults, and on other
+/// cache misses (BENCHMARKS.md, "Re-posing", has the gain); prefetching two patches
+/// ahead is slower. A hint only: it never faults, and on other
 /// processors than x86-64 it is nothing.
 ///
 /// # Safety
@@ -806,10 +805,8 @@ unsafe fn patches_avx<const N: usize, const NN: usize>(
 
 /// Asks the processor to start loading the control points of patch `k + 2` of `ctrl`
 /// (in `src`, `[f64; 3]` values): they lie anywhere in the level's positions, and
-/// without this the kernels wait on their loads. Measured on `catmark_bishop` at level
-/// 6 (one thread, medians of 11 applications, five interleaved processes): 10.4 →
-/// 9.6 ms with [`patches_avx`], 9.4 → 8.9 ms with [`patches_avx512`]; one patch ahead
-/// is too late to help.
+/// without this the kernels wait on their loads (BENCHMARKS.md, "Re-posing"); one patch
+/// ahead is too late to help.
 ///
 /// # Safety
 /// Every control index is in bounds of `src` (a hint only: it never faults).
@@ -827,9 +824,8 @@ unsafe fn prefetch_ctrl(ctrl: &[[u32; 16]], k: usize, src: *const f64) {
 
 /// Point `c` of `src` (`[f64; 3]` values) in the low lanes of a 256-bit vector, the
 /// fourth zero, read without touching the next point: two loads and an insert, not
-/// [`crate::cpu::load3`]'s masked load, which made re-posing 3–6 % slower here
-/// (`catmark_bishop` level 6 8.09 → 8.34 ms, the large input at level 4 7.68 → 8.11 ms;
-/// the tree rows of limit evaluation are faster with it).
+/// [`crate::cpu::load3`]'s masked load, which is slower here (the tree rows of limit
+/// evaluation are faster with it).
 ///
 /// # Safety
 /// `c` is in bounds of `src`; the processor has AVX.
@@ -886,11 +882,8 @@ unsafe fn store_point(out: *mut f64, o: u32, v: std::arch::x86_64::__m256d) {
 ///
 /// [`patches_avx`] holds one point per 256-bit vector (a lane of four unused), and its
 /// pass along `v` broadcasts four weights and does four multiply-adds per point; here it
-/// is twelve multiply-adds (with their broadcasts folded in) per eight points. Measured
-/// (one thread, medians of 11 or 21 applications, seven interleaved processes, with the
-/// prefetch of [`prefetch_ctrl`] in both): `catmark_bishop` level 6 10.0 → 8.8 ms (two threads 5.8 → 4.9), `catmark_pawn`
-/// level 6 6.0 → 5.3 ms, the large input at level 4 9.5 → 8.3 ms, the all-triangle
-/// `catmark_bishop` at level 5 4.6 → 4.3 ms. Compiling [`patches_avx`] itself with
+/// is twelve multiply-adds (with their broadcasts folded in) per eight points, 8–16 %
+/// less apply time (BENCHMARKS.md, "Re-posing"). Compiling [`patches_avx`] itself with
 /// AVX-512 enabled (32 registers, broadcasts folded into the multiply-adds) was slower:
 /// the compiler kept the 36 weights in registers and spilled the sums instead.
 ///

@@ -602,8 +602,8 @@ const SUBSET_ROWS: usize = 4 * LANES;
 ///
 /// On an all-triangle mesh at depth 2 a face owns its inside, the sides it claims and the
 /// corners it claims, 12 of its 24 rows on average, which its key's groups of owners
-/// spread over 2.4 groups of eight and a kernel of their own packs into 2.1:
-/// `catmark_bishop_l2_tri` at level 2, 1.19 → 0.99 ms a re-posing on one thread.
+/// spread over 2.4 groups of eight and a kernel of their own packs into 2.1, fewer
+/// partly empty groups (BENCHMARKS.md, "Re-posing").
 pub(super) struct RingGroups<'a> {
     /// The kernel of each key (`None`: the key's faces are left to the rows).
     kernels: &'a [Option<Kernel>],
@@ -1029,17 +1029,12 @@ unsafe fn store_four(
 /// The sums are the same, in the same order, as [`ring_patches_avx`]'s: the results are
 /// the same, bit for bit.
 ///
-/// Measured (one thread, medians of 51 applications, three interleaved rounds): the
-/// 30 k-triangle `catmark_bishop_l2_tri` at level 2, 1.75 → 1.25 ms (the AVX-512 loop
-/// alone 1.75 → 1.55 ms; the ring read from `src` instead of the stack, the rest: the
-/// copy was a fifth of the kernel's samples); level 3, 5.1 → 4.1 ms; all-triangle
-/// `catmark_bishop` at level 5, 5.1 → 4.8 ms. Tried and not kept: two sets of sums (even
-/// and odd terms; no change, the kernel is not bound by the latency of its
-/// multiply-adds) and, for matrices of at most 32 rows, every group's sums at once over
-/// the ring points any row reads (fewer loads, more multiply-adds by zero: 8 % faster at
-/// level 2 of `catmark_bishop_l2_tri`, 5–10 % slower on a 124 k-triangle model). Reading
-/// the ring from `src` in [`ring_patches_avx`] too was 7 % faster at level 2 and 3 %
-/// slower at levels 3 and 5, so it keeps its copy.
+/// Reading the ring straight from `src` (no copy to the stack) is most of its gain over
+/// [`ring_patches_avx`] (BENCHMARKS.md, "Re-posing", has the figures and the variants
+/// tried: two sets of sums, whose kernel is not bound by multiply-add latency; all groups'
+/// sums at once for small matrices, faster on small meshes and slower on large ones; the
+/// AVX2 kernel reading from `src`, faster at depth 2 and slower deeper, so it keeps its
+/// copy).
 ///
 /// # Safety
 /// As [`ring_patches_avx`]; the processor has AVX-512F.

@@ -1,4 +1,4 @@
-//! Seed 002: skirt removal, corner interpolation, C2 patch blending and N-sided hole
+//! [Jiang et al.]: skirt removal, corner interpolation, C2 patch blending and N-sided hole
 //! filling. References are independent: de Boor evaluation of the input B-splines, and the
 //! exact limit of the regular part of the refined mesh (`VertexGrid::bspline`, whose
 //! exactness is checked against knot insertion in the library's unit tests).

@@ -1,4 +1,4 @@
-//! Seed 002 with rational (NURBS) input, and the G1 fill's output mesh.
+//! [Jiang et al.] with rational (NURBS) input, and the G1 fill's output mesh.
 //!
 //! - A NURBS patch's corner-interpolating mesh, a blend of NURBS patches and a fill bounded
 //!   by NURBS curves are refined in homogeneous coordinates: their regular parts reproduce

@@ -1,4 +1,4 @@
-//! G2 caps at extraordinary vertices (seed 003, after Loop & Schaefer 2008): valence 4
+//! G2 caps at extraordinary vertices ([Tang et al. 2017], after Loop & Schaefer 2008): valence 4
 //! reproduces the bicubic B-spline, every other valence joins G2 across all inner and
 //! outer boundaries (checked here with an independent measurement), Catmull-Clark does
 //! not, and the construction is affine invariant.

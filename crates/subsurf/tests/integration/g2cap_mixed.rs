@@ -1,4 +1,4 @@
-//! G2 caps on the mixed (shape-adjustable) surface (seed 003): `k` steps of the
+//! G2 caps on the mixed (shape-adjustable) surface ([Tang et al. 2017]): `k` steps of the
 //! adjustable scheme with parameter `c`, then Catmull-Clark, with a G2 cap at every
 //! extraordinary vertex. With `c = ½` it is the Catmull-Clark G2 surface; for other `c`
 //! the caps join the mixed surface G2 (the same bounds as the Catmull-Clark caps), and

@@ -1,4 +1,4 @@
-//! Curve interpolation by symmetric zonal meshes (seed 001): the middle polygon of every
+//! Curve interpolation by symmetric zonal meshes ([JOS 2003]): the middle polygon of every
 //! zone refines exactly as knot insertion refines the curve, and the NURSS limit surface passes
 //! through the curve.
 //!

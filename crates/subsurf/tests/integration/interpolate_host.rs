@@ -1,4 +1,4 @@
-//! Curves embedded in a host quad mesh (seed 001, §3 and Fig. 11): the control polygon runs
+//! Curves embedded in a host quad mesh ([JOS 2003], §3 and Fig. 11): the control polygon runs
 //! along host edges, rows are inserted along it, and the NURSS refinement of the whole mesh
 //! refines the middle polygon exactly as midpoint knot insertion refines the curve, so the
 //! limit surface passes through the curve.

@@ -1,4 +1,4 @@
-//! Curve interpolation (seed 001) where curves meet or close: closed curves given in the
+//! Curve interpolation ([JOS 2003]) where curves meet or close: closed curves given in the
 //! unwrapped form CAD tools export, clamped curves whose ends coincide, curves ending at one
 //! point, three and four curves through one point (Corollary 1, Fig. 13 b, c), and the
 //! shape of the zones there (no folds at level 4).

@@ -1,4 +1,4 @@
-//! The regularity certificate (seed 004) against the exact limit surface.
+//! The regularity certificate ([Wang et al. 2016]) against the exact limit surface.
 //!
 //! - The patch neighbourhoods the certificate reads are the evaluator's patches: the
 //!   tangents are the B-spline combinations of the neighbourhood's differences.

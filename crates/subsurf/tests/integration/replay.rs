@@ -241,7 +241,7 @@ fn with_knots(mesh: &PolyMesh, seed: u64, rational: bool) -> PolyMesh {
     m
 }
 
-/// Non-uniform subdivision (NURSS, seed 001) re-posed on every regression shape, with
+/// Non-uniform subdivision (NURSS, [JOS 2003]) re-posed on every regression shape, with
 /// random knot intervals (zero ones included), auxiliary side intervals, and rational
 /// weights on every other shape: `RefinePlan::new` with `Scheme::Nurss` applied to the homogeneous points
 /// `(w x, w y, w z, w)`, divided by `w`, equals `subdivide` within `1e-14 ×` the

@@ -1,4 +1,4 @@
-//! The sub-basis spline surface (seed 000) as specifications: the paper's appendix values,
+//! The sub-basis spline surface ([Sub-basis splines]) as specifications: the paper's appendix values,
 //! non-negative sub-basis functions with the largest admissible slopes, midpoint-C1 twists,
 //! equality with the uniform bicubic B-spline (= Catmull-Clark limit) on regular meshes,
 //! partition of unity, continuity across faces, affine invariance, and sensible surfaces on
@@ -129,7 +129,7 @@ fn grid_params(m: usize) -> impl Iterator<Item = (f64, f64)> {
 // ---------------------------------------------------------------------------------------
 // Sub-basis functions
 
-/// The paper's appendix ("adjusting ∂w/∂u", seed 000): n = 3: class 2 uses 5/27, class 3
+/// The paper's appendix ("adjusting ∂w/∂u", [Sub-basis splines]): n = 3: class 2 uses 5/27, class 3
 /// uses 1/12; n = 6: class 2 uses 2/9. Our slopes are computed (largest non-negative value),
 /// not copied, and reproduce these exactly.
 #[test]
