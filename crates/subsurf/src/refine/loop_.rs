@@ -143,7 +143,6 @@ mod tests {
         options: &Options,
         levels: u32,
         keep_holes: bool,
-        _: &mut dyn FnMut(u32, u32),
     ) -> Result<(PolyMesh, Vec<TopologyWarning>), MeshError> {
         refine(mesh, options, Steps::Loop, levels, keep_holes)
     }
@@ -153,7 +152,6 @@ mod tests {
         options: &Options,
         levels: u32,
         keep_holes: bool,
-        _: &mut dyn FnMut(u32, u32),
     ) -> Result<(PolyMesh, Vec<TopologyWarning>), MeshError> {
         refine(mesh, options, Steps::Bilinear, levels, keep_holes)
     }
@@ -203,9 +201,7 @@ mod tests {
     }
 
     fn run_loop(m: &PolyMesh, o: &Options, levels: u32) -> PolyMesh {
-        subdivide_loop(m, o, levels, true, &mut |_, _| {})
-            .unwrap()
-            .0
+        subdivide_loop(m, o, levels, true).unwrap().0
     }
 
     #[test]
@@ -216,7 +212,7 @@ mod tests {
         )
         .unwrap();
         let want = MeshError::NotTriangle { face: 1, count: 4 };
-        let got = subdivide_loop(&m, &Options::default(), 1, false, &mut |_, _| {});
+        let got = subdivide_loop(&m, &Options::default(), 1, false);
         assert_eq!(got.unwrap_err(), want);
         let refiner = super::super::TopologyRefiner::new(&m, Scheme::Loop, Options::default());
         assert_eq!(
@@ -312,9 +308,8 @@ mod tests {
             boundary: BoundaryInterpolation::None,
             ..Options::default()
         };
-        let (a, _) = subdivide_bilinear(&m, &none, 2, false, &mut |_, _| {}).unwrap();
-        let (b, _) =
-            subdivide_bilinear(&plain, &Options::default(), 2, false, &mut |_, _| {}).unwrap();
+        let (a, _) = subdivide_bilinear(&m, &none, 2, false).unwrap();
+        let (b, _) = subdivide_bilinear(&plain, &Options::default(), 2, false).unwrap();
         assert_eq!(a.positions(), b.positions());
         assert_eq!(a.num_faces(), 4 * m.face_verts().len());
         assert_eq!(&a.positions()[..m.num_vertices()], m.positions());
@@ -323,7 +318,7 @@ mod tests {
         for p in flat.positions_mut() {
             p[2] = 2.0 * p[0] + p[1];
         }
-        let (f, _) = subdivide_bilinear(&flat, &none, 3, false, &mut |_, _| {}).unwrap();
+        let (f, _) = subdivide_bilinear(&flat, &none, 3, false).unwrap();
         assert!(f
             .positions()
             .iter()

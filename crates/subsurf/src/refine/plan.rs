@@ -92,6 +92,7 @@ use rayon::prelude::*;
 use super::nurss::{child_knots, NurssKnots, NurssMasks};
 use super::plan_patches::{Claims, PatchLayer, BASE_RING_DEPTH, QUAD_DEPTH};
 use super::topology::{refine_topology, run, split_pieces};
+use super::uniform::{check_size, Steps};
 use super::Error;
 use crate::mesh::{
     MeshError, Options, PolyMesh, Rule, Topology, TopologyWarning, TriangleSubdivision,
@@ -300,7 +301,7 @@ impl RefinePlan {
         mixed: Mixed,
     ) -> Result<Self, MeshError> {
         mesh.validate()?;
-        check_size(mesh, levels)?;
+        check_size(mesh, Steps::Family(mixed), levels)?;
         let (mut level, warnings) = Topology::from_mesh(mesh, &options)?;
         let depth = if levels < 2 || max_depth < 2 {
             0
@@ -473,27 +474,6 @@ impl RefinePlan {
         scratch.a = cur;
         scratch.b = spare;
     }
-}
-
-/// Fails unless the vertices of level `levels` of `mesh` (at most about 4 × its faces plus
-/// the base vertices) can be numbered in `u32`.
-pub(crate) fn check_size(mesh: &PolyMesh, levels: u32) -> Result<(), MeshError> {
-    let s = mesh.face_verts().len() as u64;
-    let faces = match levels {
-        0 => mesh.num_faces() as u64,
-        l if 2 * (l as u64 - 1) >= 64 => u64::MAX,
-        l => s.saturating_mul(1u64 << (2 * (l - 1))),
-    };
-    if faces
-        .saturating_mul(4)
-        .saturating_add(mesh.num_vertices() as u64)
-        >= u32::MAX as u64
-    {
-        return Err(MeshError::TooLarge {
-            what: format!("level {levels} ({faces} faces)"),
-        });
-    }
-    Ok(())
 }
 
 impl Tail {

@@ -105,6 +105,23 @@ pub(crate) fn refined_faces(mesh: &PolyMesh, steps: Steps, levels: u32) -> u64 {
     s.saturating_mul(1u64 << shift)
 }
 
+/// [`MeshError::TooLarge`] when `levels` steps of `steps` would take the last level of
+/// `mesh` beyond 32-bit indices: its vertices are at most faces + edges + vertices, about
+/// 4 × faces.
+pub(crate) fn check_size(mesh: &PolyMesh, steps: Steps, levels: u32) -> Result<(), MeshError> {
+    let faces = refined_faces(mesh, steps, levels);
+    if faces
+        .saturating_mul(4)
+        .saturating_add(mesh.num_vertices() as u64)
+        >= u32::MAX as u64
+    {
+        return Err(MeshError::TooLarge {
+            what: format!("level {levels} ({faces} faces)"),
+        });
+    }
+    Ok(())
+}
+
 /// Refines `mesh` uniformly `levels` times with `steps` as OpenSubdiv refines it (same
 /// rules for boundaries, creases, corners, holes, triangles and non-manifold topology; same
 /// vertex and face order). Only the last two levels are kept in memory. With `complete`,
@@ -127,17 +144,7 @@ pub(crate) fn refine_uniform(
     if steps == Steps::Loop {
         check_triangles(mesh)?;
     }
-    // Vertices of the last level ≤ faces + edges + vertices ≤ ~4 × faces: keep that in u32.
-    let faces = refined_faces(mesh, steps, levels);
-    if faces
-        .saturating_mul(4)
-        .saturating_add(mesh.num_vertices() as u64)
-        >= u32::MAX as u64
-    {
-        return Err(MeshError::TooLarge {
-            what: format!("level {levels} ({faces} faces)"),
-        });
-    }
+    check_size(mesh, steps, levels)?;
     let options = &steps.topology_options(options);
     let (mut level, warnings) = Topology::from_mesh(mesh, options)?;
     let mut pos = mesh.positions().to_vec();

@@ -11,8 +11,9 @@ use crate::mesh::{
     Corner, Crease, EdgeInterval, KnotTagError, KnotTags, MeshError, Options, PolyMesh,
     SideInterval, Tags, Topology, TopologyWarning, VertexWeight,
 };
-use crate::refine::plan::check_size;
+use crate::refine::uniform::{check_size, Steps};
 use crate::refine::RefinePlan;
+use crate::scheme::adjustable::Mixed;
 
 /// Errors of NURSS refinement.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
@@ -409,7 +410,7 @@ pub(crate) fn plan(
     levels: u32,
 ) -> Result<RefinePlan, NurssError> {
     mesh.validate()?;
-    check_size(mesh, levels)?;
+    check_size(mesh, Steps::Family(Mixed::CATMULL_CLARK), levels)?;
     let (level, knots, warnings) = Nurss::new(mesh, &options)?.into_parts();
     Ok(RefinePlan::from_nurss(
         level, knots, options, levels, warnings,
