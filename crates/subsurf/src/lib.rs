@@ -53,12 +53,12 @@
 
 pub mod blend;
 pub mod g2cap;
-pub mod interpolate;
+pub mod curves;
 pub mod io;
 pub mod limit;
 pub mod mesh;
 pub mod nurbs;
-pub mod nurss;
+pub mod nonuniform;
 pub mod refine;
 pub mod regularity;
 pub mod render;

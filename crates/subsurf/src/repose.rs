@@ -18,13 +18,13 @@
 //! the plan, and each normal is
 //! `t₁ × t₂ / |t₁ × t₂|` ([`crate::limit::normals`], with its fallback to the faces'
 //! normals where the tangents are degenerate). NURSS limit points
-//! ([`crate::nurss::Nurss::limit_points`]) are iterated on the data, but each is a linear
+//! ([`crate::nonuniform::Nurss::limit_points`]) are iterated on the data, but each is a linear
 //! map of the level's points whose weights are found by iterating on unit points instead;
 //! those rows are applied after the plan, in homogeneous points (positions only).
 
 use crate::limit::{largest_coordinate, normals_into, VertexLimitRows};
 use crate::mesh::{check_coordinates, MeshError, PolyMesh, Topology, TopologyWarning};
-use crate::nurss::LimitRows;
+use crate::nonuniform::LimitRows;
 use crate::refine::{refine_topology, Error, PlanScratch, RefinePlan};
 use crate::scheme::adjustable::Mixed;
 use crate::scheme::Scheme;
@@ -88,7 +88,7 @@ struct Homogeneous {
 impl Homogeneous {
     /// Writes into `out` the positions of `plan` applied to the points `positions` with
     /// their weights: the homogeneous points refined (and mapped to the limit), then divided
-    /// by their weight (as [`Nurss::positions`](crate::nurss::Nurss::positions)).
+    /// by their weight (as [`Nurss::positions`](crate::nonuniform::Nurss::positions)).
     fn apply(&mut self, plan: &RefinePlan, positions: &[[f64; 3]], out: &mut [[f64; 3]]) {
         self.base.clear();
         self.base.extend(
@@ -240,7 +240,7 @@ impl Reposer {
     /// With `opts.limit`, each pose gives the limit positions and the limit normals
     /// ([`normals`](Self::normals)), as [`subdivide`] does; building then refines the
     /// topology once more, with the last level's full adjacency, for its limit masks.
-    /// NURSS gives limit positions only ([`crate::nurss::Nurss::limit_points`], within
+    /// NURSS gives limit positions only ([`crate::nonuniform::Nurss::limit_points`], within
     /// 1e-14 of the size: rows of weights on the refined level, applied after the plan).
     ///
     /// A rational NURSS base mesh (weight tags) keeps its weights: a pose moves the points,
@@ -293,7 +293,7 @@ impl Reposer {
         let sub = match scheme {
             Scheme::Nurss => {
                 // The limit positions come from the rows below, as every pose's.
-                let s = crate::nurss::refined(base, &opts.options, opts.levels, &mut |_, _| {})?;
+                let s = crate::nonuniform::refined(base, &opts.options, opts.levels, &mut |_, _| {})?;
                 nurss_limit = opts.limit.then(|| s.limit_rows());
                 Subdivision {
                     mesh: s.output_mesh(opts.keep_holes, false),
@@ -327,7 +327,7 @@ impl Reposer {
         let mut homogeneous = (nurss && (!base.knots.weights.is_empty() || nurss_limit.is_some()))
             .then(|| {
                 Box::new(Homogeneous {
-                    weights: crate::nurss::vertex_weights(base),
+                    weights: crate::nonuniform::vertex_weights(base),
                     base: Vec::new(),
                     level: Vec::new(),
                     scratch: PlanScratch::default(),

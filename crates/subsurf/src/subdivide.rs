@@ -19,7 +19,7 @@ pub struct SubdivideOptions {
     /// The rules' options: boundary interpolation, crease method, triangle rule.
     pub options: Options,
     /// Move the last level's vertices to their limit positions and compute limit normals
-    /// (NURSS: limit positions only, [`Nurss::limit_points`](crate::nurss::Nurss::limit_points)).
+    /// (NURSS: limit positions only, [`Nurss::limit_points`](crate::nonuniform::Nurss::limit_points)).
     /// Face-varying channels are refined to the last level but not moved to their limit.
     pub limit: bool,
     /// Keep hole faces in the output (tagged as holes) so that the result can be refined
@@ -114,7 +114,7 @@ pub fn subdivide_with_progress(
         scheme: opts.scheme.name(),
     });
     let Some(steps) = Steps::of(opts.scheme) else {
-        let s = crate::nurss::refined(mesh, &opts.options, opts.levels, progress)?;
+        let s = crate::nonuniform::refined(mesh, &opts.options, opts.levels, progress)?;
         let mut warnings = s.warnings().to_vec();
         warnings.extend(fvar_warning);
         return Ok(Subdivision {

@@ -19,9 +19,9 @@ const LAYERS: &[&[&str]] = &[
     &["limit"],
     &[
         "mixed",
-        "nurss",
+        "nonuniform",
         "nurbs",
-        "interpolate",
+        "curves",
         "blend",
         "g2cap",
         "spline",
@@ -32,10 +32,7 @@ const LAYERS: &[&[&str]] = &[
 ];
 
 /// Upward uses still to be removed: (from module, to module).
-const KNOWN: &[(&str, &str)] = &[
-    // Curves read as the NURBS readers give them, with their source lines.
-    ("interpolate", "io"),
-];
+const KNOWN: &[(&str, &str)] = &[];
 
 fn layer(module: &str) -> Option<usize> {
     LAYERS.iter().position(|l| l.contains(&module))

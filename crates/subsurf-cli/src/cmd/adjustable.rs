@@ -56,7 +56,7 @@ pub fn surface_kind(
     match given {
         Some(kind) => kind,
         None if args.c.is_some() => SchemeKind::Adjustable,
-        None if subsurf::nurss::has_knots(&input.obj.mesh) => {
+        None if subsurf::nonuniform::has_knots(&input.obj.mesh) => {
             if !quiet {
                 crate::output::eprint_line(&format!(
                     "note: {} has knot interval or weight tags: sampling the non-uniform \

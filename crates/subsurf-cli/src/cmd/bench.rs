@@ -20,7 +20,7 @@ pub fn run(args: &BenchArgs, threads: usize) -> Result<()> {
         for w in input.warnings() {
             crate::output::eprint_line(&format!("warning: {w}"));
         }
-        if subsurf::nurss::has_knots(&input.obj.mesh) {
+        if subsurf::nonuniform::has_knots(&input.obj.mesh) {
             crate::output::eprint_line(&format!(
                 "note: {} has knot interval or weight tags: bench times Catmull-Clark, as \
                  osd-oracle does, which ignores them",

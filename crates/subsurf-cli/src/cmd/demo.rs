@@ -34,7 +34,7 @@ use subsurf::blend::blend;
 use subsurf::blend::fill::{fill, patch_boundary, FillOptions};
 use subsurf::blend::g1::fill_g1;
 use subsurf::g2cap::{continuity_report, patches_json, G2Surface, G2SurfaceOptions};
-use subsurf::interpolate::{interpolate_geometry, InterpolateOptions};
+use subsurf::curves::{interpolate_geometry, InterpolateOptions};
 use subsurf::io::geometry::{parse_geometry, SourcedGeometry};
 use subsurf::io::gltf::{face_edges, write_glb, GlbLines, GlbMesh};
 use subsurf::io::input::MeshFormat;
@@ -1053,7 +1053,7 @@ fn interpolation(dir: &Path, ex: &CurveExample) -> Result<Vec<Item>> {
                 "control mesh, {} curve zone(s) of width {}, {}",
                 zones.zones.len(),
                 ex.width,
-                if subsurf::nurss::has_knots(&zones.mesh) {
+                if subsurf::nonuniform::has_knots(&zones.mesh) {
                     "with its knot intervals (t interval tags)"
                 } else {
                     "uniform knots"

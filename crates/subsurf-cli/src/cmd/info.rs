@@ -159,7 +159,7 @@ fn to_text(input: &Input, info: &MeshInfo, options: &Options, src: &Sources) -> 
         }
         None => lines.push(("bounding box", "none (no vertices)".to_owned())),
     }
-    let knots = subsurf::nurss::knot_summary(&input.obj.mesh);
+    let knots = subsurf::nonuniform::knot_summary(&input.obj.mesh);
     if !input.obj.mesh.knots.is_empty() {
         let range = |r: Option<(f64, f64)>| {
             r.map_or(String::new(), |(a, b)| {
@@ -218,7 +218,7 @@ fn histogram_json(pairs: &[(usize, usize)], key: &str) -> Json {
 
 /// The knot tag statistics as JSON (`min`/`max` null when there are none).
 fn knots_json(mesh: &subsurf::mesh::PolyMesh) -> Json {
-    let k = subsurf::nurss::knot_summary(mesh);
+    let k = subsurf::nonuniform::knot_summary(mesh);
     let range = |r: Option<(f64, f64)>, a: &'static str, b: &'static str| {
         let (lo, hi) = r.map_or((Json::Null, Json::Null), |(x, y)| {
             (Json::Num(x), Json::Num(y))

@@ -7,7 +7,7 @@ use std::path::PathBuf;
 
 use anyhow::{Context, Result};
 use clap::Args;
-use subsurf::interpolate::{
+use subsurf::curves::{
     embed_geometry, interpolate_geometry, HostOptions, InterpolateOptions, DEFAULT_HOST_WIDTH,
     DEFAULT_WIDTH,
 };

@@ -5,7 +5,7 @@
 use anyhow::{Context, Result};
 use subsurf::limit::{Derivatives, LimitSurface, Order, Parameterization, SurfacePoint};
 use subsurf::mesh::{Options, PolyMesh};
-use subsurf::nurss::NurssSurface;
+use subsurf::nonuniform::NurssSurface;
 use subsurf::MixedSurface;
 
 use crate::input::Input;
@@ -108,7 +108,7 @@ impl Sampler {
                 for &p in points {
                     match s.eval_point_order(p, Order::First) {
                         Ok(d) => out.push(Ok(d)),
-                        Err(subsurf::nurss::NurssEvalError::Eval(e)) => out.push(Err(e)),
+                        Err(subsurf::nonuniform::NurssEvalError::Eval(e)) => out.push(Err(e)),
                         Err(e) => return Err(e.into()),
                     }
                 }
@@ -225,11 +225,11 @@ pub fn run(args: &LimitArgs) -> Result<()> {
 /// Errors of building a NURSS surface within the memory guard.
 enum NurssBuild {
     Guard(anyhow::Error),
-    Nurss(subsurf::nurss::NurssError),
+    Nurss(subsurf::nonuniform::NurssError),
 }
 
-impl From<subsurf::nurss::NurssError> for NurssBuild {
-    fn from(e: subsurf::nurss::NurssError) -> Self {
+impl From<subsurf::nonuniform::NurssError> for NurssBuild {
+    fn from(e: subsurf::nonuniform::NurssError) -> Self {
         NurssBuild::Nurss(e)
     }
 }

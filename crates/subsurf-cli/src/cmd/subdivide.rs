@@ -70,7 +70,7 @@ pub fn scheme_kind(
 ) -> SchemeKind {
     match given {
         Some(kind) => kind,
-        None if subsurf::nurss::has_knots(&input.obj.mesh) => {
+        None if subsurf::nonuniform::has_knots(&input.obj.mesh) => {
             if !quiet {
                 progress.note(&format!(
                     "{} has knot interval or weight tags: refining with --scheme nurss \

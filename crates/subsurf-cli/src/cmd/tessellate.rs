@@ -83,7 +83,7 @@ fn run_nurss(
         "use a lower --rate",
     )?;
     let triangles = args.triangles || format == Format::Glb;
-    let t = subsurf::nurss::tessellate(mesh, options, args.rate, triangles)
+    let t = subsurf::nonuniform::tessellate(mesh, options, args.rate, triangles)
         .with_context(|| input.name.clone())?;
     if t.rate != args.rate && !args.quiet {
         crate::output::eprint_line(&format!(

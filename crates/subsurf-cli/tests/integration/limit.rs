@@ -149,7 +149,7 @@ fn knot_tags_and_scheme_choose_the_surface() {
     assert_eq!(tagged, nurss);
     assert_eq!(tagged.len(), 30 * 9);
     let (mesh, options) = mesh_of(&torus);
-    let reference = subsurf::nurss::NurssSurface::new(&mesh, &options).expect("nurss");
+    let reference = subsurf::nonuniform::NurssSurface::new(&mesh, &options).expect("nurss");
     let plain = LimitSurface::new(&mesh, options).expect("surface");
     let mut differ = 0.0f64;
     for ((face, x), (_, y)) in tagged.iter().zip(&cc) {

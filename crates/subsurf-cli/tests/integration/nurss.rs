@@ -7,7 +7,7 @@ use crate::common;
 use common::*;
 use subsurf::io::obj::parse_obj;
 use subsurf::mesh::Options;
-use subsurf::nurss::Nurss;
+use subsurf::nonuniform::Nurss;
 use subsurf::{Scheme, SubdivideOptions};
 
 /// The bundled example: a 5×5 grid with intervals 3 and 0.

@@ -3,7 +3,7 @@
 
 use crate::mesh::MeshError;
 use crate::nurbs::NurbsError;
-use crate::nurss::NurssError;
+use crate::nonuniform::NurssError;
 
 /// Errors of skirt-removal refinement, patch blending and hole filling. Errors about an
 /// input patch or curve name it by its index in the input list (`patch 2`); the CLI replaces

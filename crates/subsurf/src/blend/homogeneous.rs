@@ -1,7 +1,7 @@
 //! Rational (NURBS) input for blending and hole filling: every patch and curve is handled as
 //! its homogeneous B-spline, whose control points are `(w x, w y, w z, w)` (a polynomial one
 //! has `w = 1`), and the control meshes carry the weights as [`VertexWeight`] tags, so that
-//! non-uniform Catmull-Clark refines them in homogeneous coordinates as [`crate::nurss`]
+//! non-uniform Catmull-Clark refines them in homogeneous coordinates as [`crate::nonuniform`]
 //! does.
 //!
 //! # Why the methods carry over
@@ -156,7 +156,7 @@ pub(crate) fn weighted_mesh<F: AsRef<[u32]>>(
 
 /// The weight of every vertex of `mesh` (untagged: 1).
 pub(crate) fn mesh_weights(mesh: &PolyMesh) -> Vec<f64> {
-    crate::nurss::vertex_weights(mesh)
+    crate::nonuniform::vertex_weights(mesh)
 }
 
 /// The mean of `weights` (their sum divided by their count: exactly 1 when all are 1).

@@ -1,7 +1,7 @@
 //! [Jiang et al.] (docs/references.md: NURBS patch blending and N-sided hole filling):
 //! skirt-removal refinement for open meshes, corner interpolation with zero knot intervals,
 //! C2 blending of bicubic B-spline patches and N-sided hole filling with non-uniform
-//! Catmull-Clark (NURSS, [`crate::nurss`]).
+//! Catmull-Clark (NURSS, [`crate::nonuniform`]).
 //!
 //! - [`skirt`]: skirt removal for any scheme ([`skirt::skirt_step`], [`skirt::nurss_step`],
 //!   [`skirt::catmark_step`], [`skirt::refine_with_skirt`]).

@@ -37,7 +37,7 @@ use std::collections::{HashMap, HashSet};
 use super::grid::VertexGrid;
 use super::BlendError;
 use crate::mesh::{Corner, Crease, EdgeInterval, KnotTags, Options, PolyMesh, Tags, Topology};
-use crate::nurss::Nurss;
+use crate::nonuniform::Nurss;
 use crate::scheme::adjustable::Mixed;
 
 /// Boundary vertices of `mesh`: vertices on an edge that only one face uses.

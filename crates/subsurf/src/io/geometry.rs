@@ -10,30 +10,8 @@
 //!   anything else.
 
 use super::obj::{parse_obj_freeform, write_obj_freeform, ObjError};
-use crate::nurbs::{from_json_str_all, to_json_string_all, Geometry, NurbsError};
+use crate::nurbs::{from_json_str_all, to_json_string_all, Geometry, NurbsError, SourcedGeometry};
 use std::path::Path;
-
-/// A curve or surface read from a file, with a description of where it came from.
-#[derive(Clone, Debug, PartialEq)]
-pub struct SourcedGeometry {
-    /// The curve or surface.
-    pub geometry: Geometry,
-    /// Its name (the OBJ `o`/`g` statement before it), if any.
-    pub name: Option<String>,
-    /// Where it is in the file, for messages: `curves.obj:12` (the `curv`/`surf` line) or
-    /// `curves.json[2]` (the index in the JSON array; `[0]` for a single document).
-    pub origin: String,
-}
-
-impl SourcedGeometry {
-    /// `origin` and, when there is one, the name in quotes: `curves.obj:12 ("rim")`.
-    pub fn label(&self) -> String {
-        match &self.name {
-            Some(n) if !n.is_empty() => format!("{} ({n:?})", self.origin),
-            _ => self.origin.clone(),
-        }
-    }
-}
 
 /// An error reading a file of curves and surfaces.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]

@@ -21,7 +21,7 @@
 //! | `t interpolateboundary 1/0/0 k` | 0 none, 1 edge-and-corner, 2 edge-only |
 //! | `t creasemethod 0/0/1 chaikin` | `chaikin` or `uniform` (`normal`) |
 //! | `t smoothtriangles 0/0/1 smooth` | `smooth` or `catmark` |
-//! | `t interval 2/1/0 a b d` | edge `a`–`b` has knot interval `d ≥ 0` (non-uniform Catmull-Clark, [`crate::nurss`]; untagged edges: 1) |
+//! | `t interval 2/1/0 a b d` | edge `a`–`b` has knot interval `d ≥ 0` (non-uniform Catmull-Clark, [`crate::nonuniform`]; untagged edges: 1) |
 //! | `t sideinterval 3/1/0 f a b d` | the side of edge `a`–`b` in face `f` has auxiliary interval `d` (first step only) |
 //! | `t weight 1/1/0 v w` | vertex `v` has rational weight `w > 0` (untagged: 1) |
 //!

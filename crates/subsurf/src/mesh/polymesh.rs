@@ -38,7 +38,7 @@ pub struct PolyMesh {
     /// Creases, corners and holes.
     pub tags: Tags,
     /// Knot intervals and rational weights for non-uniform Catmull-Clark subdivision
-    /// ([`crate::nurss`]); Catmull-Clark ignores them. Checked by [`KnotTags::validate`].
+    /// ([`crate::nonuniform`]); Catmull-Clark ignores them. Checked by [`KnotTags::validate`].
     pub knots: KnotTags,
     /// Face-varying channels (texture coordinates and any other data per face corner),
     /// each with one index per face-vertex; the OBJ reader names its `vt` channel `"uv"`.

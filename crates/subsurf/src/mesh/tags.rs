@@ -49,7 +49,7 @@ impl Tags {
 }
 
 /// A knot interval on an edge (OBJ `t interval 2/1/0 v0 v1 d`): the input of non-uniform
-/// Catmull-Clark subdivision ([`crate::nurss`]). Edges without one have interval 1.
+/// Catmull-Clark subdivision ([`crate::nonuniform`]). Edges without one have interval 1.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct EdgeInterval {
     /// One end vertex (0-based).

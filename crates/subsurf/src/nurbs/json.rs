@@ -147,6 +147,28 @@ pub enum Geometry {
     Surface(Surface),
 }
 
+/// A curve or surface read from a file, with a description of where it came from.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SourcedGeometry {
+    /// The curve or surface.
+    pub geometry: Geometry,
+    /// Its name (the OBJ `o`/`g` statement before it), if any.
+    pub name: Option<String>,
+    /// Where it is in the file, for messages: `curves.obj:12` (the `curv`/`surf` line) or
+    /// `curves.json[2]` (the index in the JSON array; `[0]` for a single document).
+    pub origin: String,
+}
+
+impl SourcedGeometry {
+    /// `origin` and, when there is one, the name in quotes: `curves.obj:12 ("rim")`.
+    pub fn label(&self) -> String {
+        match &self.name {
+            Some(n) if !n.is_empty() => format!("{} ({n:?})", self.origin),
+            _ => self.origin.clone(),
+        }
+    }
+}
+
 /// Reads a curve or surface document, dispatching on its `type`.
 ///
 /// # Errors

@@ -149,7 +149,7 @@ fn edge_intervals(k: &KnotVector) -> Vec<f64> {
 
 impl ControlMesh {
     /// The knot intervals of every edge as [`KnotTags`] (`u` edges, then `v` edges), ready
-    /// for [`crate::nurss::Nurss`].
+    /// for [`crate::nonuniform::Nurss`].
     pub fn knot_tags(&self) -> KnotTags {
         KnotTags {
             intervals: self

@@ -78,8 +78,8 @@ pub use basis::{basis_derivatives, basis_functions};
 pub use curve::BSplineCurve;
 pub use error::NurbsError;
 pub use json::{
-    from_json_str, from_json_str_all, to_json_string_all, Curve, CurveJson, Geometry, Surface,
-    SurfaceJson, CURVE_TYPE, SURFACE_TYPE,
+    from_json_str, from_json_str_all, to_json_string_all, Curve, CurveJson, Geometry, SourcedGeometry,
+    Surface, SurfaceJson, CURVE_TYPE, SURFACE_TYPE,
 };
 pub use knots::{KnotVector, MAX_DEGREE};
 pub use mesh::{ControlMesh, KnotEdge};

@@ -56,7 +56,7 @@ use uniform::Steps;
 /// (OpenSubdiv's `Far::TopologyRefiner`): the topology once, then any number of primvars
 /// through it. Catmull-Clark, the adjustable scheme and bilinear split every face of size
 /// `n` into `n` quads; Loop splits every triangle into four. NURSS, whose weights depend on
-/// knot intervals refined with the topology, has its own refiner, [`Nurss`](crate::nurss::Nurss).
+/// knot intervals refined with the topology, has its own refiner, [`Nurss`](crate::nonuniform::Nurss).
 #[derive(Clone, Debug)]
 pub struct TopologyRefiner {
     levels: Vec<Topology>,

@@ -35,7 +35,7 @@
 //! composes the levels it spans, each with its own scheme's rules, so it may span the last
 //! adjusted levels and the first Catmull-Clark ones.
 //!
-//! Non-uniform subdivision ([`Scheme::Nurss`], see [`crate::nurss`]) is
+//! Non-uniform subdivision ([`Scheme::Nurss`], see [`crate::nonuniform`]) is
 //! linear in the (homogeneous) points too: its weights depend on the knot intervals, which
 //! refinement computes level by level from the base mesh's, never on the positions. Its
 //! plan is sparse rows on every level, each the row of `refine::nurss`'s masks (the same
@@ -254,7 +254,7 @@ impl RefinePlan {
     }
 
     /// The plan of NURSS refinement from the complete level `level` (the base level of a
-    /// [`Nurss`](crate::nurss::Nurss), whose warnings are `warnings`) with the intervals
+    /// [`Nurss`](crate::nonuniform::Nurss), whose warnings are `warnings`) with the intervals
     /// `knots`, `levels` times: sparse rows of [`NurssMasks`] on every level
     /// ([`new`](Self::new) checks the mesh and reads its tags).
     pub(crate) fn from_nurss(

@@ -40,7 +40,7 @@ pub enum Scheme {
     /// "Non-uniform recursive subdivision surfaces", SIGGRAPH 1998), with the mesh's knot
     /// intervals and weights ([`PolyMesh::knots`](crate::mesh::PolyMesh::knots); untagged
     /// edges have interval 1, when it is Catmull-Clark). Semi-sharp creases are refused
-    /// ([`NurssError::SemiSharp`](crate::nurss::NurssError::SemiSharp)); masks in
+    /// ([`NurssError::SemiSharp`](crate::nonuniform::NurssError::SemiSharp)); masks in
     /// [`nurss`](super::nurss).
     Nurss,
     /// Loop subdivision of triangle meshes (C. Loop, "Smooth subdivision surfaces based on

@@ -8,13 +8,13 @@
 //! with de Boor evaluation. Hosts are built here: a grid, a tube, and fans of 5 and 6 quad
 //! sectors whose centre (valence 5 or 6) is on the polygon.
 
-use subsurf::interpolate::{
+use subsurf::curves::{
     embed_curves, refine_polyline, CubicCurve, HostOptions, InterpolateError, Interpolation, Zone,
 };
 use subsurf::io::obj::{parse_obj, write_obj, WriteOptions};
 use subsurf::mesh::{Crease, EdgeInterval, PolyMesh, VertexWeight};
 use subsurf::nurbs::{BSplineCurve, Curve, KnotVector, NurbsCurve};
-use subsurf::nurss::Nurss;
+use subsurf::nonuniform::Nurss;
 
 use crate::common::curves;
 use curves::{check_middle, dist, eval, knots, middle_knots, size, V3};

@@ -9,7 +9,7 @@
 
 use std::collections::HashMap;
 
-use subsurf::interpolate::{
+use subsurf::curves::{
     interpolate_curves, refine_polyline, CubicCurve, InterpolateError, InterpolateOptions,
     Interpolation,
 };
@@ -17,10 +17,10 @@ use subsurf::io::geometry::{geometry_to_string, parse_geometry, GeometryFormat};
 use subsurf::io::obj::parse_obj_freeform;
 use subsurf::mesh::PolyMesh;
 use subsurf::nurbs::{BSplineCurve, Curve, Geometry, KnotVector, NurbsCurve};
-use subsurf::nurss::Nurss;
+use subsurf::nonuniform::Nurss;
 
 use crate::common::curves;
-use crate::interpolate::{bspline, crossing_pair};
+use crate::curves::{bspline, crossing_pair};
 use curves::{blossom, check_middle, dist, eval, knots, middle_knots, size, V3};
 
 /// Refined middle polygons (levels 0..=levels) against the blossoms and limit points against

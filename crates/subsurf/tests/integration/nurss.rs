@@ -31,7 +31,7 @@ use subsurf::mesh::{
     TriangleSubdivision, VertexWeight,
 };
 use subsurf::nurbs::{BSplineCurve, BSplineSurface, KnotVector};
-use subsurf::nurss::{Nurss, NurssError};
+use subsurf::nonuniform::{Nurss, NurssError};
 use subsurf::{subdivide, SubdivideOptions};
 
 /// A small deterministic generator (tests must not depend on a seed source).

@@ -7,7 +7,7 @@
 use subsurf::limit::{LimitSurface, Order, SurfacePoint};
 use subsurf::mesh::{EdgeInterval, Options, PolyMesh, VertexWeight};
 use subsurf::nurbs::{BSplineSurface, KnotVector, NurbsSurface};
-use subsurf::nurss::{NurssEvalError, NurssSurface};
+use subsurf::nonuniform::{NurssEvalError, NurssSurface};
 
 type V3 = [f64; 3];
 
@@ -130,7 +130,7 @@ fn regular_faces_are_the_limit_of_nurss_refinement() {
                 .collect();
         }
         let o = Options::default();
-        let t = subsurf::nurss::tessellate(&mesh, &o, 4, false).expect("refinement");
+        let t = subsurf::nonuniform::tessellate(&mesh, &o, 4, false).expect("refinement");
         let s = NurssSurface::new(&mesh, &o).expect("surface");
         for f in 0..mesh.num_faces() {
             for i in 0..=4 {

@@ -15,7 +15,7 @@ use subsurf::io::obj::read_obj;
 use subsurf::mesh::{
     EdgeInterval, KnotTags, Options, PolyMesh, SideInterval, VertexWeight, SHARPNESS_INFINITE,
 };
-use subsurf::nurss;
+use subsurf::nonuniform;
 use subsurf::refine::{PlanScratch, RefinePlan};
 use subsurf::scheme::adjustable::Adjustable;
 use subsurf::{subdivide, Mixed, Scheme, SubdivideOptions};

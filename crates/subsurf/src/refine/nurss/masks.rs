@@ -36,7 +36,7 @@
 //! point the curve ends at). Corner vertices (sharp, or more than two sharp edges, or
 //! boundary corners in [`crate::mesh::BoundaryInterpolation::EdgeAndCorner`]) stay put.
 //! Semi-sharp creases have no NURSS counterpart: callers reject them (see
-//! [`crate::nurss::Nurss::new`]); zero intervals make sharp features instead.
+//! [`crate::nonuniform::Nurss::new`]); zero intervals make sharp features instead.
 
 use rayon::prelude::*;
 

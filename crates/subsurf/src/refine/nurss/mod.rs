@@ -1,6 +1,6 @@
 //! The NURSS refiner: one level of non-uniform Catmull-Clark subdivision alive at a time
 //! ([`Nurss`]), its knot intervals, and its re-posing plan. The masks of a step are in
-//! `masks`; the limit (rows of weights per vertex) and evaluation are in [`crate::nurss`].
+//! `masks`; the limit (rows of weights per vertex) and evaluation are in [`crate::nonuniform`].
 
 mod masks;
 
@@ -24,7 +24,7 @@ pub enum NurssError {
     /// A knot interval, side interval or weight is invalid.
     #[error(transparent)]
     Knots(#[from] KnotTagError),
-    /// A semi-sharp crease or vertex (see [`crate::nurss`]).
+    /// A semi-sharp crease or vertex (see [`crate::nonuniform`]).
     #[error("{what} has sharpness {sharpness}: non-uniform (NURSS) subdivision supports only smooth (0) and infinitely sharp (≥ 10) creases and corners; use a zero knot interval for a sharp feature")]
     SemiSharp {
         /// The element (`"the crease on edge (3, 4)"`, `"vertex 7"`).

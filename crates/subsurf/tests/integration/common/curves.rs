@@ -3,9 +3,9 @@
 //! `Curve`, and blossoms (the independent reference for refined control points).
 #![allow(dead_code)]
 
-use subsurf::interpolate::Zone;
+use subsurf::curves::Zone;
 use subsurf::nurbs::{Curve, KnotVector};
-use subsurf::nurss::Nurss;
+use subsurf::nonuniform::Nurss;
 
 pub type V3 = [f64; 3];
 

@@ -86,7 +86,7 @@ enum Face {
 /// ```
 /// use subsurf::limit::SurfacePoint;
 /// use subsurf::mesh::{EdgeInterval, Options, PolyMesh};
-/// use subsurf::nurss::NurssSurface;
+/// use subsurf::nonuniform::NurssSurface;
 /// // A 7 × 7 torus of quads whose ring of edges 2–3 has interval 3.
 /// let (n, m) = (7u32, 7u32);
 /// let mut p = Vec::new();

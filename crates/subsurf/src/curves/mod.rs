@@ -1,5 +1,5 @@
 //! Subdivision surfaces that interpolate cubic B-spline and NURBS curves ([JOS 2003]: "symmetric
-//! zonal meshes"; non-uniform Catmull-Clark, [`crate::nurss`], does the refinement).
+//! zonal meshes"; non-uniform Catmull-Clark, [`crate::nonuniform`], does the refinement).
 //!
 //! Around the control polygon of each curve (the *middle polygon*) a strip of quads is built,
 //! two per polygon edge, whose side points are placed symmetrically about the polygon
@@ -26,9 +26,9 @@
 //! curves" (Chinese, with English abstract), §2–3, Lemma 1, Theorem 1, Corollary 1.
 //!
 //! ```
-//! use subsurf::interpolate::{interpolate_curves, CubicCurve, InterpolateOptions};
+//! use subsurf::curves::{interpolate_curves, CubicCurve, InterpolateOptions};
 //! use subsurf::nurbs::{BSplineCurve, Curve};
-//! use subsurf::nurss::Nurss;
+//! use subsurf::nonuniform::Nurss;
 //!
 //! let pts = vec![[0.0, 0.0, 0.0], [1.0, 2.0, 0.0], [3.0, 2.0, 1.0], [4.0, 0.0, 0.0], [6.0, 1.0, 0.0]];
 //! let spline = BSplineCurve::clamped_uniform(3, pts)?;
@@ -57,10 +57,9 @@ pub use error::InterpolateError;
 pub use host::{embed_curves, HostOptions, DEFAULT_HOST_WIDTH};
 pub use track::refine_polyline;
 
-use crate::io::geometry::SourcedGeometry;
 use crate::mesh::{Options, PolyMesh};
-use crate::nurbs::Geometry;
-use crate::nurss::NurssError;
+use crate::nurbs::{Geometry, SourcedGeometry};
+use crate::nonuniform::NurssError;
 
 /// Default zone width, relative to the size (bounding-box diagonal of the control points)
 /// of each curve.
@@ -113,7 +112,7 @@ pub struct Zone {
 #[derive(Clone, Debug, PartialEq)]
 pub struct Interpolation {
     /// Quads with knot intervals and (rational curves) weights in [`PolyMesh::knots`]: refine
-    /// with [`crate::nurss`].
+    /// with [`crate::nonuniform`].
     pub mesh: PolyMesh,
     /// One zone per curve, in input order.
     pub zones: Vec<Zone>,
@@ -167,7 +166,7 @@ pub(crate) fn interpolate_curves_counted(
     Ok(Interpolation { mesh, zones })
 }
 
-/// [`interpolate_curves`] for the curves of a file ([`crate::io::geometry::read_geometry`]);
+/// [`interpolate_curves`] for the curves of a file (as `io::read_geometry` reads them);
 /// each is named by its [`SourcedGeometry::label`].
 ///
 /// # Errors
@@ -179,7 +178,7 @@ pub fn interpolate_geometry(
     interpolate_curves(&curves_of(items)?, opts)
 }
 
-/// [`embed_curves`] for the curves of a file ([`crate::io::geometry::read_geometry`]),
+/// [`embed_curves`] for the curves of a file (as `io::read_geometry` reads them),
 /// embedded in `host`; each curve is named by its [`SourcedGeometry::label`].
 ///
 /// # Errors
@@ -209,14 +208,14 @@ fn curves_of(items: &[SourcedGeometry]) -> Result<Vec<CubicCurve>, InterpolateEr
 impl Interpolation {
     /// The control mesh refined `levels` times with NURSS (default scheme options), with its
     /// knot intervals and weights; with `limit` the last level's vertices are moved to their
-    /// limit positions ([`crate::nurss::Nurss::limit_points`]), which sample the limit surface
+    /// limit positions ([`crate::nonuniform::Nurss::limit_points`]), which sample the limit surface
     /// (along each middle polygon: the curve at the knots of the refined polygon's points).
     ///
     /// # Errors
     /// [`NurssError`] (too many levels for the index range).
     pub fn refined_mesh(&self, levels: u32, limit: bool) -> Result<PolyMesh, NurssError> {
         Ok(
-            crate::nurss::refined(&self.mesh, &Options::default(), levels, &mut |_, _| {})?
+            crate::nonuniform::refined(&self.mesh, &Options::default(), levels, &mut |_, _| {})?
                 .output_mesh(false, limit),
         )
     }

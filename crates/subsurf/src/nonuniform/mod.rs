@@ -41,7 +41,7 @@
 //!
 //! ```
 //! use subsurf::mesh::{EdgeInterval, Options, PolyMesh};
-//! use subsurf::nurss::Nurss;
+//! use subsurf::nonuniform::Nurss;
 //!
 //! // A 4×4 grid whose middle column of edges carries interval 3.
 //! let mut pos = Vec::new();

@@ -22,7 +22,7 @@ use crate::mesh::{Options, PolyMesh};
 /// Samples the NURSS limit surface of `mesh` (with its [`PolyMesh::knots`]) at `rate`
 /// segments per input edge, rounded up to a power of two `2^L` (the rate used is in
 /// [`Tessellation::rate`]); with `triangles` each quad is split along its shorter diagonal.
-/// See the [module documentation](mod@crate::nurss::tessellate).
+/// See the [module documentation](mod@crate::nonuniform::tessellate).
 ///
 /// # Errors
 /// The errors of [`Nurss::new`]; [`NurssError::TooLarge`] when the refinement would
@@ -30,7 +30,7 @@ use crate::mesh::{Options, PolyMesh};
 ///
 /// ```
 /// use subsurf::mesh::{EdgeInterval, Options, PolyMesh};
-/// use subsurf::nurss::tessellate;
+/// use subsurf::nonuniform::tessellate;
 /// let mut cube = PolyMesh::from_faces(
 ///     vec![[0., 0., 0.], [1., 0., 0.], [1., 1., 0.], [0., 1., 0.],
 ///          [0., 0., 1.], [1., 0., 1.], [1., 1., 1.], [0., 1., 1.]],

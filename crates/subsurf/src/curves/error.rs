@@ -1,7 +1,7 @@
 //! Errors of curve interpolation.
 
 /// What keeps a set of curves from being interpolated by symmetric zonal meshes. Every
-/// variant names the curve (its [`label`](crate::io::geometry::SourcedGeometry::label) or
+/// variant names the curve (its [`label`](crate::nurbs::SourcedGeometry::label) or
 /// `curve N`) and, where there is one, the control point.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum InterpolateError {
