@@ -1,4 +1,4 @@
-//! The curve and surface file reader (`subsurf::io::geometry::parse_geometry`: JSON
+//! The curve and surface file reader (`subsurf::io::parse_geometry`: JSON
 //! documents or arrays, and OBJ free-form `cstype`/`deg`/`curv`/`surf`/`parm`/`end`) on
 //! arbitrary bytes, then sampling of everything it accepts and a round trip through both
 //! writers.
@@ -9,7 +9,7 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use subsurf::io::geometry::{geometry_to_string, parse_geometry, GeometryFormat};
+use subsurf::io::{geometry_to_string, parse_geometry, GeometryFormat};
 use subsurf::nurbs::Geometry;
 
 fuzz_target!(|data: &[u8]| {

@@ -13,7 +13,7 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use subsurf::io::obj::parse_obj;
+use subsurf::io::parse_obj;
 use subsurf::limit::{LimitSurface, SurfacePoint};
 use subsurf::mesh::Options;
 

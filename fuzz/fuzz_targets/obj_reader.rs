@@ -6,7 +6,7 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use subsurf::io::obj::{parse_obj, write_obj, WriteOptions};
+use subsurf::io::{parse_obj, write_obj, WriteOptions};
 
 fuzz_target!(|data: &[u8]| {
     let obj = match parse_obj(data, "fuzz.obj") {

@@ -7,7 +7,7 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use subsurf::io::ply::{parse_ply, write_ply, PlyEncoding};
+use subsurf::io::{parse_ply, write_ply, PlyEncoding};
 
 fuzz_target!(|data: &[u8]| {
     let ply = match parse_ply(data, "fuzz.ply") {

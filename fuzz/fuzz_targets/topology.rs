@@ -6,7 +6,7 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use subsurf::io::obj::parse_obj;
+use subsurf::io::parse_obj;
 use subsurf::mesh::{BoundaryInterpolation, Options, Topology};
 
 /// Larger inputs add time, not coverage.

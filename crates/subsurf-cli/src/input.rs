@@ -4,8 +4,8 @@
 use std::path::Path;
 
 use anyhow::{bail, Result};
-use subsurf::io::input::{read_mesh, read_mesh_from, MeshFormat, ReadMeshError};
-use subsurf::io::obj::ObjFile;
+use subsurf::io::ObjFile;
+use subsurf::io::{read_mesh, read_mesh_from, MeshFormat, ReadMeshError};
 use subsurf::mesh::{MeshError, TopologyWarning};
 
 /// A parsed input and the name used for it in messages.

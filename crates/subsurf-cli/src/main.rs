@@ -22,7 +22,7 @@ use std::process::ExitCode;
 
 use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
 use clap::{Args, Parser, Subcommand};
-use subsurf::io::obj::FileOptions;
+use subsurf::io::FileOptions;
 use subsurf::mesh::{
     BoundaryInterpolation, CreaseMethod, FaceVaryingInterpolation, TriangleSubdivision,
 };

@@ -16,10 +16,10 @@ use std::path::PathBuf;
 use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
-use subsurf::io::obj::read_obj;
+use subsurf::io::read_obj;
 use subsurf::mesh::{EdgeInterval, Options, PolyMesh, SHARPNESS_INFINITE};
 use subsurf::refine::{PlanScratch, RefinePlan};
-use subsurf::scheme::adjustable::Adjustable;
+use subsurf::scheme::Adjustable;
 use subsurf::{subdivide, Mixed, Reposer, Scheme, SubdivideOptions};
 
 /// The allocator of the `subsurf` binary, so that the full refinement compared with is the

@@ -10,7 +10,7 @@ use std::hint::black_box;
 use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
-use subsurf::io::obj::parse_obj;
+use subsurf::io::parse_obj;
 use subsurf::limit::bspline;
 use subsurf::spline::SubBasisSurface;
 

@@ -48,17 +48,18 @@
 //! static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
 //! ```
 #![warn(missing_docs)]
+#![warn(unreachable_pub)]
 // Geometry kernels walk several parallel arrays with one index; iterator chains would hide that.
 #![allow(clippy::needless_range_loop)]
 
 pub mod blend;
-pub mod g2cap;
 pub mod curves;
+pub mod g2cap;
 pub mod io;
 pub mod limit;
 pub mod mesh;
-pub mod nurbs;
 pub mod nonuniform;
+pub mod nurbs;
 pub mod refine;
 pub mod regularity;
 pub mod render;

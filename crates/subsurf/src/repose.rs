@@ -293,7 +293,8 @@ impl Reposer {
         let sub = match scheme {
             Scheme::Nurss => {
                 // The limit positions come from the rows below, as every pose's.
-                let s = crate::nonuniform::refined(base, &opts.options, opts.levels, &mut |_, _| {})?;
+                let s =
+                    crate::nonuniform::refined(base, &opts.options, opts.levels, &mut |_, _| {})?;
                 nurss_limit = opts.limit.then(|| s.limit_rows());
                 Subdivision {
                     mesh: s.output_mesh(opts.keep_holes, false),

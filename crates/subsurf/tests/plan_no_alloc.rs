@@ -7,7 +7,7 @@ use std::alloc::{GlobalAlloc, Layout, System};
 use std::path::Path;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use subsurf::io::obj::read_obj;
+use subsurf::io::read_obj;
 use subsurf::mesh::Options;
 use subsurf::refine::{PlanScratch, RefinePlan};
 

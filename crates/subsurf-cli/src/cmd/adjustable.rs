@@ -5,7 +5,7 @@ use anyhow::{Context, Result};
 use clap::error::ErrorKind;
 use clap::CommandFactory;
 use subsurf::mesh::{Options, PolyMesh};
-use subsurf::scheme::adjustable::Adjustable;
+use subsurf::scheme::Adjustable;
 use subsurf::{subdivide, Mixed, Scheme, SubdivideOptions};
 
 use crate::input::Input;

@@ -7,10 +7,11 @@ use anyhow::{bail, Context, Result};
 use clap::Args;
 use subsurf::blend::BlendError;
 use subsurf::blend::{blend, blend_control_mesh};
-use subsurf::io::geometry::{read_geometry, SourcedGeometry};
-use subsurf::io::obj::write_groups_obj;
-use subsurf::io::obj::{write_obj, WriteOptions};
+use subsurf::io::read_geometry;
+use subsurf::io::write_groups_obj;
+use subsurf::io::{write_obj, WriteOptions};
 use subsurf::mesh::PolyMesh;
+use subsurf::nurbs::SourcedGeometry;
 use subsurf::nurbs::{Geometry, Surface};
 
 use crate::output::Output;

@@ -31,24 +31,25 @@ use std::path::Path;
 
 use anyhow::{Context, Result};
 use subsurf::blend::blend;
-use subsurf::blend::fill::{fill, patch_boundary, FillOptions};
-use subsurf::blend::g1::fill_g1;
-use subsurf::g2cap::{continuity_report, patches_json, G2Surface, G2SurfaceOptions};
+use subsurf::blend::fill_g1;
+use subsurf::blend::{fill, patch_boundary, FillOptions};
 use subsurf::curves::{interpolate_geometry, InterpolateOptions};
-use subsurf::io::geometry::{parse_geometry, SourcedGeometry};
-use subsurf::io::gltf::{face_edges, write_glb, GlbLines, GlbMesh};
-use subsurf::io::input::MeshFormat;
-use subsurf::io::obj::write_groups_obj;
-use subsurf::io::obj::{parse_obj, write_obj, WriteOptions};
+use subsurf::g2cap::{continuity_report, patches_json, G2Surface, G2SurfaceOptions};
+use subsurf::io::parse_geometry;
+use subsurf::io::write_groups_obj;
+use subsurf::io::MeshFormat;
+use subsurf::io::{face_edges, write_glb, GlbLines, GlbMesh};
+use subsurf::io::{parse_obj, write_obj, WriteOptions};
 use subsurf::limit::{self, tessellate, LimitSurface};
 use subsurf::mesh::{Options, PolyMesh};
+use subsurf::nurbs::SourcedGeometry;
 use subsurf::nurbs::{Geometry as NurbsGeometry, Surface};
-use subsurf::regularity::{check_regularity, plot, Mode, RegularityOptions};
-use subsurf::render::curvature::{sample_curvature, CurvatureKind};
+use subsurf::regularity::{check_regularity, plot_image, Mode, RegularityOptions};
 use subsurf::render::{
     render_detailed, render_surface, write_png, Geometry, Paint, Render, RgbImage, Up,
 };
-use subsurf::scheme::adjustable::Adjustable;
+use subsurf::render::{sample_curvature, CurvatureKind};
+use subsurf::scheme::Adjustable;
 use subsurf::spline::QuadSpline;
 use subsurf::{Mixed, Scheme, SubdivideOptions};
 
@@ -1005,7 +1006,7 @@ fn regularity(ctx: &Ctx) -> Result<Vec<Item>> {
         } else {
             "not certified"
         };
-        let img = plot::image(mesh, &report, mode);
+        let img = plot_image(mesh, &report, mode);
         items.push(png_item(
             ctx.dir,
             &img,

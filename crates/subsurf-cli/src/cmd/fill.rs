@@ -5,11 +5,11 @@ use std::path::PathBuf;
 
 use anyhow::{bail, Context, Result};
 use clap::Args;
-use subsurf::blend::fill::{fill, surface_boundary, FillOptions};
-use subsurf::blend::g1::fill_g1;
-use subsurf::io::geometry::read_geometry;
-use subsurf::io::obj::write_groups_obj;
-use subsurf::io::obj::{write_obj, WriteOptions};
+use subsurf::blend::fill_g1;
+use subsurf::blend::{fill, surface_boundary, FillOptions};
+use subsurf::io::read_geometry;
+use subsurf::io::write_groups_obj;
+use subsurf::io::{write_obj, WriteOptions};
 use subsurf::mesh::PolyMesh;
 use subsurf::nurbs::{sample_parameters, Curve, Geometry, Surface};
 

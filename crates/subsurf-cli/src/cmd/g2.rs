@@ -10,12 +10,10 @@ use clap::Args;
 use subsurf::g2cap::{
     continuity_report, patches_json, tessellate, to_iges, G2Surface, G2SurfaceOptions,
 };
-use subsurf::io::obj::{write_obj, WriteOptions};
+use subsurf::io::{write_obj, WriteOptions};
 use subsurf::limit::{Derivatives, EvalError, Surface, SurfacePoint};
 use subsurf::mesh::Options;
-use subsurf::render::{
-    curvature::CurvatureKind, render_surface, write_png, Geometry, Paint, Render,
-};
+use subsurf::render::{render_surface, write_png, CurvatureKind, Geometry, Paint, Render};
 use subsurf::Scheme;
 use subsurf::{estimate_memory, SubdivideOptions};
 

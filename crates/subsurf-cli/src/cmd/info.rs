@@ -4,7 +4,7 @@ use std::fmt::Write as _;
 use std::io::Write as _;
 
 use anyhow::{Context, Result};
-use subsurf::io::obj::FileOptions;
+use subsurf::io::FileOptions;
 use subsurf::mesh::Options;
 use subsurf::{mesh_info, MeshInfo};
 

@@ -11,8 +11,8 @@ use subsurf::curves::{
     embed_geometry, interpolate_geometry, HostOptions, InterpolateOptions, DEFAULT_HOST_WIDTH,
     DEFAULT_WIDTH,
 };
-use subsurf::io::geometry::read_geometry;
-use subsurf::io::obj::{read_obj, write_obj, WriteOptions};
+use subsurf::io::read_geometry;
+use subsurf::io::{read_obj, write_obj, WriteOptions};
 use subsurf::nurbs::Geometry;
 
 use crate::output::Output;

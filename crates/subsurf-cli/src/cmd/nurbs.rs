@@ -2,9 +2,10 @@
 //! convert between the two formats, or sample them as OBJ polylines and quad grids.
 
 use anyhow::{bail, Result};
-use subsurf::io::geometry::{geometry_to_string, read_geometry, GeometryFormat, SourcedGeometry};
-use subsurf::io::obj::write_groups_obj;
+use subsurf::io::write_groups_obj;
+use subsurf::io::{geometry_to_string, read_geometry, GeometryFormat};
 use subsurf::mesh::PolyMesh;
+use subsurf::nurbs::SourcedGeometry;
 use subsurf::nurbs::{sample_count, Curve, Geometry, KnotVector, Surface};
 
 use crate::output::Output;

@@ -10,8 +10,8 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result};
 use subsurf::mesh::Options;
 use subsurf::regularity::{
-    check_regularity_with, plot, Certificate, Class, ConeTest, Dimension, Mode, RegularityOptions,
-    RegularityReport, Sign,
+    check_regularity_with, plot_image, plot_svg, Certificate, Class, ConeTest, Dimension, Mode,
+    RegularityOptions, RegularityReport, Sign, PLOT_HEIGHT, PLOT_WIDTH,
 };
 
 use crate::input::Input;
@@ -81,7 +81,7 @@ fn reserved_memory(mesh: &subsurf::mesh::PolyMesh, plot: bool) -> u64 {
     let faces = mesh.num_faces() as u64;
     let per_face = BYTES_PER_FACE + if plot { PLOT_BYTES_PER_FACE } else { 0 };
     let picture = if plot {
-        u64::from(plot::WIDTH) * u64::from(plot::HEIGHT) * 16
+        u64::from(PLOT_WIDTH) * u64::from(PLOT_HEIGHT) * 16
     } else {
         0
     };
@@ -184,10 +184,10 @@ pub fn run(args: &RegularityArgs) -> Result<()> {
             .extension()
             .is_some_and(|e| e.eq_ignore_ascii_case("png"));
         if png {
-            let img = plot::image(mesh, &report, mode);
+            let img = plot_image(mesh, &report, mode);
             out.write(|w| subsurf::render::write_png(w, &img))?;
         } else {
-            let svg = plot::svg(mesh, &report, mode);
+            let svg = plot_svg(mesh, &report, mode);
             out.write(|w| w.write_all(svg.as_bytes()))?;
         }
     }

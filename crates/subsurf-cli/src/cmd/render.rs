@@ -6,7 +6,7 @@ use std::path::Path;
 use anyhow::{bail, Context, Result};
 use subsurf::limit::{BuildError, LimitSurface};
 use subsurf::mesh::Options;
-use subsurf::render::curvature::CurvatureKind;
+use subsurf::render::CurvatureKind;
 use subsurf::render::{
     render_detailed, write_png, Geometry, Paint, Render, RenderError, Shading, Up,
 };

@@ -6,8 +6,8 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Context, Result};
 use clap::Args;
-use subsurf::io::obj::{write_obj, WriteOptions};
 use subsurf::io::PendingFile;
+use subsurf::io::{write_obj, WriteOptions};
 use subsurf::mesh::Options;
 use subsurf::{PoseError, Reposer, SubdivideOptions};
 

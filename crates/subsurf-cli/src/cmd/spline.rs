@@ -7,15 +7,15 @@ use std::path::PathBuf;
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use rayon::prelude::*;
-use subsurf::io::obj::{write_obj, WriteOptions};
-use subsurf::io::ply::write_ply;
-use subsurf::io::stl::write_stl;
-use subsurf::spline::export::{
-    scalar_colours, split_by_face, write_obj_coloured, write_ply_attributes, PlyAttributes, PALETTE,
-};
+use subsurf::io::write_ply;
+use subsurf::io::write_stl;
+use subsurf::io::{write_obj, WriteOptions};
 use subsurf::spline::{
     compare_with_limit, face_colours, quad_control_mesh, tessellate, SplineTessellation,
     SubBasisSurface,
+};
+use subsurf::spline::{
+    scalar_colours, split_by_face, write_obj_coloured, write_ply_attributes, PlyAttributes, PALETTE,
 };
 
 use crate::cmd::tessellate::Format;

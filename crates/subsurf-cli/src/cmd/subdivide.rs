@@ -1,7 +1,7 @@
 //! `subsurf subdivide`: read OBJ, refine, write OBJ.
 
 use anyhow::{Context, Result};
-use subsurf::io::obj::{write_obj, FileOptions, WriteOptions};
+use subsurf::io::{write_obj, FileOptions, WriteOptions};
 use subsurf::mesh::{crease_by_angle, Options, TriangleSubdivision};
 use subsurf::{subdivide_with_progress, Scheme, SubdivideOptions, Subdivision};
 

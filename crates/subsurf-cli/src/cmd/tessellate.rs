@@ -5,10 +5,10 @@
 use std::path::Path;
 
 use anyhow::{bail, Context, Result};
-use subsurf::io::gltf::{face_edges, write_glb, GlbLines, GlbMesh};
-use subsurf::io::obj::{write_obj, WriteOptions};
-use subsurf::io::ply::write_ply;
-use subsurf::io::stl::write_stl;
+use subsurf::io::write_ply;
+use subsurf::io::write_stl;
+use subsurf::io::{face_edges, write_glb, GlbLines, GlbMesh};
+use subsurf::io::{write_obj, WriteOptions};
 use subsurf::limit::{tessellate, Tessellation};
 use subsurf::mesh::{Options, PolyMesh, TriangleSubdivision};
 use subsurf::render::Up;

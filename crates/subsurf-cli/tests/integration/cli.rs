@@ -685,7 +685,7 @@ fn limit_rows_of_every_block_in_face_order() {
     assert_code(&o, 0);
     assert_eq!(stdout(&o), file, "standard output and the file differ");
 
-    let mesh = subsurf::io::obj::parse_obj(obj.as_bytes(), "wavy.obj")
+    let mesh = subsurf::io::parse_obj(obj.as_bytes(), "wavy.obj")
         .expect("parse")
         .mesh;
     let surface = subsurf::limit::LimitSurface::new(&mesh, subsurf::mesh::Options::default())

@@ -8,7 +8,7 @@ use common::*;
 use std::fs;
 
 use serde_json::Value;
-use subsurf::io::ply::read_ply;
+use subsurf::io::read_ply;
 
 fn u32_at(b: &[u8], at: usize) -> u32 {
     u32::from_le_bytes(b[at..at + 4].try_into().unwrap())

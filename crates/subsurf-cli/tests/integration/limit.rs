@@ -6,7 +6,7 @@ use common::*;
 
 use std::fs;
 
-use subsurf::io::obj::{parse_obj, write_obj, WriteOptions};
+use subsurf::io::{parse_obj, write_obj, WriteOptions};
 use subsurf::limit::{LimitSurface, Parameterization, SurfacePoint};
 use subsurf::mesh::{Options, PolyMesh};
 
@@ -253,7 +253,7 @@ fn c_samples_the_mixed_surface() {
         &mesh,
         options,
         subsurf::Mixed {
-            scheme: subsurf::scheme::adjustable::Adjustable::new(0.3).expect("c"),
+            scheme: subsurf::scheme::Adjustable::new(0.3).expect("c"),
             steps: 1,
         },
     )

@@ -5,7 +5,7 @@
 use crate::common;
 
 use common::*;
-use subsurf::io::obj::parse_obj;
+use subsurf::io::parse_obj;
 use subsurf::mesh::Options;
 use subsurf::nonuniform::Nurss;
 use subsurf::{Scheme, SubdivideOptions};
@@ -13,7 +13,7 @@ use subsurf::{Scheme, SubdivideOptions};
 /// The bundled example: a 5×5 grid with intervals 3 and 0.
 const GRID: &str = include_str!("../../../../examples/meshes/nurss-grid.obj");
 
-fn read(dir: &std::path::Path, name: &str) -> subsurf::io::obj::ObjFile {
+fn read(dir: &std::path::Path, name: &str) -> subsurf::io::ObjFile {
     let text = std::fs::read(dir.join(name)).expect("output written");
     parse_obj(&text, name).expect("output reads back")
 }

@@ -5,7 +5,7 @@
 use crate::common;
 
 use common::*;
-use subsurf::io::obj::parse_obj;
+use subsurf::io::parse_obj;
 use subsurf::mesh::Options;
 use subsurf::{Scheme, SubdivideOptions};
 

@@ -66,7 +66,7 @@ fn writes_ply_of_the_expected_size() {
     assert!(header.contains("property double nx\n"));
     // x y z nx ny nz as f64; per quad a u8 count and four i32.
     assert_eq!(bytes.len(), end + VERTS * 48 + FACES * 17);
-    let ply = subsurf::io::ply::read_ply(&bytes).unwrap();
+    let ply = subsurf::io::read_ply(&bytes).unwrap();
     assert_eq!(ply.positions.len(), VERTS);
 }
 

@@ -2,8 +2,8 @@
 //! filling.
 
 use crate::mesh::MeshError;
-use crate::nurbs::NurbsError;
 use crate::nonuniform::NurssError;
+use crate::nurbs::NurbsError;
 
 /// Errors of skirt-removal refinement, patch blending and hole filling. Errors about an
 /// input patch or curve name it by its index in the input list (`patch 2`); the CLI replaces

@@ -19,16 +19,23 @@
 
 mod error;
 
-pub mod extend;
-pub mod fill;
-pub mod g1;
-pub mod grid;
-pub mod homogeneous;
-pub mod join;
-pub mod patch;
-pub mod skirt;
+pub(crate) mod extend;
+pub(crate) mod fill;
+pub(crate) mod g1;
+pub(crate) mod grid;
+pub(crate) mod homogeneous;
+pub(crate) mod join;
+pub(crate) mod patch;
+pub(crate) mod skirt;
 
 pub use error::BlendError;
 pub use fill::{fill, Fill, FillOptions};
+pub use fill::{patch_boundary, reversed, reweight_ends, surface_boundary};
+pub use g1::fill_g1;
+pub use grid::grid_mesh;
 pub use homogeneous::{BoundaryCurve, Patch};
 pub use join::{blend, blend_control_mesh, Blend, BlendMesh};
+pub use patch::corner_interpolating_mesh;
+pub use skirt::{
+    catmark_refine_once, catmark_step, nurss_refine_once, nurss_step, real_part, refine_with_skirt,
+};

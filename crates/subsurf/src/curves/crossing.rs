@@ -172,15 +172,12 @@ fn same(a: f64, b: f64) -> bool {
 /// into a joint polygon group or a join, and checks them (see the [module
 /// documentation](self)).
 ///
+/// Adds to `work` the candidates it compares (shared points and polygon edges), a
+/// measure of its running time.
+///
 /// # Errors
 /// [`InterpolateError::TooManyCurves`], [`InterpolateError::SharedPoint`],
 /// [`InterpolateError::Crossing`], [`InterpolateError::UnsharedCrossing`].
-pub fn find_crossings(curves: &[CubicCurve], tol: f64) -> Result<Crossings, InterpolateError> {
-    find_crossings_counted(curves, tol, &mut 0)
-}
-
-/// [`find_crossings`], adding to `work` the candidates it compares (shared points and
-/// polygon edges), a measure of its running time.
 pub(crate) fn find_crossings_counted(
     curves: &[CubicCurve],
     tol: f64,

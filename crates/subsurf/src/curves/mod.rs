@@ -43,23 +43,24 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
-pub mod crossing;
-pub mod curve;
+pub(crate) mod crossing;
+pub(crate) mod curve;
 mod error;
-pub mod frame;
+pub(crate) mod frame;
 mod grid;
-pub mod host;
-pub mod track;
-pub mod zone;
+pub(crate) mod host;
+pub(crate) mod track;
+pub(crate) mod zone;
 
 pub use curve::{CubicCurve, MiddlePolygon};
 pub use error::InterpolateError;
+pub use frame::{side_directions, tangents};
 pub use host::{embed_curves, HostOptions, DEFAULT_HOST_WIDTH};
 pub use track::refine_polyline;
 
 use crate::mesh::{Options, PolyMesh};
-use crate::nurbs::{Geometry, SourcedGeometry};
 use crate::nonuniform::NurssError;
+use crate::nurbs::{Geometry, SourcedGeometry};
 
 /// Default zone width, relative to the size (bounding-box diagonal of the control points)
 /// of each curve.

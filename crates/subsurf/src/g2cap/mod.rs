@@ -94,16 +94,16 @@
 
 mod bernstein;
 mod bezier;
-pub mod cap;
+pub(crate) mod cap;
 mod dense;
-pub mod energy;
+pub(crate) mod energy;
 mod error;
-pub mod export;
+pub(crate) mod export;
 mod iges;
 mod report;
 mod solver;
-pub mod surface;
-pub mod transition;
+pub(crate) mod surface;
+pub(crate) mod transition;
 
 pub use bezier::BezierPatch;
 pub use cap::{G2Cap, OuterPatches};

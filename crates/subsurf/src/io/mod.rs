@@ -16,12 +16,21 @@
 
 mod atomic;
 mod decimal;
-pub mod geometry;
-pub mod gltf;
-pub mod input;
-pub mod obj;
-pub mod ply;
-pub mod stl;
+pub(crate) mod geometry;
+pub(crate) mod gltf;
+pub(crate) mod input;
+pub(crate) mod obj;
+pub(crate) mod ply;
+pub(crate) mod stl;
 
 pub use atomic::{remove_temporary_files, write_atomically, Finished, PendingFile};
 pub use decimal::push_decimal;
+pub use geometry::{geometry_to_string, parse_geometry, read_geometry, GeometryFormat};
+pub use gltf::{face_edges, to_gltf_frame, write_glb, GlbLines, GlbMesh, CHUNK_BIN, CHUNK_JSON};
+pub use input::{parse_mesh, read_mesh, read_mesh_from, MeshFormat, ReadMeshError, BLOCK};
+pub use obj::{
+    parse_obj, parse_obj_freeform, read_obj, write_groups_obj, write_obj, write_obj_freeform,
+    FileOptions, FreeFormElement, ObjError, ObjFile, UnsupportedTag, WriteOptions,
+};
+pub use ply::{parse_ply, read_ply, write_ply, PlyEncoding, PlyError, PlyFile, MAX_HEADER};
+pub use stl::{read_stl, write_stl};

@@ -62,9 +62,9 @@
 //! assert!(iv.iter().all(|&d| d == 0.25 || d == 0.75) && iv.contains(&0.75));
 //! ```
 
-pub mod limit;
-pub mod surface;
-pub mod tessellate;
+pub(crate) mod limit;
+pub(crate) mod surface;
+pub(crate) mod tessellate;
 
 use crate::mesh::PolyMesh;
 pub(crate) use crate::refine::nurss::vertex_weights;

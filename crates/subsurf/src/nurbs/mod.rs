@@ -60,26 +60,26 @@
 //! `tests/integration/nurbs.rs` against an independent computation (de Casteljau, polynomial
 //! blossoms, finite differences, exact circles and tori, repeated single insertions).
 
-pub mod basis;
-pub mod curve;
-pub mod error;
+pub(crate) mod basis;
+pub(crate) mod curve;
+pub(crate) mod error;
 mod insert;
-pub mod json;
+pub(crate) mod json;
 mod json_reader;
-pub mod knots;
-pub mod mesh;
-pub mod nurbs_curve;
-pub mod nurbs_surface;
-pub mod sample;
-pub mod surface;
+pub(crate) mod knots;
+pub(crate) mod mesh;
+pub(crate) mod nurbs_curve;
+pub(crate) mod nurbs_surface;
+pub(crate) mod sample;
+pub(crate) mod surface;
 mod vecn;
 
 pub use basis::{basis_derivatives, basis_functions};
 pub use curve::BSplineCurve;
 pub use error::NurbsError;
 pub use json::{
-    from_json_str, from_json_str_all, to_json_string_all, Curve, CurveJson, Geometry, SourcedGeometry,
-    Surface, SurfaceJson, CURVE_TYPE, SURFACE_TYPE,
+    from_json_str, from_json_str_all, to_json_string_all, Curve, CurveJson, Geometry,
+    SourcedGeometry, Surface, SurfaceJson, CURVE_TYPE, SURFACE_TYPE,
 };
 pub use knots::{KnotVector, MAX_DEGREE};
 pub use mesh::{ControlMesh, KnotEdge};

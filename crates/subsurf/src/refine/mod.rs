@@ -31,7 +31,7 @@ mod face_varying;
 mod loop_;
 pub(crate) mod nurss;
 pub(crate) mod patch;
-pub mod plan;
+pub(crate) mod plan;
 mod plan_patches;
 mod plan_ring;
 mod primvar;

@@ -85,14 +85,14 @@
 //! [`sample`] samples the exact limit surface densely and classifies each face:
 //! certified, regular but not certified, or not regular (with the failing sample).
 
-pub mod cone;
-pub mod exact;
-pub mod frame;
-pub mod neighbourhood;
-pub mod plot;
-pub mod sample;
-pub mod sector;
-pub mod separation;
+pub(crate) mod cone;
+pub(crate) mod exact;
+pub(crate) mod frame;
+pub(crate) mod neighbourhood;
+pub(crate) mod plot;
+pub(crate) mod sample;
+pub(crate) mod sector;
+pub(crate) mod separation;
 
 mod error;
 mod report;
@@ -101,7 +101,9 @@ pub use cone::{ConeTest, Difference, Dimension, Direction, Obstruction, Witness}
 pub use error::RegularityError;
 pub use exact::Sign;
 pub use frame::{Frames, NoFrame};
+pub use neighbourhood::block;
 pub use neighbourhood::{Block, Inapplicable};
+pub use plot::{plot_image, plot_svg, PLOT_HEIGHT, PLOT_WIDTH};
 pub use report::{
     check_regularity, check_regularity_with, Certificate, Class, ComponentCones, Counts,
     FaceReport, Mode, Refusal, RegularityOptions, RegularityReport,

@@ -13,9 +13,9 @@ use super::report::{Class, Mode, RegularityReport};
 use crate::mesh::PolyMesh;
 
 /// Picture width in pixels (two square panels).
-pub const WIDTH: u32 = 1000;
+pub const PLOT_WIDTH: u32 = 1000;
 /// Picture height in pixels.
-pub const HEIGHT: u32 = 520;
+pub const PLOT_HEIGHT: u32 = 520;
 const PANEL: f64 = 500.0;
 const MARGIN: f64 = 20.0;
 
@@ -52,7 +52,7 @@ fn scene(mesh: &PolyMesh, report: &RegularityReport, mode: Mode) -> Vec<Prim> {
     let map = |p: [f64; 3]| {
         [
             ox + (p[0] - lo[0]) * s,
-            HEIGHT as f64 - (oy + (p[1] - lo[1]) * s),
+            PLOT_HEIGHT as f64 - (oy + (p[1] - lo[1]) * s),
         ]
     };
     // Faces that are not regular are drawn last, outlined, so that a fold shows on top.
@@ -98,7 +98,7 @@ fn scene(mesh: &PolyMesh, report: &RegularityReport, mode: Mode) -> Vec<Prim> {
     }
     out.extend(bad_outlines);
     // Fans.
-    let centre = [PANEL + PANEL / 2.0, HEIGHT as f64 / 2.0];
+    let centre = [PANEL + PANEL / 2.0, PLOT_HEIGHT as f64 / 2.0];
     let vec = |d: &Difference| {
         let (a, b) = (pos[d.from as usize], pos[d.to as usize]);
         [b[0] - a[0], b[1] - a[1]]
@@ -128,7 +128,7 @@ fn scene(mesh: &PolyMesh, report: &RegularityReport, mode: Mode) -> Vec<Prim> {
         }
     } else {
         out.push(Prim::Text(
-            [PANEL + MARGIN, HEIGHT as f64 / 2.0],
+            [PANEL + MARGIN, PLOT_HEIGHT as f64 / 2.0],
             "no global u/v labelling: no fans".into(),
         ));
     }
@@ -165,10 +165,10 @@ fn escape(s: &str) -> String {
 }
 
 /// The picture as an SVG document.
-pub fn svg(mesh: &PolyMesh, report: &RegularityReport, mode: Mode) -> String {
+pub fn plot_svg(mesh: &PolyMesh, report: &RegularityReport, mode: Mode) -> String {
     use std::fmt::Write;
     let mut s = format!(
-        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{WIDTH}\" height=\"{HEIGHT}\" viewBox=\"0 0 {WIDTH} {HEIGHT}\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n"
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{PLOT_WIDTH}\" height=\"{PLOT_HEIGHT}\" viewBox=\"0 0 {PLOT_WIDTH} {PLOT_HEIGHT}\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n"
     );
     for p in scene(mesh, report, mode) {
         let _ = match p {
@@ -193,9 +193,9 @@ pub fn svg(mesh: &PolyMesh, report: &RegularityReport, mode: Mode) -> String {
 }
 
 /// The picture as an RGB image (no text).
-pub fn image(mesh: &PolyMesh, report: &RegularityReport, mode: Mode) -> RgbImage {
-    let mut img = RgbImage::from_pixel(WIDTH, HEIGHT, Rgb([255, 255, 255]));
-    let (w, h) = (WIDTH as i64, HEIGHT as i64);
+pub fn plot_image(mesh: &PolyMesh, report: &RegularityReport, mode: Mode) -> RgbImage {
+    let mut img = RgbImage::from_pixel(PLOT_WIDTH, PLOT_HEIGHT, Rgb([255, 255, 255]));
+    let (w, h) = (PLOT_WIDTH as i64, PLOT_HEIGHT as i64);
     for p in scene(mesh, report, mode) {
         match p {
             Prim::Polygon(pts, c) => {

@@ -43,7 +43,7 @@
 
 mod camera;
 mod colorbar;
-pub mod curvature;
+pub(crate) mod curvature;
 mod font;
 mod lines;
 mod raster;
@@ -53,12 +53,12 @@ mod zebra;
 
 use std::io::{self, Write};
 
+pub use curvature::{sample_curvature, CurvatureKind};
 pub use image::RgbImage;
 
 use crate::limit::{BuildError, EvalError, TessellateError};
 use crate::mesh::{MeshError, Options, PolyMesh};
 use camera::{Camera, Viewport};
-use curvature::CurvatureKind;
 use rayon::prelude::*;
 use scene::Scene;
 

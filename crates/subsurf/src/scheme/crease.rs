@@ -7,20 +7,12 @@
 //! (DeRose, Kass, Truong, "Subdivision Surfaces in Character Animation", SIGGRAPH 1998,
 //! §3; OpenSubdiv's `ComputeFractionalWeightAtVertex`).
 
-use crate::mesh::{CreaseMethod, Rule};
+use crate::mesh::CreaseMethod;
 // The classification of sharpness values, which the mesh layer's topology needs too, is
 // the mesh layer's; this is its public path.
 pub use crate::mesh::sharpness::{
     is_infinite, is_semi_sharp, is_sharp, is_smooth, vertex_rule, SHARPNESS_INFINITE,
 };
-
-/// Rule of a vertex from its sharpness and the sharpness of each incident edge.
-pub fn vertex_rule_from_edges(vertex_sharpness: f32, edge_sharpness: &[f32]) -> Rule {
-    vertex_rule(
-        vertex_sharpness,
-        edge_sharpness.iter().filter(|&&s| is_sharp(s)).count(),
-    )
-}
 
 /// Sharpness one level down: `s - 1`, kept infinite at ≥ 10 and clamped at 0.
 #[inline]
@@ -133,6 +125,7 @@ pub fn crease_ends(edge_sharpness: &[f32]) -> (usize, usize) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::mesh::Rule;
 
     #[test]
     fn rules_follow_sharp_edge_count() {

@@ -17,14 +17,16 @@
 //! A mask is a set of weights on the parent's vertex, the far ends of its edges, and
 //! its faces' centres (refinement) or the vertices opposite in its faces (limit masks).
 
-pub mod adjustable;
-pub mod bilinear;
-pub mod catmark;
-pub mod crease;
+pub(crate) mod adjustable;
+pub(crate) mod bilinear;
+pub(crate) mod catmark;
+pub(crate) mod crease;
 mod kind;
-pub mod loop_;
-pub mod nurss;
+pub(crate) mod loop_;
+pub(crate) mod nurss;
 mod rules;
 
+pub use adjustable::Adjustable;
+pub use bilinear::Bilinear;
 pub use kind::Scheme;
 pub use rules::Rules;

@@ -16,17 +16,20 @@
 //! grid, [`compare`] measures it against the Catmull-Clark limit surface, [`export`] writes
 //! tessellations with colours or a scalar.
 
-pub mod compare;
+pub(crate) mod compare;
 mod error;
-pub mod export;
-pub mod patch;
-pub mod subbasis;
+pub(crate) mod export;
+pub(crate) mod patch;
+pub(crate) mod subbasis;
 mod surface;
-pub mod table;
-pub mod tessellate;
+pub(crate) mod table;
+pub(crate) mod tessellate;
 
 pub use compare::{compare_with_limit, Comparison};
 pub use error::SplineError;
+pub use export::{
+    scalar_colours, split_by_face, write_obj_coloured, write_ply_attributes, PlyAttributes, PALETTE,
+};
 pub use patch::RationalPatch;
 pub use subbasis::{Class, SubBasis};
 pub use surface::{quad_control_mesh, Piece, QuadSpline, SubBasisSurface};

@@ -18,10 +18,10 @@ use flate2::read::GzDecoder;
 use std::io::Read;
 use std::path::{Path, PathBuf};
 
-use subsurf::io::obj::read_obj;
+use subsurf::io::read_obj;
 use subsurf::limit::{LimitSurface, SurfacePoint};
 use subsurf::mesh::{BoundaryInterpolation, Crease, Options, PolyMesh, Topology};
-use subsurf::scheme::adjustable::Adjustable;
+use subsurf::scheme::Adjustable;
 use subsurf::{subdivide, Mixed, MixedSurface, Scheme, SubdivideOptions};
 
 type P = [f64; 3];

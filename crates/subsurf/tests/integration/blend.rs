@@ -3,13 +3,13 @@
 //! exact limit of the regular part of the refined mesh (`VertexGrid::bspline`, whose
 //! exactness is checked against knot insertion in the library's unit tests).
 
-use subsurf::blend::fill::{fill, patch_boundary, FillOptions};
-use subsurf::blend::patch::corner_interpolating_mesh;
-use subsurf::blend::skirt::{
-    catmark_refine_once, catmark_step, nurss_refine_once, nurss_step, refine_with_skirt,
-};
+use subsurf::blend::corner_interpolating_mesh;
 use subsurf::blend::BlendError;
 use subsurf::blend::{blend, blend_control_mesh};
+use subsurf::blend::{
+    catmark_refine_once, catmark_step, nurss_refine_once, nurss_step, refine_with_skirt,
+};
+use subsurf::blend::{fill, patch_boundary, FillOptions};
 use subsurf::nurbs::{BSplineCurve, BSplineSurface, KnotVector};
 
 pub(crate) fn norm(a: [f64; 3]) -> f64 {
@@ -62,8 +62,7 @@ fn plain_grid(s: &BSplineSurface<3>) -> subsurf::mesh::PolyMesh {
     let (nu, nv) = s.size();
     let pts = s.points().to_vec();
     let (m, _) =
-        subsurf::blend::grid::grid_mesh(nu, nv, pts, &vec![1.0; nu - 1], &vec![1.0; nv - 1])
-            .unwrap();
+        subsurf::blend::grid_mesh(nu, nv, pts, &vec![1.0; nu - 1], &vec![1.0; nv - 1]).unwrap();
     m
 }
 
@@ -256,7 +255,7 @@ pub(crate) fn hole_curves(n: usize) -> Vec<BSplineCurve<3>> {
 fn check_fill_interpolates(n: usize, levels: u32, reverse_one: bool) {
     let mut curves = hole_curves(n);
     if reverse_one {
-        curves[1] = subsurf::blend::fill::reversed(&curves[1]).unwrap();
+        curves[1] = subsurf::blend::reversed(&curves[1]).unwrap();
     }
     let f = fill(&curves, levels, &FillOptions::default()).unwrap();
     let limit = f.boundary_curves().unwrap();
@@ -447,7 +446,7 @@ pub(crate) fn graph_patches(n: usize) -> Vec<BSplineSurface<3>> {
 }
 
 fn check_g1(n: usize, levels: u32) {
-    use subsurf::blend::g1::fill_g1;
+    use subsurf::blend::fill_g1;
     let patches = graph_patches(n);
     let f = fill_g1(&patches, levels, &FillOptions::default()).unwrap();
     let rows = f.boundary_rows().unwrap();

@@ -11,11 +11,11 @@
 use std::collections::{HashMap, HashSet};
 
 use super::blend::{diff, graph_patches, hole_curves, norm, ring_of_patches, surface};
-use subsurf::blend::fill::{fill, reweight_ends, FillOptions};
-use subsurf::blend::g1::fill_g1;
-use subsurf::blend::patch::corner_interpolating_mesh;
-use subsurf::blend::skirt::{nurss_refine_once, real_part, refine_with_skirt};
+use subsurf::blend::corner_interpolating_mesh;
+use subsurf::blend::fill_g1;
 use subsurf::blend::{blend, BlendError, BoundaryCurve};
+use subsurf::blend::{fill, reweight_ends, FillOptions};
+use subsurf::blend::{nurss_refine_once, real_part, refine_with_skirt};
 use subsurf::mesh::PolyMesh;
 use subsurf::nurbs::{BSplineSurface, Curve, NurbsCurve, NurbsSurface, Surface};
 

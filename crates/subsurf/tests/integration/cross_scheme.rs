@@ -3,7 +3,7 @@
 //! The schemes — Catmull-Clark ([`subsurf::subdivide`]), the shape-adjustable scheme with
 //! parameter `c` ([`subsurf::Scheme::Adjustable`] with every step adjustable), non-uniform
 //! Catmull-Clark ([`subsurf::Scheme::Nurss`], random positive knot intervals) and skirt
-//! removal ([`subsurf::blend::skirt::refine_with_skirt`] over Catmull-Clark and over NURSS
+//! removal ([`subsurf::blend::refine_with_skirt`] over Catmull-Clark and over NURSS
 //! steps) — are each tested on their own elsewhere. Here the same properties run over all of
 //! them, on random meshes, through their public APIs:
 //!
@@ -33,9 +33,9 @@ use std::collections::HashSet;
 
 use proptest::prelude::*;
 
-use subsurf::blend::skirt::{catmark_refine_once, nurss_refine_once, refine_with_skirt};
+use subsurf::blend::{catmark_refine_once, nurss_refine_once, refine_with_skirt};
 use subsurf::mesh::{Corner, Crease, CreaseMethod, EdgeInterval, Options, PolyMesh, Tags};
-use subsurf::scheme::adjustable::Adjustable;
+use subsurf::scheme::Adjustable;
 use subsurf::{subdivide, Mixed, SubdivideOptions};
 
 use crate::common::schemes;

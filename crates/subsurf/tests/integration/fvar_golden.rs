@@ -15,7 +15,7 @@ use flate2::read::GzDecoder;
 use std::io::Read;
 use std::path::PathBuf;
 
-use subsurf::io::obj::read_obj;
+use subsurf::io::read_obj;
 use subsurf::mesh::{FaceVaryingInterpolation, Options};
 use subsurf::{subdivide, SubdivideOptions};
 

@@ -7,7 +7,7 @@
 use subsurf::g2cap::{continuity_report, DenseCapSolver, G2Surface, G2SurfaceOptions};
 use subsurf::limit::SurfacePoint;
 use subsurf::mesh::{Options, PolyMesh};
-use subsurf::scheme::adjustable::Adjustable;
+use subsurf::scheme::Adjustable;
 use subsurf::{Mixed, MixedSurface, Scheme};
 
 use crate::common;

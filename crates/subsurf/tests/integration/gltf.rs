@@ -6,10 +6,8 @@
 //! JSON on load).
 
 use serde_json::Value;
-use subsurf::io::gltf::{
-    face_edges, to_gltf_frame, write_glb, GlbLines, GlbMesh, CHUNK_BIN, CHUNK_JSON,
-};
-use subsurf::io::obj::parse_obj;
+use subsurf::io::parse_obj;
+use subsurf::io::{face_edges, to_gltf_frame, write_glb, GlbLines, GlbMesh, CHUNK_BIN, CHUNK_JSON};
 use subsurf::limit::{tessellate_mesh, Tessellation};
 use subsurf::mesh::{Options, PolyMesh};
 use subsurf::render::Up;

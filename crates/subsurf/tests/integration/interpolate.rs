@@ -12,8 +12,8 @@ use subsurf::curves::{
     interpolate_curves, refine_polyline, CubicCurve, InterpolateError, InterpolateOptions,
     Interpolation,
 };
-use subsurf::nurbs::{BSplineCurve, Curve, KnotVector, NurbsCurve};
 use subsurf::nonuniform::Nurss;
+use subsurf::nurbs::{BSplineCurve, Curve, KnotVector, NurbsCurve};
 
 use crate::common::curves;
 use curves::{check_middle, dist, eval, knots, middle_knots, size, V3};
@@ -808,7 +808,7 @@ fn out_curve_with_weight(s: &BSplineCurve<3>, i: usize, w: f64) -> Curve {
 
 #[test]
 fn frame_of_a_closed_space_curve_is_perpendicular_and_closes_smoothly() {
-    use subsurf::curves::frame::{side_directions, tangents};
+    use subsurf::curves::{side_directions, tangents};
     // A trefoil knot: its rotation-minimising frame does not close by itself (holonomy).
     let n = 90;
     let pts: Vec<V3> = (0..n)

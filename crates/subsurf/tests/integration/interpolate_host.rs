@@ -11,10 +11,10 @@
 use subsurf::curves::{
     embed_curves, refine_polyline, CubicCurve, HostOptions, InterpolateError, Interpolation, Zone,
 };
-use subsurf::io::obj::{parse_obj, write_obj, WriteOptions};
+use subsurf::io::{parse_obj, write_obj, WriteOptions};
 use subsurf::mesh::{Crease, EdgeInterval, PolyMesh, VertexWeight};
-use subsurf::nurbs::{BSplineCurve, Curve, KnotVector, NurbsCurve};
 use subsurf::nonuniform::Nurss;
+use subsurf::nurbs::{BSplineCurve, Curve, KnotVector, NurbsCurve};
 
 use crate::common::curves;
 use curves::{check_middle, dist, eval, knots, middle_knots, size, V3};

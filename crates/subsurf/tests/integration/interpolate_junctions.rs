@@ -13,14 +13,14 @@ use subsurf::curves::{
     interpolate_curves, refine_polyline, CubicCurve, InterpolateError, InterpolateOptions,
     Interpolation,
 };
-use subsurf::io::geometry::{geometry_to_string, parse_geometry, GeometryFormat};
-use subsurf::io::obj::parse_obj_freeform;
+use subsurf::io::parse_obj_freeform;
+use subsurf::io::{geometry_to_string, parse_geometry, GeometryFormat};
 use subsurf::mesh::PolyMesh;
-use subsurf::nurbs::{BSplineCurve, Curve, Geometry, KnotVector, NurbsCurve};
 use subsurf::nonuniform::Nurss;
+use subsurf::nurbs::{BSplineCurve, Curve, Geometry, KnotVector, NurbsCurve};
 
 use crate::common::curves;
-use crate::curves::{bspline, crossing_pair};
+use crate::interpolate::{bspline, crossing_pair};
 use curves::{blossom, check_middle, dist, eval, knots, middle_knots, size, V3};
 
 /// Refined middle polygons (levels 0..=levels) against the blossoms and limit points against
@@ -488,7 +488,7 @@ fn an_ending_zone_runs_on_along_the_spline_extended_by_the_phantom_point() {
 fn the_docs_say_where_an_ending_zone_runs() {
     let readme = include_str!("../../../../README.md");
     let page = include_str!("../../../../docs/curve-interpolation.md");
-    let crossing = include_str!("../../src/interpolate/crossing.rs");
+    let crossing = include_str!("../../src/curves/crossing.rs");
     assert!(!readme.contains("natural extension"), "README.md");
     for (name, text) in [
         ("docs/curve-interpolation.md", page),

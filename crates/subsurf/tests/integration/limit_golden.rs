@@ -44,7 +44,7 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::PathBuf;
 use std::time::Instant;
 
-use subsurf::io::obj::read_obj;
+use subsurf::io::read_obj;
 use subsurf::limit::{LimitSurface, SurfacePoint};
 use subsurf::mesh::{BoundaryInterpolation, Corner, Crease, CreaseMethod, Options, PolyMesh, Tags};
 use subsurf::{subdivide, SubdivideOptions};

@@ -25,7 +25,7 @@ use std::collections::BTreeSet;
 use std::io::Read;
 use std::path::PathBuf;
 
-use subsurf::io::obj::read_obj;
+use subsurf::io::read_obj;
 use subsurf::limit::{LimitSurface, Parameterization, SurfacePoint};
 use subsurf::mesh::{BoundaryInterpolation, Options, PolyMesh};
 

@@ -2,7 +2,7 @@
 //! derivatives: central differences of `du`, `dv` agree with `duu`, `duv`, `dvv` on regular
 //! and irregular faces alike (away from irregular corners, where the surface is not C²).
 
-use subsurf::io::obj::parse_obj;
+use subsurf::io::parse_obj;
 use subsurf::limit::LimitSurface;
 use subsurf::mesh::Options;
 

@@ -1,7 +1,7 @@
 //! Limit stencil tables reproduce the exact evaluator: re-posing through the table equals
 //! evaluating the moved mesh directly.
 
-use subsurf::io::obj::parse_obj;
+use subsurf::io::parse_obj;
 use subsurf::limit::{LimitStencils, LimitSurface, SurfacePoint};
 use subsurf::mesh::{Options, PolyMesh};
 

@@ -6,9 +6,9 @@ use std::cell::Cell;
 use std::io::{self, Read};
 use std::rc::Rc;
 
-use subsurf::io::input::{parse_mesh, read_mesh_from, MeshFormat, ReadMeshError, BLOCK};
-use subsurf::io::obj::parse_obj;
-use subsurf::io::ply::PlyEncoding;
+use subsurf::io::parse_obj;
+use subsurf::io::PlyEncoding;
+use subsurf::io::{parse_mesh, read_mesh_from, MeshFormat, ReadMeshError, BLOCK};
 
 /// A stream of `head`, then `tail` repeated without end, counting the bytes it gives.
 struct Endless {

@@ -25,13 +25,13 @@
 use std::path::PathBuf;
 
 use proptest::prelude::*;
-use subsurf::io::obj::{parse_obj, read_obj, write_obj, WriteOptions};
+use subsurf::io::{parse_obj, read_obj, write_obj, WriteOptions};
 use subsurf::mesh::{
     BoundaryInterpolation, EdgeInterval, KnotTags, Options, PolyMesh, SideInterval,
     TriangleSubdivision, VertexWeight,
 };
-use subsurf::nurbs::{BSplineCurve, BSplineSurface, KnotVector};
 use subsurf::nonuniform::{Nurss, NurssError};
+use subsurf::nurbs::{BSplineCurve, BSplineSurface, KnotVector};
 use subsurf::{subdivide, SubdivideOptions};
 
 /// A small deterministic generator (tests must not depend on a seed source).

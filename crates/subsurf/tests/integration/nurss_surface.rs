@@ -6,8 +6,8 @@
 
 use subsurf::limit::{LimitSurface, Order, SurfacePoint};
 use subsurf::mesh::{EdgeInterval, Options, PolyMesh, VertexWeight};
-use subsurf::nurbs::{BSplineSurface, KnotVector, NurbsSurface};
 use subsurf::nonuniform::{NurssEvalError, NurssSurface};
+use subsurf::nurbs::{BSplineSurface, KnotVector, NurbsSurface};
 
 type V3 = [f64; 3];
 

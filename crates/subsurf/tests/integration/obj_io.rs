@@ -3,10 +3,10 @@
 use std::io;
 use std::path::Path;
 
-use subsurf::io::obj::{
+use subsurf::io::write_atomically;
+use subsurf::io::{
     parse_obj, read_obj, write_obj, FileOptions, ObjError, ObjFile, UnsupportedTag, WriteOptions,
 };
-use subsurf::io::write_atomically;
 use subsurf::mesh::{
     BoundaryInterpolation, Corner, Crease, CreaseMethod, Options, PolyMesh, TriangleSubdivision,
 };

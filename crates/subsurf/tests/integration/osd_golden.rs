@@ -57,7 +57,7 @@ use std::path::PathBuf;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Mutex, Once};
 
-use subsurf::io::obj::read_obj;
+use subsurf::io::read_obj;
 use subsurf::mesh::{BoundaryInterpolation, Options, PolyMesh};
 use subsurf::{subdivide, SubdivideOptions};
 

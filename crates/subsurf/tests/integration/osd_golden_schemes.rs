@@ -20,10 +20,10 @@ use super::osd_golden::{
     boundary_tag, compare_case, crate_dir, diagonal, load_golden_from, quiet_catch, sample_indices,
     shape_names_with_prefix, shapes_dir, Expect,
 };
-use subsurf::io::obj::read_obj;
+use subsurf::io::read_obj;
 use subsurf::mesh::{Options, PolyMesh, Topology};
 use subsurf::refine::{interpolate_with, TopologyRefiner};
-use subsurf::scheme::bilinear::Bilinear;
+use subsurf::scheme::Bilinear;
 use subsurf::{subdivide, Scheme, SubdivideOptions};
 
 const REL_TOL: f64 = 1e-12;

@@ -4,8 +4,8 @@
 //! the file and the line (header, ASCII records) or the element and record (binary
 //! records), never a panic or a misread mesh.
 
-use subsurf::io::obj::parse_obj;
-use subsurf::io::ply::{parse_ply, read_ply, write_ply, PlyEncoding, PlyError};
+use subsurf::io::parse_obj;
+use subsurf::io::{parse_ply, read_ply, write_ply, PlyEncoding, PlyError};
 use subsurf::mesh::PolyMesh;
 
 use crate::common::{osd_shapes_dir, Rng};
@@ -413,7 +413,7 @@ fn header_errors_name_their_line() {
     assert_error(text.as_bytes(), Some(2), "control character 0x01");
     // A header longer than the limit without end_header is not read to its end.
     let mut long = b"ply\nformat ascii 1.0\n".to_vec();
-    long.resize(subsurf::io::ply::MAX_HEADER + 100, b'\n');
+    long.resize(subsurf::io::MAX_HEADER + 100, b'\n');
     assert_error(&long, None, "no end_header line in its first 1024 KiB");
 }
 

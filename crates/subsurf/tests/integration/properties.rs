@@ -34,7 +34,7 @@ use std::collections::{HashMap, HashSet};
 
 use proptest::prelude::*;
 
-use subsurf::io::obj::{parse_obj, write_obj, WriteOptions};
+use subsurf::io::{parse_obj, write_obj, WriteOptions};
 use subsurf::limit::{LimitSurface, SurfacePoint};
 use subsurf::mesh::{
     BoundaryInterpolation, Corner, Crease, CreaseMethod, MeshError, Options, PolyMesh, Rule, Tags,

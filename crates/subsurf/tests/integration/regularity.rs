@@ -12,11 +12,11 @@
 // Control-point grids are indexed [i][j] as in the patch formulas.
 #![allow(clippy::needless_range_loop)]
 
-use subsurf::io::obj::parse_obj;
+use subsurf::io::parse_obj;
 use subsurf::limit::bspline;
 use subsurf::limit::LimitSurface;
 use subsurf::mesh::{BoundaryInterpolation, Options, PolyMesh, Topology};
-use subsurf::regularity::neighbourhood::block;
+use subsurf::regularity::block;
 use subsurf::regularity::{
     check_regularity, Certificate, Class, Dimension, Inapplicable, Mode, Refusal,
     RegularityOptions, RegularityReport, Sampled, Sign, Witness,

@@ -2,12 +2,12 @@
 //! expected symmetry, stripes and colours, are deterministic, and curvature has the right
 //! signs (checked on the per-vertex values, not on pixels).
 
-use subsurf::io::obj::parse_obj;
+use subsurf::io::parse_obj;
 use subsurf::mesh::{Options, PolyMesh};
-use subsurf::render::curvature::{sample_curvature, CurvatureKind};
 use subsurf::render::{
     render, render_detailed, write_png, Geometry, Paint, Render, RenderError, RgbImage, Shading,
 };
+use subsurf::render::{sample_curvature, CurvatureKind};
 
 use crate::common::cube;
 

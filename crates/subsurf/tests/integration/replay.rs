@@ -11,13 +11,13 @@
 //! the plans of mixed subdivision (the shape-adjustable scheme on the first levels) against
 //! [`subdivide`] with `Scheme::Adjustable`, and for [`subsurf::Reposer`] with the limit.
 
-use subsurf::io::obj::read_obj;
+use subsurf::io::read_obj;
 use subsurf::mesh::{
     EdgeInterval, KnotTags, Options, PolyMesh, SideInterval, VertexWeight, SHARPNESS_INFINITE,
 };
 use subsurf::nonuniform;
 use subsurf::refine::{PlanScratch, RefinePlan};
-use subsurf::scheme::adjustable::Adjustable;
+use subsurf::scheme::Adjustable;
 use subsurf::{subdivide, Mixed, Scheme, SubdivideOptions};
 
 use crate::common::{osd_shapes, osd_shapes_dir, Rng};
@@ -350,7 +350,7 @@ fn nurss_reposer_poses_rational_meshes() {
     }
     assert!(matches!(
         subsurf::Reposer::new(&bishop, &opts),
-        Err(subsurf::Error::Nurss(nurss::NurssError::SemiSharp { .. }))
+        Err(subsurf::Error::Nurss(nonuniform::NurssError::SemiSharp { .. }))
     ));
 }
 

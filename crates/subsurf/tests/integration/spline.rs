@@ -8,7 +8,7 @@
 use std::f64::consts::{PI, SQRT_2};
 
 use crate::common::example;
-use subsurf::io::obj::parse_obj;
+use subsurf::io::parse_obj;
 use subsurf::limit::LimitSurface;
 use subsurf::mesh::{Options, PolyMesh, Topology};
 use subsurf::spline::{

@@ -6,9 +6,9 @@
 
 use std::collections::HashMap;
 
-use subsurf::io::obj::{parse_obj, write_obj, WriteOptions};
-use subsurf::io::ply::{read_ply, write_ply};
-use subsurf::io::stl::{read_stl, write_stl};
+use subsurf::io::{parse_obj, write_obj, WriteOptions};
+use subsurf::io::{read_ply, write_ply};
+use subsurf::io::{read_stl, write_stl};
 use subsurf::limit::{bspline, tessellate, tessellate_mesh, LimitSurface, Tessellation};
 use subsurf::mesh::{
     BoundaryInterpolation, Crease, Options, PolyMesh, Tags, Topology, SHARPNESS_INFINITE,

@@ -65,7 +65,6 @@ use crate::nurbs::{
     BSplineCurve, BSplineSurface, Curve, Geometry, KnotVector, NurbsCurve, NurbsSurface, Surface,
 };
 use std::fmt::Write as _;
-use std::path::Path;
 
 /// A curve or surface read from an OBJ file, with where it came from.
 #[derive(Clone, Debug, PartialEq)]
@@ -76,22 +75,6 @@ pub struct FreeFormElement {
     pub name: Option<String>,
     /// 1-based line of the `curv` or `surf` statement.
     pub line: usize,
-}
-
-/// Reads the free-form curves and surfaces of an OBJ file (see the [module
-/// documentation](self)).
-///
-/// # Errors
-/// An [`ObjError`] without a line when the file cannot be read, else those of
-/// [`parse_obj_freeform`].
-pub fn read_obj_freeform(path: &Path) -> Result<Vec<FreeFormElement>, ObjError> {
-    let name = path.display().to_string();
-    let bytes = std::fs::read(path).map_err(|e| ObjError {
-        source_name: name.clone(),
-        line: None,
-        message: format!("cannot read {name}: {e}"),
-    })?;
-    parse_obj_freeform(&bytes, &name)
 }
 
 /// Parses the free-form curves and surfaces of OBJ bytes, in file order; `source_name` is

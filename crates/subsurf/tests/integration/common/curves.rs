@@ -4,8 +4,8 @@
 #![allow(dead_code)]
 
 use subsurf::curves::Zone;
-use subsurf::nurbs::{Curve, KnotVector};
 use subsurf::nonuniform::Nurss;
+use subsurf::nurbs::{Curve, KnotVector};
 
 pub type V3 = [f64; 3];
 

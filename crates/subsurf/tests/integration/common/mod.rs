@@ -7,7 +7,7 @@ pub mod schemes;
 
 use std::path::{Path, PathBuf};
 
-use subsurf::io::obj::{parse_obj, read_obj};
+use subsurf::io::{parse_obj, read_obj};
 use subsurf::mesh::{Options, PolyMesh};
 
 /// A small deterministic generator (xorshift), so the tests need no extra crate.
