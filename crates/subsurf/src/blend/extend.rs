@@ -22,7 +22,7 @@ use crate::mesh::PolyMesh;
 /// # Errors
 /// [`BlendError::BoundaryVertex`] for a boundary vertex with three or more faces;
 /// [`BlendError::Mesh`].
-pub fn add_extension_layer(mesh: &PolyMesh, interval: f64) -> Result<PolyMesh, BlendError> {
+pub(crate) fn add_extension_layer(mesh: &PolyMesh, interval: f64) -> Result<PolyMesh, BlendError> {
     let edges = BoundaryEdges::new(mesh);
     let mut outward = outward_vertices(mesh, &edges, interval)?;
     let (offsets, verts) = ring_faces(mesh, &edges, &mut outward, interval);

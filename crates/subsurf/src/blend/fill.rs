@@ -69,9 +69,9 @@ use crate::mesh::PolyMesh;
 use crate::nurbs::{BSplineCurve, BSplineSurface, Curve, KnotVector};
 
 /// Fewest sides of a hole.
-pub const MIN_SIDES: usize = 3;
+pub(crate) const MIN_SIDES: usize = 3;
 /// Most sides of a hole.
-pub const MAX_SIDES: usize = 8;
+pub(crate) const MAX_SIDES: usize = 8;
 
 /// Options of [`fill`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -132,7 +132,7 @@ pub fn surface_boundary<P: Patch>(s: &P, index: usize) -> Result<Curve, BlendErr
 ///
 /// # Errors
 /// [`BlendError::Degree`] unless cubic; [`BlendError::Unsupported`] if closed.
-pub fn clamp<const D: usize>(c: &BSplineCurve<D>) -> Result<BSplineCurve<D>, BlendError> {
+pub(crate) fn clamp<const D: usize>(c: &BSplineCurve<D>) -> Result<BSplineCurve<D>, BlendError> {
     check_curve(c, 0)?;
     let (a, b) = c.domain();
     let mut c = c.clone();
@@ -217,7 +217,7 @@ fn with_cart<const D: usize>(p: &[f64; D], c: [f64; 3]) -> [f64; D] {
 /// # Errors
 /// [`BlendError::Count`], [`BlendError::Degree`], [`BlendError::Unsupported`],
 /// [`BlendError::ShortCurve`], [`BlendError::Corner`] naming the curve.
-pub fn chain_curves<const D: usize>(
+pub(crate) fn chain_curves<const D: usize>(
     curves: &[BSplineCurve<D>],
     tolerance: f64,
 ) -> Result<Vec<BSplineCurve<D>>, BlendError> {
@@ -316,7 +316,7 @@ pub fn chain_curves<const D: usize>(
 ///
 /// # Errors
 /// [`BlendError::Nurbs`] (none in practice for valid curves).
-pub fn equalize_end_spans<const D: usize>(
+pub(crate) fn equalize_end_spans<const D: usize>(
     curves: &[BSplineCurve<D>],
 ) -> Result<Vec<BSplineCurve<D>>, BlendError> {
     curves
@@ -354,7 +354,7 @@ pub fn equalize_end_spans<const D: usize>(
 /// [`BlendError::Option`] for a non-finite bulge or one that moves the centre beyond
 /// [`crate::mesh::MAX_COORDINATE`], [`BlendError::ShortCurve`] for a curve with fewer than 6
 /// control points (equalized curves have at least 6); [`BlendError::Mesh`].
-pub fn fill_control_mesh<const D: usize>(
+pub(crate) fn fill_control_mesh<const D: usize>(
     curves: &[BSplineCurve<D>],
     bulge: f64,
 ) -> Result<PolyMesh, BlendError> {
@@ -673,9 +673,9 @@ pub(crate) fn bulged_centre(boundary: &[[f64; 3]], bulge: f64) -> Result<[f64; 3
 #[derive(Clone, Debug, PartialEq)]
 pub struct Fill {
     /// The boundary curves, clamped, oriented, chained and with equalized end spans
-    /// ([`equalize_end_spans`]): the input curves as point sets, reparametrized affinely
+    /// (`equalize_end_spans`): the input curves as point sets, reparametrized affinely
     /// (rational curves whose weights disagree at the corners also by
-    /// [`match_corner_weights`]).
+    /// `match_corner_weights`).
     pub curves: Vec<Curve>,
     /// The fill control mesh with its extension layer.
     pub control: PolyMesh,
@@ -686,7 +686,7 @@ pub struct Fill {
 impl Fill {
     /// The fill surface: the real part of the refined mesh (its control points), with the
     /// vertices that zero knot intervals make coincide merged
-    /// ([`super::skirt::merge_degenerate`]).
+    /// (`super::skirt::merge_degenerate`).
     ///
     /// # Errors
     /// None in practice.
@@ -781,12 +781,12 @@ impl Fill {
 
 /// Fills the hole bounded by `curves` (Algorithm 1), polynomial ([`BSplineCurve<3>`]),
 /// rational ([`NurbsCurve`](crate::nurbs::NurbsCurve)) or either ([`Curve`]): chains them
-/// ([`chain_curves`]), matches rational curves' weights at the corners
-/// ([`match_corner_weights`]), builds [`fill_control_mesh`] and refines it `levels` times
+/// (`chain_curves`), matches rational curves' weights at the corners
+/// (`match_corner_weights`), builds `fill_control_mesh` and refines it `levels` times
 /// with NURSS (in homogeneous coordinates when rational) and skirt removal.
 ///
 /// # Errors
-/// As [`chain_curves`] and [`fill_control_mesh`]; NURSS errors.
+/// As `chain_curves` and `fill_control_mesh`; NURSS errors.
 pub fn fill<C: BoundaryCurve>(
     curves: &[C],
     levels: u32,
@@ -826,7 +826,7 @@ pub fn fill<C: BoundaryCurve>(
 ///
 /// # Errors
 /// [`BlendError::Nurbs`] (none in practice for valid curves).
-pub fn match_corner_weights(
+pub(crate) fn match_corner_weights(
     curves: Vec<BSplineCurve<4>>,
 ) -> Result<Vec<BSplineCurve<4>>, BlendError> {
     if curves
@@ -881,7 +881,7 @@ pub fn match_corner_weights(
 /// `κ_n = 1`: the end-weight ratio is multiplied by `ρ^{−p}`, hence `ρ = phi^{−1/p}`.
 ///
 /// # Errors
-/// [`BlendError::Nurbs`] for an unclamped curve's knots (none for [`clamp`]ed curves).
+/// [`BlendError::Nurbs`] for an unclamped curve's knots (none for `clamp`ed curves).
 pub fn reweight_ends(c: &BSplineCurve<4>, phi: f64) -> Result<BSplineCurve<4>, BlendError> {
     let p = c.degree();
     let rho = phi.powf(-1.0 / p as f64);

@@ -314,7 +314,7 @@ fn triple_interior_knots(c: &BSplineCurve<3>) -> Result<BSplineCurve<3>, BlendEr
 
 /// Fills the hole bounded by the first-row boundaries of `patches` G1 (Algorithm 2): the
 /// limit interpolates the boundary curves and corners and has the base patches' normal
-/// along every boundary (see the [module documentation](self)). The patches are polynomial,
+/// along every boundary (see the module documentation). The patches are polynomial,
 /// or rational with one weight each (which are polynomial patches).
 ///
 /// # Errors

@@ -301,7 +301,7 @@ pub(crate) fn intervals(mesh: &PolyMesh) -> HashMap<(u32, u32), f64> {
 /// A quad grid mesh: `rows × cols` points (`points[r * cols + c]`), the interval of the
 /// edges between rows `r` and `r + 1` is `du[r]`, between columns `c` and `c + 1` is
 /// `dv[c]`, and the grid's origin is `(0, 0)`. Faces are oriented `(r, c) → (r + 1, c) → (r + 1, c + 1) → (r, c + 1)` (normal
-/// `∂/∂u × ∂/∂v` when rows run along `u`). Returns the mesh and its [`VertexGrid`].
+/// `∂/∂u × ∂/∂v` when rows run along `u`). Returns the mesh and its `VertexGrid`.
 ///
 /// # Errors
 /// [`BlendError::Mesh`] for non-finite points; [`BlendError::Grid`] for wrong lengths.

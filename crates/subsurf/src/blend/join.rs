@@ -49,7 +49,7 @@ use crate::mesh::PolyMesh;
 use crate::nurbs::{BSplineSurface, Surface};
 
 /// Most patches [`blend_control_mesh`] takes.
-pub const MAX_PATCHES: usize = 64;
+pub(crate) const MAX_PATCHES: usize = 64;
 
 /// The blend control mesh with the vertex grids next to each patch.
 #[derive(Clone, Debug, PartialEq)]
@@ -78,13 +78,13 @@ impl Layout {
     }
 }
 
-/// Builds the blend control mesh of `patches` (see the [module documentation](self)):
+/// Builds the blend control mesh of `patches` (see the module documentation):
 /// polynomial patches, or rational ones refined in homogeneous coordinates (see
-/// [`super::homogeneous`]: rows 0 to 3 keep the patch's points and weights, the phantom row
+/// `super::homogeneous`: rows 0 to 3 keep the patch's points and weights, the phantom row
 /// and the gap columns get the mean weight of the points they are made from).
 ///
 /// # Errors
-/// [`BlendError::Count`] for fewer than 2 (or more than [`MAX_PATCHES`]) patches;
+/// [`BlendError::Count`] for fewer than 2 (or more than `MAX_PATCHES`) patches;
 /// [`BlendError::Degree`], [`BlendError::Unsupported`], [`BlendError::TooSmall`] naming the
 /// patch; [`BlendError::Mesh`] for non-finite points.
 pub fn blend_control_mesh<P: Patch>(patches: &[P]) -> Result<BlendMesh, BlendError> {
@@ -343,7 +343,7 @@ pub struct Blend {
 impl Blend {
     /// The blend surface: the real part of the refined mesh (its control points), with
     /// the vertices that zero knot intervals make coincide merged
-    /// ([`super::skirt::merge_degenerate`]: no face of zero area).
+    /// (`super::skirt::merge_degenerate`: no face of zero area).
     ///
     /// # Errors
     /// None in practice ([`BlendError::Holes`]).
@@ -355,7 +355,7 @@ impl Blend {
     /// own parameters: its domain ends at `u = u_3` (the shared boundary) and covers
     /// `v ∈ [v_3, v_{n+1}]`. It is the B-spline of the refined strip's real rows and the
     /// columns from the child of column 0 to the child of column `n`, with the refined
-    /// intervals (see [`super::grid`]); position, `∂/∂u` and `∂²/∂u²` on `u = u_3` equal the
+    /// intervals (see `super::grid`); position, `∂/∂u` and `∂²/∂u²` on `u = u_3` equal the
     /// patch's (C2). For rational patches this is the Cartesian part of the homogeneous
     /// limit; use [`boundary_surface`](Self::boundary_surface).
     ///
@@ -369,7 +369,7 @@ impl Blend {
     /// [`boundary_spline`](Self::boundary_spline) for polynomial or rational patches: the
     /// exact limit next to patch `k` as the projection of the homogeneous B-spline of the
     /// refined strip (a [`Surface::Nurbs`] when some weight is not 1), which joins a NURBS
-    /// patch C2 (see [`super::homogeneous`]).
+    /// patch C2 (see `super::homogeneous`).
     ///
     /// # Errors
     /// As [`boundary_spline`](Self::boundary_spline).

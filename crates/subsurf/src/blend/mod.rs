@@ -3,19 +3,19 @@
 //! C2 blending of bicubic B-spline patches and N-sided hole filling with non-uniform
 //! Catmull-Clark (NURSS, [`crate::nonuniform`]).
 //!
-//! - [`skirt`]: skirt removal for any scheme ([`skirt::skirt_step`], [`skirt::nurss_step`],
+//! - `skirt`: skirt removal for any scheme (`skirt::skirt_step`, [`skirt::nurss_step`],
 //!   [`skirt::catmark_step`], [`skirt::refine_with_skirt`]).
-//! - [`extend`]: the extension layer around an open mesh.
-//! - [`grid`]: vertex grids carried through refinement and the exact limit (de Boor) over a
+//! - `extend`: the extension layer around an open mesh.
+//! - `grid`: vertex grids carried through refinement and the exact limit (de Boor) over a
 //!   regular part.
-//! - [`patch`]: a clamped patch as a corner-interpolating control mesh.
-//! - [`join`]: C2 blending of N bicubic patches ([`blend()`]).
-//! - [`fill`](mod@fill): N-sided hole filling (Algorithm 1, corner interpolating).
-//! - [`g1`]: N-sided hole filling, G1 (Algorithm 2).
+//! - `patch`: a clamped patch as a corner-interpolating control mesh.
+//! - `join`: C2 blending of N bicubic patches ([`blend()`]).
+//! - `fill`: N-sided hole filling (Algorithm 1, corner interpolating).
+//! - `g1`: N-sided hole filling, G1 (Algorithm 2).
 //!
 //! Patches and curves may be rational (NURBS): the methods run on their homogeneous
 //! B-splines, which non-uniform Catmull-Clark refines as it refines rational meshes
-//! ([`homogeneous`]).
+//! (`homogeneous`).
 
 mod error;
 

@@ -30,7 +30,7 @@ pub struct GridControlMesh {
 }
 
 /// Whether `k` (cubic) has end knots of multiplicity 4.
-pub fn is_clamped(k: &KnotVector) -> bool {
+pub(crate) fn is_clamped(k: &KnotVector) -> bool {
     let t = k.as_slice();
     t.len() >= 8 && t[0] == t[3] && t[t.len() - 1] == t[t.len() - 4]
 }
@@ -60,10 +60,10 @@ pub(crate) fn check_bicubic<const D: usize>(
 }
 
 /// The corner-interpolating control mesh of a clamped bicubic patch (see the
-/// [module documentation](self)), polynomial or rational: a NURBS patch's net keeps its
+/// module documentation), polynomial or rational: a NURBS patch's net keeps its
 /// weights (the phantom points get the mean weight of the two points they reflect), and
 /// NURSS refines it in homogeneous coordinates, so the limit is the NURBS patch (see
-/// [`super::homogeneous`]).
+/// `super::homogeneous`).
 ///
 /// # Errors
 /// [`BlendError::Degree`], [`BlendError::Unsupported`] (closed), [`BlendError::NotClamped`].

@@ -41,7 +41,7 @@ use crate::nonuniform::Nurss;
 use crate::scheme::adjustable::Mixed;
 
 /// Boundary vertices of `mesh`: vertices on an edge that only one face uses.
-pub fn boundary_vertices(mesh: &PolyMesh) -> Vec<bool> {
+pub(crate) fn boundary_vertices(mesh: &PolyMesh) -> Vec<bool> {
     let mut count: HashMap<(u32, u32), u32> = HashMap::new();
     for fv in mesh.faces() {
         for (i, &a) in fv.iter().enumerate() {
@@ -60,7 +60,7 @@ pub fn boundary_vertices(mesh: &PolyMesh) -> Vec<bool> {
 }
 
 /// The extension layer of `mesh`: `true` for every face with a boundary vertex.
-pub fn outer_ring(mesh: &PolyMesh) -> Vec<bool> {
+pub(crate) fn outer_ring(mesh: &PolyMesh) -> Vec<bool> {
     let b = boundary_vertices(mesh);
     mesh.faces()
         .map(|fv| fv.iter().any(|&v| b[v as usize]))
@@ -83,7 +83,7 @@ pub struct SkirtStep {
 ///
 /// # Errors
 /// [`BlendError::Holes`] if the mesh has hole faces.
-pub fn keep_faces(mesh: &PolyMesh, keep: &[bool]) -> Result<SkirtStep, BlendError> {
+pub(crate) fn keep_faces(mesh: &PolyMesh, keep: &[bool]) -> Result<SkirtStep, BlendError> {
     if let Some(&face) = mesh.tags.holes.first() {
         return Err(BlendError::Holes { face });
     }
@@ -162,7 +162,7 @@ pub fn keep_faces(mesh: &PolyMesh, keep: &[bool]) -> Result<SkirtStep, BlendErro
 /// # Errors
 /// [`BlendError::NotARefinement`] if the face counts do not match, [`BlendError::NoInterior`]
 /// if every parent face is in the outer ring, [`BlendError::Holes`].
-pub fn skirt_step(parent: &PolyMesh, child: &PolyMesh) -> Result<SkirtStep, BlendError> {
+pub(crate) fn skirt_step(parent: &PolyMesh, child: &PolyMesh) -> Result<SkirtStep, BlendError> {
     let expected = parent.face_verts().len();
     if child.num_faces() != expected {
         return Err(BlendError::NotARefinement {
@@ -210,7 +210,7 @@ pub fn catmark_refine_once(mesh: &PolyMesh) -> Result<PolyMesh, BlendError> {
 /// One NURSS step with skirt removal.
 ///
 /// # Errors
-/// As [`nurss_refine_once`] and [`skirt_step`].
+/// As [`nurss_refine_once`] and `skirt_step`.
 pub fn nurss_step(mesh: &PolyMesh) -> Result<SkirtStep, BlendError> {
     skirt_step(mesh, &nurss_refine_once(mesh)?)
 }
@@ -218,7 +218,7 @@ pub fn nurss_step(mesh: &PolyMesh) -> Result<SkirtStep, BlendError> {
 /// One Catmull-Clark step with skirt removal.
 ///
 /// # Errors
-/// As [`catmark_refine_once`] and [`skirt_step`].
+/// As [`catmark_refine_once`] and `skirt_step`.
 pub fn catmark_step(mesh: &PolyMesh) -> Result<SkirtStep, BlendError> {
     skirt_step(mesh, &catmark_refine_once(mesh)?)
 }
@@ -226,10 +226,10 @@ pub fn catmark_step(mesh: &PolyMesh) -> Result<SkirtStep, BlendError> {
 /// `levels` steps of skirt-removal refinement with the one-step refinement `refine` (for
 /// example [`nurss_refine_once`] or [`catmark_refine_once`], or any scheme with
 /// Catmull-Clark topology), carrying the vertex `grids` along (each is mapped to its child
-/// grid and trimmed of dropped rows and columns, see [`VertexGrid::refine`]).
+/// grid and trimmed of dropped rows and columns, see `VertexGrid::refine`).
 ///
 /// # Errors
-/// Those of `refine` and [`skirt_step`]; [`BlendError::Grid`] if a grid stops being a quad
+/// Those of `refine` and `skirt_step`; [`BlendError::Grid`] if a grid stops being a quad
 /// grid of the mesh.
 pub fn refine_with_skirt<F>(
     mesh: &PolyMesh,
@@ -255,7 +255,7 @@ where
     Ok(cur)
 }
 
-/// The real part of a mesh with an extension layer: the mesh without its [`outer_ring`]
+/// The real part of a mesh with an extension layer: the mesh without its `outer_ring`
 /// (what the limit surface is made of), for output.
 ///
 /// # Errors
@@ -267,7 +267,7 @@ pub fn real_part(mesh: &PolyMesh) -> Result<PolyMesh, BlendError> {
 
 /// Relative distance (times the bounding-box diagonal) within which the two ends of an edge
 /// of zero knot interval count as one point for [`merge_degenerate`].
-pub const MERGE_TOLERANCE: f64 = 1e-12;
+pub(crate) const MERGE_TOLERANCE: f64 = 1e-12;
 
 /// `mesh` (a real part, for output) with the two ends of every edge of knot interval 0 that
 /// coincide (within [`MERGE_TOLERANCE`] of the bounding-box diagonal) merged into one
@@ -286,7 +286,7 @@ pub const MERGE_TOLERANCE: f64 = 1e-12;
 ///
 /// # Errors
 /// [`BlendError::Mesh`] (none in practice), [`BlendError::Holes`].
-pub fn merge_degenerate(mesh: &PolyMesh) -> Result<PolyMesh, BlendError> {
+pub(crate) fn merge_degenerate(mesh: &PolyMesh) -> Result<PolyMesh, BlendError> {
     let diagonal = mesh.bounding_box().map_or(0.0, |(lo, hi)| {
         (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f64>().sqrt()
     });

@@ -83,11 +83,11 @@ use std::collections::HashSet;
 
 /// The smallest angle, in degrees, between the two lines of a joint polygon group (see the
 /// [module documentation](self#the-angle-between-the-lines)).
-pub const MIN_LINE_ANGLE: f64 = 30.0;
+pub(crate) const MIN_LINE_ANGLE: f64 = 30.0;
 
 /// One curve at a shared point: curve index and middle-polygon index of the point.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Arm {
+pub(crate) struct Arm {
     /// Curve index.
     pub curve: usize,
     /// Index of the shared point in the curve's middle polygon.
@@ -97,7 +97,7 @@ pub struct Arm {
 /// A joint polygon group: the curves on each of its two lines (one passing through the
 /// point, or one or two ending there; see the [module documentation](self)).
 #[derive(Clone, Debug, PartialEq)]
-pub struct Group {
+pub(crate) struct Group {
     /// The curves of each line; the first of a line sets its direction (from the point to
     /// that curve's next middle-polygon point).
     pub lines: [Vec<Arm>; 2],
@@ -105,7 +105,7 @@ pub struct Group {
 
 /// Two curves ending at one point from nearly opposite directions, joined into one zone.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Join {
+pub(crate) struct Join {
     /// The curve of the lower index (its zone is built first; the other takes its columns).
     pub a: Arm,
     /// The other curve.
@@ -115,7 +115,7 @@ pub struct Join {
 /// The middle polygons of all curves (phantom end points included) and how they share
 /// points.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Crossings {
+pub(crate) struct Crossings {
     /// One per curve, in input order.
     pub middles: Vec<MiddlePolygon>,
     /// Joint polygon groups.

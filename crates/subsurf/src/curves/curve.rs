@@ -58,7 +58,7 @@ pub struct CubicCurve {
 }
 
 /// The middle polygon of a zone: the curve's control polygon (with phantom end points when
-/// needed, see the [module documentation](self)), its weights and its edge intervals.
+/// needed, see the module documentation), its weights and its edge intervals.
 #[derive(Clone, Debug, PartialEq)]
 pub struct MiddlePolygon {
     /// Points, phantoms included.
@@ -81,8 +81,8 @@ pub struct MiddlePolygon {
 impl CubicCurve {
     /// Checks `curve` (cubic, finite, at least 4 control points open or 3 closed) and keeps
     /// its data; `label` names it in errors. A closed curve given in unwrapped form, and a
-    /// clamped one whose ends coincide, are taken as closed (see the [module
-    /// documentation](self#closed-curves-given-open)).
+    /// clamped one whose ends coincide, are taken as closed (see the module
+    /// documentation, "Closed curves given open").
     ///
     /// # Errors
     /// [`InterpolateError::Degree`] for a degree other than 3,
@@ -189,7 +189,7 @@ impl CubicCurve {
         self.weights.as_ref().map_or(1.0, |w| w[i])
     }
 
-    /// The middle polygon (see the [module documentation](self)).
+    /// The middle polygon (see the module documentation).
     pub fn middle_polygon(&self) -> MiddlePolygon {
         self.middle_polygon_with(false, false)
     }

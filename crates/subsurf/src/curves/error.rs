@@ -44,7 +44,7 @@ pub enum InterpolateError {
     /// The curves sharing one control point do not make the two lines of a joint polygon
     /// group (Corollary 1): each line holds one curve passing through the point, or one or two
     /// ending there (two from opposite sides when each is the other's continuation, their
-    /// neighbours symmetric about the point); see [`super::crossing`].
+    /// neighbours symmetric about the point); see `super::crossing`.
     #[error("{count} curves share the point ({x}, {y}, {z}) ({curves}) and need {lines} lines through it; a joint polygon group has two (Corollary 1): each holds one curve passing through the point, or one or two ending there (two only from opposite sides, each continuing the other: neighbours symmetric about the point)")]
     SharedPoint {
         /// Number of curves.
@@ -74,7 +74,7 @@ pub enum InterpolateError {
         /// Its position.
         z: f64,
         /// The matching tolerance (a fraction of the host's size, see
-        /// [`super::host::HOST_TOLERANCE`]).
+        /// `super::host::HOST_TOLERANCE`).
         tol: f64,
     },
     /// The host mesh around a control point does not have the shape the embedding needs.

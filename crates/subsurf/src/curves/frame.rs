@@ -17,7 +17,7 @@
 
 use crate::geom::{cross, dot, norm, normalize_or_zero, sub, V3};
 
-/// Unit tangents of a polygon (see the [module documentation](self)); `None` when all points
+/// Unit tangents of a polygon (see the module documentation); `None` when all points
 /// coincide.
 pub fn tangents(points: &[V3], closed: bool) -> Option<Vec<V3>> {
     let n = points.len();
@@ -109,7 +109,7 @@ pub(crate) fn angle_about(a: &V3, b: &V3, t: &V3) -> f64 {
     dot(&cross(a, b), t).atan2(dot(a, b))
 }
 
-/// Side directions `u_i` of the polygon (see the [module documentation](self)): with `side`
+/// Side directions `u_i` of the polygon (see the module documentation): with `side`
 /// the given vector projected perpendicular to each tangent, else a rotation-minimising
 /// frame.
 ///

@@ -83,7 +83,7 @@ use std::collections::HashMap;
 
 /// Control points match host vertices within this fraction of the host's bounding-box
 /// diagonal.
-pub const HOST_TOLERANCE: f64 = 1e-6;
+pub(crate) const HOST_TOLERANCE: f64 = 1e-6;
 
 /// Default [`HostOptions::width`].
 pub const DEFAULT_HOST_WIDTH: f64 = 1.0 / 3.0;
@@ -122,7 +122,7 @@ struct HostPath {
     walks: Vec<Option<(SideWalk, SideWalk)>>,
 }
 
-/// Embeds the zones of `curves` in `host` (see the [module documentation](self)).
+/// Embeds the zones of `curves` in `host` (see the module documentation).
 ///
 /// # Errors
 /// [`InterpolateError::NoCurves`], [`InterpolateError::BadOption`] for a width outside

@@ -3,24 +3,24 @@
 //!
 //! Around the control polygon of each curve (the *middle polygon*) a strip of quads is built,
 //! two per polygon edge, whose side points are placed symmetrically about the polygon
-//! (`P_i ± o_i`) and whose edges carry the knot intervals of Theorem 1 (see [`zone`]). NURSS
+//! (`P_i ± o_i`) and whose edges carry the knot intervals of Theorem 1 (see `zone`). NURSS
 //! then refines the middle polygon exactly as midpoint knot insertion refines the curve, so the
 //! limit surface passes through the curve: for any knot vector (non-uniform, multiple knots
 //! for C1 and C0 points, clamped or not, closed), and for rational curves (weights on the
 //! middle polygon, side points weighted like their middle point — a circle stays a circle).
 //! Up to four curves may share a control point, passing through it or ending there (joint
-//! polygon groups, [`crossing`]): opposite branches join `G2`, adjacent ones `G0`
+//! polygon groups, `crossing`): opposite branches join `G2`, adjacent ones `G0`
 //! (Corollary 1); two ends meeting nearly opposite share one zone. The zones may also be inserted into a host mesh whose edges contain the
-//! control polygons ([`host`], the paper's Fig. 11).
+//! control polygons (`host`, the paper's Fig. 11).
 //!
 //! | module | concept |
 //! |---|---|
-//! | [`curve`] | the curve's middle polygon: which interval on which edge, phantom end points |
-//! | [`frame`] | side directions: rotation-minimising frame or a given side vector |
-//! | [`crossing`] | shared control points, the checks a joint polygon group needs |
-//! | [`zone`] | the symmetric zonal mesh, its intervals and weights; why the boundary needs no skirt removal |
-//! | [`host`] | zones cut into a host mesh along its edges; the auxiliary intervals of Fig. 11 |
-//! | [`track`] | the middle polygon at any refinement level |
+//! | `curve` | the curve's middle polygon: which interval on which edge, phantom end points |
+//! | `frame` | side directions: rotation-minimising frame or a given side vector |
+//! | `crossing` | shared control points, the checks a joint polygon group needs |
+//! | `zone` | the symmetric zonal mesh, its intervals and weights; why the boundary needs no skirt removal |
+//! | `host` | zones cut into a host mesh along its edges; the auxiliary intervals of Fig. 11 |
+//! | `track` | the middle polygon at any refinement level |
 //!
 //! Source: [JOS 2003] (docs/references.md), "Subdivision surfaces interpolating cubic NURBS
 //! curves" (Chinese, with English abstract), §2–3, Lemma 1, Theorem 1, Corollary 1.
@@ -75,7 +75,7 @@ pub struct InterpolateOptions {
     pub width: f64,
     /// Side direction: `None` for a rotation-minimising frame started from the polygon's
     /// plane normal (a planar curve's zone stands perpendicular to its plane), or a vector
-    /// projected perpendicular to the curve at every control point (see [`frame`]).
+    /// projected perpendicular to the curve at every control point (see `frame`).
     pub side: Option<[f64; 3]>,
 }
 
@@ -104,7 +104,7 @@ pub struct Zone {
     /// Number of the curve's control points.
     pub count: usize,
     /// The zone's intervals are the curve's knot intervals times this (1 for a standalone
-    /// zone; in a host, see [`host`]): the knot at `middle[j]` is `start_knot` plus the
+    /// zone; in a host, see `host`): the knot at `middle[j]` is `start_knot` plus the
     /// intervals of the middle edges before it divided by `knot_scale`.
     pub knot_scale: f64,
 }

@@ -4,7 +4,7 @@
 //! `dᵏ/dtᵏ Bⁿᵢ(t) = n!/(n-k)! · Σⱼ₌₀..ₖ (-1)ᵏ⁻ʲ C(k, j) Bⁿ⁻ᵏᵢ₋ⱼ(t)`.
 
 /// The binomial coefficient `C(n, k)` (0 when `k > n`).
-pub fn binomial(n: usize, k: usize) -> f64 {
+pub(super) fn binomial(n: usize, k: usize) -> f64 {
     if k > n {
         return 0.0;
     }
@@ -16,7 +16,7 @@ pub fn binomial(n: usize, k: usize) -> f64 {
 }
 
 /// `Bⁿᵢ(t)`, zero for `i` outside `0..=n`.
-pub fn bernstein(n: usize, i: isize, t: f64) -> f64 {
+pub(super) fn bernstein(n: usize, i: isize, t: f64) -> f64 {
     if i < 0 || i as usize > n {
         return 0.0;
     }
@@ -25,7 +25,7 @@ pub fn bernstein(n: usize, i: isize, t: f64) -> f64 {
 }
 
 /// The `k`-th derivative of `Bⁿᵢ` at `t` (zero for `k > n`).
-pub fn bernstein_derivative(n: usize, i: usize, t: f64, k: usize) -> f64 {
+pub(super) fn bernstein_derivative(n: usize, i: usize, t: f64, k: usize) -> f64 {
     if k > n {
         return 0.0;
     }
@@ -39,7 +39,7 @@ pub fn bernstein_derivative(n: usize, i: usize, t: f64, k: usize) -> f64 {
 }
 
 /// All `n + 1` values of the `k`-th derivative of the degree-`n` Bernstein basis at `t`.
-pub fn basis_derivatives(n: usize, t: f64, k: usize) -> Vec<f64> {
+pub(super) fn basis_derivatives(n: usize, t: f64, k: usize) -> Vec<f64> {
     (0..=n).map(|i| bernstein_derivative(n, i, t, k)).collect()
 }
 

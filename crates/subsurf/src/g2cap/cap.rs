@@ -34,7 +34,7 @@ pub struct OuterPatches {
 /// `pₐ₇ = q₀,ₐ`, `pₐ₆ = pₐ₇ - q₁,ₐ/7`, `pₐ₅ = q₂,ₐ/42 - pₐ₇ + 2pₐ₆`.
 /// Returns the largest disagreement of the two edges on the corner block (zero up to
 /// rounding: the transitions agree at the outer corner to second order).
-pub fn outer_rows(tr: &Transitions, outer: &OuterPatches, points: &mut [[f64; 3]]) -> f64 {
+pub(crate) fn outer_rows(tr: &Transitions, outer: &OuterPatches, points: &mut [[f64; 3]]) -> f64 {
     // Interpolation matrix at Chebyshev points; its inverse maps values to Bézier points.
     let c = DMatrix::from_fn(8, 8, |m, a| bernstein(7, a as isize, chebyshev(8, m)));
     let inv = c.try_inverse().unwrap_or_else(|| DMatrix::identity(8, 8));

@@ -27,7 +27,7 @@ fn gram(m: usize) -> Vec<Vec<f64>> {
 
 /// The Hessian (as a dense row-major `(d+1)² × (d+1)²` matrix, indices `i·(d+1) + j`) of
 /// `E` for one patch of degree `d ≥ 4`: `E(P) = Σ pₐ·pᵦ Hₐᵦ` per coordinate.
-pub fn patch_hessian(d: usize) -> Vec<f64> {
+pub(crate) fn patch_hessian(d: usize) -> Vec<f64> {
     assert!(d >= 4, "the energy needs degree ≥ 4");
     let g = gram(d);
     let g4 = gram(d - 4);

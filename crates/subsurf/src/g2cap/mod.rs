@@ -32,7 +32,7 @@
 //!    quadratic (they raise the identity to degree 9, which only removes freedom).
 //! 2. **The EV** (`t = 0`): the tangent plane must be well defined, i.e. going around the
 //!    vertex the linear parts `[[0, -1], [1, α(0)]]` must compose to the identity. Their
-//!    eigenvalues are `e^{±2πi/n}` iff `α(0) = 2c` (tested in [`transition`]).
+//!    eigenvalues are `e^{±2πi/n}` iff `α(0) = 2c` (tested in `transition`).
 //! 3. **The other end** (`t = 1`, a regular vertex `V` where cap patches `i`, `i+1` and
 //!    two bicubics meet). The outer conditions fix the 2-jets of the caps along the outer
 //!    edges, hence all derivatives `∂ᵤᵃ∂ᵥᵇ` with `b ≤ 2` of `Pᵢ` at `V` (and `a ≤ 2` of
@@ -77,8 +77,8 @@
 //!
 //! # Construction
 //! The outer rows of control points (three per outer edge) follow explicitly from the
-//! bicubic neighbours ([`cap::outer_rows`]); the inner `5×5` blocks minimise the energy of
-//! [`energy`] (zero exactly for bicubics, so valence 4 gives back the B-spline patches)
+//! bicubic neighbours (`cap::outer_rows`); the inner `5×5` blocks minimise the energy of
+//! `energy` (zero exactly for bicubics, so valence 4 gives back the B-spline patches)
 //! under the inner G2 conditions. The system commutes with the rotation of the sectors,
 //! so [`CapSolver`] solves it per Fourier frequency of the sector index (`⌊n/2⌋ + 1`
 //! systems of at most 50 unknowns, once per valence), after eliminating the rows that

@@ -197,7 +197,7 @@ pub struct Uncapped {
 /// cap at every interior smooth extraordinary vertex of valence 3..=16 and at the centre
 /// of every interior `n`-gon ([`new`](Self::new)); or the same for the mixed
 /// (shape-adjustable) surface ([`new`](Self::new) with [`Scheme::Adjustable`]). See the
-/// [module docs](self) for the layout.
+/// module docs for the layout.
 #[derive(Clone, Debug)]
 pub struct G2Surface {
     limit: LimitSurface,
@@ -224,7 +224,7 @@ impl G2Surface {
     /// the shape-adjustable scheme with parameter `c`, then Catmull-Clark) the surrounding
     /// surface is the mixed surface ([`MixedSurface`]: the bicubic B-spline of the
     /// `c`-refined net), evaluated at the input's `(face, u, v)`, and the isolation level is
-    /// raised to at least `k + 1` (see the [module docs](self)); with `c = ½` or `k = 0` it
+    /// raised to at least `k + 1` (see the module docs); with `c = ½` or `k = 0` it
     /// is the Catmull-Clark surface and the result is exactly Catmull-Clark's (with no
     /// [`mixed`](Self::mixed) surface).
     ///

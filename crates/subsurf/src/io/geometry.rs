@@ -43,11 +43,11 @@ pub enum GeometryFileError {
     },
 }
 
-/// Reads the curves and surfaces of a JSON or OBJ file (see the [module
-/// documentation](self)); `-` reads standard input.
+/// Reads the curves and surfaces of a JSON or OBJ file (see the module
+/// documentation of `io::geometry`); `-` reads standard input.
 ///
 /// # Errors
-/// [`GeometryFileError`]: unreadable file, malformed content (naming line or field), or no
+/// `GeometryFileError`: unreadable file, malformed content (naming line or field), or no
 /// curve or surface at all.
 pub fn read_geometry(path: &Path) -> Result<Vec<SourcedGeometry>, GeometryFileError> {
     let name = if path.as_os_str() == "-" {

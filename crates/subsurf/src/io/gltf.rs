@@ -56,16 +56,16 @@ use serde_json::Value;
 use crate::render::Up;
 
 /// GLB magic, `glTF` read as a little-endian `u32`.
-pub const GLB_MAGIC: u32 = 0x4654_6C67;
+pub(crate) const GLB_MAGIC: u32 = 0x4654_6C67;
 /// Chunk type of the JSON chunk (`JSON`).
 pub const CHUNK_JSON: u32 = 0x4E4F_534A;
 /// Chunk type of the binary chunk (`BIN\0`).
 pub const CHUNK_BIN: u32 = 0x004E_4942;
 
 /// Name of the surface node when [`GlbMesh::name`] is empty.
-pub const SURFACE_NAME: &str = "surface";
+pub(crate) const SURFACE_NAME: &str = "surface";
 /// Name of the control-mesh node.
-pub const CONTROL_MESH_NAME: &str = "control mesh";
+pub(crate) const CONTROL_MESH_NAME: &str = "control mesh";
 
 /// A polygon surface, and optionally line segments drawn with it, to write with
 /// [`write_glb`]. All slices are borrowed; nothing is copied until written.
@@ -88,11 +88,11 @@ pub struct GlbMesh<'a> {
     /// Line segments written as a second node, `"control mesh"`.
     pub control: Option<GlbLines<'a>>,
     /// Which axis of `positions` (and `normals`, and the control mesh's positions) points
-    /// up: `Z` (the default) is turned to glTF's `+Y` ([module docs](self), "Up axis").
+    /// up: `Z` (the default) is turned to glTF's `+Y` (module docs, "Up axis").
     pub up: Up,
 }
 
-/// `p` in glTF's frame, for a mesh whose up axis is `up` ([module docs](self)).
+/// `p` in glTF's frame, for a mesh whose up axis is `up` (module docs).
 pub fn to_gltf_frame(p: [f64; 3], up: Up) -> [f64; 3] {
     match up {
         Up::Z => [p[0], p[2], -p[1]],
@@ -129,7 +129,7 @@ pub fn face_edges(face_offsets: &[u32], face_verts: &[u32]) -> Vec<[u32; 2]> {
     edges
 }
 
-/// Writes `mesh` as a binary glTF 2.0 file (see the [module docs](self)).
+/// Writes `mesh` as a binary glTF 2.0 file (see the module docs).
 ///
 /// # Errors
 /// Errors of `w`; [`io::ErrorKind::InvalidInput`] when the CSR arrays are inconsistent, a

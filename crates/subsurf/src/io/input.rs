@@ -36,9 +36,9 @@ pub const BLOCK: usize = 1 << 20;
 /// The format a mesh was read from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum MeshFormat {
-    /// Wavefront OBJ ([`crate::io::obj`]).
+    /// Wavefront OBJ (`crate::io::obj`).
     Obj,
-    /// PLY ([`crate::io::ply`]) in the given encoding.
+    /// PLY (`crate::io::ply`) in the given encoding.
     Ply(PlyEncoding),
 }
 
@@ -119,7 +119,7 @@ pub enum ReadMeshError {
 }
 
 /// Reads the mesh in the file at `path` (its name as displayed in messages), refused
-/// when it would need more than `limit` bytes (see the [module docs](self)).
+/// when it would need more than `limit` bytes (see the module docs).
 ///
 /// # Errors
 /// [`ReadMeshError`]: the file cannot be read, is not valid OBJ or PLY (the first problem,
@@ -139,7 +139,7 @@ pub fn read_mesh(path: &Path, limit: Option<u64>) -> Result<MeshFile, ReadMeshEr
 /// Reads a mesh from `reader` (`name` in messages; its extension, if any, helps tell the
 /// format), of `size` bytes when known, refused when it would need more than `limit`
 /// bytes: in blocks of [`BLOCK`] bytes, each checked as it arrives (see the
-/// [module docs](self)), so that a stream of anything but text stops at its first block.
+/// module docs), so that a stream of anything but text stops at its first block.
 ///
 /// # Errors
 /// As [`read_mesh`]; a `size` above `limit` is refused before anything is read.

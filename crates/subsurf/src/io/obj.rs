@@ -52,7 +52,7 @@ use crate::mesh::{
 };
 
 mod describe;
-pub mod freeform;
+pub(crate) mod freeform;
 mod groups;
 mod read;
 mod write;

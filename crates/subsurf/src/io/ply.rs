@@ -37,7 +37,7 @@ pub use read::{parse_ply, PlyEncoding, PlyError, PlyFile, MAX_HEADER};
 
 use std::io::{self, Write};
 
-/// Writes a polygon mesh as binary little-endian PLY (see the [module docs](self)).
+/// Writes a polygon mesh as binary little-endian PLY (see the module docs).
 ///
 /// Faces are in CSR form: face `f` has the vertices
 /// `face_verts[face_offsets[f] .. face_offsets[f + 1]]`.

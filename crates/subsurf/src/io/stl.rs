@@ -14,7 +14,7 @@ use std::io::{self, Write};
 
 use super::ply::check_faces;
 
-/// Writes a polygon mesh as binary STL (see the [module docs](self)).
+/// Writes a polygon mesh as binary STL (see the module docs).
 ///
 /// Faces are in CSR form (face `f` has the vertices
 /// `face_verts[face_offsets[f] .. face_offsets[f + 1]]`); a face with more than three

@@ -69,12 +69,12 @@ impl CornerLimit {
 
     /// The vectors that are linear in the control points, in a fixed order
     /// (`p, a, b, t1, t2`).
-    pub fn vectors(&self) -> [V3; 5] {
+    pub(super) fn vectors(&self) -> [V3; 5] {
         [self.p, self.a, self.b, self.t1, self.t2]
     }
 
     /// The same mode and frame with other vectors (in [`Self::vectors`]' order).
-    pub fn with_vectors(&self, v: [V3; 5]) -> Self {
+    pub(super) fn with_vectors(&self, v: [V3; 5]) -> Self {
         CornerLimit {
             p: v[0],
             a: v[1],
@@ -89,7 +89,7 @@ impl CornerLimit {
     /// [`LimitSurface`](super::LimitSurface) docs): the limit position, and as `du`, `dv`
     /// the tangent vectors along the face's `u` and `v` edges, projected onto the exact
     /// tangent plane; second derivatives zero.
-    pub fn finish(&self) -> Derivatives {
+    pub(super) fn finish(&self) -> Derivatives {
         let (a, b) = match self.mode {
             TangentMode::Masks => (self.t1, self.t2),
             TangentMode::Plane => (

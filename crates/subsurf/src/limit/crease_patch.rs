@@ -65,7 +65,7 @@ pub(super) struct CreaseBasis {
 
 impl CreaseBasis {
     /// The basis for sharpness `s` (semi-sharp: `0 < s < 10`).
-    pub fn new(s: f32) -> Self {
+    pub(super) fn new(s: f32) -> Self {
         // Level points m = -1..=3 (index m + 1) as weights on the rows m = -1..=2.
         let mut pts = [[0.0; 4]; 5];
         for (m, p) in pts.iter_mut().take(4).enumerate() {
@@ -158,7 +158,7 @@ pub(super) struct CreasePatch {
 impl CreasePatch {
     /// The patch with control net `cp[i][j]` (`i` along `u`), crease side `side` and
     /// basis `basis`.
-    pub fn from_net(cp: &[[[f64; 3]; 4]; 4], side: usize, basis: Arc<CreaseBasis>) -> Self {
+    pub(super) fn from_net(cp: &[[[f64; 3]; 4]; 4], side: usize, basis: Arc<CreaseBasis>) -> Self {
         let mut patch = CreasePatch {
             net: Default::default(),
             side,
@@ -169,7 +169,7 @@ impl CreasePatch {
     }
 
     /// Sets the control net `cp[i][j]` (`i` along `u`), keeping the side and the basis.
-    pub fn set_net(&mut self, cp: &[[[f64; 3]; 4]; 4]) {
+    pub(super) fn set_net(&mut self, cp: &[[[f64; 3]; 4]; 4]) {
         // cp[i][j]: i along u, j along v. Map to net[a][m].
         // Plain loops of copies: nested `array::from_fn` built each point in a temporary
         // and read it back across two stores (a stalled store forward per point).

@@ -115,7 +115,7 @@ use std::sync::{Arc, Mutex, OnceLock};
 /// re-posed evaluation through trees takes half the time of one through regions at
 /// valence 64, as a region keeps its topology across positions but interpolates its
 /// points level by level again, where a tree keeps its refinement as weights.
-pub const HIGH_VALENCE: usize = 128;
+pub(super) const HIGH_VALENCE: usize = 128;
 
 /// A face of more than this many corners (an eighth of [`HIGH_VALENCE`]) shares a region
 /// with the faces whose 1-ring holds it (see the module docs, "Large faces").
@@ -125,7 +125,7 @@ pub const HIGH_VALENCE: usize = 128;
 /// whose `n` sub-faces each cut out the `n` faces around its centre: `O(n²)` per level,
 /// which a configuration shared by few faces does not repay (a lone 128-gon took 0.5 s to
 /// tessellate at rate 16 so, 0.02 s in a region).
-pub const LARGE_FACE: usize = HIGH_VALENCE / 8;
+pub(super) const LARGE_FACE: usize = HIGH_VALENCE / 8;
 
 /// Whether vertex `v` of `t` has too many faces for per-face cut-outs (see
 /// [`HIGH_VALENCE`]; `high_valence` is its value, or `usize::MAX` in tests).
@@ -142,7 +142,7 @@ pub(super) fn is_large_face(t: &Topology, f: usize, large_face: usize) -> bool {
 /// What a shared region is cut around (module docs): a vertex of high valence, or a large
 /// face.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Seed {
+pub(super) enum Seed {
     /// A vertex of more than [`HIGH_VALENCE`] faces (a quarter of that on a boundary or
     /// at a non-manifold vertex).
     Vertex(u32),
@@ -175,7 +175,7 @@ fn is_sectored(t: &Topology, v: usize) -> bool {
 /// How far the cut-outs of a level reach: where faces share regions, and whether they
 /// hold the far ends of semi-sharp edges (see the module docs, "Chaikin's rule").
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Reach {
+pub(super) struct Reach {
     /// Valence above which faces share regions (normally [`HIGH_VALENCE`]; `usize::MAX`
     /// in tests: every face on its own).
     pub high_valence: usize,
@@ -201,14 +201,14 @@ impl Default for Reach {
 
 impl Reach {
     /// The default [`HIGH_VALENCE`] and [`LARGE_FACE`] with the crease rule of `options`.
-    pub fn new(options: &Options) -> Self {
+    pub(super) fn new(options: &Options) -> Self {
         Self::with_high_valence(options, HIGH_VALENCE)
     }
 
     /// Regions around vertices of more than `high_valence` faces and faces of more than an
     /// eighth of that many corners ([`HIGH_VALENCE`] and [`LARGE_FACE`]; `usize::MAX`:
     /// none), with the crease rule of `options`.
-    pub fn with_high_valence(options: &Options, high_valence: usize) -> Self {
+    pub(super) fn with_high_valence(options: &Options, high_valence: usize) -> Self {
         Reach {
             high_valence,
             large_face: high_valence / (HIGH_VALENCE / LARGE_FACE),
@@ -229,7 +229,7 @@ impl Reach {
 }
 
 /// Value cached per corner of a shared region (see [`Shape::eigen`]).
-pub type CornerCache<T> = Mutex<HashMap<(u32, u32), Arc<OnceLock<T>>>>;
+pub(super) type CornerCache<T> = Mutex<HashMap<(u32, u32), Arc<OnceLock<T>>>>;
 
 /// The part of a cut-out (or of a refined cut-out) that does not depend on the positions:
 /// its topology and, for a region shared around a high-valence vertex, everything derived
@@ -238,7 +238,7 @@ pub type CornerCache<T> = Mutex<HashMap<(u32, u32), Arc<OnceLock<T>>>>;
 /// across [`set_positions`](super::LimitSurface::set_positions), so re-posing a face near
 /// such a vertex only interpolates the region's points, level by level.
 #[derive(Debug, Default)]
-pub struct Shape {
+pub(super) struct Shape {
     /// The cut-out topology.
     pub topo: Topology,
     /// How far cut-outs of it reach.
@@ -267,11 +267,11 @@ pub struct Shape {
 
 /// Shapes of the regions cut around the high-valence vertices of one level, by vertex.
 #[derive(Debug, Default)]
-pub struct ShapeCache(Mutex<HashMap<Seed, Arc<OnceLock<Arc<Shape>>>>>);
+pub(super) struct ShapeCache(Mutex<HashMap<Seed, Arc<OnceLock<Arc<Shape>>>>>);
 
 /// A cut-out (or a whole refined cut-out) with positions: a [`Shape`] and its points.
 #[derive(Debug, Default)]
-pub struct Region {
+pub(super) struct Region {
     /// The topology and what derives from it.
     pub shape: Arc<Shape>,
     /// Positions of its vertices.
@@ -285,7 +285,11 @@ pub struct Region {
 }
 
 /// The value of `key` in `cache`, computed by `make` the first time.
-pub fn cached<T: Clone>(cache: &CornerCache<T>, key: (u32, u32), make: impl FnOnce() -> T) -> T {
+pub(super) fn cached<T: Clone>(
+    cache: &CornerCache<T>,
+    key: (u32, u32),
+    make: impl FnOnce() -> T,
+) -> T {
     cell(cache, key).get_or_init(make).clone()
 }
 
@@ -300,11 +304,11 @@ pub(super) fn cell<K: std::hash::Hash + Eq, T, S: std::hash::BuildHasher>(
 
 /// Regions cut around high-valence vertices of one level, by vertex.
 #[derive(Debug, Default)]
-pub struct RegionCache(Mutex<HashMap<Seed, Arc<OnceLock<Arc<Region>>>>>);
+pub(super) struct RegionCache(Mutex<HashMap<Seed, Arc<OnceLock<Arc<Region>>>>>);
 
 /// A face of a region.
 #[derive(Clone, Debug)]
-pub struct Local {
+pub(super) struct Local {
     /// The region.
     pub region: Arc<Region>,
     /// The face of interest in it (its vertex order is the original face's).
@@ -313,7 +317,7 @@ pub struct Local {
 
 /// A level to cut from: its topology, positions and the caches of its shared regions.
 #[derive(Clone, Copy)]
-pub struct LevelRef<'a> {
+pub(super) struct LevelRef<'a> {
     /// Topology.
     pub topo: &'a Topology,
     /// Positions.
@@ -334,7 +338,7 @@ pub struct LevelRef<'a> {
 
 impl<'a> LevelRef<'a> {
     /// The base level of a surface, with what its faces share.
-    pub fn new(
+    pub(super) fn new(
         topo: &'a Topology,
         pos: &'a [[f64; 3]],
         shared: &'a Shared,
@@ -379,7 +383,7 @@ impl Shape {
     /// A shape to be evaluated with many sets of points (unit vectors, to find an
     /// evaluation's weights): shared, so that the analyses of its corners and its
     /// refinements are computed once for all of them.
-    pub fn probed(topo: Topology) -> Arc<Self> {
+    pub(super) fn probed(topo: Topology) -> Arc<Self> {
         Arc::new(Self::shared(topo, Reach::default(), None))
     }
 
@@ -403,12 +407,12 @@ impl Shape {
 
 impl Region {
     /// A whole level as a region of its own, not shared.
-    pub fn whole(topo: Topology, pos: Vec<[f64; 3]>, reach: Reach) -> Self {
+    pub(super) fn whole(topo: Topology, pos: Vec<[f64; 3]>, reach: Reach) -> Self {
         Self::new(Arc::new(Shape::own(topo, reach)), pos)
     }
 
     /// Shape `shape` with points `pos`.
-    pub fn new(shape: Arc<Shape>, pos: Vec<[f64; 3]>) -> Self {
+    pub(super) fn new(shape: Arc<Shape>, pos: Vec<[f64; 3]>) -> Self {
         Self {
             shape,
             pos,
@@ -417,7 +421,7 @@ impl Region {
     }
 
     /// This region as a level to cut from.
-    pub fn level(&self) -> LevelRef<'_> {
+    pub(super) fn level(&self) -> LevelRef<'_> {
         LevelRef {
             topo: &self.shape.topo,
             pos: &self.pos,
@@ -439,14 +443,14 @@ impl Region {
     }
 
     /// Whether this region is shared by many faces (and caches its work).
-    pub fn is_shared(&self) -> bool {
+    pub(super) fn is_shared(&self) -> bool {
         self.shape.shared
     }
 
     /// The region refined one level (full topology, positions by the level's rules):
     /// computed once for a shared region (whose refined shape is kept across positions),
     /// afresh otherwise.
-    pub fn refined(&self, options: &Options) -> Arc<Region> {
+    pub(super) fn refined(&self, options: &Options) -> Arc<Region> {
         let make = || {
             let child = self.shape.refined(options);
             let mut cpos = vec![[0.0; 3]; child.topo.num_vertices()];
@@ -463,22 +467,22 @@ impl Region {
 
 impl Local {
     /// The region's topology.
-    pub fn topo(&self) -> &Topology {
+    pub(super) fn topo(&self) -> &Topology {
         &self.region.shape.topo
     }
 
     /// The region's positions.
-    pub fn pos(&self) -> &[[f64; 3]] {
+    pub(super) fn pos(&self) -> &[[f64; 3]] {
         &self.region.pos
     }
 
     /// Index of the face's child at its corner `j` in the refined region.
-    pub fn child_face(&self, j: usize) -> usize {
+    pub(super) fn child_face(&self, j: usize) -> usize {
         self.topo().face_offsets()[self.face] as usize + j
     }
 
     /// The face's child at its corner `k`, in the region refined one level.
-    pub fn child(&self, k: usize, options: &Options) -> Local {
+    pub(super) fn child(&self, k: usize, options: &Options) -> Local {
         Local {
             face: self.child_face(k),
             region: self.region.refined(options),
@@ -489,7 +493,7 @@ impl Local {
 /// What a face of a level is, as far as its limit surface goes: found from the topology
 /// alone, so a shared region finds it once for all positions.
 #[derive(Debug)]
-pub enum FaceKind {
+pub(super) enum FaceKind {
     /// A hole: no surface.
     Hole,
     /// A regular patch with this control net.
@@ -507,7 +511,7 @@ pub enum FaceKind {
 
 impl FaceKind {
     /// What face `f` of `level` is.
-    pub fn find(level: LevelRef<'_>, f: usize) -> FaceKind {
+    pub(super) fn find(level: LevelRef<'_>, f: usize) -> FaceKind {
         if level.topo.is_hole(f) {
             return FaceKind::Hole;
         }
@@ -526,7 +530,7 @@ impl FaceKind {
 }
 
 /// The cut-out of `faces` of `level`, the face of interest first.
-pub fn own_cut(level: LevelRef<'_>, faces: &[u32]) -> Local {
+pub(super) fn own_cut(level: LevelRef<'_>, faces: &[u32]) -> Local {
     let (topo, verts) = level.topo.subset(faces);
     let pos = verts.iter().map(|&v| level.pos[v as usize]).collect();
     Local {
@@ -537,7 +541,7 @@ pub fn own_cut(level: LevelRef<'_>, faces: &[u32]) -> Local {
 
 /// Face `f` of `level` in the shared region of `seed` (a vertex or face its 1-ring
 /// reaches).
-pub fn region_cut(level: LevelRef<'_>, f: usize, seed: Seed) -> Local {
+pub(super) fn region_cut(level: LevelRef<'_>, f: usize, seed: Seed) -> Local {
     let region = cell(&level.cache.0, seed)
         .get_or_init(|| {
             let shape = cell(&level.shapes.0, seed)

@@ -101,7 +101,7 @@ pub(super) struct Budget {
 
 impl Budget {
     /// Whether `configurations` configurations take the build over its limit.
-    pub fn exceeded_by(self, configurations: usize) -> bool {
+    pub(super) fn exceeded_by(self, configurations: usize) -> bool {
         self.fixed
             .saturating_add(configuration_bytes(configurations, 2))
             > self.limit

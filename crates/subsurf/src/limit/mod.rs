@@ -1,6 +1,6 @@
 //! Limit positions, tangents and normals of the vertices of a refined level, from
-//! OpenSubdiv's limit masks ([`crate::scheme::catmark::limit_position_mask`],
-//! [`crate::scheme::catmark::limit_tangent_masks`]), as `PrimvarRefiner::Limit` does.
+//! OpenSubdiv's limit masks (`crate::scheme::catmark::limit_position_mask`,
+//! `crate::scheme::catmark::limit_tangent_masks`), as `PrimvarRefiner::Limit` does.
 //!
 //! The masks assume that every face around a vertex is a quad, which holds at every level
 //! after the first. At a semi-sharp feature the mask of the vertex's *current* rule is
@@ -45,7 +45,7 @@ use crate::scheme::catmark::{self, VertexMask};
 pub type Tangents<'a, const D: usize> = (&'a mut [[f64; D]], &'a mut [[f64; D]]);
 
 /// Limit positions of the vertices of `level` (values `src`), and, when `tangents` is
-/// given, the two limit tangents (see [`catmark::limit_tangent_masks`] for their
+/// given, the two limit tangents (see `catmark::limit_tangent_masks` for their
 /// directions). Isolated vertices keep their position and get zero tangents.
 pub fn limit_points<const D: usize>(
     level: &Topology,

@@ -69,7 +69,7 @@ impl NodeRows {
     /// child vertices `verts`, with each column `c` (a vertex of `t`) mapped to `cols(c)`,
     /// the point the node is evaluated on; zero weights left out. The weights are
     /// interned in `pool`.
-    pub fn refinement(
+    pub(super) fn refinement(
         t: &Topology,
         child: &Topology,
         options: &Options,
@@ -133,7 +133,7 @@ impl NodeRows {
     /// they all fit: row `r` computes slot `r` from columns `cols[starts[r]..starts[r +
     /// 1]]` with the weights of class `class[r]`. The classes are `weights` one after the
     /// other, class `k` of length `lengths[k]`.
-    pub fn new(
+    pub(super) fn new(
         starts: &[u32],
         cols: &[u32],
         class: &[u32],
@@ -155,7 +155,7 @@ impl NodeRows {
     }
 
     /// Number of rows.
-    pub fn len(&self) -> usize {
+    pub(super) fn len(&self) -> usize {
         match self {
             NodeRows::Tiny(r) => r.len as usize,
             NodeRows::Narrow(r) => r.len as usize,
@@ -167,7 +167,7 @@ impl NodeRows {
     ///
     /// # Panics
     /// If `pos` holds fewer points than the rows read.
-    pub fn apply(&self, pos: &[[f64; 3]], out: &mut Vec<[f64; 3]>) {
+    pub(super) fn apply(&self, pos: &[[f64; 3]], out: &mut Vec<[f64; 3]>) {
         out.resize(self.len(), [0.0; 3]);
         match self {
             NodeRows::Tiny(r) => r.apply(pos, out),
@@ -178,7 +178,7 @@ impl NodeRows {
 
     /// The weights the rows read (shared with the nodes that have the same classes).
     #[cfg(test)]
-    pub fn weights(&self) -> &Arc<[f64]> {
+    pub(super) fn weights(&self) -> &Arc<[f64]> {
         match self {
             NodeRows::Tiny(r) => &r.weights,
             NodeRows::Narrow(r) => &r.weights,
@@ -265,7 +265,7 @@ impl<I: Index> RowsOf<I> {
     ///
     /// # Panics
     /// If `pos` holds fewer points than the rows read, or `out` is not one per row.
-    pub fn apply(&self, pos: &[[f64; 3]], out: &mut [[f64; 3]]) {
+    pub(super) fn apply(&self, pos: &[[f64; 3]], out: &mut [[f64; 3]]) {
         assert!(
             self.reach as usize <= 3 * pos.len() && out.len() == self.len as usize,
             "rows applied to too few points, or into the wrong number"
@@ -284,7 +284,7 @@ impl<I: Index> RowsOf<I> {
     }
 
     /// [`apply`](Self::apply) without vector instructions.
-    pub fn apply_portable(&self, pos: &[[f64; 3]], out: &mut [[f64; 3]]) {
+    pub(super) fn apply_portable(&self, pos: &[[f64; 3]], out: &mut [[f64; 3]]) {
         let (pos, out) = (pos.as_flattened(), out.as_flattened_mut());
         for (w, l, rows) in self.groups() {
             for row in rows.chunks_exact(l + 1) {
@@ -408,7 +408,7 @@ type WeightMap = HashMap<u64, Vec<Arc<[f64]>>, BuildHasherDefault<FxHasher>>;
 
 impl WeightPool {
     /// The pool's array equal to `weights`, added the first time.
-    pub fn intern(&self, weights: &[f64]) -> Arc<[f64]> {
+    pub(super) fn intern(&self, weights: &[f64]) -> Arc<[f64]> {
         let hash = {
             let mut h = FxHasher::default();
             weights.iter().for_each(|w| h.write_u64(w.to_bits()));
@@ -426,7 +426,7 @@ impl WeightPool {
 
     /// Number of distinct arrays.
     #[cfg(test)]
-    pub fn len(&self) -> usize {
+    pub(super) fn len(&self) -> usize {
         super::lock(&self.0).values().map(Vec::len).sum()
     }
 }

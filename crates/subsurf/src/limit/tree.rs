@@ -103,7 +103,7 @@ impl KidNet {
 
 impl Kid {
     /// The control points of a regular kid whose parent's refined points are `refined`.
-    pub fn patch(&self, refined: &[[f64; 3]]) -> Option<[[[f64; 3]; 4]; 4]> {
+    pub(super) fn patch(&self, refined: &[[f64; 3]]) -> Option<[[[f64; 3]; 4]; 4]> {
         match self {
             Kid::Regular(net) => Some(net.eval(refined)),
             _ => None,
@@ -112,7 +112,7 @@ impl Kid {
 
     /// The control net `cp[i][j]` of a crease kid whose parent's refined points are
     /// `refined`.
-    pub fn crease_net(&self, refined: &[[f64; 3]]) -> Option<[[[f64; 3]; 4]; 4]> {
+    pub(super) fn crease_net(&self, refined: &[[f64; 3]]) -> Option<[[[f64; 3]; 4]; 4]> {
         match self {
             Kid::Crease(net, ..) => Some(net.eval(refined)),
             _ => None,
@@ -121,7 +121,7 @@ impl Kid {
 
     /// The single-crease patch of a crease kid whose parent's refined points are
     /// `refined`.
-    pub fn crease_patch(&self, refined: &[[f64; 3]]) -> Option<CreasePatch> {
+    pub(super) fn crease_patch(&self, refined: &[[f64; 3]]) -> Option<CreasePatch> {
         match self {
             Kid::Crease(net, side, basis) => Some(CreasePatch::from_net(
                 &net.eval(refined),
@@ -159,17 +159,17 @@ pub(super) struct Kids {
 
 impl Kids {
     /// The children.
-    pub fn kids(&self) -> &[Kid] {
+    pub(super) fn kids(&self) -> &[Kid] {
         &self.kids
     }
 
     /// The refined points of a node evaluated on `pos`, into `out`.
-    pub fn refine_into(&self, pos: &[[f64; 3]], out: &mut Vec<[f64; 3]>) {
+    pub(super) fn refine_into(&self, pos: &[[f64; 3]], out: &mut Vec<[f64; 3]>) {
         self.rows.apply(pos, out);
     }
 
     /// The refined points of a node evaluated on `pos`.
-    pub fn refine(&self, pos: &[[f64; 3]]) -> Vec<[f64; 3]> {
+    pub(super) fn refine(&self, pos: &[[f64; 3]]) -> Vec<[f64; 3]> {
         let mut out = Vec::new();
         self.refine_into(pos, &mut out);
         out
@@ -387,7 +387,7 @@ pub(super) struct TreeCache {
 impl TreeCache {
     /// An empty cache; with `crease_patches` false, single-crease faces are refined
     /// further like any irregular face instead of becoming [`CreasePatch`]es.
-    pub fn new(crease_patches: bool) -> Self {
+    pub(super) fn new(crease_patches: bool) -> Self {
         TreeCache {
             no_crease_patches: !crease_patches,
             ..TreeCache::default()
@@ -396,7 +396,7 @@ impl TreeCache {
 
     /// The tree of the configuration whose root cut-out is `topo` (face 0), built the
     /// first time.
-    pub fn get(&self, topo: Topology) -> Arc<Tree> {
+    pub(super) fn get(&self, topo: Topology) -> Arc<Tree> {
         let packed = PackedTopology::new(&topo);
         debug_assert!(
             {
@@ -429,7 +429,7 @@ impl TreeCache {
     }
 
     /// Number of configurations.
-    pub fn len(&self) -> usize {
+    pub(super) fn len(&self) -> usize {
         self.count.load(Ordering::Relaxed)
     }
 }
@@ -491,12 +491,12 @@ impl Scratch {
 
     /// The buffer of a cut-out's points, taken out (put it back with
     /// [`put_cut`](Self::put_cut)).
-    pub fn take_cut(&mut self) -> Vec<[f64; 3]> {
+    pub(super) fn take_cut(&mut self) -> Vec<[f64; 3]> {
         std::mem::take(&mut self.cut)
     }
 
     /// Puts back the buffer [`take_cut`](Self::take_cut) took out.
-    pub fn put_cut(&mut self, buffer: Vec<[f64; 3]>) {
+    pub(super) fn put_cut(&mut self, buffer: Vec<[f64; 3]>) {
         self.cut = buffer;
     }
 }
@@ -504,7 +504,7 @@ impl Scratch {
 impl Tree {
     /// The root's children (sub-faces of an `n`-gon root; quadrants of a quad), which
     /// read the refined points of its cut-out ([`Kids::refine`]).
-    pub fn root_kids(&self, options: &Options) -> &Kids {
+    pub(super) fn root_kids(&self, options: &Options) -> &Kids {
         self.root.kids(options, |_| false, &Way::Root(self))
     }
 
@@ -513,7 +513,7 @@ impl Tree {
     /// face whose parameters the derivatives are scaled to) — writing each result into
     /// `sink`. Reorders `queries`.
     #[allow(clippy::too_many_arguments)]
-    pub fn eval(
+    pub(super) fn eval(
         &self,
         pos: &[[f64; 3]],
         sub: Option<usize>,

@@ -5,29 +5,29 @@
 
 use super::Rule;
 
-pub use super::SHARPNESS_INFINITE;
+pub(crate) use super::SHARPNESS_INFINITE;
 
 /// `s > 0`.
 #[inline]
-pub fn is_sharp(s: f32) -> bool {
+pub(crate) fn is_sharp(s: f32) -> bool {
     s > 0.0
 }
 
 /// `s <= 0`.
 #[inline]
-pub fn is_smooth(s: f32) -> bool {
+pub(crate) fn is_smooth(s: f32) -> bool {
     s <= 0.0
 }
 
 /// `s >= 10`.
 #[inline]
-pub fn is_infinite(s: f32) -> bool {
+pub(crate) fn is_infinite(s: f32) -> bool {
     s >= SHARPNESS_INFINITE
 }
 
 /// `0 < s < 10`.
 #[inline]
-pub fn is_semi_sharp(s: f32) -> bool {
+pub(crate) fn is_semi_sharp(s: f32) -> bool {
     s > 0.0 && s < SHARPNESS_INFINITE
 }
 
@@ -35,7 +35,7 @@ pub fn is_semi_sharp(s: f32) -> bool {
 /// edges: sharp vertex or more than two sharp edges → corner; else smooth, dart, crease
 /// for 0, 1, 2 sharp edges.
 #[inline]
-pub fn vertex_rule(vertex_sharpness: f32, sharp_edges: usize) -> Rule {
+pub(crate) fn vertex_rule(vertex_sharpness: f32, sharp_edges: usize) -> Rule {
     if is_sharp(vertex_sharpness) {
         return Rule::Corner;
     }

@@ -115,7 +115,7 @@ impl Nurss {
 
     /// The limit position of every vertex of the current level (one refinement step of the
     /// level is computed on the way, when it has smooth vertices; see the
-    /// [module documentation](self) for how: closed form on creases and boundaries, iterated
+    /// module documentation for how: closed form on creases and boundaries, iterated
     /// refinement of the vertex's quad fan for smooth vertices). Rational meshes are handled in
     /// homogeneous coordinates and projected at the end.
     pub fn limit_points(&self) -> Vec<[f64; 3]> {

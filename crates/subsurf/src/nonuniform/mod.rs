@@ -26,7 +26,7 @@
 //!   the limit): [`crate::Reposer::new`] with [`Scheme::Nurss`](crate::Scheme::Nurss), and
 //!   the plan underneath, [`crate::refine::RefinePlan::new`].
 //!
-//! The weights are in [`crate::scheme::nurss`], the application to a level in
+//! The weights are in `crate::scheme::nurss`, the application to a level in
 //! `refine::nurss` (which documents how intervals are read, boundaries and sharp
 //! features). Child vertices, faces and edges are numbered as Catmull-Clark's (OpenSubdiv's
 //! order), and with all intervals equal the result is Catmull-Clark's.
@@ -68,7 +68,7 @@ pub(crate) mod tessellate;
 
 use crate::mesh::PolyMesh;
 pub(crate) use crate::refine::nurss::vertex_weights;
-pub use crate::refine::nurss::{Nurss, NurssError, NurssKnots};
+pub use crate::refine::nurss::{Nurss, NurssError};
 
 pub(crate) use limit::LimitRows;
 pub use limit::LIMIT_TOLERANCE;

@@ -66,7 +66,7 @@ pub enum NurssEvalError {
 
 /// Bytes a face's patch takes at most: its rational bicubic span (16 homogeneous and 16
 /// Cartesian points, two knot vectors) and its entry.
-pub const PATCH_BYTES: u64 = 2 << 10;
+pub(crate) const PATCH_BYTES: u64 = 2 << 10;
 
 /// What a face is, for [`NurssSurface`].
 #[derive(Clone, Debug)]
@@ -153,7 +153,7 @@ impl NurssSurface {
         })
     }
 
-    /// Bytes of the patches of `mesh`'s surface, at most: [`PATCH_BYTES`] per face (the
+    /// Bytes of the patches of `mesh`'s surface, at most: `PATCH_BYTES` per face (the
     /// Catmull-Clark surface that faces with equal intervals around them take is
     /// [`LimitSurface`]'s to estimate: [`LimitSurface::estimate_build_memory`]).
     pub fn estimate_patch_memory(mesh: &PolyMesh) -> u64 {

@@ -22,7 +22,7 @@ use crate::mesh::{Options, PolyMesh};
 /// Samples the NURSS limit surface of `mesh` (with its [`PolyMesh::knots`]) at `rate`
 /// segments per input edge, rounded up to a power of two `2^L` (the rate used is in
 /// [`Tessellation::rate`]); with `triangles` each quad is split along its shorter diagonal.
-/// See the [module documentation](mod@crate::nonuniform::tessellate).
+/// See the module documentation.
 ///
 /// # Errors
 /// The errors of [`Nurss::new`]; [`NurssError::TooLarge`] when the refinement would

@@ -71,7 +71,7 @@ pub const CURVE_TYPE: &str = "bspline-curve";
 /// The `type` of a surface document.
 pub const SURFACE_TYPE: &str = "bspline-surface";
 
-/// A curve document (see the [schema](self)).
+/// A curve document (see the schema).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct CurveJson {
@@ -92,7 +92,7 @@ pub struct CurveJson {
     pub closed: bool,
 }
 
-/// A surface document (see the [schema](self)).
+/// A surface document (see the schema).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SurfaceJson {
@@ -247,7 +247,7 @@ impl Curve {
         }
     }
 
-    /// Reads a curve document (see the [schema](self)); numbers are read exactly.
+    /// Reads a curve document (see the schema); numbers are read exactly.
     ///
     /// # Errors
     /// [`NurbsError::JsonSyntax`] for malformed JSON; [`NurbsError::Json`] naming the field
@@ -322,7 +322,7 @@ impl Curve {
 }
 
 impl Surface {
-    /// Reads a surface document (see the [schema](self)); numbers are read exactly.
+    /// Reads a surface document (see the schema); numbers are read exactly.
     ///
     /// # Errors
     /// As [`Curve::from_json_str`].

@@ -29,7 +29,7 @@ use super::NurbsError;
 pub const MAX_DEGREE: usize = 64;
 
 /// A validated knot vector of a given degree: open (`t_0 … t_{N+p}`) or periodic (one period
-/// `u_0 … u_n`, stored unwrapped; see the [module documentation](self)).
+/// `u_0 … u_n`, stored unwrapped; see the module documentation).
 ///
 /// Invariants: degree `1 ≤ p ≤` [`MAX_DEGREE`]; knots finite and non-decreasing; no knot repeated more than
 /// `p + 1` times; a non-empty domain; at least `p + 1` basis functions (open) or `max(p, 2)`
@@ -87,7 +87,7 @@ impl KnotVector {
     /// closed curve with `n` distinct control points (`n ≥ max(p, 2)`).
     ///
     /// Stored unwrapped, `t_{p+i} = u_i`, extended by translating the intervals across the
-    /// seam (see the [module documentation](self)). `u_0` and `u_n` are the same knot (the
+    /// seam (see the module documentation). `u_0` and `u_n` are the same knot (the
     /// seam): its multiplicity is the run `u_0 = u_1 = …` plus the run `… = u_{n-1} = u_n`,
     /// minus one.
     ///

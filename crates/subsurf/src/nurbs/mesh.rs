@@ -41,7 +41,7 @@ pub struct KnotEdge {
 }
 
 /// The control mesh of a bicubic B-spline surface with its knot intervals (see the
-/// [module documentation](self) for the conventions).
+/// module documentation for the conventions).
 #[derive(Clone, Debug, PartialEq)]
 pub struct ControlMesh {
     /// Quads over the control net; vertex `i · nv + j` is `P_{i,j}`.
@@ -59,7 +59,7 @@ pub struct ControlMesh {
 
 impl BSplineSurface<3> {
     /// The control mesh of a bicubic surface with per-edge knot intervals (NURSS, see the
-    /// [module documentation](self)).
+    /// module documentation).
     ///
     /// # Errors
     /// [`NurbsError::BadDegree`] unless both degrees are 3; [`NurbsError::TooFewPoints`] for

@@ -6,15 +6,15 @@
 //!
 //! | module | concept |
 //! |---|---|
-//! | [`knots`] | [`KnotVector`]: validated open and periodic knot vectors, spans, multiplicities, knot intervals |
-//! | [`basis`] | Cox–de Boor basis functions and derivatives (The NURBS Book A2.2, A2.3) |
+//! | `knots` | [`KnotVector`]: validated open and periodic knot vectors, spans, multiplicities, knot intervals |
+//! | `basis` | Cox–de Boor basis functions and derivatives (The NURBS Book A2.2, A2.3) |
 //! | [knot insertion](self#knot-insertion) | Boehm's knot insertion and knot refinement (A5.1, A5.4), cyclic for periodic knots |
-//! | [`curve`] | [`BSplineCurve`], `Σ N_{i,p}(t) P_i` over `[f64; D]` points: de Boor, derivatives, insertion |
-//! | [`nurbs_curve`] | [`NurbsCurve`], rational curves as 4D B-splines; the exact circle (§7.5) |
-//! | [`surface`] | [`BSplineSurface`], tensor-product surfaces, partial derivatives, insertion along `u` / `v` |
-//! | [`nurbs_surface`] | [`NurbsSurface`], rational surfaces; the exact cylinder and torus |
-//! | [`mesh`] | [`ControlMesh`]: bicubic surface → quad mesh + per-edge knot intervals |
-//! | [`json`] | [`Curve`], [`Surface`]: JSON schema, exact reading and writing |
+//! | `curve` | [`BSplineCurve`], `Σ N_{i,p}(t) P_i` over `[f64; D]` points: de Boor, derivatives, insertion |
+//! | `nurbs_curve` | [`NurbsCurve`], rational curves as 4D B-splines; the exact circle (§7.5) |
+//! | `surface` | [`BSplineSurface`], tensor-product surfaces, partial derivatives, insertion along `u` / `v` |
+//! | `nurbs_surface` | [`NurbsSurface`], rational surfaces; the exact cylinder and torus |
+//! | `mesh` | [`ControlMesh`]: bicubic surface → quad mesh + per-edge knot intervals |
+//! | `json` | [`Curve`], [`Surface`]: JSON schema, exact reading and writing |
 //!
 //! References: L. Piegl & W. Tiller, *The NURBS Book*, 2nd ed., Springer 1997 (algorithm and
 //! equation numbers below are theirs); W. Boehm, "Inserting new knots into B-spline curves",

@@ -25,7 +25,7 @@ pub(crate) fn check_triangles(mesh: &PolyMesh) -> Result<(), MeshError> {
 
 /// Interpolates `src` (values at the vertices of the triangle mesh `parent`) to `dst`
 /// (values at the vertices of `child`, its triangle split) with Loop's
-/// masks ([`Loop`], with the rules of [`Rules`]): the edge points first
+/// masks (`Loop`, with the rules of [`Rules`]): the edge points first
 /// (`⅜(v₀ + v₁) + ⅛(o₀ + o₁)` when smooth), then the vertex points
 /// (`(1 − nβₙ) v + βₙ Σ eᵢ` when smooth), as OpenSubdiv's `PrimvarRefiner::Interpolate`.
 ///

@@ -129,7 +129,7 @@ impl Sharp {
 /// its level: a vertex itself, or a phantom point extrapolated across a sharp side
 /// (`2 P₀ − P₁`, or `4 P₀₀ − 2 P₁₀ − 2 P₀₁ + P₁₁` in a corner cell).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Cell {
+pub(crate) struct Cell {
     /// Vertices (the first `len` are used).
     pub verts: [u32; 4],
     /// Their weights (summing to 1).
@@ -171,7 +171,7 @@ impl Cell {
 
     /// The point `Σ wₖ pos[vₖ]` (of any number `D` of components).
     #[inline]
-    pub fn eval<const D: usize>(&self, pos: &[[f64; D]]) -> [f64; D] {
+    pub(crate) fn eval<const D: usize>(&self, pos: &[[f64; D]]) -> [f64; D] {
         let mut acc = [0.0; D];
         for (&v, &w) in self.verts.iter().zip(&self.weights).take(self.len) {
             let p = &pos[v as usize];
@@ -370,7 +370,7 @@ fn sided_cells(v: &[u32; 16], sides: [bool; 4]) -> [[Cell; 4]; 4] {
 
 /// The control points of quad `f`, if it is regular (see the module docs), as
 /// combinations of vertices of `t`: `cells[i][j]`, `i` along `u`, `j` along `v`.
-pub fn regular_patch_cells(t: &Topology, f: usize) -> Option<[[Cell; 4]; 4]> {
+pub(crate) fn regular_patch_cells(t: &Topology, f: usize) -> Option<[[Cell; 4]; 4]> {
     if t.is_hole(f) {
         return None;
     }

@@ -109,7 +109,7 @@ const PAR_MIN_ROWS: usize = 16 * 1024;
 
 /// A precomputed map from base-level values (positions, or any `[f64; D]` primvar) to the
 /// values at the vertices of uniform refinement level `levels`: a chain of sparse matrices,
-/// one per level (see the [module documentation](self) for the layout).
+/// one per level (see the module documentation for the layout).
 ///
 /// ```
 /// use subsurf::mesh::{Options, PolyMesh};

@@ -23,7 +23,7 @@ pub(super) fn axpy<const D: usize>(acc: &mut [f64; D], w: f64, x: &[f64; D]) {
 
 /// Interpolates `src` (values at the vertices of `parent`) to `dst` (values at the
 /// vertices of `child`, the refinement of `parent`) with Catmull-Clark's masks:
-/// [`interpolate_with`] and [`CatmullClark`].
+/// [`interpolate_with`] and `CatmullClark`.
 ///
 /// # Panics
 /// If `src.len() != parent.num_vertices()` or `dst.len() != child.num_vertices()`.

@@ -105,7 +105,7 @@ pub enum Obstruction {
         direction: Direction,
     },
     /// A sign could not be decided exactly (coordinates of magnitude near `1e-135` or
-    /// below, see [`super::exact`]).
+    /// below, see `super::exact`).
     Undecided,
 }
 
@@ -159,13 +159,13 @@ pub enum ConeTest {
 }
 
 /// Whether `d` is exactly the zero vector in `dim`.
-pub fn is_zero(pos: &[[f64; 3]], d: Difference, dim: Dimension) -> bool {
+pub(crate) fn is_zero(pos: &[[f64; 3]], d: Difference, dim: Dimension) -> bool {
     let (a, b) = (pos[d.from as usize], pos[d.to as usize]);
     a[0] == b[0] && a[1] == b[1] && (dim == Dimension::Planar || a[2] == b[2])
 }
 
 /// The cone test on the differences `u` and `v` of `pos` (zero differences are skipped).
-pub fn test_cones(
+pub(crate) fn test_cones(
     pos: &[[f64; 3]],
     dim: Dimension,
     u: &[Difference],

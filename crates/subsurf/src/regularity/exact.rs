@@ -127,7 +127,7 @@ fn exact_sum_of_products(terms: &[([f64; 2], [f64; 2], bool)]) -> Option<Sign> {
 
 /// Sign of the cross product `(a₁ − a₀) × (b₁ − b₀)` of two plane vectors given by their
 /// end points, exactly (see the module docs; `None` only for products below `2⁻⁹⁰⁰`).
-pub fn cross2_sign(a0: [f64; 2], a1: [f64; 2], b0: [f64; 2], b1: [f64; 2]) -> Option<Sign> {
+pub(crate) fn cross2_sign(a0: [f64; 2], a1: [f64; 2], b0: [f64; 2], b1: [f64; 2]) -> Option<Sign> {
     let (ax, ay) = (a1[0] - a0[0], a1[1] - a0[1]);
     let (bx, by) = (b1[0] - b0[0], b1[1] - b0[1]);
     let (l, r) = (ax * by, ay * bx);
@@ -143,7 +143,7 @@ pub fn cross2_sign(a0: [f64; 2], a1: [f64; 2], b0: [f64; 2], b1: [f64; 2]) -> Op
 }
 
 /// Sign of the dot product `(a₁ − a₀) · (b₁ − b₀)` of two plane vectors, exactly.
-pub fn dot2_sign(a0: [f64; 2], a1: [f64; 2], b0: [f64; 2], b1: [f64; 2]) -> Option<Sign> {
+pub(crate) fn dot2_sign(a0: [f64; 2], a1: [f64; 2], b0: [f64; 2], b1: [f64; 2]) -> Option<Sign> {
     let (ax, ay) = (a1[0] - a0[0], a1[1] - a0[1]);
     let (bx, by) = (b1[0] - b0[0], b1[1] - b0[1]);
     let (l, r) = (ax * bx, ay * by);
@@ -159,7 +159,7 @@ pub fn dot2_sign(a0: [f64; 2], a1: [f64; 2], b0: [f64; 2], b1: [f64; 2]) -> Opti
 }
 
 /// Sign of `n · (q₁ − q₀)` for an `f64` vector `n`, exactly.
-pub fn dot3_sign(n: [f64; 3], q0: [f64; 3], q1: [f64; 3]) -> Option<Sign> {
+pub(crate) fn dot3_sign(n: [f64; 3], q0: [f64; 3], q1: [f64; 3]) -> Option<Sign> {
     let mut dot = 0.0;
     let mut mag = 0.0;
     for k in 0..3 {

@@ -130,7 +130,7 @@ impl Frames {
 }
 
 /// The u- and v-differences of a quad `fv` whose u-edge starts at corner `r`.
-pub fn local_differences(fv: &[u32], r: usize) -> ([Difference; 2], [Difference; 2]) {
+pub(crate) fn local_differences(fv: &[u32], r: usize) -> ([Difference; 2], [Difference; 2]) {
     let c = |j: usize| fv[(r + j) % 4];
     let d = |from, to| Difference { from, to };
     (

@@ -28,7 +28,7 @@
 //!
 //! (and the same for `S_v`), with non-negative weights: this is Theorem 1 made local and
 //! explicit. So the tangents of face `f` depend only on the **12 u- and 12 v-differences of
-//! its 4×4 patch neighbourhood** ([`neighbourhood`]); these are the *local cones*.
+//! its 4×4 patch neighbourhood** (`neighbourhood`); these are the *local cones*.
 //! Across a boundary (or infinitely sharp crease) the patch uses phantom points
 //! `P₋₁ = 2P₀ − P₁`. A phantom column's u-difference equals a real one
 //! (`P₀ − P₋₁ = P₁ − P₀`); a phantom row's u-differences are `2Δ₀ − Δ₁`, and absorbing them
@@ -36,7 +36,7 @@
 //! phantom rows on both sides: `1 − v` and `v`). So **only the real differences of the
 //! block are needed**, still with non-negative weights: the boundary handling of the paper,
 //! made exact. The *global cones* of Theorem 3 are all u- and v-differences of the net
-//! under a global `(i, j)` labelling ([`frame`]); every face's local differences are among
+//! under a global `(i, j)` labelling (`frame`); every face's local differences are among
 //! them, so the global certificate implies the local one on every face it covers.
 //!
 //! # A correction to Theorem 3
@@ -44,7 +44,7 @@
 //! *opposite* directions (u-differences along `+x`, v-differences along `−x`: the cones
 //! meet only at the origin, yet every normal is zero), nor a cone that holds a line (two
 //! opposite u-differences, whose combination can vanish). The test used here
-//! ([`cone`]) asks that the u-cone meet neither the v-cone nor its opposite except at the
+//! (`cone`) asks that the u-cone meet neither the v-cone nor its opposite except at the
 //! origin, with both cones pointed: planar, every `Δu × Δv` has one strict sign; spatial,
 //! two separating planes exist. Then `S_u × S_v ≠ 0` wherever some weight on a non-zero
 //! difference of each direction is positive — which holds everywhere on the face when its
@@ -73,16 +73,16 @@
 //! to be certified. Those faces are reported with the vertex ([`Inapplicable`]).
 //!
 //! # Exactness
-//! Signs are decided exactly on the exact differences of the `f64` input ([`exact`]): a
+//! Signs are decided exactly on the exact differences of the `f64` input (`exact`): a
 //! zero difference is exactly zero (and left out of the cones), collinear differences are
 //! recognised as such, and near-collinear ones get their true sign. In space the
-//! separating planes are searched numerically and verified exactly ([`separation`]), so
+//! separating planes are searched numerically and verified exactly (`separation`), so
 //! the spatial test may refuse cones separable only by a margin below rounding (it never
 //! certifies wrongly). A sign that cannot be computed exactly (products below `2⁻⁹⁰⁰`)
 //! refuses.
 //!
 //! # Ground truth
-//! [`sample`] samples the exact limit surface densely and classifies each face:
+//! `sample` samples the exact limit surface densely and classifies each face:
 //! certified, regular but not certified, or not regular (with the failing sample).
 
 pub(crate) mod cone;

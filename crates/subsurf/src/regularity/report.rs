@@ -233,7 +233,7 @@ impl RegularityReport {
 
 /// The u- and v-differences of a patch neighbourhood: every pair of horizontally
 /// (vertically) adjacent real cells, oriented along `u` (`v`).
-pub fn block_differences(b: &Block) -> (Vec<Difference>, Vec<Difference>) {
+pub(super) fn block_differences(b: &Block) -> (Vec<Difference>, Vec<Difference>) {
     let mut u = Vec::with_capacity(12);
     let mut v = Vec::with_capacity(12);
     for i in 0..4 {

@@ -18,9 +18,9 @@ use super::exact::Sign;
 use crate::limit::{EvalError, LimitSurface};
 
 /// A sample whose tangents make an angle with sine at most this is counted as singular.
-pub const SINE_TOLERANCE: f64 = 1e-10;
+pub(crate) const SINE_TOLERANCE: f64 = 1e-10;
 /// A tangent shorter than this times the bounding-box diagonal is counted as zero.
-pub const LENGTH_TOLERANCE: f64 = 1e-12;
+pub(crate) const LENGTH_TOLERANCE: f64 = 1e-12;
 
 /// One sample of the limit surface.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -66,7 +66,7 @@ impl Sampled {
 
 /// The sine measure at one point from the tangents `du`, `dv`; `scale` is the bounding-box
 /// diagonal and `orientation` the planar mesh's sign.
-pub fn measure(
+pub(crate) fn measure(
     du: &[f64; 3],
     dv: &[f64; 3],
     dim: Dimension,
@@ -107,7 +107,7 @@ pub fn measure(
 
 /// Samples `faces` of `surface` on an `n × n` grid each (`n ≥ 2`); `None` for faces
 /// without a surface (holes) or that are not quads.
-pub fn sample_faces(
+pub(crate) fn sample_faces(
     surface: &LimitSurface,
     faces: &[u32],
     n: usize,

@@ -19,7 +19,7 @@ use super::exact::{cross2_sign, dot2_sign, Sign};
 
 /// A plane vector given by its two end points (the exact difference `to − from`).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Arrow {
+pub(crate) struct Arrow {
     /// Start point.
     pub from: [f64; 2],
     /// End point.
@@ -28,19 +28,19 @@ pub struct Arrow {
 
 impl Arrow {
     /// `self × other`, exactly.
-    pub fn cross(&self, other: &Arrow) -> Option<Sign> {
+    pub(crate) fn cross(&self, other: &Arrow) -> Option<Sign> {
         cross2_sign(self.from, self.to, other.from, other.to)
     }
 
     /// `self · other`, exactly.
-    pub fn dot(&self, other: &Arrow) -> Option<Sign> {
+    pub(crate) fn dot(&self, other: &Arrow) -> Option<Sign> {
         dot2_sign(self.from, self.to, other.from, other.to)
     }
 }
 
 /// Why a set of vectors has no sector.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum SectorError {
+pub(crate) enum SectorError {
     /// The vectors with these indices (and the sector built so far) span a half-plane or
     /// more: the cone is not pointed.
     NotPointed {
@@ -55,7 +55,7 @@ pub enum SectorError {
 
 /// The sector of `arrows` (all non-zero): indices of its clockwise and counter-clockwise
 /// extremes `(lo, hi)`; `None` for an empty set.
-pub fn sector(arrows: &[Arrow]) -> Result<Option<(usize, usize)>, SectorError> {
+pub(crate) fn sector(arrows: &[Arrow]) -> Result<Option<(usize, usize)>, SectorError> {
     if arrows.is_empty() {
         return Ok(None);
     }

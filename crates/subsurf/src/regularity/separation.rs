@@ -20,14 +20,14 @@ use super::exact::{dot3_sign, Sign};
 
 /// Up to this many vectors, a stalled search falls back to trying every vertex, edge and
 /// triangle of the hull (`O(N⁴)`).
-pub const EXHAUSTIVE_MAX: usize = 40;
+pub(crate) const EXHAUSTIVE_MAX: usize = 40;
 
 /// At most this many steps of Gilbert's algorithm (each `O(N)`).
-pub const MAX_ITERATIONS: usize = 4000;
+pub(crate) const MAX_ITERATIONS: usize = 4000;
 
 /// A space vector given by its end points: `to − from`, negated when `negate`.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Ray {
+pub(crate) struct Ray {
     /// Start point.
     pub from: [f64; 3],
     /// End point.
@@ -67,7 +67,7 @@ fn unit(r: &Ray) -> Option<V> {
 }
 
 /// Whether `n · r > 0` exactly for every ray.
-pub fn separates(n: &V, rays: &[Ray]) -> bool {
+pub(crate) fn separates(n: &V, rays: &[Ray]) -> bool {
     rays.iter().all(|r| {
         let want = if r.negate {
             Sign::Negative
@@ -82,7 +82,7 @@ pub fn separates(n: &V, rays: &[Ray]) -> bool {
 /// (see the module docs: `None` for every set that has no such plane, and possibly for
 /// sets whose planes are thinner than rounding). Every ray must be non-zero; a zero ray
 /// makes the answer `None`.
-pub fn separating_direction(rays: &[Ray]) -> Option<V> {
+pub(crate) fn separating_direction(rays: &[Ray]) -> Option<V> {
     let g: Vec<V> = rays.iter().map(unit).collect::<Option<_>>()?;
     if g.is_empty() {
         return Some([1.0, 0.0, 0.0]);

@@ -48,7 +48,7 @@ impl Camera {
     /// With `Up::Z`, azimuth 0 and elevation 0 put the eye on the `−Y` side looking along
     /// `+Y` (`X` to the right, `Z` up), the usual "front" view; azimuth 90 puts it on `+X`.
     /// With `Up::Y` the eye is on `+Z` looking along `−Z` (`X` right, `Y` up).
-    pub fn orbit(
+    pub(super) fn orbit(
         centre: V3,
         radius: f64,
         view: (f64, f64),
@@ -98,7 +98,7 @@ impl Camera {
     }
 
     /// `p` in view space.
-    pub fn to_view(&self, p: &V3) -> V3 {
+    pub(super) fn to_view(&self, p: &V3) -> V3 {
         let d = geom::sub(p, &self.eye);
         [
             geom::dot(&d, &self.right),
@@ -108,7 +108,7 @@ impl Camera {
     }
 
     /// A view-space direction.
-    pub fn dir_to_view(&self, n: &V3) -> V3 {
+    pub(super) fn dir_to_view(&self, n: &V3) -> V3 {
         [
             geom::dot(n, &self.right),
             geom::dot(n, &self.up),
@@ -118,7 +118,7 @@ impl Camera {
 
     /// Projects a view-space point, in pixels times `scale`; `None` behind (or too near)
     /// the eye.
-    pub fn project_view(&self, v: &V3, scale: f64) -> Option<Projected> {
+    pub(super) fn project_view(&self, v: &V3, scale: f64) -> Option<Projected> {
         let depth = -v[2];
         if !(depth > 0.0 && depth.is_finite()) {
             return None;
@@ -132,7 +132,7 @@ impl Camera {
     }
 
     /// Projects a world point (see [`Camera::project_view`]).
-    pub fn project(&self, p: &V3, scale: f64) -> Option<Projected> {
+    pub(super) fn project(&self, p: &V3, scale: f64) -> Option<Projected> {
         self.project_view(&self.to_view(p), scale)
     }
 }

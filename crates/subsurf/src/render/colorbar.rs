@@ -26,7 +26,12 @@ pub(crate) struct ColorBar {
 
 impl ColorBar {
     /// Lays the bar out in a `width × height` picture.
-    pub fn layout(kind: CurvatureKind, range: (f64, f64), width: usize, height: usize) -> Self {
+    pub(super) fn layout(
+        kind: CurvatureKind,
+        range: (f64, f64),
+        width: usize,
+        height: usize,
+    ) -> Self {
         let scale = (height / 240).max(1);
         let labels = [range.1, 0.5 * (range.0 + range.1), range.0].map(font::label);
         let text = labels
@@ -54,7 +59,7 @@ impl ColorBar {
     }
 
     /// Draws the bar into `img`.
-    pub fn draw(&self, img: &mut RgbImage) {
+    pub(super) fn draw(&self, img: &mut RgbImage) {
         let (w, h) = (img.width() as usize, img.height() as usize);
         let mut put = |x: usize, y: usize, c: [u8; 3]| {
             if x < w && y < h {

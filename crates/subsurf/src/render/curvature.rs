@@ -144,7 +144,7 @@ pub fn sample_curvature(
 /// along semi-sharp creases and around extraordinary vertices do not wash out the rest.
 /// For Gaussian and mean curvature the range is `(−m, m)`, so that 0 is white; for the
 /// largest curvature it is from the 2nd percentile to `m`. Never empty.
-pub fn robust_range(values: &[f64], kind: CurvatureKind) -> (f64, f64) {
+pub(crate) fn robust_range(values: &[f64], kind: CurvatureKind) -> (f64, f64) {
     let mut v: Vec<f64> = values.iter().copied().filter(|x| x.is_finite()).collect();
     let lo = match kind {
         CurvatureKind::Max => percentile(&mut v, 0.02).unwrap_or(0.0),
@@ -186,7 +186,7 @@ fn percentile(v: &mut [f64], p: f64) -> Option<f64> {
 /// symmetric around 0 (white at 0, full colour at `max(|min|, |max|)`) for Gaussian and
 /// mean curvature, a sequential dark-blue–green–yellow map from `min` to `max` for the
 /// largest curvature. NaN is grey.
-pub fn colour(kind: CurvatureKind, range: (f64, f64), value: f64) -> [f64; 3] {
+pub(crate) fn colour(kind: CurvatureKind, range: (f64, f64), value: f64) -> [f64; 3] {
     if value.is_nan() {
         return [0.6, 0.6, 0.6];
     }
@@ -203,7 +203,7 @@ pub fn colour(kind: CurvatureKind, range: (f64, f64), value: f64) -> [f64; 3] {
 }
 
 /// Blue (−1), white (0), red (+1), clamped; sRGB.
-pub fn diverging(t: f64) -> [f64; 3] {
+pub(crate) fn diverging(t: f64) -> [f64; 3] {
     const BLUE: [f64; 3] = [0.19, 0.32, 0.76];
     const WHITE: [f64; 3] = [0.97, 0.97, 0.97];
     const RED: [f64; 3] = [0.76, 0.11, 0.13];
@@ -214,7 +214,7 @@ pub fn diverging(t: f64) -> [f64; 3] {
 
 /// A perceptually ordered map from dark blue (0) through teal and green to yellow (1),
 /// clamped (viridis' anchor colours); sRGB.
-pub fn sequential(t: f64) -> [f64; 3] {
+pub(crate) fn sequential(t: f64) -> [f64; 3] {
     const STOPS: [[f64; 3]; 6] = [
         [0.267, 0.005, 0.329],
         [0.231, 0.322, 0.545],

@@ -143,7 +143,7 @@ pub struct Render {
     /// around the centre of the picture, to look closely at the middle of the view).
     pub zoom: f64,
     /// Fixed curvature colour range `(min, max)`; `None`: robust automatic range (see
-    /// [`curvature::robust_range`]).
+    /// `curvature::robust_range`).
     pub curvature_range: Option<(f64, f64)>,
     /// Background colour.
     pub background: [u8; 3],

@@ -33,7 +33,7 @@ pub(crate) struct Band {
 
 impl Band {
     /// An empty band.
-    pub fn new(width: usize, y0: usize, rows: usize) -> Self {
+    pub(super) fn new(width: usize, y0: usize, rows: usize) -> Self {
         Self {
             width,
             y0,
@@ -45,7 +45,7 @@ impl Band {
     }
 
     /// Rasterises triangle `id` with vertices `t` (indices into `screen`).
-    pub fn triangle(&mut self, id: u32, screen: &[Option<Projected>], t: &[u32; 3]) {
+    pub(super) fn triangle(&mut self, id: u32, screen: &[Option<Projected>], t: &[u32; 3]) {
         let (Some(a), Some(b), Some(c)) = (
             screen[t[0] as usize],
             screen[t[1] as usize],

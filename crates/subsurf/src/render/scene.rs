@@ -52,13 +52,17 @@ pub(crate) struct Frame {
 
 impl Scene {
     /// Builds the scene of `mesh` as `opts` asks.
-    pub fn build(mesh: &PolyMesh, options: &Options, opts: &Render) -> Result<Self, RenderError> {
+    pub(super) fn build(
+        mesh: &PolyMesh,
+        options: &Options,
+        opts: &Render,
+    ) -> Result<Self, RenderError> {
         Self::build_with(mesh, options, opts, None)
     }
 
     /// [`build`](Self::build), sampling `surface` instead of the mesh's limit surface when
     /// given (for [`Geometry::Limit`]; the grid is the limit surface's tessellation grid).
-    pub fn build_with(
+    pub(super) fn build_with(
         mesh: &PolyMesh,
         options: &Options,
         opts: &Render,
@@ -216,7 +220,7 @@ impl Scene {
 
     /// Centre of the bounding box of the drawn vertices (and of the control mesh when
     /// `with_edges`) and the radius of the smallest sphere around it holding them all.
-    pub fn bounding_sphere(&self, with_edges: bool) -> (V3, f64) {
+    pub(super) fn bounding_sphere(&self, with_edges: bool) -> (V3, f64) {
         let mut used = vec![false; self.positions.len()];
         for t in &self.triangles {
             t.iter().for_each(|&v| used[v as usize] = true);
@@ -250,7 +254,7 @@ impl Scene {
     }
 
     /// Projects every vertex.
-    pub fn project(&self, camera: &Camera, scale: f64) -> Frame {
+    pub(super) fn project(&self, camera: &Camera, scale: f64) -> Frame {
         let view_pos: Vec<V3> = self
             .positions
             .par_iter()
@@ -438,7 +442,7 @@ pub(crate) struct LimitGrid {
 
 impl LimitGrid {
     /// Samples `mesh`'s limit surface at `rate` (see [`tessellate`]).
-    pub fn sample(
+    pub(super) fn sample(
         mesh: &PolyMesh,
         options: &Options,
         rate: u32,
@@ -450,7 +454,7 @@ impl LimitGrid {
     /// [`sample`](Self::sample) on the same grid, evaluating `other` (positions, normals
     /// and curvature) instead of the limit surface when given, with the limit surface
     /// within `max_bytes` (see [`Render::surface_memory`]).
-    pub fn sample_with(
+    pub(super) fn sample_with(
         mesh: &PolyMesh,
         options: &Options,
         rate: u32,

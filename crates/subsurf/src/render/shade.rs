@@ -86,7 +86,7 @@ pub(crate) struct Shader<'a> {
 impl<'a> Shader<'a> {
     /// Prepares shading of `scene` as seen in `frame`; `range` is the curvature colour
     /// range (with [`Paint::Curvature`]).
-    pub fn new(
+    pub(super) fn new(
         opts: &Render,
         scene: &'a Scene,
         frame: &'a Frame,
@@ -136,7 +136,7 @@ impl<'a> Shader<'a> {
 
     /// The pixels of `band` (`rows` output rows of `width` pixels, RGB bytes), from its
     /// samples and line coverage: samples are averaged in linear light.
-    pub fn resolve(
+    pub(super) fn resolve(
         &self,
         band: &Band,
         cover: &[u8],

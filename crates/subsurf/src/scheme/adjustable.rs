@@ -65,7 +65,7 @@ impl Adjustable {
     /// The scheme with parameter `c`.
     ///
     /// # Errors
-    /// [`AdjustableError::OutOfRange`] unless `0 ≤ c ≤ 1`.
+    /// `AdjustableError::OutOfRange` unless `0 ≤ c ≤ 1`.
     pub fn new(c: f64) -> Result<Self, AdjustableError> {
         if (0.0..=1.0).contains(&c) {
             Ok(Self { c })

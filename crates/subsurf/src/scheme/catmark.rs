@@ -25,7 +25,7 @@ use std::f64::consts::PI;
 
 /// Weight of each of the `n` vertices in a face point: `1/n`.
 #[inline]
-pub fn face_point_weight(n: usize) -> f64 {
+pub(crate) fn face_point_weight(n: usize) -> f64 {
     1.0 / n as f64
 }
 
@@ -57,7 +57,7 @@ impl EdgeMask {
 
 /// Catmull-Clark's rules ([`Rules`]): OpenSubdiv's `Sdc::Scheme<SCHEME_CATMARK>`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct CatmullClark;
+pub(crate) struct CatmullClark;
 
 impl Rules for CatmullClark {
     /// `¼` of each end and each face point; `½/m` per face for `m ≠ 2` faces; with the
@@ -259,7 +259,7 @@ pub struct VertexContext<'a> {
 /// - smooth, valence `n ≠ 2`: `v·(1 - n(4w + w)) + 4w Σ eᵢ + w Σ dᵢ` with
 ///   `w = 1/(n(n+5))` (`dᵢ` the vertex opposite in face `i`); `n = 4`: 4/9, 1/9, 1/36;
 /// - crease: `⅔ v + ⅙ (e_a + e_b)`; corner (and smooth valence 2): `v`.
-pub fn limit_position_mask(
+pub(crate) fn limit_position_mask(
     rule: Rule,
     edge_sharpness: &[f32],
     num_faces: usize,
@@ -311,7 +311,7 @@ pub fn limit_position_mask(
 /// - corner: `t₁ = e₀ - v`, `t₂ = e₁ - v`.
 ///
 /// `t₁ × t₂` points to the side the faces are counter-clockwise on.
-pub fn limit_tangent_masks(
+pub(crate) fn limit_tangent_masks(
     rule: Rule,
     edge_sharpness: &[f32],
     num_faces: usize,

@@ -10,13 +10,13 @@
 use crate::mesh::CreaseMethod;
 // The classification of sharpness values, which the mesh layer's topology needs too, is
 // the mesh layer's; this is its public path.
-pub use crate::mesh::sharpness::{
+pub(crate) use crate::mesh::sharpness::{
     is_infinite, is_semi_sharp, is_sharp, is_smooth, vertex_rule, SHARPNESS_INFINITE,
 };
 
 /// Sharpness one level down: `s - 1`, kept infinite at ≥ 10 and clamped at 0.
 #[inline]
-pub fn decrement(s: f32) -> f32 {
+pub(crate) fn decrement(s: f32) -> f32 {
     if is_smooth(s) {
         0.0
     } else if is_infinite(s) {
@@ -34,7 +34,7 @@ pub fn decrement(s: f32) -> f32 {
 /// Uniform: `decrement(s)`. Chaikin: with `k > 1` semi-sharp edges at the vertex, the child
 /// takes `0.75 s + 0.25 avg(other semi-sharp) - 1` (OpenSubdiv's
 /// `SubdivideEdgeSharpnessAtVertex`).
-pub fn subdivide_edge_sharpness(method: CreaseMethod, s: f32, incident: &[f32]) -> f32 {
+pub(crate) fn subdivide_edge_sharpness(method: CreaseMethod, s: f32, incident: &[f32]) -> f32 {
     if method == CreaseMethod::Uniform || incident.len() < 2 {
         return decrement(s);
     }
@@ -70,7 +70,7 @@ pub fn subdivide_edge_sharpness(method: CreaseMethod, s: f32, incident: &[f32]) 
 ///
 /// `parent_edges` and `child_edges` are the sharpness of the vertex's edges before and
 /// after the step, in the same order.
-pub fn fractional_weight(
+pub(crate) fn fractional_weight(
     method: CreaseMethod,
     parent_vertex: f32,
     child_vertex: f32,
@@ -110,7 +110,7 @@ pub fn fractional_weight(
 
 /// Indices of the first and the last sharp edge of a crease vertex (exactly two are
 /// expected; OpenSubdiv's `GetSharpEdgePairOfCrease`).
-pub fn crease_ends(edge_sharpness: &[f32]) -> (usize, usize) {
+pub(crate) fn crease_ends(edge_sharpness: &[f32]) -> (usize, usize) {
     let first = edge_sharpness
         .iter()
         .position(|&s| is_sharp(s))

@@ -28,10 +28,10 @@ pub enum Scheme {
     /// Catmull-Clark (E. Catmull & J. Clark, "Recursively generated B-spline surfaces on
     /// arbitrary topological meshes", Computer-Aided Design 10(6), 1978) with OpenSubdiv's
     /// rules for boundaries, semi-sharp creases, corners, triangles and non-manifold
-    /// topology (`Sdc::SCHEME_CATMARK`); masks in [`catmark`](super::catmark).
+    /// topology (`Sdc::SCHEME_CATMARK`); masks in `catmark`.
     #[default]
     CatmullClark,
-    /// The shape-adjustable scheme ([Tang et al. 2017], [`adjustable`](super::adjustable)):
+    /// The shape-adjustable scheme ([Tang et al. 2017], `adjustable`):
     /// its masks with parameter `c` on the first `steps` refinement steps, Catmull-Clark
     /// after ([`Mixed`]). Topology, numbering and sharpness are Catmull-Clark's; with
     /// `c = ½` the result is Catmull-Clark's.
@@ -41,16 +41,16 @@ pub enum Scheme {
     /// intervals and weights ([`PolyMesh::knots`](crate::mesh::PolyMesh::knots); untagged
     /// edges have interval 1, when it is Catmull-Clark). Semi-sharp creases are refused
     /// ([`NurssError::SemiSharp`](crate::nonuniform::NurssError::SemiSharp)); masks in
-    /// [`nurss`](super::nurss).
+    /// `nurss`.
     Nurss,
     /// Loop subdivision of triangle meshes (C. Loop, "Smooth subdivision surfaces based on
     /// triangles", M.S. thesis, University of Utah, 1987) with OpenSubdiv's rules for
     /// boundaries, creases, corners and non-manifold topology (`Sdc::SCHEME_LOOP`); masks in
-    /// [`loop_`](super::loop_). A face that is not a triangle is an error naming it.
+    /// `loop_`. A face that is not a triangle is an error naming it.
     Loop,
     /// Bilinear subdivision (`Sdc::SCHEME_BILINEAR`): the Catmull-Clark split of any
     /// polygons with face centroids, edge midpoints and the vertices themselves, so the
-    /// surface is the control mesh; masks in [`bilinear`](super::bilinear).
+    /// surface is the control mesh; masks in `bilinear`.
     Bilinear,
 }
 

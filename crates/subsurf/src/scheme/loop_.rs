@@ -29,12 +29,12 @@ use std::f64::consts::PI;
 /// Loop's rules ([`Rules`]): OpenSubdiv's `Sdc::Scheme<SCHEME_LOOP>`. The refinement that
 /// applies them is [`refine::TopologyRefiner`](crate::refine::TopologyRefiner) with [`Scheme::Loop`](crate::Scheme::Loop).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct Loop;
+pub(crate) struct Loop;
 
 /// Loop's `βₙ`, the weight of each neighbour of a smooth vertex of valence `n`:
 /// `(⅝ − (⅜ + ¼ cos(2π/n))²)/n`, `1/16` at `n = 6` (computed as OpenSubdiv's
 /// `assignSmoothMaskForVertex` does, in `f64`).
-pub fn beta(n: usize) -> f64 {
+pub(crate) fn beta(n: usize) -> f64 {
     if n == 6 {
         return 0.0625;
     }

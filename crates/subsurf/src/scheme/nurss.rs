@@ -29,7 +29,7 @@
 ///
 /// Returns `[w_i, w_{i+1}]`. If `d_prev + d + d_next = 0` the point is the midpoint.
 #[inline]
-pub fn curve_edge_weights(d_prev: f64, d: f64, d_next: f64) -> [f64; 2] {
+pub(crate) fn curve_edge_weights(d_prev: f64, d: f64, d_next: f64) -> [f64; 2] {
     let s = d_prev + d + d_next;
     if s <= 0.0 {
         return [0.5, 0.5];
@@ -47,7 +47,7 @@ pub fn curve_edge_weights(d_prev: f64, d: f64, d_next: f64) -> [f64; 2] {
 /// `P_{i−1}P_i`, `P_iP_{i+1}`, `P_{i+1}P_{i+2}`. Returns the weights of
 /// `[P_{i−1}, P_i, P_{i+1}]`. If `d_{i−1} + d_i = 0` (a triple knot) `V_i = P_i`.
 #[inline]
-pub fn curve_vertex_weights(d: [f64; 4]) -> [f64; 3] {
+pub(crate) fn curve_vertex_weights(d: [f64; 4]) -> [f64; 3] {
     let [dm2, dm1, d0, dp1] = d;
     let s = dm1 + d0;
     if s <= 0.0 {
@@ -75,7 +75,12 @@ pub fn curve_vertex_weights(d: [f64; 4]) -> [f64; 3] {
 ///
 /// # Panics
 /// If the three slices differ in length.
-pub fn face_weights(d: &[f64], across_start: &[f64], across_end: &[f64], out: &mut Vec<f64>) {
+pub(crate) fn face_weights(
+    d: &[f64],
+    across_start: &[f64],
+    across_end: &[f64],
+    out: &mut Vec<f64>,
+) {
     let n = d.len();
     assert!(across_start.len() == n && across_end.len() == n);
     out.clear();
@@ -103,7 +108,7 @@ pub fn face_weights(d: &[f64], across_start: &[f64], across_end: &[f64], out: &m
 /// On a regular grid this is the curve edge point along the edge. If the denominator is 0,
 /// `M` is the midpoint (blending paper, eq. 1).
 #[inline]
-pub fn midpoint_weights(d: f64, across_p: f64, across_q: f64) -> [f64; 2] {
+pub(crate) fn midpoint_weights(d: f64, across_p: f64, across_q: f64) -> [f64; 2] {
     let s = 2.0 * d + across_p + across_q;
     if s <= 0.0 {
         return [0.5, 0.5];
@@ -125,7 +130,7 @@ pub fn midpoint_weights(d: f64, across_p: f64, across_q: f64) -> [f64; 2] {
 /// tensor product of the curve edge rule and the curve vertex rule. If all four intervals
 /// are 0 the faces get ¼ each. Returns `[w_m, α_l, α_r]`.
 #[inline]
-pub fn edge_weights(left: [f64; 2], right: [f64; 2]) -> [f64; 3] {
+pub(crate) fn edge_weights(left: [f64; 2], right: [f64; 2]) -> [f64; 3] {
     let l = left[0] + left[1];
     let r = right[0] + right[1];
     let s = l + r;
@@ -141,7 +146,7 @@ pub fn edge_weights(left: [f64; 2], right: [f64; 2]) -> [f64; 3] {
 /// one and two steps clockwise (`minus1`, `minus2`) and counter-clockwise (`plus1`,
 /// `plus2`) from edge `i`.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct RingIntervals {
+pub(crate) struct RingIntervals {
     /// `h_{i−2}`.
     pub minus2: f64,
     /// `h_{i−1}`.
@@ -165,7 +170,11 @@ pub struct RingIntervals {
 ///
 /// Writes the weights of the `M_i` to `mids` and of the `F_i` to `faces` (both cleared) and
 /// returns the weight of `V`.
-pub fn vertex_weights(ring: &[RingIntervals], mids: &mut Vec<f64>, faces: &mut Vec<f64>) -> f64 {
+pub(crate) fn vertex_weights(
+    ring: &[RingIntervals],
+    mids: &mut Vec<f64>,
+    faces: &mut Vec<f64>,
+) -> f64 {
     let n = ring.len();
     mids.clear();
     faces.clear();
@@ -194,7 +203,7 @@ pub fn vertex_weights(ring: &[RingIntervals], mids: &mut Vec<f64>, faces: &mut V
 /// `i`: `(d_{i−1} + d_{i+1}) / 4`, with `d_{i±1}` the intervals of the face's edges on either
 /// side of edge `i` (Sederberg et al. Fig. 6). The two halves of an old edge get `d / 2`.
 #[inline]
-pub fn face_edge_interval(d_prev: f64, d_next: f64) -> f64 {
+pub(crate) fn face_edge_interval(d_prev: f64, d_next: f64) -> f64 {
     0.25 * (d_prev + d_next)
 }
 

@@ -11,7 +11,7 @@ use crate::mesh::{CreaseMethod, Options, Rule};
 /// A scheme of the Catmull-Clark family: face points are centroids, and the edge and
 /// vertex points follow from the weights below by the shared rules of
 /// [`edge_mask`](Rules::edge_mask) and [`vertex_mask`](Rules::vertex_mask). Loop
-/// ([`super::loop_::Loop`]) shares the rules: it has no face points, and the face weights
+/// (`super::loop_::Loop`) shares the rules: it has no face points, and the face weights
 /// of its edge masks weigh the vertex opposite the edge in each triangle.
 pub trait Rules: Copy + Send + Sync {
     /// The mask of a smooth edge with `num_faces` faces, the first two of which are
@@ -100,7 +100,7 @@ pub trait Rules: Copy + Send + Sync {
     /// and dart vertices take the smooth mask; otherwise the parent rule's mask (crease
     /// along the two sharp edges, or corner), and if the rule changes during the step, that
     /// mask blended with the child rule's (computed in `child`) with weight
-    /// [`crease::fractional_weight`] on the parent's.
+    /// `crease::fractional_weight` on the parent's.
     fn vertex_mask(
         self,
         method: CreaseMethod,

@@ -6,14 +6,14 @@
 //! two knot intervals; the tensor product `N_i(u)N_j(v)` splits into nine *sub-basis functions*,
 //! each living on the four quads around one grid vertex: class 1 (centre), class 2 (edge) and
 //! class 3 (corner). On a vertex of valence `n ≠ 4` each class is rebuilt as piecewise bicubic
-//! Hermite patches on a star of `n` unit rhombi ([`subbasis`]), tabulated once per valence
-//! ([`table`]). Each control point's basis function `W_i` is the sum of its `2n + 1` pieces, and
+//! Hermite patches on a star of `n` unit rhombi (`subbasis`), tabulated once per valence
+//! (`table`). Each control point's basis function `W_i` is the sum of its `2n + 1` pieces, and
 //! the surface `P = Σ (W_i / Σ W_j) P_i` ([`SubBasisSurface`]) is one rational bicubic patch per
-//! face ([`patch`]); on a regular mesh it is the uniform bicubic B-spline.
+//! face (`patch`); on a regular mesh it is the uniform bicubic B-spline.
 //!
 //! Non-quad input gets one Catmull-Clark step first ([`quad_control_mesh`]). Faces with a
 //! corner on the boundary get no surface. [`tessellate()`] samples the surface on a watertight
-//! grid, [`compare`] measures it against the Catmull-Clark limit surface, [`export`] writes
+//! grid, `compare` measures it against the Catmull-Clark limit surface, `export` writes
 //! tessellations with colours or a scalar.
 
 pub(crate) mod compare;

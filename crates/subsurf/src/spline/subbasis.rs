@@ -203,7 +203,7 @@ pub(crate) fn solve_cyclic(c: &[f64]) -> Vec<f64> {
 }
 
 /// Twist damping `λ_n = min(1, 3/(4 cos(2π/n)))` (see the module docs).
-pub fn twist_damping(n: usize) -> f64 {
+pub(crate) fn twist_damping(n: usize) -> f64 {
     let c = (2.0 * PI / n as f64).cos();
     if c <= 0.75 {
         1.0

@@ -49,7 +49,7 @@ enum FaceSurface {
 /// edge neighbour and one class-3 piece on the star of each diagonal neighbour (section 1.3).
 /// The surface is `P = Σ ϖ_i P_i` with `ϖ_i = W_i / Σ_j W_j` (eq. 12). Over a face only the
 /// pieces centred at its four corners are non-zero, so each face is one rational bicubic
-/// patch ([`super::patch`]). On a regular mesh `Σ W_j ≡ 1` and the surface is the uniform
+/// patch (`super::patch`). On a regular mesh `Σ W_j ≡ 1` and the surface is the uniform
 /// bicubic B-spline (= the Catmull-Clark limit).
 ///
 /// Parametrisation: like [`crate::limit::LimitSurface`], a quad `[v0 v1 v2 v3]` has `(0, 0)` at

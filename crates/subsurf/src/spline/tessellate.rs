@@ -7,7 +7,7 @@ use crate::mesh::{Options, PolyMesh, Topology};
 use rayon::prelude::*;
 
 /// The largest number of output vertices [`tessellate`] accepts (2³¹).
-pub const MAX_VERTICES: u64 = 1 << 31;
+pub(crate) const MAX_VERTICES: u64 = 1 << 31;
 
 const UNSET: u32 = u32::MAX;
 

@@ -350,7 +350,9 @@ fn nurss_reposer_poses_rational_meshes() {
     }
     assert!(matches!(
         subsurf::Reposer::new(&bishop, &opts),
-        Err(subsurf::Error::Nurss(nonuniform::NurssError::SemiSharp { .. }))
+        Err(subsurf::Error::Nurss(
+            nonuniform::NurssError::SemiSharp { .. }
+        ))
     ));
 }
 

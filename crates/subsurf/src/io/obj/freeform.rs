@@ -82,7 +82,7 @@ pub struct FreeFormElement {
 ///
 /// # Errors
 /// The first problem, as an [`ObjError`] naming `source_name` and the 1-based line (see the
-/// [module documentation](self) for what is refused).
+/// module documentation for what is refused).
 ///
 /// ```
 /// use subsurf::io::obj::parse_obj_freeform;

@@ -34,7 +34,7 @@ pub fn read_obj(path: &Path) -> Result<ObjFile, ObjError> {
 
 /// Parses OBJ bytes; `source_name` is used in errors.
 ///
-/// See the [module documentation](super) for what is read. Never panics; allocations grow
+/// See the module documentation for what is read. Never panics; allocations grow
 /// only with what the input contains, never with numbers written in it. Inputs of 4 MiB
 /// or more are read in chunks of 2 MiB in parallel on the current rayon pool, as far as
 /// they hold only vertices, faces, comments and statements that carry nothing (tags are

@@ -22,7 +22,7 @@ const HOLES_PER_LINE: usize = 1000;
 /// `t facevaryinginterpolateboundary 1/0/0 K` when they differ from the defaults) when
 /// `opts.scheme` is given, one `t crease 2/1/0` per crease, one
 /// `t corner 1/1/0` per corner, `t hole N/0/0` lines of up to 1000 faces, and the knot tags
-/// of [`PolyMesh::knots`] (`t interval`, `t sideinterval`, `t weight`; see [`super`]).
+/// of [`PolyMesh::knots`] (`t interval`, `t sideinterval`, `t weight`; see `super`).
 ///
 /// Coordinates are printed as the shortest decimals that read back as the same `f64`,
 /// never in exponent form ([`push_decimal`]), sharpness with Rust's shortest round-trip

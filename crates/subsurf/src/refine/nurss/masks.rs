@@ -624,7 +624,7 @@ impl NurssMasks {
 ///
 /// # Panics
 /// If the lengths of `src`, `dst` or `knots` do not match `parent`.
-pub fn interpolate_nurss<const D: usize>(
+pub(super) fn interpolate_nurss<const D: usize>(
     parent: &Topology,
     knots: &NurssKnots,
     src: &[[f64; D]],
@@ -650,7 +650,7 @@ pub fn interpolate_nurss<const D: usize>(
 /// interval); the edge from the point of face `f` to the point of its edge `j` (child edge
 /// `face_offsets[f] + j`) gets `(d_{j−1} + d_{j+1}) / 4`, the side intervals of the face's
 /// edges on either side (Sederberg et al., Fig. 6).
-pub fn child_knots(parent: &Topology, knots: &NurssKnots) -> NurssKnots {
+pub(crate) fn child_knots(parent: &Topology, knots: &NurssKnots) -> NurssKnots {
     let t = parent;
     let s = t.face_verts.len();
     let mut intervals = vec![0.0; s + 2 * t.num_edges()];
@@ -675,7 +675,7 @@ pub fn child_knots(parent: &Topology, knots: &NurssKnots) -> NurssKnots {
 
 /// One complete NURSS step: the child topology (Catmull-Clark's, with every relation, so it
 /// can be refined again), the child values and the child intervals.
-pub fn refine_nurss_step<const D: usize>(
+pub(crate) fn refine_nurss_step<const D: usize>(
     parent: &Topology,
     options: &Options,
     knots: &NurssKnots,

@@ -5,7 +5,7 @@
 mod masks;
 
 pub(crate) use masks::{across_values, effective_knots, AcrossValues, NurssMasks};
-pub use masks::{child_knots, refine_nurss_step, NurssKnots};
+pub(crate) use masks::{child_knots, refine_nurss_step, NurssKnots};
 
 use crate::mesh::{
     Corner, Crease, EdgeInterval, KnotTagError, KnotTags, MeshError, Options, PolyMesh,
@@ -130,7 +130,7 @@ impl Nurss {
     /// A level from its parts: a complete `topology` (from [`Topology::from_mesh`]),
     /// homogeneous points `(w x, w y, w z, w)` per vertex (`w = 1`: not rational), and knot
     /// intervals per edge (and optional side intervals per face-vertex slot, see
-    /// [`NurssKnots`]).
+    /// `NurssKnots`).
     ///
     /// # Errors
     /// [`NurssError::IncompleteTopology`], [`NurssError::WrongLength`],
