@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 
 use anyhow::{bail, Context, Result};
-use subsurf::io::write_atomically;
+use subsurf::io::{write_atomically, TessellationFormat};
 
 /// An output destination.
 pub enum Output {
@@ -228,6 +228,82 @@ impl Format {
             Self::Text => &["txt", "tsv", "dat"],
         }
     }
+}
+
+/// The formats of each command's `--output` (and `--plot`, `--control-mesh`): the one list
+/// both the up-front check ([`check_extension`]) and the command read.
+pub mod formats {
+    use super::Format::{self, *};
+    /// `subsurf tessellate`.
+    pub const TESSELLATE: &[Format] = &[Obj, Ply, Stl, Glb];
+    /// `subsurf spline`.
+    pub const SPLINE: &[Format] = &[Obj, Ply, Stl, Glb];
+    /// `subsurf g2`: tessellations, the patches' control points, IGES surfaces, a picture.
+    pub const G2: &[Format] = &[Obj, Ply, Stl, Glb, Json, Iges, Png];
+}
+
+impl Format {
+    /// The format of output `path`, one of `formats` (the command's list): by its
+    /// extension (any case); `-` (standard output) is `dash`.
+    ///
+    /// # Errors
+    /// An extension not in `formats`, or none.
+    pub fn of(path: &Path, formats: &[Format], dash: Format) -> anyhow::Result<Format> {
+        if path == Path::new("-") {
+            return Ok(dash);
+        }
+        let list = extension_list(formats);
+        let Some(ext) = path.extension() else {
+            anyhow::bail!(
+                "cannot write {}: the output needs an extension {list} (or '-' for {} on \
+                 standard output)",
+                path.display(),
+                dash.name()
+            );
+        };
+        let ext = ext.to_string_lossy().to_ascii_lowercase();
+        formats
+            .iter()
+            .copied()
+            .find(|f| f.extensions().contains(&ext.as_str()))
+            .ok_or_else(|| {
+                anyhow::anyhow!(
+                    "cannot write {}: unknown output format '.{ext}' (expected {list})",
+                    path.display()
+                )
+            })
+    }
+
+    /// The format's name in messages.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Obj => "OBJ",
+            Self::Ply => "PLY",
+            Self::Stl => "STL",
+            Self::Glb => "glTF",
+            Self::Png => "PNG",
+            Self::Svg => "SVG",
+            Self::Json => "JSON",
+            Self::Iges => "IGES",
+            Self::Text => "text",
+        }
+    }
+
+    /// The library's format for writing a tessellation in this format, if it is one.
+    pub fn tessellation(self) -> Option<TessellationFormat> {
+        TessellationFormat::from_extension(self.extensions()[0])
+    }
+}
+
+/// The format of output `path` of a command that writes tessellations only (`formats`, all
+/// of them tessellation formats); `-` is OBJ.
+///
+/// # Errors
+/// As [`Format::of`].
+pub fn tessellation_format(path: &Path, formats: &[Format]) -> Result<TessellationFormat> {
+    let f = Format::of(path, formats, Format::Obj)?;
+    f.tessellation()
+        .with_context(|| format!("{} is not a tessellation format", f.name()))
 }
 
 /// The list `.a, .b or .c` of the extensions of `formats`.

@@ -6,7 +6,7 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::output::{check_extension, Format};
+use crate::output::{check_extension, formats, Format};
 use crate::Command;
 
 /// An output a command writes: its flag, its path and the formats it may be written in.
@@ -40,7 +40,7 @@ fn files(command: &Command) -> (Vec<&Path>, Vec<Out<'_>>) {
         }
         Command::Tessellate(a) => {
             inputs.push(&a.input);
-            outputs.push(out("--output", &a.output, &[Obj, Ply, Stl, Glb]));
+            outputs.push(out("--output", &a.output, formats::TESSELLATE));
         }
         Command::Render(a) => {
             inputs.push(&a.input);
@@ -59,7 +59,7 @@ fn files(command: &Command) -> (Vec<&Path>, Vec<Out<'_>>) {
         }
         Command::Spline(a) => {
             inputs.push(&a.input);
-            outputs.push(out("--output", &a.output, &[Obj, Ply, Stl]));
+            outputs.push(out("--output", &a.output, formats::SPLINE));
         }
         Command::Regularity(a) => {
             inputs.push(&a.input);
@@ -69,7 +69,7 @@ fn files(command: &Command) -> (Vec<&Path>, Vec<Out<'_>>) {
         }
         Command::G2(a) => {
             inputs.push(&a.input);
-            outputs.push(out("--output", &a.output, &[Obj, Json, Iges, Png]));
+            outputs.push(out("--output", &a.output, formats::G2));
         }
         Command::Blend(a) => {
             inputs.push(&a.input);

@@ -261,6 +261,31 @@ fn quadrant(u: f64, v: f64) -> (usize, f64, f64) {
 }
 
 impl crate::limit::Surface for MixedSurface {
+    fn num_faces(&self) -> usize {
+        MixedSurface::num_faces(self)
+    }
+
+    fn num_subfaces(&self, f: usize) -> usize {
+        match self.offsets.get(f..f + 2) {
+            Some(&[a, b]) if b - a == 4 => 1,
+            Some(&[a, b]) => (b - a) as usize,
+            _ => 0,
+        }
+    }
+
+    /// Whether the refined faces over face `f` have a surface: holes and the faces a
+    /// boundary rule leaves out stay so through refinement, all children alike.
+    fn has_surface(&self, f: usize) -> bool {
+        let centre = SurfacePoint {
+            face: f as u32,
+            subface: 0,
+            u: 0.5,
+            v: 0.5,
+        };
+        self.refined_point(centre)
+            .is_ok_and(|(q, _)| self.surface.has_surface(q.face as usize))
+    }
+
     fn evaluate(&self, p: SurfacePoint) -> Result<Derivatives, EvalError> {
         self.eval_point(p)
     }

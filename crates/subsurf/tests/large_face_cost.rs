@@ -75,7 +75,7 @@ fn cost(mesh: &PolyMesh) -> (usize, usize) {
         BYTES.load(Ordering::Relaxed),
     );
     let surface = LimitSurface::new(mesh, o).expect("surface");
-    let t = tessellate(&surface, mesh, &o, 4, false).expect("tessellation");
+    let t = tessellate(&surface, mesh, 4, false).expect("tessellation");
     assert!(t.num_faces() > 0);
     let mut points = Vec::new();
     for f in 0..surface.num_faces() {

@@ -38,7 +38,7 @@ use subsurf::g2cap::{continuity_report, patches_json, G2Surface, G2SurfaceOption
 use subsurf::io::parse_geometry;
 use subsurf::io::write_groups_obj;
 use subsurf::io::MeshFormat;
-use subsurf::io::{face_edges, write_glb, GlbLines, GlbMesh};
+use subsurf::io::{write_tessellation, TessellationFormat, TessellationWriteOptions};
 use subsurf::io::{parse_obj, write_obj, WriteOptions};
 use subsurf::limit::{self, tessellate, LimitSurface};
 use subsurf::mesh::{Options, PolyMesh};
@@ -588,24 +588,16 @@ fn limit_surface(ctx: &Ctx) -> Result<Vec<Item>> {
     let mesh = ctx.mesh();
     let rate = ctx.ex.rate;
     let surface = LimitSurface::new(mesh, ctx.options)?;
-    let t = tessellate(&surface, mesh, &ctx.options, rate, true)?;
-    let lines = face_edges(mesh.face_offsets(), mesh.face_verts());
-    let glb = GlbMesh {
-        name: "limit surface",
-        positions: &t.positions,
-        normals: Some(&t.normals),
-        colors: None,
-        face_offsets: &t.face_offsets,
-        face_verts: &t.face_verts,
-        control: Some(GlbLines {
-            positions: mesh.positions(),
-            lines: &lines,
-        }),
+    let t = tessellate(&surface, mesh, rate, true)?;
+    let options = TessellationWriteOptions {
+        control: Some(mesh),
         // The examples are Z-up, as the pictures draw them: turned to glTF's +Y up.
         up: Up::Z,
+        ..Default::default()
     };
     let file = ctx.file("limit.glb");
-    Output::File(ctx.dir.join(&file)).write(|mut w| write_glb(&mut w, &glb))?;
+    Output::File(ctx.dir.join(&file))
+        .write(|mut w| write_tessellation(&mut w, TessellationFormat::Glb, &t, &options))?;
     Ok(vec![Item {
         file,
         caption: format!(
@@ -936,25 +928,19 @@ fn spline(ctx: &Ctx) -> Result<Vec<Item>> {
         return Ok(Vec::new());
     }
     let rate = ctx.ex.rate;
-    let t = subsurf::spline::tessellate(surface, mesh, rate)?;
-    let tess = PolyMesh::new(
-        t.positions.clone(),
-        t.face_offsets.clone(),
-        t.face_verts.clone(),
-    )
-    .context("the tessellation is not a valid mesh")?;
+    let t = tessellate(surface, mesh, rate, false)?;
     let file = ctx.file("spline.obj");
     let comment = format!("subsurf spline --rate {rate} {}", ctx.input.name);
-    let opts = WriteOptions {
-        normals: Some(&t.normals),
-        scheme: None,
-        comment: Some(&comment),
+    let options = TessellationWriteOptions {
+        comment: &comment,
+        ..Default::default()
     };
-    Output::File(ctx.dir.join(&file)).write(|mut w| write_obj(&mut w, &tess, &opts))?;
+    Output::File(ctx.dir.join(&file))
+        .write(|mut w| write_tessellation(&mut w, TessellationFormat::Obj, &t, &options))?;
     let mut items = vec![Item {
         file,
         caption: format!("sub-basis spline surface, {rate} x {rate} quads per patch"),
-        counts: Some((tess.num_vertices(), tess.num_faces())),
+        counts: Some((t.num_vertices(), t.num_faces())),
     }];
     let s: &dyn limit::Surface = surface;
     for (paint, suffix, caption) in [

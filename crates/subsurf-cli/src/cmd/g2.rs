@@ -3,22 +3,20 @@
 //! optionally the continuity report; with `--c C [--adjust-steps K]` of the mixed
 //! (shape-adjustable) surface instead of Catmull-Clark.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use anyhow::{bail, Context, Result};
 use clap::Args;
-use subsurf::g2cap::{
-    continuity_report, patches_json, tessellate, to_iges, G2Surface, G2SurfaceOptions,
-};
-use subsurf::io::{write_obj, WriteOptions};
-use subsurf::limit::{Derivatives, EvalError, Surface, SurfacePoint};
+use subsurf::g2cap::{continuity_report, patches_json, to_iges, G2Surface, G2SurfaceOptions};
+use subsurf::io::{write_tessellation, TessellationFormat, TessellationWriteOptions};
+use subsurf::limit::{tessellate, Derivatives, EvalError, Surface, SurfacePoint};
 use subsurf::mesh::Options;
 use subsurf::render::{render_surface, write_png, CurvatureKind, Geometry, Paint, Render};
 use subsurf::Scheme;
 use subsurf::{estimate_memory, SubdivideOptions};
 
 use crate::input::Input;
-use crate::output::Output;
+use crate::output::{formats, Format, Output};
 use crate::{AdjustArgs, SchemeArgs};
 
 pub const G2_EXAMPLES: &str = "\
@@ -138,7 +136,6 @@ fn output_memory(
             .saturating_add(patches.1.saturating_mul(cap))
     };
     match fmt {
-        Format::Obj => samples.saturating_mul(BYTES_PER_SAMPLE),
         Format::Png => super::render::drawing_memory(
             mesh,
             &Render {
@@ -151,6 +148,8 @@ fn output_memory(
         .saturating_add(samples.saturating_mul(PNG_EXTRA_PER_SAMPLE)),
         Format::Json => per(JSON_BYTES),
         Format::Iges => per(IGES_BYTES),
+        // A tessellation.
+        _ => samples.saturating_mul(BYTES_PER_SAMPLE),
     }
 }
 
@@ -218,13 +217,13 @@ fn describe(args: &G2Args, fmt: Format) -> (String, &'static str) {
             format!("drawing the G2 surface at rate {}", args.rate),
             "use a lower --rate",
         ),
-        Format::Obj => (
-            format!("tessellating the G2 surface at rate {}", args.rate),
-            "use a lower --rate",
-        ),
         Format::Json | Format::Iges => (
             "writing the G2 surface's patches".to_owned(),
             "the mesh has too many faces for this output",
+        ),
+        _ => (
+            format!("tessellating the G2 surface at rate {}", args.rate),
+            "use a lower --rate",
         ),
     }
 }
@@ -286,14 +285,6 @@ fn build_within(
     Ok(surface)
 }
 
-/// Output formats.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Format {
-    Obj,
-    Json,
-    Iges,
-    Png,
-}
 
 fn parse_view(s: &str) -> Result<(f64, f64), String> {
     let (a, e) = s
@@ -309,30 +300,10 @@ fn parse_view(s: &str) -> Result<(f64, f64), String> {
     Ok((parse(a)?, parse(e)?))
 }
 
-fn format(path: &Path) -> Result<Format> {
-    if path == Path::new("-") {
-        return Ok(Format::Obj);
-    }
-    match path
-        .extension()
-        .map(|e| e.to_string_lossy().to_ascii_lowercase())
-        .as_deref()
-    {
-        Some("obj") => Ok(Format::Obj),
-        Some("json") => Ok(Format::Json),
-        Some("igs" | "iges") => Ok(Format::Iges),
-        Some("png") => Ok(Format::Png),
-        _ => bail!(
-            "cannot write {}: subsurf g2 writes .obj (tessellation), .json (control points), \
-             .igs/.iges (IGES surfaces) or .png (picture)",
-            path.display()
-        ),
-    }
-}
 
 /// Runs `subsurf g2`.
 pub fn run(args: &G2Args) -> Result<()> {
-    let fmt = format(&args.output)?;
+    let fmt = Format::of(&args.output, formats::G2, Format::Obj)?;
     if fmt != Format::Png
         && (args.zebra || args.curvature.is_some() || args.view.is_some() || args.compare)
     {
@@ -381,8 +352,8 @@ pub fn run(args: &G2Args) -> Result<()> {
     Ok(())
 }
 
-/// Writes `surface` to `out` in `fmt`: a tessellation (OBJ), a picture (PNG), or the
-/// patches' control points (JSON, IGES).
+/// Writes `surface` to `out` in `fmt`: a tessellation (OBJ, PLY, STL, glTF), a picture
+/// (PNG), or the patches' control points (JSON, IGES).
 fn write_output(
     args: &G2Args,
     out: &Output,
@@ -394,28 +365,6 @@ fn write_output(
 ) -> Result<()> {
     let (name, mesh) = (input.name.as_str(), &input.obj.mesh);
     match fmt {
-        Format::Obj => {
-            let t = tessellate(surface, mesh, args.rate).with_context(|| name.to_owned())?;
-            let poly = t.to_polymesh().with_context(|| name.to_owned())?;
-            let comment = format!(
-                "subsurf g2 --rate {}{} {}: {} caps",
-                args.rate,
-                adjust_flags,
-                name,
-                surface.caps().len()
-            );
-            out.write(|mut w| {
-                write_obj(
-                    &mut w,
-                    &poly,
-                    &WriteOptions {
-                        normals: Some(&t.normals),
-                        scheme: None,
-                        comment: Some(&comment),
-                    },
-                )
-            })?;
-        }
         Format::Png => {
             let mut opts = Render {
                 geometry: Geometry::Limit { rate: args.rate },
@@ -463,6 +412,26 @@ fn write_output(
             let text = to_iges(&doc, &name);
             out.write(|w| w.write_all(text.as_bytes()))?;
         }
+        tessellation => {
+            let format = tessellation
+                .tessellation()
+                .context("not a tessellation format")?;
+            let triangles = format == TessellationFormat::Glb;
+            let t = tessellate(surface, mesh, args.rate, triangles)
+                .with_context(|| name.to_owned())?;
+            let comment = format!(
+                "subsurf g2 --rate {}{} {}: {} caps",
+                args.rate,
+                adjust_flags,
+                name,
+                surface.caps().len()
+            );
+            let options = TessellationWriteOptions {
+                comment: &comment,
+                ..Default::default()
+            };
+            out.write(|mut w| write_tessellation(&mut w, format, &t, &options))?;
+        }
     }
     Ok(())
 }
@@ -505,6 +474,18 @@ fn print_report(out: &Output, surface: &G2Surface, name: &str, mixed: Option<&st
 struct Uncapped<'a>(&'a G2Surface);
 
 impl Surface for Uncapped<'_> {
+    fn num_faces(&self) -> usize {
+        self.0.num_faces()
+    }
+
+    fn num_subfaces(&self, f: usize) -> usize {
+        self.0.num_subfaces(f)
+    }
+
+    fn has_surface(&self, f: usize) -> bool {
+        self.0.has_surface(f)
+    }
+
     fn evaluate(&self, p: SurfacePoint) -> Result<Derivatives, EvalError> {
         self.0.eval_uncapped(p)
     }

@@ -1,5 +1,5 @@
 //! `subsurf spline`: the sub-basis spline surface ([Sub-basis splines]) of a quad mesh, tessellated and
-//! written as OBJ, PLY or STL, optionally with alternating patch colours, one basis function
+//! written as OBJ, PLY, STL or glTF, optionally with alternating patch colours, one basis function
 //! as a scalar, or a comparison with the Catmull-Clark limit surface.
 
 use std::path::PathBuf;
@@ -7,20 +7,14 @@ use std::path::PathBuf;
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use rayon::prelude::*;
-use subsurf::io::write_ply;
-use subsurf::io::write_stl;
-use subsurf::io::{write_obj, WriteOptions};
+use subsurf::io::{write_tessellation, Colours, TessellationFormat, TessellationWriteOptions};
+use subsurf::limit::{tessellate, Tessellation};
 use subsurf::spline::{
-    compare_with_limit, face_colours, quad_control_mesh, tessellate, SplineTessellation,
-    SubBasisSurface,
-};
-use subsurf::spline::{
-    scalar_colours, split_by_face, write_obj_coloured, write_ply_attributes, PlyAttributes, PALETTE,
+    compare_with_limit, face_colours, quad_control_mesh, scalar_colours, SubBasisSurface, PALETTE,
 };
 
-use crate::cmd::tessellate::Format;
 use crate::input::Input;
-use crate::output::Output;
+use crate::output::{formats, tessellation_format, Output};
 
 /// Help text after the options of `subsurf spline`.
 pub const SPLINE_EXAMPLES: &str = "\
@@ -116,17 +110,11 @@ fn estimate_memory(mesh: &subsurf::mesh::PolyMesh, rate: u32) -> u64 {
 
 /// Runs `subsurf spline`.
 pub fn run(args: &SplineArgs) -> Result<()> {
-    let format = Format::from_path(&args.output)?;
-    if format == Format::Glb {
+    let format = tessellation_format(&args.output, formats::SPLINE)?;
+    if format == TessellationFormat::Stl && (args.colour_faces || args.basis.is_some()) {
         bail!(
-            "cannot write {}: subsurf spline writes .obj, .ply or .stl",
-            args.output.display()
-        );
-    }
-    if format == Format::Stl && (args.colour_faces || args.basis.is_some()) {
-        bail!(
-            "--colour-faces and --basis need an .obj or .ply output (STL has no colours); \
-             {} is STL",
+            "--colour-faces and --basis need an .obj, .ply or .glb output (STL has no \
+             colours); {} is STL",
             args.output.display()
         );
     }
@@ -193,7 +181,15 @@ pub fn run(args: &SplineArgs) -> Result<()> {
             );
         }
     }
-    let t = tessellate(surface, mesh, args.rate).with_context(|| input.name.clone())?;
+    if !(0..mesh.num_faces()).any(|f| surface.has_surface(f)) {
+        bail!(
+            "{}: no face has a spline surface (every face has a corner on the boundary)",
+            input.name
+        );
+    }
+    // glTF draws triangles: let the tessellation split its quads (it picks the diagonals).
+    let triangles = format == TessellationFormat::Glb;
+    let t = tessellate(surface, mesh, args.rate, triangles).with_context(|| input.name.clone())?;
     let comment = format!(
         "subsurf spline --rate {}{}{} {}",
         args.rate,
@@ -214,116 +210,42 @@ pub fn run(args: &SplineArgs) -> Result<()> {
 }
 
 /// Writes `t`, the tessellation of `surface`, to `out` in `format`: coloured by
-/// face (`--colour-faces`), by one control point's basis function (`--basis`), or plain.
+/// face (`--colour-faces`), by one control point's basis function (`--basis`; in PLY also
+/// its value, property `basis`), or plain.
 fn write_surface(
     out: &Output,
-    format: Format,
+    format: TessellationFormat,
     args: &SplineArgs,
-    t: &SplineTessellation,
+    t: &Tessellation,
     surface: &SubBasisSurface,
     mesh: &subsurf::mesh::PolyMesh,
     comment: &str,
 ) -> Result<()> {
+    let colours: Vec<[u8; 3]>;
+    let values: Vec<f64>;
+    let mut options = TessellationWriteOptions {
+        comment,
+        ..Default::default()
+    };
     if args.colour_faces {
         let colour = face_colours(mesh)?;
-        let rgb = |f: u32| PALETTE[colour[f as usize] as usize % PALETTE.len()];
-        match format {
-            Format::Obj => {
-                let (p, n, c, fo, fv) = split_by_face(t, rgb);
-                out.write(|mut w| write_obj_coloured(&mut w, &p, Some(&n), &c, &fo, &fv, comment))?;
-            }
-            _ => {
-                let fc: Vec<[u8; 3]> = t.source.iter().map(|&f| rgb(f)).collect();
-                let attrs = PlyAttributes {
-                    normals: Some(&t.normals),
-                    face_colours: Some(&fc),
-                    ..Default::default()
-                };
-                out.write(|mut w| {
-                    write_ply_attributes(
-                        &mut w,
-                        &t.positions,
-                        &t.face_offsets,
-                        &t.face_verts,
-                        &attrs,
-                    )
-                })?;
-            }
-        }
+        colours = (t.source.iter())
+            .map(|&(f, _)| PALETTE[colour[f as usize] as usize % PALETTE.len()])
+            .collect();
+        options.colours = Some(Colours::PerFace(&colours));
     } else if let Some(v) = args.basis {
-        let values: Vec<f64> = t
-            .params
+        values = t
+            .points
             .par_iter()
-            .map(|&(f, u, w)| surface.weight_of(v, f, u, w))
+            .map(|p| surface.weight_of(v, p.face, p.u, p.v))
             .collect::<Result<_, _>>()?;
-        let colours = scalar_colours(&values);
-        match format {
-            Format::Obj => out.write(|mut w| {
-                write_obj_coloured(
-                    &mut w,
-                    &t.positions,
-                    Some(&t.normals),
-                    &colours,
-                    &t.face_offsets,
-                    &t.face_verts,
-                    comment,
-                )
-            })?,
-            _ => {
-                let attrs = PlyAttributes {
-                    normals: Some(&t.normals),
-                    vertex_colours: Some(&colours),
-                    vertex_scalar: Some(("basis", &values)),
-                    ..Default::default()
-                };
-                out.write(|mut w| {
-                    write_ply_attributes(
-                        &mut w,
-                        &t.positions,
-                        &t.face_offsets,
-                        &t.face_verts,
-                        &attrs,
-                    )
-                })?;
-            }
-        }
-    } else {
-        match format {
-            Format::Obj => {
-                let m = subsurf::mesh::PolyMesh::new(
-                    t.positions.clone(),
-                    t.face_offsets.clone(),
-                    t.face_verts.clone(),
-                )
-                .context("the tessellation is not a valid mesh")?;
-                let opts = WriteOptions {
-                    normals: Some(&t.normals),
-                    scheme: None,
-                    comment: Some(comment),
-                };
-                out.write(|mut w| write_obj(&mut w, &m, &opts))?;
-            }
-            Format::Ply => out.write(|mut w| {
-                write_ply(
-                    &mut w,
-                    &t.positions,
-                    Some(&t.normals),
-                    &t.face_offsets,
-                    &t.face_verts,
-                )
-            })?,
-            _ => out.write(|mut w| {
-                write_stl(
-                    &mut w,
-                    &t.positions,
-                    &t.face_offsets,
-                    &t.face_verts,
-                    comment,
-                )
-            })?,
+        colours = scalar_colours(&values);
+        options.colours = Some(Colours::PerVertex(&colours));
+        if format == TessellationFormat::Ply {
+            options.vertex_scalar = Some(("basis", &values));
         }
     }
-    Ok(())
+    out.write(|mut w| write_tessellation(&mut w, format, t, &options))
 }
 
 /// Prints the comparison of `surface` with the Catmull-Clark limit surface of `mesh`.

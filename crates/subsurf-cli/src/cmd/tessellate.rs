@@ -2,61 +2,15 @@
 //! as OBJ (with normals), binary PLY (with normals), binary STL or binary glTF (`.glb`,
 //! triangles with normals, optionally with the control mesh's edges as lines).
 
-use std::path::Path;
-
 use anyhow::{bail, Context, Result};
-use subsurf::io::write_ply;
-use subsurf::io::write_stl;
-use subsurf::io::{face_edges, write_glb, GlbLines, GlbMesh};
-use subsurf::io::{write_obj, WriteOptions};
+use subsurf::io::{write_tessellation, TessellationFormat, TessellationWriteOptions};
 use subsurf::limit::{tessellate, Tessellation};
 use subsurf::mesh::{Options, PolyMesh, TriangleSubdivision};
 use subsurf::render::Up;
 
 use crate::input::Input;
-use crate::output::Output;
+use crate::output::{formats, tessellation_format, Output};
 use crate::{SchemeKind, TessellateArgs};
-
-/// Output file formats.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Format {
-    /// Wavefront OBJ with `vn` normals.
-    Obj,
-    /// Binary little-endian PLY with `f64` positions and normals.
-    Ply,
-    /// Binary STL (`f32`, triangles).
-    Stl,
-    /// Binary glTF 2.0 (`f32` positions and normals, triangles).
-    Glb,
-}
-
-impl Format {
-    /// The format for `path` from its extension (any case); `-` is OBJ.
-    pub fn from_path(path: &Path) -> Result<Self> {
-        if path == Path::new("-") {
-            return Ok(Self::Obj);
-        }
-        let ext = path
-            .extension()
-            .map(|e| e.to_string_lossy().to_ascii_lowercase());
-        match ext.as_deref() {
-            Some("obj") => Ok(Self::Obj),
-            Some("ply") => Ok(Self::Ply),
-            Some("stl") => Ok(Self::Stl),
-            Some("glb") => Ok(Self::Glb),
-            Some(other) => bail!(
-                "cannot write {}: unknown output format '.{other}' \
-                 (expected .glb, .obj, .ply or .stl)",
-                path.display()
-            ),
-            None => bail!(
-                "cannot write {}: the output needs an extension .glb, .obj, .ply or .stl \
-                 (or '-' for OBJ on standard output)",
-                path.display()
-            ),
-        }
-    }
-}
 
 /// Peak bytes per output vertex, writing included (measured: 118 for OBJ, 99 for PLY, at
 /// 6 million vertices).
@@ -67,7 +21,7 @@ fn run_nurss(
     args: &TessellateArgs,
     input: &Input,
     options: &Options,
-    format: Format,
+    format: TessellationFormat,
     out: &Output,
 ) -> Result<()> {
     let mesh = &input.obj.mesh;
@@ -82,7 +36,7 @@ fn run_nurss(
         args.max_memory,
         "use a lower --rate",
     )?;
-    let triangles = args.triangles || format == Format::Glb;
+    let triangles = args.triangles || format == TessellationFormat::Glb;
     let t = subsurf::nonuniform::tessellate(mesh, options, args.rate, triangles)
         .with_context(|| input.name.clone())?;
     if t.rate != args.rate && !args.quiet {
@@ -102,14 +56,14 @@ fn run_nurss(
 /// Runs `subsurf tessellate`.
 pub fn run(args: &TessellateArgs) -> Result<()> {
     super::adjustable::check_surface_flags(args.scheme_kind, &args.adjust);
-    let format = Format::from_path(&args.output)?;
-    if args.control_mesh && format != Format::Glb {
+    let format = tessellation_format(&args.output, formats::TESSELLATE)?;
+    if args.control_mesh && format != TessellationFormat::Glb {
         bail!(
             "--control-mesh needs a .glb output ({} is not one)",
             args.output.display()
         );
     }
-    if args.up.is_some() && format != Format::Glb {
+    if args.up.is_some() && format != TessellationFormat::Glb {
         bail!(
             "--up applies to a .glb output only ({} is not one; OBJ, PLY and STL keep the \
              input's axes)",
@@ -165,9 +119,11 @@ pub fn run(args: &TessellateArgs) -> Result<()> {
         guard.limit_surface(surface_mesh, options, 1, 0)?
     };
     // glTF draws triangles: let the tessellation split its quads (it picks the diagonals).
-    let triangles = args.triangles || format == Format::Glb;
-    let t = tessellate(&surface, surface_mesh, &options, rate, triangles)
-        .with_context(|| input.name.clone())?;
+    let triangles = args.triangles || format == TessellationFormat::Glb;
+    let mut t =
+        tessellate(&surface, surface_mesh, rate, triangles).with_context(|| input.name.clone())?;
+    // Not written: free them before the writer's buffers (BYTES_PER_VERTEX).
+    t.points = Vec::new();
     if t.rate != rate && !args.quiet {
         crate::output::eprint_line(&format!(
             "note: {}: rate {} rounded up to {}, as the mesh has non-quad faces \
@@ -202,11 +158,11 @@ fn up(args: &TessellateArgs) -> Up {
 /// (about 3.4e38; the input may have coordinates up to 1e75) would otherwise fail as the
 /// output is written, as if the output were at fault. The message names the first face
 /// (1-based, with its line) whose surface reaches beyond.
-fn check_single_precision(t: &Tessellation, format: Format, input: &Input) -> Result<()> {
+fn check_single_precision(t: &Tessellation, format: TessellationFormat, input: &Input) -> Result<()> {
     let what = match format {
-        Format::Stl => "STL",
-        Format::Glb => "glTF",
-        Format::Obj | Format::Ply => return Ok(()),
+        TessellationFormat::Stl => "STL",
+        TessellationFormat::Glb => "glTF",
+        _ => return Ok(()),
     };
     let beyond = |x: f64| !(x as f32).is_finite();
     let Some(v) = t
@@ -238,60 +194,19 @@ fn check_single_precision(t: &Tessellation, format: Format, input: &Input) -> Re
 /// from `up` to glTF's +Y up).
 fn write(
     out: &Output,
-    format: Format,
+    format: TessellationFormat,
     t: &Tessellation,
     comment: &str,
     control: Option<&PolyMesh>,
     up: Up,
 ) -> Result<()> {
-    match format {
-        Format::Obj => {
-            let mesh = t
-                .to_polymesh()
-                .context("the tessellation is not a valid mesh")?;
-            let opts = WriteOptions {
-                normals: Some(&t.normals),
-                scheme: None,
-                comment: Some(comment),
-            };
-            out.write(|mut w| write_obj(&mut w, &mesh, &opts))
-        }
-        Format::Ply => out.write(|mut w| {
-            write_ply(
-                &mut w,
-                &t.positions,
-                Some(&t.normals),
-                &t.face_offsets,
-                &t.face_verts,
-            )
-        }),
-        Format::Stl => out.write(|mut w| {
-            write_stl(
-                &mut w,
-                &t.positions,
-                &t.face_offsets,
-                &t.face_verts,
-                comment,
-            )
-        }),
-        Format::Glb => {
-            let edges = control.map(|m| face_edges(m.face_offsets(), m.face_verts()));
-            let glb = GlbMesh {
-                name: "limit surface",
-                positions: &t.positions,
-                normals: Some(&t.normals),
-                colors: None,
-                face_offsets: &t.face_offsets,
-                face_verts: &t.face_verts,
-                control: control.zip(edges.as_deref()).map(|(m, lines)| GlbLines {
-                    positions: m.positions(),
-                    lines,
-                }),
-                up,
-            };
-            out.write(|mut w| write_glb(&mut w, &glb))
-        }
-    }
+    let options = TessellationWriteOptions {
+        comment,
+        control,
+        up,
+        ..Default::default()
+    };
+    out.write(|mut w| write_tessellation(&mut w, format, t, &options))
 }
 
 /// The command line that reproduces the output, for its header.
@@ -324,15 +239,15 @@ mod tests {
 
     #[test]
     fn formats_from_extensions() {
-        let f = |p: &str| Format::from_path(Path::new(p));
-        assert_eq!(f("a.obj").unwrap(), Format::Obj);
-        assert_eq!(f("dir/a.PLY").unwrap(), Format::Ply);
-        assert_eq!(f("a.b.Stl").unwrap(), Format::Stl);
-        assert_eq!(f("a.GLB").unwrap(), Format::Glb);
-        assert_eq!(f("-").unwrap(), Format::Obj);
+        let f = |p: &str| tessellation_format(std::path::Path::new(p), formats::TESSELLATE);
+        assert_eq!(f("a.obj").unwrap(), TessellationFormat::Obj);
+        assert_eq!(f("dir/a.PLY").unwrap(), TessellationFormat::Ply);
+        assert_eq!(f("a.b.Stl").unwrap(), TessellationFormat::Stl);
+        assert_eq!(f("a.GLB").unwrap(), TessellationFormat::Glb);
+        assert_eq!(f("-").unwrap(), TessellationFormat::Obj);
         let e = f("a.xyz").unwrap_err().to_string();
         assert!(
-            e.contains("'.xyz'") && e.contains(".glb, .obj, .ply or .stl"),
+            e.contains("'.xyz'") && e.contains(".obj, .ply, .stl or .glb"),
             "{e}"
         );
         assert!(f("noext").is_err());

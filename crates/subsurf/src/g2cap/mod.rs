@@ -109,7 +109,7 @@ pub use bezier::BezierPatch;
 pub use cap::{G2Cap, OuterPatches};
 pub use dense::{DenseCapSolver, INNER_SAMPLES};
 pub use error::G2Error;
-pub use export::{patches_json, tessellate, CapJson, MixedJson, PatchJson, SurfaceJson};
+pub use export::{patches_json, CapJson, MixedJson, PatchJson, SurfaceJson};
 pub use iges::to_iges;
 pub use report::{continuity_report, BoundaryKind, BoundaryStats, ContinuityReport, Side};
 pub use solver::{inner_rows, CapSolver};

@@ -662,6 +662,18 @@ fn build_cap(
 }
 
 impl crate::limit::Surface for G2Surface {
+    fn num_faces(&self) -> usize {
+        self.limit().num_faces()
+    }
+
+    fn num_subfaces(&self, f: usize) -> usize {
+        self.limit().num_subfaces(f)
+    }
+
+    fn has_surface(&self, f: usize) -> bool {
+        self.limit().has_surface(f)
+    }
+
     /// [`G2Surface::eval_point`]; its only errors are those of the Catmull-Clark evaluator.
     fn evaluate(&self, p: SurfacePoint) -> Result<Derivatives, crate::limit::EvalError> {
         self.eval_point(p).map_err(|e| match e {

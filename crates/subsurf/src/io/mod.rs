@@ -22,6 +22,7 @@ pub(crate) mod input;
 pub(crate) mod obj;
 pub(crate) mod ply;
 pub(crate) mod stl;
+mod tessellation;
 
 pub use atomic::{remove_temporary_files, write_atomically, Finished, PendingFile};
 pub use decimal::push_decimal;
@@ -34,3 +35,4 @@ pub use obj::{
 };
 pub use ply::{parse_ply, read_ply, write_ply, PlyEncoding, PlyError, PlyFile, MAX_HEADER};
 pub use stl::{read_stl, write_stl};
+pub use tessellation::{write_tessellation, Colours, TessellationFormat, TessellationWriteOptions};

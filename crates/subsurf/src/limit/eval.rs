@@ -1,23 +1,77 @@
 //! One vocabulary for every surface over the faces of a control mesh: the exact limit
-//! surface, the mixed (shape-adjustable) surface and the G2 surface are evaluated the
-//! same way, so that drawing, tessellating and comparing take any of them.
+//! surface, the mixed (shape-adjustable) surface, the G2 surface, the sub-basis spline and
+//! the NURSS surface are evaluated the same way, so that drawing, tessellating
+//! ([`tessellate`](super::tessellate)) and comparing take any of them.
 
-use super::{Derivatives, EvalError, LimitSurface, SurfacePoint};
+use super::{Derivatives, EvalError, LimitSurface, Order, SurfacePoint};
+use rayon::prelude::*;
 
 /// A parametric surface over the faces of a control mesh, addressed as
 /// [`LimitSurface`] addresses its own: a point is a face (a sub-face of a non-quad, see
 /// [`Parameterization`](super::Parameterization)) and `(u, v)` in `[0, 1]²`.
 pub trait Surface: Sync {
+    /// Number of faces of the control mesh.
+    fn num_faces(&self) -> usize;
+
+    /// Number of sub-faces of face `f`: 1 for a quad, `n` for an `n`-gon, 0 if there is no
+    /// such face (see [`Parameterization`](super::Parameterization)).
+    fn num_subfaces(&self, f: usize) -> usize;
+
+    /// Whether face `f` exists and has a surface (it is not a hole, and not a face the
+    /// surface leaves out).
+    fn has_surface(&self, f: usize) -> bool;
+
     /// Position and first and second derivatives at `p`.
     ///
     /// # Errors
     /// As [`LimitSurface::eval_point`]: a face that does not exist, a parameter outside
     /// `[0, 1]²`, a face without a surface (a hole).
     fn evaluate(&self, p: SurfacePoint) -> Result<Derivatives, EvalError>;
+
+    /// [`evaluate`](Self::evaluate) at every point of `points` into `out` (one result per
+    /// point), in parallel; `order` says which derivatives are needed (an implementation
+    /// may compute more). The default evaluates each point on its own.
+    ///
+    /// # Panics
+    /// If `out.len() != points.len()`.
+    fn evaluate_many(
+        &self,
+        points: &[SurfacePoint],
+        order: Order,
+        out: &mut [Result<Derivatives, EvalError>],
+    ) {
+        let _ = order;
+        assert_eq!(out.len(), points.len(), "one result per point");
+        out.par_iter_mut()
+            .zip(points.par_iter())
+            .with_min_len(64)
+            .for_each(|(o, &p)| *o = self.evaluate(p));
+    }
 }
 
 impl Surface for LimitSurface {
+    fn num_faces(&self) -> usize {
+        LimitSurface::num_faces(self)
+    }
+
+    fn num_subfaces(&self, f: usize) -> usize {
+        LimitSurface::num_subfaces(self, f)
+    }
+
+    fn has_surface(&self, f: usize) -> bool {
+        LimitSurface::has_surface(self, f)
+    }
+
     fn evaluate(&self, p: SurfacePoint) -> Result<Derivatives, EvalError> {
         self.eval_point(p)
+    }
+
+    fn evaluate_many(
+        &self,
+        points: &[SurfacePoint],
+        order: Order,
+        out: &mut [Result<Derivatives, EvalError>],
+    ) {
+        self.eval_many_to(points, order, out);
     }
 }

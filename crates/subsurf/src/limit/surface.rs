@@ -133,6 +133,15 @@ pub enum EvalError {
         /// Face.
         face: u32,
     },
+    /// The surface over the face has no exact evaluation (the NURSS surface near unequal
+    /// knot intervals, see [`NurssSurface`](crate::nonuniform::NurssSurface)).
+    #[error("face {face}: the surface has no exact evaluation here ({reason})")]
+    NotExact {
+        /// Face.
+        face: u32,
+        /// Why.
+        reason: &'static str,
+    },
     /// A parameter outside `[0, 1]` or not finite.
     #[error("parameter ({u}, {v}) is outside [0, 1]²")]
     BadParameter {

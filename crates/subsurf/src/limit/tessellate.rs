@@ -1,24 +1,26 @@
-//! [`tessellate`]: a watertight polygon mesh sampled from the exact limit surface.
+//! [`tessellate`]: a watertight polygon mesh sampled from any [`Surface`] (the exact limit
+//! surface, the mixed, G2 and sub-basis spline surfaces, the exact faces of NURSS).
 //!
 //! See [`tessellate`] for the grid, the sharing of samples, normals and limits.
 
 use super::bspline::{Derivatives, Order};
+use super::eval::Surface;
 use super::surface::{EvalError, LimitSurface, SurfacePoint};
 use crate::mesh::{MeshError, Options, PolyMesh, Topology, INVALID};
 
 /// The largest number of output vertices [`tessellate`] accepts (2³¹).
 pub const MAX_TESSELLATION_VERTICES: u64 = 1 << 31;
 
-/// Points evaluated per call of [`LimitSurface::eval_many`].
+/// Points evaluated per call of [`Surface::evaluate_many`].
 const CHUNK: usize = 1 << 16;
 
-/// A polygon mesh sampled from a limit surface. See [`tessellate`].
+/// A polygon mesh sampled from a surface. See [`tessellate`].
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Tessellation {
     /// The rate actually used: samples per base edge (the requested rate, rounded up to
     /// even when an `n`-gon has a surface).
     pub rate: u32,
-    /// Vertex positions on the limit surface.
+    /// Vertex positions on the surface.
     pub positions: Vec<[f64; 3]>,
     /// Unit vertex normals (`[0, 0, 0]` only where no normal exists, see [`tessellate`]).
     pub normals: Vec<[f64; 3]>,
@@ -29,6 +31,11 @@ pub struct Tessellation {
     pub face_verts: Vec<u32>,
     /// Per output face, the base face and sub-face (0 for quads) it samples.
     pub source: Vec<(u32, u32)>,
+    /// Per vertex, the point of the surface it was evaluated at (by its owner, see
+    /// [`tessellate`]), e.g. to evaluate more data there (a basis function, texture
+    /// coordinates). Empty for a tessellation sampled through refinement
+    /// ([`nonuniform::tessellate`](crate::nonuniform::tessellate)).
+    pub points: Vec<SurfacePoint>,
 }
 
 impl Tessellation {
@@ -152,15 +159,18 @@ pub fn tessellate_mesh(
         return Err(TessellateError::ZeroRate);
     }
     let surface = LimitSurface::new(mesh, *options)?;
-    tessellate(&surface, mesh, options, rate, triangles)
+    tessellate(&surface, mesh, rate, triangles)
 }
 
-/// Samples `surface` (built from `mesh` with `options`; the mesh gives the adjacency) on a
-/// watertight grid of `rate` segments per base edge.
+/// Samples `surface` (built from `mesh`, which gives the adjacency) on a watertight grid of
+/// `rate` segments per base edge. Any [`Surface`] is tessellated the same way: the exact
+/// limit surface, the mixed, G2 and sub-basis spline surfaces, a NURSS surface that is
+/// exact on every face.
 ///
 /// # Grid
 /// Every quad face with a surface becomes a `rate × rate` grid of quads, sampled at
-/// `u = i / rate`, `v = j / rate` in the face's parametrisation (see [`LimitSurface`]).
+/// `u = i / rate`, `v = j / rate` in the face's parametrisation (see
+/// [`Parameterization`](super::Parameterization)).
 /// An `n`-gon (`n ≠ 4`) is evaluated through its `n` quad sub-faces, each of which covers
 /// *half* of two of the face's edges; so that every base edge is cut into the same number
 /// of segments on both of its sides, a mesh in which any non-quad face has a surface is
@@ -204,7 +214,7 @@ pub fn tessellate_mesh(
 /// would give two triangles on the same three vertices.
 ///
 /// # Cost
-/// Evaluation runs in parallel ([`LimitSurface::eval_many`]) in chunks; memory is about
+/// Evaluation runs in parallel ([`Surface::evaluate_many`]) in chunks; memory is about
 /// 72 bytes per output vertex and 28 per output quad (24 per triangle). More than
 /// [`MAX_TESSELLATION_VERTICES`] output vertices (or more face-vertex indices than `u32`
 /// can count) are refused with [`TessellateError::TooLarge`], with the exact counts,
@@ -213,11 +223,12 @@ pub fn tessellate_mesh(
 /// # Errors
 /// [`TessellateError::ZeroRate`], [`TessellateError::Mismatch`] when `surface` has another
 /// face structure than `mesh`, [`TessellateError::TooLarge`] (with the estimate) when the
-/// output would exceed [`MAX_TESSELLATION_VERTICES`], [`MeshError`] for an invalid mesh.
-pub fn tessellate(
-    surface: &LimitSurface,
+/// output would exceed [`MAX_TESSELLATION_VERTICES`], [`MeshError`] for an invalid mesh,
+/// [`TessellateError::Eval`] when a sample cannot be evaluated (a NURSS face without an
+/// exact evaluation).
+pub fn tessellate<S: Surface + ?Sized>(
+    surface: &S,
     mesh: &PolyMesh,
-    options: &Options,
     rate: u32,
     triangles: bool,
 ) -> Result<Tessellation, TessellateError> {
@@ -225,7 +236,8 @@ pub fn tessellate(
         return Err(TessellateError::ZeroRate);
     }
     check_match(surface, mesh)?;
-    let (topo, _) = Topology::from_mesh(mesh, options)?;
+    // The adjacency only: the scheme's options play no part in it.
+    let (topo, _) = Topology::from_mesh(mesh, &Options::default())?;
     let live: Vec<bool> = (0..topo.num_faces())
         .map(|f| surface.has_surface(f))
         .collect();
@@ -257,10 +269,11 @@ pub fn tessellate(
         face_offsets,
         face_verts,
         source,
+        points: g.points,
     })
 }
 
-fn check_match(surface: &LimitSurface, mesh: &PolyMesh) -> Result<(), TessellateError> {
+fn check_match<S: Surface + ?Sized>(surface: &S, mesh: &PolyMesh) -> Result<(), TessellateError> {
     for f in 0..mesh.num_faces().max(surface.num_faces()) {
         let size = if f < mesh.num_faces() {
             mesh.face(f).len()
@@ -588,8 +601,8 @@ fn dist2(a: &[f64; 3], b: &[f64; 3]) -> f64 {
 
 /// Positions and normals of `points`, evaluated in parallel chunks.
 #[allow(clippy::type_complexity)]
-fn evaluate(
-    surface: &LimitSurface,
+fn evaluate<S: Surface + ?Sized>(
+    surface: &S,
     points: &[SurfacePoint],
 ) -> Result<(Vec<[f64; 3]>, Vec<[f64; 3]>), TessellateError> {
     let mut positions = Vec::with_capacity(points.len());
@@ -597,7 +610,9 @@ fn evaluate(
     let mut results = Vec::new();
     for chunk in points.chunks(CHUNK) {
         // Normals need first derivatives only.
-        surface.eval_many_into(chunk, Order::First, &mut results);
+        results.clear();
+        results.resize(chunk.len(), Ok(Derivatives::default()));
+        surface.evaluate_many(chunk, Order::First, &mut results);
         for (p, d) in chunk.iter().zip(results.drain(..)) {
             let d: Derivatives = d.map_err(|source| TessellateError::Eval {
                 face: p.face,
@@ -652,7 +667,7 @@ mod tests {
     /// between neighbours (orientation, half-edges of n-gons, spokes) is right.
     fn check_grid(mesh: &PolyMesh, options: Options, rate: u32) {
         let surface = LimitSurface::new(mesh, options).unwrap();
-        let t = tessellate(&surface, mesh, &options, rate, false).unwrap();
+        let t = tessellate(&surface, mesh, rate, false).unwrap();
         let (topo, _) = Topology::from_mesh(mesh, &options).unwrap();
         let live: Vec<bool> = (0..topo.num_faces())
             .map(|f| surface.has_surface(f))
@@ -760,7 +775,7 @@ mod tests {
     fn mismatched_surface_is_an_error() {
         let o = Options::default();
         let s = LimitSurface::new(cube(), o).unwrap();
-        let e = tessellate(&s, &mixed(), &o, 2, false).unwrap_err();
+        let e = tessellate(&s, &mixed(), 2, false).unwrap_err();
         assert!(
             matches!(e, TessellateError::Mismatch { face: 1, .. }),
             "{e}"
@@ -784,7 +799,7 @@ mod tests {
         };
         let s = LimitSurface::new(&quad, o).unwrap();
         assert_eq!(s.eval(0, 0.0, 0.0).unwrap().normal(), [0.0; 3]);
-        let t = tessellate(&s, &quad, &o, 4, false).unwrap();
+        let t = tessellate(&s, &quad, 4, false).unwrap();
         for n in &t.normals {
             let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
             assert!((len - 1.0).abs() < 1e-12, "{n:?}");

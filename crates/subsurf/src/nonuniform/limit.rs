@@ -64,7 +64,6 @@
 //! intervals approach the split ones by half per step and never quite settle (with
 //! random intervals on the same mesh, 4 % of the fans settle, and the times are unchanged).
 
-use nalgebra::{DMatrix, RowDVector};
 use rayon::prelude::*;
 
 use crate::mesh::{Rule, Topology};
@@ -635,9 +634,9 @@ impl<const D: usize> Fan<D> {
     /// the points `v, q_0 … q_{n−1}, r_0 … r_{n−1}`: computed by stepping copies of the
     /// fan whose points are unit vectors, [`UNIT_BLOCK`] columns per copy (one per
     /// coordinate).
-    fn step_matrix(&self) -> DMatrix<f64> {
+    fn step_matrix(&self) -> Square {
         let m = self.ids.len();
-        let mut s = DMatrix::zeros(m, m);
+        let mut s = Square::zeros(m);
         for block in 0..m.div_ceil(UNIT_BLOCK) {
             let mut unit = self.unit_copy::<UNIT_BLOCK>(block);
             unit.step();
@@ -645,7 +644,7 @@ impl<const D: usize> Fan<D> {
                 for (k, &x) in p.iter().enumerate() {
                     let col = UNIT_BLOCK * block + k;
                     if col < m {
-                        s[(row, col)] = x;
+                        s.a[row * m + col] = x;
                     }
                 }
             }
@@ -661,18 +660,20 @@ impl<const D: usize> Fan<D> {
     /// Each squaring's rows are rescaled to sum to 1 (they do exactly; rounding would
     /// otherwise grow the eigenvalue 1 with the power). Not the left eigenvector of eigenvalue
     /// 1: next to zero intervals that eigenvalue can be double.
-    fn squared_row(&self) -> Option<RowDVector<f64>> {
+    fn squared_row(&self) -> Option<Vec<f64>> {
         let mut power = self.step_matrix();
-        let mut row = power.row(0).clone_owned();
+        let mut row = power.row(0).to_vec();
         for _ in 0..MAX_SQUARINGS {
-            power = &power * &power;
-            for mut r in power.row_iter_mut() {
-                let sum = r.sum();
-                r /= sum;
+            power = power.squared();
+            for r in power.a.chunks_exact_mut(power.n) {
+                let sum: f64 = r.iter().sum();
+                r.iter_mut().for_each(|x| *x /= sum);
             }
             let next = power.row(0);
-            let change = (next - &row).amax();
-            row.copy_from(&next);
+            let change = (next.iter().zip(&row))
+                .map(|(a, b)| (a - b).abs())
+                .fold(0.0, f64::max);
+            row.copy_from_slice(next);
             if !change.is_finite() {
                 return None;
             }
@@ -753,6 +754,44 @@ impl Fan {
     }
 }
 
+/// A dense square matrix, row-major: the step matrix of a fan, `(1 + 2n)²`, and its powers.
+struct Square {
+    /// Size.
+    n: usize,
+    /// Entries, row `i` at `a[i n .. (i + 1) n]`.
+    a: Vec<f64>,
+}
+
+impl Square {
+    fn zeros(n: usize) -> Self {
+        Self {
+            n,
+            a: vec![0.0; n * n],
+        }
+    }
+
+    fn row(&self, i: usize) -> &[f64] {
+        &self.a[i * self.n..(i + 1) * self.n]
+    }
+
+    /// `self²`, row by row (each row of the product is a combination of the rows of
+    /// `self`, summed in order of the columns).
+    fn squared(&self) -> Self {
+        let n = self.n;
+        let mut out = Self::zeros(n);
+        for (i, o) in out.a.chunks_exact_mut(n).enumerate() {
+            for (k, &x) in self.row(i).iter().enumerate() {
+                if x != 0.0 {
+                    o.iter_mut()
+                        .zip(self.row(k))
+                        .for_each(|(o, &y)| *o += x * y);
+                }
+            }
+        }
+        out
+    }
+}
+
 fn combine<const N: usize, const D: usize>(w: &[f64], p: &[&[f64; D]; N]) -> [f64; D] {
     let mut c = [0.0; D];
     for (wi, pi) in w.iter().zip(p) {
@@ -806,6 +845,15 @@ mod tests {
         Fan::gather(t, &ac, pole, |i| s.points[i]).unwrap()
     }
 
+    #[test]
+    fn square_matrix_squares() {
+        let m = Square {
+            n: 2,
+            a: vec![1.0, 2.0, 3.0, 4.0],
+        };
+        assert_eq!(m.squared().a, vec![7.0, 10.0, 15.0, 22.0]);
+    }
+
     /// The step matrix maps the fan's points as a step does.
     #[test]
     fn step_matrix_is_one_step() {
@@ -816,7 +864,7 @@ mod tests {
             fan.step();
             for (row, p) in fan.points().enumerate() {
                 for k in 0..4 {
-                    let x: f64 = (0..s.ncols()).map(|j| s[(row, j)] * before[j][k]).sum();
+                    let x: f64 = (0..s.n).map(|j| s.row(row)[j] * before[j][k]).sum();
                     assert!((x - p[k]).abs() < 1e-15, "row {row}: {x} vs {}", p[k]);
                 }
             }

@@ -462,3 +462,27 @@ fn uniform_around(nurss: &Nurss, f: usize) -> bool {
                 }))
     })
 }
+
+/// The NURSS surface in the vocabulary of every surface; a face without an exact evaluation
+/// is [`EvalError::NotExact`] (sample it through refinement: [`super::tessellate()`]).
+impl crate::limit::Surface for NurssSurface {
+    fn num_faces(&self) -> usize {
+        NurssSurface::num_faces(self)
+    }
+
+    fn num_subfaces(&self, f: usize) -> usize {
+        NurssSurface::num_subfaces(self, f)
+    }
+
+    fn has_surface(&self, f: usize) -> bool {
+        NurssSurface::has_surface(self, f)
+    }
+
+    fn evaluate(&self, p: SurfacePoint) -> Result<Derivatives, EvalError> {
+        self.eval_point(p).map_err(|e| match e {
+            NurssEvalError::Eval(e) => e,
+            NurssEvalError::NotExact { face, reason } => EvalError::NotExact { face, reason },
+        })
+    }
+}
+

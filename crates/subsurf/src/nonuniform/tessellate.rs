@@ -138,6 +138,7 @@ pub fn tessellate(
         face_offsets,
         face_verts,
         source: out_source,
+        points: Vec::new(),
     })
 }
 

@@ -477,7 +477,7 @@ impl LimitGrid {
             }
             None => LimitSurface::new(mesh, *options)?,
         };
-        let t = tessellate(&surface, mesh, options, rate, false)?;
+        let t = tessellate(&surface, mesh, rate, false)?;
         let mut g = LimitGrid {
             positions: Vec::new(),
             normals: Vec::new(),

@@ -12,26 +12,23 @@
 //! face (`patch`); on a regular mesh it is the uniform bicubic B-spline.
 //!
 //! Non-quad input gets one Catmull-Clark step first ([`quad_control_mesh`]). Faces with a
-//! corner on the boundary get no surface. [`tessellate()`] samples the surface on a watertight
-//! grid, `compare` measures it against the Catmull-Clark limit surface, `export` writes
-//! tessellations with colours or a scalar.
+//! corner on the boundary get no surface. [`SubBasisSurface`] is a
+//! [`Surface`](crate::limit::Surface): [`limit::tessellate`](crate::limit::tessellate)
+//! samples it on a watertight grid; [`compare_with_limit`] measures it against the
+//! Catmull-Clark limit surface; [`face_colours`] and [`scalar_colours`] colour pictures.
 
+pub(crate) mod colour;
 pub(crate) mod compare;
 mod error;
-pub(crate) mod export;
 pub(crate) mod patch;
 pub(crate) mod subbasis;
 mod surface;
 pub(crate) mod table;
-pub(crate) mod tessellate;
 
 pub use compare::{compare_with_limit, Comparison};
 pub use error::SplineError;
-pub use export::{
-    scalar_colours, split_by_face, write_obj_coloured, write_ply_attributes, PlyAttributes, PALETTE,
-};
+pub use colour::{face_colours, scalar_colours, PALETTE};
 pub use patch::RationalPatch;
 pub use subbasis::{Class, SubBasis};
 pub use surface::{quad_control_mesh, Piece, QuadSpline, SubBasisSurface};
 pub use table::{valence_table, ValenceTable, EAGER_MAX_VALENCE};
-pub use tessellate::{face_colours, tessellate, SplineTessellation};

@@ -389,6 +389,19 @@ fn build_face(
 /// The sub-basis spline surface in the vocabulary of every surface: a face without a surface
 /// (a corner the spline does not cover) reads as a hole.
 impl crate::limit::Surface for SubBasisSurface {
+    fn num_faces(&self) -> usize {
+        SubBasisSurface::num_faces(self)
+    }
+
+    /// 1 for every face: the control mesh is all quads.
+    fn num_subfaces(&self, f: usize) -> usize {
+        usize::from(f < self.num_faces())
+    }
+
+    fn has_surface(&self, f: usize) -> bool {
+        SubBasisSurface::has_surface(self, f)
+    }
+
     fn evaluate(
         &self,
         p: crate::limit::SurfacePoint,

@@ -9,10 +9,10 @@ use std::f64::consts::{PI, SQRT_2};
 
 use crate::common::example;
 use subsurf::io::parse_obj;
-use subsurf::limit::LimitSurface;
+use subsurf::limit::{tessellate, LimitSurface};
 use subsurf::mesh::{Options, PolyMesh, Topology};
 use subsurf::spline::{
-    compare_with_limit, quad_control_mesh, tessellate, valence_table, Class, SplineError, SubBasis,
+    compare_with_limit, quad_control_mesh, valence_table, Class, SplineError, SubBasis,
     SubBasisSurface, ValenceTable,
 };
 
@@ -674,7 +674,8 @@ fn bad_queries_are_typed_errors() {
     ));
     let flat = grid(2, 1);
     let s = SubBasisSurface::new(&flat).unwrap();
-    assert!(matches!(tessellate(&s, &flat, 2), Err(SplineError::Empty)));
+    // No face has a surface: nothing to sample.
+    assert_eq!(tessellate(&s, &flat, 2, false).unwrap().num_faces(), 0);
 }
 
 /// The tessellation of a closed mesh is a closed 2-manifold (every edge in two quads, Euler
@@ -683,7 +684,7 @@ fn bad_queries_are_typed_errors() {
 fn tessellation_is_watertight() {
     let cube = example("cube.obj");
     let s = SubBasisSurface::new(&cube).unwrap();
-    let t = tessellate(&s, &cube, 5).unwrap();
+    let t = tessellate(&s, &cube, 5, false).unwrap();
     assert_eq!(t.num_faces(), 6 * 25);
     assert_eq!(t.num_vertices(), 6 * 25 + 2);
     let mut edges = std::collections::HashMap::new();
@@ -695,8 +696,8 @@ fn tessellation_is_watertight() {
         }
     }
     assert!(edges.values().all(|&c| c == 2));
-    for (i, &(f, u, v)) in t.params.iter().enumerate() {
-        assert_eq!(t.positions[i], s.eval(f, u, v).unwrap().p);
+    for (i, p) in t.points.iter().enumerate() {
+        assert_eq!(t.positions[i], s.eval(p.face, p.u, p.v).unwrap().p);
     }
 }
 

@@ -373,7 +373,7 @@ fn tessellate_takes_a_prebuilt_surface() {
     let m = mixed();
     let o = Options::default();
     let s = LimitSurface::new(&m, o).unwrap();
-    let a = tessellate(&s, &m, &o, 2, false).unwrap();
+    let a = tessellate(&s, &m, 2, false).unwrap();
     let b = tessellate_mesh(&m, &o, 2, false).unwrap();
     assert_eq!(a, b);
 }
