@@ -54,6 +54,7 @@
 
 pub mod blend;
 pub mod curves;
+#[cfg(feature = "g2")]
 pub mod g2cap;
 pub mod io;
 pub mod limit;
@@ -62,6 +63,7 @@ pub mod nonuniform;
 pub mod nurbs;
 pub mod refine;
 pub mod regularity;
+#[cfg(feature = "render")]
 pub mod render;
 pub mod scheme;
 pub mod spline;

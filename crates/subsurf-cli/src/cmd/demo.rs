@@ -38,15 +38,16 @@ use subsurf::g2cap::{continuity_report, patches_json, G2Surface, G2SurfaceOption
 use subsurf::io::parse_geometry;
 use subsurf::io::write_groups_obj;
 use subsurf::io::MeshFormat;
-use subsurf::io::{write_tessellation, TessellationFormat, TessellationWriteOptions};
+use subsurf::io::Up;
 use subsurf::io::{parse_obj, write_obj, WriteOptions};
+use subsurf::io::{write_tessellation, TessellationFormat, TessellationWriteOptions};
 use subsurf::limit::{self, tessellate, LimitSurface};
 use subsurf::mesh::{Options, PolyMesh};
 use subsurf::nurbs::SourcedGeometry;
 use subsurf::nurbs::{Geometry as NurbsGeometry, Surface};
 use subsurf::regularity::{check_regularity, plot_image, Mode, RegularityOptions};
 use subsurf::render::{
-    render_detailed, render_surface, write_png, Geometry, Paint, Render, RgbImage, Up,
+    render_detailed, render_surface, write_png, Geometry, Paint, Render, RgbImage,
 };
 use subsurf::render::{sample_curvature, CurvatureKind};
 use subsurf::scheme::Adjustable;

@@ -285,7 +285,6 @@ fn build_within(
     Ok(surface)
 }
 
-
 fn parse_view(s: &str) -> Result<(f64, f64), String> {
     let (a, e) = s
         .split_once(',')
@@ -299,7 +298,6 @@ fn parse_view(s: &str) -> Result<(f64, f64), String> {
     };
     Ok((parse(a)?, parse(e)?))
 }
-
 
 /// Runs `subsurf g2`.
 pub fn run(args: &G2Args) -> Result<()> {
@@ -417,8 +415,8 @@ fn write_output(
                 .tessellation()
                 .context("not a tessellation format")?;
             let triangles = format == TessellationFormat::Glb;
-            let t = tessellate(surface, mesh, args.rate, triangles)
-                .with_context(|| name.to_owned())?;
+            let t =
+                tessellate(surface, mesh, args.rate, triangles).with_context(|| name.to_owned())?;
             let comment = format!(
                 "subsurf g2 --rate {}{} {}: {} caps",
                 args.rate,

@@ -4,12 +4,11 @@
 use std::path::Path;
 
 use anyhow::{bail, Context, Result};
+use subsurf::io::Up;
 use subsurf::limit::{BuildError, LimitSurface};
 use subsurf::mesh::Options;
 use subsurf::render::CurvatureKind;
-use subsurf::render::{
-    render_detailed, write_png, Geometry, Paint, Render, RenderError, Shading, Up,
-};
+use subsurf::render::{render_detailed, write_png, Geometry, Paint, Render, RenderError, Shading};
 
 use crate::input::Input;
 use crate::output::Output;

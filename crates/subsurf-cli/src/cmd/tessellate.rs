@@ -3,10 +3,10 @@
 //! triangles with normals, optionally with the control mesh's edges as lines).
 
 use anyhow::{bail, Context, Result};
+use subsurf::io::Up;
 use subsurf::io::{write_tessellation, TessellationFormat, TessellationWriteOptions};
 use subsurf::limit::{tessellate, Tessellation};
 use subsurf::mesh::{Options, PolyMesh, TriangleSubdivision};
-use subsurf::render::Up;
 
 use crate::input::Input;
 use crate::output::{formats, tessellation_format, Output};
@@ -158,7 +158,11 @@ fn up(args: &TessellateArgs) -> Up {
 /// (about 3.4e38; the input may have coordinates up to 1e75) would otherwise fail as the
 /// output is written, as if the output were at fault. The message names the first face
 /// (1-based, with its line) whose surface reaches beyond.
-fn check_single_precision(t: &Tessellation, format: TessellationFormat, input: &Input) -> Result<()> {
+fn check_single_precision(
+    t: &Tessellation,
+    format: TessellationFormat,
+    input: &Input,
+) -> Result<()> {
     let what = match format {
         TessellationFormat::Stl => "STL",
         TessellationFormat::Glb => "glTF",

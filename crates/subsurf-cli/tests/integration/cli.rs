@@ -766,8 +766,11 @@ fn unknown_output_extensions_are_usage_errors() {
             ".obj, .ply, .stl or .glb",
         ),
         (&["render", "cube.obj"], ".png"),
-        (&["spline", "cube.obj"], ".obj, .ply or .stl"),
-        (&["g2", "cube.obj"], ".obj, .json, .igs, .iges or .png"),
+        (&["spline", "cube.obj"], ".obj, .ply, .stl or .glb"),
+        (
+            &["g2", "cube.obj"],
+            ".obj, .ply, .stl, .glb, .json, .igs, .iges or .png",
+        ),
         (&["nurbs", "p.json"], ".json or .obj"),
         (&["blend", "p.json"], ".obj"),
     ] {

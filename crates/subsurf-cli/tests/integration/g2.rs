@@ -128,7 +128,7 @@ fn report_compares_with_catmull_clark() {
 #[test]
 fn bad_inputs_exit_1_usage_errors_exit_2() {
     let dir = dir_with(&[("cube.obj", CUBE), ("bad.obj", "v 0 0 0\nf 1 2 3\n")]);
-    let o = run_in(dir.path(), &["g2", "cube.obj", "-o", "out.stl"]);
+    let o = run_in(dir.path(), &["g2", "cube.obj", "-o", "out.fbx"]);
     assert_code(&o, 2);
     assert!(stderr(&o).contains(".obj"), "{}", stderr(&o));
     let o = run_in(dir.path(), &["g2", "bad.obj", "-o", "out.obj"]);
@@ -143,6 +143,41 @@ fn bad_inputs_exit_1_usage_errors_exit_2() {
     assert_code(&o, 2);
     // Nothing was written.
     assert!(!dir.path().join("out.obj").exists() && !dir.path().join("x.obj").exists());
+}
+
+/// The G2 surface's tessellation is written in every tessellation format (the one writer
+/// of `subsurf tessellate`), and `subsurf spline` writes glTF with its patch colours.
+#[test]
+fn tessellations_in_every_format() {
+    let dir = dir_with(&[("cube.obj", CUBE)]);
+    for (file, magic) in [
+        ("g.obj", &b"# written by subsurf"[..]),
+        ("g.ply", b"ply\nformat binary_little_endian"),
+        ("g.glb", b"glTF"),
+    ] {
+        let o = run_in(dir.path(), &["g2", "cube.obj", "--rate", "3", "-o", file]);
+        assert_code(&o, 0);
+        let bytes = std::fs::read(dir.path().join(file)).unwrap();
+        assert!(bytes.starts_with(magic), "{file}");
+    }
+    // STL: an 80-byte header, the triangle count, 50 bytes per triangle: the cube's six
+    // faces at rate 3 are 6 × 9 quads, two triangles each.
+    let o = run_in(
+        dir.path(),
+        &["g2", "cube.obj", "--rate", "3", "-o", "g.stl"],
+    );
+    assert_code(&o, 0);
+    let stl = std::fs::read(dir.path().join("g.stl")).unwrap();
+    let count = u32::from_le_bytes(stl[80..84].try_into().unwrap());
+    assert_eq!(count, 6 * 9 * 2);
+    assert_eq!(stl.len(), 84 + 50 * count as usize);
+    let o = run_in(
+        dir.path(),
+        &["spline", "cube.obj", "--colour-faces", "-o", "s.glb"],
+    );
+    assert_code(&o, 0);
+    let glb = std::fs::read(dir.path().join("s.glb")).unwrap();
+    assert!(glb.starts_with(b"glTF") && String::from_utf8_lossy(&glb).contains("COLOR_0"));
 }
 
 /// A .png output draws the G2 surface; --compare draws Catmull-Clark, which differs at the

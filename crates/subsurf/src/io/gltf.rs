@@ -53,7 +53,7 @@ use json::validation::{Checked, USize64};
 use json::{Accessor, Buffer, Index, Material, Mesh, Node, Root, Scene};
 use serde_json::Value;
 
-use crate::render::Up;
+use super::Up;
 
 /// GLB magic, `glTF` read as a little-endian `u32`.
 pub(crate) const GLB_MAGIC: u32 = 0x4654_6C67;

@@ -17,16 +17,19 @@
 mod atomic;
 mod decimal;
 pub(crate) mod geometry;
+#[cfg(feature = "gltf")]
 pub(crate) mod gltf;
 pub(crate) mod input;
 pub(crate) mod obj;
 pub(crate) mod ply;
 pub(crate) mod stl;
 mod tessellation;
+mod up;
 
 pub use atomic::{remove_temporary_files, write_atomically, Finished, PendingFile};
 pub use decimal::push_decimal;
 pub use geometry::{geometry_to_string, parse_geometry, read_geometry, GeometryFormat};
+#[cfg(feature = "gltf")]
 pub use gltf::{face_edges, to_gltf_frame, write_glb, GlbLines, GlbMesh, CHUNK_BIN, CHUNK_JSON};
 pub use input::{parse_mesh, read_mesh, read_mesh_from, MeshFormat, ReadMeshError, BLOCK};
 pub use obj::{
@@ -36,3 +39,4 @@ pub use obj::{
 pub use ply::{parse_ply, read_ply, write_ply, PlyEncoding, PlyError, PlyFile, MAX_HEADER};
 pub use stl::{read_stl, write_stl};
 pub use tessellation::{write_tessellation, Colours, TessellationFormat, TessellationWriteOptions};
+pub use up::Up;

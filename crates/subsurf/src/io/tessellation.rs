@@ -2,13 +2,14 @@
 //! surface it samples), in OBJ, binary PLY, binary STL or binary glTF, with optional
 //! colours, a per-vertex scalar and the control mesh's edges.
 
+#[cfg(feature = "gltf")]
 use super::gltf::{face_edges, write_glb, GlbLines, GlbMesh};
 use super::obj::{write_obj, WriteOptions};
 use super::ply::write_ply;
 use super::stl::write_stl;
+use super::Up;
 use crate::limit::Tessellation;
 use crate::mesh::PolyMesh;
-use crate::render::Up;
 use std::io::{self, Write};
 
 /// The file formats [`write_tessellation`] writes.
@@ -138,7 +139,13 @@ pub fn write_tessellation<W: Write>(
             &t.face_verts,
             options.comment,
         ),
+        #[cfg(feature = "gltf")]
         (TessellationFormat::Glb, colours) => write_glb_tessellation(w, t, colours, options),
+        #[cfg(not(feature = "gltf"))]
+        (TessellationFormat::Glb, _) => Err(io::Error::new(
+            io::ErrorKind::Unsupported,
+            "glTF output needs subsurf's `gltf` feature",
+        )),
     }
 }
 
@@ -349,6 +356,7 @@ fn write_ply_attributes<W: Write>(
     out.flush()
 }
 
+#[cfg(feature = "gltf")]
 /// glTF: the tessellation (with vertex colours, per-face ones split as in OBJ) and, when
 /// given, the control mesh's edges as lines.
 fn write_glb_tessellation<W: Write>(

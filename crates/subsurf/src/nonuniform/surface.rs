@@ -485,4 +485,3 @@ impl crate::limit::Surface for NurssSurface {
         })
     }
 }
-

@@ -103,7 +103,9 @@ pub use exact::Sign;
 pub use frame::{Frames, NoFrame};
 pub use neighbourhood::block;
 pub use neighbourhood::{Block, Inapplicable};
-pub use plot::{plot_image, plot_svg, PLOT_HEIGHT, PLOT_WIDTH};
+#[cfg(feature = "render")]
+pub use plot::plot_image;
+pub use plot::{plot_svg, PLOT_HEIGHT, PLOT_WIDTH};
 pub use report::{
     check_regularity, check_regularity_with, Certificate, Class, ComponentCones, Counts,
     FaceReport, Mode, Refusal, RegularityOptions, RegularityReport,

@@ -6,6 +6,7 @@
 //! to the longest. As SVG (with a legend) or PNG (the same drawing, no text). Spatial nets
 //! are drawn in their `x, y` projection.
 
+#[cfg(feature = "render")]
 use image::{Rgb, RgbImage};
 
 use super::cone::Difference;
@@ -193,6 +194,7 @@ pub fn plot_svg(mesh: &PolyMesh, report: &RegularityReport, mode: Mode) -> Strin
 }
 
 /// The picture as an RGB image (no text).
+#[cfg(feature = "render")]
 pub fn plot_image(mesh: &PolyMesh, report: &RegularityReport, mode: Mode) -> RgbImage {
     let mut img = RgbImage::from_pixel(PLOT_WIDTH, PLOT_HEIGHT, Rgb([255, 255, 255]));
     let (w, h) = (PLOT_WIDTH as i64, PLOT_HEIGHT as i64);
@@ -230,6 +232,7 @@ pub fn plot_image(mesh: &PolyMesh, report: &RegularityReport, mode: Mode) -> Rgb
     img
 }
 
+#[cfg(feature = "render")]
 fn bounds(pts: &[[f64; 2]], pad: f64, w: i64, h: i64) -> (i64, i64, i64, i64) {
     let (mut x0, mut x1, mut y0, mut y1) = (
         f64::INFINITY,
@@ -252,6 +255,7 @@ fn bounds(pts: &[[f64; 2]], pad: f64, w: i64, h: i64) -> (i64, i64, i64, i64) {
     )
 }
 
+#[cfg(feature = "render")]
 fn inside(pts: &[[f64; 2]], q: [f64; 2]) -> bool {
     let mut odd = false;
     let n = pts.len();
@@ -267,6 +271,7 @@ fn inside(pts: &[[f64; 2]], q: [f64; 2]) -> bool {
     odd
 }
 
+#[cfg(feature = "render")]
 fn seg_dist(q: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
     let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
     let l2 = dx * dx + dy * dy;

@@ -1,8 +1,8 @@
 //! The orbit camera: looks at a centre from azimuth/elevation, perspective, fitted to a
 //! bounding sphere.
 
-use super::Up;
 use crate::geom::{self, V3};
+use crate::io::Up;
 
 /// Field of view across the narrower side of the viewport, in degrees.
 pub(crate) const FOV_DEGREES: f64 = 30.0;

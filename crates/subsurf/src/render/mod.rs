@@ -56,6 +56,7 @@ use std::io::{self, Write};
 pub use curvature::{sample_curvature, CurvatureKind};
 pub use image::RgbImage;
 
+use crate::io::Up;
 use crate::limit::{BuildError, EvalError, TessellateError};
 use crate::mesh::{MeshError, Options, PolyMesh};
 use camera::{Camera, Viewport};
@@ -103,16 +104,6 @@ pub enum Paint {
     Zebra,
     /// Curvature of the exact limit surface ([`Geometry::Limit`] only), with a colour bar.
     Curvature(CurvatureKind),
-}
-
-/// Which world axis points up in the picture.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum Up {
-    /// `+Z` up (OpenSubdiv's shapes, CAD); azimuth 0 looks along `+Y`.
-    #[default]
-    Z,
-    /// `+Y` up (most OBJ exporters); azimuth 0 looks along `−Z`.
-    Y,
 }
 
 /// Options of [`render`].

@@ -25,9 +25,9 @@ pub(crate) mod subbasis;
 mod surface;
 pub(crate) mod table;
 
+pub use colour::{face_colours, scalar_colours, PALETTE};
 pub use compare::{compare_with_limit, Comparison};
 pub use error::SplineError;
-pub use colour::{face_colours, scalar_colours, PALETTE};
 pub use patch::RationalPatch;
 pub use subbasis::{Class, SubBasis};
 pub use surface::{quad_control_mesh, Piece, QuadSpline, SubBasisSurface};

@@ -7,10 +7,10 @@
 
 use serde_json::Value;
 use subsurf::io::parse_obj;
+use subsurf::io::Up;
 use subsurf::io::{face_edges, to_gltf_frame, write_glb, GlbLines, GlbMesh, CHUNK_BIN, CHUNK_JSON};
 use subsurf::limit::{tessellate_mesh, Tessellation};
 use subsurf::mesh::{Options, PolyMesh};
-use subsurf::render::Up;
 
 fn shape(name: &str) -> (PolyMesh, Options) {
     let path = format!("{}/tests/shapes/osd/{name}.obj", env!("CARGO_MANIFEST_DIR"));
