@@ -32,7 +32,7 @@ use crate::scheme::adjustable::Mixed;
 ///
 /// ```
 /// use subsurf::mesh::{Options, PolyMesh};
-/// use subsurf::scheme::adjustable::Adjustable;
+/// use subsurf::scheme::Adjustable;
 /// use subsurf::{Mixed, MixedSurface};
 ///
 /// let p = vec![

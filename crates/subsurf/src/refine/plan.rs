@@ -213,7 +213,7 @@ impl RefinePlan {
     /// ```
     /// use subsurf::mesh::{Options, PolyMesh};
     /// use subsurf::refine::RefinePlan;
-    /// use subsurf::scheme::adjustable::Adjustable;
+    /// use subsurf::scheme::Adjustable;
     /// use subsurf::{subdivide, Mixed, Scheme, SubdivideOptions};
     ///
     /// let mut quad = PolyMesh::from_faces(

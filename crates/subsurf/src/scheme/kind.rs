@@ -12,7 +12,7 @@ use super::adjustable::Mixed;
 /// [`Options`](crate::mesh::Options), given beside it.
 ///
 /// ```
-/// use subsurf::scheme::adjustable::Adjustable;
+/// use subsurf::scheme::Adjustable;
 /// use subsurf::{Mixed, Scheme};
 ///
 /// let cc = Scheme::default();

@@ -85,7 +85,7 @@ pub struct FreeFormElement {
 /// module documentation for what is refused).
 ///
 /// ```
-/// use subsurf::io::obj::parse_obj_freeform;
+/// use subsurf::io::parse_obj_freeform;
 /// use subsurf::nurbs::{Curve, Geometry};
 /// let text = "v 0 0 0\nv 1 2 0\nv 3 2 0\nv 4 0 0\n\
 ///             cstype bspline\ndeg 3\ncurv 0 1 1 2 3 4\nparm u 0 0 0 0 1 1 1 1\nend\n";
