@@ -22,14 +22,13 @@ pub fn available() -> Option<u64> {
 /// stops it (Linux's `prctl(PR_SET_THP_DISABLE)`; nothing elsewhere).
 ///
 /// The allocator (mimalloc) asks for huge pages on its arenas. They pay for the jobs that
-/// write hundreds of MB of fresh buffers (refinement): one fault per 2 MiB instead of per
-/// 4 KiB, 15 % of the time of a 4 M-vertex refinement. The other jobs allocate many small
-/// blocks (a limit surface's nodes and configuration trees) spread over the arena, and
-/// each 2 MiB page touched is resident whole: `bench --limit-grid 8` on `catmark_bishop`
-/// peaked at 29 MiB with huge pages and 14 MiB without, at the same speed. A page faulted
-/// in huge stays huge, so they are off from before the first allocation
-/// ([`ALLOCATOR_AT_START`]) and refinement turns them back on when it is large
-/// enough ([`for_refinement`]).
+/// write hundreds of MB of fresh buffers (refinement): one page fault per 2 MiB instead of
+/// per 4 KiB. The other jobs allocate many small blocks (a limit surface's nodes and
+/// configuration trees) spread over the arena, and each 2 MiB page touched is resident
+/// whole, which raises their peak at no gain in speed (BENCHMARKS.md, "Allocator settings,
+/// kept buffers and memory estimates"). A page faulted in huge stays huge, so they are off
+/// from before the first allocation ([`ALLOCATOR_AT_START`]) and refinement turns them
+/// back on when it is large enough ([`for_refinement`]).
 pub fn huge_pages(on: bool) {
     #[cfg(target_os = "linux")]
     // SAFETY: `PR_SET_THP_DISABLE` takes integer arguments only and changes a flag of the
@@ -44,13 +43,10 @@ pub fn huge_pages(on: bool) {
 
 /// Estimated job size (bytes) from which refinement runs on huge pages ([`for_refinement`]).
 ///
-/// Each thread's partly used 2 MiB pages stay resident whole, 10–40 MiB over the job on
-/// two threads, which below about this size put the peak above OpenSubdiv's for the
-/// same refinement (`catmark_bishop` level 4, estimated 37 MiB: 88 MiB with huge pages,
-/// 75 MiB without, OpenSubdiv 50 MiB; `catmark_pawn` level 5, 92 MiB: 124, 112 and 121
-/// MiB). From here on their speed is worth more than that (two threads: `catmark_pawn`
-/// level 5 26 % faster, `catmark_bishop` level 4 17 %) and the peak stays below
-/// OpenSubdiv's (`catmark_bishop` level 5, 147 MiB: 154 MiB against 190 MiB).
+/// Each thread's partly used 2 MiB pages stay resident whole, which below about this size
+/// puts the peak above OpenSubdiv's for the same refinement; from here on their speed is
+/// worth more than that and the peak stays below OpenSubdiv's (the measurements are in
+/// BENCHMARKS.md, "Allocator settings, kept buffers and memory estimates").
 pub const HUGE_PAGES_FROM: u64 = 128 << 20;
 
 /// mimalloc's `mi_option_purge_delay` (its `mimalloc.h`, the same index in its versions 2
@@ -65,13 +61,13 @@ const _: () = assert!(
 );
 
 /// How long refinement keeps freed memory for reuse, in milliseconds, unless the
-/// environment sets `MIMALLOC_PURGE_DELAY`: 1 s (mimalloc 2's own default is 10 ms).
+/// environment sets `MIMALLOC_PURGE_DELAY`: one second, well above mimalloc 2's own
+/// default.
 ///
-/// A `bench` repetition, or a level of a large refinement, frees its buffers some tens
-/// of milliseconds before the next one needs as many again. With 10 ms they were mostly
-/// returned and faulted in again: `catmark_bishop` at level 6 took 0.163 s on one thread
-/// and 0.096 s on two, against 0.147 s and 0.084 s with 1 s, at the same peak (433–443
-/// MiB).
+/// A `bench` repetition, or a level of a large refinement, frees its buffers a little
+/// before the next one needs as many again. With the allocator's default delay they are
+/// mostly returned and faulted in again, which slows refinement at no saving in peak
+/// memory (BENCHMARKS.md, "Allocator settings, kept buffers and memory estimates").
 pub const REFINEMENT_PURGE_DELAY_MS: i64 = 1000;
 
 /// The allocator's purge delay for refinement, which [`for_refinement`] sets:
@@ -86,13 +82,11 @@ const UNCHANGED: i64 = i64::MIN;
 /// [`KEPT_PURGE_DELAY`]) or returns it to the system at once (a delay of 0).
 ///
 /// Refinement frees each level's buffers and allocates the next, larger, ones: kept
-/// memory is reused without faulting pages in again (returned at once, each repetition
-/// of a `bench` of `catmark_pawn` at level 4 took 3× as long). The other jobs allocate
-/// as they build (a limit surface, a tessellation's arrays) and then work in place: there
-/// the memory kept only adds to the peak, the blocks of every growing array and the
-/// parser's buffers staying resident after they are freed (`bench --limit-grid 8` on
-/// `catmark_pawn` refined four times, 150 k quads: 71 MiB kept, 65 MiB returned, at
-/// the same speed).
+/// memory is reused without faulting pages in again. The other jobs allocate as they
+/// build (a limit surface, a tessellation's arrays) and then work in place: there the
+/// memory kept only adds to the peak, the blocks of every growing array and the parser's
+/// buffers staying resident after they are freed (BENCHMARKS.md, "Allocator settings,
+/// kept buffers and memory estimates").
 pub fn keep_freed_memory(keep: bool) {
     let delay = match KEPT_PURGE_DELAY.load(Ordering::Relaxed) {
         UNCHANGED => return,
@@ -111,10 +105,9 @@ pub fn keep_freed_memory(keep: bool) {
 /// For a job that builds something, frees the build's temporaries and then allocates its
 /// working buffers once (a re-posing plan, then the re-posed points): kept, the freed
 /// blocks may not be where the buffers go, and the buffers' fresh pages add to them.
-/// `bench --replay` at level 3 of the large quad input peaked at 156 MiB, 132 MiB with
-/// the freed memory returned before the first re-posing; `catmark_bishop` at level 6,
-/// 453 and 444 MiB; the all-triangle `cow` at level 4, 169 and 161 MiB; at the same
-/// speed (a re-posing with kept buffers allocates nothing).
+/// Returning them first lowers the peak at the same speed, as a re-posing with kept
+/// buffers allocates nothing (BENCHMARKS.md, "Allocator settings, kept buffers and memory
+/// estimates").
 pub fn return_freed_memory() {
     // SAFETY: a collection takes no arguments and touches only the allocator's own state;
     // it is allowed from any thread at any time.
@@ -136,9 +129,8 @@ pub fn for_refinement(estimate: u64) {
 /// ([`keep_freed_memory`]); refinement changes both back ([`for_refinement`]). A
 /// constructor of priority 100, which runs before mimalloc's (priority 101, which
 /// reserves its first arena) and so before the first allocation (the standard library's
-/// own constructor, priority 99, only stores the program's arguments). Turned off in
-/// `main` instead, a huge page faulted in before it stayed resident: 3–4 MiB of every
-/// job's peak.
+/// own constructor, priority 99, only stores the program's arguments). Later, in `main`,
+/// a huge page faulted in before would stay resident in every job.
 #[cfg(target_os = "linux")]
 #[used]
 #[link_section = ".init_array.00100"]
