@@ -1131,8 +1131,18 @@ impl Parser {
             "hole" => self.tag_hole(toks, &tag),
             "interval" | "sideinterval" => self.tag_interval(toks, &tag),
             "weight" => self.tag_weight(toks, &tag),
+            _ => self.tag_option(toks, &tag),
+        }
+    }
+
+    /// The scheme option tags (`interpolateboundary`, `facevaryinginterpolateboundary`,
+    /// `facevaryingpropagatecorners`, `creasemethod`, `smoothtriangles`): one value each,
+    /// stored in the file's options.
+    fn tag_option(&mut self, toks: SplitAsciiWhitespace<'_>, tag: &Tag) -> Result<(), String> {
+        let name = tag.name;
+        match name {
             "interpolateboundary" => {
-                let tok = Self::option_token(toks, &tag, (1, 0, 0))?;
+                let tok = Self::option_token(toks, tag, (1, 0, 0))?;
                 let value: i64 = tok
                     .parse()
                     .map_err(|_| format!("t {name}: '{tok}' is not an integer"))?;
@@ -1146,7 +1156,7 @@ impl Parser {
                 Ok(())
             }
             "facevaryinginterpolateboundary" => {
-                let tok = Self::option_token(toks, &tag, (1, 0, 0))?;
+                let tok = Self::option_token(toks, tag, (1, 0, 0))?;
                 let value: i64 = tok
                     .parse()
                     .map_err(|_| format!("t {name}: '{tok}' is not an integer"))?;
@@ -1160,7 +1170,7 @@ impl Parser {
                 Ok(())
             }
             "facevaryingpropagatecorners" => {
-                let tok = Self::option_token(toks, &tag, (1, 0, 0))?;
+                let tok = Self::option_token(toks, tag, (1, 0, 0))?;
                 self.propagate_corners = match tok {
                     "0" => false,
                     "1" => true,
@@ -1169,14 +1179,14 @@ impl Parser {
                 Ok(())
             }
             "creasemethod" => {
-                let tok = Self::option_token(toks, &tag, (0, 0, 1))?;
+                let tok = Self::option_token(toks, tag, (0, 0, 1))?;
                 let method: CreaseMethod = tok.parse().map_err(|e| format!("t {name}: {e}"))?;
                 self.options.crease_method = Some(method);
                 Ok(())
             }
             _ => {
                 // smoothtriangles
-                let tok = Self::option_token(toks, &tag, (0, 0, 1))?;
+                let tok = Self::option_token(toks, tag, (0, 0, 1))?;
                 let rule: TriangleSubdivision =
                     tok.parse().map_err(|e| format!("t {name}: {e}"))?;
                 self.options.triangles = Some(rule);
@@ -1341,13 +1351,10 @@ impl Parser {
         Ok(toks.next().unwrap_or(""))
     }
 
-    /// The checks that need the whole file, then the mesh.
-    fn finish(self, source_name: &str) -> Result<ObjFile, ObjError> {
-        let err = |line: Option<usize>, message: String| ObjError {
-            source_name: source_name.to_owned(),
-            line,
-            message,
-        };
+    /// The problem on the earliest line among the indices that point past what the file
+    /// has (faces' vertices, texture coordinates and normals; tags' vertices and faces) and
+    /// faces that mix corners with and without texture coordinates: its line and message.
+    fn first_index_problem(&self) -> Option<(usize, String)> {
         let (nv, nt, nn) = (
             self.positions.len(),
             self.texcoords.len(),
@@ -1393,7 +1400,17 @@ impl Parser {
                     .into(),
             ));
         }
-        if let Some((line, message)) = problems.into_iter().min_by_key(|p| p.0) {
+        problems.into_iter().min_by_key(|p| p.0)
+    }
+
+    /// The checks that need the whole file, then the mesh.
+    fn finish(self, source_name: &str) -> Result<ObjFile, ObjError> {
+        let err = |line: Option<usize>, message: String| ObjError {
+            source_name: source_name.to_owned(),
+            line,
+            message,
+        };
+        if let Some((line, message)) = self.first_index_problem() {
             return Err(err(Some(line), message));
         }
         let mut options = self.options;
