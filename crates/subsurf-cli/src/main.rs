@@ -629,6 +629,7 @@ fn parse_bytes(s: &str) -> Result<u64, String> {
 }
 
 fn main() -> ExitCode {
+    memory::allocator_at_start();
     // Usage errors exit with 2 here; --help and --version with 0.
     let cli = Cli::parse();
     if let Err(e) = paths::check(&cli.command) {

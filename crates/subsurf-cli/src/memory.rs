@@ -22,14 +22,13 @@ pub fn available() -> Option<u64> {
 /// stops it (Linux's `prctl(PR_SET_THP_DISABLE)`; nothing elsewhere).
 ///
 /// The allocator (mimalloc) asks for huge pages on its arenas. They pay for the jobs that
-/// write hundreds of MB of fresh buffers (refinement): one fault per 2 MiB instead of per
-/// 4 KiB, 15 % of the time of a 4 M-vertex refinement. The other jobs allocate many small
-/// blocks (a limit surface's nodes and configuration trees) spread over the arena, and
-/// each 2 MiB page touched is resident whole: `bench --limit-grid 8` on `catmark_bishop`
-/// peaked at 29 MiB with huge pages and 14 MiB without, at the same speed. A page faulted
-/// in huge stays huge, so they are off from before the first allocation
-/// ([`ALLOCATOR_AT_START`]) and refinement turns them back on when it is large
-/// enough ([`for_refinement`]).
+/// write hundreds of MB of fresh buffers (refinement): one page fault per 2 MiB instead of
+/// per 4 KiB. The other jobs allocate many small blocks (a limit surface's nodes and
+/// configuration trees) spread over the arena, and each 2 MiB page touched is resident
+/// whole, which raises their peak at no gain in speed (BENCHMARKS.md, "Allocator settings,
+/// kept buffers and memory estimates"). A page faulted in huge stays huge, so they are off
+/// from the start of the job ([`allocator_at_start`]) and refinement turns them
+/// back on when it is large enough ([`for_refinement`]).
 pub fn huge_pages(on: bool) {
     #[cfg(target_os = "linux")]
     // SAFETY: `PR_SET_THP_DISABLE` takes integer arguments only and changes a flag of the
@@ -44,13 +43,10 @@ pub fn huge_pages(on: bool) {
 
 /// Estimated job size (bytes) from which refinement runs on huge pages ([`for_refinement`]).
 ///
-/// Each thread's partly used 2 MiB pages stay resident whole, 10–40 MiB over the job on
-/// two threads, which below about this size put the peak above OpenSubdiv's for the
-/// same refinement (`catmark_bishop` level 4, estimated 37 MiB: 88 MiB with huge pages,
-/// 75 MiB without, OpenSubdiv 50 MiB; `catmark_pawn` level 5, 92 MiB: 124, 112 and 121
-/// MiB). From here on their speed is worth more than that (two threads: `catmark_pawn`
-/// level 5 26 % faster, `catmark_bishop` level 4 17 %) and the peak stays below
-/// OpenSubdiv's (`catmark_bishop` level 5, 147 MiB: 154 MiB against 190 MiB).
+/// Each thread's partly used 2 MiB pages stay resident whole, which below about this size
+/// puts the peak above OpenSubdiv's for the same refinement; from here on their speed is
+/// worth more than that and the peak stays below OpenSubdiv's (the measurements are in
+/// BENCHMARKS.md, "Allocator settings, kept buffers and memory estimates").
 pub const HUGE_PAGES_FROM: u64 = 128 << 20;
 
 /// mimalloc's `mi_option_purge_delay` (its `mimalloc.h`, the same index in its versions 2
@@ -65,34 +61,32 @@ const _: () = assert!(
 );
 
 /// How long refinement keeps freed memory for reuse, in milliseconds, unless the
-/// environment sets `MIMALLOC_PURGE_DELAY`: 1 s (mimalloc 2's own default is 10 ms).
+/// environment sets `MIMALLOC_PURGE_DELAY`: one second, well above mimalloc 2's own
+/// default.
 ///
-/// A `bench` repetition, or a level of a large refinement, frees its buffers some tens
-/// of milliseconds before the next one needs as many again. With 10 ms they were mostly
-/// returned and faulted in again: `catmark_bishop` at level 6 took 0.163 s on one thread
-/// and 0.096 s on two, against 0.147 s and 0.084 s with 1 s, at the same peak (433–443
-/// MiB).
+/// A `bench` repetition, or a level of a large refinement, frees its buffers a little
+/// before the next one needs as many again. With the allocator's default delay they are
+/// mostly returned and faulted in again, which slows refinement at no saving in peak
+/// memory (BENCHMARKS.md, "Allocator settings, kept buffers and memory estimates").
 pub const REFINEMENT_PURGE_DELAY_MS: i64 = 1000;
 
 /// The allocator's purge delay for refinement, which [`for_refinement`] sets:
 /// [`REFINEMENT_PURGE_DELAY_MS`], or the `MIMALLOC_PURGE_DELAY` of the environment;
-/// [`UNCHANGED`] where the start-up constructor does not run (not Linux).
+/// [`UNCHANGED`] until [`allocator_at_start`] runs.
 static KEPT_PURGE_DELAY: AtomicI64 = AtomicI64::new(UNCHANGED);
 
-/// [`KEPT_PURGE_DELAY`] before the constructor: the option was never changed.
+/// [`KEPT_PURGE_DELAY`] before [`allocator_at_start`]: the option was never changed.
 const UNCHANGED: i64 = i64::MIN;
 
 /// Whether the allocator keeps freed memory for reuse (mimalloc's purge delay at
 /// [`KEPT_PURGE_DELAY`]) or returns it to the system at once (a delay of 0).
 ///
 /// Refinement frees each level's buffers and allocates the next, larger, ones: kept
-/// memory is reused without faulting pages in again (returned at once, each repetition
-/// of a `bench` of `catmark_pawn` at level 4 took 3× as long). The other jobs allocate
-/// as they build (a limit surface, a tessellation's arrays) and then work in place: there
-/// the memory kept only adds to the peak, the blocks of every growing array and the
-/// parser's buffers staying resident after they are freed (`bench --limit-grid 8` on
-/// `catmark_pawn` refined four times, 150 k quads: 71 MiB kept, 65 MiB returned, at
-/// the same speed).
+/// memory is reused without faulting pages in again. The other jobs allocate as they
+/// build (a limit surface, a tessellation's arrays) and then work in place: there the
+/// memory kept only adds to the peak, the blocks of every growing array and the parser's
+/// buffers staying resident after they are freed (BENCHMARKS.md, "Allocator settings,
+/// kept buffers and memory estimates").
 pub fn keep_freed_memory(keep: bool) {
     let delay = match KEPT_PURGE_DELAY.load(Ordering::Relaxed) {
         UNCHANGED => return,
@@ -111,10 +105,9 @@ pub fn keep_freed_memory(keep: bool) {
 /// For a job that builds something, frees the build's temporaries and then allocates its
 /// working buffers once (a re-posing plan, then the re-posed points): kept, the freed
 /// blocks may not be where the buffers go, and the buffers' fresh pages add to them.
-/// `bench --replay` at level 3 of the large quad input peaked at 156 MiB, 132 MiB with
-/// the freed memory returned before the first re-posing; `catmark_bishop` at level 6,
-/// 453 and 444 MiB; the all-triangle `cow` at level 4, 169 and 161 MiB; at the same
-/// speed (a re-posing with kept buffers allocates nothing).
+/// Returning them first lowers the peak at the same speed, as a re-posing with kept
+/// buffers allocates nothing (BENCHMARKS.md, "Allocator settings, kept buffers and memory
+/// estimates").
 pub fn return_freed_memory() {
     // SAFETY: a collection takes no arguments and touches only the allocator's own state;
     // it is allowed from any thread at any time.
@@ -131,36 +124,23 @@ pub fn for_refinement(estimate: u64) {
     }
 }
 
-/// Sets the allocator up for every job but refinement before its first page is touched:
-/// huge pages off ([`huge_pages`]) and freed memory returned at once
-/// ([`keep_freed_memory`]); refinement changes both back ([`for_refinement`]). A
-/// constructor of priority 100, which runs before mimalloc's (priority 101, which
-/// reserves its first arena) and so before the first allocation (the standard library's
-/// own constructor, priority 99, only stores the program's arguments). Turned off in
-/// `main` instead, a huge page faulted in before it stayed resident: 3–4 MiB of every
-/// job's peak.
-#[cfg(target_os = "linux")]
-#[used]
-#[link_section = ".init_array.00100"]
-pub static ALLOCATOR_AT_START: extern "C" fn() = {
-    extern "C" fn start() {
-        huge_pages(false);
-        // SAFETY: `getenv` reads the environment, which nothing changes this early, with a
-        // NUL-terminated name; unlike `std::env::var_os` it does not allocate.
-        let from_env = unsafe { !libc::getenv(c"MIMALLOC_PURGE_DELAY".as_ptr()).is_null() };
-        let delay = if from_env {
-            // SAFETY: reading an option only reads the environment and the option table.
-            let delay = unsafe { libmimalloc_sys::mi_option_get(MI_OPTION_PURGE_DELAY) };
-            #[allow(clippy::useless_conversion)] // `c_long` is 32 bits on some targets.
-            i64::from(delay)
-        } else {
-            REFINEMENT_PURGE_DELAY_MS
-        };
-        KEPT_PURGE_DELAY.store(delay, Ordering::Relaxed);
-        keep_freed_memory(false);
-    }
-    start
-};
+/// Sets the allocator up for every job but refinement: huge pages off ([`huge_pages`]) and
+/// freed memory returned at once ([`keep_freed_memory`]); refinement changes both back
+/// ([`for_refinement`]). `main` calls it first, before a command reads its input: the few
+/// pages the start-up allocated stay as they are, every later one follows these settings.
+pub fn allocator_at_start() {
+    huge_pages(false);
+    let delay = if std::env::var_os("MIMALLOC_PURGE_DELAY").is_some() {
+        // SAFETY: reading an option only reads the environment and the option table.
+        let delay = unsafe { libmimalloc_sys::mi_option_get(MI_OPTION_PURGE_DELAY) };
+        #[allow(clippy::useless_conversion)] // `c_long` is 32 bits on some targets.
+        i64::from(delay)
+    } else {
+        REFINEMENT_PURGE_DELAY_MS
+    };
+    KEPT_PURGE_DELAY.store(delay, Ordering::Relaxed);
+    keep_freed_memory(false);
+}
 
 /// Refuses a job estimated to need `estimate` bytes when that exceeds `max` (the
 /// `--max-memory` cap) or, without a cap, the memory the system reports as available:
@@ -360,16 +340,16 @@ mod tests {
         i64::from(unsafe { libmimalloc_sys::mi_option_get(MI_OPTION_PURGE_DELAY) })
     }
 
-    /// Huge pages are off from the start of the process (the constructor ran before any
-    /// test), `huge_pages` turns them on and off again, and `for_refinement` turns them on
+    /// Huge pages are off once `allocator_at_start` ran (as `main` does first), `huge_pages` turns them on and off again, and `for_refinement` turns them on
     /// from `HUGE_PAGES_FROM` bytes only; freed memory is returned at once from the start
     /// and kept again for any refinement. (One test: both settings are the whole
     /// process's.)
     #[cfg(target_os = "linux")]
     #[test]
     fn the_allocator_is_set_for_limit_jobs_from_the_start_and_for_refinement_on_request() {
+        allocator_at_start();
         let kept = KEPT_PURGE_DELAY.load(Ordering::Relaxed);
-        assert_ne!(kept, UNCHANGED, "the constructor did not run");
+        assert_ne!(kept, UNCHANGED, "allocator_at_start did not set the delay");
         if std::env::var_os("MIMALLOC_PURGE_DELAY").is_none() {
             assert_eq!(kept, REFINEMENT_PURGE_DELAY_MS);
         }
@@ -385,7 +365,7 @@ mod tests {
         let Some(start) = thp_enabled() else {
             return; // A kernel that does not report the flag.
         };
-        assert!(!start, "the constructor did not turn huge pages off");
+        assert!(!start, "allocator_at_start did not turn huge pages off");
         huge_pages(true);
         assert_eq!(thp_enabled(), Some(true));
         huge_pages(false);

@@ -50,8 +50,8 @@ pub(crate) unsafe fn load3(p: *const f64) -> std::arch::x86_64::__m256d {
 /// Writes the low three lanes of `v` to the three `f64` at `p`, straight from the
 /// register (two stores). Through an array on the stack, a later load could wait on that
 /// store wherever its address had the same low 12 bits as the array's (4K aliasing), so
-/// the time depended on where the stack happened to lie (`catmark_chaikin1`, address
-/// randomisation off: 0.16 or 0.26 ms a repetition, by the size of the environment).
+/// the time would depend on where the stack happens to lie (BENCHMARKS.md, "Processes
+/// that are slow from where their stack lies").
 ///
 /// # Safety
 /// `p` points to three `f64`; the processor has AVX.

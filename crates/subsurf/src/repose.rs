@@ -428,9 +428,9 @@ impl Reposer {
     /// [`estimate_memory`] of Catmull-Clark's), and the plan is sparse rows on every level
     /// ([`RefinePlan::estimate_memory`] covers them). Its limit refines the last level's
     /// topology once more (its vertices' fans) while the last level is kept complete with
-    /// its masks: three times Catmull-Clark's estimate of one level more (`catmark_bishop`
-    /// with intervals, levels 3–5: estimates 129, 512, 2046 MiB, measured peaks of `repose
-    /// --limit` 141, 483, 1838 MiB, the process itself included).
+    /// its masks: three times Catmull-Clark's estimate of one level more (the measured
+    /// peaks it covers are in BENCHMARKS.md, "Allocator settings, kept buffers and memory
+    /// estimates").
     pub fn estimate_memory(base: &PolyMesh, opts: &SubdivideOptions) -> u64 {
         let plan = RefinePlan::estimate_memory(base, opts.levels);
         if opts.scheme != Scheme::Nurss {

@@ -142,8 +142,8 @@ type Block = (Vec<SurfacePoint>, Vec<Result<Derivatives, EvalError>>);
 
 thread_local! {
     /// Each pool thread's [`Block`], kept from one repetition to the next (as an
-    /// animation evaluating frame after frame would keep it): allocated and filled anew
-    /// each repetition, it was 3 % of `catmark_chaikin1`'s.
+    /// animation evaluating frame after frame would keep it), so that a repetition times
+    /// the evaluation, not allocating and filling the block anew.
     static BLOCK: std::cell::RefCell<Block> = const { std::cell::RefCell::new((Vec::new(), Vec::new())) };
 }
 
@@ -209,9 +209,8 @@ fn bench_limit(
     let cold = t0.elapsed().as_secs_f64();
     // Built: from here on each repetition frees and allocates the same blocks again (the
     // nodes of faces in the shared regions of high-valence vertices, rebuilt when
-    // re-posed), which kept memory serves without faulting pages in again
-    // (`catmark_nonman_quadpole360`: 6.2 ms a repetition with freed memory returned at
-    // once, 4.2 ms kept, at the same peak).
+    // re-posed), which kept memory serves without faulting pages in again, at the same
+    // peak (BENCHMARKS.md, "Allocator settings, kept buffers and memory estimates").
     crate::memory::keep_freed_memory(true);
     let times = time_reps(pool, reps, || {
         // Re-posed in place, to the same points (as an animation writing its next frame
@@ -235,9 +234,8 @@ fn bench_limit(
 
 /// The seconds of `reps` runs of `rep`, sorted, each result dropped after its time is
 /// taken. All run inside `pool`, whose first thread is the caller's: handed over to a
-/// worker one by one, the times included waking it (tens of microseconds, more than the whole
-/// work of a small mesh's limit grid: `catmark_pyramid` measured 30 µs against `Bfr`'s
-/// 14, 7 µs now).
+/// worker one by one, the times would include waking it, which takes longer than the whole
+/// work of a small mesh's limit grid.
 fn time_reps<T>(
     pool: &rayon::ThreadPool,
     reps: usize,

@@ -99,8 +99,15 @@ fn histogram(pairs: &[(usize, usize)]) -> String {
     parts.join(", ")
 }
 
-fn to_text(input: &Input, info: &MeshInfo, options: &Options, src: &Sources) -> String {
-    let mut lines: Vec<(&str, String)> = vec![
+/// The first lines of `subsurf info`'s text report, label and value: the file, counts, valences,
+/// boundaries, manifoldness, tags, the scheme's options and where they come from.
+fn mesh_lines(
+    input: &Input,
+    info: &MeshInfo,
+    options: &Options,
+    src: &Sources,
+) -> Vec<(&'static str, String)> {
+    vec![
         ("file", input.name.clone()),
         ("vertices", info.vertices.to_string()),
         ("edges", info.edges.to_string()),
@@ -150,7 +157,12 @@ fn to_text(input: &Input, info: &MeshInfo, options: &Options, src: &Sources) -> 
                 from_file(src.file.triangles.is_some())
             ),
         ),
-    ];
+    ]
+}
+
+/// The lines of `subsurf info`'s text report after the counts: the bounding box, the knot
+/// intervals and weights (when the file has any), the ignored tags.
+fn extent_and_tag_lines(input: &Input, info: &MeshInfo, lines: &mut Vec<(&'static str, String)>) {
     match info.bounding_box {
         Some((lo, hi)) => {
             lines.push(("bounding box min", point(lo)));
@@ -194,6 +206,12 @@ fn to_text(input: &Input, info: &MeshInfo, options: &Options, src: &Sources) -> 
             .collect();
         lines.push(("ignored tags", names.join(", ")));
     }
+}
+
+/// `subsurf info`'s text report: one `label: value` line per item, values aligned.
+fn to_text(input: &Input, info: &MeshInfo, options: &Options, src: &Sources) -> String {
+    let mut lines = mesh_lines(input, info, options, src);
+    extent_and_tag_lines(input, info, &mut lines);
     let width = lines
         .iter()
         .map(|(label, _)| label.len())

@@ -8,12 +8,13 @@ use std::path::PathBuf;
 use anyhow::{Context, Result};
 use clap::Args;
 use subsurf::curves::{
-    embed_geometry, interpolate_geometry, HostOptions, InterpolateOptions, DEFAULT_HOST_WIDTH,
-    DEFAULT_WIDTH,
+    embed_geometry, interpolate_geometry, HostOptions, InterpolateOptions, Interpolation,
+    DEFAULT_HOST_WIDTH, DEFAULT_WIDTH,
 };
 use subsurf::io::read_geometry;
 use subsurf::io::{read_obj, write_obj, WriteOptions};
 use subsurf::nurbs::Geometry;
+use subsurf::nurbs::SourcedGeometry;
 
 use crate::output::Output;
 
@@ -100,11 +101,51 @@ pub fn run(args: &InterpolateArgs) -> Result<()> {
     let out = Output::new(&args.output);
     out.check()?;
     let items = read_geometry(&args.input)?;
-    let (zones, width) = match &args.host {
+    let (zones, width) = build_zones(args, &items)?;
+    let levels = match (args.levels, args.tessellate) {
+        (Some(l), _) => l,
+        (None, true) => 4,
+        (None, false) => 0,
+    };
+    check_memory(args, &zones, levels)?;
+    let mesh = if levels == 0 && !args.tessellate {
+        zones.mesh.clone()
+    } else {
+        zones
+            .refined_mesh(levels, args.tessellate)
+            .context("cannot refine the zones")?
+    };
+    let mut curves = Vec::new();
+    if args.curve_samples > 0 {
+        for g in &items {
+            if let Geometry::Curve(c) = &g.geometry {
+                curves.push(c.polyline(args.curve_samples as usize)?);
+            }
+        }
+    }
+    let comment = header_comment(args, zones.zones.len(), width, levels, !curves.is_empty());
+    let wopts = WriteOptions {
+        normals: None,
+        scheme: None,
+        comment: Some(&comment),
+    };
+    out.write(|mut w| {
+        write_obj(&mut w, &mesh, &wopts)?;
+        if curves.is_empty() {
+            return Ok(());
+        }
+        w.write_all(&polylines(&curves, mesh.num_vertices()))
+    })
+}
+
+/// The curve zones of `items` and their width: embedded in the host mesh (`--host`), or
+/// built around the curves alone.
+fn build_zones(args: &InterpolateArgs, items: &[SourcedGeometry]) -> Result<(Interpolation, f64)> {
+    Ok(match &args.host {
         Some(path) => {
             let host = read_obj(path)?.mesh;
             let width = args.width.unwrap_or(DEFAULT_HOST_WIDTH);
-            let zones = embed_geometry(&host, &items, &HostOptions { width })
+            let zones = embed_geometry(&host, items, &HostOptions { width })
                 .with_context(|| format!("cannot embed the curves in {}", path.display()))?;
             (zones, width)
         }
@@ -114,24 +155,23 @@ pub fn run(args: &InterpolateArgs) -> Result<()> {
                 width,
                 side: args.side,
             };
-            (interpolate_geometry(&items, &opts)?, width)
+            (interpolate_geometry(items, &opts)?, width)
         }
-    };
-    let levels = match (args.levels, args.tessellate) {
-        (Some(l), _) => l,
-        (None, true) => 4,
-        (None, false) => 0,
-    };
+    })
+}
+
+/// Checks the memory of refining `zones` to `levels` (and to the limit with
+/// `--tessellate`) against `--max-memory`. NURSS keeps every level complete and refines
+/// homogeneous points, and the limit refines the last level's topology once more: three
+/// times the Catmull-Clark estimate of the levels refined (one more for the limit), plus
+/// the process itself (the measured peaks it covers are in BENCHMARKS.md, "Allocator
+/// settings, kept buffers and memory estimates").
+fn check_memory(args: &InterpolateArgs, zones: &Interpolation, levels: u32) -> Result<()> {
     let name = if args.input.as_os_str() == "-" {
         "<stdin>".to_string()
     } else {
         args.input.display().to_string()
     };
-    // NURSS keeps every level complete and refines homogeneous points; the limit refines the
-    // last level's topology once more: three times the Catmull-Clark estimate of the levels
-    // refined (one more for the limit), plus the process itself (the vase at levels 4–6
-    // peaked at 26, 50, 143 MiB, with --tessellate 63, 196, 720 MiB; this gives 30, 70, 227
-    // and 70, 229, 860 MiB).
     let refined = subsurf::SubdivideOptions {
         levels: levels + u32::from(args.tessellate),
         ..Default::default()
@@ -152,25 +192,21 @@ pub fn run(args: &InterpolateArgs) -> Result<()> {
         estimate,
         args.max_memory,
         "use a lower --levels",
-    )?;
-    let mesh = if levels == 0 && !args.tessellate {
-        zones.mesh.clone()
-    } else {
-        zones
-            .refined_mesh(levels, args.tessellate)
-            .context("cannot refine the zones")?
-    };
-    let mut curves = Vec::new();
-    if args.curve_samples > 0 {
-        for g in &items {
-            if let Geometry::Curve(c) = &g.geometry {
-                curves.push(c.polyline(args.curve_samples as usize)?);
-            }
-        }
-    }
-    let comment = format!(
+    )
+}
+
+/// The output's header comment: the zones, the host, the width, what the mesh is, and
+/// where the curves are.
+fn header_comment(
+    args: &InterpolateArgs,
+    zones: usize,
+    width: f64,
+    levels: u32,
+    curves: bool,
+) -> String {
+    format!(
         "subsurf interpolate: {} curve zone(s){}, width {}, {}{}",
-        zones.zones.len(),
+        zones,
         match &args.host {
             Some(h) => format!(" in host {}", h.display()),
             None => String::new(),
@@ -183,41 +219,34 @@ pub fn run(args: &InterpolateArgs) -> Result<()> {
         } else {
             "control mesh with knot intervals".into()
         },
-        if curves.is_empty() {
-            String::new()
+        if curves {
+            "; curves as polylines in group 'curves'"
         } else {
-            "; curves as polylines in group 'curves'".into()
+            ""
         }
-    );
-    let wopts = WriteOptions {
-        normals: None,
-        scheme: None,
-        comment: Some(&comment),
-    };
-    let base = mesh.num_vertices();
-    out.write(|mut w| {
-        write_obj(&mut w, &mesh, &wopts)?;
-        if curves.is_empty() {
-            return Ok(());
-        }
-        let mut buf = b"g curves\n".to_vec();
-        let mut next = base + 1;
-        let mut lines = String::new();
-        for poly in &curves {
-            lines.push('l');
-            for p in poly {
-                buf.push(b'v');
-                for &x in p {
-                    buf.push(b' ');
-                    subsurf::io::push_decimal(&mut buf, x);
-                }
-                buf.push(b'\n');
-                lines.push_str(&format!(" {next}"));
-                next += 1;
+    )
+}
+
+/// The group `curves`: the vertices of the polylines `curves` (numbered after the mesh's
+/// `base` vertices), then one `l` line per polyline.
+fn polylines(curves: &[Vec<[f64; 3]>], base: usize) -> Vec<u8> {
+    let mut buf = b"g curves\n".to_vec();
+    let mut next = base + 1;
+    let mut lines = String::new();
+    for poly in curves {
+        lines.push('l');
+        for p in poly {
+            buf.push(b'v');
+            for &x in p {
+                buf.push(b' ');
+                subsurf::io::push_decimal(&mut buf, x);
             }
-            lines.push('\n');
+            buf.push(b'\n');
+            lines.push_str(&format!(" {next}"));
+            next += 1;
         }
-        buf.extend_from_slice(lines.as_bytes());
-        w.write_all(&buf)
-    })
+        lines.push('\n');
+    }
+    buf.extend_from_slice(lines.as_bytes());
+    buf
 }

@@ -239,6 +239,9 @@ fn dimension_name(r: &RegularityReport) -> &'static str {
 }
 
 /// The human-readable report.
+/// The text report of `subsurf regularity` on the net `name`: the net, both certificates'
+/// verdicts, the global cones, the counts of `mode`'s certificate and of the samples, the
+/// faces that fail, and the verdict.
 fn summary(name: &str, r: &RegularityReport, mode: Mode) -> String {
     let mut s = String::new();
     let c = r.counts(mode);
@@ -260,25 +263,7 @@ fn summary(name: &str, r: &RegularityReport, mode: Mode) -> String {
         yes(r.certified(Mode::Global)),
         yes(r.certified(Mode::Local))
     );
-    match &r.frames {
-        Err(e) => {
-            let _ = writeln!(s, "global cones: none ({e})");
-        }
-        Ok(_) => {
-            for (i, comp) in r.components.iter().enumerate() {
-                let verdict = match comp.test {
-                    ConeTest::Disjoint(_) => "disjoint".to_owned(),
-                    ConeTest::Meet(o) => o.to_string(),
-                };
-                let _ = writeln!(
-                    s,
-                    "global cones, component {i}: {} u-differences, {} v-differences: {verdict}",
-                    comp.u.len(),
-                    comp.v.len()
-                );
-            }
-        }
-    }
+    global_cones(&mut s, r);
     let _ = writeln!(
         s,
         "{} certificate: {} certified, {} refused, {} not applicable",
@@ -309,6 +294,47 @@ fn summary(name: &str, r: &RegularityReport, mode: Mode) -> String {
         "local certificate succeeds where the global one fails: {} faces",
         r.local_only()
     );
+    failing_faces(&mut s, r, mode);
+    let _ = writeln!(
+        s,
+        "verdict ({} certificate): {}",
+        mode_name(mode),
+        if r.certified(mode) && c.contradictions == 0 {
+            "the limit surface is regular"
+        } else {
+            "not certified"
+        }
+    );
+    s
+}
+
+/// The global cones' lines of the report: one per component with its difference counts
+/// and whether its cones are disjoint (or why there are none).
+fn global_cones(s: &mut String, r: &RegularityReport) {
+    match &r.frames {
+        Err(e) => {
+            let _ = writeln!(s, "global cones: none ({e})");
+        }
+        Ok(_) => {
+            for (i, comp) in r.components.iter().enumerate() {
+                let verdict = match comp.test {
+                    ConeTest::Disjoint(_) => "disjoint".to_owned(),
+                    ConeTest::Meet(o) => o.to_string(),
+                };
+                let _ = writeln!(
+                    s,
+                    "global cones, component {i}: {} u-differences, {} v-differences: {verdict}",
+                    comp.u.len(),
+                    comp.v.len()
+                );
+            }
+        }
+    }
+}
+
+/// The report's lines on the faces that `mode`'s certificate fails or that a sample
+/// contradicts: the first 20, each with its certificate and its worst sample.
+fn failing_faces(s: &mut String, r: &RegularityReport, mode: Mode) {
     let bad: Vec<usize> = (0..r.faces.len())
         .filter(|&f| {
             !r.certificate(f, mode).is_certified()
@@ -336,17 +362,6 @@ fn summary(name: &str, r: &RegularityReport, mode: Mode) -> String {
     if bad.len() > SHOWN {
         let _ = writeln!(s, "  … and {} more faces", bad.len() - SHOWN);
     }
-    let _ = writeln!(
-        s,
-        "verdict ({} certificate): {}",
-        mode_name(mode),
-        if r.certified(mode) && c.contradictions == 0 {
-            "the limit surface is regular"
-        } else {
-            "not certified"
-        }
-    );
-    s
 }
 
 /// The JSON report (fields documented in `docs/regularity.md`).

@@ -424,114 +424,133 @@ type Base<'a> = dyn Fn(SurfacePoint) -> Result<Derivatives, EvalError> + Sync + 
 /// ones that are not cappable.
 fn candidates(topo: &Topology, levels: u32) -> (Vec<Candidate>, Vec<Uncapped>) {
     let hq = 0.5f64.powi(levels as i32);
-    let hs = 2.0 * hq;
     let mut out = Vec::new();
     let mut skipped = Vec::new();
-    for v in 0..topo.num_vertices() {
-        let faces = topo.vertex_faces(v);
-        let n = faces.len();
-        if n == 4 || n == 0 {
-            continue;
+    let found = (0..topo.num_vertices())
+        .filter_map(|v| vertex_candidate(topo, v, hq))
+        .chain((0..topo.num_faces()).filter_map(|f| face_candidate(topo, f, 2.0 * hq)));
+    for c in found {
+        match c {
+            Ok(c) => out.push(c),
+            Err(u) => skipped.push(u),
         }
-        let tag = topo.vertex_tag(v);
-        let mut reason = None;
-        if tag.boundary || tag.non_manifold {
-            reason = Some("boundary or non-manifold vertex");
-        } else if tag.rule != Rule::Smooth
-            || tag.semi_sharp
-            || tag.inf_sharp
-            || tag.semi_sharp_edges
-            || tag.inf_sharp_edges
-        {
-            reason = Some("sharp vertex or incident crease");
-        } else if !(3..=super::MAX_CAP_VALENCE).contains(&n) {
-            reason = Some("valence outside 3..=16");
-        } else if faces.iter().any(|&f| topo.is_hole(f as usize)) {
-            reason = Some("next to a hole");
-        }
-        if let Some(reason) = reason {
-            skipped.push(Uncapped {
-                vertex: Some(v),
-                face: None,
-                valence: n,
-                reason,
-            });
-            continue;
-        }
-        // Slots with their leaving (s) and entering (t) edges, keyed by the far vertex.
-        let mut slots = Vec::with_capacity(n);
-        for (&f, &l) in faces.iter().zip(topo.vertex_face_locals(v)) {
-            let fv = topo.face_vertices(f as usize);
-            let m = fv.len();
-            let l = l as usize;
-            let next = fv[(l + 1) % m];
-            let prev = fv[(l + m - 1) % m];
-            let slot = if m == 4 {
-                PatchRef {
-                    face: f,
-                    subface: 0,
-                    corner: l as u8,
-                    size: hq,
-                }
-            } else {
-                PatchRef {
-                    face: f,
-                    subface: l as u32,
-                    corner: 0,
-                    size: hs,
-                }
-            };
-            slots.push((slot, next, prev));
-        }
-        match chain(&slots) {
-            Some(ordered) => out.push(Candidate {
-                vertex: Some(v),
-                face: None,
-                slots: ordered,
-            }),
-            None => skipped.push(Uncapped {
-                vertex: Some(v),
-                face: None,
-                valence: n,
-                reason: "faces around the vertex do not form one fan",
-            }),
-        }
-    }
-    for f in 0..topo.num_faces() {
-        let m = topo.face_vertices(f).len();
-        if m == 4 {
-            continue;
-        }
-        if topo.is_hole(f) || m > super::MAX_CAP_VALENCE {
-            skipped.push(Uncapped {
-                vertex: None,
-                face: Some(f),
-                valence: m,
-                reason: if topo.is_hole(f) {
-                    "hole"
-                } else {
-                    "valence outside 3..=16"
-                },
-            });
-            continue;
-        }
-        // Sub-face j, corner 2 (the centre): s toward the midpoint of edge j-1, t toward
-        // that of edge j, so patch j+1 follows patch j.
-        let slots = (0..m)
-            .map(|j| PatchRef {
-                face: f as u32,
-                subface: j as u32,
-                corner: 2,
-                size: hs,
-            })
-            .collect();
-        out.push(Candidate {
-            vertex: None,
-            face: Some(f),
-            slots,
-        });
     }
     (out, skipped)
+}
+
+/// Why extraordinary vertex `v` with `n` faces cannot be capped, if it cannot: on a
+/// boundary, sharp, of a valence without caps, or next to a hole.
+fn uncappable_vertex(topo: &Topology, v: usize, n: usize) -> Option<&'static str> {
+    let tag = topo.vertex_tag(v);
+    if tag.boundary || tag.non_manifold {
+        Some("boundary or non-manifold vertex")
+    } else if tag.rule != Rule::Smooth
+        || tag.semi_sharp
+        || tag.inf_sharp
+        || tag.semi_sharp_edges
+        || tag.inf_sharp_edges
+    {
+        Some("sharp vertex or incident crease")
+    } else if !(3..=super::MAX_CAP_VALENCE).contains(&n) {
+        Some("valence outside 3..=16")
+    } else if topo
+        .vertex_faces(v)
+        .iter()
+        .any(|&f| topo.is_hole(f as usize))
+    {
+        Some("next to a hole")
+    } else {
+        None
+    }
+}
+
+/// Vertex `v` as a cap's centre when it is extraordinary (not of valence 4, not isolated):
+/// its slots in order (quad corners of size `hq`, sub-faces of other faces of twice
+/// that), or why it cannot be capped.
+fn vertex_candidate(topo: &Topology, v: usize, hq: f64) -> Option<Result<Candidate, Uncapped>> {
+    let faces = topo.vertex_faces(v);
+    let n = faces.len();
+    if n == 4 || n == 0 {
+        return None;
+    }
+    let uncapped = |reason| Uncapped {
+        vertex: Some(v),
+        face: None,
+        valence: n,
+        reason,
+    };
+    if let Some(reason) = uncappable_vertex(topo, v, n) {
+        return Some(Err(uncapped(reason)));
+    }
+    // Slots with their leaving (s) and entering (t) edges, keyed by the far vertex.
+    let mut slots = Vec::with_capacity(n);
+    for (&f, &l) in faces.iter().zip(topo.vertex_face_locals(v)) {
+        let fv = topo.face_vertices(f as usize);
+        let m = fv.len();
+        let l = l as usize;
+        let next = fv[(l + 1) % m];
+        let prev = fv[(l + m - 1) % m];
+        let slot = if m == 4 {
+            PatchRef {
+                face: f,
+                subface: 0,
+                corner: l as u8,
+                size: hq,
+            }
+        } else {
+            PatchRef {
+                face: f,
+                subface: l as u32,
+                corner: 0,
+                size: 2.0 * hq,
+            }
+        };
+        slots.push((slot, next, prev));
+    }
+    Some(match chain(&slots) {
+        Some(ordered) => Ok(Candidate {
+            vertex: Some(v),
+            face: None,
+            slots: ordered,
+        }),
+        None => Err(uncapped("faces around the vertex do not form one fan")),
+    })
+}
+
+/// The centre of face `f` as a cap's centre when it is not a quad: its sub-faces of size
+/// `hs` in order, or why it cannot be capped (a hole, too many sides).
+fn face_candidate(topo: &Topology, f: usize, hs: f64) -> Option<Result<Candidate, Uncapped>> {
+    let m = topo.face_vertices(f).len();
+    if m == 4 {
+        return None;
+    }
+    if topo.is_hole(f) || m > super::MAX_CAP_VALENCE {
+        return Some(Err(Uncapped {
+            vertex: None,
+            face: Some(f),
+            valence: m,
+            reason: if topo.is_hole(f) {
+                "hole"
+            } else {
+                "valence outside 3..=16"
+            },
+        }));
+    }
+    // Sub-face j, corner 2 (the centre): s toward the midpoint of edge j-1, t toward
+    // that of edge j, so patch j+1 follows patch j.
+    let slots = (0..m)
+        .map(|j| PatchRef {
+            face: f as u32,
+            subface: j as u32,
+            corner: 2,
+            size: hs,
+        })
+        .collect();
+    Some(Ok(Candidate {
+        vertex: None,
+        face: Some(f),
+        slots,
+    }))
 }
 
 /// Orders slots `(slot, s-end, t-end)` so that each slot's t-edge is the next one's

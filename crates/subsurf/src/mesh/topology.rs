@@ -271,6 +271,76 @@ struct VertexBlock<'a> {
     tags: &'a mut [PackedVertexTag],
 }
 
+/// Buffers reused from vertex to vertex by [`Topology::orient_vertices`].
+#[derive(Default)]
+struct OrientScratch {
+    /// The vertex's faces, in counter-clockwise order.
+    faces: Vec<u32>,
+    /// The vertex's edges, in counter-clockwise order.
+    edges: Vec<u32>,
+    /// The counter-clockwise order (indices into the vertex's lists) from [`order_corners`].
+    order: Vec<usize>,
+    /// The vertex's positions in its faces, in that order.
+    locals: Vec<u16>,
+    /// Which end of each of its edges the vertex is, in that order.
+    ends: Vec<u8>,
+    /// The vertex's edges and ends, sorted by edge (around vertices of high valence).
+    by_edge: Vec<(u32, u8)>,
+}
+
+impl OrientScratch {
+    /// Reorders one vertex's lists (`faces`, `face_local`, `edges` and, from `ends`, the
+    /// vertex's end of each edge into `edge_local`) by the order [`order_corners`] left in
+    /// `self.order`: the walk's result, from the vertex's own `corners`.
+    fn apply_corner_order(
+        &mut self,
+        faces: &mut [u32],
+        face_local: &mut [u16],
+        corners: &[[u32; 2]],
+        edges: &mut [u32],
+        edge_local: &mut [u8],
+        ends: &[u8],
+    ) {
+        let order = &self.order;
+        self.faces.clear();
+        self.faces.extend(order.iter().map(|&k| faces[k]));
+        self.locals.clear();
+        self.locals.extend(order.iter().map(|&k| face_local[k]));
+        self.edges.clear();
+        self.edges.extend(order.iter().map(|&k| corners[k][1]));
+        if edges.len() > faces.len() {
+            self.edges.push(corners[order[order.len() - 1]][0]);
+        }
+        self.ends.clear();
+        if edges.len() <= 16 {
+            let es = &*edges;
+            self.ends.extend(
+                self.edges
+                    .iter()
+                    .map(|e| es.iter().position(|x| x == e).map_or(0, |p| ends[p])),
+            );
+        } else {
+            // Around a vertex of high valence, by binary search (a scan per edge would
+            // cost the square of the valence).
+            let by_edge = &mut self.by_edge;
+            by_edge.clear();
+            by_edge.extend(edges.iter().copied().zip(ends.iter().copied()));
+            by_edge.sort_unstable();
+            self.ends.extend(self.edges.iter().map(|e| {
+                let i = by_edge.partition_point(|&(x, _)| x < *e);
+                by_edge
+                    .get(i)
+                    .filter(|&&(x, _)| x == *e)
+                    .map_or(0, |&(_, n)| n)
+            }));
+        }
+        faces.copy_from_slice(&self.faces);
+        face_local.copy_from_slice(&self.locals);
+        edges.copy_from_slice(&self.edges);
+        edge_local.copy_from_slice(&self.ends);
+    }
+}
+
 /// The counter-clockwise order of a vertex's faces (indices into its lists), found from
 /// its corners alone when that is sure to be [`Topology::order_vertex`]'s order: `faces`
 /// are the vertex's faces in face order, `corners` the edges entering and leaving it in
@@ -421,6 +491,248 @@ fn to_u32(n: usize, what: &str) -> Result<u32, MeshError> {
         .ok_or_else(|| MeshError::TooLarge { what: what.into() })
 }
 
+/// Checks that the vertex and face-vertex counts fit the 32-bit indices and every face the
+/// 16-bit local indices.
+fn check_sizes(nv: usize, face_offsets: &[u32], face_verts: &[u32]) -> Result<(), MeshError> {
+    to_u32(nv, "the vertex count")?;
+    to_u32(face_verts.len(), "the face-vertex count")?;
+    for f in 0..face_offsets.len().saturating_sub(1) {
+        if range(face_offsets, f).len() > u16::MAX as usize {
+            return Err(MeshError::TooLarge {
+                what: format!("face {f} has more than {} vertices", u16::MAX),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Per-vertex buckets of incident edges, sized by an upper bound (each face edge counted
+/// at both ends), filled in creation order.
+struct EdgeBuckets {
+    /// Start of each vertex's bucket (`nv + 1` entries).
+    start: Vec<u32>,
+    /// Number of edges in each vertex's bucket.
+    len: Vec<u32>,
+    /// The edges, bucket after bucket.
+    bucket: Vec<u32>,
+    /// Which end of each bucket's edge its vertex is.
+    end: Vec<u8>,
+}
+
+impl EdgeBuckets {
+    /// Empty buckets for the faces `face_offsets`/`face_verts` on `nv` vertices.
+    fn new(nv: usize, face_offsets: &[u32], face_verts: &[u32]) -> Self {
+        let mut start = vec![0u32; nv + 1];
+        for f in 0..face_offsets.len().saturating_sub(1) {
+            let fv = &face_verts[range(face_offsets, f)];
+            let n = fv.len();
+            for i in 0..n {
+                start[fv[i] as usize + 1] += 1;
+                start[fv[(i + 1) % n] as usize + 1] += 1;
+            }
+        }
+        for v in 0..nv {
+            start[v + 1] += start[v];
+        }
+        let total = start[nv] as usize;
+        EdgeBuckets {
+            start,
+            len: vec![0u32; nv],
+            bucket: vec![0u32; total],
+            end: vec![0u8; total],
+        }
+    }
+
+    /// Vertex → edges (offsets, edges, which end of each edge the vertex is): the buckets
+    /// compacted, each in creation order. The bucket array stays for reuse.
+    fn compact(&mut self) -> (Vec<u32>, Vec<u32>, Vec<u8>) {
+        let nv = self.len.len();
+        let mut offsets = vec![0u32; nv + 1];
+        for v in 0..nv {
+            offsets[v + 1] = offsets[v] + self.len[v];
+        }
+        let mut edges = vec![0u32; offsets[nv] as usize];
+        let mut ends = vec![0u8; edges.len()];
+        for v in 0..nv {
+            let b0 = self.start[v] as usize;
+            let len = self.len[v] as usize;
+            let o = offsets[v] as usize;
+            edges[o..o + len].copy_from_slice(&self.bucket[b0..b0 + len]);
+            ends[o..o + len].copy_from_slice(&self.end[b0..b0 + len]);
+        }
+        self.end = Vec::new();
+        (offsets, edges, ends)
+    }
+}
+
+/// The edges found from the faces by [`find_edges`].
+struct FoundEdges {
+    /// Face → edges, parallel to the face → vertices.
+    face_edges: Vec<u32>,
+    /// Each edge's vertices, in the direction of the face that created it.
+    edge_verts: Vec<[u32; 2]>,
+    /// Number of faces of each edge.
+    nfaces: Vec<u32>,
+    /// Whether each edge is non-manifold.
+    nonman: Vec<bool>,
+}
+
+/// The edges of the faces `face_offsets`/`face_verts`, numbered in the order the faces
+/// first run them, and which are non-manifold (degenerate, twice in one face, in more than
+/// two faces or run the same way by two); `buckets` gets each vertex's edges.
+fn find_edges(
+    face_offsets: &[u32],
+    face_verts: &[u32],
+    buckets: &mut EdgeBuckets,
+) -> Result<FoundEdges, MeshError> {
+    let nf = face_offsets.len().saturating_sub(1);
+    let cap = face_verts.len() / 2 + 4;
+    let mut face_edges = vec![0u32; face_verts.len()];
+    let mut edge_verts: Vec<[u32; 2]> = Vec::with_capacity(cap);
+    // Number of faces seen per edge, whether it became non-manifold, and its last face.
+    let mut edge_nfaces: Vec<u32> = Vec::with_capacity(cap);
+    let mut edge_nonman: Vec<bool> = Vec::with_capacity(cap);
+    let mut edge_last_face: Vec<u32> = Vec::with_capacity(cap);
+    let bucket_start: &[u32] = &buckets.start;
+    let bucket_len: &mut [u32] = &mut buckets.len;
+    let bucket: &mut [u32] = &mut buckets.bucket;
+    let bucket_end: &mut [u8] = &mut buckets.end;
+
+    for f in 0..nf {
+        let r = range(face_offsets, f);
+        let n = r.len();
+        for i in 0..n {
+            let v0 = face_verts[r.start + i];
+            let v1 = face_verts[r.start + (i + 1) % n];
+            // An edge is in the buckets of both its ends, in creation order: search
+            // the shorter one, so that a vertex of high valence costs its neighbours
+            // nothing (a fan of n faces: O(n) in all, not O(n²)).
+            let (near, far) = if bucket_len[v1 as usize] < bucket_len[v0 as usize] {
+                (v1, v0)
+            } else {
+                (v0, v1)
+            };
+            let b0 = bucket_start[near as usize] as usize;
+            // A degenerate edge (a vertex repeated consecutively) is always new.
+            let mut found = if v0 == v1 {
+                None
+            } else {
+                bucket[b0..b0 + bucket_len[near as usize] as usize]
+                    .iter()
+                    .copied()
+                    .find(|&e| {
+                        let ev = edge_verts[e as usize];
+                        ev[0] == far || ev[1] == far
+                    })
+            };
+            let mut twice_in_face = false;
+            if let Some(e) = found {
+                let eu = e as usize;
+                if edge_last_face[eu] == f as u32 {
+                    twice_in_face = true;
+                    // The edge occurs twice in this face: a new instance, and both
+                    // are non-manifold.
+                    edge_nonman[eu] = true;
+                    found = None;
+                } else if edge_nfaces[eu] > 1 || edge_verts[eu][0] == v0 {
+                    // A third face, or a second face running the edge the same way.
+                    edge_nonman[eu] = true;
+                }
+            }
+            let e = match found {
+                Some(e) => {
+                    edge_nfaces[e as usize] += 1;
+                    edge_last_face[e as usize] = f as u32;
+                    e
+                }
+                None => {
+                    let e = to_u32(edge_verts.len(), "the edge count")?;
+                    edge_verts.push([v0, v1]);
+                    edge_nfaces.push(1);
+                    edge_last_face.push(f as u32);
+                    edge_nonman.push(v0 == v1 || twice_in_face);
+                    for (end, v) in [v0, v1].into_iter().enumerate() {
+                        let at = bucket_start[v as usize] + bucket_len[v as usize];
+                        bucket[at as usize] = e;
+                        bucket_end[at as usize] = end as u8;
+                        bucket_len[v as usize] += 1;
+                    }
+                    e
+                }
+            };
+            face_edges[r.start + i] = e;
+        }
+    }
+    Ok(FoundEdges {
+        face_edges,
+        edge_verts,
+        nfaces: edge_nfaces,
+        nonman: edge_nonman,
+    })
+}
+
+/// Edge → faces (offsets, faces, the edge's position in each face), in face order, from
+/// the faces' edges and each edge's face count.
+fn edge_faces_in_order(
+    face_offsets: &[u32],
+    face_edges: &[u32],
+    nfaces: &[u32],
+) -> (Vec<u32>, Vec<u32>, Vec<u16>) {
+    let ne = nfaces.len();
+    let mut offsets = vec![0u32; ne + 1];
+    for e in 0..ne {
+        offsets[e + 1] = offsets[e] + nfaces[e];
+    }
+    let mut faces = vec![0u32; face_edges.len()];
+    let mut local = vec![0u16; face_edges.len()];
+    let mut fill = offsets[..ne].to_vec();
+    for f in 0..face_offsets.len().saturating_sub(1) {
+        let r = range(face_offsets, f);
+        for (i, &e) in face_edges[r].iter().enumerate() {
+            let at = fill[e as usize] as usize;
+            faces[at] = f as u32;
+            local[at] = i as u16;
+            fill[e as usize] += 1;
+        }
+    }
+    (offsets, faces, local)
+}
+
+/// Vertex → faces (offsets, faces, the vertex's position in each face), in face order;
+/// `corners` gets, parallel to the faces, the edges entering and leaving the vertex in
+/// each.
+fn vertex_faces_in_order(
+    nv: usize,
+    face_offsets: &[u32],
+    face_verts: &[u32],
+    face_edges: &[u32],
+    corners: &mut [[u32; 2]],
+) -> (Vec<u32>, Vec<u32>, Vec<u16>) {
+    let mut offsets = vec![0u32; nv + 1];
+    for &v in face_verts {
+        offsets[v as usize + 1] += 1;
+    }
+    for v in 0..nv {
+        offsets[v + 1] += offsets[v];
+    }
+    let mut faces = vec![0u32; face_verts.len()];
+    let mut local = vec![0u16; face_verts.len()];
+    let mut fill = offsets[..nv].to_vec();
+    for f in 0..face_offsets.len().saturating_sub(1) {
+        let r = range(face_offsets, f);
+        let fe = &face_edges[r.clone()];
+        let n = fe.len();
+        for (i, &v) in face_verts[r].iter().enumerate() {
+            let at = fill[v as usize] as usize;
+            faces[at] = f as u32;
+            local[at] = i as u16;
+            corners[at] = [fe[(i + n - 1) % n], fe[i]];
+            fill[v as usize] += 1;
+        }
+    }
+    (offsets, faces, local)
+}
+
 impl Topology {
     /// Builds the base level of `mesh`: edges, adjacency in rotational order, manifold and
     /// boundary classification, then the tags and sharpness that `options` and
@@ -506,182 +818,30 @@ impl Topology {
         offsets: Vec<u32>,
         verts: Vec<u32>,
     ) -> Result<Self, MeshError> {
-        let (face_offsets, face_verts) = (&offsets[..], &verts[..]);
         let nv = num_vertices;
-        let nf = face_offsets.len().saturating_sub(1);
-        to_u32(nv, "the vertex count")?;
-        to_u32(face_verts.len(), "the face-vertex count")?;
-        for f in 0..nf {
-            if range(face_offsets, f).len() > u16::MAX as usize {
-                return Err(MeshError::TooLarge {
-                    what: format!("face {f} has more than {} vertices", u16::MAX),
-                });
-            }
-        }
-
-        // Per-vertex buckets of incident edges, sized by an upper bound (each face edge
-        // counted at both ends), filled in creation order.
-        let mut bucket_start = vec![0u32; nv + 1];
-        for f in 0..nf {
-            let fv = &face_verts[range(face_offsets, f)];
-            let n = fv.len();
-            for i in 0..n {
-                bucket_start[fv[i] as usize + 1] += 1;
-                bucket_start[fv[(i + 1) % n] as usize + 1] += 1;
-            }
-        }
-        for v in 0..nv {
-            bucket_start[v + 1] += bucket_start[v];
-        }
-        let mut bucket_len = vec![0u32; nv];
-        let mut bucket = vec![0u32; bucket_start[nv] as usize];
-        // Which end of each bucket's edge its vertex is.
-        let mut bucket_end = vec![0u8; bucket.len()];
-
-        let mut face_edges = vec![0u32; face_verts.len()];
-        let mut edge_verts: Vec<[u32; 2]> = Vec::with_capacity(face_verts.len() / 2 + 4);
-        // Number of faces seen per edge, and whether it became non-manifold.
-        let mut edge_nfaces: Vec<u32> = Vec::with_capacity(face_verts.len() / 2 + 4);
-        let mut edge_nonman: Vec<bool> = Vec::with_capacity(face_verts.len() / 2 + 4);
-        let mut edge_last_face: Vec<u32> = Vec::with_capacity(face_verts.len() / 2 + 4);
-
-        for f in 0..nf {
-            let r = range(face_offsets, f);
-            let n = r.len();
-            for i in 0..n {
-                let v0 = face_verts[r.start + i];
-                let v1 = face_verts[r.start + (i + 1) % n];
-                // An edge is in the buckets of both its ends, in creation order: search
-                // the shorter one, so that a vertex of high valence costs its neighbours
-                // nothing (a fan of n faces: O(n) in all, not O(n²)).
-                let (near, far) = if bucket_len[v1 as usize] < bucket_len[v0 as usize] {
-                    (v1, v0)
-                } else {
-                    (v0, v1)
-                };
-                let b0 = bucket_start[near as usize] as usize;
-                // A degenerate edge (a vertex repeated consecutively) is always new.
-                let mut found = if v0 == v1 {
-                    None
-                } else {
-                    bucket[b0..b0 + bucket_len[near as usize] as usize]
-                        .iter()
-                        .copied()
-                        .find(|&e| {
-                            let ev = edge_verts[e as usize];
-                            ev[0] == far || ev[1] == far
-                        })
-                };
-                let mut twice_in_face = false;
-                if let Some(e) = found {
-                    let eu = e as usize;
-                    if edge_last_face[eu] == f as u32 {
-                        twice_in_face = true;
-                        // The edge occurs twice in this face: a new instance, and both
-                        // are non-manifold.
-                        edge_nonman[eu] = true;
-                        found = None;
-                    } else if edge_nfaces[eu] > 1 || edge_verts[eu][0] == v0 {
-                        // A third face, or a second face running the edge the same way.
-                        edge_nonman[eu] = true;
-                    }
-                }
-                let e = match found {
-                    Some(e) => {
-                        edge_nfaces[e as usize] += 1;
-                        edge_last_face[e as usize] = f as u32;
-                        e
-                    }
-                    None => {
-                        let e = to_u32(edge_verts.len(), "the edge count")?;
-                        edge_verts.push([v0, v1]);
-                        edge_nfaces.push(1);
-                        edge_last_face.push(f as u32);
-                        edge_nonman.push(v0 == v1 || twice_in_face);
-                        for (end, v) in [v0, v1].into_iter().enumerate() {
-                            let at = bucket_start[v as usize] + bucket_len[v as usize];
-                            bucket[at as usize] = e;
-                            bucket_end[at as usize] = end as u8;
-                            bucket_len[v as usize] += 1;
-                        }
-                        e
-                    }
-                };
-                face_edges[r.start + i] = e;
-            }
-        }
-        let ne = edge_verts.len();
-
-        // Vertex → edges: compact the buckets.
-        let mut vert_edge_offsets = vec![0u32; nv + 1];
-        for v in 0..nv {
-            vert_edge_offsets[v + 1] = vert_edge_offsets[v] + bucket_len[v];
-        }
-        let mut vert_edges = vec![0u32; vert_edge_offsets[nv] as usize];
-        let mut edge_ends = vec![0u8; vert_edges.len()];
-        for v in 0..nv {
-            let b0 = bucket_start[v] as usize;
-            let len = bucket_len[v] as usize;
-            let o = vert_edge_offsets[v] as usize;
-            vert_edges[o..o + len].copy_from_slice(&bucket[b0..b0 + len]);
-            edge_ends[o..o + len].copy_from_slice(&bucket_end[b0..b0 + len]);
-        }
-        drop(bucket_end);
-
-        // Edge → faces, in face order.
-        let mut edge_face_offsets = vec![0u32; ne + 1];
-        for e in 0..ne {
-            edge_face_offsets[e + 1] = edge_face_offsets[e] + edge_nfaces[e];
-        }
-        let mut edge_faces = vec![0u32; face_verts.len()];
-        let mut edge_face_local = vec![0u16; face_verts.len()];
-        let mut fill = edge_face_offsets[..ne].to_vec();
-        for f in 0..nf {
-            let r = range(face_offsets, f);
-            for (i, &e) in face_edges[r].iter().enumerate() {
-                let at = fill[e as usize] as usize;
-                edge_faces[at] = f as u32;
-                edge_face_local[at] = i as u16;
-                fill[e as usize] += 1;
-            }
-        }
-
-        // Vertex → faces, in face order.
-        let mut vert_face_offsets = vec![0u32; nv + 1];
-        for &v in face_verts {
-            vert_face_offsets[v as usize + 1] += 1;
-        }
-        for v in 0..nv {
-            vert_face_offsets[v + 1] += vert_face_offsets[v];
-        }
-        let mut vert_faces = vec![0u32; face_verts.len()];
-        let mut vert_face_local = vec![0u16; face_verts.len()];
+        let nf = offsets.len().saturating_sub(1);
+        check_sizes(nv, &offsets, &verts)?;
+        let mut buckets = EdgeBuckets::new(nv, &offsets, &verts);
+        let edges = find_edges(&offsets, &verts, &mut buckets)?;
+        let ne = edges.edge_verts.len();
+        let (vert_edge_offsets, vert_edges, edge_ends) = buckets.compact();
+        let (edge_face_offsets, edge_faces, edge_face_local) =
+            edge_faces_in_order(&offsets, &edges.face_edges, &edges.nfaces);
         // The edges entering and leaving each vertex in each of its faces, for
         // `orient_vertices` (read here in face order, not there face by face), in the
         // buckets' array: two entries per face-vertex, as many as it has.
-        let (corners, _) = bucket.as_chunks_mut::<2>();
-        debug_assert_eq!(corners.len(), face_verts.len());
-        let mut fill = vert_face_offsets[..nv].to_vec();
-        for f in 0..nf {
-            let r = range(face_offsets, f);
-            let fe = &face_edges[r.clone()];
-            let n = fe.len();
-            for (i, &v) in face_verts[r].iter().enumerate() {
-                let at = fill[v as usize] as usize;
-                vert_faces[at] = f as u32;
-                vert_face_local[at] = i as u16;
-                corners[at] = [fe[(i + n - 1) % n], fe[i]];
-                fill[v as usize] += 1;
-            }
-        }
+        let (corners, _) = buckets.bucket.as_chunks_mut::<2>();
+        debug_assert_eq!(corners.len(), verts.len());
+        let (vert_face_offsets, vert_faces, vert_face_local) =
+            vertex_faces_in_order(nv, &offsets, &verts, &edges.face_edges, corners);
 
         let mut t = Topology {
             num_vertices: nv as u32,
             face_offsets: offsets,
             face_verts: verts,
-            face_edges,
+            face_edges: edges.face_edges,
             face_holes: vec![false; nf],
-            edge_verts,
+            edge_verts: edges.edge_verts,
             edge_face_offsets,
             edge_faces,
             edge_face_local,
@@ -699,6 +859,14 @@ impl Topology {
             has_holes: false,
             complete: true,
         };
+        t.tag_non_manifold_edges(&edges.nonman);
+        t.orient_vertices(corners, edge_ends);
+        Ok(t)
+    }
+
+    /// Tags the edges flagged in `nonman`, and their ends, non-manifold (every tag is
+    /// still the default: the flag is set by replacing it).
+    fn tag_non_manifold_edges(&mut self, nonman: &[bool]) {
         let non_manifold_edge = PackedEdgeTag::from(EdgeTag {
             non_manifold: true,
             ..EdgeTag::default()
@@ -707,17 +875,14 @@ impl Topology {
             non_manifold: true,
             ..VertexTag::default()
         });
-        // Every tag is still the default: set the flag by replacing it.
-        for e in 0..ne {
-            if edge_nonman[e] {
-                t.edge_tags[e] = non_manifold_edge;
-                for v in t.edge_verts[e] {
-                    t.vert_tags[v as usize] = non_manifold_vertex;
+        for (e, &nm) in nonman.iter().enumerate() {
+            if nm {
+                self.edge_tags[e] = non_manifold_edge;
+                for v in self.edge_verts[e] {
+                    self.vert_tags[v as usize] = non_manifold_vertex;
                 }
             }
         }
-        t.orient_vertices(corners, edge_ends);
-        Ok(t)
     }
 
     /// Orders the faces and edges of every manifold vertex counter-clockwise; a vertex
@@ -768,124 +933,96 @@ impl Topology {
                 },
             )
             .collect();
-        let body = |block: VertexBlock| {
-            let VertexBlock {
-                first: v0,
-                faces,
-                face_local,
-                corners,
-                edges,
-                edge_local,
-                ends,
-                tags,
-            } = block;
-            let (mut faces_buf, mut edges_buf) = (Vec::new(), Vec::new());
-            let (mut order, mut locals_buf, mut ends_buf) = (Vec::new(), Vec::new(), Vec::new());
-            let mut by_edge: Vec<(u32, u8)> = Vec::new();
-            let (f0, e0) = (fo[v0] as usize, eo[v0] as usize);
-            for (i, tag) in tags.iter_mut().enumerate() {
-                let v = v0 + i;
-                let fr = fo[v] as usize - f0..fo[v + 1] as usize - f0;
-                let er = eo[v] as usize - e0..eo[v + 1] as usize - e0;
-                let manifold = !tag.get().non_manifold;
-                if manifold
-                    && order_corners(
-                        &faces[fr.clone()],
-                        &corners[fr.clone()],
-                        er.len(),
-                        &mut order,
-                    )
-                {
-                    // The walk's result, from the vertex's own corners (see `order_corners`).
-                    let (fs, cs) = (&faces[fr.clone()], &corners[fr.clone()]);
-                    faces_buf.clear();
-                    faces_buf.extend(order.iter().map(|&k| fs[k]));
-                    locals_buf.clear();
-                    locals_buf.extend(order.iter().map(|&k| face_local[fr.start + k]));
-                    edges_buf.clear();
-                    edges_buf.extend(order.iter().map(|&k| cs[k][1]));
-                    if er.len() > fr.len() {
-                        edges_buf.push(cs[order[order.len() - 1]][0]);
-                    }
-                    let (es, ns) = (&edges[er.clone()], &ends[er.clone()]);
-                    ends_buf.clear();
-                    if es.len() <= 16 {
-                        ends_buf.extend(
-                            edges_buf
-                                .iter()
-                                .map(|e| es.iter().position(|x| x == e).map_or(0, |p| ns[p])),
-                        );
-                    } else {
-                        // Around a vertex of high valence, by binary search (a scan per
-                        // edge would cost the square of the valence).
-                        by_edge.clear();
-                        by_edge.extend(es.iter().copied().zip(ns.iter().copied()));
-                        by_edge.sort_unstable();
-                        ends_buf.extend(edges_buf.iter().map(|e| {
-                            let i = by_edge.partition_point(|&(x, _)| x < *e);
-                            by_edge
-                                .get(i)
-                                .filter(|&&(x, _)| x == *e)
-                                .map_or(0, |&(_, n)| n)
-                        }));
-                    }
-                    faces[fr.clone()].copy_from_slice(&faces_buf);
-                    face_local[fr].copy_from_slice(&locals_buf);
-                    edges[er.clone()].copy_from_slice(&edges_buf);
-                    edge_local[er].copy_from_slice(&ends_buf);
-                    continue;
-                }
-                if manifold {
-                    let ordered = this.order_vertex(
-                        v,
-                        (&faces[fr.clone()], &edges[er.clone()]),
-                        &mut faces_buf,
-                        &mut edges_buf,
-                    );
-                    if ordered {
-                        faces[fr.clone()].copy_from_slice(&faces_buf);
-                        edges[er.clone()].copy_from_slice(&edges_buf);
-                        // Faces were reordered around manifold vertices only, where
-                        // each face occurs once; around the others, the positions
-                        // recorded in face order are still right (a face that repeats
-                        // a vertex occurs once per corner there).
-                        for (l, &f) in face_local[fr].iter_mut().zip(&faces_buf) {
-                            let fv = this.face_vertices(f as usize);
-                            *l = fv.iter().position(|&x| x as usize == v).unwrap_or(0) as u16;
-                        }
-                    } else {
-                        let mut t = tag.get();
-                        t.non_manifold = true;
-                        *tag = t.into();
-                    }
-                }
-                for i in er.clone() {
-                    let e = edges[i] as usize;
-                    let [a, b] = this.edge_verts[e];
-                    edge_local[i] = if a == b {
-                        // A degenerate edge is listed twice: first as its end 0, then
-                        // as end 1.
-                        (i > er.start && edges[i - 1] as usize == e) as u8
-                    } else {
-                        (b as usize == v) as u8
-                    };
-                }
-            }
-        };
         if nv < 2 * VERTEX_BLOCK {
-            blocks.into_iter().for_each(body);
+            blocks.into_iter().for_each(|b| this.orient_block(b));
         } else {
-            blocks.into_par_iter().for_each(body);
+            blocks.into_par_iter().for_each(|b| this.orient_block(b));
         }
         self.vert_faces = faces;
         self.vert_face_local = face_local;
         self.vert_edges = edges;
         self.vert_edge_local = edge_local;
         self.vert_tags = tags;
-        self.max_valence = (0..nv)
-            .map(|v| self.vertex_edges(v).len().max(self.vertex_faces(v).len()) as u32)
-            .max()
-            .unwrap_or(0);
+        self.max_valence = self.largest_valence();
+    }
+
+    /// Orients the vertices of one block (see [`orient_vertices`](Self::orient_vertices)):
+    /// each manifold vertex from its corners where [`order_corners`] can, else by the walk
+    /// of [`order_vertex`](Self::order_vertex), which tags the vertex non-manifold when it
+    /// fails; then which end of each of its edges each vertex is.
+    fn orient_block(&self, block: VertexBlock<'_>) {
+        let VertexBlock {
+            first: v0,
+            faces,
+            face_local,
+            corners,
+            edges,
+            edge_local,
+            ends,
+            tags,
+        } = block;
+        let (fo, eo) = (&self.vert_face_offsets, &self.vert_edge_offsets);
+        let mut s = OrientScratch::default();
+        let (f0, e0) = (fo[v0] as usize, eo[v0] as usize);
+        for (i, tag) in tags.iter_mut().enumerate() {
+            let v = v0 + i;
+            let fr = fo[v] as usize - f0..fo[v + 1] as usize - f0;
+            let er = eo[v] as usize - e0..eo[v + 1] as usize - e0;
+            let manifold = !tag.get().non_manifold;
+            if manifold
+                && order_corners(
+                    &faces[fr.clone()],
+                    &corners[fr.clone()],
+                    er.len(),
+                    &mut s.order,
+                )
+            {
+                s.apply_corner_order(
+                    &mut faces[fr.clone()],
+                    &mut face_local[fr.clone()],
+                    &corners[fr],
+                    &mut edges[er.clone()],
+                    &mut edge_local[er.clone()],
+                    &ends[er],
+                );
+                continue;
+            }
+            if manifold {
+                let ordered = self.order_vertex(
+                    v,
+                    (&faces[fr.clone()], &edges[er.clone()]),
+                    &mut s.faces,
+                    &mut s.edges,
+                );
+                if ordered {
+                    faces[fr.clone()].copy_from_slice(&s.faces);
+                    edges[er.clone()].copy_from_slice(&s.edges);
+                    // Faces were reordered around manifold vertices only, where
+                    // each face occurs once; around the others, the positions
+                    // recorded in face order are still right (a face that repeats
+                    // a vertex occurs once per corner there).
+                    for (l, &f) in face_local[fr].iter_mut().zip(&s.faces) {
+                        let fv = self.face_vertices(f as usize);
+                        *l = fv.iter().position(|&x| x as usize == v).unwrap_or(0) as u16;
+                    }
+                } else {
+                    let mut t = tag.get();
+                    t.non_manifold = true;
+                    *tag = t.into();
+                }
+            }
+            for i in er.clone() {
+                let e = edges[i] as usize;
+                let [a, b] = self.edge_verts[e];
+                edge_local[i] = if a == b {
+                    // A degenerate edge is listed twice: first as its end 0, then
+                    // as end 1.
+                    (i > er.start && edges[i - 1] as usize == e) as u8
+                } else {
+                    (b as usize == v) as u8
+                };
+            }
+        }
     }
 
     /// Walks around `v` from a starting face (the first face if interior, the face of the
@@ -1362,52 +1499,10 @@ impl Topology {
     }
 
     fn subset_with(&self, faces: &[u32], canonical: bool) -> (Topology, Vec<u32>) {
-        // Where each face's listing starts, and its corners and edges from there.
-        let rotations = if canonical {
-            canonical_rotations(self, faces)
-        } else {
-            vec![0; faces.len()]
-        };
-        let corners = |i: usize| {
-            let f = faces[i] as usize;
-            let (fv, fe) = (self.face_vertices(f), self.face_edge_list(f));
-            let (n, r) = (fv.len(), rotations[i]);
-            // `r + k` wraps once at most (without a division: this runs for every corner).
-            (0..n).map(move |k| {
-                let j = if r + k < n { r + k } else { r + k - n };
-                (fv[j], fe[j])
-            })
-        };
-        // Numbered in order of first appearance.
-        let corner_verts = || (0..faces.len()).flat_map(|i| corners(i).map(|(v, _)| v));
-        let corner_edges = || (0..faces.len()).flat_map(|i| corners(i).map(|(_, e)| e));
-        let n = faces.len();
-        let (vmap, verts) = SubsetMap::numbering(corner_verts(), self.num_vertices(), n);
-        let (emap, edges) = SubsetMap::numbering(corner_edges(), self.edge_verts.len(), n);
-        let (fmap, _) = SubsetMap::numbering(faces.iter().copied(), self.num_faces(), n);
-        let mut face_offsets = Vec::with_capacity(faces.len() + 1);
-        face_offsets.push(0u32);
-        let mut face_verts = Vec::new();
-        let mut face_edges = Vec::new();
-        for i in 0..faces.len() {
-            for (v, e) in corners(i) {
-                face_verts.push(vmap.get(v).unwrap_or(0));
-                face_edges.push(emap.get(e).unwrap_or(0));
-            }
-            face_offsets.push(face_verts.len() as u32);
-        }
-        // The position of a corner in its face, after the face's rotation.
-        let local = |lf: u32, k: u16| {
-            let r = rotations[lf as usize];
-            if r == 0 {
-                return k;
-            }
-            let n = self.face_vertices(faces[lf as usize] as usize).len();
-            let j = k as usize + n - r;
-            (if j < n { j } else { j - n }) as u16
-        };
+        let sub = Subset::new(self, faces, canonical);
+        let (face_offsets, face_verts, face_edges) = sub.face_lists();
         let mut t = Topology {
-            num_vertices: verts.len() as u32,
+            num_vertices: sub.verts.len() as u32,
             face_offsets,
             face_verts,
             face_edges,
@@ -1416,134 +1511,264 @@ impl Topology {
             complete: true,
             ..Topology::default()
         };
+        sub.fill_edges(&mut t);
+        sub.fill_vertices(&mut t, canonical);
+        if canonical {
+            canonical_edge_order(&mut t);
+        }
+        t.max_valence = t.largest_valence();
+        (t, sub.verts)
+    }
+
+    /// The largest number of edges or faces around a vertex.
+    fn largest_valence(&self) -> u32 {
+        (0..self.num_vertices())
+            .map(|v| self.vertex_edges(v).len().max(self.vertex_faces(v).len()) as u32)
+            .max()
+            .unwrap_or(0)
+    }
+}
+
+/// The corners (vertex, edge) of face `f` of `level`, listed from its corner `r` on.
+#[inline]
+fn rotated_corners(level: &Topology, f: u32, r: usize) -> impl Iterator<Item = (u32, u32)> + '_ {
+    let f = f as usize;
+    let (fv, fe) = (level.face_vertices(f), level.face_edge_list(f));
+    let n = fv.len();
+    // `r + k` wraps once at most (without a division: this runs for every corner).
+    (0..n).map(move |k| {
+        let j = if r + k < n { r + k } else { r + k - n };
+        (fv[j], fe[j])
+    })
+}
+
+/// A subset of a level's faces as [`Topology::subset_with`] builds it: the faces, where
+/// each one's listing starts, and the subset's numbering of the level's vertices, edges
+/// and faces (in order of first appearance).
+struct Subset<'a> {
+    level: &'a Topology,
+    faces: &'a [u32],
+    rotations: Vec<usize>,
+    vmap: SubsetMap,
+    emap: SubsetMap,
+    fmap: SubsetMap,
+    /// The level's vertices in the subset, by their number there.
+    verts: Vec<u32>,
+    /// The level's edges in the subset, by their number there.
+    edges: Vec<u32>,
+}
+
+impl<'a> Subset<'a> {
+    /// The numbering of the subset `faces` of `level`, each face listed from its first
+    /// corner, or (`canonical`) from the corner [`canonical_rotations`] picks.
+    fn new(level: &'a Topology, faces: &'a [u32], canonical: bool) -> Self {
+        let rotations = if canonical {
+            canonical_rotations(level, faces)
+        } else {
+            vec![0; faces.len()]
+        };
+        let n = faces.len();
+        let corners =
+            || (faces.iter().zip(&rotations)).flat_map(|(&f, &r)| rotated_corners(level, f, r));
+        let (vmap, verts) =
+            SubsetMap::numbering(corners().map(|(v, _)| v), level.num_vertices(), n);
+        let (emap, edges) =
+            SubsetMap::numbering(corners().map(|(_, e)| e), level.edge_verts.len(), n);
+        let (fmap, _) = SubsetMap::numbering(faces.iter().copied(), level.num_faces(), n);
+        Subset {
+            level,
+            faces,
+            rotations,
+            vmap,
+            emap,
+            fmap,
+            verts,
+            edges,
+        }
+    }
+
+    /// The corners of the subset's face `i`, from its rotation on.
+    #[inline]
+    fn corners(&self, i: usize) -> impl Iterator<Item = (u32, u32)> + '_ {
+        rotated_corners(self.level, self.faces[i], self.rotations[i])
+    }
+
+    /// The position in the subset's face `lf` of the corner at position `k` in the level's.
+    #[inline]
+    fn local(&self, lf: u32, k: u16) -> u16 {
+        let r = self.rotations[lf as usize];
+        if r == 0 {
+            return k;
+        }
+        let n = self
+            .level
+            .face_vertices(self.faces[lf as usize] as usize)
+            .len();
+        let j = k as usize + n - r;
+        (if j < n { j } else { j - n }) as u16
+    }
+
+    /// The subset's face → vertices and face → edges (offsets, vertices, edges).
+    fn face_lists(&self) -> (Vec<u32>, Vec<u32>, Vec<u32>) {
+        let mut face_offsets = Vec::with_capacity(self.faces.len() + 1);
+        face_offsets.push(0u32);
+        let mut face_verts = Vec::new();
+        let mut face_edges = Vec::new();
+        for i in 0..self.faces.len() {
+            for (v, e) in self.corners(i) {
+                face_verts.push(self.vmap.get(v).unwrap_or(0));
+                face_edges.push(self.emap.get(e).unwrap_or(0));
+            }
+            face_offsets.push(face_verts.len() as u32);
+        }
+        (face_offsets, face_verts, face_edges)
+    }
+
+    /// The subset's edges in `t`: their vertices, sharpness, tags, and faces (those in the
+    /// subset, in the level's order).
+    fn fill_edges(&self, t: &mut Topology) {
+        let level = self.level;
+        let edges = &self.edges;
         t.edge_verts = edges
             .iter()
-            .map(|&e| self.edge_verts[e as usize].map(|v| vmap.get(v).unwrap_or(0)))
+            .map(|&e| level.edge_verts[e as usize].map(|v| self.vmap.get(v).unwrap_or(0)))
             .collect();
         t.edge_sharpness = edges
             .iter()
-            .map(|&e| self.edge_sharpness[e as usize])
+            .map(|&e| level.edge_sharpness[e as usize])
             .collect();
-        t.edge_tags = edges.iter().map(|&e| self.edge_tags[e as usize]).collect();
+        t.edge_tags = edges.iter().map(|&e| level.edge_tags[e as usize]).collect();
         t.edge_face_offsets.push(0);
-        for &e in &edges {
-            let r = range(&self.edge_face_offsets, e as usize);
-            for i in r {
-                if let Some(lf) = fmap.get(self.edge_faces[i]) {
+        for &e in edges {
+            for i in range(&level.edge_face_offsets, e as usize) {
+                if let Some(lf) = self.fmap.get(level.edge_faces[i]) {
                     t.edge_faces.push(lf);
-                    t.edge_face_local.push(local(lf, self.edge_face_local[i]));
+                    t.edge_face_local
+                        .push(self.local(lf, level.edge_face_local[i]));
                 }
             }
             t.edge_face_offsets.push(t.edge_faces.len() as u32);
         }
-        t.vert_sharpness = verts
-            .iter()
-            .map(|&v| self.vert_sharpness[v as usize])
+    }
+
+    /// The subset's vertices in `t`: their sharpness, tags, and faces and edges (those in
+    /// the subset, in the level's rotational order, or listed from the subset's faces
+    /// around vertices of too many faces to walk, see [`rim_corners`]).
+    fn fill_vertices(&self, t: &mut Topology, canonical: bool) {
+        let level = self.level;
+        t.vert_sharpness = (self.verts.iter())
+            .map(|&v| level.vert_sharpness[v as usize])
             .collect();
-        t.vert_tags = verts.iter().map(|&v| self.vert_tags[v as usize]).collect();
+        t.vert_tags = (self.verts.iter())
+            .map(|&v| level.vert_tags[v as usize])
+            .collect();
         t.vert_face_offsets.push(0);
         t.vert_edge_offsets.push(0);
-        // Where each vertex is a corner of the subset's faces, for the vertices of too
-        // many faces to walk (see `rim_corners`).
-        let rim = rim_corners(self, faces, &verts, &vmap, &rotations);
-        for (i, &v) in verts.iter().enumerate() {
-            let (faces_v, edges_v) = (
-                range(&self.vert_face_offsets, v as usize),
-                range(&self.vert_edge_offsets, v as usize),
-            );
-            if let Some(corners) = rim.get(&(i as u32)) {
-                for &(lf, k) in corners {
-                    t.vert_faces.push(lf);
-                    t.vert_face_local.push(k);
-                }
-                t.vert_face_offsets.push(t.vert_faces.len() as u32);
-                let first = t.vert_edges.len();
-                for &(lf, k) in corners {
-                    let fe = t.face_edge_list(lf as usize);
-                    let n = fe.len();
-                    for le in [fe[(k as usize + n - 1) % n], fe[k as usize]] {
-                        if !t.vert_edges[first..].contains(&le) {
-                            t.vert_edges.push(le);
-                            let end = (t.edge_verts[le as usize][0] != i as u32) as u8;
-                            t.vert_edge_local.push(end);
-                        }
-                    }
-                }
-                t.vert_edge_offsets.push(t.vert_edges.len() as u32);
-                continue;
-            }
-            // Where the lists start: the level's own start, or (canonical, around an
-            // interior manifold vertex, whose face `k` and edge `k` go together, unless
-            // the order of its sums of sharpness matters) the subset's first face
-            // around `v`.
-            let tag = self.vert_tags[v as usize].get();
-            let cyclic = !tag.boundary && !tag.non_manifold && faces_v.len() == edges_v.len();
-            let start = if canonical && cyclic && !self.sharpness_sums_depend_on_order(v) {
-                faces_v
-                    .clone()
-                    .filter_map(|i| fmap.get(self.vert_faces[i]).map(|lf| (lf, i)))
-                    .min()
-                    .map_or(0, |(_, i)| i - faces_v.start)
-            } else {
-                0
-            };
-            let from = |r: &std::ops::Range<usize>| {
-                // `start` is 0 unless the two lists have the same length.
-                let a = r.start + start;
-                (a..r.end).chain(r.start..a)
-            };
-            for i in from(&faces_v) {
-                if let Some(lf) = fmap.get(self.vert_faces[i]) {
-                    t.vert_faces.push(lf);
-                    t.vert_face_local.push(local(lf, self.vert_face_local[i]));
-                }
-            }
-            t.vert_face_offsets.push(t.vert_faces.len() as u32);
-            for i in from(&edges_v) {
-                if let Some(le) = emap.get(self.vert_edges[i]) {
-                    t.vert_edges.push(le);
-                    t.vert_edge_local.push(self.vert_edge_local[i]);
-                }
-            }
-            t.vert_edge_offsets.push(t.vert_edges.len() as u32);
-        }
-        if canonical {
-            // Each edge from its lower-numbered end (the subset numbers its vertices in
-            // the order of `faces`), as the level's own direction depends on how it was
-            // built.
-            let flip: Vec<bool> = t.edge_verts.iter().map(|&[a, b]| a > b).collect();
-            for (ev, &f) in t.edge_verts.iter_mut().zip(&flip) {
-                if f {
-                    ev.swap(0, 1);
-                }
-            }
-            for (&e, end) in t.vert_edges.iter().zip(&mut t.vert_edge_local) {
-                if flip[e as usize] {
-                    *end = 1 - *end;
-                }
-            }
-            // The faces of each edge in the subset's order.
-            let mut pairs: Vec<(u32, u16)> = Vec::new();
-            for e in 0..t.edge_verts.len() {
-                let r = range(&t.edge_face_offsets, e);
-                pairs.clear();
-                pairs.extend(
-                    t.edge_faces[r.clone()]
-                        .iter()
-                        .copied()
-                        .zip(t.edge_face_local[r.clone()].iter().copied()),
-                );
-                pairs.sort_unstable();
-                for (i, &(f, l)) in r.zip(&pairs) {
-                    (t.edge_faces[i], t.edge_face_local[i]) = (f, l);
-                }
+        let rim = rim_corners(level, self.faces, &self.verts, &self.vmap, &self.rotations);
+        for (i, &v) in self.verts.iter().enumerate() {
+            match rim.get(&(i as u32)) {
+                Some(corners) => push_rim_vertex(t, i as u32, corners),
+                None => self.push_vertex(t, v, canonical),
             }
         }
-        t.max_valence = (0..t.num_vertices())
-            .map(|v| t.vertex_edges(v).len().max(t.vertex_faces(v).len()) as u32)
-            .max()
-            .unwrap_or(0);
-        (t, verts)
+    }
+
+    /// Appends the faces and edges of the level's vertex `v` that are in the subset to
+    /// `t`'s vertex relations. They start at the level's own start, or (`canonical`,
+    /// around an interior manifold vertex, whose face `k` and edge `k` go together,
+    /// unless the order of its sums of sharpness matters) at the subset's first face
+    /// around `v`.
+    fn push_vertex(&self, t: &mut Topology, v: u32, canonical: bool) {
+        let level = self.level;
+        let faces_v = range(&level.vert_face_offsets, v as usize);
+        let edges_v = range(&level.vert_edge_offsets, v as usize);
+        let tag = level.vert_tags[v as usize].get();
+        let cyclic = !tag.boundary && !tag.non_manifold && faces_v.len() == edges_v.len();
+        let start = if canonical && cyclic && !level.sharpness_sums_depend_on_order(v) {
+            faces_v
+                .clone()
+                .filter_map(|i| self.fmap.get(level.vert_faces[i]).map(|lf| (lf, i)))
+                .min()
+                .map_or(0, |(_, i)| i - faces_v.start)
+        } else {
+            0
+        };
+        let from = |r: &std::ops::Range<usize>| {
+            // `start` is 0 unless the two lists have the same length.
+            let a = r.start + start;
+            (a..r.end).chain(r.start..a)
+        };
+        for i in from(&faces_v) {
+            if let Some(lf) = self.fmap.get(level.vert_faces[i]) {
+                t.vert_faces.push(lf);
+                t.vert_face_local
+                    .push(self.local(lf, level.vert_face_local[i]));
+            }
+        }
+        t.vert_face_offsets.push(t.vert_faces.len() as u32);
+        for i in from(&edges_v) {
+            if let Some(le) = self.emap.get(level.vert_edges[i]) {
+                t.vert_edges.push(le);
+                t.vert_edge_local.push(level.vert_edge_local[i]);
+            }
+        }
+        t.vert_edge_offsets.push(t.vert_edges.len() as u32);
+    }
+}
+
+/// Appends the faces and edges of the subset's vertex `i` to `t`'s vertex relations from
+/// its `corners` (face, position) in the subset's faces ([`rim_corners`]): the faces in
+/// that order, each face's edges into and out of the vertex once.
+fn push_rim_vertex(t: &mut Topology, i: u32, corners: &[(u32, u16)]) {
+    for &(lf, k) in corners {
+        t.vert_faces.push(lf);
+        t.vert_face_local.push(k);
+    }
+    t.vert_face_offsets.push(t.vert_faces.len() as u32);
+    let first = t.vert_edges.len();
+    for &(lf, k) in corners {
+        let fe = t.face_edge_list(lf as usize);
+        let n = fe.len();
+        for le in [fe[(k as usize + n - 1) % n], fe[k as usize]] {
+            if !t.vert_edges[first..].contains(&le) {
+                t.vert_edges.push(le);
+                let end = (t.edge_verts[le as usize][0] != i) as u8;
+                t.vert_edge_local.push(end);
+            }
+        }
+    }
+    t.vert_edge_offsets.push(t.vert_edges.len() as u32);
+}
+
+/// Puts a canonical subset's edges in an order independent of how the level was built:
+/// each edge from its lower-numbered end (the subset numbers its vertices in the order of
+/// its faces), and the faces of each edge in the subset's order.
+fn canonical_edge_order(t: &mut Topology) {
+    let flip: Vec<bool> = t.edge_verts.iter().map(|&[a, b]| a > b).collect();
+    for (ev, &f) in t.edge_verts.iter_mut().zip(&flip) {
+        if f {
+            ev.swap(0, 1);
+        }
+    }
+    for (&e, end) in t.vert_edges.iter().zip(&mut t.vert_edge_local) {
+        if flip[e as usize] {
+            *end = 1 - *end;
+        }
+    }
+    let mut pairs: Vec<(u32, u16)> = Vec::new();
+    for e in 0..t.edge_verts.len() {
+        let r = range(&t.edge_face_offsets, e);
+        pairs.clear();
+        pairs.extend(
+            t.edge_faces[r.clone()]
+                .iter()
+                .copied()
+                .zip(t.edge_face_local[r.clone()].iter().copied()),
+        );
+        pairs.sort_unstable();
+        for (i, &(f, l)) in r.zip(&pairs) {
+            (t.edge_faces[i], t.edge_face_local[i]) = (f, l);
+        }
     }
 }
 
@@ -1596,7 +1821,7 @@ fn rim_corners(
 /// level's indices when the level is not much larger than the subset (the refinement of a
 /// cut-out, which the configuration trees subset at every node), else sorted pairs
 /// searched by bisection (a base mesh, of which a cut-out is a few dozen faces). The
-/// table took a fifth of the time of subsetting the trees' levels that bisection took.
+/// table is the faster where it is small enough to fill.
 enum SubsetMap {
     /// `table[x]` is `x`'s number, `u32::MAX` if `x` is not in the subset.
     Table(Vec<u32>),

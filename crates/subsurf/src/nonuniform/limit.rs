@@ -465,12 +465,24 @@ impl<const D: usize> Fan<D> {
         Some(fan)
     }
 
-    /// One NURSS step of the fan (buffers reused: no allocation after the first step).
+    /// One NURSS step of the fan (buffers reused: no allocation after the first step):
+    /// its points, then its intervals; `settled` when the intervals no longer change.
     fn step(&mut self) {
+        self.scratch.h.clear();
+        self.scratch.h.extend_from_slice(&self.h);
+        self.step_points();
+        self.step_intervals();
+        self.normalise_intervals();
+        // The old `ga`, `gb` are in the scratch buffers since the swap.
+        let sc = &self.scratch;
+        self.settled = self.h == sc.h && self.ga == sc.ga && self.gb == sc.gb;
+    }
+
+    /// The fan's points one step on: its face points, midpoints and edge points, and the
+    /// vertex point (a dart follows the smooth rule), from the current intervals.
+    fn step_points(&mut self) {
         let n = self.h.len();
         let sc = &mut self.scratch;
-        sc.h.clear();
-        sc.h.extend_from_slice(&self.h);
         // Face points.
         sc.r.clear();
         for i in 0..n {
@@ -521,8 +533,14 @@ impl<const D: usize> Fan<D> {
         self.v = v2;
         std::mem::swap(&mut self.q, &mut sc.q);
         std::mem::swap(&mut self.r, &mut sc.r);
-        // New intervals and d± (see the module documentation): the face-interior edges
-        // first (they read the old h), then the halves.
+    }
+
+    /// The fan's intervals and `d±` one step on (see the module documentation): the
+    /// face-interior edges first (they read the old `h`), then the halves. The old `ga`,
+    /// `gb` go to the scratch buffers.
+    fn step_intervals(&mut self) {
+        let n = self.h.len();
+        let sc = &mut self.scratch;
         sc.ga.clear();
         sc.ga
             .extend((0..n).map(|i| 0.25 * (self.h[(i + 1) % n] + self.ga[i])));
@@ -549,8 +567,11 @@ impl<const D: usize> Fan<D> {
                 [self.aq[j], 2.0 * self.ga[j]],
             ];
         }
-        // The rules are homogeneous of degree 0 in the intervals: keep them near 1 so that
-        // hundreds of halvings cannot underflow.
+    }
+
+    /// Scales the intervals to a largest of 1: the rules are homogeneous of degree 0 in
+    /// them, and near 1 hundreds of halvings cannot underflow.
+    fn normalise_intervals(&mut self) {
         let max = self
             .h
             .iter()
@@ -577,9 +598,6 @@ impl<const D: usize> Fan<D> {
                 }
             }
         }
-        // The old `ga`, `gb` are in the scratch buffers since the swap.
-        let sc = &self.scratch;
-        self.settled = self.h == sc.h && self.ga == sc.ga && self.gb == sc.gb;
     }
 
     /// Size of the fan: its largest distance from the centre (in homogeneous coordinates).

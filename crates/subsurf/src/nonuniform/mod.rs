@@ -80,21 +80,21 @@ pub use tessellate::tessellate;
 /// calling `progress(level_done, levels)` after each level.
 ///
 /// # Errors
-/// As [`Nurss::new`]; [`NurssError::TooLarge`] beyond the `u32` index range.
+/// As [`Nurss::new`]; [`MeshError::TooLarge`](crate::mesh::MeshError::TooLarge) (in
+/// [`NurssError::Mesh`]) beyond the `u32` index range, as every uniform refinement
+/// ([`check_size`](crate::refine::uniform::check_size)).
 pub(crate) fn refined(
     mesh: &PolyMesh,
     options: &crate::mesh::Options,
     levels: u32,
     progress: &mut dyn FnMut(u32, u32),
 ) -> Result<Nurss, NurssError> {
-    let faces = (mesh.face_verts().len() as u64)
-        .saturating_mul(4u64.saturating_pow(levels.saturating_sub(1)));
-    if faces.saturating_mul(4) >= u32::MAX as u64 {
-        return Err(NurssError::TooLarge {
-            level: levels,
-            faces,
-        });
-    }
+    use crate::refine::uniform::{check_size, Steps};
+    check_size(
+        mesh,
+        Steps::Family(crate::scheme::adjustable::Mixed::CATMULL_CLARK),
+        levels,
+    )?;
     let mut s = Nurss::new(mesh, options)?;
     for l in 1..=levels {
         s.step();

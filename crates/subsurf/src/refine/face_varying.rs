@@ -731,73 +731,127 @@ pub(crate) fn interpolate<R: Rules>(
     src: &[f64],
     dst: &mut [f64],
 ) {
+    let pass = FvarPass {
+        p,
+        c,
+        pf,
+        cf,
+        options,
+        rules,
+        dim,
+        src,
+    };
     let (nv, nf) = (p.num_vertices(), p.num_faces());
-    let val = |i: u32| &src[dim * i as usize..dim * (i as usize + 1)];
     let face0 = cf.vert_offsets[nv] as usize;
     let edge0 = cf.vert_offsets[nv + nf] as usize;
     let (vert_out, rest) = dst.split_at_mut(dim * face0);
     let (face_out, edge_out) = rest.split_at_mut(dim * (edge0 - face0));
-    // Face points.
-    for (f, out) in face_out.chunks_exact_mut(dim).enumerate() {
-        out.fill(0.0);
-        let w = catmark::face_point_weight(p.face_vertices(f).len());
-        let o = p.face_offsets[f] as usize..p.face_offsets[f + 1] as usize;
-        for &x in &pf.face_values[o] {
-            axpy(out, 1.0, val(x));
-        }
-        out.iter_mut().for_each(|x| *x *= w);
+    pass.face_points(face_out);
+    pass.edge_points(face_out, edge_out);
+    pass.vertex_points(face_out, vert_out);
+}
+
+/// What every pass of [`interpolate`] reads: the parent and child topologies and
+/// face-varying levels, the options, the scheme's rules, and the parent's values
+/// (`dim` numbers each).
+struct FvarPass<'a, R> {
+    p: &'a Topology,
+    c: &'a Topology,
+    pf: &'a FvarLevel,
+    cf: &'a FvarLevel,
+    options: &'a Options,
+    rules: R,
+    dim: usize,
+    src: &'a [f64],
+}
+
+impl<R: Rules> FvarPass<'_, R> {
+    /// The parent's value `i`.
+    #[inline]
+    fn val(&self, i: u32) -> &[f64] {
+        &self.src[self.dim * i as usize..self.dim * (i as usize + 1)]
     }
-    let face_out: &[f64] = face_out;
-    let face_pt = |f: u32| &face_out[dim * f as usize..dim * (f as usize + 1)];
-    // Edge points.
-    for e in 0..p.num_edges() {
-        let cv = nv + nf + e;
-        let slots = cf.slots(cv);
-        let first = dim * (slots.start - edge0);
-        if !cf.tags[slots.start].mismatch {
-            let out = &mut edge_out[first..first + dim];
+
+    /// The child value of every parent face (`out`, one per face): the average of the
+    /// face's values.
+    fn face_points(&self, out: &mut [f64]) {
+        let p = self.p;
+        for (f, out) in out.chunks_exact_mut(self.dim).enumerate() {
+            out.fill(0.0);
+            let w = catmark::face_point_weight(p.face_vertices(f).len());
+            let o = p.face_offsets[f] as usize..p.face_offsets[f + 1] as usize;
+            for &x in &self.pf.face_values[o] {
+                axpy(out, 1.0, self.val(x));
+            }
+            out.iter_mut().for_each(|x| *x *= w);
+        }
+    }
+
+    /// The child values of every parent edge (`out`, from the first edge child's first
+    /// value on), given the face points `face_out`: the edge mask where the edge's values
+    /// match across it, else (and for linear channels) each side's midpoint.
+    fn edge_points(&self, face_out: &[f64], out: &mut [f64]) {
+        let (p, pf, cf, dim) = (self.p, self.pf, self.cf, self.dim);
+        let (nv, nf) = (p.num_vertices(), p.num_faces());
+        let edge0 = cf.vert_offsets[nv + nf] as usize;
+        let face_pt = |f: u32| &face_out[dim * f as usize..dim * (f as usize + 1)];
+        for e in 0..p.num_edges() {
+            let slots = cf.slots(nv + nf + e);
+            let first = dim * (slots.start - edge0);
+            if cf.tags[slots.start].mismatch {
+                for i in 0..slots.len() {
+                    let out = &mut out[first + dim * i..first + dim * (i + 1)];
+                    out.fill(0.0);
+                    let [a, b] = pf.edge_face_values(p, e, i);
+                    axpy(out, 0.5, self.val(a));
+                    axpy(out, 0.5, self.val(b));
+                }
+                continue;
+            }
+            let out = &mut out[first..first + dim];
             out.fill(0.0);
             let [a, b] = pf.edge_face_values(p, e, 0);
             if pf.mode.linear {
-                axpy(out, 0.5, val(a));
-                axpy(out, 0.5, val(b));
+                axpy(out, 0.5, self.val(a));
+                axpy(out, 0.5, self.val(b));
                 continue;
             }
-            let m = edge_mask_at(p, c, options, rules, e);
-            axpy(out, m.vertex, val(a));
-            axpy(out, m.vertex, val(b));
+            let m = edge_mask_at(p, self.c, self.options, self.rules, e);
+            axpy(out, m.vertex, self.val(a));
+            axpy(out, m.vertex, self.val(b));
             if !m.is_crease() {
                 for (j, &f) in p.edge_face_list(e).iter().enumerate() {
                     let w = if j < 2 { m.faces[j] } else { m.other_faces };
                     axpy(out, w, face_pt(f));
                 }
             }
-        } else {
-            for i in 0..slots.len() {
-                let out = &mut edge_out[first + dim * i..first + dim * (i + 1)];
-                out.fill(0.0);
-                let [a, b] = pf.edge_face_values(p, e, i);
-                axpy(out, 0.5, val(a));
-                axpy(out, 0.5, val(b));
-            }
         }
     }
-    // Vertex points.
-    let (mut mask, mut cmask) = (VertexMask::default(), VertexMask::default());
-    let (mut pe, mut ce) = (Vec::new(), Vec::new());
-    for v in 0..nv {
-        let (ps, cs) = (pf.slots(v), cf.slots(v));
-        let out_all = &mut vert_out[dim * cs.start..dim * cs.end];
-        if !cf.tags[cs.start].mismatch {
+
+    /// The child values of every parent vertex (`out`, from the first vertex's first value
+    /// on), given the face points `face_out`: the vertex mask where the vertex's values
+    /// match around it, else [`split_vertex_points`](Self::split_vertex_points).
+    fn vertex_points(&self, face_out: &[f64], out: &mut [f64]) {
+        let (p, pf, cf, dim) = (self.p, self.pf, self.cf, self.dim);
+        let face_pt = |f: u32| &face_out[dim * f as usize..dim * (f as usize + 1)];
+        let (mut mask, mut cmask) = (VertexMask::default(), VertexMask::default());
+        let (mut pe, mut ce) = (Vec::new(), Vec::new());
+        for v in 0..p.num_vertices() {
+            let cs = cf.slots(v);
+            let out_all = &mut out[dim * cs.start..dim * cs.end];
+            if cf.tags[cs.start].mismatch {
+                self.split_vertex_points(v, out_all);
+                continue;
+            }
             let out = &mut out_all[..dim];
             out.fill(0.0);
-            let pv = val(pf.slot_values[ps.start]);
+            let pv = self.val(pf.slot_values[pf.slots(v).start]);
             if pf.mode.linear || p.vertex_edges(v).is_empty() {
                 out.copy_from_slice(pv);
                 continue;
             }
             let scratch = (&mut pe, &mut ce, &mut cmask);
-            vertex_mask_at(p, c, options, rules, v, &mut mask, scratch);
+            vertex_mask_at(p, self.c, self.options, self.rules, v, &mut mask, scratch);
             if mask.has_faces {
                 for (&f, &w) in p.vertex_faces(v).iter().zip(&mask.faces) {
                     axpy(out, w, face_pt(f));
@@ -805,16 +859,23 @@ pub(crate) fn interpolate<R: Rules>(
             }
             if mask.has_edges {
                 for (i, &w) in mask.edges.iter().enumerate() {
-                    axpy(out, w, val(pf.vertex_edge_value(p, v, i)));
+                    axpy(out, w, self.val(pf.vertex_edge_value(p, v, i)));
                 }
             }
             axpy(out, mask.vertex, pv);
-            continue;
         }
-        let [end_w, centre_w, _] = rules.crease_vertex_weights();
-        for (k, out) in out_all.chunks_exact_mut(dim).enumerate() {
+    }
+
+    /// The child values of vertex `v`, whose values differ around it (`out`, one per
+    /// value): each value a corner (kept) or a crease point between the values at the ends
+    /// of its crease, semi-sharp ones blended toward the corner by the fractional weight.
+    fn split_vertex_points(&self, v: usize, out: &mut [f64]) {
+        let (p, pf, cf) = (self.p, self.pf, self.cf);
+        let (ps, cs) = (pf.slots(v), cf.slots(v));
+        let [end_w, centre_w, _] = self.rules.crease_vertex_weights();
+        for (k, out) in out.chunks_exact_mut(self.dim).enumerate() {
             let pslot = ps.start + k;
-            let pv = val(pf.slot_values[pslot]);
+            let pv = self.val(pf.slot_values[pslot]);
             out.fill(0.0);
             if pf.mode.linear || cf.tags[cs.start + k].is_corner() {
                 out.copy_from_slice(pv);
@@ -830,12 +891,12 @@ pub(crate) fn interpolate<R: Rules>(
                 } else {
                     pslot
                 };
-                let corner = pf.fractional_weight(p, c, options, v, from);
+                let corner = pf.fractional_weight(p, self.c, self.options, v, from);
                 vw = (1.0 - corner) * centre_w + corner;
                 ew = (1.0 - corner) * end_w;
             }
-            axpy(out, ew, val(a));
-            axpy(out, ew, val(b));
+            axpy(out, ew, self.val(a));
+            axpy(out, ew, self.val(b));
             axpy(out, vw, pv);
         }
     }

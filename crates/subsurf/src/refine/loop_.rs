@@ -6,9 +6,8 @@
 //! [`Bilinear`](crate::scheme::bilinear::Bilinear)). [`subdivide`](fn@crate::subdivide)
 //! refines a mesh with either through `refine::uniform`.
 
-use super::primvar::{axpy, run_chunks, vertex_mask_at};
-use crate::mesh::{MeshError, Options, PolyMesh, Rule, Topology};
-use crate::scheme::catmark::VertexMask;
+use super::primvar::{axpy, run_chunks, vertex_points};
+use crate::mesh::{MeshError, Options, PolyMesh, Topology};
 use crate::scheme::loop_::Loop;
 use crate::scheme::Rules;
 
@@ -74,42 +73,8 @@ pub fn interpolate_loop<const D: usize>(
             *o = acc;
         }
     };
-    let vertex_pass = |(start, out): (usize, &mut [[f64; D]])| {
-        let (mut mask, mut child_mask) = (VertexMask::default(), VertexMask::default());
-        let (mut pe, mut ce) = (Vec::new(), Vec::new());
-        for (i, o) in out.iter_mut().enumerate() {
-            let v = start + i;
-            let p = &src[v];
-            let n = parent.vertex_faces(v).len();
-            if parent.vertex_edges(v).is_empty() {
-                *o = *p;
-                continue;
-            }
-            if matches!(parent.vert_tags[v].get().rule, Rule::Smooth | Rule::Dart) {
-                // OpenSubdiv's valence here is the face count (equal to the edge count at
-                // the manifold interior vertices that smooth rules apply to).
-                let ends = parent.vertex_neighbours(v).take(n);
-                *o = Loop.smooth_vertex_point(
-                    n,
-                    p,
-                    ends.map(|x| &src[x as usize]),
-                    std::iter::empty(),
-                );
-                continue;
-            }
-            let scratch = (&mut pe, &mut ce, &mut child_mask);
-            vertex_mask_at(parent, child, options, Loop, v, &mut mask, scratch);
-            // Loop's vertex masks have no face weights.
-            debug_assert!(!mask.has_faces || mask.faces.iter().all(|&w| w == 0.0));
-            let mut acc = [0.0; D];
-            if mask.has_edges {
-                for (x, &w) in parent.vertex_neighbours(v).zip(&mask.edges) {
-                    axpy(&mut acc, w, &src[x as usize]);
-                }
-            }
-            axpy(&mut acc, mask.vertex, p);
-            *o = acc;
-        }
+    let vertex_pass = |chunk: (usize, &mut [[f64; D]])| {
+        vertex_points(parent, child, options, Loop, src, None, chunk)
     };
     rayon::join(
         || run_chunks(edge_pts, edge_pass),

@@ -258,8 +258,8 @@ impl<I: Index> Net<I> {
     }
 
     /// [`eval`](Self::eval) into `cp`, every point overwritten: where the net is not
-    /// inlined into its caller, a returned net was copied again (`memmove`, 2–5 % of
-    /// evaluating a tree of creases).
+    /// inlined into its caller, a returned net would be copied again (a `memmove` per
+    /// evaluation).
     pub(crate) fn eval_into(&self, pos: &[[f64; 3]], cp: &mut [[[f64; 3]; 4]; 4]) {
         let cp = cp.as_flattened_mut();
         match self {
@@ -320,8 +320,8 @@ struct Terms {
 /// `4 i + j`: those of [`sided_cells`] on the vertex list `0, 1, …, 15`, made once per
 /// set of sides. They are those of a net's own cells unless two of the vertices a phantom
 /// cell combines are the same (the cell then has fewer terms), which [`Net::new`] checks
-/// ([`table_cells`]). Making the 16 cells (900 bytes) at each evaluation was a fifth of
-/// the evaluation of a shape with boundaries through its trees (`catmark_edgeonly`).
+/// ([`table_cells`]). Made once, not at each evaluation: the 16 cells are 900 bytes,
+/// costly to build next to the evaluation of a shape with boundaries through its trees.
 fn sided_terms(sides: [bool; 4]) -> &'static [Terms; 16] {
     static TABLE: OnceLock<[[Terms; 16]; 16]> = OnceLock::new();
     let table = TABLE.get_or_init(|| {

@@ -411,6 +411,156 @@ fn cell_verts(c: &Cell) -> &[u32] {
     &c.verts[..c.len]
 }
 
+/// The faces of `levels[0]` that can be patches of depth `levels.len()` (past
+/// [`QUAD_DEPTH`], only those that are not quads) and would write an output vertex not
+/// yet in `claims`: each with its net, and its grid of output vertices (regular and edge
+/// patches) or its `descendants` (ring patches, whose grids come once the matrix of their
+/// key says which vertices repeat). Not the faces whose every vertex a deeper layer
+/// claimed (at level 4 of a triangle mesh, every quad of level 1).
+fn find_patches(
+    levels: &[Topology],
+    claims: &Claims,
+    crease_method: CreaseMethod,
+) -> Vec<(u32, Net, Vec<u32>)> {
+    let depth = levels.len() as u32;
+    let sharp = Sharp::for_levels(depth, crease_method);
+    let chaikin = crease_method == CreaseMethod::Chaikin;
+    let t = &levels[0];
+    let seen = &claims.0;
+    (0..t.num_faces())
+        .into_par_iter()
+        .with_min_len(RUN)
+        .filter_map(|f| {
+            if depth > QUAD_DEPTH && t.face_vertices(f).len() == 4 {
+                return None;
+            }
+            let net = patch_controls(t, f, sharp, chaikin)?;
+            let verts = match &net {
+                Net::Ring(ring) => {
+                    let mut walk = Vec::new();
+                    descendants(levels, f, ring.start, &mut walk)?;
+                    walk
+                }
+                _ => grid_indices(levels, f)?,
+            };
+            let open = verts.iter().any(|&v| !seen[v as usize]);
+            open.then_some((f as u32, net, verts))
+        })
+        .collect()
+}
+
+/// The patches `found` with their grids and (ring patches) the index of their key, and
+/// the kernel of each key: one matrix per key found on at least `MIN_RING_FACES` faces
+/// (in parallel: an all-triangle base mesh has one per triple of valences). The ring
+/// patches of other keys, and of a key whose matrix could not be built, are dropped:
+/// they are left to the rows.
+#[allow(clippy::type_complexity)]
+fn with_ring_grids(
+    found: Vec<(u32, Net, Vec<u32>)>,
+    depth: u32,
+    options: &Options,
+    mixed: Mixed,
+) -> (Vec<(u32, Net, Vec<u32>, usize)>, Vec<Option<Kernel>>) {
+    let mut keys: Vec<&[u32]> = (found.iter())
+        .filter_map(|(_, net, _)| match net {
+            Net::Ring(ring) => Some(ring.key.as_slice()),
+            _ => None,
+        })
+        .collect();
+    keys.sort_unstable();
+    let counts: Vec<usize> = keys.chunk_by(|a, b| a == b).map(<[_]>::len).collect();
+    keys.dedup();
+    let kernels: Vec<Option<Kernel>> = (keys.par_iter().zip(counts))
+        .map(|(key, n)| (n >= MIN_RING_FACES).then(|| Kernel::new(key, depth, options, mixed))?)
+        .collect();
+    let ring_grids: Vec<Option<(usize, Vec<u32>)>> = (found.par_iter())
+        .with_min_len(RUN)
+        .map(|(_, net, walk)| {
+            let Net::Ring(ring) = net else { return None };
+            let k = keys.binary_search(&ring.key.as_slice()).ok()?;
+            Some((k, kernels[k].as_ref()?.grid(&ring.verts, walk)?))
+        })
+        .collect();
+    let found = (found.into_iter().zip(ring_grids))
+        .filter_map(|((f, net, grid), ring)| match (net, ring) {
+            (Net::Ring(_), None) => None,
+            (net @ Net::Ring(_), Some((k, grid))) => Some((f, net, grid, k)),
+            (net, _) => Some((f, net, grid, 0)),
+        })
+        .collect();
+    (found, kernels)
+}
+
+/// The patches of a layer sorted by kind, by [`claim_patches`].
+struct ClaimedPatches {
+    /// Regular patches: control vertices, output grids, run of each.
+    ctrl: Vec<[u32; 16]>,
+    out: Vec<u32>,
+    ctrl_run: Vec<u32>,
+    /// Edge patches: nets, output grids, run of each.
+    edge_nets: Vec<[Cell; 16]>,
+    edge_out: Vec<u32>,
+    edge_run: Vec<u32>,
+    /// Ring patches, grouped by matrix, and their span.
+    rings: RingPatches,
+    span: usize,
+}
+
+/// Claims, in face order, the output vertices of the patches `found` that no earlier
+/// patch (or deeper layer) claimed (the others' grid entries become [`NOT_OWNED`]), and
+/// sorts the patches that claim at least one by kind; `kernels` are the ring keys'
+/// matrices, `runs` the number of runs of faces.
+fn claim_patches(
+    found: Vec<(u32, Net, Vec<u32>, usize)>,
+    claims: &mut Claims,
+    kernels: &[Option<Kernel>],
+    runs: usize,
+) -> ClaimedPatches {
+    let mut ctrl = Vec::with_capacity(found.len());
+    let mut out = Vec::with_capacity(found.iter().map(|(_, _, g, _)| g.len()).sum());
+    let (mut edge_nets, mut edge_out) = (Vec::new(), Vec::new());
+    let (mut ctrl_run, mut edge_run) = (Vec::new(), Vec::new());
+    let mut ring_groups = RingGroups::new(kernels);
+    for (f, net, mut grid, key) in found {
+        let run = f / RUN as u32;
+        let mut any = false;
+        for g in grid.iter_mut().filter(|g| **g != NOT_OWNED) {
+            let seen = &mut claims.0[*g as usize];
+            if *seen {
+                *g = NOT_OWNED;
+            } else {
+                *seen = true;
+                any = true;
+            }
+        }
+        match net {
+            _ if !any => {}
+            Net::Ring(ring) => ring_groups.push(key, run, ring.verts, grid),
+            Net::Plain(c) => {
+                ctrl.push(c);
+                out.extend_from_slice(&grid);
+                ctrl_run.push(run);
+            }
+            Net::Edge(c) => {
+                edge_nets.push(*c);
+                edge_out.extend_from_slice(&grid);
+                edge_run.push(run);
+            }
+        }
+    }
+    let (rings, span) = ring_groups.finish(runs);
+    ClaimedPatches {
+        ctrl,
+        out,
+        ctrl_run,
+        edge_nets,
+        edge_out,
+        edge_run,
+        rings,
+        span,
+    }
+}
+
 impl PatchLayer {
     /// The patches of depth `levels.len()` on the faces of `levels[0]` (refined with
     /// `options`, step `s` from `levels[0]` with the masks of `mixed.step(s)`): every face
@@ -425,113 +575,22 @@ impl PatchLayer {
         mixed: Mixed,
     ) -> Self {
         let depth = levels.len() as u32;
-        let sharp = Sharp::for_levels(depth, options.crease_method);
-        let chaikin = options.crease_method == CreaseMethod::Chaikin;
-        let t = &levels[0];
-        // Regular and edge patches with their grids, ring patches with their
-        // `descendants` (their grids below, once the matrix of their key says which
-        // vertices repeat); not the faces whose every vertex a deeper layer claimed (at
-        // level 4 of a triangle mesh, every quad of level 1), nor their keys' matrices.
-        let seen = &claims.0;
-        let found: Vec<(u32, Net, Vec<u32>)> = (0..t.num_faces())
-            .into_par_iter()
-            .with_min_len(RUN)
-            .filter_map(|f| {
-                if depth > QUAD_DEPTH && t.face_vertices(f).len() == 4 {
-                    return None;
-                }
-                let net = patch_controls(t, f, sharp, chaikin)?;
-                let verts = match &net {
-                    Net::Ring(ring) => {
-                        let mut walk = Vec::new();
-                        descendants(levels, f, ring.start, &mut walk)?;
-                        walk
-                    }
-                    _ => grid_indices(levels, f)?,
-                };
-                let open = verts.iter().any(|&v| !seen[v as usize]);
-                open.then_some((f as u32, net, verts))
-            })
-            .collect();
-        let runs = t.num_faces().div_ceil(RUN);
-        // One matrix per key found on at least `MIN_RING_FACES` faces (in parallel: an
-        // all-triangle base mesh has one per triple of valences). The faces of other keys,
-        // and of a key whose matrix could not be built, are left to the rows.
-        let mut keys: Vec<&[u32]> = (found.iter())
-            .filter_map(|(_, net, _)| match net {
-                Net::Ring(ring) => Some(ring.key.as_slice()),
-                _ => None,
-            })
-            .collect();
-        keys.sort_unstable();
-        let counts: Vec<usize> = keys.chunk_by(|a, b| a == b).map(<[_]>::len).collect();
-        keys.dedup();
-        let kernels: Vec<Option<Kernel>> = (keys.par_iter().zip(counts))
-            .map(|(key, n)| {
-                (n >= MIN_RING_FACES).then(|| Kernel::new(key, depth, options, mixed))?
-            })
-            .collect();
-        let ring_grids: Vec<Option<(usize, Vec<u32>)>> = (found.par_iter())
-            .with_min_len(RUN)
-            .map(|(_, net, walk)| {
-                let Net::Ring(ring) = net else { return None };
-                let k = keys.binary_search(&ring.key.as_slice()).ok()?;
-                Some((k, kernels[k].as_ref()?.grid(&ring.verts, walk)?))
-            })
-            .collect();
-        // Each patch with its grid, and a ring patch with its key.
-        let found: Vec<(u32, Net, Vec<u32>, usize)> = (found.into_iter().zip(ring_grids))
-            .filter_map(|((f, net, grid), ring)| match (net, ring) {
-                (Net::Ring(_), None) => None,
-                (net @ Net::Ring(_), Some((k, grid))) => Some((f, net, grid, k)),
-                (net, _) => Some((f, net, grid, 0)),
-            })
-            .collect();
-        let mut ctrl = Vec::with_capacity(found.len());
-        let mut out = Vec::with_capacity(found.iter().map(|(_, _, g, _)| g.len()).sum());
-        let (mut edge_nets, mut edge_out) = (Vec::new(), Vec::new());
-        let (mut ctrl_run, mut edge_run) = (Vec::new(), Vec::new());
-        let mut ring_groups = RingGroups::new(&kernels);
-        for (f, net, mut grid, key) in found {
-            let run = f / RUN as u32;
-            let mut any = false;
-            for g in grid.iter_mut().filter(|g| **g != NOT_OWNED) {
-                let seen = &mut claims.0[*g as usize];
-                if *seen {
-                    *g = NOT_OWNED;
-                } else {
-                    *seen = true;
-                    any = true;
-                }
-            }
-            match net {
-                _ if !any => {}
-                Net::Ring(ring) => ring_groups.push(key, run, ring.verts, grid),
-                Net::Plain(c) => {
-                    ctrl.push(c);
-                    out.extend_from_slice(&grid);
-                    ctrl_run.push(run);
-                }
-                Net::Edge(c) => {
-                    edge_nets.push(*c);
-                    edge_out.extend_from_slice(&grid);
-                    edge_run.push(run);
-                }
-            }
-        }
-        let (rings, span) = ring_groups.finish(runs);
+        let runs = levels[0].num_faces().div_ceil(RUN);
+        let found = find_patches(levels, claims, options.crease_method);
+        let (found, kernels) = with_ring_grids(found, depth, options, mixed);
+        let sorted = claim_patches(found, claims, &kernels, runs);
         let mut layer = PatchLayer {
             depth,
             source,
             runs,
-            span,
-            ctrl,
-            ctrl_runs: Runs::new(&ctrl_run, runs),
-            out,
-            edge_nets,
-            edge_out,
-            edge_runs: Runs::new(&edge_run, runs),
-            rings,
+            span: sorted.span,
+            ctrl: sorted.ctrl,
+            ctrl_runs: Runs::new(&sorted.ctrl_run, runs),
+            out: sorted.out,
+            edge_nets: sorted.edge_nets,
+            edge_out: sorted.edge_out,
+            edge_runs: Runs::new(&sorted.edge_run, runs),
+            rings: sorted.rings,
             w: weights(depth, mixed),
             bounds: [0, 0],
         };

@@ -98,50 +98,82 @@ pub fn interpolate_with<R: Rules, const D: usize>(
     };
 
     // Vertex points.
-    let vertex_pass = |(start, out): (usize, &mut [[f64; D]])| {
-        let (mut mask, mut child_mask) = (VertexMask::default(), VertexMask::default());
-        let mut pe = Vec::new();
-        let mut ce = Vec::new();
-        for (i, o) in out.iter_mut().enumerate() {
-            let v = start + i;
-            let edges = parent.vertex_edges(v);
-            let faces = parent.vertex_faces(v);
-            let ptag = parent.vert_tags[v].get();
-            let p = &src[v];
-            if edges.is_empty() {
-                *o = *p;
-                continue;
-            }
-            if matches!(ptag.rule, Rule::Smooth | Rule::Dart) {
-                *o = rules.smooth_vertex_point(
-                    edges.len(),
-                    p,
-                    parent.vertex_neighbours(v).map(|x| &src[x as usize]),
-                    faces.iter().map(|&f| &face_pts[f as usize]),
-                );
-                continue;
-            }
-            let scratch = (&mut pe, &mut ce, &mut child_mask);
-            vertex_mask_at(parent, child, options, rules, v, &mut mask, scratch);
-            let mut acc = [0.0; D];
-            if mask.has_faces {
-                for (&f, &w) in faces.iter().zip(&mask.faces) {
-                    axpy(&mut acc, w, &face_pts[f as usize]);
-                }
-            }
-            if mask.has_edges {
-                for (x, &w) in parent.vertex_neighbours(v).zip(&mask.edges) {
-                    axpy(&mut acc, w, &src[x as usize]);
-                }
-            }
-            axpy(&mut acc, mask.vertex, p);
-            *o = acc;
-        }
+    let vertex_pass = |chunk: (usize, &mut [[f64; D]])| {
+        vertex_points(parent, child, options, rules, src, Some(face_pts), chunk)
     };
     rayon::join(
         || run_chunks(edge_pts, edge_pass),
         || run_chunks(vert_pts, vertex_pass),
     );
+}
+
+/// The vertex points of `parent` refined into `child` with `rules`, for the values `src`
+/// at `parent`'s vertices, into `out` (the points of vertices `start..start + out.len()`):
+/// a vertex without edges is kept, a smooth or dart vertex gets the scheme's smooth
+/// point, any other the weights of its mask ([`vertex_mask_at`]) on itself, the far ends
+/// of its edges and its faces' points. `face_pts` are the new face points of the
+/// Catmull-Clark family, where a smooth vertex's valence is its edge count; Loop has none
+/// (`None`): its valence is the face count, as in OpenSubdiv (the same at the manifold
+/// interior vertices that smooth rules apply to), and its masks have no face weights.
+pub(super) fn vertex_points<R: Rules, const D: usize>(
+    parent: &Topology,
+    child: &Topology,
+    options: &Options,
+    rules: R,
+    src: &[[f64; D]],
+    face_pts: Option<&[[f64; D]]>,
+    (start, out): (usize, &mut [[f64; D]]),
+) {
+    let (mut mask, mut child_mask) = (VertexMask::default(), VertexMask::default());
+    let mut pe = Vec::new();
+    let mut ce = Vec::new();
+    for (i, o) in out.iter_mut().enumerate() {
+        let v = start + i;
+        let edges = parent.vertex_edges(v);
+        let faces = parent.vertex_faces(v);
+        let p = &src[v];
+        if edges.is_empty() {
+            *o = *p;
+            continue;
+        }
+        if matches!(parent.vert_tags[v].get().rule, Rule::Smooth | Rule::Dart) {
+            let ends = parent.vertex_neighbours(v);
+            *o = match face_pts {
+                Some(fp) => rules.smooth_vertex_point(
+                    edges.len(),
+                    p,
+                    ends.map(|x| &src[x as usize]),
+                    faces.iter().map(|&f| &fp[f as usize]),
+                ),
+                None => rules.smooth_vertex_point(
+                    faces.len(),
+                    p,
+                    ends.take(faces.len()).map(|x| &src[x as usize]),
+                    std::iter::empty(),
+                ),
+            };
+            continue;
+        }
+        let scratch = (&mut pe, &mut ce, &mut child_mask);
+        vertex_mask_at(parent, child, options, rules, v, &mut mask, scratch);
+        let mut acc = [0.0; D];
+        match face_pts {
+            Some(fp) if mask.has_faces => {
+                for (&f, &w) in faces.iter().zip(&mask.faces) {
+                    axpy(&mut acc, w, &fp[f as usize]);
+                }
+            }
+            Some(_) => {}
+            None => debug_assert!(!mask.has_faces || mask.faces.iter().all(|&w| w == 0.0)),
+        }
+        if mask.has_edges {
+            for (x, &w) in parent.vertex_neighbours(v).zip(&mask.edges) {
+                axpy(&mut acc, w, &src[x as usize]);
+            }
+        }
+        axpy(&mut acc, mask.vertex, p);
+        *o = acc;
+    }
 }
 
 /// Runs `f(start, chunk)` over `out` in chunks, in parallel when large.

@@ -190,25 +190,69 @@ pub(crate) fn refine_topology_for_output(p: &Topology, options: &Options) -> Top
 
 /// [`refine_topology`], with or without `edge_verts`.
 fn refine(p: &Topology, options: &Options, full: bool, with_edge_verts: bool) -> Topology {
-    let nv = p.num_vertices();
+    let faces = child_faces(p, full, with_edge_verts);
+    let mut child = child_topology(p, options, p.num_faces(), faces, full);
+    if full {
+        build_relations(p, &mut child);
+    }
+    child
+}
+
+/// The arrays of a child topology that a split computes itself (the tags, sharpness and
+/// relations follow from them and the parent): face → vertices and face → edges (empty when
+/// not built), face holes and edge → vertices (empty when not built).
+pub(super) struct ChildFaces {
+    pub(super) face_offsets: Vec<u32>,
+    pub(super) face_verts: Vec<u32>,
+    pub(super) face_edges: Vec<u32>,
+    pub(super) face_holes: Vec<bool>,
+    pub(super) edge_verts: Vec<[u32; 2]>,
+}
+
+/// The child [`Topology`] of `p` with the split's `faces`: tags and sharpness propagated
+/// ([`child_edge_tags`], [`child_vertex_tags`]), relations not built. `face_children` is
+/// the number of face children (`F` for the quad split, 0 for the triangle split), which
+/// come between the vertex and the edge children; `complete` says whether the caller
+/// builds the relations.
+pub(super) fn child_topology(
+    p: &Topology,
+    options: &Options,
+    face_children: usize,
+    faces: ChildFaces,
+    complete: bool,
+) -> Topology {
+    let (edge_tags, edge_sharpness) = child_edge_tags(p, options.crease_method);
+    let (vert_tags, vert_sharpness) = child_vertex_tags(p, &edge_tags, face_children);
+    Topology {
+        num_vertices: (p.num_vertices() + face_children + p.num_edges()) as u32,
+        face_offsets: faces.face_offsets,
+        face_verts: faces.face_verts,
+        face_edges: faces.face_edges,
+        face_holes: faces.face_holes,
+        edge_verts: faces.edge_verts,
+        edge_sharpness,
+        vert_sharpness,
+        edge_tags,
+        vert_tags,
+        has_holes: p.has_holes,
+        complete,
+        ..Topology::default()
+    }
+}
+
+/// The child faces of the quad split (every child is a quad), their holes, and when asked
+/// their edges (`full`) and the child's edge → vertices (`with_edge_verts`): the edges
+/// inside each parent face, then the two halves of each parent edge.
+fn child_faces(p: &Topology, full: bool, with_edge_verts: bool) -> ChildFaces {
     let nf = p.num_faces();
-    let ne = p.num_edges();
     let s = p.face_verts.len();
-    let (fc0, ec0) = (nv as u32, (nv + nf) as u32);
-    let cnv = nv + nf + ne;
-    let cnf = s;
-    let cne = s + 2 * ne;
+    let cne = s + 2 * p.num_edges();
     let fo = |f: usize| p.face_offsets[f] as usize;
 
-    // Faces (every child is a quad), and the child edges inside each parent face.
-    let face_offsets = collect(cnf + 1, |i| 4 * i as u32);
-    let mut face_verts = vec![0u32; 4 * cnf];
-    let mut face_edges = if full {
-        vec![0u32; 4 * cnf]
-    } else {
-        Vec::new()
-    };
-    let mut face_holes = vec![false; cnf];
+    let face_offsets = collect(s + 1, |i| 4 * i as u32);
+    let mut face_verts = vec![0u32; 4 * s];
+    let mut face_edges = if full { vec![0u32; 4 * s] } else { Vec::new() };
+    let mut face_holes = vec![false; s];
     let mut edge_verts = if with_edge_verts {
         vec![[0u32; 2]; cne]
     } else {
@@ -234,78 +278,101 @@ fn refine(p: &Topology, options: &Options, full: bool, with_edge_verts: bool) ->
         .zip(fe)
         .zip(fh)
         .zip(ev)
-        .map(|((((r, a), b), c), d)| (r, a, b, c, d))
+        .map(|((((r, verts), edges), holes), edge_verts)| {
+            let out = FacePiece {
+                verts,
+                edges,
+                holes,
+                edge_verts,
+            };
+            (r, out)
+        })
         .collect();
-    run(items, |(range, fv_out, fe_out, fh_out, ev_out)| {
-        let base = fo(range.start);
-        for f in range {
-            let o = fo(f);
-            let pfv = p.face_vertices(f);
-            let pfe = p.face_edge_list(f);
-            let n = pfv.len();
-            let hole = p.face_holes[f];
-            for j in 0..n {
-                let jp = if j == 0 { n - 1 } else { j - 1 };
-                let v = pfv[j];
-                let l = o + j - base;
-                let r = rot(n, j);
-                let verts = [v, ec0 + pfe[j], fc0 + f as u32, ec0 + pfe[jp]];
-                for k in 0..4 {
-                    fv_out[4 * l + (k + r) % 4] = verts[k];
-                }
-                if full {
-                    let edges = [
-                        edge_child_at(p, s as u32, pfe[j], v, true),
-                        (o + j) as u32,
-                        (o + jp) as u32,
-                        edge_child_at(p, s as u32, pfe[jp], v, false),
-                    ];
-                    for k in 0..4 {
-                        fe_out[4 * l + (k + r) % 4] = edges[k];
-                    }
-                }
-                fh_out[l] = hole;
-                if with_edge_verts {
-                    ev_out[l] = [fc0 + f as u32, ec0 + pfe[j]];
-                }
-            }
-        }
+    run(items, |(range, out)| {
+        fill_face_children(p, range, out, full, with_edge_verts)
     });
-
-    // The two halves of each parent edge.
     if with_edge_verts {
-        let ranges = chunk_ranges(ne);
-        let ev = split_pieces(ev_edges, &ranges, |e| 2 * e);
-        run(ranges.into_iter().zip(ev).collect(), |(range, out)| {
-            for (e, o) in range.zip(out.chunks_exact_mut(2)) {
-                let [a, b] = p.edge_verts[e];
-                o[0] = [ec0 + e as u32, a];
-                o[1] = [ec0 + e as u32, b];
-            }
-        });
+        fill_edge_halves(p, (p.num_vertices() + nf) as u32, ev_edges);
     }
-
-    let (edge_tags, edge_sharpness) = child_edge_tags(p, options.crease_method);
-    let (vert_tags, vert_sharpness) = child_vertex_tags(p, &edge_tags, nf);
-    let mut child = Topology {
-        num_vertices: cnv as u32,
+    ChildFaces {
         face_offsets,
         face_verts,
         face_edges,
         face_holes,
         edge_verts,
-        edge_sharpness,
-        vert_sharpness,
-        edge_tags,
-        vert_tags,
-        has_holes: p.has_holes,
-        complete: full,
-        ..Topology::default()
-    };
-    if full {
-        build_relations(p, &mut child);
     }
-    child
+}
+
+/// The piece of the child's face arrays that one range of parent faces writes.
+struct FacePiece<'a> {
+    verts: &'a mut [u32],
+    edges: &'a mut [u32],
+    holes: &'a mut [bool],
+    edge_verts: &'a mut [[u32; 2]],
+}
+
+/// The child quads of the parent faces `range` (vertices, edges when `full`, holes) and the
+/// child edges inside them (edge → vertices when `with_edge_verts`), written into `out`,
+/// which starts at the first child of `range.start`.
+fn fill_face_children(
+    p: &Topology,
+    range: Range<usize>,
+    out: FacePiece<'_>,
+    full: bool,
+    with_edge_verts: bool,
+) {
+    let s = p.face_verts.len();
+    let nv = p.num_vertices();
+    let (fc0, ec0) = (nv as u32, (nv + p.num_faces()) as u32);
+    let fo = |f: usize| p.face_offsets[f] as usize;
+    let base = fo(range.start);
+    for f in range {
+        let o = fo(f);
+        let pfv = p.face_vertices(f);
+        let pfe = p.face_edge_list(f);
+        let n = pfv.len();
+        let hole = p.face_holes[f];
+        for j in 0..n {
+            let jp = if j == 0 { n - 1 } else { j - 1 };
+            let v = pfv[j];
+            let l = o + j - base;
+            let r = rot(n, j);
+            let verts = [v, ec0 + pfe[j], fc0 + f as u32, ec0 + pfe[jp]];
+            for k in 0..4 {
+                out.verts[4 * l + (k + r) % 4] = verts[k];
+            }
+            if full {
+                let edges = [
+                    edge_child_at(p, s as u32, pfe[j], v, true),
+                    (o + j) as u32,
+                    (o + jp) as u32,
+                    edge_child_at(p, s as u32, pfe[jp], v, false),
+                ];
+                for k in 0..4 {
+                    out.edges[4 * l + (k + r) % 4] = edges[k];
+                }
+            }
+            out.holes[l] = hole;
+            if with_edge_verts {
+                out.edge_verts[l] = [fc0 + f as u32, ec0 + pfe[j]];
+            }
+        }
+    }
+}
+
+/// Edge → vertices of the two halves of every parent edge `e` (child edges `S + 2e + k`,
+/// joining the child of `e`, numbered `ec0 + e`, and the child of its end `k`), written into
+/// `out` (`2E` entries).
+pub(super) fn fill_edge_halves(p: &Topology, ec0: u32, out: &mut [[u32; 2]]) {
+    let ranges = chunk_ranges(p.num_edges());
+    let pieces = split_pieces(out, &ranges, |e| 2 * e);
+    run(ranges.into_iter().zip(pieces).collect(), |(range, out)| {
+        for (e, o) in range.zip(out.chunks_exact_mut(2)) {
+            let [a, b] = p.edge_verts[e];
+            o[0] = [ec0 + e as u32, a];
+            o[1] = [ec0 + e as u32, b];
+        }
+    });
 }
 
 /// Tags and sharpness of the child edges (OpenSubdiv's `propagateComponentTags` and
@@ -467,64 +534,62 @@ pub(super) fn child_vertex_tags(
     (tags, sharpness)
 }
 
-/// The child's edge → faces and vertex → faces/edges relations, in rotational order.
+/// The child's edge → faces and vertex → faces/edges relations, in rotational order, and
+/// its maximum valence.
 fn build_relations(p: &Topology, c: &mut Topology) {
-    let nv = p.num_vertices();
-    let nf = p.num_faces();
+    debug_assert!(
+        p.edge_face_offsets[0] == 0 && p.vert_face_offsets[0] == 0 && p.vert_edge_offsets[0] == 0
+    );
+    let (edge_face_offsets, edge_faces, edge_face_local) = child_edge_faces(p);
+    c.edge_face_offsets = edge_face_offsets;
+    c.edge_faces = edge_faces;
+    c.edge_face_local = edge_face_local;
+    child_vertex_relations(p, c);
+    c.max_valence = child_max_valence(p);
+}
+
+/// Start of child edge `ce`'s faces in the child's edge → faces relation, with `S` face
+/// corners in the parent: the child edge `ce < S` inside a parent face lies in two child
+/// faces; each half `S + 2e + k` of parent edge `e` in as many as `e` has faces.
+#[inline]
+fn child_edge_face_offset(pef: &[u32], s: usize, ce: usize) -> u32 {
+    if ce <= s {
+        2 * ce as u32
+    } else {
+        let i = ce - s;
+        let e = i / 2;
+        if i.is_multiple_of(2) {
+            2 * s as u32 + 2 * pef[e]
+        } else {
+            2 * s as u32 + pef[e] + pef[e + 1]
+        }
+    }
+}
+
+/// The child's edge → faces relation (offsets, faces, and the edge's position in each
+/// face): the edges inside parent faces, then the halves of parent edges.
+fn child_edge_faces(p: &Topology) -> (Vec<u32>, Vec<u32>, Vec<u16>) {
     let ne = p.num_edges();
     let s = p.face_verts.len();
-    let su = s as u32;
-    let cnv = nv + nf + ne;
-    let cne = s + 2 * ne;
-    let fo = |f: usize| p.face_offsets[f] as usize;
     let pef = &p.edge_face_offsets;
-    debug_assert!(pef[0] == 0 && p.vert_face_offsets[0] == 0 && p.vert_edge_offsets[0] == 0);
+    let mut offsets = Vec::with_capacity(s + 2 * ne + 1);
+    extend(&mut offsets, s + 1, |ce| 2 * ce as u32);
+    extend(&mut offsets, 2 * ne, |i| {
+        child_edge_face_offset(pef, s, s + 1 + i)
+    });
+    let nef = offsets[s + 2 * ne] as usize;
+    let mut faces = vec![0u32; nef];
+    let mut local = vec![0u16; nef];
+    let (ef_in, ef_halves) = faces.split_at_mut(2 * s);
+    let (efl_in, efl_halves) = local.split_at_mut(2 * s);
 
-    // Edges: faces. The child edge `o + j` inside parent face `f` lies in two child faces;
-    // each half `s + 2e + k` of parent edge `e` in as many as `e` has faces.
-    let efo = |ce: usize| -> u32 {
-        if ce <= s {
-            2 * ce as u32
-        } else {
-            let i = ce - s;
-            let e = i / 2;
-            if i.is_multiple_of(2) {
-                2 * su + 2 * pef[e]
-            } else {
-                2 * su + pef[e] + pef[e + 1]
-            }
-        }
-    };
-    let mut edge_face_offsets = Vec::with_capacity(cne + 1);
-    extend(&mut edge_face_offsets, s + 1, |ce| 2 * ce as u32);
-    extend(&mut edge_face_offsets, 2 * ne, |i| efo(s + 1 + i));
-    let nef = edge_face_offsets[cne] as usize;
-    let mut edge_faces = vec![0u32; nef];
-    let mut edge_face_local = vec![0u16; nef];
-    let (ef_in, ef_halves) = edge_faces.split_at_mut(2 * s);
-    let (efl_in, efl_halves) = edge_face_local.split_at_mut(2 * s);
-
-    let ranges = chunk_ranges(nf);
-    let a = split_pieces(ef_in, &ranges, |f| 2 * fo(f));
-    let b = split_pieces(efl_in, &ranges, |f| 2 * fo(f));
+    let fo = |f: usize| 2 * p.face_offsets[f] as usize;
+    let ranges = chunk_ranges(p.num_faces());
+    let a = split_pieces(ef_in, &ranges, fo);
+    let b = split_pieces(efl_in, &ranges, fo);
     run(
         ranges.into_iter().zip(a).zip(b).collect(),
-        |((range, ef), efl)| {
-            let base = 2 * fo(range.start);
-            for f in range {
-                let o = fo(f);
-                let n = p.face_vertices(f).len();
-                for j in 0..n {
-                    let ce = o + j;
-                    let jn = if j + 1 == n { 0 } else { j + 1 };
-                    let at = 2 * ce - base;
-                    ef[at] = ce as u32;
-                    efl[at] = ((1 + rot(n, j)) % 4) as u16;
-                    ef[at + 1] = (o + jn) as u32;
-                    efl[at + 1] = ((2 + rot(n, jn)) % 4) as u16;
-                }
-            }
-        },
+        |((range, ef), efl)| fill_inner_edge_faces(p, range, ef, efl),
     );
 
     let ranges = chunk_ranges(ne);
@@ -532,58 +597,86 @@ fn build_relations(p: &Topology, c: &mut Topology) {
     let b = split_pieces(efl_halves, &ranges, |e| 2 * pef[e] as usize);
     run(
         ranges.into_iter().zip(a).zip(b).collect(),
-        |((range, ef), efl)| {
-            let base = efo(s + 2 * range.start) as usize;
-            for e in range {
-                let ev = p.edge_verts[e];
-                let pfaces = p.edge_face_list(e);
-                let plocal = &p.edge_face_local[pef[e] as usize..];
-                for k in 0..2 {
-                    let first = efo(s + 2 * e + k) as usize - base;
-                    for (at, (pf, &i)) in (first..).zip(pfaces.iter().zip(plocal)) {
-                        let pf = *pf as usize;
-                        let fv = p.face_vertices(pf);
-                        let n = fv.len();
-                        let i = i as usize;
-                        let at_start = if ev[0] == ev[1] {
-                            k == 0
-                        } else {
-                            fv[i] == ev[k]
-                        };
-                        let (corner, pos) = if at_start { (i, 0) } else { ((i + 1) % n, 3) };
-                        ef[at] = p.face_offsets[pf] + corner as u32;
-                        efl[at] = ((pos + rot(n, corner)) % 4) as u16;
-                    }
-                }
-            }
-        },
+        |((range, ef), efl)| fill_half_edge_faces(p, range, ef, efl),
     );
+    (offsets, faces, local)
+}
 
-    // Vertices: faces and edges around each child vertex, in rotational order. Vertex
-    // children keep their parent's counts, face children have the face's size, and edge
-    // children have two faces per parent face and one edge per parent face plus two.
+/// Edge → faces of the child edges inside the parent faces `range` (each in the child
+/// faces at its two ends), written into `ef`/`efl`, which start at the first of them.
+fn fill_inner_edge_faces(p: &Topology, range: Range<usize>, ef: &mut [u32], efl: &mut [u16]) {
+    let fo = |f: usize| p.face_offsets[f] as usize;
+    let base = 2 * fo(range.start);
+    for f in range {
+        let o = fo(f);
+        let n = p.face_vertices(f).len();
+        for j in 0..n {
+            let ce = o + j;
+            let jn = if j + 1 == n { 0 } else { j + 1 };
+            let at = 2 * ce - base;
+            ef[at] = ce as u32;
+            efl[at] = ((1 + rot(n, j)) % 4) as u16;
+            ef[at + 1] = (o + jn) as u32;
+            efl[at + 1] = ((2 + rot(n, jn)) % 4) as u16;
+        }
+    }
+}
+
+/// Whether the half `k` of parent edge `ev` (its end `k`) lies at the start of the edge
+/// in the parent face `fv`, where the edge is the face's edge `i` (a degenerate edge, both
+/// ends the same vertex: its first half is at the start).
+#[inline]
+pub(super) fn half_at_start(ev: [u32; 2], fv: &[u32], i: usize, k: usize) -> bool {
+    if ev[0] == ev[1] {
+        k == 0
+    } else {
+        fv[i] == ev[k]
+    }
+}
+
+/// Edge → faces of the halves of the parent edges `range` (each half in the child face
+/// at its end in every face of the parent edge), written into `ef`/`efl`, which start at
+/// the first of them.
+fn fill_half_edge_faces(p: &Topology, range: Range<usize>, ef: &mut [u32], efl: &mut [u16]) {
+    let s = p.face_verts.len();
+    let pef = &p.edge_face_offsets;
+    let base = child_edge_face_offset(pef, s, s + 2 * range.start) as usize;
+    for e in range {
+        let ev = p.edge_verts[e];
+        let pfaces = p.edge_face_list(e);
+        let plocal = &p.edge_face_local[pef[e] as usize..];
+        for k in 0..2 {
+            let first = child_edge_face_offset(pef, s, s + 2 * e + k) as usize - base;
+            for (at, (pf, &i)) in (first..).zip(pfaces.iter().zip(plocal)) {
+                let pf = *pf as usize;
+                let fv = p.face_vertices(pf);
+                let n = fv.len();
+                let i = i as usize;
+                let (corner, pos) = if half_at_start(ev, fv, i, k) {
+                    (i, 0)
+                } else {
+                    ((i + 1) % n, 3)
+                };
+                ef[at] = p.face_offsets[pf] + corner as u32;
+                efl[at] = ((pos + rot(n, corner)) % 4) as u16;
+            }
+        }
+    }
+}
+
+/// Offsets of the child's vertex → faces and vertex → edges relations. Vertex children
+/// keep their parent's counts, face children have the face's size, and edge children have
+/// two faces per parent face and one edge per parent face plus two.
+fn child_vertex_offsets(p: &Topology) -> (Vec<u32>, Vec<u32>) {
+    let nv = p.num_vertices();
+    let nf = p.num_faces();
+    let ne = p.num_edges();
+    let cnv = nv + nf + ne;
+    let su = p.face_verts.len() as u32;
+    let pef = &p.edge_face_offsets;
     let (pvf, pve) = (&p.vert_face_offsets, &p.vert_edge_offsets);
     let (vf_all, ve_all) = (pvf[nv], pve[nv]);
-    let vfo = |cv: usize| -> u32 {
-        if cv <= nv {
-            pvf[cv]
-        } else if cv <= nv + nf {
-            vf_all + p.face_offsets[cv - nv]
-        } else {
-            vf_all + su + 2 * pef[cv - nv - nf]
-        }
-    };
-    let veo = |cv: usize| -> u32 {
-        if cv <= nv {
-            pve[cv]
-        } else if cv <= nv + nf {
-            ve_all + p.face_offsets[cv - nv]
-        } else {
-            let e = cv - nv - nf;
-            ve_all + su + pef[e] + 2 * e as u32
-        }
-    };
-    // The same offsets, one group of children after the other (without the branches).
+    // One group of children after the other (without branching per child).
     let mut vert_face_offsets = Vec::with_capacity(cnv + 1);
     extend(&mut vert_face_offsets, nv + 1, |v| pvf[v]);
     extend(&mut vert_face_offsets, nf, |f| {
@@ -598,168 +691,261 @@ fn build_relations(p: &Topology, c: &mut Topology) {
     extend(&mut vert_edge_offsets, ne, |e| {
         ve_all + su + pef[e + 1] + 2 * (e + 1) as u32
     });
-    debug_assert!((0..=cnv).all(|cv| vert_face_offsets[cv] == vfo(cv)));
-    debug_assert!((0..=cnv).all(|cv| vert_edge_offsets[cv] == veo(cv)));
+    #[cfg(debug_assertions)]
+    {
+        // The same offsets, child by child.
+        let vfo = |cv: usize| -> u32 {
+            if cv <= nv {
+                pvf[cv]
+            } else if cv <= nv + nf {
+                vf_all + p.face_offsets[cv - nv]
+            } else {
+                vf_all + su + 2 * pef[cv - nv - nf]
+            }
+        };
+        let veo = |cv: usize| -> u32 {
+            if cv <= nv {
+                pve[cv]
+            } else if cv <= nv + nf {
+                ve_all + p.face_offsets[cv - nv]
+            } else {
+                let e = cv - nv - nf;
+                ve_all + su + pef[e] + 2 * e as u32
+            }
+        };
+        debug_assert!((0..=cnv).all(|cv| vert_face_offsets[cv] == vfo(cv)));
+        debug_assert!((0..=cnv).all(|cv| vert_edge_offsets[cv] == veo(cv)));
+    }
+    (vert_face_offsets, vert_edge_offsets)
+}
+
+/// A piece of the child's vertex → faces and vertex → edges arrays, with the vertex's
+/// position in each face and edge.
+struct VertexRelations<'a> {
+    faces: &'a mut [u32],
+    face_local: &'a mut [u16],
+    edges: &'a mut [u32],
+    edge_local: &'a mut [u8],
+}
+
+impl<'a> VertexRelations<'a> {
+    /// `self` cut after its first `faces` face entries and `edges` edge entries.
+    fn split_at(self, faces: usize, edges: usize) -> (Self, Self) {
+        let (f0, f1) = self.faces.split_at_mut(faces);
+        let (fl0, fl1) = self.face_local.split_at_mut(faces);
+        let (e0, e1) = self.edges.split_at_mut(edges);
+        let (el0, el1) = self.edge_local.split_at_mut(edges);
+        (
+            VertexRelations {
+                faces: f0,
+                face_local: fl0,
+                edges: e0,
+                edge_local: el0,
+            },
+            VertexRelations {
+                faces: f1,
+                face_local: fl1,
+                edges: e1,
+                edge_local: el1,
+            },
+        )
+    }
+
+    /// `self` cut into one piece per range (as [`split_pieces`]): the piece of range `r`
+    /// starts at face entry `face_start(r.start)` and edge entry `edge_start(r.start)`;
+    /// each piece comes with its range.
+    fn pieces(
+        self,
+        ranges: Vec<Range<usize>>,
+        face_start: impl Fn(usize) -> usize,
+        edge_start: impl Fn(usize) -> usize,
+    ) -> Vec<(Range<usize>, Self)> {
+        let a = split_pieces(self.faces, &ranges, &face_start);
+        let b = split_pieces(self.face_local, &ranges, &face_start);
+        let c = split_pieces(self.edges, &ranges, &edge_start);
+        let d = split_pieces(self.edge_local, &ranges, &edge_start);
+        ranges
+            .into_iter()
+            .zip(a)
+            .zip(b)
+            .zip(c)
+            .zip(d)
+            .map(|((((r, faces), face_local), edges), edge_local)| {
+                let piece = VertexRelations {
+                    faces,
+                    face_local,
+                    edges,
+                    edge_local,
+                };
+                (r, piece)
+            })
+            .collect()
+    }
+}
+
+/// The child's vertex → faces and vertex → edges relations, in rotational order: the
+/// children of vertices, then of faces, then of edges.
+fn child_vertex_relations(p: &Topology, c: &mut Topology) {
+    let nv = p.num_vertices();
+    let s = p.face_verts.len();
+    let (vert_face_offsets, vert_edge_offsets) = child_vertex_offsets(p);
+    let cnv = vert_face_offsets.len() - 1;
     let mut vert_faces = vec![0u32; vert_face_offsets[cnv] as usize];
     let mut vert_face_local = vec![0u16; vert_faces.len()];
     let mut vert_edges = vec![0u32; vert_edge_offsets[cnv] as usize];
     let mut vert_edge_local = vec![0u8; vert_edges.len()];
-    let (vf_v, rest) = vert_faces.split_at_mut(vf_all as usize);
-    let (vf_f, vf_e) = rest.split_at_mut(s);
-    let (vfl_v, rest) = vert_face_local.split_at_mut(vf_all as usize);
-    let (vfl_f, vfl_e) = rest.split_at_mut(s);
-    let (ve_v, rest) = vert_edges.split_at_mut(ve_all as usize);
-    let (ve_f, ve_e) = rest.split_at_mut(s);
-    let (vel_v, rest) = vert_edge_local.split_at_mut(ve_all as usize);
-    let (vel_f, vel_e) = rest.split_at_mut(s);
+    let all = VertexRelations {
+        faces: &mut vert_faces,
+        face_local: &mut vert_face_local,
+        edges: &mut vert_edges,
+        edge_local: &mut vert_edge_local,
+    };
+    let (pvf, pve) = (&p.vert_face_offsets, &p.vert_edge_offsets);
+    let (of_vertices, rest) = all.split_at(pvf[nv] as usize, pve[nv] as usize);
+    let (of_faces, of_edges) = rest.split_at(s, s);
 
-    // Children of vertices.
-    let ranges = chunk_ranges(nv);
-    let vf_start = |v: usize| pvf[v] as usize;
-    let ve_start = |v: usize| pve[v] as usize;
-    let items: Vec<_> = ranges
-        .iter()
-        .cloned()
-        .zip(split_pieces(vf_v, &ranges, vf_start))
-        .zip(split_pieces(vfl_v, &ranges, vf_start))
-        .zip(split_pieces(ve_v, &ranges, ve_start))
-        .zip(split_pieces(vel_v, &ranges, ve_start))
-        .map(|((((r, a), b), c), d)| (r, a, b, c, d))
-        .collect();
-    run(items, |(range, vf, vfl, ve, vel)| {
-        let (fbase, ebase) = (vf_start(range.start), ve_start(range.start));
-        for v in range {
-            let fo = vf_start(v) - fbase;
-            for (k, (&pf, &j)) in p
-                .vertex_faces(v)
-                .iter()
-                .zip(p.vertex_face_locals(v))
-                .enumerate()
-            {
-                let n = p.face_vertices(pf as usize).len();
-                vf[fo + k] = p.face_offsets[pf as usize] + j as u32;
-                vfl[fo + k] = rot(n, j as usize) as u16;
-            }
-            let eo = ve_start(v) - ebase;
-            for (k, (&pe, &l)) in p
-                .vertex_edges(v)
-                .iter()
-                .zip(p.vertex_edge_locals(v))
-                .enumerate()
-            {
-                ve[eo + k] = su + 2 * pe + l as u32;
-                vel[eo + k] = 1;
-            }
-        }
+    let items = of_vertices.pieces(chunk_ranges(nv), |v| pvf[v] as usize, |v| pve[v] as usize);
+    run(items, |(range, out)| fill_vertex_children(p, range, out));
+    let fo = |f: usize| p.face_offsets[f] as usize;
+    let items = of_faces.pieces(chunk_ranges(p.num_faces()), fo, fo);
+    run(items, |(range, out)| {
+        fill_face_child_relations(p, range, out)
     });
+    let pef = &p.edge_face_offsets;
+    let items = of_edges.pieces(
+        chunk_ranges(p.num_edges()),
+        |e| 2 * pef[e] as usize,
+        |e| pef[e] as usize + 2 * e,
+    );
+    run(items, |(range, out)| fill_edge_children(p, range, out));
 
-    // Children of faces.
-    let ranges = chunk_ranges(nf);
-    let items: Vec<_> = ranges
-        .iter()
-        .cloned()
-        .zip(split_pieces(vf_f, &ranges, fo))
-        .zip(split_pieces(vfl_f, &ranges, fo))
-        .zip(split_pieces(ve_f, &ranges, fo))
-        .zip(split_pieces(vel_f, &ranges, fo))
-        .map(|((((r, a), b), c), d)| (r, a, b, c, d))
-        .collect();
-    run(items, |(range, vf, vfl, ve, vel)| {
-        let base = fo(range.start);
-        for f in range {
-            let o = fo(f);
-            let n = p.face_vertices(f).len();
-            let at = o - base;
-            for i in 0..n {
-                vf[at + i] = (o + i) as u32;
-                vfl[at + i] = ((2 + rot(n, i)) % 4) as u16;
-                ve[at + i] = (o + (i + n - 1) % n) as u32;
-                vel[at + i] = 0;
-            }
-        }
-    });
-
-    // Children of edges.
-    let ranges = chunk_ranges(ne);
-    let vf_start = |e: usize| 2 * pef[e] as usize;
-    let ve_start = |e: usize| pef[e] as usize + 2 * e;
-    let items: Vec<_> = ranges
-        .iter()
-        .cloned()
-        .zip(split_pieces(vf_e, &ranges, vf_start))
-        .zip(split_pieces(vfl_e, &ranges, vf_start))
-        .zip(split_pieces(ve_e, &ranges, ve_start))
-        .zip(split_pieces(vel_e, &ranges, ve_start))
-        .map(|((((r, a), b), c), d)| (r, a, b, c, d))
-        .collect();
-    run(items, |(range, vf, vfl, ve, vel)| {
-        let (fbase, ebase) = (vf_start(range.start), ve_start(range.start));
-        for e in range {
-            let pfaces = p.edge_face_list(e);
-            let plocal = &p.edge_face_local[pef[e] as usize..];
-            let mut fo = vf_start(e) - fbase;
-            let eo = ve_start(e) - ebase;
-            let manifold = !p.edge_tags[e].get().non_manifold && pfaces.len() <= 2;
-            // The two child faces in each parent face: the one at the edge's second vertex
-            // in that face first, then the one at its first vertex.
-            for (&pf, &i) in pfaces.iter().zip(plocal) {
-                let pfu = pf as usize;
-                let n = p.face_vertices(pfu).len();
-                let (c0, c1) = (i as usize, (i as usize + 1) % n);
-                let base = p.face_offsets[pfu];
-                vf[fo] = base + c1 as u32;
-                vfl[fo] = ((3 + rot(n, c1)) % 4) as u16;
-                vf[fo + 1] = base + c0 as u32;
-                vfl[fo + 1] = ((1 + rot(n, c0)) % 4) as u16;
-                fo += 2;
-            }
-            if manifold {
-                // Counter-clockwise: [edge child toward the first face's second vertex,
-                // interior edge of face 0, edge child toward its first vertex, interior edge
-                // of face 1].
-                let pf0 = pfaces[0] as usize;
-                let i0 = plocal[0] as usize;
-                let fv = p.face_vertices(pf0);
-                let (a, b) = (fv[i0], fv[(i0 + 1) % fv.len()]);
-                ve[eo] = edge_child_at(p, su, e as u32, b, false);
-                ve[eo + 1] = p.face_offsets[pf0] + i0 as u32;
-                ve[eo + 2] = edge_child_at(p, su, e as u32, a, true);
-                vel[eo] = 0;
-                vel[eo + 1] = 1;
-                vel[eo + 2] = 0;
-                if pfaces.len() == 2 {
-                    ve[eo + 3] = p.face_offsets[pfaces[1] as usize] + plocal[1] as u32;
-                    vel[eo + 3] = 1;
-                }
-            } else {
-                ve[eo] = su + 2 * e as u32;
-                ve[eo + 1] = su + 2 * e as u32 + 1;
-                vel[eo] = 0;
-                vel[eo + 1] = 0;
-                for (k, (&pf, &i)) in pfaces.iter().zip(plocal).enumerate() {
-                    ve[eo + 2 + k] = p.face_offsets[pf as usize] + i as u32;
-                    vel[eo + 2 + k] = 1;
-                }
-            }
-        }
-    });
-
-    c.edge_face_offsets = edge_face_offsets;
-    c.edge_faces = edge_faces;
-    c.edge_face_local = edge_face_local;
     c.vert_face_offsets = vert_face_offsets;
     c.vert_faces = vert_faces;
     c.vert_face_local = vert_face_local;
     c.vert_edge_offsets = vert_edge_offsets;
     c.vert_edges = vert_edges;
     c.vert_edge_local = vert_edge_local;
-    // Valence never shrinks: vertex children keep theirs, face children have the face
-    // size, edge children 2 + the edge's face count.
-    let max_face = max_of(nf, |f| p.face_vertices(f).len());
-    let max_edge_faces = max_of(ne, |e| p.edge_face_list(e).len());
+}
+
+/// Faces and edges around the children of the parent vertices `range`: the children of
+/// the parent's faces and edges around it, in the parent's order, written into `out`,
+/// which starts at the first of them.
+fn fill_vertex_children(p: &Topology, range: Range<usize>, out: VertexRelations<'_>) {
+    let su = p.face_verts.len() as u32;
+    let vf_start = |v: usize| p.vert_face_offsets[v] as usize;
+    let ve_start = |v: usize| p.vert_edge_offsets[v] as usize;
+    let (fbase, ebase) = (vf_start(range.start), ve_start(range.start));
+    for v in range {
+        let fo = vf_start(v) - fbase;
+        for (k, (&pf, &j)) in p
+            .vertex_faces(v)
+            .iter()
+            .zip(p.vertex_face_locals(v))
+            .enumerate()
+        {
+            let n = p.face_vertices(pf as usize).len();
+            out.faces[fo + k] = p.face_offsets[pf as usize] + j as u32;
+            out.face_local[fo + k] = rot(n, j as usize) as u16;
+        }
+        let eo = ve_start(v) - ebase;
+        for (k, (&pe, &l)) in p
+            .vertex_edges(v)
+            .iter()
+            .zip(p.vertex_edge_locals(v))
+            .enumerate()
+        {
+            out.edges[eo + k] = su + 2 * pe + l as u32;
+            out.edge_local[eo + k] = 1;
+        }
+    }
+}
+
+/// Faces and edges around the children of the parent faces `range`: the face's child
+/// quads and the child edges inside it, written into `out`, which starts at the first of
+/// them.
+fn fill_face_child_relations(p: &Topology, range: Range<usize>, out: VertexRelations<'_>) {
+    let fo = |f: usize| p.face_offsets[f] as usize;
+    let base = fo(range.start);
+    for f in range {
+        let o = fo(f);
+        let n = p.face_vertices(f).len();
+        let at = o - base;
+        for i in 0..n {
+            out.faces[at + i] = (o + i) as u32;
+            out.face_local[at + i] = ((2 + rot(n, i)) % 4) as u16;
+            out.edges[at + i] = (o + (i + n - 1) % n) as u32;
+            out.edge_local[at + i] = 0;
+        }
+    }
+}
+
+/// Faces and edges around the children of the parent edges `range`, written into `out`,
+/// which starts at the first of them: two child faces per parent face (the one at the
+/// edge's second vertex in that face first); on manifold edges the edges in
+/// counter-clockwise order, on others the two halves, then one inner edge per face.
+fn fill_edge_children(p: &Topology, range: Range<usize>, out: VertexRelations<'_>) {
+    let su = p.face_verts.len() as u32;
+    let pef = &p.edge_face_offsets;
+    let vf_start = |e: usize| 2 * pef[e] as usize;
+    let ve_start = |e: usize| pef[e] as usize + 2 * e;
+    let (vf, vfl, ve, vel) = (out.faces, out.face_local, out.edges, out.edge_local);
+    let (fbase, ebase) = (vf_start(range.start), ve_start(range.start));
+    for e in range {
+        let pfaces = p.edge_face_list(e);
+        let plocal = &p.edge_face_local[pef[e] as usize..];
+        let mut fo = vf_start(e) - fbase;
+        let eo = ve_start(e) - ebase;
+        let manifold = !p.edge_tags[e].get().non_manifold && pfaces.len() <= 2;
+        for (&pf, &i) in pfaces.iter().zip(plocal) {
+            let pfu = pf as usize;
+            let n = p.face_vertices(pfu).len();
+            let (c0, c1) = (i as usize, (i as usize + 1) % n);
+            let base = p.face_offsets[pfu];
+            vf[fo] = base + c1 as u32;
+            vfl[fo] = ((3 + rot(n, c1)) % 4) as u16;
+            vf[fo + 1] = base + c0 as u32;
+            vfl[fo + 1] = ((1 + rot(n, c0)) % 4) as u16;
+            fo += 2;
+        }
+        if manifold {
+            // Counter-clockwise: [edge child toward the first face's second vertex,
+            // interior edge of face 0, edge child toward its first vertex, interior edge
+            // of face 1].
+            let pf0 = pfaces[0] as usize;
+            let i0 = plocal[0] as usize;
+            let fv = p.face_vertices(pf0);
+            let (a, b) = (fv[i0], fv[(i0 + 1) % fv.len()]);
+            ve[eo] = edge_child_at(p, su, e as u32, b, false);
+            ve[eo + 1] = p.face_offsets[pf0] + i0 as u32;
+            ve[eo + 2] = edge_child_at(p, su, e as u32, a, true);
+            vel[eo] = 0;
+            vel[eo + 1] = 1;
+            vel[eo + 2] = 0;
+            if pfaces.len() == 2 {
+                ve[eo + 3] = p.face_offsets[pfaces[1] as usize] + plocal[1] as u32;
+                vel[eo + 3] = 1;
+            }
+        } else {
+            ve[eo] = su + 2 * e as u32;
+            ve[eo + 1] = su + 2 * e as u32 + 1;
+            vel[eo] = 0;
+            vel[eo + 1] = 0;
+            for (k, (&pf, &i)) in pfaces.iter().zip(plocal).enumerate() {
+                ve[eo + 2 + k] = p.face_offsets[pf as usize] + i as u32;
+                vel[eo + 2 + k] = 1;
+            }
+        }
+    }
+}
+
+/// The child's maximum valence. Valence never shrinks: vertex children keep theirs, face
+/// children have the face size, edge children 2 + the edge's face count (twice its face
+/// count when it has more than two).
+fn child_max_valence(p: &Topology) -> u32 {
+    let max_face = max_of(p.num_faces(), |f| p.face_vertices(f).len());
+    let max_edge_faces = max_of(p.num_edges(), |e| p.edge_face_list(e).len());
     let max_edge_valence = max_edge_faces + max_edge_faces.max(2);
-    c.max_valence = p
-        .max_valence
+    p.max_valence
         .max(max_face as u32)
-        .max(max_edge_valence as u32);
+        .max(max_edge_valence as u32)
 }

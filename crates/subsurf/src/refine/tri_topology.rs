@@ -15,7 +15,7 @@
 //! The relations of the child (edge → faces, vertex → faces and edges) are built in
 //! rotational order, each edge leading the face after it, as the quad split does.
 
-use super::topology::{child_edge_tags, child_vertex_tags, edge_child_at};
+use super::topology::{child_topology, edge_child_at, fill_edge_halves, half_at_start, ChildFaces};
 use crate::mesh::{Options, Topology};
 
 /// Refines the triangle mesh `p` (complete, every face a triangle) one level: the
@@ -30,7 +30,7 @@ pub(crate) fn refine_tri_topology(p: &Topology, options: &Options) -> Topology {
     let su = s as u32;
     let ec0 = nv as u32;
 
-    // Faces and the edges inside each parent face.
+    // Faces and the edges inside each parent face, then the halves of each parent edge.
     let mut face_verts = Vec::with_capacity(12 * nf);
     let mut face_edges = Vec::with_capacity(12 * nf);
     let mut face_holes = Vec::with_capacity(4 * nf);
@@ -52,29 +52,17 @@ pub(crate) fn refine_tri_topology(p: &Topology, options: &Options) -> Topology {
         face_holes.extend_from_slice(&[p.face_holes[f]; 4]);
         edge_verts.extend_from_slice(&[[ce[0], ce[2]], [ce[1], ce[0]], [ce[2], ce[1]]]);
     }
-    for e in 0..ne {
-        let [a, b] = p.edge_verts[e];
-        edge_verts.push([ec0 + e as u32, a]);
-        edge_verts.push([ec0 + e as u32, b]);
-    }
+    edge_verts.resize(s + 2 * ne, [0; 2]);
+    fill_edge_halves(p, ec0, &mut edge_verts[s..]);
 
-    let (edge_tags, edge_sharpness) = child_edge_tags(p, options.crease_method);
-    let (vert_tags, vert_sharpness) = child_vertex_tags(p, &edge_tags, 0);
-    let mut child = Topology {
-        num_vertices: (nv + ne) as u32,
+    let faces = ChildFaces {
         face_offsets: (0..=4 * nf as u32).map(|i| 3 * i).collect(),
         face_verts,
         face_edges,
         face_holes,
         edge_verts,
-        edge_sharpness,
-        vert_sharpness,
-        edge_tags,
-        vert_tags,
-        has_holes: p.has_holes,
-        complete: true,
-        ..Topology::default()
     };
+    let mut child = child_topology(p, options, 0, faces, true);
     edge_faces(p, &mut child);
     vertex_relations(p, &mut child);
     let max_edge_faces = (0..ne).map(|e| p.edge_face_list(e).len()).max();
@@ -110,12 +98,11 @@ fn edge_faces(p: &Topology, c: &mut Topology) {
             for (&pf, &i) in p.edge_face_list(e).iter().zip(pl) {
                 let fv = p.face_vertices(pf as usize);
                 let i = i as usize;
-                let at_start = if ev[0] == ev[1] {
-                    k == 0
+                let corner = if half_at_start(ev, fv, i, k) {
+                    i
                 } else {
-                    fv[i] == ev[k]
+                    (i + 1) % 3
                 };
-                let corner = if at_start { i } else { (i + 1) % 3 };
                 // The half at the start of parent edge i is edge i of corner triangle i;
                 // the half at its end, edge i of corner triangle i + 1.
                 faces.push(4 * pf + corner as u32);

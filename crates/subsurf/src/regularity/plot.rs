@@ -42,8 +42,19 @@ fn fill(class: Class, certified: bool) -> [u8; 3] {
     }
 }
 
+/// The picture of a regularity report: the net's panel, the fans' panel, the captions.
 fn scene(mesh: &PolyMesh, report: &RegularityReport, mode: Mode) -> Vec<Prim> {
     let mut out = Vec::new();
+    net_panel(mesh, report, mode, &mut out);
+    fans_panel(mesh, report, &mut out);
+    captions(report, mode, &mut out);
+    out
+}
+
+/// The left panel: the net seen along z, each face filled by its class (the faces that are
+/// not regular last, outlined), the u- and v-differences of the components (every edge in
+/// grey when there are none).
+fn net_panel(mesh: &PolyMesh, report: &RegularityReport, mode: Mode, out: &mut Vec<Prim>) {
     let pos = mesh.positions();
     let (lo, hi) = mesh.bounding_box().unwrap_or(([0.0; 3], [1.0; 3]));
     let span = (hi[0] - lo[0]).max(hi[1] - lo[1]).max(f64::MIN_POSITIVE);
@@ -98,7 +109,12 @@ fn scene(mesh: &PolyMesh, report: &RegularityReport, mode: Mode) -> Vec<Prim> {
         out.extend(c.v.iter().map(|d| edge(d, RED)));
     }
     out.extend(bad_outlines);
-    // Fans.
+}
+
+/// The right panel: the u- and v-differences of every component as a fan from a common
+/// centre, scaled to the longest (or a note when there is no global u/v labelling).
+fn fans_panel(mesh: &PolyMesh, report: &RegularityReport, out: &mut Vec<Prim>) {
+    let pos = mesh.positions();
     let centre = [PANEL + PANEL / 2.0, PLOT_HEIGHT as f64 / 2.0];
     let vec = |d: &Difference| {
         let (a, b) = (pos[d.from as usize], pos[d.to as usize]);
@@ -133,6 +149,10 @@ fn scene(mesh: &PolyMesh, report: &RegularityReport, mode: Mode) -> Vec<Prim> {
             "no global u/v labelling: no fans".into(),
         ));
     }
+}
+
+/// The captions: the counts of `mode`'s certificate, and the colours of the differences.
+fn captions(report: &RegularityReport, mode: Mode, out: &mut Vec<Prim>) {
     let c = report.counts(mode);
     out.push(Prim::Text(
         [MARGIN, 16.0],
@@ -152,7 +172,6 @@ fn scene(mesh: &PolyMesh, report: &RegularityReport, mode: Mode) -> Vec<Prim> {
         [PANEL + MARGIN, 16.0],
         "u-differences blue, v-differences red".into(),
     ));
-    out
 }
 
 fn hex(c: [u8; 3]) -> String {

@@ -6,7 +6,7 @@ use super::curvature::{Curvature, CurvatureKind};
 use super::{Geometry, Paint, Render, RenderError};
 use crate::geom::{self, V3};
 use crate::limit::Surface;
-use crate::limit::{tessellate, LimitSurface, SurfacePoint};
+use crate::limit::{tessellate, LimitSurface, SurfacePoint, Tessellation};
 use crate::mesh::{Options, PolyMesh};
 use crate::refine::uniform::refine_mesh;
 use crate::scheme::adjustable::Mixed;
@@ -462,22 +462,17 @@ impl LimitGrid {
         other: Option<&dyn Surface>,
         max_bytes: Option<u64>,
     ) -> Result<Self, RenderError> {
-        let surface = match max_bytes {
-            Some(limit) => {
-                let surface = LimitSurface::new_within(mesh, *options, limit)?;
-                let estimate = surface.estimate_memory(rate);
-                if estimate > limit {
-                    return Err(RenderError::SurfaceMemory {
-                        rate,
-                        estimate,
-                        limit,
-                    });
-                }
-                surface
-            }
-            None => LimitSurface::new(mesh, *options)?,
-        };
+        let surface = surface_within(mesh, options, rate, max_bytes)?;
         let t = tessellate(&surface, mesh, rate, false)?;
+        let (mut g, layout) = Self::layout(&surface, &t);
+        g.evaluate(&surface, other, &layout, with_curvature)?;
+        Ok(g)
+    }
+
+    /// The grids of the tessellation `t` of `surface`, one per (sub-)face, positions from
+    /// `t` and normals not yet evaluated; and per grid vertex the tessellation's normal
+    /// (the fallback where the derivatives are degenerate) and whether it is a grid corner.
+    fn layout(surface: &LimitSurface, t: &Tessellation) -> (Self, GridLayout) {
         let mut g = LimitGrid {
             positions: Vec::new(),
             normals: Vec::new(),
@@ -537,8 +532,22 @@ impl LimitGrid {
             }
             q += run;
         }
+        (g, GridLayout { fallback, corner })
+    }
+
+    /// Evaluates `surface` (or `other`, whose positions then replace the tessellation's)
+    /// at every grid point: the unit normals (`layout`'s fallback where degenerate) and,
+    /// `with_curvature`, the curvature (none at irregular corners, where the evaluator
+    /// returns tangents and zero second derivatives).
+    fn evaluate(
+        &mut self,
+        surface: &LimitSurface,
+        other: Option<&dyn Surface>,
+        layout: &GridLayout,
+        with_curvature: bool,
+    ) -> Result<(), RenderError> {
         let mut curv = Vec::new();
-        for (i, chunk) in g.points.chunks(CHUNK).enumerate() {
+        for (i, chunk) in self.points.chunks(CHUNK).enumerate() {
             let evaluated = match other {
                 Some(o) => chunk.par_iter().map(|&p| o.evaluate(p)).collect(),
                 None => surface.eval_many(chunk),
@@ -547,15 +556,14 @@ impl LimitGrid {
                 let d = d?;
                 let k = i * CHUNK + j;
                 if other.is_some() {
-                    g.positions[k] = d.p;
+                    self.positions[k] = d.p;
                 }
                 let n = d.normal();
-                g.normals.push(if n == [0.0; 3] { fallback[k] } else { n });
+                self.normals
+                    .push(if n == [0.0; 3] { layout.fallback[k] } else { n });
                 if with_curvature {
-                    // At an irregular corner the evaluator returns tangents and zero
-                    // second derivatives: no curvature there.
                     let flat = d.duu == [0.0; 3] && d.duv == [0.0; 3] && d.dvv == [0.0; 3];
-                    curv.push(if corner[k] && flat {
+                    curv.push(if layout.corner[k] && flat {
                         None
                     } else {
                         Curvature::from_derivatives(&d)
@@ -564,8 +572,38 @@ impl LimitGrid {
             }
         }
         if with_curvature {
-            g.curvature = Some(curv);
+            self.curvature = Some(curv);
         }
-        Ok(g)
+        Ok(())
     }
+}
+
+/// Per vertex of a [`LimitGrid`] being sampled: the tessellation's normal, used where the
+/// limit normal is degenerate, and whether it is a corner of its grid.
+struct GridLayout {
+    fallback: Vec<V3>,
+    corner: Vec<bool>,
+}
+
+/// The limit surface of `mesh`, built within `max_bytes` when given, which its evaluation at
+/// `rate` must fit too.
+fn surface_within(
+    mesh: &PolyMesh,
+    options: &Options,
+    rate: u32,
+    max_bytes: Option<u64>,
+) -> Result<LimitSurface, RenderError> {
+    let Some(limit) = max_bytes else {
+        return Ok(LimitSurface::new(mesh, *options)?);
+    };
+    let surface = LimitSurface::new_within(mesh, *options, limit)?;
+    let estimate = surface.estimate_memory(rate);
+    if estimate > limit {
+        return Err(RenderError::SurfaceMemory {
+            rate,
+            estimate,
+            limit,
+        });
+    }
+    Ok(surface)
 }

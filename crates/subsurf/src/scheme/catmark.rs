@@ -319,99 +319,111 @@ pub(crate) fn limit_tangent_masks(
     t2: &mut VertexMask,
 ) {
     let ne = edge_sharpness.len();
-    let nf = num_faces;
-    let corner = |t1: &mut VertexMask, t2: &mut VertexMask| {
-        t1.reset(ne, nf);
-        t2.reset(ne, nf);
-        t1.has_edges = true;
-        t2.has_edges = true;
-        t1.vertex = -1.0;
-        t2.vertex = -1.0;
-        if ne > 0 {
-            t1.edges[0] = 1.0;
-        }
-        if ne > 1 {
-            t2.edges[1] = 1.0;
-        }
-    };
     match rule {
-        Rule::Smooth | Rule::Dart => {
-            let n = nf;
-            if n == 2 {
-                corner(t1, t2);
-                return;
-            }
-            t1.reset(ne, nf);
-            t2.reset(ne, nf);
-            for t in [&mut *t1, &mut *t2] {
-                t.has_edges = true;
-                t.has_faces = true;
-            }
-            if n == 4 {
-                t1.edges.copy_from_slice(&[4.0, 0.0, -4.0, 0.0]);
-                t1.faces.copy_from_slice(&[1.0, -1.0, -1.0, 1.0]);
-                t2.edges.copy_from_slice(&[0.0, 4.0, 0.0, -4.0]);
-                t2.faces.copy_from_slice(&[1.0, 1.0, -1.0, -1.0]);
-            } else {
-                let theta = 2.0 * PI / n as f64;
-                let (c, ch) = (theta.cos(), (0.5 * theta).cos());
-                let lambda = 5.0 / 16.0 + (c + ch * (2.0 * (9.0 + c)).sqrt()) / 16.0;
-                let fscale = 1.0 / (4.0 * lambda - 1.0);
-                for i in 0..n {
-                    let ci = (i as f64 * theta).cos();
-                    let ci1 = ((i + 1) as f64 * theta).cos();
-                    t1.edges[i] = 4.0 * ci;
-                    t1.faces[i] = fscale * (ci + ci1);
-                }
-                for i in 0..n {
-                    let j = (i + n - 1) % n;
-                    t2.edges[i] = t1.edges[j];
-                    t2.faces[i] = t1.faces[j];
-                }
-            }
+        Rule::Smooth | Rule::Dart => smooth_tangents(ne, num_faces, t1, t2),
+        Rule::Crease => crease_tangents(edge_sharpness, num_faces, t1, t2),
+        Rule::Corner => corner_tangents(ne, num_faces, t1, t2),
+    }
+}
+
+/// The tangent masks at a corner (and at a smooth vertex of two faces): the differences
+/// toward the far ends of the first two edges.
+fn corner_tangents(ne: usize, nf: usize, t1: &mut VertexMask, t2: &mut VertexMask) {
+    t1.reset(ne, nf);
+    t2.reset(ne, nf);
+    t1.has_edges = true;
+    t2.has_edges = true;
+    t1.vertex = -1.0;
+    t2.vertex = -1.0;
+    if ne > 0 {
+        t1.edges[0] = 1.0;
+    }
+    if ne > 1 {
+        t2.edges[1] = 1.0;
+    }
+}
+
+/// The tangent masks at a smooth (or dart) vertex of `nf` faces: the cosine-weighted
+/// edge and face sums of the subdominant eigenvectors, the second rotated by one face.
+fn smooth_tangents(ne: usize, nf: usize, t1: &mut VertexMask, t2: &mut VertexMask) {
+    let n = nf;
+    if n == 2 {
+        corner_tangents(ne, nf, t1, t2);
+        return;
+    }
+    t1.reset(ne, nf);
+    t2.reset(ne, nf);
+    for t in [&mut *t1, &mut *t2] {
+        t.has_edges = true;
+        t.has_faces = true;
+    }
+    if n == 4 {
+        t1.edges.copy_from_slice(&[4.0, 0.0, -4.0, 0.0]);
+        t1.faces.copy_from_slice(&[1.0, -1.0, -1.0, 1.0]);
+        t2.edges.copy_from_slice(&[0.0, 4.0, 0.0, -4.0]);
+        t2.faces.copy_from_slice(&[1.0, 1.0, -1.0, -1.0]);
+    } else {
+        let theta = 2.0 * PI / n as f64;
+        let (c, ch) = (theta.cos(), (0.5 * theta).cos());
+        let lambda = 5.0 / 16.0 + (c + ch * (2.0 * (9.0 + c)).sqrt()) / 16.0;
+        let fscale = 1.0 / (4.0 * lambda - 1.0);
+        for i in 0..n {
+            let ci = (i as f64 * theta).cos();
+            let ci1 = ((i + 1) as f64 * theta).cos();
+            t1.edges[i] = 4.0 * ci;
+            t1.faces[i] = fscale * (ci + ci1);
         }
-        Rule::Crease => {
-            let (a, b) = crease::crease_ends(edge_sharpness);
-            t1.reset(ne, nf);
-            t1.has_edges = true;
-            t1.has_faces = true;
-            t1.edges[a] = 0.5;
-            t1.edges[b] = -0.5;
-            t2.reset(ne, nf);
-            t2.has_edges = true;
-            t2.has_faces = true;
-            let interior = b.saturating_sub(a).saturating_sub(1);
-            if interior == 1 {
-                t2.vertex = -4.0 / 6.0;
-                t2.edges[a] = -1.0 / 6.0;
-                t2.edges[a + 1] = 4.0 / 6.0;
-                t2.edges[b] = -1.0 / 6.0;
-                t2.faces[a] = 1.0 / 6.0;
-                t2.faces[a + 1] = 1.0 / 6.0;
-            } else if interior > 1 {
-                let k = (interior + 1) as f64;
-                let theta = PI / k;
-                let (c, s) = (theta.cos(), theta.sin());
-                let denom = 1.0 / (k * (3.0 + c));
-                let r = (c + 1.0) / s;
-                t2.vertex = 4.0 * r * (c - 1.0) * denom;
-                t2.edges[a] = -r * (1.0 + 2.0 * c) * denom;
-                t2.edges[b] = -r * (1.0 + 2.0 * c) * denom;
-                t2.faces[a] = s * denom;
-                let mut s_next = s;
-                for i in 1..=interior {
-                    let s_i = s_next;
-                    s_next = ((i + 1) as f64 * theta).sin();
-                    t2.edges[a + i] = 4.0 * s_i * denom;
-                    t2.faces[a + i] = (s_i + s_next) * denom;
-                }
-            } else {
-                t2.vertex = -6.0;
-                t2.edges[a] = 3.0;
-                t2.edges[b] = 3.0;
-            }
+        for i in 0..n {
+            let j = (i + n - 1) % n;
+            t2.edges[i] = t1.edges[j];
+            t2.faces[i] = t1.faces[j];
         }
-        Rule::Corner => corner(t1, t2),
+    }
+}
+
+/// The tangent masks at a crease vertex: along the crease, the difference of its two
+/// ends; across it, the sine-weighted sum over the edges and faces between them (one
+/// edge between them, or none, have their own closed forms).
+fn crease_tangents(edge_sharpness: &[f32], nf: usize, t1: &mut VertexMask, t2: &mut VertexMask) {
+    let ne = edge_sharpness.len();
+    let (a, b) = crease::crease_ends(edge_sharpness);
+    t1.reset(ne, nf);
+    t1.has_edges = true;
+    t1.has_faces = true;
+    t1.edges[a] = 0.5;
+    t1.edges[b] = -0.5;
+    t2.reset(ne, nf);
+    t2.has_edges = true;
+    t2.has_faces = true;
+    let interior = b.saturating_sub(a).saturating_sub(1);
+    if interior == 1 {
+        t2.vertex = -4.0 / 6.0;
+        t2.edges[a] = -1.0 / 6.0;
+        t2.edges[a + 1] = 4.0 / 6.0;
+        t2.edges[b] = -1.0 / 6.0;
+        t2.faces[a] = 1.0 / 6.0;
+        t2.faces[a + 1] = 1.0 / 6.0;
+    } else if interior > 1 {
+        let k = (interior + 1) as f64;
+        let theta = PI / k;
+        let (c, s) = (theta.cos(), theta.sin());
+        let denom = 1.0 / (k * (3.0 + c));
+        let r = (c + 1.0) / s;
+        t2.vertex = 4.0 * r * (c - 1.0) * denom;
+        t2.edges[a] = -r * (1.0 + 2.0 * c) * denom;
+        t2.edges[b] = -r * (1.0 + 2.0 * c) * denom;
+        t2.faces[a] = s * denom;
+        let mut s_next = s;
+        for i in 1..=interior {
+            let s_i = s_next;
+            s_next = ((i + 1) as f64 * theta).sin();
+            t2.edges[a + i] = 4.0 * s_i * denom;
+            t2.faces[a + i] = (s_i + s_next) * denom;
+        }
+    } else {
+        t2.vertex = -6.0;
+        t2.edges[a] = 3.0;
+        t2.edges[b] = 3.0;
     }
 }
 

@@ -1095,3 +1095,28 @@ fn knot_tags_round_trip_through_obj_exactly() {
     let e = write_obj(&mut Vec::new(), &m, &WriteOptions::default()).unwrap_err();
     assert!(e.to_string().contains("knot interval"), "{e}");
 }
+
+/// NURSS refinement checks the size of its last level as every uniform refinement does
+/// (the mesh-size error naming the level and the 32-bit index range), before any work:
+/// 16 levels of a 2 × 2 grid would make 16 · 4¹⁵ faces.
+#[test]
+fn too_many_levels_give_the_mesh_size_error() {
+    let pts = (0..9)
+        .map(|i| [(i / 3) as f64, (i % 3) as f64, 0.0])
+        .collect();
+    let mesh = grid_mesh(3, 3, pts);
+    let e = subdivide(
+        &mesh,
+        &SubdivideOptions {
+            levels: 16,
+            scheme: subsurf::Scheme::Nurss,
+            ..Default::default()
+        },
+    )
+    .expect_err("16 levels exceed 32-bit indices");
+    let shown = e.to_string();
+    assert!(
+        shown.contains("level 16") && shown.contains("32-bit index range"),
+        "{shown}"
+    );
+}

@@ -38,8 +38,8 @@ pub fn read_obj(path: &Path) -> Result<ObjFile, ObjError> {
 /// only with what the input contains, never with numbers written in it. Inputs of 4 MiB
 /// or more are read in chunks of 2 MiB in parallel on the current rayon pool, as far as
 /// they hold only vertices, faces, comments and statements that carry nothing (tags are
-/// usually at the end), with the same result as one pass, errors included: a scan of
-/// 106 MB (1.2 M quads) is read about 0.15 s faster on two threads.
+/// usually at the end), with the same result as one pass, errors included (the gain on a
+/// large scan is in BENCHMARKS.md, "Reading and writing text").
 ///
 /// # Errors
 /// The first problem found, as an [`ObjError`] naming `source_name` and the 1-based line:
@@ -74,8 +74,8 @@ pub(crate) fn parse_obj_within(
     parse_obj_in(bytes, source_name, CHUNK_BYTES, Some(limit))
 }
 
-/// Files of at least two chunks of this many bytes are read by [`parallel_prefix`]: 2 MiB,
-/// about 10 ms of reading on one thread.
+/// Files of at least two chunks of this many bytes are read by [`parallel_prefix`] (2 MiB):
+/// large enough that handing a chunk to another thread costs little next to reading it.
 const CHUNK_BYTES: usize = 1 << 21;
 
 /// [`parse_obj`], reading files of two `chunk`s or more in chunks of about `chunk` bytes
@@ -350,9 +350,9 @@ fn element_counts(chunk: &[u8]) -> ChunkCounts {
 ///
 /// `stopped` is the least index of a chunk that stopped so far: chunk `index` gives up
 /// (every [`LINES_PER_CHECK`] lines) once an earlier one has stopped, since nothing after
-/// that is joined. A file with a tag in its first lines is then read by one pass, as fast
-/// as before chunks (`subsurf info` of a 106 MB scan with a tag on its first line:
-/// 0.92–1.05 s against 0.94–1.02; 1.10–1.40 s with every chunk read to its end).
+/// that is joined. A file with a tag in its first lines is then read by one pass, about as
+/// fast as a reader without chunks, where reading every chunk to its end would cost more
+/// (BENCHMARKS.md, "Reading and writing text").
 fn read_chunk(
     mut parser: Parser,
     chunk: &[u8],
@@ -1131,8 +1131,18 @@ impl Parser {
             "hole" => self.tag_hole(toks, &tag),
             "interval" | "sideinterval" => self.tag_interval(toks, &tag),
             "weight" => self.tag_weight(toks, &tag),
+            _ => self.tag_option(toks, &tag),
+        }
+    }
+
+    /// The scheme option tags (`interpolateboundary`, `facevaryinginterpolateboundary`,
+    /// `facevaryingpropagatecorners`, `creasemethod`, `smoothtriangles`): one value each,
+    /// stored in the file's options.
+    fn tag_option(&mut self, toks: SplitAsciiWhitespace<'_>, tag: &Tag) -> Result<(), String> {
+        let name = tag.name;
+        match name {
             "interpolateboundary" => {
-                let tok = Self::option_token(toks, &tag, (1, 0, 0))?;
+                let tok = Self::option_token(toks, tag, (1, 0, 0))?;
                 let value: i64 = tok
                     .parse()
                     .map_err(|_| format!("t {name}: '{tok}' is not an integer"))?;
@@ -1146,7 +1156,7 @@ impl Parser {
                 Ok(())
             }
             "facevaryinginterpolateboundary" => {
-                let tok = Self::option_token(toks, &tag, (1, 0, 0))?;
+                let tok = Self::option_token(toks, tag, (1, 0, 0))?;
                 let value: i64 = tok
                     .parse()
                     .map_err(|_| format!("t {name}: '{tok}' is not an integer"))?;
@@ -1160,7 +1170,7 @@ impl Parser {
                 Ok(())
             }
             "facevaryingpropagatecorners" => {
-                let tok = Self::option_token(toks, &tag, (1, 0, 0))?;
+                let tok = Self::option_token(toks, tag, (1, 0, 0))?;
                 self.propagate_corners = match tok {
                     "0" => false,
                     "1" => true,
@@ -1169,14 +1179,14 @@ impl Parser {
                 Ok(())
             }
             "creasemethod" => {
-                let tok = Self::option_token(toks, &tag, (0, 0, 1))?;
+                let tok = Self::option_token(toks, tag, (0, 0, 1))?;
                 let method: CreaseMethod = tok.parse().map_err(|e| format!("t {name}: {e}"))?;
                 self.options.crease_method = Some(method);
                 Ok(())
             }
             _ => {
                 // smoothtriangles
-                let tok = Self::option_token(toks, &tag, (0, 0, 1))?;
+                let tok = Self::option_token(toks, tag, (0, 0, 1))?;
                 let rule: TriangleSubdivision =
                     tok.parse().map_err(|e| format!("t {name}: {e}"))?;
                 self.options.triangles = Some(rule);
@@ -1341,13 +1351,10 @@ impl Parser {
         Ok(toks.next().unwrap_or(""))
     }
 
-    /// The checks that need the whole file, then the mesh.
-    fn finish(self, source_name: &str) -> Result<ObjFile, ObjError> {
-        let err = |line: Option<usize>, message: String| ObjError {
-            source_name: source_name.to_owned(),
-            line,
-            message,
-        };
+    /// The problem on the earliest line among the indices that point past what the file
+    /// has (faces' vertices, texture coordinates and normals; tags' vertices and faces) and
+    /// faces that mix corners with and without texture coordinates: its line and message.
+    fn first_index_problem(&self) -> Option<(usize, String)> {
         let (nv, nt, nn) = (
             self.positions.len(),
             self.texcoords.len(),
@@ -1393,7 +1400,17 @@ impl Parser {
                     .into(),
             ));
         }
-        if let Some((line, message)) = problems.into_iter().min_by_key(|p| p.0) {
+        problems.into_iter().min_by_key(|p| p.0)
+    }
+
+    /// The checks that need the whole file, then the mesh.
+    fn finish(self, source_name: &str) -> Result<ObjFile, ObjError> {
+        let err = |line: Option<usize>, message: String| ObjError {
+            source_name: source_name.to_owned(),
+            line,
+            message,
+        };
+        if let Some((line, message)) = self.first_index_problem() {
             return Err(err(Some(line), message));
         }
         let mut options = self.options;

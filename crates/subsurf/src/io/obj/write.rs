@@ -2,7 +2,7 @@
 
 use super::WriteOptions;
 use crate::io::push_decimal;
-use crate::mesh::{CreaseMethod, FaceVaryingInterpolation, PolyMesh, TriangleSubdivision};
+use crate::mesh::{CreaseMethod, FaceVaryingInterpolation, Options, PolyMesh, TriangleSubdivision};
 use std::io::{self, Write};
 
 /// Bytes gathered before handing them to the writer.
@@ -42,51 +42,8 @@ pub fn write_obj<W: std::io::Write>(
     opts: &WriteOptions,
 ) -> std::io::Result<()> {
     let mut buf: Vec<u8> = Vec::with_capacity(CHUNK + 4096);
-
-    writeln!(buf, "# written by subsurf {}", env!("CARGO_PKG_VERSION"))?;
-    if let Some(comment) = opts.comment {
-        for line in comment.lines() {
-            buf.extend_from_slice(b"# ");
-            // Control characters would make the line unreadable (or continue it).
-            let clean: String = line
-                .chars()
-                .map(|c| if c.is_control() { ' ' } else { c })
-                .collect();
-            buf.extend_from_slice(clean.as_bytes());
-            buf.push(b'\n');
-        }
-    }
-
-    if let Some(i) = first_non_finite(mesh.positions()) {
-        let p = mesh.positions()[i];
-        return Err(invalid_data(format!(
-            "vertex {i} has a non-finite coordinate ({}, {}, {})",
-            p[0], p[1], p[2]
-        )));
-    }
-    write_triples(&mut buf, w, b"v ", mesh.positions())?;
-
-    if let Some(normals) = opts.normals {
-        if normals.len() != mesh.num_vertices() {
-            return Err(io::Error::new(
-                io::ErrorKind::InvalidInput,
-                format!(
-                    "{} normals given for {} vertices; OBJ output needs one per vertex",
-                    normals.len(),
-                    mesh.num_vertices()
-                ),
-            ));
-        }
-        if let Some(i) = first_non_finite(normals) {
-            let n = normals[i];
-            return Err(invalid_data(format!(
-                "the normal of vertex {i} is not finite ({}, {}, {})",
-                n[0], n[1], n[2]
-            )));
-        }
-        write_triples(&mut buf, w, b"vn ", normals)?;
-    }
-
+    write_header(&mut buf, opts.comment)?;
+    write_points(&mut buf, w, mesh, opts.normals)?;
     let uv = mesh.face_varying.iter().find(|c| c.name() == "uv");
     if let Some(uv) = uv {
         uv.validate(mesh.face_offsets())
@@ -101,71 +58,160 @@ pub fn write_obj<W: std::io::Write>(
             flush(&mut buf, w, false)?;
         }
     }
+    write_faces(
+        &mut buf,
+        w,
+        mesh,
+        uv.map(|c| c.indices()),
+        opts.normals.is_some(),
+    )?;
+    if let Some(scheme) = opts.scheme {
+        write_scheme(&mut buf, &scheme)?;
+    }
+    write_sharp_and_holes(&mut buf, w, mesh)?;
+    write_knots(&mut buf, w, mesh)?;
+    flush(&mut buf, w, true)
+}
 
-    let with_normals = opts.normals.is_some();
-    let uv_indices = uv.map(|c| c.indices());
+/// The header comment: `# written by subsurf VERSION`, then each line of `comment` (its
+/// control characters replaced by spaces, which would make a line unreadable or continue
+/// it).
+fn write_header(buf: &mut Vec<u8>, comment: Option<&str>) -> io::Result<()> {
+    writeln!(buf, "# written by subsurf {}", env!("CARGO_PKG_VERSION"))?;
+    for line in comment.into_iter().flat_map(str::lines) {
+        buf.extend_from_slice(b"# ");
+        let clean: String = line
+            .chars()
+            .map(|c| if c.is_control() { ' ' } else { c })
+            .collect();
+        buf.extend_from_slice(clean.as_bytes());
+        buf.push(b'\n');
+    }
+    Ok(())
+}
+
+/// The `v` lines, and the `vn` lines of `normals` when given, after checking that every
+/// coordinate is finite and that there is one normal per vertex.
+fn write_points<W: Write>(
+    buf: &mut Vec<u8>,
+    w: &mut W,
+    mesh: &PolyMesh,
+    normals: Option<&[[f64; 3]]>,
+) -> io::Result<()> {
+    if let Some(i) = first_non_finite(mesh.positions()) {
+        let p = mesh.positions()[i];
+        return Err(invalid_data(format!(
+            "vertex {i} has a non-finite coordinate ({}, {}, {})",
+            p[0], p[1], p[2]
+        )));
+    }
+    write_triples(buf, w, b"v ", mesh.positions())?;
+    let Some(normals) = normals else {
+        return Ok(());
+    };
+    if normals.len() != mesh.num_vertices() {
+        return Err(io::Error::new(
+            io::ErrorKind::InvalidInput,
+            format!(
+                "{} normals given for {} vertices; OBJ output needs one per vertex",
+                normals.len(),
+                mesh.num_vertices()
+            ),
+        ));
+    }
+    if let Some(i) = first_non_finite(normals) {
+        let n = normals[i];
+        return Err(invalid_data(format!(
+            "the normal of vertex {i} is not finite ({}, {}, {})",
+            n[0], n[1], n[2]
+        )));
+    }
+    write_triples(buf, w, b"vn ", normals)
+}
+
+/// One `f` line per face, 1-based: `f a b ...`, with texture coordinates `uv_indices`
+/// `f a/t b/u ...`, with normals `f a//a ...` or `f a/t/a ...`.
+fn write_faces<W: Write>(
+    buf: &mut Vec<u8>,
+    w: &mut W,
+    mesh: &PolyMesh,
+    uv_indices: Option<&[u32]>,
+    with_normals: bool,
+) -> io::Result<()> {
     for (face, &start) in mesh.faces().zip(mesh.face_offsets()) {
         buf.push(b'f');
         for (k, &v) in face.iter().enumerate() {
             let v = u64::from(v) + 1;
             buf.push(b' ');
-            push_u64(&mut buf, v);
+            push_u64(buf, v);
             if let Some(t) = uv_indices {
                 buf.push(b'/');
-                push_u64(&mut buf, u64::from(t[start as usize + k]) + 1);
+                push_u64(buf, u64::from(t[start as usize + k]) + 1);
             }
             if with_normals {
                 buf.extend_from_slice(if uv_indices.is_some() { b"/" } else { b"//" });
-                push_u64(&mut buf, v);
+                push_u64(buf, v);
             }
         }
         buf.push(b'\n');
-        flush(&mut buf, w, false)?;
+        flush(buf, w, false)?;
     }
+    Ok(())
+}
 
-    if let Some(scheme) = opts.scheme {
+/// The scheme's tags: `t interpolateboundary`, and `t creasemethod`, `t smoothtriangles`,
+/// `t facevaryinginterpolateboundary` when they differ from the defaults.
+fn write_scheme(buf: &mut Vec<u8>, scheme: &Options) -> io::Result<()> {
+    writeln!(
+        buf,
+        "t interpolateboundary 1/0/0 {}",
+        scheme.boundary.tag_value()
+    )?;
+    if scheme.crease_method == CreaseMethod::Chaikin {
+        buf.extend_from_slice(b"t creasemethod 0/0/1 chaikin\n");
+    }
+    if scheme.triangles == TriangleSubdivision::Smooth {
+        buf.extend_from_slice(b"t smoothtriangles 0/0/1 smooth\n");
+    }
+    if scheme.face_varying != FaceVaryingInterpolation::default() {
         writeln!(
             buf,
-            "t interpolateboundary 1/0/0 {}",
-            scheme.boundary.tag_value()
+            "t facevaryinginterpolateboundary 1/0/0 {}",
+            scheme.face_varying.tag_value()
         )?;
-        if scheme.crease_method == CreaseMethod::Chaikin {
-            buf.extend_from_slice(b"t creasemethod 0/0/1 chaikin\n");
-        }
-        if scheme.triangles == TriangleSubdivision::Smooth {
-            buf.extend_from_slice(b"t smoothtriangles 0/0/1 smooth\n");
-        }
-        if scheme.face_varying != FaceVaryingInterpolation::default() {
-            writeln!(
-                buf,
-                "t facevaryinginterpolateboundary 1/0/0 {}",
-                scheme.face_varying.tag_value()
-            )?;
-        }
     }
+    Ok(())
+}
+
+/// One `t crease 2/1/0` per crease, one `t corner 1/1/0` per corner (after checking their
+/// sharpness reads back), `t hole N/0/0` lines of up to [`HOLES_PER_LINE`] faces.
+fn write_sharp_and_holes<W: Write>(
+    buf: &mut Vec<u8>,
+    w: &mut W,
+    mesh: &PolyMesh,
+) -> io::Result<()> {
     for c in &mesh.tags.creases {
         check_sharpness(c.sharpness, || {
             format!("the crease on edge ({}, {})", c.v0, c.v1)
         })?;
         writeln!(buf, "t crease 2/1/0 {} {} {}", c.v0, c.v1, c.sharpness)?;
-        flush(&mut buf, w, false)?;
+        flush(buf, w, false)?;
     }
     for c in &mesh.tags.corners {
         check_sharpness(c.sharpness, || format!("the corner at vertex {}", c.vertex))?;
         writeln!(buf, "t corner 1/1/0 {} {}", c.vertex, c.sharpness)?;
-        flush(&mut buf, w, false)?;
+        flush(buf, w, false)?;
     }
     for chunk in mesh.tags.holes.chunks(HOLES_PER_LINE) {
         write!(buf, "t hole {}/0/0", chunk.len())?;
         for &f in chunk {
             buf.push(b' ');
-            push_u64(&mut buf, u64::from(f));
+            push_u64(buf, u64::from(f));
         }
         buf.push(b'\n');
-        flush(&mut buf, w, false)?;
+        flush(buf, w, false)?;
     }
-    write_knots(&mut buf, w, mesh)?;
-    flush(&mut buf, w, true)
+    Ok(())
 }
 
 /// The knot tags of [`PolyMesh::knots`]: `t interval 2/1/0 a b d`, `t sideinterval 3/1/0 f a

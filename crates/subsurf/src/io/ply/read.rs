@@ -400,61 +400,19 @@ fn parse_header(bytes: &[u8]) -> Result<Header, HeaderError> {
             None | Some("comment") | Some("obj_info") => {}
             Some("end_header") => break,
             Some("format") => {
-                let e = match words.get(1).copied() {
-                    Some("ascii") => PlyEncoding::Ascii,
-                    Some("binary_little_endian") => PlyEncoding::BinaryLittleEndian,
-                    Some("binary_big_endian") => PlyEncoding::BinaryBigEndian,
-                    _ => {
-                        return Err(bad(format!(
-                            "unknown PLY format '{}' (expected ascii, binary_little_endian or \
-                             binary_big_endian)",
-                            words[1..].join(" ")
-                        )))
-                    }
-                };
-                if words.len() != 3 || !matches!(words[2], "1.0" | "1") {
-                    return Err(bad(format!(
-                        "PLY format line '{line}': only version 1.0 is read"
-                    )));
-                }
+                let e = parse_format(&words, line).map_err(bad)?;
                 if encoding.replace(e).is_some() {
                     return Err(bad("a second format line".into()));
                 }
             }
             Some("element") => {
-                let [_, name, count] = words[..] else {
-                    return Err(bad(format!(
-                        "malformed element line '{line}' (expected 'element NAME COUNT')"
-                    )));
-                };
-                let count = count.parse().map_err(|_| {
-                    bad(format!(
-                        "element {name}: '{count}' is not a count (an integer ≥ 0)"
-                    ))
-                })?;
-                if elements.iter().any(|e| e.name == name) {
-                    return Err(bad(format!("a second element '{name}'")));
+                let el = parse_element(&words, line, no).map_err(bad)?;
+                if elements.iter().any(|e| e.name == el.name) {
+                    return Err(bad(format!("a second element '{}'", el.name)));
                 }
-                elements.push(Element {
-                    name: name.to_owned(),
-                    count,
-                    props: Vec::new(),
-                    line: no,
-                });
+                elements.push(el);
             }
-            Some("property") => {
-                let prop = parse_property(&words, line).map_err(bad)?;
-                let Some(el) = elements.last_mut() else {
-                    return Err(bad("a property before any element".into()));
-                };
-                if el.props.iter().any(|p| p.name == prop.name) {
-                    return Err(bad(format!(
-                        "element {} lists property '{}' twice",
-                        el.name, prop.name
-                    )));
-                }
-                el.props.push(prop);
-            }
+            Some("property") => add_property(&mut elements, &words, line).map_err(bad)?,
             Some(other) => {
                 return Err(bad(format!(
                     "unknown PLY header keyword '{other}' (a header ends with the line \
@@ -471,6 +429,64 @@ fn parse_header(bytes: &[u8]) -> Result<Header, HeaderError> {
         end: at,
         lines: no,
     })
+}
+
+/// The encoding of a `format ENCODING 1.0` line (`words`, from `line`).
+fn parse_format(words: &[&str], line: &str) -> Result<PlyEncoding, String> {
+    let e = match words.get(1).copied() {
+        Some("ascii") => PlyEncoding::Ascii,
+        Some("binary_little_endian") => PlyEncoding::BinaryLittleEndian,
+        Some("binary_big_endian") => PlyEncoding::BinaryBigEndian,
+        _ => {
+            return Err(format!(
+                "unknown PLY format '{}' (expected ascii, binary_little_endian or \
+                 binary_big_endian)",
+                words[1..].join(" ")
+            ))
+        }
+    };
+    if words.len() != 3 || !matches!(words[2], "1.0" | "1") {
+        return Err(format!(
+            "PLY format line '{line}': only version 1.0 is read"
+        ));
+    }
+    Ok(e)
+}
+
+/// The element of an `element NAME COUNT` line (`words`, from `line`, header line `no`),
+/// without properties yet.
+fn parse_element(words: &[&str], line: &str, no: usize) -> Result<Element, String> {
+    let [_, name, count] = words[..] else {
+        return Err(format!(
+            "malformed element line '{line}' (expected 'element NAME COUNT')"
+        ));
+    };
+    let count = count
+        .parse()
+        .map_err(|_| format!("element {name}: '{count}' is not a count (an integer ≥ 0)"))?;
+    Ok(Element {
+        name: name.to_owned(),
+        count,
+        props: Vec::new(),
+        line: no,
+    })
+}
+
+/// Adds the property of a `property` line (`words`, from `line`) to the last of
+/// `elements`, which must not list it yet.
+fn add_property(elements: &mut [Element], words: &[&str], line: &str) -> Result<(), String> {
+    let prop = parse_property(words, line)?;
+    let Some(el) = elements.last_mut() else {
+        return Err("a property before any element".into());
+    };
+    if el.props.iter().any(|p| p.name == prop.name) {
+        return Err(format!(
+            "element {} lists property '{}' twice",
+            el.name, prop.name
+        ));
+    }
+    el.props.push(prop);
+    Ok(())
 }
 
 /// `property TYPE NAME` or `property list COUNT_TYPE ITEM_TYPE NAME`.

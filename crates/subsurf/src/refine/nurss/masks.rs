@@ -176,6 +176,162 @@ fn is_fan(t: &Topology, v: usize) -> bool {
         }
 }
 
+/// The weight of each face-vertex slot of `t` in its face's point (NURSS face points),
+/// with the effective `knots` and their values across `ac`.
+fn face_masks(t: &Topology, knots: &NurssKnots, ac: &AcrossValues) -> Vec<f64> {
+    let mut face = vec![0.0; t.face_verts.len()];
+    let ranges = chunk_ranges(t.num_faces());
+    let pieces = split_pieces(&mut face, &ranges, |f| t.face_offsets[f] as usize);
+    run(ranges.into_iter().zip(pieces).collect(), |(r, piece)| {
+        let base = t.face_offsets[r.start] as usize;
+        let (mut d, mut a0, mut a1, mut w) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        for f in r {
+            let o = t.face_offsets[f] as usize;
+            let n = t.face_offsets[f + 1] as usize - o;
+            d.clear();
+            a0.clear();
+            a1.clear();
+            for j in 0..n {
+                d.push(knots.side(t, f, j));
+                a0.push(ac.slot[o + j][0]);
+                a1.push(ac.slot[o + (j + 1) % n][1]);
+            }
+            face_weights(&d, &a0, &a1, &mut w);
+            piece[o - base..o - base + n].copy_from_slice(&w);
+        }
+    });
+    face
+}
+
+/// The rule of edge `e`'s point: the smooth rule on its midpoint and its two faces'
+/// points for a smooth manifold edge between two faces, else the curve rule along the
+/// crease or boundary.
+fn edge_rule(t: &Topology, knots: &NurssKnots, ac: &AcrossValues, e: usize) -> EdgeRule {
+    let [a, b] = t.edge_verts[e];
+    let faces = t.edge_face_list(e);
+    if faces.len() == 2 && t.edge_sharpness[e] <= 0.0 && !t.edge_tags[e].get().non_manifold {
+        let locals = &t.edge_face_local[t.edge_face_offsets[e] as usize..];
+        let sides = |i: usize| {
+            let (f, l) = (faces[i] as usize, locals[i] as usize);
+            let n = t.face_vertices(f).len();
+            [knots.side(t, f, l + n - 1), knots.side(t, f, l + 1)]
+        };
+        let [m, l, r] = edge_weights(sides(0), sides(1));
+        EdgeRule::Smooth { m, faces: [l, r] }
+    } else {
+        let d = ac.own[e];
+        let before = crease_partner(t, a as usize, e).map_or(d, |x| ac.own[x]);
+        let after = crease_partner(t, b as usize, e).map_or(d, |x| ac.own[x]);
+        EdgeRule::Curve(curve_edge_weights(before, d, after))
+    }
+}
+
+/// The rule of every vertex point of `t`, and the weights of the smooth ones on their
+/// edges' midpoints and their faces' points (at the slots of `vert_edges` and
+/// `vert_faces`, zero elsewhere).
+fn vertex_masks(
+    t: &Topology,
+    knots: &NurssKnots,
+    ac: &AcrossValues,
+) -> (Vec<VertexRule>, Vec<f64>, Vec<f64>) {
+    let mut vertex = vec![VertexRule::Keep; t.num_vertices()];
+    let mut vert_mid = vec![0.0; t.vert_edges.len()];
+    let mut vert_face = vec![0.0; t.vert_faces.len()];
+    let ranges = chunk_ranges(t.num_vertices());
+    let rules = split_pieces(&mut vertex, &ranges, |v| v);
+    let mids = split_pieces(&mut vert_mid, &ranges, |v| t.vert_edge_offsets[v] as usize);
+    let fws = split_pieces(&mut vert_face, &ranges, |v| t.vert_face_offsets[v] as usize);
+    let items: Vec<_> = ranges.into_iter().zip(rules).zip(mids).zip(fws).collect();
+    run(items, |(((r, rules), mids), fws)| {
+        let (eb, fb) = (
+            t.vert_edge_offsets[r.start] as usize,
+            t.vert_face_offsets[r.start] as usize,
+        );
+        let (mut ring, mut wm, mut wf) = (Vec::new(), Vec::new(), Vec::new());
+        for v in r.clone() {
+            let edges = t.vertex_edges(v);
+            let tag = t.vert_tags[v].get();
+            rules[v - r.start] = match tag.rule {
+                Rule::Corner => VertexRule::Keep,
+                _ if edges.is_empty() => VertexRule::Keep,
+                Rule::Crease => crease_vertex_rule(t, ac, v),
+                Rule::Smooth | Rule::Dart if tag.boundary || !is_fan(t, v) => VertexRule::Keep,
+                Rule::Smooth | Rule::Dart => {
+                    let n = edges.len();
+                    let wv = smooth_vertex_weights(t, knots, ac, v, &mut ring, (&mut wm, &mut wf));
+                    let eo = t.vert_edge_offsets[v] as usize - eb;
+                    let fo = t.vert_face_offsets[v] as usize - fb;
+                    mids[eo..eo + n].copy_from_slice(&wm[..n]);
+                    fws[fo..fo + n].copy_from_slice(&wf[..n]);
+                    VertexRule::Smooth(wv)
+                }
+            };
+        }
+    });
+    (vertex, vert_mid, vert_face)
+}
+
+/// The rule of crease vertex `v`: the curve rule along its two sharp edges (with the
+/// intervals of the edges beyond them), else (not two sharp edges) kept.
+fn crease_vertex_rule(t: &Topology, ac: &AcrossValues, v: usize) -> VertexRule {
+    let mut sharp = (t.vertex_edges(v).iter())
+        .map(|&e| e as usize)
+        .filter(|&e| t.edge_sharpness[e] > 0.0);
+    let (Some(e1), Some(e2), None) = (sharp.next(), sharp.next(), sharp.next()) else {
+        return VertexRule::Keep;
+    };
+    let other = |e: usize| {
+        let [x, y] = t.edge_verts[e];
+        if x as usize == v {
+            y
+        } else {
+            x
+        }
+    };
+    let (q1, q2) = (other(e1), other(e2));
+    let (d1, d2) = (ac.own[e1], ac.own[e2]);
+    let d0 = crease_partner(t, q1 as usize, e1).map_or(d1, |x| ac.own[x]);
+    let d3 = crease_partner(t, q2 as usize, e2).map_or(d2, |x| ac.own[x]);
+    VertexRule::Curve {
+        ends: [q1, q2],
+        w: curve_vertex_weights([d0, d1, d2, d3]),
+    }
+}
+
+/// The smooth rule at interior fan vertex `v`: its own weight, returned, and its weights
+/// on its edges' midpoints and its faces' points, into `wm` and `wf` (in the order of its
+/// edges and faces), from the intervals around it gathered in `ring`.
+fn smooth_vertex_weights(
+    t: &Topology,
+    knots: &NurssKnots,
+    ac: &AcrossValues,
+    v: usize,
+    ring: &mut Vec<RingIntervals>,
+    (wm, wf): (&mut Vec<f64>, &mut Vec<f64>),
+) -> f64 {
+    let faces = t.vertex_faces(v);
+    let flocal = t.vertex_face_locals(v);
+    let n = t.vertex_edges(v).len();
+    let side = |f: usize, entering: bool| {
+        read_side(
+            t,
+            knots,
+            &ac.own,
+            side_slot(t, faces[f], flocal[f], entering),
+        )
+    };
+    ring.clear();
+    for i in 0..n {
+        ring.push(RingIntervals {
+            minus2: side((i + n - 2) % n, false),
+            minus1: side((i + n - 1) % n, false),
+            plus1: side(i, true),
+            plus2: side((i + 1) % n, true),
+        });
+    }
+    vertex_weights(ring, wm, wf)
+}
+
 /// [`AcrossValues`] of a complete level.
 pub(crate) fn across_values(t: &Topology, k: &NurssKnots) -> AcrossValues {
     let own: Vec<f64> = (0..t.num_edges()).map(|e| k.own(t, e)).collect();
@@ -329,138 +485,15 @@ impl NurssMasks {
     /// when the level is large (the same weights on any number of threads).
     pub(crate) fn new(parent: &Topology, knots: &NurssKnots) -> Self {
         let t = parent;
-        let (nv, nf, ne) = (t.num_vertices(), t.num_faces(), t.num_edges());
         let eff = effective_knots(knots);
         let knots = &eff;
         let ac = across_values(t, knots);
-
-        let mut face = vec![0.0; t.face_verts.len()];
-        let ranges = chunk_ranges(nf);
-        let pieces = split_pieces(&mut face, &ranges, |f| t.face_offsets[f] as usize);
-        run(ranges.into_iter().zip(pieces).collect(), |(r, piece)| {
-            let base = t.face_offsets[r.start] as usize;
-            let (mut d, mut a0, mut a1, mut w) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
-            for f in r {
-                let o = t.face_offsets[f] as usize;
-                let n = t.face_offsets[f + 1] as usize - o;
-                d.clear();
-                a0.clear();
-                a1.clear();
-                for j in 0..n {
-                    d.push(knots.side(t, f, j));
-                    a0.push(ac.slot[o + j][0]);
-                    a1.push(ac.slot[o + (j + 1) % n][1]);
-                }
-                face_weights(&d, &a0, &a1, &mut w);
-                piece[o - base..o - base + n].copy_from_slice(&w);
-            }
-        });
-
-        let mid = collect(ne, |e| {
+        let face = face_masks(t, knots, &ac);
+        let mid = collect(t.num_edges(), |e| {
             midpoint_weights(ac.own[e], ac.edge[e][0], ac.edge[e][1])
         });
-        let edge = collect(ne, |e| {
-            let [a, b] = t.edge_verts[e];
-            let faces = t.edge_face_list(e);
-            if faces.len() == 2 && t.edge_sharpness[e] <= 0.0 && !t.edge_tags[e].get().non_manifold
-            {
-                let locals = &t.edge_face_local[t.edge_face_offsets[e] as usize..];
-                let sides = |i: usize| {
-                    let (f, l) = (faces[i] as usize, locals[i] as usize);
-                    let n = t.face_vertices(f).len();
-                    [knots.side(t, f, l + n - 1), knots.side(t, f, l + 1)]
-                };
-                let [m, l, r] = edge_weights(sides(0), sides(1));
-                EdgeRule::Smooth { m, faces: [l, r] }
-            } else {
-                let d = ac.own[e];
-                let before = crease_partner(t, a as usize, e).map_or(d, |x| ac.own[x]);
-                let after = crease_partner(t, b as usize, e).map_or(d, |x| ac.own[x]);
-                EdgeRule::Curve(curve_edge_weights(before, d, after))
-            }
-        });
-
-        let mut vertex = vec![VertexRule::Keep; nv];
-        let mut vert_mid = vec![0.0; t.vert_edges.len()];
-        let mut vert_face = vec![0.0; t.vert_faces.len()];
-        let ranges = chunk_ranges(nv);
-        let rules = split_pieces(&mut vertex, &ranges, |v| v);
-        let mids = split_pieces(&mut vert_mid, &ranges, |v| t.vert_edge_offsets[v] as usize);
-        let fws = split_pieces(&mut vert_face, &ranges, |v| t.vert_face_offsets[v] as usize);
-        let items: Vec<_> = ranges.into_iter().zip(rules).zip(mids).zip(fws).collect();
-        run(items, |(((r, rules), mids), fws)| {
-            let (eb, fb) = (
-                t.vert_edge_offsets[r.start] as usize,
-                t.vert_face_offsets[r.start] as usize,
-            );
-            let (mut ring, mut wm, mut wf) = (Vec::new(), Vec::new(), Vec::new());
-            for v in r.clone() {
-                let edges = t.vertex_edges(v);
-                let tag = t.vert_tags[v].get();
-                rules[v - r.start] = match tag.rule {
-                    Rule::Corner => VertexRule::Keep,
-                    _ if edges.is_empty() => VertexRule::Keep,
-                    Rule::Crease => {
-                        let mut sharp = edges
-                            .iter()
-                            .map(|&e| e as usize)
-                            .filter(|&e| t.edge_sharpness[e] > 0.0);
-                        match (sharp.next(), sharp.next(), sharp.next()) {
-                            (Some(e1), Some(e2), None) => {
-                                let other = |e: usize| {
-                                    let [x, y] = t.edge_verts[e];
-                                    if x as usize == v {
-                                        y
-                                    } else {
-                                        x
-                                    }
-                                };
-                                let (q1, q2) = (other(e1), other(e2));
-                                let (d1, d2) = (ac.own[e1], ac.own[e2]);
-                                let d0 =
-                                    crease_partner(t, q1 as usize, e1).map_or(d1, |x| ac.own[x]);
-                                let d3 =
-                                    crease_partner(t, q2 as usize, e2).map_or(d2, |x| ac.own[x]);
-                                VertexRule::Curve {
-                                    ends: [q1, q2],
-                                    w: curve_vertex_weights([d0, d1, d2, d3]),
-                                }
-                            }
-                            _ => VertexRule::Keep,
-                        }
-                    }
-                    Rule::Smooth | Rule::Dart if tag.boundary || !is_fan(t, v) => VertexRule::Keep,
-                    Rule::Smooth | Rule::Dart => {
-                        let faces = t.vertex_faces(v);
-                        let flocal = t.vertex_face_locals(v);
-                        let n = edges.len();
-                        let side = |f: usize, entering: bool| {
-                            read_side(
-                                t,
-                                knots,
-                                &ac.own,
-                                side_slot(t, faces[f], flocal[f], entering),
-                            )
-                        };
-                        ring.clear();
-                        for i in 0..n {
-                            ring.push(RingIntervals {
-                                minus2: side((i + n - 2) % n, false),
-                                minus1: side((i + n - 1) % n, false),
-                                plus1: side(i, true),
-                                plus2: side((i + 1) % n, true),
-                            });
-                        }
-                        let wv = vertex_weights(&ring, &mut wm, &mut wf);
-                        let eo = t.vert_edge_offsets[v] as usize - eb;
-                        let fo = t.vert_face_offsets[v] as usize - fb;
-                        mids[eo..eo + n].copy_from_slice(&wm[..n]);
-                        fws[fo..fo + n].copy_from_slice(&wf[..n]);
-                        VertexRule::Smooth(wv)
-                    }
-                };
-            }
-        });
+        let edge = collect(t.num_edges(), |e| edge_rule(t, knots, &ac, e));
+        let (vertex, vert_mid, vert_face) = vertex_masks(t, knots, &ac);
         NurssMasks {
             face,
             mid,

@@ -345,38 +345,8 @@ impl Nurss {
                 });
             }
         }
-        if let Some(sides) = &self.knots.sides {
-            // The base level's auxiliary intervals, where they differ from the edge's own.
-            for f in 0..level.num_faces() {
-                if written[f] == u32::MAX {
-                    continue;
-                }
-                let fv = level.face_vertices(f);
-                let o = level.face_offsets[f] as usize;
-                for j in 0..fv.len() {
-                    let e = level.face_edges[o + j] as usize;
-                    let d = sides[o + j];
-                    if d != self.knots.own(level, e) {
-                        knots.side_intervals.push(SideInterval {
-                            face: written[f],
-                            v0: fv[j],
-                            v1: fv[(j + 1) % fv.len()],
-                            interval: d,
-                        });
-                    }
-                }
-            }
-        }
-        for v in 0..level.num_vertices() {
-            let s = level.vertex_sharpness(v);
-            let t = level.vertex_tag(v);
-            if s > 0.0 && !t.non_manifold && !t.sharpened_corner {
-                tags.corners.push(Corner {
-                    vertex: v as u32,
-                    sharpness: s,
-                });
-            }
-        }
+        knots.side_intervals = self.side_intervals(&written);
+        tags.corners = corner_tags(level);
         if self.rational {
             knots.weights = self
                 .points
@@ -393,6 +363,54 @@ impl Nurss {
         m.knots = knots;
         m
     }
+
+    /// The base level's auxiliary intervals where they differ from the edge's own, on the
+    /// faces written (`written[f]`: face `f`'s index in the output, `u32::MAX` if dropped).
+    fn side_intervals(&self, written: &[u32]) -> Vec<SideInterval> {
+        let level = &self.topology;
+        let mut out = Vec::new();
+        let Some(sides) = &self.knots.sides else {
+            return out;
+        };
+        for f in 0..level.num_faces() {
+            if written[f] == u32::MAX {
+                continue;
+            }
+            let fv = level.face_vertices(f);
+            let o = level.face_offsets[f] as usize;
+            for j in 0..fv.len() {
+                let e = level.face_edges[o + j] as usize;
+                let d = sides[o + j];
+                if d != self.knots.own(level, e) {
+                    out.push(SideInterval {
+                        face: written[f],
+                        v0: fv[j],
+                        v1: fv[(j + 1) % fv.len()],
+                        interval: d,
+                    });
+                }
+            }
+        }
+        out
+    }
+}
+
+/// The corner tags of `level`'s sharp vertices: not the non-manifold ones, nor the
+/// boundary vertices of a single face that edge-and-corner interpolation makes sharp (the
+/// written boundary option does that again).
+fn corner_tags(level: &Topology) -> Vec<Corner> {
+    let mut corners = Vec::new();
+    for v in 0..level.num_vertices() {
+        let s = level.vertex_sharpness(v);
+        let t = level.vertex_tag(v);
+        if s > 0.0 && !t.non_manifold && !t.sharpened_corner {
+            corners.push(Corner {
+                vertex: v as u32,
+                sharpness: s,
+            });
+        }
+    }
+    corners
 }
 
 /// The plan of non-uniform Catmull-Clark subdivision (NURSS, [JOS 2003]) of `mesh` to
