@@ -66,6 +66,11 @@ done
 
 log() { echo "bench-vs-osd: $*" >&2; }
 
+# The oracle's flags for the same work as `subsurf bench`, which refines a mesh's texture
+# coordinates (`vt`) with its positions: the oracle refines them too (in OpenSubdiv's
+# default mode, `all`, which is subsurf's default) when the mesh has them.
+oracle_fvar() { if grep -q '^vt ' "$1"; then echo "--fvar all"; fi; }
+
 work="$(mktemp -d "${TMPDIR:-/tmp}/bench-vs-osd.XXXXXX")"
 trap 'rm -rf "$work"' EXIT
 
@@ -159,7 +164,7 @@ for run in "${runs[@]}"; do
     # Interleaved: OSD, subsurf 1 thread, subsurf 2 threads, one after the other, ROUNDS times.
     osd_t=() t1_t=() t2_t=()
     for _ in $(seq "$ROUNDS"); do
-      osd_line="$("$oracle" bench "$path" "$level" "$REPS")"
+      osd_line="$("$oracle" bench "$path" "$level" "$REPS" $(oracle_fvar "$path"))"
       t1_line="$("$subsurf" bench "$path" -l "$level" --reps "$REPS" --threads 1)"
       t2_line="$("$subsurf" bench "$path" -l "$level" --reps "$REPS" --threads 2)"
       osd_t+=("$(field median_s "$osd_line")")
@@ -176,7 +181,7 @@ for run in "${runs[@]}"; do
       verts="$verts (OSD: $osd_verts)"
       status=1
     fi
-    osd_rss="$(maxrss_mib "$oracle" bench "$path" "$level" 1)"
+    osd_rss="$(maxrss_mib "$oracle" bench "$path" "$level" 1 $(oracle_fvar "$path"))"
     sub_rss="$(maxrss_mib "$subsurf" bench "$path" -l "$level" --reps 1 --threads 1)"
     printf '| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |\n' \
       "$label" "$level" "$verts" "$osd_s" "$t1_s" "$(ratio "$t1_s" "$osd_s")" \
@@ -193,7 +198,8 @@ if [ -n "$SCALING_LEVELS" ]; then
     t1_t=() osd_t=()
     for _ in $(seq "$ROUNDS"); do
       t1_line="$("$subsurf" bench "$shapes/catmark_bishop.obj" -l "$level" --reps "$REPS" --threads 1)"
-      osd_line="$("$oracle" bench "$shapes/catmark_bishop.obj" "$level" "$REPS")"
+      osd_line="$("$oracle" bench "$shapes/catmark_bishop.obj" "$level" "$REPS" \
+        $(oracle_fvar "$shapes/catmark_bishop.obj"))"
       t1_t+=("$(field median_s "$t1_line")")
       osd_t+=("$(field median_s "$osd_line")")
     done

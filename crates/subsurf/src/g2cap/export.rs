@@ -133,79 +133,17 @@ pub fn patches_json(surface: &G2Surface, mesh: &PolyMesh) -> Result<SurfaceJson,
                 .collect(),
         })
         .collect();
-    let limit = surface.limit();
-    let levels = surface.levels();
-    let mut squares = Vec::new();
-    for f in 0..mesh.num_faces() {
-        if !limit.has_surface(f) {
-            continue;
-        }
-        let quad = mesh.face(f).len() == 4;
-        let k = 1u32 << if quad { levels } else { levels - 1 };
-        for s in 0..limit.num_subfaces(f) as u32 {
-            for j in 0..k {
-                for i in 0..k {
-                    let h = 1.0 / k as f64;
-                    let centre = SurfacePoint {
-                        face: f as u32,
-                        subface: s,
-                        u: (i as f64 + 0.5) * h,
-                        v: (j as f64 + 0.5) * h,
-                    };
-                    if surface.locate(centre).is_none() {
-                        squares.push((f as u32, s, i, j, h));
-                    }
-                }
-            }
-        }
-    }
-    let size = surface.size();
+    let squares = squares_outside_caps(surface, mesh);
     let fitted: Vec<Option<PatchJson>> = squares
         .par_iter()
-        .map(|&(face, subface, i, j, h)| {
-            let at = |s: f64, t: f64| SurfacePoint {
-                face,
-                subface,
-                u: ((i as f64 + s) * h).clamp(0.0, 1.0),
-                v: ((j as f64 + t) * h).clamp(0.0, 1.0),
-            };
-            let mut ok = true;
-            let patch =
-                BezierPatch::interpolate(3, |s, t| match surface.eval_uncapped(at(s, t)) {
-                    Ok(d) => d.p,
-                    Err(_) => {
-                        ok = false;
-                        [0.0; 3]
-                    }
-                })?;
-            for &(s, t) in &[(0.13, 0.71), (0.91, 0.07), (0.0, 1.0), (0.5, 0.5)] {
-                let q = surface.eval_uncapped(at(s, t)).ok()?.p;
-                let p = patch.derivative(s, t, 0, 0);
-                if (0..3).any(|a| (p[a] - q[a]).abs() > 1e-9 * size) {
-                    ok = false;
-                }
-            }
-            ok.then(|| PatchJson {
-                face,
-                subface,
-                domain: [
-                    i as f64 * h,
-                    j as f64 * h,
-                    (i + 1) as f64 * h,
-                    (j + 1) as f64 * h,
-                ],
-                corner: None,
-                degree: 3,
-                points: patch.points().to_vec(),
-            })
-        })
+        .map(|sq| bicubic_patch(surface, sq))
         .collect();
     let mut bicubic = Vec::new();
     let mut not_polynomial = Vec::new();
     for (sq, p) in squares.iter().zip(fitted) {
         match p {
             Some(p) => bicubic.push(p),
-            None => not_polynomial.push([sq.0, sq.1, sq.2, sq.3]),
+            None => not_polynomial.push([sq.face, sq.subface, sq.i, sq.j]),
         }
     }
     let uncapped = surface
@@ -222,7 +160,7 @@ pub fn patches_json(surface: &G2Surface, mesh: &PolyMesh) -> Result<SurfaceJson,
     Ok(SurfaceJson {
         format: "subsurf-g2",
         version: 1,
-        levels,
+        levels: surface.levels(),
         mixed: surface.mixed().map(|m| MixedJson {
             c: m.mixed().scheme.c(),
             adjust_steps: m.mixed().steps,
@@ -232,5 +170,97 @@ pub fn patches_json(surface: &G2Surface, mesh: &PolyMesh) -> Result<SurfaceJson,
         not_polynomial,
         uncapped,
         uncapped_reasons: surface.uncapped().iter().map(|u| u.reason).collect(),
+    })
+}
+
+/// A square of side `h` of a (sub-)face: `[i h, (i + 1) h] × [j h, (j + 1) h]`.
+struct Square {
+    face: u32,
+    subface: u32,
+    i: u32,
+    j: u32,
+    h: f64,
+}
+
+/// The squares of side `2⁻ᴸ` (`L` the surface's isolation level; one level less on the
+/// sub-faces of an `n`-gon) of every (sub-)face with a surface whose centre no cap covers.
+fn squares_outside_caps(surface: &G2Surface, mesh: &PolyMesh) -> Vec<Square> {
+    let limit = surface.limit();
+    let levels = surface.levels();
+    let mut squares = Vec::new();
+    for f in (0..mesh.num_faces()).filter(|&f| limit.has_surface(f)) {
+        let quad = mesh.face(f).len() == 4;
+        let k = 1u32 << if quad { levels } else { levels - 1 };
+        let h = 1.0 / k as f64;
+        for subface in 0..limit.num_subfaces(f) as u32 {
+            for j in 0..k {
+                for i in 0..k {
+                    let centre = SurfacePoint {
+                        face: f as u32,
+                        subface,
+                        u: (i as f64 + 0.5) * h,
+                        v: (j as f64 + 0.5) * h,
+                    };
+                    if surface.locate(centre).is_none() {
+                        squares.push(Square {
+                            face: f as u32,
+                            subface,
+                            i,
+                            j,
+                            h,
+                        });
+                    }
+                }
+            }
+        }
+    }
+    squares
+}
+
+/// The bicubic Bézier patch that interpolates the Catmull-Clark surface over `sq`, if the
+/// surface is that patch there: checked at four more points, within `1e-9` of the mesh's
+/// size. `None` where the surface is not one bicubic polynomial on the square.
+fn bicubic_patch(surface: &G2Surface, sq: &Square) -> Option<PatchJson> {
+    let &Square {
+        face,
+        subface,
+        i,
+        j,
+        h,
+    } = sq;
+    let size = surface.size();
+    let at = |s: f64, t: f64| SurfacePoint {
+        face,
+        subface,
+        u: ((i as f64 + s) * h).clamp(0.0, 1.0),
+        v: ((j as f64 + t) * h).clamp(0.0, 1.0),
+    };
+    let mut ok = true;
+    let patch = BezierPatch::interpolate(3, |s, t| match surface.eval_uncapped(at(s, t)) {
+        Ok(d) => d.p,
+        Err(_) => {
+            ok = false;
+            [0.0; 3]
+        }
+    })?;
+    for &(s, t) in &[(0.13, 0.71), (0.91, 0.07), (0.0, 1.0), (0.5, 0.5)] {
+        let q = surface.eval_uncapped(at(s, t)).ok()?.p;
+        let p = patch.derivative(s, t, 0, 0);
+        if (0..3).any(|a| (p[a] - q[a]).abs() > 1e-9 * size) {
+            ok = false;
+        }
+    }
+    ok.then(|| PatchJson {
+        face,
+        subface,
+        domain: [
+            i as f64 * h,
+            j as f64 * h,
+            (i + 1) as f64 * h,
+            (j + 1) as f64 * h,
+        ],
+        corner: None,
+        degree: 3,
+        points: patch.points().to_vec(),
     })
 }

@@ -1,41 +1,4 @@
-//! [`NurssSurface`]: exact evaluation of the non-uniform (NURSS) limit surface, with
-//! derivatives, where it has a closed form, and a clear refusal elsewhere.
-//!
-//! Non-uniform Catmull-Clark (Sederberg, Zheng, Sewell & Sabin, "Non-uniform recursive
-//! subdivision surfaces", SIGGRAPH 1998) has no exact evaluator at extraordinary vertices
-//! with unequal knot intervals: there its limit is known only at the vertices of refined
-//! levels ([`Nurss::limit_points`]), without derivatives. Two kinds of faces do have one:
-//!
-//! - **Regular tensor-product faces.** Where one NURSS step is midpoint knot insertion into
-//!   a tensor-product cubic B-spline (Sederberg et al. 1998, §3; the `refine::nurss`
-//!   rules, which read the intervals of the edges at the vertices they refine), the limit is
-//!   that B-spline. A quad qualifies when the 16 vertices of its 4 × 4 net are interior
-//!   vertices of four quads each, with no sharp edge or vertex, and the knot intervals are
-//!   those of a tensor product there: along each of the net's four rows (and columns) the
-//!   five intervals read, the three of the net's edges and the two of the edges that
-//!   continue the row beyond its ends, are the same, and no face side carries an interval
-//!   of its own ([`crate::mesh::KnotTags`] side intervals). With the control polygon edge
-//!   `P_i P_{i+1}` carrying the knot span `[t_{i+2}, t_{i+3}]` (the convention of
-//!   [`crate::nurbs::mesh`]), the face is the span `[t₃, t₄]` of the cubic B-spline whose
-//!   control points are the net's four points and whose knots are `t₁ … t₆` from those five
-//!   intervals (padded at both ends). Rational weights make it the NURBS surface of the
-//!   homogeneous points `(w x, w y, w z, w)`, evaluated with derivatives by the quotient rule
-//!   ([`NurbsSurface::eval_derivs`]). The face's `(u, v)` is linear in the knots, as
-//!   refinement splits each span at its middle: `t = t₃ + u (t₄ − t₃)`, so `∂/∂u =
-//!   (t₄ − t₃) ∂/∂t`.
-//! - **Faces with equal intervals and weights around them.** The rules are homogeneous of
-//!   degree 0 in the intervals, and with all intervals equal they are Catmull-Clark's
-//!   (boundaries, infinitely sharp creases and corners included, see
-//!   `refine::nurss`). The surface over a face depends on the points of its 1-ring
-//!   and on the intervals the rules read when refining it, those of the edges at the
-//!   vertices of the 1-ring; a refinement keeps them equal. So where those are all equal
-//!   (and the 1-ring's weights too, which then cancel) the surface is the Catmull-Clark limit
-//!   surface ([`LimitSurface`]), exact anywhere, extraordinary vertices and `n`-gons
-//!   included.
-//!
-//! Any other face (an extraordinary vertex, a crease or a boundary near unequal intervals, a
-//! face whose own span is a zero interval) is [`NurssEvalError::NotExact`], naming the face
-//! and the reason: sample it through refinement instead ([`super::tessellate()`]).
+//! [`NurssSurface`]: exact evaluation of the non-uniform (NURSS) limit surface.
 
 use super::{Nurss, NurssError};
 use crate::limit::{Derivatives, EvalError, LimitSurface, Order, Parameterization, SurfacePoint};
@@ -48,7 +11,7 @@ pub enum NurssEvalError {
     /// As for a Catmull-Clark surface: no such face or sub-face, a bad parameter, a hole.
     #[error(transparent)]
     Eval(#[from] EvalError),
-    /// The face's NURSS surface has no exact evaluation (see the module docs).
+    /// The face's NURSS surface has no exact evaluation (see [`NurssSurface`]).
     #[error(
         "face {face}: the non-uniform (NURSS) surface has no exact evaluation with \
          derivatives here ({reason}); it is evaluated exactly only on quads whose 4 × 4 \
@@ -81,7 +44,45 @@ enum Face {
     NotExact(&'static str),
 }
 
-/// The exact NURSS limit surface where it has a closed form (see the module docs).
+/// The exact NURSS limit surface where it has a closed form, with derivatives, and a
+/// clear refusal elsewhere.
+///
+///
+/// Non-uniform Catmull-Clark (Sederberg, Zheng, Sewell & Sabin, "Non-uniform recursive
+/// subdivision surfaces", SIGGRAPH 1998) has no exact evaluator at extraordinary vertices
+/// with unequal knot intervals: there its limit is known only at the vertices of refined
+/// levels ([`Nurss::limit_points`]), without derivatives. Two kinds of faces do have one:
+///
+/// - **Regular tensor-product faces.** Where one NURSS step is midpoint knot insertion into
+///   a tensor-product cubic B-spline (Sederberg et al. 1998, §3; the `refine::nurss`
+///   rules, which read the intervals of the edges at the vertices they refine), the limit is
+///   that B-spline. A quad qualifies when the 16 vertices of its 4 × 4 net are interior
+///   vertices of four quads each, with no sharp edge or vertex, and the knot intervals are
+///   those of a tensor product there: along each of the net's four rows (and columns) the
+///   five intervals read, the three of the net's edges and the two of the edges that
+///   continue the row beyond its ends, are the same, and no face side carries an interval
+///   of its own ([`crate::mesh::KnotTags`] side intervals). With the control polygon edge
+///   `P_i P_{i+1}` carrying the knot span `[t_{i+2}, t_{i+3}]` (the convention of
+///   [`ControlMesh`](crate::nurbs::ControlMesh)), the face is the span `[t₃, t₄]` of the cubic B-spline whose
+///   control points are the net's four points and whose knots are `t₁ … t₆` from those five
+///   intervals (padded at both ends). Rational weights make it the NURBS surface of the
+///   homogeneous points `(w x, w y, w z, w)`, evaluated with derivatives by the quotient rule
+///   ([`NurbsSurface::eval_derivs`]). The face's `(u, v)` is linear in the knots, as
+///   refinement splits each span at its middle: `t = t₃ + u (t₄ − t₃)`, so `∂/∂u =
+///   (t₄ − t₃) ∂/∂t`.
+/// - **Faces with equal intervals and weights around them.** The rules are homogeneous of
+///   degree 0 in the intervals, and with all intervals equal they are Catmull-Clark's
+///   (boundaries, infinitely sharp creases and corners included, see
+///   `refine::nurss`). The surface over a face depends on the points of its 1-ring
+///   and on the intervals the rules read when refining it, those of the edges at the
+///   vertices of the 1-ring; a refinement keeps them equal. So where those are all equal
+///   (and the 1-ring's weights too, which then cancel) the surface is the Catmull-Clark limit
+///   surface ([`LimitSurface`]), exact anywhere, extraordinary vertices and `n`-gons
+///   included.
+///
+/// Any other face (an extraordinary vertex, a crease or a boundary near unequal intervals, a
+/// face whose own span is a zero interval) is [`NurssEvalError::NotExact`], naming the face
+/// and the reason: sample it through refinement instead ([`tessellate`](super::tessellate())).
 ///
 /// ```
 /// use subsurf::limit::SurfacePoint;

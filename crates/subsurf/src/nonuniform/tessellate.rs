@@ -1,18 +1,4 @@
 //! Tessellation of the NURSS limit surface through refinement.
-//!
-//! Non-uniform Catmull-Clark has no closed-form patches away from regular grids, so the
-//! surface is sampled the way [JOS 2003] and [Jiang et al.] show it: refine `L` levels, then move every
-//! vertex of the last level to its exact limit point ([`Nurss::limit_points`]). A quad of
-//! the input becomes `2^L × 2^L` quads whose corners lie on the limit surface (an `n`-gon
-//! becomes `n` quad sub-faces of `2^(L−1) × 2^(L−1)`, as in
-//! [`limit::tessellate`](crate::limit::tessellate)); samples shared by neighbouring faces
-//! are one vertex, so the result is watertight.
-//!
-//! **Normals** are those of the sampled mesh: at each vertex the normalised sum of the
-//! Newell normals (area-weighted) of its faces. They converge to the surface normal as the
-//! rate grows, but are not exact (unlike [`limit::tessellate`](crate::limit::tessellate)'s
-//! for Catmull-Clark); they are meant for display. At an infinitely sharp crease or a
-//! boundary the two sides' normals are averaged.
 
 use super::{Nurss, NurssError};
 use crate::geom;
@@ -22,7 +8,20 @@ use crate::mesh::{Options, PolyMesh};
 /// Samples the NURSS limit surface of `mesh` (with its [`PolyMesh::knots`]) at `rate`
 /// segments per input edge, rounded up to a power of two `2^L` (the rate used is in
 /// [`Tessellation::rate`]); with `triangles` each quad is split along its shorter diagonal.
-/// See the module documentation.
+///
+/// Non-uniform Catmull-Clark has no closed-form patches away from regular grids, so the
+/// surface is sampled the way [JOS 2003] and [Jiang et al.] show it: refine `L` levels, then move every
+/// vertex of the last level to its exact limit point ([`Nurss::limit_points`]). A quad of
+/// the input becomes `2^L × 2^L` quads whose corners lie on the limit surface (an `n`-gon
+/// becomes `n` quad sub-faces of `2^(L−1) × 2^(L−1)`, as in
+/// [`limit::tessellate`](crate::limit::tessellate)); samples shared by neighbouring faces
+/// are one vertex, so the result is watertight.
+///
+/// **Normals** are those of the sampled mesh: at each vertex the normalised sum of the
+/// Newell normals (area-weighted) of its faces. They converge to the surface normal as the
+/// rate grows, but are not exact (unlike [`limit::tessellate`](crate::limit::tessellate)'s
+/// for Catmull-Clark); they are meant for display. At an infinitely sharp crease or a
+/// boundary the two sides' normals are averaged.
 ///
 /// # Errors
 /// The errors of [`Nurss::new`]; [`NurssError::TooLarge`] when the refinement would
