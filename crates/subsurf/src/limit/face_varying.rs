@@ -129,6 +129,25 @@ impl ChannelValues {
 }
 
 /// The limit surface of one face-varying channel of a mesh (see the module docs).
+///
+/// ```
+/// use subsurf::limit::{FaceVaryingSurface, SurfacePoint};
+/// use subsurf::mesh::{FaceVarying, FaceVaryingInterpolation, Options, PolyMesh};
+/// // Two quads side by side whose texture coordinates are cut along their shared edge.
+/// let p = vec![
+///     [0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [2.0, 0.0, 0.0],
+///     [0.0, 1.0, 0.0], [1.0, 1.0, 0.0], [2.0, 1.0, 0.0],
+/// ];
+/// let mut m = PolyMesh::from_faces(p, &[[0u32, 1, 4, 3], [1, 2, 5, 4]]).unwrap();
+/// let uv = vec![0.0, 0.0, 0.5, 0.0, 0.5, 1.0, 0.0, 1.0, 0.6, 0.0, 1.0, 0.0, 1.0, 1.0, 0.6, 1.0];
+/// m.face_varying.push(FaceVarying::new("uv", 2, uv, vec![0, 1, 2, 3, 4, 5, 6, 7]).unwrap());
+/// let options = Options { face_varying: FaceVaryingInterpolation::CornersOnly, ..Options::default() };
+/// let s = FaceVaryingSurface::new(&m, options, 0).unwrap();
+/// // Each face is its own island: the seam is a boundary of both, straight between the
+/// // islands' corners, which this mode keeps.
+/// let at = |face, u| s.eval_point(SurfacePoint { face, subface: 0, u, v: 0.5 }).unwrap().value;
+/// assert!((at(0, 1.0)[0] - 0.5).abs() < 1e-12 && (at(1, 0.0)[0] - 0.6).abs() < 1e-12);
+/// ```
 #[derive(Clone, Debug)]
 pub struct FaceVaryingSurface {
     dim: usize,
@@ -754,5 +773,172 @@ impl Ctx<'_> {
             sharp = sharp.max(t.edge_sharpness[e as usize]);
         }
         sharp
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A 3 × 3 grid of quads whose last quad is split into two triangles (16 vertices), its
+    /// positions as a channel of `dim` components (`dim ≥ 3`, the rest a function of them).
+    fn grid(dim: usize) -> PolyMesh {
+        let mut p = Vec::new();
+        for j in 0..4 {
+            for i in 0..4 {
+                p.push([i as f64, j as f64, 0.1 * ((i * j) % 3) as f64]);
+            }
+        }
+        let v = |i: u32, j: u32| j * 4 + i;
+        let mut faces: Vec<Vec<u32>> = Vec::new();
+        for j in 0..3 {
+            for i in 0..3 {
+                faces.push(vec![v(i, j), v(i + 1, j), v(i + 1, j + 1), v(i, j + 1)]);
+            }
+        }
+        let last = faces.pop().unwrap_or_default();
+        faces.push(vec![last[0], last[1], last[2]]);
+        faces.push(vec![last[0], last[2], last[3]]);
+        let mut m = PolyMesh::from_faces(p.clone(), &faces).unwrap();
+        let values: Vec<f64> = (p.iter())
+            .flat_map(|q| (0..dim).map(move |k| if k < 3 { q[k] } else { q[0] * q[1] + k as f64 }))
+            .collect();
+        let indices = m.face_verts().to_vec();
+        m.face_varying
+            .push(FaceVarying::new("data", dim, values, indices).unwrap());
+        m
+    }
+
+    fn points(m: &PolyMesh) -> Vec<SurfacePoint> {
+        let mut out = Vec::new();
+        for f in 0..m.num_faces() as u32 {
+            let subs = if m.face(f as usize).len() == 4 {
+                1
+            } else {
+                m.face(f as usize).len()
+            };
+            for subface in 0..subs as u32 {
+                for (u, v) in [(0.0, 0.0), (0.3, 0.7), (1.0, 0.5), (0.5, 1.0)] {
+                    out.push(SurfacePoint {
+                        face: f,
+                        subface,
+                        u,
+                        v,
+                    });
+                }
+            }
+        }
+        out
+    }
+
+    /// A channel laid out as the vertices (no seam) in mode `none` is the vertex limit
+    /// surface of its values: here the positions themselves, so it is `LimitSurface`'s.
+    #[test]
+    fn a_channel_without_seams_is_the_vertex_limit() {
+        let m = grid(3);
+        let options = Options {
+            face_varying: FaceVaryingInterpolation::None,
+            ..Options::default()
+        };
+        let uv = FaceVaryingSurface::new(&m, options, 0).unwrap();
+        let s = LimitSurface::new(&m, options).unwrap();
+        let ps = points(&m);
+        let got = uv.eval_many(&ps).unwrap();
+        for (i, p) in ps.iter().enumerate() {
+            let d = s.eval_point(*p).unwrap();
+            for k in 0..3 {
+                assert!((got.value[3 * i + k] - d.p[k]).abs() < 1e-14, "{p:?}");
+                assert!((got.du[3 * i + k] - d.du[k]).abs() < 1e-12, "{p:?}");
+                assert!((got.dv[3 * i + k] - d.dv[k]).abs() < 1e-12, "{p:?}");
+            }
+        }
+    }
+
+    /// A channel of 5 components is evaluated 3 at a time: each component is the same as
+    /// in a channel of its own.
+    #[test]
+    fn wide_channels_are_their_components() {
+        let m = grid(5);
+        let options = Options {
+            face_varying: FaceVaryingInterpolation::CornersOnly,
+            ..Options::default()
+        };
+        let wide = FaceVaryingSurface::new(&m, options, 0).unwrap();
+        assert_eq!(wide.dim(), 5);
+        let ps = points(&m);
+        let all = wide.eval_many(&ps).unwrap();
+        for k in 0..5 {
+            let ch = &m.face_varying[0];
+            let values = (0..ch.num_values()).map(|i| ch.value(i)[k]).collect();
+            let mut one = m.clone();
+            one.face_varying =
+                vec![FaceVarying::new("c", 1, values, ch.indices().to_vec()).unwrap()];
+            let single = FaceVaryingSurface::new(&one, options, 0)
+                .unwrap()
+                .eval_many(&ps)
+                .unwrap();
+            for i in 0..ps.len() {
+                assert!((all.value[5 * i + k] - single.value[i]).abs() < 1e-14);
+                assert!((all.du[5 * i + k] - single.du[i]).abs() < 1e-12);
+            }
+        }
+    }
+
+    /// Mode `all` is bilinear per (sub-)face: on sub-face `j` of the triangle, corner `j`
+    /// at `(0, 0)`, the midpoint of edge `j` at `(1, 0)`, the centroid at `(1, 1)`; its
+    /// derivatives are finite differences of its values.
+    #[test]
+    fn linear_channels_are_bilinear_per_subface() {
+        let m = grid(3);
+        let options = Options::default();
+        assert_eq!(options.face_varying, FaceVaryingInterpolation::All);
+        let uv = FaceVaryingSurface::new(&m, options, 0).unwrap();
+        let tri = m.num_faces() as u32 - 2;
+        let c = m.face(tri as usize).to_vec();
+        let pos = |i: u32| m.positions()[i as usize];
+        for j in 0..3u32 {
+            let at = |u: f64, v: f64| {
+                let p = SurfacePoint {
+                    face: tri,
+                    subface: j,
+                    u,
+                    v,
+                };
+                uv.eval_point(p).unwrap()
+            };
+            let (a, b) = (pos(c[j as usize]), pos(c[(j as usize + 1) % 3]));
+            let centre: Vec<f64> = (0..3)
+                .map(|k| c.iter().map(|&i| pos(i)[k]).sum::<f64>() / 3.0)
+                .collect();
+            for k in 0..3 {
+                assert!((at(0.0, 0.0).value[k] - a[k]).abs() < 1e-15);
+                assert!((at(1.0, 0.0).value[k] - 0.5 * (a[k] + b[k])).abs() < 1e-15);
+                assert!((at(1.0, 1.0).value[k] - centre[k]).abs() < 1e-15);
+            }
+            let (h, x) = (1e-6, at(0.4, 0.3));
+            let (xu, xv) = (at(0.4 + h, 0.3), at(0.4, 0.3 + h));
+            for k in 0..3 {
+                assert!(((xu.value[k] - x.value[k]) / h - x.du[k]).abs() < 1e-6);
+                assert!(((xv.value[k] - x.value[k]) / h - x.dv[k]).abs() < 1e-6);
+            }
+        }
+    }
+
+    /// Loop and NURSS have no face-varying limit here; a missing channel is named.
+    #[test]
+    fn unsupported_schemes_and_missing_channels_are_errors() {
+        let m = grid(3);
+        for scheme in [Scheme::Loop, Scheme::Nurss] {
+            let e = FaceVaryingSurface::for_scheme(&m, scheme, Options::default(), 0);
+            assert!(matches!(e, Err(FaceVaryingError::Unsupported { .. })));
+        }
+        let e = FaceVaryingSurface::new(&m, Options::default(), 1);
+        assert!(matches!(
+            e,
+            Err(FaceVaryingError::NoSuchChannel {
+                channel: 1,
+                count: 1
+            })
+        ));
     }
 }
