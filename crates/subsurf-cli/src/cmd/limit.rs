@@ -188,10 +188,17 @@ pub fn run(args: &LimitArgs) -> Result<()> {
         samples.saturating_mul(MIN_BYTES_PER_ROW),
         hint,
     )?;
-    // Memory: the surface, then one block's rows as text.
+    // Memory: the surface, then one block's rows as text, and the texture coordinates'
+    // surface (a limit surface of the channel's value mesh, which has the mesh's faces and
+    // at least its vertices: estimated as the mesh's own).
+    let uv_bytes = match uv_channel {
+        Some(_) => LimitSurface::estimate_build_memory(&input.obj.mesh),
+        None => 0,
+    };
     let held = samples
         .min(POINTS_PER_BLOCK.max(n * n) as u64)
-        .saturating_mul(BYTES_PER_ROW);
+        .saturating_mul(BYTES_PER_ROW)
+        .saturating_add(uv_bytes);
     let guard = crate::memory::SurfaceGuard {
         name: &input.name,
         what,
