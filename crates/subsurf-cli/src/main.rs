@@ -47,7 +47,7 @@ t smoothtriangles); the flags above override them when given.
 
 Examples:
   subsurf subdivide cube.obj -o cube-l3.obj -l 3
-  subsurf subdivide shape.obj -o shape-limit.obj --limit   (limit positions + normals)
+  subsurf subdivide shape.obj -o shape-limit.obj --limit   (limit positions, normals, vt)
   subsurf subdivide grid.obj -o grid-l2.obj --boundary edge-and-corner
   subsurf subdivide big.obj -o big-l4.obj -l 4 --max-memory 8G
   cat cube.obj | subsurf subdivide - -o - -l 1 > cube-l1.obj
@@ -190,7 +190,9 @@ pub struct NurbsArgs {
 
 const LIMIT_EXAMPLES: &str = "\
 One line per sample: 'face u v px py pz dux duy duz dvx dvy dvz', faces in order (holes have
-none). A quad gets an N x N grid, u = i/(N-1) outer, v = j/(N-1) inner (u = v = 0.5 when N = 1),
+none); when the mesh has texture coordinates (vt), each line ends with their limit 's t' (the
+face-varying limit of OpenSubdiv's Bfr in the --fvar mode; not with --scheme nurss, which
+notes it). A quad gets an N x N grid, u = i/(N-1) outer, v = j/(N-1) inner (u = v = 0.5 when N = 1),
 as osd-oracle limit prints it. A face of n != 4 vertices (a triangle too) is sampled on each of
 its n quad sub-faces in turn, the same N x N grid in the sub-face's own (s, t), and its rows
 give (u, v) in OpenSubdiv Bfr's parameterisation of the face: sub-face k is the tile in column
@@ -206,6 +208,7 @@ other face is an error naming it.
 
 Examples:
   subsurf limit model.obj --grid 5 -o samples.tsv
+  subsurf limit textured.obj --grid 3 --fvar corners-only -o uv-samples.tsv
   subsurf limit model.obj --grid 3 -o - | head
   subsurf limit model.obj --grid 5 -o tight.tsv --c 0.3";
 
@@ -233,6 +236,12 @@ pub struct LimitArgs {
     pub scheme_kind: Option<SchemeKind>,
     #[command(flatten)]
     pub adjust: AdjustArgs,
+    /// Face-varying (texture coordinate) interpolation of the 's t' columns: none,
+    /// corners-only, corners-plus1, corners-plus2, boundaries or all (OpenSubdiv's
+    /// FVarLinearInterpolation) [default: the file's t facevaryinginterpolateboundary tag,
+    /// else all].
+    #[arg(long, value_name = "MODE", value_parser = fvar_parser())]
+    pub fvar: Option<FaceVaryingInterpolation>,
     /// Print no warnings or notes.
     #[arg(short, long)]
     pub quiet: bool,
@@ -439,7 +448,8 @@ pub struct SubdivideArgs {
     /// the file's t facevaryinginterpolateboundary tag, else all].
     #[arg(long, value_name = "MODE", value_parser = fvar_parser())]
     pub fvar: Option<FaceVaryingInterpolation>,
-    /// Move the last level's vertices to the limit surface and write limit normals.
+    /// Move the last level's vertices to the limit surface and write limit normals; texture
+    /// coordinates (vt) move to their limit too (OpenSubdiv's LimitFaceVarying).
     #[arg(long)]
     pub limit: bool,
     /// Crease every interior edge whose faces' normals differ by more than DEG degrees

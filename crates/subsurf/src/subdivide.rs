@@ -20,7 +20,9 @@ pub struct SubdivideOptions {
     pub options: Options,
     /// Move the last level's vertices to their limit positions and compute limit normals
     /// (NURSS: limit positions only, [`Nurss::limit_points`](crate::nonuniform::Nurss::limit_points)).
-    /// Face-varying channels are refined to the last level but not moved to their limit.
+    /// Face-varying channels (texture coordinates) are moved to their limit too, as
+    /// OpenSubdiv's `PrimvarRefiner::LimitFaceVarying` moves them
+    /// ([`FaceVaryingRefiner::limit`](crate::refine::FaceVaryingRefiner::limit)).
     pub limit: bool,
     /// Keep hole faces in the output (tagged as holes) so that the result can be refined
     /// again with the same outcome; by default holes are left out, as OpenSubdiv does.
@@ -131,9 +133,10 @@ pub fn subdivide_with_progress(
         opts.limit,
         progress,
     )?;
-    let normals = opts
-        .limit
-        .then(|| limit_in_place(&u.level, &opts.options, &mut u.positions));
+    let normals = opts.limit.then(|| {
+        u.limit_face_varying(&opts.options);
+        limit_in_place(&u.level, &opts.options, &mut u.positions)
+    });
     let mut warnings = std::mem::take(&mut u.warnings);
     warnings.extend(fvar_warning);
     Ok(Subdivision {

@@ -1,9 +1,13 @@
 //! `subsurf limit`: sample the exact limit surface on an N×N grid per quad face, in the
 //! column layout and order of `osd-oracle limit`, and per sub-face of every other face, in
-//! OpenSubdiv `Bfr`'s parameterisation of the face ([`Parameterization`]).
+//! OpenSubdiv `Bfr`'s parameterisation of the face ([`Parameterization`]). When the mesh has
+//! texture coordinates, each row ends with their limit `s t` ([`FaceVaryingSurface`]).
 
 use anyhow::{Context, Result};
-use subsurf::limit::{Derivatives, LimitSurface, Order, Parameterization, SurfacePoint};
+use subsurf::limit::{
+    ChannelValues, Derivatives, FaceVaryingSurface, LimitSurface, Order, Parameterization,
+    SurfacePoint,
+};
 use subsurf::mesh::{Options, PolyMesh};
 use subsurf::nonuniform::NurssSurface;
 use subsurf::MixedSurface;
@@ -94,6 +98,21 @@ impl Sampler {
         }
     }
 
+    /// The texture coordinates' limit at `points` (of one sub-face), `uv` the channel's
+    /// surface (of the refined mesh for the adjustable scheme, whose points are mapped
+    /// there).
+    fn eval_uv(&self, uv: &FaceVaryingSurface, points: &[SurfacePoint]) -> Result<ChannelValues> {
+        Ok(match self {
+            Sampler::Mixed(s) => {
+                let refined = (points.iter())
+                    .map(|&p| s.refined_point(p).map(|(q, _)| q))
+                    .collect::<Result<Vec<_>, _>>()?;
+                uv.eval_many(&refined)?
+            }
+            _ => uv.eval_many(points)?,
+        })
+    }
+
     /// The derivatives at `points` (of one sub-face), into `out`; an error names `face`.
     fn eval(
         &self,
@@ -144,10 +163,19 @@ pub fn run(args: &LimitArgs) -> Result<()> {
             crate::output::eprint_line(&format!("warning: {w}"));
         }
     }
-    let options = args
+    let mut options = args
         .scheme
         .over(input.obj.options)
         .resolve(Options::default());
+    if let Some(mode) = args.fvar {
+        options.face_varying = mode;
+    }
+    let uv_channel = (input.obj.mesh.face_varying.iter()).position(|c| c.name() == "uv");
+    let uv_surface = |m: &PolyMesh| {
+        (uv_channel.map(|c| FaceVaryingSurface::new(m, options, c)))
+            .transpose()
+            .with_context(|| format!("{}: texture coordinates", input.name))
+    };
     let kind = super::adjustable::surface_kind(args.scheme_kind, &args.adjust, &input, args.quiet);
     let n = args.grid as usize;
     let what = format!("sampling a {0}×{0} grid per face", args.grid);
@@ -160,10 +188,17 @@ pub fn run(args: &LimitArgs) -> Result<()> {
         samples.saturating_mul(MIN_BYTES_PER_ROW),
         hint,
     )?;
-    // Memory: the surface, then one block's rows as text.
+    // Memory: the surface, then one block's rows as text, and the texture coordinates'
+    // surface (a limit surface of the channel's value mesh, which has the mesh's faces and
+    // at least its vertices: estimated as the mesh's own).
+    let uv_bytes = match uv_channel {
+        Some(_) => LimitSurface::estimate_build_memory(&input.obj.mesh),
+        None => 0,
+    };
     let held = samples
         .min(POINTS_PER_BLOCK.max(n * n) as u64)
-        .saturating_mul(BYTES_PER_ROW);
+        .saturating_mul(BYTES_PER_ROW)
+        .saturating_add(uv_bytes);
     let guard = crate::memory::SurfaceGuard {
         name: &input.name,
         what,
@@ -172,7 +207,7 @@ pub fn run(args: &LimitArgs) -> Result<()> {
         quads_only: false,
     };
     let mesh = &input.obj.mesh;
-    let sampler = match (kind, super::adjustable::for_surface(&args.adjust)) {
+    let (sampler, uv) = match (kind, super::adjustable::for_surface(&args.adjust)) {
         (SchemeKind::Nurss, _) => {
             let patches = NurssSurface::estimate_patch_memory(mesh);
             let build = LimitSurface::estimate_build_memory(mesh);
@@ -197,16 +232,26 @@ pub fn run(args: &LimitArgs) -> Result<()> {
             for f in (0..mesh.num_faces()).filter(|&f| s.has_surface(f)) {
                 s.check_face(f).with_context(|| input.name.clone())?;
             }
-            Sampler::Nurss(s)
+            if uv_channel.is_some() && !args.quiet {
+                crate::output::eprint_line(&format!(
+                    "note: {}: texture coordinates have no limit with NURSS: the rows have no s t",
+                    input.name
+                ));
+            }
+            (Sampler::Nurss(s), None)
         }
         (_, Some(m)) => {
             let refined = super::adjustable::refined_mesh(&input, options, m)?;
             let surface = guard.limit_surface(&refined, options, args.grid, held)?;
+            let uv = uv_surface(&refined)?;
             let mixed = MixedSurface::from_refined(mesh, refined, surface, m)
                 .with_context(|| input.name.clone())?;
-            Sampler::Mixed(Box::new(mixed))
+            (Sampler::Mixed(Box::new(mixed)), uv)
         }
-        (_, None) => Sampler::Limit(guard.limit_surface(mesh, options, args.grid, held)?),
+        (_, None) => (
+            Sampler::Limit(guard.limit_surface(mesh, options, args.grid, held)?),
+            uv_surface(mesh)?,
+        ),
     };
     let units: Vec<Unit> = (0..mesh.num_faces())
         .flat_map(|f| {
@@ -219,7 +264,7 @@ pub fn run(args: &LimitArgs) -> Result<()> {
             })
         })
         .collect();
-    write_rows(&out, &input, &sampler, &units, n)
+    write_rows(&out, &input, (&sampler, uv.as_ref()), &units, n)
 }
 
 /// Errors of building a NURSS surface within the memory guard.
@@ -236,12 +281,13 @@ impl From<subsurf::nonuniform::NurssError> for NurssBuild {
 
 /// Writes the rows of `units` to `out`, block by block: one sub-face's rows at a time, in
 /// parallel over the sub-faces of a block, written in order, each point's position and
-/// first derivatives. An error stops the output at its block: a file is then not written
-/// at all, standard output has the blocks before it.
+/// first derivatives, and the limit of the texture coordinates when `uv` is given. An error
+/// stops the output at its block: a file is then not written at all, standard output has
+/// the blocks before it.
 fn write_rows(
     out: &Output,
     input: &Input,
-    sampler: &Sampler,
+    (sampler, uv): (&Sampler, Option<&FaceVaryingSurface>),
     units: &[Unit],
     n: usize,
 ) -> Result<()> {
@@ -251,17 +297,21 @@ fn write_rows(
         points.extend(subface_grid(u.face, u.subface, n));
         let face = || format!("{}: face {}", input.name, u.face);
         sampler.eval(points, results).with_context(face)?;
+        let uvs = (uv.map(|uv| sampler.eval_uv(uv, points)))
+            .transpose()
+            .with_context(face)?;
         // Rows give the face's (u, v) in Bfr's parameterisation, derivatives by them.
         let param = Parameterization::new(u.size);
         let scale = param.derivative_scale();
         let mut s = Vec::new();
-        for (p, d) in points.iter().zip(results.iter()) {
+        for (i, (p, d)) in points.iter().zip(results.iter()).enumerate() {
             let d = d.as_ref().map_err(Clone::clone).with_context(face)?;
             let (fu, fv) = param.to_face(u.subface as usize, p.u, p.v);
             let (du, dv) = (d.du.map(|x| scale * x), d.dv.map(|x| scale * x));
             use std::io::Write as _;
             let _ = write!(s, "{}", u.face);
-            for x in [fu, fv].iter().chain(&d.p).chain(&du).chain(&dv) {
+            let st = uvs.as_ref().map_or(&[][..], |c| c.value_at(i));
+            for x in [fu, fv].iter().chain(&d.p).chain(&du).chain(&dv).chain(st) {
                 s.push(b' ');
                 subsurf::io::push_decimal(&mut s, *x);
             }

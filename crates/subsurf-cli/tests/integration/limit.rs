@@ -13,14 +13,15 @@ use subsurf::mesh::{Options, PolyMesh};
 /// OpenSubdiv's `catmark_nonquads` (triangles, pentagons and hexagons among quads).
 const NONQUADS: &str = include_str!("../../../subsurf/tests/shapes/osd/catmark_nonquads.obj");
 
-/// The rows of a `limit` output: `face`, then the eleven numbers.
+/// The rows of a `limit` output: `face`, then the eleven numbers (and `s t` for a mesh with
+/// texture coordinates).
 fn rows(text: &str) -> Vec<(u32, Vec<f64>)> {
     text.lines()
         .map(|l| {
             let mut w = l.split_whitespace();
             let face = w.next().and_then(|x| x.parse().ok()).expect("face");
             let x: Vec<f64> = w.map(|t| t.parse().expect("number")).collect();
-            assert_eq!(x.len(), 11, "{l}");
+            assert!(x.len() == 11 || x.len() == 13, "{l}");
             (face, x)
         })
         .collect()
@@ -289,4 +290,155 @@ fn c_samples_the_mixed_surface() {
         ],
     );
     assert_code(&o, 2);
+}
+
+/// OpenSubdiv's `catmark_fvar_bound1` (texture seams meeting at vertices of several values).
+const FVAR_BOUND1: &str = include_str!("../../../subsurf/tests/shapes/osd/catmark_fvar_bound1.obj");
+
+/// With texture coordinates every row ends with their limit `s t` (`osd-oracle limit`'s
+/// layout), the library's `FaceVaryingSurface` in the `--fvar` mode (checked against
+/// OpenSubdiv's `Bfr` by the library's `fvar_limit_golden` test); the modes differ.
+#[test]
+fn rows_end_with_the_limit_of_the_texture_coordinates() {
+    use subsurf::limit::FaceVaryingSurface;
+    use subsurf::mesh::FaceVaryingInterpolation;
+    let dir = dir_with(&[("uv.obj", FVAR_BOUND1)]);
+    let (mesh, options) = mesh_of(FVAR_BOUND1);
+    let mut outputs = Vec::new();
+    for mode in ["none", "corners-plus1", "all"] {
+        let o = run_in(
+            dir.path(),
+            &[
+                "limit", "uv.obj", "--grid", "3", "--fvar", mode, "-o", "out.tsv",
+            ],
+        );
+        assert_code(&o, 0);
+        let out = rows(&fs::read_to_string(dir.path().join("out.tsv")).expect("out.tsv"));
+        let options = Options {
+            face_varying: mode.parse::<FaceVaryingInterpolation>().expect("mode"),
+            ..options
+        };
+        let uv = FaceVaryingSurface::new(&mesh, options, 0).expect("uv surface");
+        assert_eq!(out.len(), 9 * mesh.num_faces(), "{mode}: one quad per face");
+        for (face, x) in &out {
+            assert_eq!(x.len(), 13, "{mode}: face {face}: s t at the end");
+            let p = SurfacePoint {
+                face: *face,
+                subface: 0,
+                u: x[0],
+                v: x[1],
+            };
+            let st = uv.eval_point(p).expect("eval").value;
+            assert!(
+                close(&x[11..], &st, 1e-15),
+                "{mode}: {face}: {:?} vs {st:?}",
+                &x[11..]
+            );
+        }
+        outputs.push(out);
+    }
+    assert!(
+        outputs[0] != outputs[1] && outputs[1] != outputs[2],
+        "the modes differ"
+    );
+}
+
+/// The adjustable scheme at `c = ½` is Catmull-Clark: its rows, texture coordinates
+/// included (evaluated on the refined mesh through the mapping of its points), are
+/// Catmull-Clark's.
+#[test]
+fn adjustable_texture_coordinates_at_one_half_are_catmull_clarks() {
+    let dir = dir_with(&[("uv.obj", FVAR_BOUND1)]);
+    let run = |extra: &[&str], out: &str| {
+        let mut args = vec![
+            "limit", "uv.obj", "--grid", "3", "--fvar", "none", "-o", out,
+        ];
+        args.extend_from_slice(extra);
+        assert_code(&run_in(dir.path(), &args), 0);
+        rows(&fs::read_to_string(dir.path().join(out)).expect("out"))
+    };
+    let cc = run(&[], "cc.tsv");
+    let adj = run(&["--c", "0.5", "--adjust-steps", "2"], "adj.tsv");
+    assert_eq!(cc.len(), adj.len());
+    for ((f, a), (g, b)) in cc.iter().zip(&adj) {
+        assert_eq!(f, g);
+        assert_eq!(b.len(), 13);
+        assert!(close(&a[11..], &b[11..], 1e-12), "face {f}: {a:?} vs {b:?}");
+    }
+}
+
+/// NURSS has no face-varying limit: the rows have no `s t`, and a note says so.
+#[test]
+fn nurss_rows_have_no_texture_coordinates_and_a_note() {
+    let dir = dir_with(&[("uv.obj", FVAR_BOUND1)]);
+    let o = run_in(
+        dir.path(),
+        &[
+            "limit", "uv.obj", "--grid", "2", "--scheme", "nurss", "-o", "out.tsv",
+        ],
+    );
+    assert_code(&o, 0);
+    assert!(stderr(&o).contains("no s t"), "{}", stderr(&o));
+    let out = rows(&fs::read_to_string(dir.path().join("out.tsv")).expect("out.tsv"));
+    assert!(!out.is_empty() && out.iter().all(|(_, x)| x.len() == 11));
+}
+
+/// `osd-oracle refine catmark_fvar_bound1.obj 1 --limit --fvar none` (OpenSubdiv 3.5's
+/// `PrimvarRefiner::LimitFaceVarying`): every ninth of its 97 `vt` values, by index, the
+/// oracle's `%.17g` digits verbatim.
+#[allow(clippy::excessive_precision)]
+const ORACLE_LIMIT_VT: [(usize, [f64; 2]); 11] = [
+    (0, [0.033333333333333333, 0.033333333333333333]),
+    (9, [0.60000001788139334, 0.10833333656191826]),
+    (18, [0.50000001490116119, 0.46666668057441718]),
+    (27, [1.0, 0.80000000000000004]),
+    (36, [0.70069444444444451, 0.074848090277777779]),
+    (45, [0.87417534722222212, 0.69709201388888875]),
+    (54, [0.29583333333333334, 0.0020833333333333333]),
+    (63, [0.89999999999999991, 0.1980902777777778]),
+    (72, [0.80000000000000004, 0.27934027777777781]),
+    (81, [0.5, 0.58923611111111107]),
+    (90, [0.44895834671333434, 0.83229169147089122]),
+];
+
+/// `subdivide --limit` moves the texture coordinates to their limit as OpenSubdiv's
+/// `refine --limit` does (without `--limit` they are the refined values, which differ).
+#[test]
+fn subdivide_limit_moves_texture_coordinates_as_opensubdiv() {
+    let dir = dir_with(&[("uv.obj", FVAR_BOUND1)]);
+    let vt = |extra: &[&str], out: &str| -> Vec<[f64; 2]> {
+        let mut args = vec![
+            "subdivide",
+            "uv.obj",
+            "-l",
+            "1",
+            "--fvar",
+            "none",
+            "-o",
+            out,
+        ];
+        args.extend_from_slice(extra);
+        assert_code(&run_in(dir.path(), &args), 0);
+        let text = fs::read_to_string(dir.path().join(out)).expect("out");
+        (text.lines().filter_map(|l| l.strip_prefix("vt ")))
+            .map(|l| {
+                let x: Vec<f64> = l
+                    .split_whitespace()
+                    .map(|t| t.parse().expect("vt"))
+                    .collect();
+                [x[0], x[1]]
+            })
+            .collect()
+    };
+    let limit = vt(&["--limit"], "limit.obj");
+    let refined = vt(&[], "refined.obj");
+    assert_eq!(limit.len(), 97);
+    for (i, st) in ORACLE_LIMIT_VT {
+        assert!(
+            close(&limit[i], &st, 1e-15),
+            "vt {i}: {:?} vs {st:?}",
+            limit[i]
+        );
+    }
+    assert!(limit != refined, "--limit moved the values");
 }

@@ -706,6 +706,84 @@ impl FvarLevel {
     }
 }
 
+/// The weight of each end value in the limit of a face-varying crease value: OpenSubdiv's
+/// `PrimvarRefiner::LimitFaceVarying` writes the literal `1.0f/6.0f`, a single-precision ⅙
+/// (`0.1666666716…`), and `2.0f/3.0f` for the value itself, so its weights sum to
+/// `1 + 2.98e-8`, not 1. They are used as they are, so that `subdivide`'s limit of
+/// face-varying values is OpenSubdiv's to rounding (tests/golden/fvar_limit); the exact
+/// crease limit (weights ⅙, ⅔) differs from it by up to 3e-8 of the values' size.
+/// [`crate::limit::FaceVaryingSurface`] evaluates the exact limit.
+const CREASE_LIMIT_END: f64 = (1.0f32 / 6.0f32) as f64;
+/// The weight of the value itself in the limit of a face-varying crease value: OpenSubdiv's
+/// single-precision `2.0f/3.0f` (see [`CREASE_LIMIT_END`]).
+const CREASE_LIMIT_CENTRE: f64 = (2.0f32 / 3.0f32) as f64;
+
+impl FvarLevel {
+    /// The limit of the values `src` (`dim` numbers each, indexed as this level indexes
+    /// them) into `dst` (a copy of `src` on entry), by OpenSubdiv's
+    /// `PrimvarRefiner::LimitFaceVarying`: values of a linear channel, and of isolated
+    /// vertices, stay; a vertex whose values match its vertex topology takes the scheme's
+    /// limit mask of its vertex rule ([`catmark::limit_position_mask`]: the faces' opposite
+    /// values, the edges' far values, the value itself); otherwise each of its values is a
+    /// corner, which stays, or a crease, whose limit is `⅔ v + ⅙ (a + b)` with `a`, `b` the
+    /// boundary values next to it (the crease's B-spline limit), with OpenSubdiv's single
+    /// precision weights ([`CREASE_LIMIT_END`]). `t` is the level's topology, complete, with
+    /// quads around every vertex (every level after the first).
+    fn limit(&self, t: &Topology, dim: usize, src: &[f64], dst: &mut [f64]) {
+        let val = |i: u32| &src[dim * i as usize..dim * (i as usize + 1)];
+        let (mut mask, mut sharp) = (VertexMask::default(), Vec::new());
+        for v in 0..t.num_vertices() {
+            let slots = self.slots(v);
+            if self.mode.linear || t.vertex_edges(v).is_empty() {
+                continue;
+            }
+            if !self.tags[slots.start].mismatch {
+                let x = self.slot_values[slots.start] as usize;
+                let mut out = vec![0.0; dim];
+                sharp.clear();
+                sharp.extend(
+                    t.vertex_edges(v)
+                        .iter()
+                        .map(|&e| t.edge_sharpness[e as usize]),
+                );
+                let faces = t.vertex_faces(v);
+                let rule = t.vertex_tag(v).rule;
+                catmark::limit_position_mask(rule, &sharp, faces.len(), &mut mask);
+                if mask.has_faces {
+                    let locals = t.vertex_face_locals(v);
+                    for ((&f, &l), &w) in faces.iter().zip(locals).zip(&mask.faces) {
+                        axpy(
+                            &mut out,
+                            w,
+                            val(self.face_value(t, f as usize, l as usize + 2)),
+                        );
+                    }
+                }
+                if mask.has_edges {
+                    for (i, &w) in mask.edges.iter().enumerate() {
+                        axpy(&mut out, w, val(self.vertex_edge_value(t, v, i)));
+                    }
+                }
+                axpy(&mut out, mask.vertex, val(x as u32));
+                dst[dim * x..dim * (x + 1)].copy_from_slice(&out);
+                continue;
+            }
+            for (k, slot) in slots.enumerate() {
+                if self.tags[slot].is_corner() {
+                    continue;
+                }
+                let x = self.slot_values[slot] as usize;
+                let [a, b] = self.crease_end_values(t, v, k);
+                let out = &mut dst[dim * x..dim * (x + 1)];
+                out.fill(0.0);
+                axpy(out, CREASE_LIMIT_END, val(a));
+                axpy(out, CREASE_LIMIT_END, val(b));
+                axpy(out, CREASE_LIMIT_CENTRE, val(x as u32));
+            }
+        }
+    }
+}
+
 /// `acc += w · x` over `dim` components.
 #[inline]
 fn axpy(acc: &mut [f64], w: f64, x: &[f64]) {
@@ -944,6 +1022,42 @@ impl FaceVaryingRefiner {
             interpolate(p, c, level, &child, options, rules, *dim, values, &mut next);
             *level = child;
             *values = next;
+        }
+    }
+
+    /// Moves every channel's values to their limit (OpenSubdiv's
+    /// `PrimvarRefiner::LimitFaceVarying`, see `FvarLevel::limit`), the channels being at
+    /// level `last`, complete (built with its full adjacency). Where `last` has a face that
+    /// is not a quad (the base level only), the limit masks, which assume quads, are
+    /// applied one Catmull-Clark level further down, whose vertices' values are the
+    /// children of `last`'s and have the same limit.
+    pub fn limit(&mut self, last: &Topology, options: &Options) {
+        let all_quads = (0..last.num_faces()).all(|f| last.face_vertices(f).len() == 4);
+        let child = (!all_quads).then(|| super::refine_topology(last, options, true));
+        for ((level, values), (_, dim)) in self.channels.iter_mut().zip(&self.names) {
+            let dim = *dim;
+            match &child {
+                None => {
+                    let mut lim = values.clone();
+                    level.limit(last, dim, values, &mut lim);
+                    *values = lim;
+                }
+                Some(c) => {
+                    let cl = level.refine(last, c);
+                    let mut cv = vec![0.0; dim * cl.num_slots()];
+                    let cc = crate::scheme::catmark::CatmullClark;
+                    interpolate(last, c, level, &cl, options, cc, dim, values, &mut cv);
+                    let mut lim = cv.clone();
+                    cl.limit(c, dim, &cv, &mut lim);
+                    // The first slots of the child level are the children of `last`'s
+                    // vertices' values, in the same order.
+                    for (slot, &x) in level.slot_values.iter().enumerate() {
+                        let x = x as usize;
+                        values[dim * x..dim * (x + 1)]
+                            .copy_from_slice(&lim[dim * slot..dim * (slot + 1)]);
+                    }
+                }
+            }
         }
     }
 

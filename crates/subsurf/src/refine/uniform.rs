@@ -225,6 +225,12 @@ pub(crate) fn refine_mesh(
 }
 
 impl Uniform {
+    /// Moves the face-varying channels of the last level (complete: refined with
+    /// `complete`) to their limit ([`FaceVaryingRefiner::limit`]).
+    pub(crate) fn limit_face_varying(&mut self, options: &Options) {
+        self.face_varying.limit(&self.level, options);
+    }
+
     /// The refined mesh ([`output_mesh`]) with its face-varying channels, holes kept
     /// (tagged) with `keep_holes`.
     pub(crate) fn into_mesh(self, keep_holes: bool) -> PolyMesh {
