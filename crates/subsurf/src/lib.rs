@@ -104,10 +104,10 @@ mod docs_doctests {
 
 pub use info::{mesh_info, MeshInfo};
 pub use mixed::MixedSurface;
-pub use refine::Error;
+pub use refine::error::Error;
 pub use repose::{PoseError, Reposer};
 pub use scheme::adjustable::Mixed;
-pub use scheme::Scheme;
+pub use scheme::kind::Scheme;
 pub use subdivide::{
     estimate_memory, subdivide, subdivide_with_progress, SubdivideOptions, Subdivision,
 };

@@ -208,38 +208,10 @@ pub fn run(args: &LimitArgs) -> Result<()> {
     };
     let mesh = &input.obj.mesh;
     let (sampler, uv) = match (kind, super::adjustable::for_surface(&args.adjust)) {
-        (SchemeKind::Nurss, _) => {
-            let patches = NurssSurface::estimate_patch_memory(mesh);
-            let build = LimitSurface::estimate_build_memory(mesh);
-            crate::memory::check(
-                &input.name,
-                &guard.what,
-                patches.saturating_add(build).saturating_add(held),
-                args.max_memory,
-                hint,
-            )?;
-            let cc = |m: &PolyMesh| {
-                let held = held.saturating_add(patches);
-                guard
-                    .limit_surface(m, options, args.grid, held)
-                    .map_err(NurssBuild::Guard)
-            };
-            let s = NurssSurface::build(mesh, &options, cc).map_err(|e| match e {
-                NurssBuild::Guard(e) => e,
-                NurssBuild::Nurss(e) => anyhow::Error::new(e).context(input.name.clone()),
-            })?;
-            // A face without an exact evaluation is refused before anything is written.
-            for f in (0..mesh.num_faces()).filter(|&f| s.has_surface(f)) {
-                s.check_face(f).with_context(|| input.name.clone())?;
-            }
-            if uv_channel.is_some() && !args.quiet {
-                crate::output::eprint_line(&format!(
-                    "note: {}: texture coordinates have no limit with NURSS: the rows have no s t",
-                    input.name
-                ));
-            }
-            (Sampler::Nurss(s), None)
-        }
+        (SchemeKind::Nurss, _) => (
+            nurss_sampler(args, &input, &options, &guard, held, uv_channel.is_some())?,
+            None,
+        ),
         (_, Some(m)) => {
             let refined = super::adjustable::refined_mesh(&input, options, m)?;
             let surface = guard.limit_surface(&refined, options, args.grid, held)?;
@@ -265,6 +237,52 @@ pub fn run(args: &LimitArgs) -> Result<()> {
         })
         .collect();
     write_rows(&out, &input, (&sampler, uv.as_ref()), &units, n)
+}
+
+/// The NURSS surface of `input`'s mesh within the memory guard (its exact patches and the
+/// Catmull-Clark surface of its faces with equal intervals), every face with a surface
+/// checked to have an exact evaluation before anything is written; `held` bytes are
+/// taken already. With texture coordinates (`has_uv`), a note that they have no limit here.
+fn nurss_sampler(
+    args: &LimitArgs,
+    input: &Input,
+    options: &Options,
+    guard: &crate::memory::SurfaceGuard,
+    held: u64,
+    has_uv: bool,
+) -> Result<Sampler> {
+    let mesh = &input.obj.mesh;
+    let hint = guard.hint;
+    let patches = NurssSurface::estimate_patch_memory(mesh);
+    let build = LimitSurface::estimate_build_memory(mesh);
+    crate::memory::check(
+        &input.name,
+        &guard.what,
+        patches.saturating_add(build).saturating_add(held),
+        args.max_memory,
+        hint,
+    )?;
+    let cc = |m: &PolyMesh| {
+        let held = held.saturating_add(patches);
+        guard
+            .limit_surface(m, *options, args.grid, held)
+            .map_err(NurssBuild::Guard)
+    };
+    let s = NurssSurface::build(mesh, options, cc).map_err(|e| match e {
+        NurssBuild::Guard(e) => e,
+        NurssBuild::Nurss(e) => anyhow::Error::new(e).context(input.name.clone()),
+    })?;
+    // A face without an exact evaluation is refused before anything is written.
+    for f in (0..mesh.num_faces()).filter(|&f| s.has_surface(f)) {
+        s.check_face(f).with_context(|| input.name.clone())?;
+    }
+    if has_uv && !args.quiet {
+        crate::output::eprint_line(&format!(
+            "note: {}: texture coordinates have no limit with NURSS: the rows have no s t",
+            input.name
+        ));
+    }
+    Ok(Sampler::Nurss(s))
 }
 
 /// Errors of building a NURSS surface within the memory guard.

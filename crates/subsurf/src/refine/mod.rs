@@ -26,7 +26,7 @@
 //! assert!(temp.iter().all(|t| (0.0..=1.0).contains(&t[0])));
 //! ```
 
-mod error;
+pub(crate) mod error;
 mod face_varying;
 mod loop_;
 pub(crate) mod nurss;
@@ -39,7 +39,7 @@ mod topology;
 mod tri_topology;
 pub(crate) mod uniform;
 
-pub use error::Error;
+pub(crate) use error::Error;
 pub use face_varying::FaceVaryingRefiner;
 pub use loop_::interpolate_loop;
 pub(crate) use plan::refinement_rows;

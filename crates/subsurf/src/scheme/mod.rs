@@ -21,12 +21,12 @@ pub(crate) mod adjustable;
 pub(crate) mod bilinear;
 pub(crate) mod catmark;
 pub(crate) mod crease;
-mod kind;
+pub(crate) mod kind;
 pub(crate) mod loop_;
 pub(crate) mod nurss;
 mod rules;
 
 pub use adjustable::Adjustable;
 pub use bilinear::Bilinear;
-pub use kind::Scheme;
+pub(crate) use kind::Scheme;
 pub use rules::Rules;
