@@ -1,7 +1,7 @@
 //! One vocabulary for every surface over the faces of a control mesh: the exact limit
 //! surface, the mixed (shape-adjustable) surface, the G2 surface, the sub-basis spline and
 //! the NURSS surface are evaluated the same way, so that drawing, tessellating
-//! ([`tessellate`](super::tessellate)) and comparing take any of them.
+//! ([`tessellate`](super::tessellate())) and comparing take any of them.
 
 use super::{Derivatives, EvalError, LimitSurface, Order, SurfacePoint};
 use rayon::prelude::*;

@@ -34,7 +34,7 @@ pub struct Tessellation {
     /// Per vertex, the point of the surface it was evaluated at (by its owner, see
     /// [`tessellate`]), e.g. to evaluate more data there (a basis function, texture
     /// coordinates). Empty for a tessellation sampled through refinement
-    /// ([`nonuniform::tessellate`](crate::nonuniform::tessellate)).
+    /// ([`nonuniform::tessellate`](crate::nonuniform::tessellate())).
     pub points: Vec<SurfacePoint>,
 }
 
