@@ -1,48 +1,48 @@
 //! The cubic curve to interpolate and its *middle polygon*: the control polygon with one
 //! knot interval per edge, extended at an open end by a phantom control point when the
 //! curve's end intervals need it.
-//!
-//! # Which interval goes on which edge
-//! A cubic control point `P_i` belongs to the basis function `N_{i,3}` on `t_i … t_{i+4}`,
-//! centred on `t_{i+2}`; the edge `P_i P_{i+1}` carries `d_{i+2} = t_{i+3} − t_{i+2}`
-//! (Sederberg, Zheng, Sewell & Sabin 1998; the same convention as
-//! [`crate::nurbs::mesh`]), and `P_i` sits at the knot `t_{i+2}`. For a closed curve with
-//! one period `u_0 … u_n` the edge `P_i P_{i+1}` carries `u_i − u_{i−1}` (indices mod `n`).
-//!
-//! # Closed curves given open
-//! A closed curve given in the unwrapped form CAD tools export (its first three control
-//! points repeated at the end, its knot intervals periodic; openNURBS's `IsPeriodic`,
-//! [`Curve::periodic_form`]) is taken as the closed curve: one zone round it, no seam.
-//!
-//! # Closed clamped curves
-//! A clamped curve (`t_1 = t_2 = t_3`, `t_n = t_{n+1} = t_{n+2}`) whose first and last
-//! control points coincide is a closed curve with a `C⁰` point there: its zone is closed, the
-//! two ends one vertex (two zones' end columns would cross at the seam). It is the closed
-//! curve on `P_0 … P_{n−2}` with the period `u_i = t_{i+3}`, `0 ≤ i ≤ n − 1`: the edges at
-//! `P_0` carry `d_2 = 0` and `d_n = 0`, a triple knot at the seam, and on every span the
-//! closed curve's four control points and six knots are the clamped curve's (the knots
-//! before `t_3` and after `t_n` that differ do not reach the domain), so it is the same
-//! curve. The two points must have one weight.
-//!
-//! # Open ends
-//! On its domain `[t_3, t_n]` an open cubic with `n` points depends on the knots
-//! `t_1 … t_{n+2}`: the `n − 1` edge intervals `d_2 … d_n` and two more, `d_1` before the
-//! first edge and `d_{n+1}` after the last. The first edge point of the zone reads the
-//! interval "before" `P_0` two steps around `P_0`; where `P_0` ends the zone the NURSS
-//! boundary rule reads the mirror image, `d_2` (see `refine::nurss`). When
-//! `d_1 = d_2` (every clamped curve, where both are 0, and every uniform one) that is already
-//! right; otherwise the middle polygon gets a *phantom* point `P_{−1} = 2 P_0 − P_1` (weight
-//! `w_0`) on an edge with interval `d_1`, so the rules read `d_1` at `P_0`. The phantom only
-//! shapes the surface beyond the curve's end: the curve on its domain depends on
-//! `P_0 … P_{n−1}` and `t_1 … t_{n+2}` alone. The same holds at the far end with `d_{n+1}`.
-//! (Measured in `tests/integration/interpolate.rs`: for an unclamped non-uniform curve, leaving the
-//! phantoms out puts the refined middle polygon 1.5e-2 of the curve's size off the knot-inserted
-//! control polygon; with them the difference is 3e-16.)
 
 use super::InterpolateError;
 use crate::nurbs::Curve;
 
 /// A cubic B-spline or NURBS curve, checked and in the form the zone builder needs.
+///
+/// # Which interval goes on which edge
+/// A cubic control point `P_i` belongs to the basis function `N_{i,3}` on `t_i … t_{i+4}`,
+/// centred on `t_{i+2}`; the edge `P_i P_{i+1}` carries `d_{i+2} = t_{i+3} − t_{i+2}`
+/// (Sederberg, Zheng, Sewell & Sabin 1998; the same convention as
+/// `crate::nurbs::mesh`), and `P_i` sits at the knot `t_{i+2}`. For a closed curve with
+/// one period `u_0 … u_n` the edge `P_i P_{i+1}` carries `u_i − u_{i−1}` (indices mod `n`).
+///
+/// # Closed curves given open
+/// A closed curve given in the unwrapped form CAD tools export (its first three control
+/// points repeated at the end, its knot intervals periodic; openNURBS's `IsPeriodic`,
+/// [`Curve::periodic_form`]) is taken as the closed curve: one zone round it, no seam.
+///
+/// # Closed clamped curves
+/// A clamped curve (`t_1 = t_2 = t_3`, `t_n = t_{n+1} = t_{n+2}`) whose first and last
+/// control points coincide is a closed curve with a `C⁰` point there: its zone is closed, the
+/// two ends one vertex (two zones' end columns would cross at the seam). It is the closed
+/// curve on `P_0 … P_{n−2}` with the period `u_i = t_{i+3}`, `0 ≤ i ≤ n − 1`: the edges at
+/// `P_0` carry `d_2 = 0` and `d_n = 0`, a triple knot at the seam, and on every span the
+/// closed curve's four control points and six knots are the clamped curve's (the knots
+/// before `t_3` and after `t_n` that differ do not reach the domain), so it is the same
+/// curve. The two points must have one weight.
+///
+/// # Open ends
+/// On its domain `[t_3, t_n]` an open cubic with `n` points depends on the knots
+/// `t_1 … t_{n+2}`: the `n − 1` edge intervals `d_2 … d_n` and two more, `d_1` before the
+/// first edge and `d_{n+1}` after the last. The first edge point of the zone reads the
+/// interval "before" `P_0` two steps around `P_0`; where `P_0` ends the zone the NURSS
+/// boundary rule reads the mirror image, `d_2` (see `refine::nurss`). When
+/// `d_1 = d_2` (every clamped curve, where both are 0, and every uniform one) that is already
+/// right; otherwise the middle polygon gets a *phantom* point `P_{−1} = 2 P_0 − P_1` (weight
+/// `w_0`) on an edge with interval `d_1`, so the rules read `d_1` at `P_0`. The phantom only
+/// shapes the surface beyond the curve's end: the curve on its domain depends on
+/// `P_0 … P_{n−1}` and `t_1 … t_{n+2}` alone. The same holds at the far end with `d_{n+1}`.
+/// (Measured in `tests/integration/interpolate.rs`: for an unclamped non-uniform curve, leaving the
+/// phantoms out puts the refined middle polygon 1.5e-2 of the curve's size off the knot-inserted
+/// control polygon; with them the difference is 3e-16.)
 #[derive(Clone, Debug, PartialEq)]
 pub struct CubicCurve {
     /// Name for messages.
@@ -58,7 +58,7 @@ pub struct CubicCurve {
 }
 
 /// The middle polygon of a zone: the curve's control polygon (with phantom end points when
-/// needed, see the module documentation), its weights and its edge intervals.
+/// needed, see [`CubicCurve`]), its weights and its edge intervals.
 #[derive(Clone, Debug, PartialEq)]
 pub struct MiddlePolygon {
     /// Points, phantoms included.
@@ -133,7 +133,7 @@ impl CubicCurve {
     }
 
     /// A clamped curve whose first and last control points coincide (within 1e-9 of its
-    /// size) as the closed curve it is: see the [module documentation](self#closed-clamped-curves).
+    /// size) as the closed curve it is: see [`CubicCurve`](CubicCurve#closed-clamped-curves).
     ///
     /// # Errors
     /// [`InterpolateError::BadCurve`] when the two points have different weights.
@@ -189,7 +189,7 @@ impl CubicCurve {
         self.weights.as_ref().map_or(1.0, |w| w[i])
     }
 
-    /// The middle polygon (see the module documentation).
+    /// The middle polygon (see [`CubicCurve`]).
     pub fn middle_polygon(&self) -> MiddlePolygon {
         self.middle_polygon_with(false, false)
     }

@@ -1,79 +1,5 @@
 //! Embedding the zones in a user-given host mesh whose edges contain the curves' control
 //! polygons ([JOS 2003], §3 "embedded in a polygonal mesh", Fig. 11).
-//!
-//! # What the host must be
-//! Every control point of a curve is a host vertex (matched by position within
-//! [`HOST_TOLERANCE`] × the host's bounding-box diagonal; the vertex is then moved exactly
-//! onto the control point), consecutive control points are joined by host edges, and the host
-//! is an oriented manifold around the polygon with at least one host edge on each side of the
-//! polygon at every control point. An open curve's ends must be interior host vertices of
-//! valence ≥ 4. Curves must not share host faces (no crossings inside a host).
-//!
-//! # How the zone is embedded: rows inserted along the polygon
-//! The host is cut open along the polygon and a symmetric zonal mesh is inserted: each
-//! control point `P_j` stays (the middle polygon), and two new vertices `T_j = P_j + h u_j`,
-//! `B_j = P_j − h u_j` take over its host connections on either side; the quads
-//! `P_j P_{j+1} T_{j+1} T_j` and `P_j B_j B_{j+1} P_{j+1}` fill the cut. With valence-4
-//! polygon vertices this is exactly splitting every host face along the polygon in two.
-//! The alternative — making the host faces on both sides the zone — needs the host's
-//! neighbours of the polygon to be symmetric about it (`T_j + B_j = 2 P_j`, Lemma 1), and has
-//! no single column edge at a polygon vertex of valence ≠ 4; inserting rows meets Lemma 1's
-//! symmetry by construction, keeps every host vertex where it was and every host face (with
-//! its index, so hole tags stay valid), and makes every middle-polygon vertex regular. The
-//! host's extraordinary polygon vertices become extraordinary *side* vertices `T_j` (or
-//! `B_j`) — Fig. 11's `P_2`, the valence-5 end of the column edge `P_0 P_2` (numbered as in
-//! Fig. 9, where `P_0` is on the middle polygon and `P_2`, `P_4` are the column ends).
-//!
-//! `u_j` is the direction from the mean of the host neighbours on the `B` side to the mean
-//! of those on the `T` side, made perpendicular to the polygon's tangent `P_{j+1} − P_{j−1}`;
-//! `h` is [`HostOptions::width`] times the shortest host edge leaving `P_j`.
-//!
-//! # Open ends: a phantom host edge
-//! An open curve's middle polygon gets a phantom point at each end (as in [`super::curve`]):
-//! here the host vertex `Q` across `P_0` from `P_1` (the host edge half-way round `P_0`; for
-//! valence 4 the one continuing straight on), with the interval `d_1`. The cut runs on to `Q`,
-//! which is not split: the zone's faces on `Q P_0` are the triangles `Q P_0 T_0`, `Q B_0 P_0`.
-//! `Q`'s position does not matter (the curve on its domain depends on `P_0 … P_{n−1}` and
-//! `t_1 … t_{n+2}` alone), only the interval `d_1` that `P_0`'s rules read across it.
-//!
-//! # Intervals: Theorem 1 on the first step (Fig. 11)
-//! Polygon edges and the row edges `T_j T_{j+1}`, `B_j B_{j+1}` carry the curve's intervals
-//! `d_j`, column edges one interval `e`. The first step's rules for the new middle points
-//! and the new side row read, beyond the zone, only `d±` at the side vertices `T_j`, `B_j`
-//! (midpoints and face points of zone faces). Walk round `T_j` from the host face on the row
-//! edge towards `T_{j+1}` (`W_0`) across its host edges `X_1 … X_k` to the face on the row edge
-//! towards `T_{j−1}` (`W_k`). Derived from the face-point and midpoint weights (and checked in
-//! `tests/integration/interpolate_host.rs`), the new middle points are the curve's and the new zone
-//! is symmetric when
-//! - `d±` of the column edge at `T_j` is the same `2 ê` at every side vertex: the side of
-//!   `X_1` in `W_0` and of `X_k` in `W_k` are `ê` (the second edge met rotating from the column
-//!   edge, Theorem 1's condition);
-//! - `d±` of the row edge towards `T_{j+1}` is `2 d_{j−1}` (as at a regular vertex, where the
-//!   row continues straight on) and towards `T_{j−1}` is `2 d_j`: the zone supplies one half;
-//!   the other half is read two edges away from the row edge on the host side — for `k = 1`
-//!   the other row edge on its host face (it carries `d`), for `k ≥ 2` the side of `X_2` in
-//!   `W_1` must be `d_{j−1}` and the side of `X_{k−1}` in `W_{k−1}` must be `d_j`.
-//!
-//! For `k = 1` (a valence-4 polygon vertex) the first condition is the outward edge's interval
-//! `ê`; for `k ≥ 2` (valence ≥ 5, Fig. 11) the four sides are auxiliary intervals
-//! (`t sideinterval`), used on the first step only. After it, every vertex of the new zone's
-//! side row has valence 4 and reads only the zone and its halved intervals, so Lemma 1 holds at
-//! every later step (`k = 0`, the polygon turning inside one host face, would need the row
-//! edge's zone side to read `e` and `d` at once: refused).
-//!
-//! The seed states these conditions for Fig. 11 in a formula that is damaged in our copy
-//! (only the names `d^{0±}_{25}`, `d^{0±}_{26}`, `d^{0±}_{20}`, `d^{0±}_{40}`, `d^{0±}_{2,10}`,
-//! `d_{29}` survive: the sides of the row, column and outward edges at the valence-5 column end
-//! `P_2`); the list above is derived from the rules of [`crate::scheme::nurss`] and
-//! `refine::nurss` (which side a rotation reads) and verified numerically: with the
-//! side intervals dropped, a curve through a valence-5 host vertex is missed by 4e-4 of its
-//! size on the first levels, with them the refined polygon is the knot-inserted one to 1e-13.
-//!
-//! Scale: a cubic B-spline does not change when all its knots are scaled, so the curve's
-//! intervals are scaled by [`Zone::knot_scale`] to the mean `ê` of the host's intervals on the
-//! edges leaving the polygon (1 for an untagged host), and `e = ê · w / (1 − w)` (`w` the row
-//! width fraction: the same parameter speed in the inserted row as in the rest of the host
-//! face it was cut from).
 
 use super::grid::{lower_corner, Grid};
 use super::{CubicCurve, InterpolateError, Interpolation, MiddlePolygon, Zone};
@@ -122,7 +48,81 @@ struct HostPath {
     walks: Vec<Option<(SideWalk, SideWalk)>>,
 }
 
-/// Embeds the zones of `curves` in `host` (see the module documentation).
+/// Embeds the zones of `curves` in `host`.
+///
+/// # What the host must be
+/// Every control point of a curve is a host vertex (matched by position within
+/// `HOST_TOLERANCE` × the host's bounding-box diagonal; the vertex is then moved exactly
+/// onto the control point), consecutive control points are joined by host edges, and the host
+/// is an oriented manifold around the polygon with at least one host edge on each side of the
+/// polygon at every control point. An open curve's ends must be interior host vertices of
+/// valence ≥ 4. Curves must not share host faces (no crossings inside a host).
+///
+/// # How the zone is embedded: rows inserted along the polygon
+/// The host is cut open along the polygon and a symmetric zonal mesh is inserted: each
+/// control point `P_j` stays (the middle polygon), and two new vertices `T_j = P_j + h u_j`,
+/// `B_j = P_j − h u_j` take over its host connections on either side; the quads
+/// `P_j P_{j+1} T_{j+1} T_j` and `P_j B_j B_{j+1} P_{j+1}` fill the cut. With valence-4
+/// polygon vertices this is exactly splitting every host face along the polygon in two.
+/// The alternative — making the host faces on both sides the zone — needs the host's
+/// neighbours of the polygon to be symmetric about it (`T_j + B_j = 2 P_j`, Lemma 1), and has
+/// no single column edge at a polygon vertex of valence ≠ 4; inserting rows meets Lemma 1's
+/// symmetry by construction, keeps every host vertex where it was and every host face (with
+/// its index, so hole tags stay valid), and makes every middle-polygon vertex regular. The
+/// host's extraordinary polygon vertices become extraordinary *side* vertices `T_j` (or
+/// `B_j`) — Fig. 11's `P_2`, the valence-5 end of the column edge `P_0 P_2` (numbered as in
+/// Fig. 9, where `P_0` is on the middle polygon and `P_2`, `P_4` are the column ends).
+///
+/// `u_j` is the direction from the mean of the host neighbours on the `B` side to the mean
+/// of those on the `T` side, made perpendicular to the polygon's tangent `P_{j+1} − P_{j−1}`;
+/// `h` is [`HostOptions::width`] times the shortest host edge leaving `P_j`.
+///
+/// # Open ends: a phantom host edge
+/// An open curve's middle polygon gets a phantom point at each end (as in `super::curve`):
+/// here the host vertex `Q` across `P_0` from `P_1` (the host edge half-way round `P_0`; for
+/// valence 4 the one continuing straight on), with the interval `d_1`. The cut runs on to `Q`,
+/// which is not split: the zone's faces on `Q P_0` are the triangles `Q P_0 T_0`, `Q B_0 P_0`.
+/// `Q`'s position does not matter (the curve on its domain depends on `P_0 … P_{n−1}` and
+/// `t_1 … t_{n+2}` alone), only the interval `d_1` that `P_0`'s rules read across it.
+///
+/// # Intervals: Theorem 1 on the first step (Fig. 11)
+/// Polygon edges and the row edges `T_j T_{j+1}`, `B_j B_{j+1}` carry the curve's intervals
+/// `d_j`, column edges one interval `e`. The first step's rules for the new middle points
+/// and the new side row read, beyond the zone, only `d±` at the side vertices `T_j`, `B_j`
+/// (midpoints and face points of zone faces). Walk round `T_j` from the host face on the row
+/// edge towards `T_{j+1}` (`W_0`) across its host edges `X_1 … X_k` to the face on the row edge
+/// towards `T_{j−1}` (`W_k`). Derived from the face-point and midpoint weights (and checked in
+/// `tests/integration/interpolate_host.rs`), the new middle points are the curve's and the new zone
+/// is symmetric when
+/// - `d±` of the column edge at `T_j` is the same `2 ê` at every side vertex: the side of
+///   `X_1` in `W_0` and of `X_k` in `W_k` are `ê` (the second edge met rotating from the column
+///   edge, Theorem 1's condition);
+/// - `d±` of the row edge towards `T_{j+1}` is `2 d_{j−1}` (as at a regular vertex, where the
+///   row continues straight on) and towards `T_{j−1}` is `2 d_j`: the zone supplies one half;
+///   the other half is read two edges away from the row edge on the host side — for `k = 1`
+///   the other row edge on its host face (it carries `d`), for `k ≥ 2` the side of `X_2` in
+///   `W_1` must be `d_{j−1}` and the side of `X_{k−1}` in `W_{k−1}` must be `d_j`.
+///
+/// For `k = 1` (a valence-4 polygon vertex) the first condition is the outward edge's interval
+/// `ê`; for `k ≥ 2` (valence ≥ 5, Fig. 11) the four sides are auxiliary intervals
+/// (`t sideinterval`), used on the first step only. After it, every vertex of the new zone's
+/// side row has valence 4 and reads only the zone and its halved intervals, so Lemma 1 holds at
+/// every later step (`k = 0`, the polygon turning inside one host face, would need the row
+/// edge's zone side to read `e` and `d` at once: refused).
+///
+/// The seed states these conditions for Fig. 11 in a formula that is damaged in our copy
+/// (only the names `d^{0±}_{25}`, `d^{0±}_{26}`, `d^{0±}_{20}`, `d^{0±}_{40}`, `d^{0±}_{2,10}`,
+/// `d_{29}` survive: the sides of the row, column and outward edges at the valence-5 column end
+/// `P_2`); the list above is derived from the rules of `crate::scheme::nurss` and
+/// `refine::nurss` (which side a rotation reads) and verified numerically: with the
+/// side intervals dropped, a curve through a valence-5 host vertex is missed by 4e-4 of its
+/// size on the first levels, with them the refined polygon is the knot-inserted one to 1e-13.
+///
+/// Scale: a cubic B-spline does not change when all its knots are scaled, so the curve's
+/// intervals are scaled by [`Zone::knot_scale`] to the mean `ê` of the host's intervals on the
+/// edges leaving the polygon (1 for an untagged host), and `e = ê · w / (1 − w)` (`w` the row
+/// width fraction: the same parameter speed in the inserted row as in the rest of the host
+/// face it was cut from).
 ///
 /// # Errors
 /// [`InterpolateError::NoCurves`], [`InterpolateError::BadOption`] for a width outside
@@ -489,7 +489,7 @@ impl<'a> Cut<'a> {
 
     /// The curve's middle polygon (with phantom ends when open) and the knot scale and column
     /// interval: the curve's mean interval scaled to ê and `e = ê · w / (1 − w)`, or both ê at
-    /// a turn inside one host face (see the module documentation).
+    /// a turn inside one host face (see [`embed_curves`]).
     fn plan_zone<'c>(
         &self,
         curve: &'c CubicCurve,
@@ -508,7 +508,7 @@ impl<'a> Cut<'a> {
             .collect();
         let (scale, column) = match turn_interval(curve, path, &m)? {
             // A turn inside one host face: its edges' interval becomes ê, and so does the
-            // column interval (see the module documentation).
+            // column interval (see `embed_curves`).
             Some(d) => (e_hat / d, e_hat),
             None if real.is_empty() => (1.0, speed_column),
             None => (
@@ -587,7 +587,7 @@ impl<'a> Cut<'a> {
 
     /// Hands the faces and host edges of `walk` round split vertex `v` over to its side copy
     /// `id`, and sets the intervals the first step reads at `id` (Theorem 1 of [JOS 2003] on
-    /// the first step, Fig. 11; see the module documentation): `ê` on the outward edge for one
+    /// the first step, Fig. 11; see [`embed_curves`]): `ê` on the outward edge for one
     /// host edge, else the four auxiliary side intervals `ê`, `ê`, `d_{j−1}` (`dp`), `d_j`
     /// (`dn`).
     fn hand_over_side(&mut self, walk: &SideWalk, v: u32, id: u32, dp: f64, dn: f64) {
@@ -615,7 +615,7 @@ impl<'a> Cut<'a> {
         };
         if k == 0 {
             // A turn inside one host face: every interval the first step reads at
-            // the valence-3 side vertex is ê already (module documentation).
+            // the valence-3 side vertex is ê already (see `embed_curves`).
         } else if k == 1 {
             self.intervals.insert(key(id, walk.outward[0]), e_hat);
         } else {
@@ -714,7 +714,7 @@ fn side_direction(positions: &[V3], p: &V3, tangent: &V3, tw: &SideWalk, bw: &Si
 /// The knot interval of the polygon edges at the curve's turns inside one host face (a side
 /// without host edges: a 90° turn at a grid vertex, a control point of valence 3), or `None`
 /// when it has none. Theorem 1 holds on the first step there only when the two edges at every
-/// such point have one interval (see the module documentation).
+/// such point have one interval (see [`embed_curves`]).
 fn turn_interval(
     curve: &CubicCurve,
     path: &HostPath,

@@ -1,33 +1,4 @@
 //! [`Topology`]: the complete adjacency of one refinement level, with sharpness and rules.
-//!
-//! # Memory layout
-//! All relations are flat arrays of `u32` indices in compressed-sparse-row form
-//! (an `*_offsets` array of `count + 1` prefix sums and a member array):
-//!
-//! | relation | members | parallel arrays |
-//! |---|---|---|
-//! | face → vertices | `face_verts` | `face_edges` (edge `i` runs from vertex `i` to `i + 1`) |
-//! | edge → vertices | `edge_verts: [u32; 2]` | |
-//! | edge → faces | `edge_faces` | `edge_face_local`: position of the edge in the face |
-//! | vertex → faces | `vert_faces` | `vert_face_local`: position of the vertex in the face |
-//! | vertex → edges | `vert_edges` | `vert_edge_local`: 0 or 1, which end of the edge |
-//!
-//! Around a manifold vertex, faces and edges are in counter-clockwise order with face `i`
-//! between edge `i` (leaving the vertex in face `i`) and edge `i + 1` (entering it); at a
-//! boundary vertex edge 0 and the last edge are the two boundary edges. This is
-//! OpenSubdiv's ordering (`Vtr::Level::orderVertexFacesAndEdges`), and limit tangents
-//! depend on it.
-//!
-//! Per element there are tags ([`EdgeTag`], [`VertexTag`], stored packed in 1 and 2 bytes;
-//! a hole flag per face) and
-//! `f32` sharpness values (see [`crate::mesh::tags`] for why `f32`).
-//!
-//! # Construction
-//! [`Topology::from_mesh`] builds the base level in O(n) expected time, with a fixed
-//! number of allocations (none per element): edges are numbered in order of first
-//! appearance while walking the faces, found in per-vertex buckets laid out in one
-//! array; this reproduces OpenSubdiv's edge order exactly, so refined vertices come out
-//! in OpenSubdiv's order too.
 
 use super::sharpness as crease;
 use super::{Corner, Crease, MeshError, Options, PolyMesh, TopologyWarning};
@@ -192,7 +163,36 @@ impl From<VertexTag> for PackedVertexTag {
     }
 }
 
-/// Complete adjacency, tags and sharpness of one level. See the module docs for the layout.
+/// Complete adjacency, tags and sharpness of one level.
+///
+/// # Memory layout
+/// All relations are flat arrays of `u32` indices in compressed-sparse-row form
+/// (an `*_offsets` array of `count + 1` prefix sums and a member array):
+///
+/// | relation | members | parallel arrays |
+/// |---|---|---|
+/// | face → vertices | `face_verts` | `face_edges` (edge `i` runs from vertex `i` to `i + 1`) |
+/// | edge → vertices | `edge_verts: [u32; 2]` | |
+/// | edge → faces | `edge_faces` | `edge_face_local`: position of the edge in the face |
+/// | vertex → faces | `vert_faces` | `vert_face_local`: position of the vertex in the face |
+/// | vertex → edges | `vert_edges` | `vert_edge_local`: 0 or 1, which end of the edge |
+///
+/// Around a manifold vertex, faces and edges are in counter-clockwise order with face `i`
+/// between edge `i` (leaving the vertex in face `i`) and edge `i + 1` (entering it); at a
+/// boundary vertex edge 0 and the last edge are the two boundary edges. This is
+/// OpenSubdiv's ordering (`Vtr::Level::orderVertexFacesAndEdges`), and limit tangents
+/// depend on it.
+///
+/// Per element there are tags ([`EdgeTag`], [`VertexTag`], stored packed in 1 and 2 bytes;
+/// a hole flag per face) and
+/// `f32` sharpness values (see `crate::mesh::tags` for why `f32`).
+///
+/// # Construction
+/// [`Topology::from_mesh`] builds the base level in O(n) expected time, with a fixed
+/// number of allocations (none per element): edges are numbered in order of first
+/// appearance while walking the faces, found in per-vertex buckets laid out in one
+/// array; this reproduces OpenSubdiv's edge order exactly, so refined vertices come out
+/// in OpenSubdiv's order too.
 #[derive(Clone, Debug, Default)]
 pub struct Topology {
     pub(crate) num_vertices: u32,
