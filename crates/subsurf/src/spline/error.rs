@@ -57,22 +57,6 @@ pub enum SplineError {
         /// `v`.
         v: f64,
     },
-    /// The tessellation rate was 0.
-    #[error("the tessellation rate must be at least 1")]
-    ZeroRate,
-    /// The tessellation would be too large.
-    #[error(
-        "a tessellation at rate {rate} would have about {vertices} vertices (limit {limit}): \
-         lower the rate"
-    )]
-    TooLarge {
-        /// Rate.
-        rate: u32,
-        /// Estimated vertices.
-        vertices: u128,
-        /// Limit.
-        limit: u64,
-    },
     /// The surface was not built from this mesh.
     #[error(
         "the spline surface does not belong to the mesh ({surface_faces} faces and \
@@ -89,10 +73,4 @@ pub enum SplineError {
         /// Vertices of the mesh.
         mesh_vertices: usize,
     },
-    /// No face of the mesh has a surface (e.g. every face touches the boundary).
-    #[error(
-        "no face has a spline surface: every face has a corner on the boundary (or a \
-         non-manifold or valence < 3 corner)"
-    )]
-    Empty,
 }

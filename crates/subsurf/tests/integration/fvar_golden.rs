@@ -11,19 +11,11 @@
 //! and the sums of `s` and `t` over all values within 1e-12 per value. Values compare by
 //! index because subsurf numbers child values as OpenSubdiv does.
 
-use flate2::read::GzDecoder;
-use std::io::Read;
-use std::path::PathBuf;
-
 use subsurf::io::read_obj;
 use subsurf::mesh::{FaceVaryingInterpolation, Options};
 use subsurf::{subdivide, SubdivideOptions};
 
-fn dir(sub: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("tests")
-        .join(sub)
-}
+use crate::common::tests_dir as dir;
 
 fn fnv(offsets: &[u32], indices: &[u32]) -> u64 {
     let mut h: u64 = 0xcbf29ce484222325;
@@ -140,19 +132,10 @@ fn check(shape: &str, c: &Case) -> (Vec<String>, f64) {
 
 #[test]
 fn fvar_golden_all_shapes() {
-    let mut files: Vec<_> = std::fs::read_dir(dir("golden/fvar"))
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.to_string_lossy().ends_with(".txt.gz"))
-        .collect();
-    files.sort();
-    assert!(files.len() >= 14, "golden files missing: {files:?}");
+    let files = crate::common::golden_texts("golden/fvar");
+    assert!(files.len() >= 14, "golden files missing: {}", files.len());
     let mut problems = Vec::new();
-    for f in files {
-        let mut text = String::new();
-        GzDecoder::new(std::fs::File::open(&f).unwrap())
-            .read_to_string(&mut text)
-            .unwrap();
+    for text in files {
         let (shape, cases) = parse(&text);
         assert_eq!(cases.len(), 18, "{shape}: 3 levels × 6 modes");
         let mut worst = 0.0f64;

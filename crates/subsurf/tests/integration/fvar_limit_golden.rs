@@ -17,10 +17,6 @@
 //! (`osd-oracle refine SHAPE 2 --fvar MODE --limit`) for some shapes: `subdivide` with
 //! `limit` must give the same `vt` values index for index within 1e-12.
 
-use flate2::read::GzDecoder;
-use std::io::Read;
-use std::path::PathBuf;
-
 use subsurf::io::read_obj;
 use subsurf::limit::{FaceVaryingSurface, SurfacePoint};
 use subsurf::mesh::{FaceVaryingInterpolation, Options, PolyMesh};
@@ -54,11 +50,7 @@ fn bound(shape: &str, mesh: &PolyMesh, face: u32, u: f64, v: f64) -> f64 {
         .map_or(TOL, |&(_, _, b)| b)
 }
 
-fn dir(sub: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("tests")
-        .join(sub)
-}
+use crate::common::tests_dir as dir;
 
 /// A `limit` row: face, `u`, `v` and OpenSubdiv's `[s, t]`.
 type Row = (u32, f64, f64, [f64; 2]);
@@ -232,19 +224,10 @@ fn check_refine(
 
 #[test]
 fn face_varying_limit_matches_opensubdiv() {
-    let mut files: Vec<_> = std::fs::read_dir(dir("golden/fvar_limit"))
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.to_string_lossy().ends_with(".txt.gz"))
-        .collect();
-    files.sort();
+    let files = crate::common::golden_texts("golden/fvar_limit");
     assert!(files.len() >= 70, "golden files missing: {}", files.len());
     let mut problems = Vec::new();
-    for f in files {
-        let mut text = String::new();
-        GzDecoder::new(std::fs::File::open(&f).unwrap())
-            .read_to_string(&mut text)
-            .unwrap();
+    for text in files {
         let (shape, cases) = parse(&text);
         let (mesh, options) = load(&shape);
         let (mut lim, mut refined) = (0.0f64, 0.0f64);

@@ -121,3 +121,31 @@ pub fn double_cone(n: usize, seed: u64) -> PolyMesh {
     }
     PolyMesh::from_faces(p, &faces).unwrap()
 }
+
+/// `crates/subsurf/tests/SUB`.
+pub fn tests_dir(sub: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("tests")
+        .join(sub)
+}
+
+/// The texts of the gzipped golden files (`*.txt.gz`) of `tests/SUB`, in file name order.
+pub fn golden_texts(sub: &str) -> Vec<String> {
+    use std::io::Read;
+    let mut files: Vec<PathBuf> = std::fs::read_dir(tests_dir(sub))
+        .expect("golden directory")
+        .map(|e| e.expect("golden directory entry").path())
+        .filter(|p| p.to_string_lossy().ends_with(".txt.gz"))
+        .collect();
+    files.sort();
+    files
+        .into_iter()
+        .map(|f| {
+            let mut text = String::new();
+            flate2::read::GzDecoder::new(std::fs::File::open(&f).expect("golden file"))
+                .read_to_string(&mut text)
+                .expect("gzipped text");
+            text
+        })
+        .collect()
+}
