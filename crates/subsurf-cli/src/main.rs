@@ -255,12 +255,16 @@ rounded up when the mesh has non-quad faces). Holes produce no faces. The format
 OUT's extension: .obj (positions and vn normals, full precision), .ply (binary, f64
 positions and normals), .stl (binary, f32, triangles), .glb (binary glTF, f32 triangles
 and normals, turned to glTF's +Y up from --up, Z by default). '-o -' writes OBJ to
-standard output.
+standard output. When the mesh has texture coordinates (vt), the output has their exact
+limit (OpenSubdiv Bfr's face-varying limit in the --fvar mode) at every corner: OBJ vt with
+f v/vt/vn faces, PLY s t and glTF TEXCOORD_0 (a vertex on a UV seam is written once per
+side); STL cannot store them (a note says so), nor does NURSS give them.
 
 Examples:
   subsurf tessellate model.obj -o model-smooth.obj --rate 8
   subsurf tessellate model.obj -o model.ply --rate 16
   subsurf tessellate model.obj -o print.stl --rate 12 --triangles
+  subsurf tessellate textured.obj -o textured.glb --rate 8 --fvar corners-only
   subsurf tessellate grid.obj -o - --rate 4 --boundary edge-and-corner > grid-limit.obj";
 
 /// Arguments of `subsurf tessellate`.
@@ -300,6 +304,12 @@ pub struct TessellateArgs {
     pub scheme_kind: Option<SchemeKind>,
     #[command(flatten)]
     pub adjust: AdjustArgs,
+    /// Face-varying (texture coordinate) interpolation of the output's texture coordinates:
+    /// none, corners-only, corners-plus1, corners-plus2, boundaries or all (OpenSubdiv's
+    /// FVarLinearInterpolation) [default: the file's t facevaryinginterpolateboundary tag,
+    /// else all].
+    #[arg(long, value_name = "MODE", value_parser = fvar_parser())]
+    pub fvar: Option<FaceVaryingInterpolation>,
     /// Print no warnings or notes.
     #[arg(short, long)]
     pub quiet: bool,

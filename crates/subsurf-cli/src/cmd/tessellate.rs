@@ -5,7 +5,7 @@
 use anyhow::{bail, Context, Result};
 use subsurf::io::Up;
 use subsurf::io::{write_tessellation, TessellationFormat, TessellationWriteOptions};
-use subsurf::limit::{tessellate, Tessellation};
+use subsurf::limit::{tessellate, FaceVaryingSurface, LimitSurface, Tessellation};
 use subsurf::mesh::{Options, PolyMesh, TriangleSubdivision};
 
 use crate::input::Input;
@@ -15,6 +15,11 @@ use crate::{SchemeKind, TessellateArgs};
 /// Peak bytes per output vertex, writing included (measured: 118 for OBJ, 99 for PLY, at
 /// 6 million vertices).
 const BYTES_PER_VERTEX: u64 = 128;
+
+/// Bytes per output vertex for texture coordinates: about four corners per vertex (an
+/// index and an evaluation request each), a value (16 bytes) and, in PLY and glTF, a
+/// vertex's copy.
+const UV_BYTES_PER_VERTEX: u64 = 96;
 
 /// `subsurf tessellate` of the non-uniform (NURSS) limit surface, through refinement.
 fn run_nurss(
@@ -36,6 +41,12 @@ fn run_nurss(
         args.max_memory,
         "use a lower --rate",
     )?;
+    if uv_channel(mesh).is_some() && !args.quiet {
+        crate::output::eprint_line(&format!(
+            "note: {}: texture coordinates have no limit with NURSS: the output has none",
+            input.name
+        ));
+    }
     let triangles = args.triangles || format == TessellationFormat::Glb;
     let t = subsurf::nonuniform::tessellate(mesh, options, args.rate, triangles)
         .with_context(|| input.name.clone())?;
@@ -78,10 +89,13 @@ pub fn run(args: &TessellateArgs) -> Result<()> {
             crate::output::eprint_line(&format!("warning: {w}"));
         }
     }
-    let options = args
+    let mut options = args
         .scheme
         .over(input.obj.options)
         .resolve(Options::default());
+    if let Some(mode) = args.fvar {
+        options.face_varying = mode;
+    }
     let mesh = &input.obj.mesh;
     let kind = super::adjustable::surface_kind(args.scheme_kind, &args.adjust, &input, args.quiet);
     if kind == SchemeKind::Nurss {
@@ -97,9 +111,16 @@ pub fn run(args: &TessellateArgs) -> Result<()> {
         (Some(r), Some(m)) => (r, super::adjustable::refined_rate(args.rate, m.steps)),
         _ => (mesh, args.rate),
     };
-    // Memory: the surface, then the samples (positions, normals, numbering) and the writer.
-    // Beyond the library's cap on the output, `tessellate` refuses with the exact counts.
+    // Memory: the surface, then the samples (positions, normals, numbering) and the writer;
+    // with texture coordinates their surface (a limit surface of the channel's value mesh,
+    // estimated as the mesh's own) and a value and index per corner. Beyond the library's
+    // cap on the output, `tessellate` refuses with the exact counts.
     let verts = crate::memory::tessellation_vertices(surface_mesh, rate);
+    let uv_bytes = match uv_channel(surface_mesh) {
+        Some(_) => LimitSurface::estimate_build_memory(surface_mesh)
+            .saturating_add(verts.saturating_mul(UV_BYTES_PER_VERTEX)),
+        None => 0,
+    };
     let guard = crate::memory::SurfaceGuard {
         name: &input.name,
         what: format!("tessellating at rate {rate}"),
@@ -112,7 +133,9 @@ pub fn run(args: &TessellateArgs) -> Result<()> {
             surface_mesh,
             options,
             rate,
-            verts.saturating_mul(BYTES_PER_VERTEX),
+            verts
+                .saturating_mul(BYTES_PER_VERTEX)
+                .saturating_add(uv_bytes),
         )?
     } else {
         // Only the build is guarded: the tessellation is refused before any evaluation.
@@ -122,8 +145,17 @@ pub fn run(args: &TessellateArgs) -> Result<()> {
     let triangles = args.triangles || format == TessellationFormat::Glb;
     let mut t =
         tessellate(&surface, surface_mesh, rate, triangles).with_context(|| input.name.clone())?;
+    drop(surface);
+    add_uvs(&mut t, surface_mesh, &options, &input)?;
     // Not written: free them before the writer's buffers (BYTES_PER_VERTEX).
     t.points = Vec::new();
+    if format == TessellationFormat::Stl && !t.face_varying.is_empty() && !args.quiet {
+        crate::output::eprint_line(&format!(
+            "note: {}: STL stores no texture coordinates: they are not written (write .obj, \
+             .ply or .glb to keep them)",
+            input.name
+        ));
+    }
     if t.rate != rate && !args.quiet {
         crate::output::eprint_line(&format!(
             "note: {}: rate {} rounded up to {}, as the mesh has non-quad faces \
@@ -143,6 +175,26 @@ pub fn run(args: &TessellateArgs) -> Result<()> {
     let control = args.control_mesh.then_some(mesh);
     check_single_precision(&t, format, &input)?;
     write(&out, format, &t, &comment, control, up(args))
+}
+
+/// The index of `mesh`'s texture coordinates (the face-varying channel named `"uv"`).
+fn uv_channel(mesh: &PolyMesh) -> Option<usize> {
+    mesh.face_varying.iter().position(|c| c.name() == "uv")
+}
+
+/// Adds the limit of `mesh`'s texture coordinates (if any) at the corners of `t`, sampled
+/// from `mesh` with `options` (whose face-varying mode applies).
+fn add_uvs(t: &mut Tessellation, mesh: &PolyMesh, options: &Options, input: &Input) -> Result<()> {
+    let Some(c) = uv_channel(mesh) else {
+        return Ok(());
+    };
+    let context = || format!("{}: texture coordinates", input.name);
+    let surface = FaceVaryingSurface::new(mesh, *options, c).with_context(context)?;
+    let uv = t
+        .evaluate_face_varying(mesh, &surface, "uv")
+        .with_context(context)?;
+    t.face_varying.push(uv);
+    Ok(())
 }
 
 /// The input's up axis (`--up`, Z by default), for a .glb output.

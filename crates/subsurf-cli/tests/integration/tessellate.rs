@@ -235,3 +235,134 @@ fn single_precision_formats_refuse_huge_coordinates_naming_the_input() {
         assert!(!dir.path().join(out).exists(), "{out} written");
     }
 }
+
+/// OpenSubdiv's `catmark_fvar_bound1` (texture seams meeting at vertices of several values).
+const FVAR_BOUND1: &str = include_str!("../../../subsurf/tests/shapes/osd/catmark_fvar_bound1.obj");
+
+/// Positions, texture coordinates and faces (`v/vt` per corner, 0-based) of an OBJ.
+#[allow(clippy::type_complexity)]
+fn obj_with_uvs(text: &str) -> (Vec<[f64; 3]>, Vec<[f64; 2]>, Vec<Vec<(usize, usize)>>) {
+    let nums = |l: &str| -> Vec<f64> {
+        l.split_whitespace()
+            .skip(1)
+            .map(|x| x.parse().expect("number"))
+            .collect()
+    };
+    let (mut v, mut vt, mut f) = (Vec::new(), Vec::new(), Vec::new());
+    for l in text.lines() {
+        if l.starts_with("v ") {
+            let x = nums(l);
+            v.push([x[0], x[1], x[2]]);
+        } else if l.starts_with("vt ") {
+            let x = nums(l);
+            vt.push([x[0], x[1]]);
+        } else if l.starts_with("f ") {
+            f.push(
+                (l.split_whitespace().skip(1))
+                    .map(|c| {
+                        let mut k = c.split('/').map(|x| x.parse::<usize>().expect("index") - 1);
+                        (k.next().expect("v"), k.next().expect("vt"))
+                    })
+                    .collect(),
+            );
+        }
+    }
+    (v, vt, f)
+}
+
+/// The tessellation's texture coordinates are the exact limit at every corner, seen from
+/// the corner's own face: each row of `subsurf limit` (at the same `(u, v)`, its `s t`
+/// checked against OpenSubdiv `Bfr`) is found at its vertex, with its face's value, on both
+/// sides of every seam; every format but STL carries them.
+#[test]
+fn texture_coordinates_are_the_limit_at_every_corner() {
+    let dir = dir_with(&[("uv.obj", FVAR_BOUND1)]);
+    for mode in ["none", "corners-plus1", "all"] {
+        let tess = [
+            "tessellate",
+            "uv.obj",
+            "--rate",
+            "2",
+            "--fvar",
+            mode,
+            "-o",
+            "out.obj",
+        ];
+        assert_code(&run_in(dir.path(), &tess), 0);
+        let limit = [
+            "limit", "uv.obj", "--grid", "3", "--fvar", mode, "-o", "rows.tsv",
+        ];
+        assert_code(&run_in(dir.path(), &limit), 0);
+        let (v, vt, faces) = obj_with_uvs(&fs::read_to_string(dir.path().join("out.obj")).unwrap());
+        let rows = fs::read_to_string(dir.path().join("rows.tsv")).unwrap();
+        // (vertex, texture coordinate) pairs of every corner.
+        let corners: Vec<(usize, usize)> = faces.iter().flatten().copied().collect();
+        assert!(vt.len() > v.len(), "{mode}: seams add values");
+        for row in rows.lines() {
+            let x: Vec<f64> = row.split_whitespace().map(|t| t.parse().unwrap()).collect();
+            let near = |p: &[f64; 3]| (0..3).all(|k| (p[k] - x[3 + k]).abs() < 1e-12);
+            let at = v
+                .iter()
+                .position(near)
+                .expect("the sample is an output vertex");
+            let found = (corners.iter()).filter(|&&(p, _)| p == at).any(|&(_, t)| {
+                (vt[t][0] - x[12]).abs() < 1e-12 && (vt[t][1] - x[13]).abs() < 1e-12
+            });
+            assert!(
+                found,
+                "{mode}: row {row}: no corner of vertex {at} has its s t"
+            );
+        }
+    }
+    // PLY: `s t` per vertex, a vertex per (position, texture coordinate).
+    let o = run_in(
+        dir.path(),
+        &["tessellate", "uv.obj", "--rate", "2", "-o", "out.ply"],
+    );
+    assert_code(&o, 0);
+    let bytes = fs::read(dir.path().join("out.ply")).unwrap();
+    let end = bytes.windows(10).position(|w| w == b"end_header").unwrap();
+    let header = String::from_utf8_lossy(&bytes[..end]).to_string();
+    assert!(
+        header.contains("property double s\nproperty double t\n"),
+        "{header}"
+    );
+    // glTF: TEXCOORD_0, flipped to glTF's top-left origin.
+    let o = run_in(
+        dir.path(),
+        &["tessellate", "uv.obj", "--rate", "2", "-o", "out.glb"],
+    );
+    assert_code(&o, 0);
+    let glb = gltf::Gltf::from_slice(&fs::read(dir.path().join("out.glb")).unwrap())
+        .expect("a valid glb");
+    let blob = glb.blob.as_deref().expect("a BIN chunk");
+    let prim = glb.meshes().next().unwrap().primitives().next().unwrap();
+    let reader = prim.reader(|_| Some(blob));
+    let tex: Vec<[f32; 2]> = reader
+        .read_tex_coords(0)
+        .expect("TEXCOORD_0")
+        .into_f32()
+        .collect();
+    assert_eq!(tex.len(), reader.read_positions().unwrap().count());
+    let (_, vt, _) = obj_with_uvs(&fs::read_to_string(dir.path().join("out.obj")).unwrap());
+    for t in &tex {
+        let near = |u: &[f64; 2]| {
+            (u[0] - f64::from(t[0])).abs() < 1e-6 && (1.0 - u[1] - f64::from(t[1])).abs() < 1e-6
+        };
+        assert!(
+            vt.iter().any(near),
+            "{t:?} is no texture coordinate of the OBJ"
+        );
+    }
+    // STL cannot store them: a note says so.
+    let o = run_in(
+        dir.path(),
+        &["tessellate", "uv.obj", "--rate", "2", "-o", "out.stl"],
+    );
+    assert_code(&o, 0);
+    assert!(
+        stderr(&o).contains("STL stores no texture coordinates"),
+        "{}",
+        stderr(&o)
+    );
+}

@@ -79,6 +79,9 @@ pub struct GlbMesh<'a> {
     pub normals: Option<&'a [[f64; 3]]>,
     /// One linear RGB colour per vertex, each component in `[0, 1]` (`COLOR_0`).
     pub colors: Option<&'a [[f32; 3]]>,
+    /// One texture coordinate per vertex (`TEXCOORD_0`), in glTF's convention: the image's
+    /// origin at its top-left corner, so OBJ's `vt s t` is `[s, 1 − t]` here.
+    pub texcoords: Option<&'a [[f32; 2]]>,
     /// CSR face offsets: face `f` has the vertices
     /// `face_verts[face_offsets[f] .. face_offsets[f + 1]]` (at least 3, in
     /// counter-clockwise order seen from the front).
@@ -190,6 +193,15 @@ fn check_glb<'a>(mesh: &GlbMesh<'a>) -> io::Result<GlbChecked<'a>> {
             )));
         }
     }
+    if let Some(t) = mesh.texcoords {
+        check_len(t.len(), nv, "texture coordinates")?;
+        if let Some(i) = t.iter().position(|t| !t.iter().all(|x| x.is_finite())) {
+            return Err(invalid_data(format!(
+                "the texture coordinate of vertex {i} is not finite ({:?})",
+                t[i]
+            )));
+        }
+    }
     let control = mesh.control.filter(|c| !c.lines.is_empty());
     let control_bounds = match control {
         Some(c) => {
@@ -218,7 +230,7 @@ fn check_glb<'a>(mesh: &GlbMesh<'a>) -> io::Result<GlbChecked<'a>> {
 }
 
 /// The buffer views' lengths and targets, in buffer order (positions, normals, colours,
-/// triangle indices, control positions, control line indices), and the BIN chunk's length.
+/// texture coordinates, triangle indices, control positions, control line indices), and the BIN chunk's length.
 fn buffer_views(mesh: &GlbMesh, checked: &GlbChecked) -> (Vec<(u64, Target)>, u64) {
     let vec3 = 12 * mesh.positions.len() as u64;
     let mut views = vec![(vec3, Target::ArrayBuffer)];
@@ -227,6 +239,9 @@ fn buffer_views(mesh: &GlbMesh, checked: &GlbChecked) -> (Vec<(u64, Target)>, u6
     }
     if mesh.colors.is_some() {
         views.push((vec3, Target::ArrayBuffer));
+    }
+    if mesh.texcoords.is_some() {
+        views.push((8 * mesh.positions.len() as u64, Target::ArrayBuffer));
     }
     views.push((12 * checked.num_triangles, Target::ElementArrayBuffer));
     if let Some(c) = checked.control {
@@ -302,6 +317,10 @@ fn push_surface(
     if mesh.colors.is_some() {
         let a = accessor(next_view(), nv, Type::Vec3, ComponentType::F32);
         attributes.push((Semantic::Colors(0), root.push(a)));
+    }
+    if mesh.texcoords.is_some() {
+        let a = accessor(next_view(), nv, Type::Vec2, ComponentType::F32);
+        attributes.push((Semantic::TexCoords(0), root.push(a)));
     }
     let count = 3 * checked.num_triangles as usize;
     let indices = root.push(accessor(
@@ -424,6 +443,11 @@ fn write_chunks<W: Write>(
     if let Some(colors) = mesh.colors {
         for &c in colors {
             out.vec3(c)?;
+        }
+    }
+    if let Some(texcoords) = mesh.texcoords {
+        for t in texcoords {
+            out.f32s(t)?;
         }
     }
     for f in mesh.face_offsets.windows(2) {
@@ -558,6 +582,10 @@ struct Body<'w, W: Write> {
 
 impl<W: Write> Body<'_, W> {
     fn vec3(&mut self, v: [f32; 3]) -> io::Result<()> {
+        self.f32s(&v)
+    }
+
+    fn f32s(&mut self, v: &[f32]) -> io::Result<()> {
         v.iter()
             .for_each(|x| self.buf.extend_from_slice(&x.to_le_bytes()));
         self.flush_full()

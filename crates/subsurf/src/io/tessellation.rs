@@ -9,20 +9,26 @@ use super::ply::write_ply;
 use super::stl::write_stl;
 use super::Up;
 use crate::limit::Tessellation;
-use crate::mesh::PolyMesh;
+use crate::mesh::{FaceVarying, PolyMesh};
+use std::borrow::Cow;
+use std::collections::HashMap;
 use std::io::{self, Write};
 
 /// The file formats [`write_tessellation`] writes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum TessellationFormat {
-    /// Wavefront OBJ: positions in shortest round-trip form, `vn` normals, vertex colours
-    /// as `v x y z r g b` (the extension MeshLab and Blender read).
+    /// Wavefront OBJ: positions in shortest round-trip form, `vn` normals, `vt` texture
+    /// coordinates with `f v/vt/vn` faces, vertex colours as `v x y z r g b` (the extension
+    /// MeshLab and Blender read).
     Obj,
-    /// Binary little-endian PLY: `double` positions and normals, `uchar` colours.
+    /// Binary little-endian PLY: `double` positions, normals and texture coordinates
+    /// (`s t`), `uchar` colours.
     Ply,
-    /// Binary STL: `float` triangles (quads are split along their `a c` diagonal).
+    /// Binary STL: `float` triangles (quads are split along their `a c` diagonal); no
+    /// colours, no texture coordinates.
     Stl,
-    /// Binary glTF 2.0 (`.glb`): `float` positions and normals, triangles, `+Y` up.
+    /// Binary glTF 2.0 (`.glb`): `float` positions, normals and texture coordinates
+    /// (`TEXCOORD_0`), triangles, `+Y` up.
     Glb,
 }
 
@@ -96,7 +102,11 @@ fn invalid(msg: String) -> io::Error {
     io::Error::new(io::ErrorKind::InvalidInput, msg)
 }
 
-/// Writes `t` to `w` in `format`, with what `options` adds.
+/// Writes `t` to `w` in `format`, with what `options` adds, and the texture coordinates of
+/// `t`'s face-varying channel named `"uv"` (from
+/// [`Tessellation::evaluate_face_varying`]) in every format but STL, which cannot store
+/// them: OBJ keeps their own indices (`f v/vt/vn`); PLY and glTF store one per vertex, so a
+/// vertex on a seam is written once per texture coordinate it takes there.
 ///
 /// # Errors
 /// Errors of `w`; `InvalidInput` for an option the format cannot store (colours in STL, a
@@ -110,6 +120,7 @@ pub fn write_tessellation<W: Write>(
     options: &TessellationWriteOptions,
 ) -> io::Result<()> {
     check_options(format, t, options)?;
+    let uv = t.face_varying.iter().find(|c| c.name() == "uv");
     match (format, options.colours) {
         (TessellationFormat::Obj, None) => {
             let mesh = t.to_polymesh().map_err(|e| invalid(e.to_string()))?;
@@ -121,17 +132,20 @@ pub fn write_tessellation<W: Write>(
             write_obj(w, &mesh, &opts)
         }
         (TessellationFormat::Obj, Some(colours)) => {
-            let c = Coloured::new(t, colours);
-            write_obj_coloured(w, &c, options.comment)
+            // Texture coordinates keep their own indices: split for the colours only.
+            let c = PerVertex::new(t, Some(colours), None);
+            write_obj_coloured(w, &c, uv, options.comment)
         }
-        (TessellationFormat::Ply, None) if options.vertex_scalar.is_none() => write_ply(
-            w,
-            &t.positions,
-            Some(&t.normals),
-            &t.face_offsets,
-            &t.face_verts,
-        ),
-        (TessellationFormat::Ply, colours) => write_ply_attributes(w, t, colours, options),
+        (TessellationFormat::Ply, None) if options.vertex_scalar.is_none() && uv.is_none() => {
+            write_ply(
+                w,
+                &t.positions,
+                Some(&t.normals),
+                &t.face_offsets,
+                &t.face_verts,
+            )
+        }
+        (TessellationFormat::Ply, colours) => write_ply_attributes(w, t, colours, uv, options),
         (TessellationFormat::Stl, _) => write_stl(
             w,
             &t.positions,
@@ -140,7 +154,7 @@ pub fn write_tessellation<W: Write>(
             options.comment,
         ),
         #[cfg(feature = "gltf")]
-        (TessellationFormat::Glb, colours) => write_glb_tessellation(w, t, colours, options),
+        (TessellationFormat::Glb, colours) => write_glb_tessellation(w, t, colours, uv, options),
         #[cfg(not(feature = "gltf"))]
         (TessellationFormat::Glb, _) => Err(io::Error::new(
             io::ErrorKind::Unsupported,
@@ -180,76 +194,119 @@ fn check_options(
     }
 }
 
-/// A tessellation with one colour per vertex: `t` itself for per-vertex colours, else
-/// copies of the vertices per run of faces with the same base face and colour.
-struct Coloured<'a> {
-    positions: std::borrow::Cow<'a, [[f64; 3]]>,
-    normals: std::borrow::Cow<'a, [[f64; 3]]>,
-    colours: std::borrow::Cow<'a, [[u8; 3]]>,
-    face_offsets: &'a [u32],
-    face_verts: std::borrow::Cow<'a, [u32]>,
+/// A tessellation with one colour and one texture coordinate per written vertex: `t`'s
+/// vertices themselves when each has one (per-vertex colours, no texture coordinates),
+/// else copies of a vertex per run of faces with the same base face and colour (per-face
+/// colours) and per texture coordinate it takes (on a seam). Positions and normals of the
+/// copies are bit-identical.
+struct PerVertex<'a> {
+    t: &'a Tessellation,
+    /// Per written vertex, the tessellation's vertex (`None`: the same).
+    old: Option<Vec<u32>>,
+    face_verts: Cow<'a, [u32]>,
+    colours: Option<Cow<'a, [[u8; 3]]>>,
+    /// Per written vertex, the first two components of its texture coordinate (OBJ's
+    /// convention: origin at the image's bottom-left).
+    uvs: Option<Vec<[f64; 2]>>,
 }
 
-impl<'a> Coloured<'a> {
-    fn new(t: &'a Tessellation, colours: Colours<'a>) -> Self {
-        use std::borrow::Cow::{Borrowed, Owned};
-        match colours {
-            Colours::PerVertex(c) => Self {
-                positions: Borrowed(&t.positions),
-                normals: Borrowed(&t.normals),
-                colours: Borrowed(c),
-                face_offsets: &t.face_offsets,
-                face_verts: Borrowed(&t.face_verts),
-            },
-            Colours::PerFace(c) => {
-                let (positions, normals, colours, face_verts) = split_by_face(t, c);
-                Self {
-                    positions: Owned(positions),
-                    normals: Owned(normals),
-                    colours: Owned(colours),
-                    face_offsets: &t.face_offsets,
-                    face_verts: Owned(face_verts),
+impl<'a> PerVertex<'a> {
+    /// Splits `t`'s vertices for `colours` and `uv` (see the type's docs).
+    fn new(t: &'a Tessellation, colours: Option<Colours<'a>>, uv: Option<&FaceVarying>) -> Self {
+        let face_colours = match colours {
+            Some(Colours::PerFace(c)) => Some(c),
+            _ => None,
+        };
+        let vertex_colours = match colours {
+            Some(Colours::PerVertex(c)) => Some(c),
+            _ => None,
+        };
+        if face_colours.is_none() && uv.is_none() {
+            return Self {
+                t,
+                old: None,
+                face_verts: Cow::Borrowed(&t.face_verts),
+                colours: vertex_colours.map(Cow::Borrowed),
+                uvs: None,
+            };
+        }
+        const UNSET: u32 = u32::MAX;
+        // Per old vertex, its first copy in the current run and that copy's texture
+        // coordinate; further copies (seams) by (vertex, texture coordinate).
+        let mut first = vec![UNSET; t.num_vertices()];
+        let mut first_uv = vec![UNSET; t.num_vertices()];
+        let mut more: HashMap<(u32, u32), u32> = HashMap::new();
+        let mut in_run: Vec<u32> = Vec::new();
+        let mut run = None;
+        let mut old = Vec::new();
+        let mut colours_out = Vec::new();
+        let mut uvs = Vec::new();
+        let mut face_verts = Vec::with_capacity(t.face_verts.len());
+        for q in 0..t.num_faces() {
+            if let Some(c) = face_colours {
+                let key = (t.source[q].0, c[q]);
+                if run != Some(key) {
+                    run = Some(key);
+                    in_run.drain(..).for_each(|v| first[v as usize] = UNSET);
+                    more.clear();
                 }
             }
-        }
-    }
-}
-
-/// Per-vertex copies for per-face colours: each run of consecutive output faces with the
-/// same base face and colour gets its own copies of the vertices it uses, coloured with its
-/// colour. Returns positions, normals, colours and the faces' new vertex indices.
-#[allow(clippy::type_complexity)]
-fn split_by_face(
-    t: &Tessellation,
-    face_colours: &[[u8; 3]],
-) -> (Vec<[f64; 3]>, Vec<[f64; 3]>, Vec<[u8; 3]>, Vec<u32>) {
-    const UNSET: u32 = u32::MAX;
-    let mut pos = Vec::new();
-    let mut nor = Vec::new();
-    let mut col = Vec::new();
-    let mut verts = Vec::with_capacity(t.face_verts.len());
-    // New index of each old vertex in the current run, and the run's old vertices.
-    let mut map = vec![UNSET; t.num_vertices()];
-    let mut in_run: Vec<u32> = Vec::new();
-    let mut run = None;
-    for q in 0..t.num_faces() {
-        let key = (t.source[q].0, face_colours[q]);
-        if run != Some(key) {
-            run = Some(key);
-            in_run.drain(..).for_each(|v| map[v as usize] = UNSET);
-        }
-        for &v in t.face(q) {
-            if map[v as usize] == UNSET {
-                map[v as usize] = pos.len() as u32;
-                in_run.push(v);
-                pos.push(t.positions[v as usize]);
-                nor.push(t.normals[v as usize]);
-                col.push(face_colours[q]);
+            let start = t.face_offsets[q] as usize;
+            for (i, &v) in t.face(q).iter().enumerate() {
+                let k = uv.map_or(0, |c| c.indices()[start + i]);
+                let mut add = || {
+                    old.push(v);
+                    if let Some(c) = face_colours {
+                        colours_out.push(c[q]);
+                    } else if let Some(c) = vertex_colours {
+                        colours_out.push(c[v as usize]);
+                    }
+                    if let Some(c) = uv {
+                        let x = c.value(k as usize);
+                        uvs.push([x[0], x.get(1).copied().unwrap_or(0.0)]);
+                    }
+                    (old.len() - 1) as u32
+                };
+                let new = if first[v as usize] == UNSET {
+                    first[v as usize] = add();
+                    first_uv[v as usize] = k;
+                    if face_colours.is_some() {
+                        in_run.push(v);
+                    }
+                    first[v as usize]
+                } else if first_uv[v as usize] == k {
+                    first[v as usize]
+                } else {
+                    *more.entry((v, k)).or_insert_with(add)
+                };
+                face_verts.push(new);
             }
-            verts.push(map[v as usize]);
+        }
+        Self {
+            t,
+            old: Some(old),
+            face_verts: Cow::Owned(face_verts),
+            colours: colours.map(|_| Cow::Owned(colours_out)),
+            uvs: uv.map(|_| uvs),
         }
     }
-    (pos, nor, col, verts)
+
+    /// `data` (one item per vertex of the tessellation) per written vertex.
+    fn gather<T: Copy>(&self, data: &'a [T]) -> Cow<'a, [T]> {
+        match &self.old {
+            None => Cow::Borrowed(data),
+            Some(old) => Cow::Owned(old.iter().map(|&v| data[v as usize]).collect()),
+        }
+    }
+
+    fn num_vertices(&self) -> usize {
+        self.old.as_ref().map_or(self.t.num_vertices(), Vec::len)
+    }
+
+    /// The tessellation's vertex of written vertex `i`.
+    fn vertex(&self, i: usize) -> usize {
+        self.old.as_ref().map_or(i, |old| old[i] as usize)
+    }
 }
 
 fn non_finite(p: &[f64; 3]) -> io::Error {
@@ -260,15 +317,22 @@ fn non_finite(p: &[f64; 3]) -> io::Error {
 }
 
 /// OBJ with vertex colours: a `#` header, `v x y z r g b` per vertex (colour components in
-/// `[0, 1]` with 4 decimals; positions in shortest round-trip form), `vn` per vertex and
-/// `f a//a …` per face, 1-based.
-fn write_obj_coloured<W: Write>(w: &mut W, c: &Coloured, comment: &str) -> io::Result<()> {
+/// `[0, 1]` with 4 decimals; positions in shortest round-trip form), `vn` per vertex, `vt`
+/// per value of `uv`, and `f a//a …` (`f a/t/a …` with `uv`) per face, 1-based.
+fn write_obj_coloured<W: Write>(
+    w: &mut W,
+    c: &PerVertex,
+    uv: Option<&FaceVarying>,
+    comment: &str,
+) -> io::Result<()> {
     let mut out = io::BufWriter::new(w);
     writeln!(out, "# written by subsurf {}", env!("CARGO_PKG_VERSION"))?;
     for line in comment.lines() {
         writeln!(out, "# {line}")?;
     }
-    for (p, k) in c.positions.iter().zip(c.colours.iter()) {
+    let colours = c.colours.as_deref().unwrap_or_default();
+    for (i, k) in colours.iter().enumerate() {
+        let p = &c.t.positions[c.vertex(i)];
         if !p.iter().all(|x| x.is_finite()) {
             return Err(non_finite(p));
         }
@@ -279,13 +343,27 @@ fn write_obj_coloured<W: Write>(w: &mut W, c: &Coloured, comment: &str) -> io::R
             p[0], p[1], p[2]
         )?;
     }
-    for n in c.normals.iter() {
+    for i in 0..c.num_vertices() {
+        let n = &c.t.normals[c.vertex(i)];
         writeln!(out, "vn {:?} {:?} {:?}", n[0], n[1], n[2])?;
     }
-    for f in c.face_offsets.windows(2) {
+    if let Some(uv) = uv {
+        for x in uv.values().chunks_exact(uv.dim()) {
+            out.write_all(b"vt")?;
+            for x in x {
+                write!(out, " {x:?}")?;
+            }
+            out.write_all(b"\n")?;
+        }
+    }
+    for f in c.t.face_offsets.windows(2) {
         out.write_all(b"f")?;
-        for &v in &c.face_verts[f[0] as usize..f[1] as usize] {
-            write!(out, " {}//{}", v + 1, v + 1)?;
+        for k in f[0] as usize..f[1] as usize {
+            let v = c.face_verts[k] + 1;
+            match uv {
+                Some(uv) => write!(out, " {v}/{}/{v}", uv.indices()[k] + 1)?,
+                None => write!(out, " {v}//{v}")?,
+            }
         }
         out.write_all(b"\n")?;
     }
@@ -293,20 +371,24 @@ fn write_obj_coloured<W: Write>(w: &mut W, c: &Coloured, comment: &str) -> io::R
 }
 
 /// Binary little-endian PLY: vertex element `x y z nx ny nz` (double), then the optional
-/// `red green blue` (uchar) and scalar (double) properties; face element `vertex_indices`
-/// (list uchar int), then the optional face `red green blue` (uchar).
+/// `red green blue` (uchar), `s t` (double: texture coordinates, each vertex copied per
+/// coordinate it takes on a seam) and scalar (double) properties; face element
+/// `vertex_indices` (list uchar int), then the optional face `red green blue` (uchar).
 fn write_ply_attributes<W: Write>(
     w: &mut W,
     t: &Tessellation,
     colours: Option<Colours>,
+    uv: Option<&FaceVarying>,
     options: &TessellationWriteOptions,
 ) -> io::Result<()> {
-    let (n, nf) = (t.num_vertices(), t.num_faces());
     let (vertex_colours, face_colours) = match colours {
-        Some(Colours::PerVertex(c)) => (Some(c), None),
+        Some(Colours::PerVertex(c)) => (Some(Colours::PerVertex(c)), None),
         Some(Colours::PerFace(c)) => (None, Some(c)),
         None => (None, None),
     };
+    // PLY stores face colours: split vertices for texture coordinates only.
+    let pv = PerVertex::new(t, vertex_colours, uv);
+    let (n, nf) = (pv.num_vertices(), t.num_faces());
     let mut out = io::BufWriter::new(w);
     let mut h = format!(
         "ply\nformat binary_little_endian 1.0\ncomment written by subsurf {}\nelement vertex \
@@ -315,8 +397,11 @@ fn write_ply_attributes<W: Write>(
         env!("CARGO_PKG_VERSION")
     );
     const RGB: &str = "property uchar red\nproperty uchar green\nproperty uchar blue\n";
-    if vertex_colours.is_some() {
+    if pv.colours.is_some() {
         h.push_str(RGB);
+    }
+    if pv.uvs.is_some() {
+        h.push_str("property double s\nproperty double t\n");
     }
     if let Some((name, _)) = options.vertex_scalar {
         h.push_str(&format!("property double {name}\n"));
@@ -330,18 +415,24 @@ fn write_ply_attributes<W: Write>(
     h.push_str("end_header\n");
     out.write_all(h.as_bytes())?;
     for i in 0..n {
-        for x in t.positions[i].iter().chain(&t.normals[i]) {
+        let v = pv.vertex(i);
+        for x in t.positions[v].iter().chain(&t.normals[v]) {
             out.write_all(&x.to_le_bytes())?;
         }
-        if let Some(c) = vertex_colours {
+        if let Some(c) = &pv.colours {
             out.write_all(&c[i])?;
         }
+        if let Some(uvs) = &pv.uvs {
+            for x in uvs[i] {
+                out.write_all(&x.to_le_bytes())?;
+            }
+        }
         if let Some((_, s)) = options.vertex_scalar {
-            out.write_all(&s[i].to_le_bytes())?;
+            out.write_all(&s[v].to_le_bytes())?;
         }
     }
     for f in 0..nf {
-        let fv = t.face(f);
+        let fv = &pv.face_verts[t.face_offsets[f] as usize..t.face_offsets[f + 1] as usize];
         if fv.len() > 255 {
             return Err(invalid(format!("face {f} has {} vertices", fv.len())));
         }
@@ -357,35 +448,40 @@ fn write_ply_attributes<W: Write>(
 }
 
 #[cfg(feature = "gltf")]
-/// glTF: the tessellation (with vertex colours, per-face ones split as in OBJ) and, when
-/// given, the control mesh's edges as lines.
+/// glTF: the tessellation (with vertex colours, per-face ones split as in OBJ; with
+/// `TEXCOORD_0`, vertices split on seams) and, when given, the control mesh's edges as
+/// lines.
 fn write_glb_tessellation<W: Write>(
     w: &mut W,
     t: &Tessellation,
     colours: Option<Colours>,
+    uv: Option<&FaceVarying>,
     options: &TessellationWriteOptions,
 ) -> io::Result<()> {
-    let c = colours.map(|k| Coloured::new(t, k));
-    let rgb: Option<Vec<[f32; 3]>> = c.as_ref().map(|c| {
-        c.colours
-            .iter()
-            .map(|k| k.map(|x| f32::from(x) / 255.0))
+    let pv = PerVertex::new(t, colours, uv);
+    let rgb: Option<Vec<[f32; 3]>> = pv
+        .colours
+        .as_ref()
+        .map(|c| c.iter().map(|k| k.map(|x| f32::from(x) / 255.0)).collect());
+    // glTF's texture origin is the image's top-left corner, OBJ's its bottom-left.
+    let texcoords: Option<Vec<[f32; 2]>> = (pv.uvs.as_ref()).map(|uvs| {
+        uvs.iter()
+            .map(|&[s, t]| [s as f32, (1.0 - t) as f32])
             .collect()
     });
     let edges = options
         .control
         .map(|m| face_edges(m.face_offsets(), m.face_verts()));
-    let (positions, normals, face_verts): (&[[f64; 3]], &[[f64; 3]], &[u32]) = match &c {
-        Some(c) => (&c.positions, &c.normals, &c.face_verts),
-        None => (&t.positions, &t.normals, &t.face_verts),
-    };
+    let positions = pv.gather(&t.positions);
+    let normals = pv.gather(&t.normals);
     let glb = GlbMesh {
         name: "limit surface",
-        positions,
-        normals: Some(normals),
+        positions: &positions,
+        normals: Some(&normals),
         colors: rgb.as_deref(),
+        texcoords: texcoords.as_deref(),
         face_offsets: &t.face_offsets,
-        face_verts,
+        face_verts: &pv.face_verts,
         control: options
             .control
             .zip(edges.as_deref())
@@ -419,23 +515,104 @@ mod tests {
             face_verts: vec![0, 1, 4, 3, 1, 2, 5, 4],
             source: vec![(0, 0), (1, 0)],
             points: Vec::new(),
+            face_varying: Vec::new(),
         }
     }
 
     #[test]
     fn per_face_colours_copy_shared_vertices() {
         let t = two_quads();
-        let (p, n, c, fv) = split_by_face(&t, &[[255, 0, 0], [0, 0, 255]]);
+        let c = PerVertex::new(
+            &t,
+            Some(Colours::PerFace(&[[255, 0, 0], [0, 0, 255]])),
+            None,
+        );
         // The shared edge's two vertices are copied: 8 vertices, one colour each.
-        assert_eq!((p.len(), n.len(), c.len()), (8, 8, 8));
-        assert_eq!(fv, vec![0, 1, 2, 3, 4, 5, 6, 7]);
-        assert_eq!(p[1], p[4]);
-        assert_eq!((c[0], c[7]), ([255, 0, 0], [0, 0, 255]));
+        assert_eq!(c.num_vertices(), 8);
+        assert_eq!(&*c.face_verts, &[0, 1, 2, 3, 4, 5, 6, 7]);
+        assert_eq!((c.vertex(1), c.vertex(4)), (1, 1));
+        let colours = c.colours.as_deref().unwrap();
+        assert_eq!((colours[0], colours[7]), ([255, 0, 0], [0, 0, 255]));
         // Same base face and colour: one run, shared vertices kept shared.
         let mut same = t.clone();
         same.source = vec![(0, 0), (0, 0)];
-        let (p, ..) = split_by_face(&same, &[[9, 9, 9], [9, 9, 9]]);
-        assert_eq!(p.len(), 6);
+        let c = PerVertex::new(&same, Some(Colours::PerFace(&[[9, 9, 9], [9, 9, 9]])), None);
+        assert_eq!(c.num_vertices(), 6);
+    }
+
+    /// `two_quads` with texture coordinates: a seam along the shared edge (vertices 1 and
+    /// 4), whose two sides take different values.
+    fn two_quads_uv() -> Tessellation {
+        let mut t = two_quads();
+        let values = vec![
+            0.0, 0.0, 0.5, 0.0, 0.5, 1.0, 0.0, 1.0, // left quad
+            0.6, 0.0, 1.0, 0.0, 1.0, 1.0, 0.6, 1.0, // right quad
+        ];
+        let indices = vec![0, 1, 2, 3, 4, 5, 6, 7];
+        t.face_varying = vec![FaceVarying::new("uv", 2, values, indices).unwrap()];
+        t
+    }
+
+    #[test]
+    fn seams_split_vertices_per_texture_coordinate() {
+        let t = two_quads_uv();
+        let c = PerVertex::new(&t, None, t.face_varying.first());
+        assert_eq!(c.num_vertices(), 8);
+        let uvs = c.uvs.as_ref().unwrap();
+        // The seam's vertex 1 is written twice, with (0.5, 0) and (0.6, 0).
+        let copies: Vec<[f64; 2]> = (0..8)
+            .filter(|&i| c.vertex(i) == 1)
+            .map(|i| uvs[i])
+            .collect();
+        assert_eq!(copies, vec![[0.5, 0.0], [0.6, 0.0]]);
+        // Without a seam (the right quad takes the left's values on the shared edge) the
+        // vertices stay shared.
+        let mut joined = two_quads_uv();
+        let values = joined.face_varying[0].values()[..12].to_vec();
+        joined.face_varying[0] =
+            FaceVarying::new("uv", 2, values, vec![0, 1, 2, 3, 1, 4, 5, 2]).unwrap();
+        let c = PerVertex::new(&joined, None, joined.face_varying.first());
+        assert_eq!(c.num_vertices(), 6);
+        // Per-face colours and texture coordinates together: copies per run and value.
+        let both = PerVertex::new(
+            &t,
+            Some(Colours::PerFace(&[[1, 1, 1]; 2])),
+            t.face_varying.first(),
+        );
+        assert_eq!(both.num_vertices(), 8);
+    }
+
+    #[test]
+    fn texture_coordinates_in_every_format_but_stl() {
+        let t = two_quads_uv();
+        let write = |f| {
+            let mut out = Vec::new();
+            write_tessellation(&mut out, f, &t, &TessellationWriteOptions::default()).unwrap();
+            out
+        };
+        let obj = String::from_utf8(write(TessellationFormat::Obj)).unwrap();
+        assert_eq!(obj.matches("\nvt ").count(), 8);
+        assert!(obj.contains("f 2/5/2 3/6/3 6/7/6 5/8/5\n"), "{obj}");
+        let ply = write(TessellationFormat::Ply);
+        let header = String::from_utf8_lossy(
+            &ply[..ply.windows(10).position(|w| w == b"end_header").unwrap()],
+        )
+        .to_string();
+        assert!(
+            header.contains("element vertex 8\n")
+                && header.contains("property double s\nproperty double t\n"),
+            "{header}"
+        );
+        let red = [[255, 0, 0]; 2];
+        let coloured = TessellationWriteOptions {
+            colours: Some(Colours::PerFace(&red)),
+            ..Default::default()
+        };
+        let mut out = Vec::new();
+        write_tessellation(&mut out, TessellationFormat::Obj, &t, &coloured).unwrap();
+        let obj = String::from_utf8(out).unwrap();
+        assert_eq!(obj.matches("\nvt ").count(), 8);
+        assert!(obj.contains("f 5/5/5 6/6/6 7/7/7 8/8/8\n"), "{obj}");
     }
 
     #[test]

@@ -21,6 +21,7 @@ mod rows;
 mod stencil;
 mod surface;
 mod tessellate;
+mod tessellate_fvar;
 mod tree;
 mod vertex_rows;
 

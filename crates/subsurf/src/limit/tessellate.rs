@@ -6,7 +6,7 @@
 use super::bspline::{Derivatives, Order};
 use super::eval::Surface;
 use super::surface::{EvalError, LimitSurface, SurfacePoint};
-use crate::mesh::{MeshError, Options, PolyMesh, Topology, INVALID};
+use crate::mesh::{FaceVarying, MeshError, Options, PolyMesh, Topology, INVALID};
 
 /// The largest number of output vertices [`tessellate`] accepts (2³¹).
 pub const MAX_TESSELLATION_VERTICES: u64 = 1 << 31;
@@ -36,6 +36,9 @@ pub struct Tessellation {
     /// coordinates). Empty for a tessellation sampled through refinement
     /// ([`nonuniform::tessellate`](crate::nonuniform::tessellate())).
     pub points: Vec<SurfacePoint>,
+    /// Face-varying channels of the output faces (texture coordinates, named `"uv"`), from
+    /// [`evaluate_face_varying`](Self::evaluate_face_varying); empty unless added.
+    pub face_varying: Vec<FaceVarying>,
 }
 
 impl Tessellation {
@@ -57,18 +60,22 @@ impl Tessellation {
         &self.face_verts[self.face_offsets[f] as usize..self.face_offsets[f + 1] as usize]
     }
 
-    /// The tessellation as a [`PolyMesh`] (without tags), e.g. for
+    /// The tessellation as a [`PolyMesh`] (without tags, with its face-varying channels),
+    /// e.g. for
     /// [`write_obj`](crate::io::obj::write_obj) with [`normals`](Self::normals).
     ///
     /// # Errors
     /// [`MeshError`] from [`PolyMesh::new`]'s validation (a tessellation produced by
     /// [`tessellate`] always passes).
     pub fn to_polymesh(&self) -> Result<PolyMesh, MeshError> {
-        PolyMesh::new(
+        let mut mesh = PolyMesh::new(
             self.positions.clone(),
             self.face_offsets.clone(),
             self.face_verts.clone(),
-        )
+        )?;
+        mesh.face_varying = self.face_varying.clone();
+        mesh.validate()?;
+        Ok(mesh)
     }
 }
 
@@ -113,6 +120,19 @@ pub enum TessellateError {
         limit: u64,
         /// `u32::MAX`.
         max_face_verts: u64,
+    },
+    /// The tessellation keeps no surface points (it was sampled through refinement), so
+    /// nothing can be evaluated at its corners.
+    #[error(
+        "the tessellation was sampled through refinement and keeps no surface points to \
+         evaluate more data at"
+    )]
+    NoCornerPoints,
+    /// The tessellation's faces are not laid out as [`tessellate`] lays out the mesh's.
+    #[error("output face {face} is not where tessellating this mesh puts it (another mesh's tessellation?)")]
+    Layout {
+        /// First output face out of place.
+        face: usize,
     },
     /// Evaluation failed at a sample (not expected for a surface built from the mesh).
     #[error("evaluating face {face}, sub-face {subface} at ({u}, {v}): {source}")]
@@ -270,6 +290,7 @@ pub fn tessellate<S: Surface + ?Sized>(
         face_verts,
         source,
         points: g.points,
+        face_varying: Vec::new(),
     })
 }
 

@@ -138,6 +138,7 @@ pub fn tessellate(
         face_verts,
         source: out_source,
         points: Vec::new(),
+        face_varying: Vec::new(),
     })
 }
 
