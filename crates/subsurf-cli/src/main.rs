@@ -326,13 +326,17 @@ degrees; --up z: azimuth 0 looks along +Y; --up y: along -Z) and fits the boundi
 the range ignores outliers (98th percentile of |value|, capped near creases) unless --range
 is given. Meshes of more than 16 000 faces get a lower default rate. --control-mesh draws
 the input's edges on top: dark where in front of the surface, faint where hidden.
+--texture checker maps a checkerboard through the texture coordinates (vt): on the limit
+surface their exact limit in the --fvar mode, on a --level the refined ones; seams, stretching
+and coordinates outside the unit square (tinted red) show.
 
 Examples:
   subsurf render model.obj -o model.png
   subsurf render model.obj -o zebra.png --zebra --size 1200x900
   subsurf render model.obj -o mean.png --curvature mean --view 45,30
   subsurf render model.obj -o cage.png --level 2 --shade flat --control-mesh
-  subsurf render model.obj -o patches.png --faces --up y";
+  subsurf render model.obj -o patches.png --faces --up y
+  subsurf render textured.obj -o uv.png --texture checker --squares 16 --fvar corners-only";
 
 /// Arguments of `subsurf render`.
 #[derive(Debug, Args)]
@@ -366,6 +370,18 @@ pub struct RenderArgs {
     /// Colour base faces alternately (neighbours differ) to show the patches.
     #[arg(long)]
     pub faces: bool,
+    /// Map a texture through the mesh's texture coordinates (vt): checker, a checkerboard
+    /// of --squares squares per side of the unit square (tinted red outside it).
+    #[arg(long, value_name = "KIND", value_parser = ["checker"], conflicts_with_all = ["zebra", "curvature", "faces"])]
+    pub texture: Option<String>,
+    /// Squares per side of the --texture checker.
+    #[arg(long, value_name = "N", default_value_t = 8, requires = "texture", value_parser = clap::value_parser!(u32).range(1..=1024))]
+    pub squares: u32,
+    /// Face-varying interpolation of the texture coordinates: none, corners-only,
+    /// corners-plus1, corners-plus2, boundaries or all (OpenSubdiv's FVarLinearInterpolation)
+    /// [default: the file's t facevaryinginterpolateboundary tag, else all].
+    #[arg(long, value_name = "MODE", requires = "texture", value_parser = fvar_parser())]
+    pub fvar: Option<FaceVaryingInterpolation>,
     /// Draw the input control mesh's edges on top.
     #[arg(long)]
     pub control_mesh: bool,

@@ -31,10 +31,13 @@ pub fn run(args: &RenderArgs) -> Result<()> {
             crate::output::eprint_line(&format!("warning: {w}"));
         }
     }
-    let options = args
+    let mut options = args
         .scheme
         .over(input.obj.options)
         .resolve(Options::default());
+    if let Some(mode) = args.fvar {
+        options.face_varying = mode;
+    }
     let mut opts = render_options(args);
     if args.level.is_none() && args.limit_rate.is_none() {
         let rate = default_rate(&input.obj.mesh);
@@ -132,7 +135,15 @@ fn estimate_memory(mesh: &subsurf::mesh::PolyMesh, options: &Options, opts: &Ren
             },
         ),
     };
-    drawing_memory(mesh, opts).saturating_add(geometry)
+    // A texture on the limit: the limit surface of the texture coordinates' value mesh
+    // (the mesh's faces, at least its vertices: estimated as the mesh's own).
+    let texture = match (opts.paint, opts.geometry) {
+        (Paint::Checker { .. }, Geometry::Limit { .. }) => {
+            LimitSurface::estimate_build_memory(mesh)
+        }
+        _ => 0,
+    };
+    (drawing_memory(mesh, opts).saturating_add(geometry)).saturating_add(texture)
 }
 
 /// Peak memory of the picture and of the drawn vertices of `mesh` with `opts` (also
@@ -157,6 +168,9 @@ fn render_options(args: &RenderArgs) -> Render {
         },
     };
     let paint = match (args.zebra, args.curvature.as_deref(), args.faces) {
+        _ if args.texture.is_some() => Paint::Checker {
+            squares: args.squares,
+        },
         (true, _, _) => Paint::Zebra,
         (_, Some("gauss"), _) => Paint::Curvature(CurvatureKind::Gauss),
         (_, Some("mean"), _) => Paint::Curvature(CurvatureKind::Mean),

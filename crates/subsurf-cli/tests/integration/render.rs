@@ -264,3 +264,62 @@ fn memory_refusals_quote_the_given_limit_and_what_to_reduce() {
         stderr(&o)
     );
 }
+
+/// A cube with a cross-shaped texture layout (14 `vt`, seams on 7 edges).
+const TEXTURED_CUBE: &str = include_str!("../../../subsurf/tests/golden/fvar/textured_cube.obj");
+
+/// `--texture checker` draws through the texture coordinates (their limit in the `--fvar`
+/// mode, or a level's); a mesh without them is an error naming it, and the texture's
+/// flags need `--texture`.
+#[test]
+fn texture_checker_through_the_texture_coordinates() {
+    let dir = dir_with(&[("uv.obj", TEXTURED_CUBE), ("cube.obj", CUBE)]);
+    let draw = |extra: &[&str], out: &str| {
+        let mut args = vec![
+            "render",
+            "uv.obj",
+            "--size",
+            "120x90",
+            "-o",
+            out,
+            "--texture",
+            "checker",
+        ];
+        args.extend_from_slice(extra);
+        assert_code(&run_in(dir.path(), &args), 0);
+        fs::read(dir.path().join(out)).unwrap()
+    };
+    let all = draw(&["--fvar", "all"], "all.png");
+    let none = draw(&["--fvar", "none", "--squares", "4"], "none.png");
+    let level = draw(&["--level", "1"], "level.png");
+    assert!(all != none && all != level);
+    let o = run_in(
+        dir.path(),
+        &["render", "cube.obj", "-o", "x.png", "--texture", "checker"],
+    );
+    assert_code(&o, 1);
+    assert!(
+        stderr(&o).contains("cube.obj") && stderr(&o).contains("no texture coordinates"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(!dir.path().join("x.png").exists());
+    let o = run_in(
+        dir.path(),
+        &["render", "uv.obj", "-o", "x.png", "--squares", "4"],
+    );
+    assert_code(&o, 2);
+    let o = run_in(
+        dir.path(),
+        &[
+            "render",
+            "uv.obj",
+            "-o",
+            "x.png",
+            "--texture",
+            "checker",
+            "--zebra",
+        ],
+    );
+    assert_code(&o, 2);
+}

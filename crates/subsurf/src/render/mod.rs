@@ -4,7 +4,8 @@
 //! [`tessellate`](crate::limit::tessellate), normals and curvature from the exact limit
 //! derivatives) or a refined control mesh (from [`subdivide`](fn@crate::subdivide)) into an
 //! [`RgbImage`], shaded, as reflection lines ([`Paint::Zebra`]), coloured by curvature
-//! ([`Paint::Curvature`], with a colour bar) or by base face ([`Paint::Faces`]), optionally
+//! ([`Paint::Curvature`], with a colour bar), by base face ([`Paint::Faces`]) or with a
+//! checker texture through the mesh's texture coordinates ([`Paint::Checker`]), optionally
 //! with the control mesh drawn on top.
 //!
 //! # Pipeline
@@ -57,7 +58,7 @@ pub use curvature::{sample_curvature, CurvatureKind};
 pub use image::RgbImage;
 
 use crate::io::Up;
-use crate::limit::{BuildError, EvalError, TessellateError};
+use crate::limit::{BuildError, EvalError, FaceVaryingError, TessellateError};
 use crate::mesh::{MeshError, Options, PolyMesh};
 use camera::{Camera, Viewport};
 use rayon::prelude::*;
@@ -104,6 +105,18 @@ pub enum Paint {
     Zebra,
     /// Curvature of the exact limit surface ([`Geometry::Limit`] only), with a colour bar.
     Curvature(CurvatureKind),
+    /// A checkerboard texture of `squares × squares` squares over the unit square of
+    /// texture coordinates, mapped through the mesh's face-varying channel named `"uv"`
+    /// (OBJ `vt`): on the limit surface their exact limit in the mode of
+    /// [`Options::face_varying`] ([`FaceVaryingSurface`](crate::limit::FaceVaryingSurface),
+    /// each (sub-)face's samples from that face, so seams stay sharp), on a refined level
+    /// the refined values, interpolated per pixel. Squares outside the unit square are
+    /// tinted red, so that texture coordinates beyond the image show; stretching, seams
+    /// and distortion of the mapping show as uneven or broken squares.
+    Checker {
+        /// Squares along each side of the unit square (1 to 1024).
+        squares: u32,
+    },
 }
 
 /// Options of [`render`].
@@ -228,6 +241,18 @@ pub enum RenderError {
         /// Allowed bytes.
         limit: u64,
     },
+    /// [`Paint::Checker`] on a mesh without texture coordinates.
+    #[error("the mesh has no texture coordinates (vt) to map a texture with")]
+    NoTextureCoordinates,
+    /// [`Paint::Checker`] with another surface than the mesh's limit or a level.
+    #[error("a texture is drawn on the mesh's limit surface or a refined level only")]
+    TextureNeedsMeshSurface,
+    /// [`Paint::Checker`] with a number of squares out of range.
+    #[error("checker squares {0} out of range (1 to 1024)")]
+    BadSquares(u32),
+    /// Evaluating the texture coordinates' limit failed.
+    #[error("texture coordinates: {0}")]
+    FaceVarying(#[from] FaceVaryingError),
     /// There is nothing to draw (no faces, or every face is a hole).
     #[error("nothing to draw: the mesh has no faces with a surface")]
     Empty,
@@ -276,6 +301,9 @@ pub fn render_surface(
     surface: Option<&dyn crate::limit::Surface>,
 ) -> Result<Rendered, RenderError> {
     check(opts)?;
+    if surface.is_some() && matches!(opts.paint, Paint::Checker { .. }) {
+        return Err(RenderError::TextureNeedsMeshSurface);
+    }
     let scene = match surface {
         Some(_) => Scene::build_with(mesh, options, opts, surface)?,
         None => Scene::build(mesh, options, opts)?,
@@ -393,6 +421,11 @@ fn check(opts: &Render) -> Result<(), RenderError> {
     }
     if matches!(opts.paint, Paint::Curvature(_)) && matches!(opts.geometry, Geometry::Level(_)) {
         return Err(RenderError::CurvatureNeedsLimit);
+    }
+    if let Paint::Checker { squares } = opts.paint {
+        if !(1..=1024).contains(&squares) {
+            return Err(RenderError::BadSquares(squares));
+        }
     }
     Ok(())
 }

@@ -6,8 +6,8 @@ use super::curvature::{Curvature, CurvatureKind};
 use super::{Geometry, Paint, Render, RenderError};
 use crate::geom::{self, V3};
 use crate::limit::Surface;
-use crate::limit::{tessellate, LimitSurface, SurfacePoint, Tessellation};
-use crate::mesh::{Options, PolyMesh};
+use crate::limit::{tessellate, FaceVaryingSurface, LimitSurface, SurfacePoint, Tessellation};
+use crate::mesh::{FaceVarying, Options, PolyMesh};
 use crate::refine::uniform::refine_mesh;
 use crate::scheme::adjustable::Mixed;
 use rayon::prelude::*;
@@ -26,6 +26,8 @@ pub(crate) struct Scene {
     /// Per-vertex curvature of the requested kind (NaN where unknown), with
     /// [`Paint::Curvature`].
     pub values: Option<Vec<f64>>,
+    /// Per-vertex texture coordinates, with [`Paint::Checker`].
+    pub uv: Option<Vec<[f64; 2]>>,
     /// Triangles (counter-clockwise seen from the side the normals point to).
     pub triangles: Vec<[u32; 3]>,
     /// Per triangle, the unit normal of the polygon it comes from (flat shading).
@@ -68,6 +70,9 @@ impl Scene {
         opts: &Render,
         surface: Option<&dyn Surface>,
     ) -> Result<Self, RenderError> {
+        if matches!(opts.paint, Paint::Checker { .. }) && uv_channel(mesh).is_none() {
+            return Err(RenderError::NoTextureCoordinates);
+        }
         let faces = drawn_faces(mesh, opts.geometry);
         if faces > MAX_DRAWN_FACES as u128 {
             return Err(RenderError::TooLarge {
@@ -89,9 +94,19 @@ impl Scene {
                     surface,
                     opts.surface_memory,
                 )?;
-                Self::from_grid(grid, kind)
+                let uv = match opts.paint {
+                    Paint::Checker { .. } => Some(grid_uvs(mesh, options, &grid.points)?),
+                    _ => None,
+                };
+                Self {
+                    uv,
+                    ..Self::from_grid(grid, kind)
+                }
             }
-            Geometry::Level(levels) => Self::from_level(mesh, options, levels)?,
+            Geometry::Level(levels) => {
+                let textured = matches!(opts.paint, Paint::Checker { .. });
+                Self::from_level(mesh, options, levels, textured)?
+            }
         };
         if opts.control_mesh {
             scene.edges = control_edges(mesh);
@@ -131,12 +146,32 @@ impl Scene {
             face,
             face_colour: Vec::new(),
             edges: Vec::new(),
+            uv: None,
         }
     }
 
-    /// The mesh refined `levels` times (holes left out), normals averaged from its faces.
-    fn from_level(mesh: &PolyMesh, options: &Options, levels: u32) -> Result<Self, RenderError> {
+    /// The mesh refined `levels` times (holes left out), normals averaged from its faces;
+    /// with `textured`, its refined texture coordinates, each vertex copied per texture
+    /// coordinate its corners take (see [`Scene::unweld`]).
+    fn from_level(
+        mesh: &PolyMesh,
+        options: &Options,
+        levels: u32,
+        textured: bool,
+    ) -> Result<Self, RenderError> {
         let m = &refine_mesh(mesh, options, Mixed::CATMULL_CLARK, levels, true)?;
+        let channel = match textured {
+            true => Some(uv_channel(m).ok_or(RenderError::NoTextureCoordinates)?),
+            false => None,
+        };
+        // Per triangle, the texture coordinates of its corners.
+        let mut uv_values: Vec<[f64; 2]> = channel.map_or_else(Vec::new, |c| {
+            c.values()
+                .chunks_exact(c.dim())
+                .map(|x| [x[0], x.get(1).copied().unwrap_or(0.0)])
+                .collect()
+        });
+        let mut corner_uv: Vec<[u32; 3]> = Vec::new();
         let mut hole = vec![false; m.num_faces()];
         for &h in &m.tags.holes {
             if let Some(x) = hole.get_mut(h as usize) {
@@ -176,10 +211,34 @@ impl Scene {
             if hole[f] {
                 continue;
             }
+            let start = m.face_offsets()[f] as usize;
+            // The corner of `fv` that vertex `v` is (the face's centre: `n`).
+            let uv_of = |v: u32, centre: u32| -> u32 {
+                let c = channel.map_or(&[][..], |c| c.indices());
+                match fv.iter().position(|&x| x == v) {
+                    Some(i) if !c.is_empty() => c[start + i],
+                    _ => centre,
+                }
+            };
+            let centre_uv = match channel {
+                Some(c) if fv.len() > 4 => {
+                    let k = &c.indices()[start..start + fv.len()];
+                    let mean = |i: usize| {
+                        k.iter().map(|&x| uv_values[x as usize][i]).sum::<f64>() / k.len() as f64
+                    };
+                    let centre = [mean(0), mean(1)];
+                    uv_values.push(centre);
+                    (uv_values.len() - 1) as u32
+                }
+                _ => 0,
+            };
             let mut push = |t: [u32; 3]| {
                 triangles.push(t);
                 flat.push(polygon_normal[f]);
                 face.push(base_face(f));
+                if channel.is_some() {
+                    corner_uv.push(t.map(|v| uv_of(v, centre_uv)));
+                }
             };
             match fv.len() {
                 3 => push([fv[0], fv[1], fv[2]]),
@@ -206,7 +265,7 @@ impl Scene {
                 }
             }
         }
-        Ok(Self {
+        let mut scene = Self {
             positions,
             normals,
             values: None,
@@ -215,7 +274,33 @@ impl Scene {
             face,
             face_colour: Vec::new(),
             edges: Vec::new(),
-        })
+            uv: None,
+        };
+        if channel.is_some() {
+            scene.unweld(&corner_uv, &uv_values);
+        }
+        Ok(scene)
+    }
+
+    /// Gives every vertex one texture coordinate: `corner_uv` holds, per triangle, the
+    /// indices into `values` of its corners' coordinates; a vertex whose corners take
+    /// several (on a seam) is copied once per coordinate, with its position and normal.
+    fn unweld(&mut self, corner_uv: &[[u32; 3]], values: &[[f64; 2]]) {
+        let mut copies: std::collections::HashMap<(u32, u32), u32> = Default::default();
+        let (mut positions, mut normals, mut uv) = (Vec::new(), Vec::new(), Vec::new());
+        for (t, ks) in self.triangles.iter_mut().zip(corner_uv) {
+            for (v, &k) in t.iter_mut().zip(ks) {
+                *v = *copies.entry((*v, k)).or_insert_with(|| {
+                    positions.push(self.positions[*v as usize]);
+                    normals.push(self.normals[*v as usize]);
+                    uv.push(values[k as usize]);
+                    (uv.len() - 1) as u32
+                });
+            }
+        }
+        self.positions = positions;
+        self.normals = normals;
+        self.uv = Some(uv);
     }
 
     /// Centre of the bounding box of the drawn vertices (and of the control mesh when
@@ -583,6 +668,32 @@ impl LimitGrid {
 struct GridLayout {
     fallback: Vec<V3>,
     corner: Vec<bool>,
+}
+
+/// `mesh`'s texture coordinates: its face-varying channel named `"uv"`.
+fn uv_channel(mesh: &PolyMesh) -> Option<&FaceVarying> {
+    mesh.face_varying.iter().find(|c| c.name() == "uv")
+}
+
+/// The limit of `mesh`'s texture coordinates (the first two components) at `points`.
+fn grid_uvs(
+    mesh: &PolyMesh,
+    options: &Options,
+    points: &[SurfacePoint],
+) -> Result<Vec<[f64; 2]>, RenderError> {
+    let c = (mesh.face_varying.iter())
+        .position(|c| c.name() == "uv")
+        .ok_or(RenderError::NoTextureCoordinates)?;
+    let surface = FaceVaryingSurface::new(mesh, *options, c)?;
+    let mut out = Vec::with_capacity(points.len());
+    for chunk in points.chunks(CHUNK) {
+        let got = surface.eval_many(chunk)?;
+        out.extend((0..got.len()).map(|i| {
+            let x = got.value_at(i);
+            [x[0], x.get(1).copied().unwrap_or(0.0)]
+        }));
+    }
+    Ok(out)
 }
 
 /// The limit surface of `mesh`, built within `max_bytes` when given, which its evaluation at

@@ -48,6 +48,12 @@ const FACE_COLOURS: [[f64; 3]; super::scene::FACE_PALETTE] = [
     [0.75, 0.65, 0.88],
     [0.60, 0.84, 0.84],
 ];
+/// The squares of [`Paint::Checker`] (sRGB), inside the unit square of texture
+/// coordinates and (tinted red) outside it.
+const CHECKER_LIGHT: [f64; 3] = [0.92, 0.90, 0.84];
+const CHECKER_DARK: [f64; 3] = [0.22, 0.30, 0.42];
+const CHECKER_OUT_LIGHT: [f64; 3] = [0.95, 0.72, 0.70];
+const CHECKER_OUT_DARK: [f64; 3] = [0.55, 0.18, 0.18];
 /// Control mesh line colour (sRGB) and opacity when visible or hidden.
 const LINE: [f64; 3] = [0.08, 0.1, 0.16];
 const LINE_VISIBLE: f64 = 1.0;
@@ -229,6 +235,17 @@ impl<'a> Shader<'a> {
                 let key = geom::dot(&n, &self.lights[0].dir).max(0.0);
                 [albedo * (0.75 + 0.25 * key); 3]
             }
+            Paint::Checker { squares } => {
+                let uv = match &self.scene.uv {
+                    Some(uv) => [0, 1].map(|c| {
+                        (tri.iter().zip(&w))
+                            .map(|(&i, &wi)| wi * uv[i as usize][c])
+                            .sum()
+                    }),
+                    None => [f64::NAN; 2],
+                };
+                self.lit(self.checker(uv, squares), &n, &to_eye)
+            }
             Paint::Curvature(_) => {
                 let value = match &self.scene.values {
                     Some(v) => tri.iter().zip(&w).map(|(&i, &wi)| wi * v[i as usize]).sum(),
@@ -248,6 +265,24 @@ impl<'a> Shader<'a> {
                 albedo.map(|a| a * light)
             }
         }
+    }
+
+    /// The linear albedo of [`Paint::Checker`] at texture coordinate `uv`: light and dark
+    /// squares, tinted red outside the unit square (and grey where `uv` is unknown).
+    fn checker(&self, [s, t]: [f64; 2], squares: u32) -> [f64; 3] {
+        if !(s.is_finite() && t.is_finite()) {
+            return self.albedo;
+        }
+        let n = f64::from(squares);
+        let odd = ((s * n).floor() + (t * n).floor()).rem_euclid(2.0) == 1.0;
+        let inside = (0.0..=1.0).contains(&s) && (0.0..=1.0).contains(&t);
+        let colour = match (inside, odd) {
+            (true, false) => CHECKER_LIGHT,
+            (true, true) => CHECKER_DARK,
+            (false, false) => CHECKER_OUT_LIGHT,
+            (false, true) => CHECKER_OUT_DARK,
+        };
+        to_linear(colour)
     }
 
     /// Lambert + Blinn-Phong of `albedo`, linear.

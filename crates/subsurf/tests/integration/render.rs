@@ -411,3 +411,133 @@ fn the_limit_surface_is_held_to_its_memory() {
     let held = render(&mesh, &options, &opts(Some(estimate))).unwrap();
     assert_eq!(held, render(&mesh, &options, &opts(None)).unwrap());
 }
+
+/// Two unit quads side by side in the plane `z = 0`, each mapping the whole unit square of
+/// texture coordinates: a seam along their shared edge, where the left quad has `s = 1`
+/// and the right one `s = 0`.
+fn two_textured_quads() -> PolyMesh {
+    use subsurf::mesh::FaceVarying;
+    let p = vec![
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [2.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [1.0, 1.0, 0.0],
+        [2.0, 1.0, 0.0],
+    ];
+    let mut m = PolyMesh::from_faces(p, &[[0u32, 1, 4, 3], [1, 2, 5, 4]]).unwrap();
+    let uv = vec![0.0, 0.0, 1.0, 0.0, 1.0, 1.0, 0.0, 1.0];
+    m.face_varying
+        .push(FaceVarying::new("uv", 2, uv, vec![0, 1, 2, 3, 0, 1, 2, 3]).unwrap());
+    m
+}
+
+/// The runs of light and dark surface pixels along row `y`, of at least 3 pixels
+/// (background skipped, and the edge pixels that blend a square with the background or
+/// with another square).
+fn checker_runs(img: &RgbImage, y: u32, background: [u8; 3]) -> Vec<bool> {
+    let mut runs: Vec<(bool, u32)> = Vec::new();
+    for x in 0..img.width() {
+        let p = img.get_pixel(x, y);
+        if p.0 == background {
+            continue;
+        }
+        let light = luminance(p) > 128.0;
+        match runs.last_mut() {
+            Some((l, n)) if *l == light => *n += 1,
+            _ => runs.push((light, 1)),
+        }
+    }
+    let mut out: Vec<bool> = Vec::new();
+    for (light, _) in runs.into_iter().filter(|&(_, n)| n >= 3) {
+        if out.last() != Some(&light) {
+            out.push(light);
+        }
+    }
+    out
+}
+
+/// Seen from above, a 2 × 2 checker on each quad gives, along a row through the middle of
+/// either row of squares, four alternating runs: the pattern restarts at the seam. Had
+/// the seam's vertices one texture coordinate (the left quad's `s = 1` on the right quad
+/// too), the right quad would show no squares along `s`.
+#[test]
+fn a_checker_follows_the_texture_coordinates_across_a_seam() {
+    use subsurf::mesh::FaceVaryingInterpolation;
+    let m = two_textured_quads();
+    let options = Options {
+        face_varying: FaceVaryingInterpolation::All,
+        ..Options::default()
+    };
+    for geometry in [
+        Geometry::Level(0),
+        Geometry::Level(2),
+        Geometry::Limit { rate: 16 },
+    ] {
+        let opts = Render {
+            width: 320,
+            height: 200,
+            view: (0.0, 89.0),
+            geometry,
+            shading: Shading::Flat,
+            ..small(Paint::Checker { squares: 2 })
+        };
+        let img = render(&m, &options, &opts).unwrap();
+        for y in [80, 120] {
+            let runs = checker_runs(&img, y, opts.background);
+            assert_eq!(runs.len(), 4, "{geometry:?}, row {y}: {runs:?}");
+        }
+        // The two rows of squares are opposite colours.
+        assert_ne!(
+            checker_runs(&img, 80, opts.background)[0],
+            checker_runs(&img, 120, opts.background)[0],
+            "{geometry:?}"
+        );
+    }
+}
+
+/// The face-varying mode shapes the texture on the limit surface: the textured cube's
+/// pictures differ between `all` (linear) and `none` (smooth everywhere).
+#[test]
+fn checker_pictures_differ_between_face_varying_modes() {
+    use subsurf::mesh::FaceVaryingInterpolation;
+    let path = format!(
+        "{}/tests/golden/fvar/textured_cube.obj",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let obj = parse_obj(&std::fs::read(&path).unwrap(), &path).unwrap();
+    let draw = |mode| {
+        let options = Options {
+            face_varying: mode,
+            ..obj.options.resolve(Options::default())
+        };
+        render(&obj.mesh, &options, &small(Paint::Checker { squares: 8 })).unwrap()
+    };
+    let (all, none) = (
+        draw(FaceVaryingInterpolation::All),
+        draw(FaceVaryingInterpolation::None),
+    );
+    let differ = all
+        .pixels()
+        .zip(none.pixels())
+        .filter(|(a, b)| a != b)
+        .count();
+    assert!(differ > 100, "{differ} pixels differ");
+}
+
+#[test]
+fn textures_need_texture_coordinates_and_the_meshs_own_surface() {
+    let o = Options::default();
+    let checker = small(Paint::Checker { squares: 4 });
+    let err = render(&cube(), &o, &checker).unwrap_err();
+    assert!(matches!(err, RenderError::NoTextureCoordinates), "{err}");
+    let m = two_textured_quads();
+    let bad = small(Paint::Checker { squares: 0 });
+    assert!(matches!(
+        render(&m, &o, &bad),
+        Err(RenderError::BadSquares(0))
+    ));
+    let s = subsurf::limit::LimitSurface::new(&m, o).unwrap();
+    let err = subsurf::render::render_surface(&m, &o, &checker, Some(&s)).unwrap_err();
+    assert!(matches!(err, RenderError::TextureNeedsMeshSurface), "{err}");
+}
