@@ -42,12 +42,13 @@ use subsurf::io::Up;
 use subsurf::io::{parse_obj, write_obj, WriteOptions};
 use subsurf::io::{write_tessellation, TessellationFormat, TessellationWriteOptions};
 use subsurf::limit::{self, tessellate, LimitSurface};
-use subsurf::mesh::{Options, PolyMesh};
+use subsurf::limit::FaceVaryingSurface;
+use subsurf::mesh::{FaceVaryingInterpolation, Options, PolyMesh};
 use subsurf::nurbs::SourcedGeometry;
 use subsurf::nurbs::{Geometry as NurbsGeometry, Surface};
 use subsurf::regularity::{check_regularity, plot_image, Mode, RegularityOptions};
 use subsurf::render::{
-    render_detailed, render_surface, write_png, Geometry, Paint, Render, RgbImage,
+    render_detailed, render_surface, write_png, Geometry, Paint, Render, RgbImage, Shading,
 };
 use subsurf::render::{sample_curvature, CurvatureKind};
 use subsurf::scheme::Adjustable;
@@ -211,6 +212,10 @@ const METHODS: &[Method] = &[
         run: pictures,
     },
     Method {
+        name: TEXTURE,
+        run: texture,
+    },
+    Method {
         name: "Shape-adjustable Catmull-Clark",
         run: adjustable,
     },
@@ -234,6 +239,7 @@ const METHODS: &[Method] = &[
 
 /// Headings of the methods that are not on meshes (and of some that are, for tests).
 const NURSS: &str = "Non-uniform Catmull-Clark (NURSS)";
+const TEXTURE: &str = "Texture coordinates";
 const G2: &str = "G2 caps at extraordinary vertices";
 const SPLINE: &str = "Sub-basis spline surface";
 const REGULARITY: &str = "Regularity certificate";
@@ -589,7 +595,12 @@ fn limit_surface(ctx: &Ctx) -> Result<Vec<Item>> {
     let mesh = ctx.mesh();
     let rate = ctx.ex.rate;
     let surface = LimitSurface::new(mesh, ctx.options)?;
-    let t = tessellate(&surface, mesh, rate, true)?;
+    let mut t = tessellate(&surface, mesh, rate, true)?;
+    if let Some(c) = (mesh.face_varying.iter()).position(|c| c.name() == "uv") {
+        let uv = FaceVaryingSurface::new(mesh, ctx.options, c)?;
+        let values = t.evaluate_face_varying(mesh, &uv, "uv")?;
+        t.face_varying.push(values);
+    }
     let options = TessellationWriteOptions {
         control: Some(mesh),
         // The examples are Z-up, as the pictures draw them: turned to glTF's +Y up.
@@ -638,6 +649,97 @@ fn pictures(ctx: &Ctx) -> Result<Vec<Item>> {
                 .to_owned(),
         )?,
         mean_curvature(ctx)?,
+    ])
+}
+
+/// Squares per side of the unit square of texture coordinates in the checker pictures.
+const CHECKER_SQUARES: u32 = 8;
+
+/// Texture coordinates through refinement and at the limit: a checker on the control mesh,
+/// on the limit surface in the example's face-varying mode, and in mode `none` (`all` if
+/// that is the example's), with the largest difference of the two limits measured at the
+/// tessellation's corners.
+fn texture(ctx: &Ctx) -> Result<Vec<Item>> {
+    let mesh = ctx.mesh();
+    let Some(channel) = (mesh.face_varying.iter()).position(|c| c.name() == "uv") else {
+        return Ok(Vec::new());
+    };
+    let checker = Paint::Checker {
+        squares: CHECKER_SQUARES,
+    };
+    let control = Render {
+        shading: Shading::Flat,
+        control_mesh: true,
+        ..picture(Geometry::Level(0), checker, ctx.ex.view)
+    };
+    let values = mesh.face_varying[channel].num_values();
+    let mode = ctx.options.face_varying;
+    // The other extreme: smooth everywhere, or linear everywhere.
+    let other_mode = match mode {
+        FaceVaryingInterpolation::None => FaceVaryingInterpolation::All,
+        _ => FaceVaryingInterpolation::None,
+    };
+    let other = Options {
+        face_varying: other_mode,
+        ..ctx.options
+    };
+    // Where the two limits differ most, over the limit tessellation's corners.
+    let surface = LimitSurface::new(mesh, ctx.options)?;
+    let t = tessellate(&surface, mesh, ctx.ex.rate, false)?;
+    let uv = |o: Options| -> Result<Vec<[f64; 2]>> {
+        let s = FaceVaryingSurface::new(mesh, o, channel)?;
+        let ch = t.evaluate_face_varying(mesh, &s, "uv")?;
+        Ok((ch.indices().iter())
+            .map(|&k| {
+                let x = ch.value(k as usize);
+                [x[0], x[1]]
+            })
+            .collect())
+    };
+    let (a, b) = (uv(ctx.options)?, uv(other)?);
+    let moved = (a.iter().zip(&b))
+        .map(|(p, q)| (p[0] - q[0]).hypot(p[1] - q[1]))
+        .fold(0.0f64, f64::max);
+    let limit_mode = ctx.picture(checker);
+    let draw = |o: &Options, what: &str| {
+        render_detailed(mesh, o, &limit_mode)
+            .map(|r| r.image)
+            .with_context(|| format!("{}: texture, mode {what}", ctx.input.name))
+    };
+    let at_mode = draw(&ctx.options, &mode.to_string())?;
+    let at_other = draw(&other, &other_mode.to_string())?;
+    let differ = differing_pixels(&at_mode, &at_other);
+    let at_mode = png_item(
+        ctx.dir,
+        &at_mode,
+        ctx.file(&format!("texture-{mode}.png")),
+        format!(
+            "exact limit surface, the checker through the texture coordinates' exact limit \
+             (mode {mode})"
+        ),
+    )?;
+    let at_other = png_item(
+        ctx.dir,
+        &at_other,
+        ctx.file(&format!("texture-{other_mode}.png")),
+        format!(
+            "mode {other_mode}: the texture moves by up to {moved:.3} of the unit square from \
+             mode {mode}'s; {:.1} % of the pixels differ",
+            100.0 * differ
+        ),
+    )?;
+    Ok(vec![
+        ctx.png(
+            mesh,
+            &control,
+            &ctx.file("texture-control.png"),
+            format!(
+                "control mesh, a {CHECKER_SQUARES} × {CHECKER_SQUARES} checker through its \
+                 {values} texture coordinates (vt)"
+            ),
+        )?,
+        at_mode,
+        at_other,
     ])
 }
 
