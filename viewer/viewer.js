@@ -2,8 +2,8 @@
 //
 // Open a file with the file input, or pass ?model=URL. Drag to orbit, wheel to zoom,
 // right-drag to pan. For tests the page sets window.__viewerReady (true once a model is
-// shown) or window.__viewerError, and exposes __toggleZebra(on), __toggleControlMesh(on)
-// and __snapshot().
+// shown) or window.__viewerError, and exposes __toggleZebra(on), __toggleControlMesh(on),
+// __toggleChecker(on) and __snapshot().
 
 import * as THREE from 'three';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
@@ -15,6 +15,7 @@ const CONTROL_MESH = 'control mesh'; // node name written by subsurf
 const status = document.getElementById('status');
 const zebraBox = document.getElementById('zebra');
 const controlBox = document.getElementById('control');
+const checkerBox = document.getElementById('checker');
 
 let renderer;
 try {
@@ -91,13 +92,53 @@ const zebra = new THREE.ShaderMaterial({
 
 const lineMaterial = new THREE.LineBasicMaterial({ color: 0x1f4fbf });
 
+// A checker texture through the model's texture coordinates (TEXCOORD_0, written by
+// `subsurf tessellate` from the mesh's vt at their exact limit), in the colours of
+// `subsurf render --texture checker`: 8 x 8 squares over the unit square, repeated beyond.
+const CHECKER_SQUARES = 8;
+const checkerTexture = (() => {
+  const n = CHECKER_SQUARES;
+  const data = new Uint8Array(4 * n * n);
+  for (let i = 0; i < n * n; i++) {
+    const odd = ((i % n) + Math.floor(i / n)) % 2 === 1;
+    data.set(odd ? [56, 77, 107, 255] : [235, 230, 214, 255], 4 * i);
+  }
+  const t = new THREE.DataTexture(data, n, n);
+  t.colorSpace = THREE.SRGBColorSpace;
+  t.magFilter = THREE.NearestFilter;
+  t.wrapS = t.wrapT = THREE.RepeatWrapping;
+  t.needsUpdate = true;
+  return t;
+})();
+const checker = new THREE.MeshStandardMaterial({
+  map: checkerTexture,
+  roughness: 0.6,
+  side: THREE.DoubleSide,
+});
+
 let model = null; // the loaded glTF scene
 const shaded = new Map(); // mesh -> its own material
 
+// Each surface's material: zebra stripes, else the checker where the surface has texture
+// coordinates, else its own.
+function paint() {
+  for (const [mesh, material] of shaded) {
+    const uv = mesh.geometry.getAttribute('uv') !== undefined;
+    mesh.material = zebraBox.checked ? zebra : checkerBox.checked && uv ? checker : material;
+  }
+  render();
+}
+
 function setZebra(on) {
   zebraBox.checked = on;
-  for (const [mesh, material] of shaded) mesh.material = on ? zebra : material;
-  render();
+  if (on) checkerBox.checked = false;
+  paint();
+}
+
+function setChecker(on) {
+  checkerBox.checked = on && !checkerBox.disabled;
+  if (checkerBox.checked) zebraBox.checked = false;
+  paint();
 }
 
 function setControlMesh(on) {
@@ -133,6 +174,11 @@ function show(gltf, name) {
     if (o.isLineSegments) o.material = lineMaterial;
   });
   scene.add(model);
+  // The checker needs texture coordinates: offered only when a surface has them.
+  const textured = [...shaded.keys()].some((m) => m.geometry.getAttribute('uv') !== undefined);
+  checkerBox.disabled = !textured;
+  checkerBox.parentElement.title = textured ? '' : 'the model has no texture coordinates';
+  if (!textured) checkerBox.checked = false;
   setZebra(zebraBox.checked);
   setControlMesh(controlBox.checked);
   fit();
@@ -174,6 +220,7 @@ document.getElementById('file').addEventListener('change', (e) => {
 });
 zebraBox.addEventListener('change', () => setZebra(zebraBox.checked));
 controlBox.addEventListener('change', () => setControlMesh(controlBox.checked));
+checkerBox.addEventListener('change', () => setChecker(checkerBox.checked));
 document.getElementById('fit').addEventListener('click', fit);
 window.addEventListener('resize', () => {
   camera.aspect = window.innerWidth / window.innerHeight;
@@ -184,6 +231,7 @@ window.addEventListener('resize', () => {
 
 window.__toggleZebra = (on = !zebraBox.checked) => setZebra(on);
 window.__toggleControlMesh = (on = !controlBox.checked) => setControlMesh(on);
+window.__toggleChecker = (on = !checkerBox.checked) => setChecker(on);
 // The picture as PNG (a data: URL), drawn now: what the canvas shows, without the toolbar.
 window.__snapshot = () => {
   controls.update();

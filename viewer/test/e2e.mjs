@@ -6,7 +6,8 @@
 // CARGO_TARGET_DIR or ../target) and checks it with the Khronos glTF validator; serves
 // viewer/ and the file on 127.0.0.1, loads index.html?model=..., and checks the pictures:
 // not blank, the model fitted in view, the zebra and control-mesh toggles change them,
-// dragging orbits; then opens the file through the file input. Requests to anything but
+// dragging orbits; then opens the file through the file input; and a textured model (the
+// torus, with TEXCOORD_0) whose checker toggle changes the picture. Requests to anything but
 // the local server are blocked. The whole run is limited to 60 s. Prints
 // `viewer-e2e: N passed, M failed` last and exits 1 on any failure.
 // VIEWER_SCREENSHOTS=DIR keeps two screenshots there.
@@ -26,6 +27,8 @@ const TARGET = resolve(REPO, process.env.CARGO_TARGET_DIR ?? 'target');
 const BIN = process.env.SUBSURF_BIN ?? join(TARGET, 'release', 'subsurf');
 const CHROMIUM = process.env.CHROMIUM ?? '/usr/bin/chromium';
 const SHAPE = join(REPO, 'crates/subsurf/tests/shapes/osd/catmark_cube.obj');
+const TEXTURED = join(REPO, 'examples/meshes/torus.obj');
+const UNTEXTURED = join(REPO, 'examples/meshes/cube.obj');
 const TIME_LIMIT_MS = 60_000;
 const VIEW = { width: 800, height: 600 };
 const BACKGROUND = [0xf2, 0xf2, 0xf2];
@@ -56,6 +59,8 @@ function assert(cond, message) {
 
 const tmp = mkdtempSync(join(tmpdir(), 'subsurf-viewer-'));
 const glb = join(tmp, 'cube.glb');
+const torus = join(tmp, 'torus.glb');
+const plainCube = join(tmp, 'plain.glb');
 let server;
 let context;
 try {
@@ -67,17 +72,26 @@ try {
     { encoding: 'utf8', timeout: 20_000 },
   );
   assert(run.status === 0, `subsurf tessellate failed (${run.status}): ${run.stderr}`);
+  for (const [input, output] of [[TEXTURED, torus], [UNTEXTURED, plainCube]]) {
+    const r = spawnSync(BIN, ['tessellate', input, '-o', output, '--rate', '8'], {
+      encoding: 'utf8',
+      timeout: 20_000,
+    });
+    assert(r.status === 0, `subsurf tessellate ${input} failed (${r.status}): ${r.stderr}`);
+  }
 
-  await check('the .glb passes the Khronos glTF validator', async () => {
-    const report = await validator.validateBytes(new Uint8Array(readFileSync(glb)));
-    const i = report.issues;
-    const first = i.messages.slice(0, 3).map((m) => `${m.code} ${m.pointer ?? ''}`);
-    assert(i.numErrors === 0 && i.numWarnings === 0, `${i.numErrors} errors, ${i.numWarnings} warnings: ${first}`);
-    return `${report.info.totalTriangleCount ?? '?'} triangles, ${i.numInfos} infos, ${i.numHints} hints`;
-  });
+  for (const file of [glb, torus]) {
+    await check(`${file.split('/').pop()} passes the Khronos glTF validator`, async () => {
+      const report = await validator.validateBytes(new Uint8Array(readFileSync(file)));
+      const i = report.issues;
+      const first = i.messages.slice(0, 3).map((m) => `${m.code} ${m.pointer ?? ''}`);
+      assert(i.numErrors === 0 && i.numWarnings === 0, `${i.numErrors} errors, ${i.numWarnings} warnings: ${first}`);
+      return `${report.info.totalTriangleCount ?? '?'} triangles, ${i.numInfos} infos, ${i.numHints} hints`;
+    });
+  }
 
   // 2. The browser, on the local server only.
-  server = await startServer({ root: VIEWER, models: [glb] });
+  server = await startServer({ root: VIEWER, models: [glb, torus, plainCube] });
   context = await chromium.launchPersistentContext(join(tmp, 'profile'), {
     executablePath: CHROMIUM,
     headless: true,
@@ -240,6 +254,24 @@ try {
     assert(/cube\.glb: 768 triangles/.test(text), `status: ${text}`);
     const s = await analyse(await shot(), shaded);
     assert(s.changed < 0.01 * s.total, `differs from the ?model= picture in ${pct(s.changed, s)}`);
+  });
+
+  await check('the checker is offered for a textured model only, and changes its picture', async () => {
+    await page.goto(`${server.url}index.html?model=models/plain.glb`);
+    await waitReady();
+    assert(await page.locator('#checker').isDisabled(), 'checker enabled for an untextured model');
+    await page.goto(`${server.url}index.html?model=models/torus.glb`);
+    await waitReady();
+    assert(!(await page.locator('#checker').isDisabled()), 'checker disabled for the textured torus');
+    const plain = await shot();
+    const plainStats = await analyse(plain);
+    await page.locator('#checker').click();
+    const s = await analyse(await shot(), plain);
+    assert(s.changed > 0.2 * plainStats.foreground, `only ${pct(s.changed, s)} pixels changed`);
+    await page.evaluate(() => window.__toggleChecker(false));
+    const back = await analyse(await shot(), plain);
+    assert(back.changed < 0.001 * back.total, `switching it off differs in ${back.changed} pixels`);
+    return `${pct(s.changed, s)} pixels changed`;
   });
 
   await check('no page errors and no request left the machine', async () => {
