@@ -123,7 +123,7 @@ enum Command {
     #[command(after_help = cmd::repose::REPOSE_EXAMPLES)]
     #[command(mut_arg("c", |a| a.help("Shape parameter of the adjustable scheme, in [0, 1]: 0.5 is Catmull-Clark, smaller stays closer to the control mesh (0: the mesh itself), larger moves away from it; needs --scheme adjustable")), mut_arg("adjust_steps", |a| a.help("Use the adjustable scheme for the first K steps only, then Catmull-Clark (mixed subdivision) [default: every level]")))]
     Repose(cmd::repose::ReposeArgs),
-    /// Time uniform refinement (topology + positions, no output), like `osd-oracle bench`.
+    /// Time uniform refinement (topology, positions, texture coordinates; no output), like `osd-oracle bench`.
     #[command(after_help = BENCH_EXAMPLES)]
     Bench(BenchArgs),
     /// Draw the limit surface (or a refined mesh) to a PNG: shaded, zebra stripes, curvature.
@@ -413,6 +413,9 @@ pub struct RenderArgs {
 
 const BENCH_EXAMPLES: &str = "\
 Prints 'median_s=<seconds> min_s=<seconds>' over the repetitions, as osd-oracle bench does.
+Face-varying channels (texture coordinates, vt) are refined with the positions (as
+osd-oracle bench --fvar does); a mesh that has them is timed again without them, and the line
+ends with 'channels=<n> vertices_s=<seconds> fvar_pct=<their share, % of vertices_s>'.
 
 Examples:
   subsurf bench catmark_bishop.obj -l 5 --reps 7

@@ -1,6 +1,8 @@
-//! `subsurf bench`: time uniform refinement (topology + positions, no file output) the way
-//! `osd-oracle bench` times OpenSubdiv, so the two can be compared on any mesh; with
-//! `--replay`, time re-posing through a precomputed [`RefinePlan`] instead.
+//! `subsurf bench`: time uniform refinement (topology + positions, and the face-varying
+//! channels such as texture coordinates, no file output) the way `osd-oracle bench` times
+//! OpenSubdiv, so the two can be compared on any mesh; a mesh with face-varying channels is
+//! timed once more without them, to give their share. With `--replay`, time re-posing
+//! through a precomputed [`RefinePlan`] instead.
 
 use std::time::Instant;
 
@@ -85,17 +87,29 @@ pub fn run(args: &BenchArgs, threads: usize) -> Result<()> {
         verts = sub.mesh.num_vertices();
         Ok(sub)
     })?;
-    crate::output::print(&format!(
-        "{}\n",
-        format_args!(
-            "subsurf refine level={} verts={} threads={} median_s={:.6} min_s={:.6}",
-            args.levels,
-            verts,
-            pool.current_num_threads(),
-            times[times.len() / 2],
-            times[0]
-        )
-    ))?;
+    let median = times[times.len() / 2];
+    let mut line = format!(
+        "subsurf refine level={} verts={} threads={} median_s={median:.6} min_s={:.6}",
+        args.levels,
+        verts,
+        pool.current_num_threads(),
+        times[0]
+    );
+    if !mesh.face_varying.is_empty() {
+        // The face-varying channels' share: the same refinement without them.
+        let mut plain = mesh.clone();
+        plain.face_varying.clear();
+        let vertices = time_reps(&pool, reps, || {
+            subdivide(&plain, &opts).with_context(|| input.name.clone())
+        })?;
+        let vertices = vertices[vertices.len() / 2];
+        let pct = 100.0 * (median / vertices - 1.0);
+        line.push_str(&format!(
+            " channels={} vertices_s={vertices:.6} fvar_pct={pct:.0}",
+            mesh.face_varying.len()
+        ));
+    }
+    crate::output::print(&format!("{line}\n"))?;
     Ok(())
 }
 
