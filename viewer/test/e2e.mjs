@@ -10,7 +10,9 @@
 // torus, with TEXCOORD_0) whose checker toggle changes the picture. Requests to anything but
 // the local server are blocked. The whole run is limited to 60 s. Prints
 // `viewer-e2e: N passed, M failed` last and exits 1 on any failure.
-// VIEWER_SCREENSHOTS=DIR keeps two screenshots there.
+// VIEWER_SCREENSHOTS=DIR keeps two screenshots there. SUBSURF_GALLERY=DIR (a folder written
+// by `subsurf demo -o DIR`) also checks the demo gallery: its page loads without errors,
+// every picture decodes, every link it makes resolves.
 
 import { spawnSync } from 'node:child_process';
 import { mkdtempSync, readFileSync, rmSync, existsSync } from 'node:fs';
@@ -106,9 +108,10 @@ try {
   });
   context.setDefaultTimeout(15_000);
   const blocked = [];
+  const allowed = new Set([new URL(server.url).origin]); // local servers only
   await context.route('**/*', (route) => {
     const url = new URL(route.request().url());
-    if (url.origin === new URL(server.url).origin || url.protocol === 'data:') return route.continue();
+    if (allowed.has(url.origin) || url.protocol === 'data:') return route.continue();
     blocked.push(url.href);
     return route.abort();
   });
@@ -273,6 +276,50 @@ try {
     assert(back.changed < 0.001 * back.total, `switching it off differs in ${back.changed} pixels`);
     return `${pct(s.changed, s)} pixels changed`;
   });
+
+  if (process.env.SUBSURF_GALLERY) {
+    await check('the demo gallery: every picture decodes, every link resolves', async () => {
+      const gallery = await startServer({ root: resolve(process.env.SUBSURF_GALLERY) });
+      allowed.add(new URL(gallery.url).origin);
+      try {
+        await page.goto(`${gallery.url}index.html`, { waitUntil: 'load' });
+        const r = await page.evaluate(async () => {
+          const imgs = [...document.querySelectorAll('figure img')];
+          await Promise.all(imgs.map((i) => i.decode().catch(() => {})));
+          const broken = imgs.filter((i) => !(i.complete && i.naturalWidth > 0)).map((i) => i.src);
+          const links = [...new Set([...document.querySelectorAll('a[href]')]
+            .map((a) => a.href)
+            .filter((h) => h.startsWith(location.origin)))];
+          const dead = [];
+          for (const h of links) {
+            const res = await fetch(h.split('#')[0], { method: 'HEAD' });
+            if (!res.ok) dead.push(`${h} (${res.status})`);
+          }
+          const captions = [...document.querySelectorAll('figcaption')].filter((c) => c.textContent.trim());
+          return { images: imgs.length, broken, links: links.length, dead, captions: captions.length };
+        });
+        assert(r.images >= 20, `only ${r.images} pictures`);
+        assert(r.broken.length === 0, `pictures that do not decode: ${r.broken.slice(0, 5)}`);
+        assert(r.dead.length === 0, `links that do not resolve: ${r.dead.slice(0, 5)}`);
+        assert(r.captions >= r.images, `${r.captions} captions for ${r.images} pictures`);
+        // A click enlarges a picture with its caption; Escape closes it.
+        await page.locator('figure a').first().click();
+        const shown = await page.evaluate(async () => {
+          const box = document.getElementById('lightbox');
+          const img = box.querySelector('img');
+          await img.decode().catch(() => {});
+          const caption = document.querySelector('figure figcaption').textContent;
+          return { open: !box.hidden, decoded: img.naturalWidth > 0, same: box.querySelector('p').textContent === caption };
+        });
+        assert(shown.open && shown.decoded && shown.same, `lightbox: ${JSON.stringify(shown)}`);
+        await page.keyboard.press('Escape');
+        assert(await page.evaluate(() => document.getElementById('lightbox').hidden), 'Escape left it open');
+        return `${r.images} pictures, ${r.links} links, the lightbox opens and closes`;
+      } finally {
+        await gallery.close();
+      }
+    });
+  }
 
   await check('no page errors and no request left the machine', async () => {
     assert(errors.length === 0, errors.slice(0, 5).join('; '));
