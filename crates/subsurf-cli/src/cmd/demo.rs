@@ -41,8 +41,8 @@ use subsurf::io::MeshFormat;
 use subsurf::io::Up;
 use subsurf::io::{parse_obj, write_obj, WriteOptions};
 use subsurf::io::{write_tessellation, TessellationFormat, TessellationWriteOptions};
-use subsurf::limit::{self, tessellate, LimitSurface};
 use subsurf::limit::FaceVaryingSurface;
+use subsurf::limit::{self, tessellate, LimitSurface, SurfacePoint};
 use subsurf::mesh::{FaceVaryingInterpolation, Options, PolyMesh};
 use subsurf::nurbs::SourcedGeometry;
 use subsurf::nurbs::{Geometry as NurbsGeometry, Surface};
@@ -50,7 +50,7 @@ use subsurf::regularity::{check_regularity, plot_image, Mode, RegularityOptions}
 use subsurf::render::{
     render_detailed, render_surface, write_png, Geometry, Paint, Render, RgbImage, Shading,
 };
-use subsurf::render::{sample_curvature, CurvatureKind};
+use subsurf::render::{sample_curvature, Curvature, CurvatureKind};
 use subsurf::scheme::Adjustable;
 use subsurf::spline::QuadSpline;
 use subsurf::{Mixed, Scheme, SubdivideOptions};
@@ -652,6 +652,179 @@ fn pictures(ctx: &Ctx) -> Result<Vec<Item>> {
     ])
 }
 
+/// Samples per face diagonal of the curvature profile through an extraordinary vertex.
+const PROFILE_SAMPLES: usize = 200;
+/// The profile's samples nearest the vertex, in units of the face diagonal (at the vertex
+/// itself Catmull-Clark's curvature is not defined).
+const PROFILE_NEAREST: f64 = 1e-3;
+
+/// The Gaussian curvature of Catmull-Clark and of the G2 caps along a path through the
+/// first capped extraordinary vertex, inside one of its faces: along the face's edge
+/// towards the vertex, then along the face's diagonal away from it. Approached along
+/// different directions, Catmull-Clark's curvature at such a vertex differs (the lobes of
+/// the curvature pictures), the caps' does not. Plotted as SVG, the values either side of
+/// the vertex in the caption. `None` when no quad has the vertex.
+fn curvature_profile(ctx: &Ctx, g2: &G2Surface) -> Result<Option<Item>> {
+    let mesh = ctx.mesh();
+    let Some(v) = g2.caps().iter().find_map(|c| c.vertex) else {
+        return Ok(None);
+    };
+    // A quad with `v`, and `v`'s corner in it.
+    let Some((face, i)) = (0..mesh.num_faces())
+        .filter(|&f| mesh.face(f).len() == 4)
+        .find_map(|f| (mesh.face(f).iter().position(|&x| x as usize == v)).map(|i| (f, i)))
+    else {
+        return Ok(None);
+    };
+    let cc = LimitSurface::new(mesh, ctx.options)?;
+    // The point at `s` from corner `i` towards corner `i + k` (1: along the edge, 2: along
+    // the diagonal).
+    let at = |k: usize, s: f64| {
+        let c = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)];
+        let (a, b) = (c[i], c[(i + k) % 4]);
+        SurfacePoint {
+            face: face as u32,
+            subface: 0,
+            u: a.0 + s * (b.0 - a.0),
+            v: a.1 + s * (b.1 - a.1),
+        }
+    };
+    let profile = |surface: &dyn limit::Surface| -> Result<Vec<(f64, f64)>> {
+        let mut out = Vec::with_capacity(2 * PROFILE_SAMPLES);
+        for (k, sign) in [(1, -1.0), (2, 1.0)] {
+            for j in 0..PROFILE_SAMPLES {
+                let s = PROFILE_NEAREST
+                    + (1.0 - PROFILE_NEAREST) * j as f64 / (PROFILE_SAMPLES - 1) as f64;
+                let d = surface.evaluate(at(k, s))?;
+                if let Some(c) = Curvature::from_derivatives(&d) {
+                    out.push((sign * s, c.gauss));
+                }
+            }
+        }
+        out.sort_by(|a, b| a.0.total_cmp(&b.0));
+        Ok(out)
+    };
+    let (ours, theirs) = (profile(g2)?, profile(&cc)?);
+    // The values nearest the vertex from either side.
+    let sides = |p: &[(f64, f64)]| {
+        let before = p.iter().rev().find(|x| x.0 < 0.0).map_or(f64::NAN, |x| x.1);
+        let after = p.iter().find(|x| x.0 > 0.0).map_or(f64::NAN, |x| x.1);
+        (before, after)
+    };
+    let ((g_a, g_b), (c_a, c_b)) = (sides(&ours), sides(&theirs));
+    let svg = profile_svg(
+        &[
+            ("Catmull-Clark", "#c0392b", &theirs),
+            ("G2 caps", "#1f4fbf", &ours),
+        ],
+        &format!("Gaussian curvature through vertex {v}: along an edge, then a diagonal"),
+        &format!(
+            "along the edge of face {face} (left), along its diagonal (right); the vertex at 0"
+        ),
+    );
+    let file = ctx.file("g2-profile.svg");
+    Output::File(ctx.dir.join(&file)).write(|w| w.write_all(svg.as_bytes()))?;
+    Ok(Some(Item {
+        file,
+        caption: format!(
+            "Gaussian curvature through the capped vertex {v} (at 0), inside face {face}: \
+             along its edge to the vertex, then along its diagonal away. At {PROFILE_NEAREST} \
+             of a side from the vertex Catmull-Clark gives {c_a:.3} along the edge and \
+             {c_b:.3} along the diagonal (a jump of {:.1} %), the G2 caps {g_a:.3} and \
+             {g_b:.3} ({:.1} %)",
+            100.0 * (c_a - c_b).abs() / c_a.abs().max(c_b.abs()),
+            100.0 * (g_a - g_b).abs() / g_a.abs().max(g_b.abs()),
+        ),
+        counts: None,
+    }))
+}
+
+/// A line plot of `series` (name, colour, points sorted by x) as an SVG of the gallery's
+/// size, x from −1 to 1 (labelled `x_label`), y over the values' range, with a legend and
+/// `title`; each series is drawn in two pieces, either side of x = 0.
+fn profile_svg(series: &[(&str, &str, &[(f64, f64)])], title: &str, x_label: &str) -> String {
+    let (w, h) = (f64::from(SIZE.0), f64::from(SIZE.1));
+    let (left, right, top, bottom) = (64.0, 16.0, 36.0, 48.0);
+    let values = series.iter().flat_map(|s| s.2.iter().map(|p| p.1));
+    let (lo, hi) = values.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), y| {
+        (a.min(y), b.max(y))
+    });
+    let pad = 0.05 * (hi - lo).max(1e-9);
+    let (lo, hi) = (lo - pad, hi + pad);
+    let x = |t: f64| left + (t + 1.0) / 2.0 * (w - left - right);
+    let y = |v: f64| top + (hi - v) / (hi - lo) * (h - top - bottom);
+    let mut svg = format!(
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{w}\" height=\"{h}\" \
+         viewBox=\"0 0 {w} {h}\" font-family=\"sans-serif\" font-size=\"12\">\n\
+         <rect width=\"{w}\" height=\"{h}\" fill=\"#ffffff\"/>\n\
+         <text x=\"{}\" y=\"20\" text-anchor=\"middle\" font-size=\"13\">{}</text>\n",
+        w / 2.0,
+        escape(title)
+    );
+    // Axes: the frame, the vertex at x = 0, and y ticks at the range's ends and zero.
+    let _ = writeln!(
+        svg,
+        "<rect x=\"{left}\" y=\"{top}\" width=\"{}\" height=\"{}\" fill=\"none\" \
+         stroke=\"#888\"/>\n<line x1=\"{x0}\" x2=\"{x0}\" y1=\"{top}\" y2=\"{}\" \
+         stroke=\"#888\" stroke-dasharray=\"4 3\"/>",
+        w - left - right,
+        h - top - bottom,
+        h - bottom,
+        x0 = x(0.0),
+    );
+    let _ = writeln!(
+        svg,
+        "<text x=\"{}\" y=\"{}\" text-anchor=\"middle\">{}</text>",
+        w / 2.0,
+        h - 14.0,
+        escape(x_label)
+    );
+    for v in [lo + pad, 0.0, hi - pad]
+        .into_iter()
+        .filter(|v| (lo..=hi).contains(v))
+    {
+        let _ = writeln!(
+            svg,
+            "<text x=\"{}\" y=\"{}\" text-anchor=\"end\">{v:.2}</text>",
+            left - 6.0,
+            y(v) + 4.0
+        );
+    }
+    for (k, (name, colour, points)) in series.iter().enumerate() {
+        let path: Vec<String> = (points.iter())
+            .map(|&(t, v)| format!("{:.2},{:.2}", x(t), y(v)))
+            .collect();
+        // Two pieces, either side of the vertex: the curvature is not joined across it.
+        let split = points
+            .iter()
+            .position(|p| p.0 > 0.0)
+            .unwrap_or(points.len());
+        for piece in [&path[..split], &path[split..]] {
+            if piece.len() > 1 {
+                let _ = writeln!(
+                    svg,
+                    "<polyline fill=\"none\" stroke=\"{colour}\" stroke-width=\"2\" \
+                     points=\"{}\"/>",
+                    piece.join(" ")
+                );
+            }
+        }
+        let ly = top + 16.0 + 16.0 * k as f64;
+        let _ = writeln!(
+            svg,
+            "<line x1=\"{}\" x2=\"{}\" y1=\"{ly}\" y2=\"{ly}\" stroke=\"{colour}\" \
+             stroke-width=\"2\"/><text x=\"{}\" y=\"{}\">{}</text>",
+            left + 10.0,
+            left + 34.0,
+            left + 40.0,
+            ly + 4.0,
+            escape(name)
+        );
+    }
+    svg.push_str("</svg>\n");
+    svg
+}
+
 /// Squares per side of the unit square of texture coordinates in the checker pictures.
 const CHECKER_SQUARES: u32 = 8;
 
@@ -1003,6 +1176,9 @@ fn g2_caps(ctx: &Ctx) -> Result<Vec<Item>> {
             ),
         )?,
     ];
+    if let Some(item) = curvature_profile(ctx, &surface)? {
+        items.push(item);
+    }
     let doc = patches_json(&surface, mesh)?;
     let file = ctx.file("g2.json");
     let text = doc.to_json();
@@ -1404,8 +1580,9 @@ fn gallery_html(sections: &[Section]) -> String {
                 continue;
             }
             let _ = writeln!(h, "<h3>{}</h3>", escape(method));
-            let (pictures, models): (Vec<&Item>, Vec<&Item>) =
-                items.iter().partition(|i| i.file.ends_with(".png"));
+            let (pictures, models): (Vec<&Item>, Vec<&Item>) = items
+                .iter()
+                .partition(|i| i.file.ends_with(".png") || i.file.ends_with(".svg"));
             if !pictures.is_empty() {
                 h.push_str("<div class=\"grid\">\n");
                 for p in pictures {

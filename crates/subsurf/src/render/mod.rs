@@ -54,7 +54,7 @@ mod zebra;
 
 use std::io::{self, Write};
 
-pub use curvature::{sample_curvature, CurvatureKind};
+pub use curvature::{sample_curvature, Curvature, CurvatureKind, CurvatureSample};
 pub use image::RgbImage;
 
 use crate::io::Up;
