@@ -1,10 +1,12 @@
 #!/usr/bin/env python3
 """Face-varying golden data: OpenSubdiv's refined `vt` values and `f v/vt` faces.
 
-Usage: scripts/fvar-golden.py ORACLE OUTDIR SHAPE.obj...
+Usage: scripts/fvar-golden.py [--scheme catmark|loop] ORACLE OUTDIR SHAPE.obj...
 For every shape, level 1..3 and each of the six modes, runs
-    ORACLE refine SHAPE.obj LEVEL --fvar MODE
+    ORACLE refine SHAPE.obj LEVEL --fvar MODE [--scheme SCHEME]
 and writes OUTDIR/<shape>.txt.gz (format: tests/golden/README.md, "Face-varying data").
+The scheme (default catmark, the oracle's default) is passed to the oracle and named in
+the file's header; without --scheme the command and the files are as they always were.
 """
 import gzip, os, struct, subprocess, sys
 
@@ -20,9 +22,11 @@ def fnv(faces):
     return h
 
 
-def case(oracle, shape, level, mode):
-    out = subprocess.run([oracle, "refine", shape, str(level), "--fvar", mode],
-                         capture_output=True, text=True, timeout=600, check=True).stdout
+def case(oracle, shape, level, mode, scheme):
+    cmd = [oracle, "refine", shape, str(level), "--fvar", mode]
+    if scheme is not None:
+        cmd += ["--scheme", scheme]
+    out = subprocess.run(cmd, capture_output=True, text=True, timeout=600, check=True).stdout
     vt, faces = [], []
     for line in out.splitlines():
         t = line.split()
@@ -44,14 +48,23 @@ def case(oracle, shape, level, mode):
 
 
 def main():
-    oracle, outdir, shapes = sys.argv[1], sys.argv[2], sys.argv[3:]
+    args = sys.argv[1:]
+    scheme = None
+    if args[:1] == ["--scheme"]:
+        scheme, args = args[1], args[2:]
+        if scheme not in ("catmark", "loop"):
+            sys.exit(f"unknown scheme {scheme} (catmark or loop)")
+    if len(args) < 3:
+        sys.exit(__doc__)
+    oracle, outdir, shapes = args[0], args[1], args[2:]
     for shape in shapes:
         name = os.path.splitext(os.path.basename(shape))[0]
+        made_by = "scripts/fvar-golden.py" + (f" --scheme {scheme}" if scheme else "")
         lines = [f"# osd-oracle (OpenSubdiv 3.5, Debian libosd-dev) face-varying golden data for "
-                 f"{name}.obj; produced by scripts/fvar-golden.py", f"shape {name}"]
+                 f"{name}.obj; produced by {made_by}", f"shape {name}"]
         for level in (1, 2, 3):
             for mode in MODES:
-                lines += case(oracle, shape, level, mode)
+                lines += case(oracle, shape, level, mode, scheme)
         data = ("\n".join(lines) + "\n").encode()
         with open(os.path.join(outdir, name + ".txt.gz"), "wb") as f:
             f.write(gzip.compress(data, mtime=0))

@@ -107,13 +107,13 @@ pub fn subdivide_with_progress(
             scheme: opts.scheme.name(),
         });
     }
-    // Face-varying data on Loop's split and with NURSS's intervals is not refined yet: the
-    // output has none, with a warning.
-    let fvar_warning = (!mesh.face_varying.is_empty()
-        && matches!(opts.scheme, Scheme::Loop | Scheme::Nurss))
-    .then(|| TopologyWarning::FaceVaryingNotRefined {
-        channels: mesh.face_varying.len(),
-        scheme: opts.scheme.name(),
+    // Face-varying data with NURSS's intervals is not refined yet: the output has none,
+    // with a warning.
+    let fvar_warning = (!mesh.face_varying.is_empty() && opts.scheme == Scheme::Nurss).then(|| {
+        TopologyWarning::FaceVaryingNotRefined {
+            channels: mesh.face_varying.len(),
+            scheme: opts.scheme.name(),
+        }
     });
     let Some(steps) = Steps::of(opts.scheme) else {
         let s = crate::nonuniform::refined(mesh, &opts.options, opts.levels, progress)?;

@@ -1,6 +1,6 @@
-//! `--scheme loop` and `--scheme bilinear`: refinement as the library's `subdivide` gives it,
-//! a quad for Loop refused naming the face, and the operations not available yet refused with
-//! a message (never another scheme's surface).
+//! `--scheme loop` and `--scheme bilinear`: refinement as the library's `subdivide` gives it
+//! (with Loop, texture coordinates too), a quad for Loop refused naming the face, and the
+//! operations not available yet refused with a message (never another scheme's surface).
 
 use crate::common;
 
@@ -12,6 +12,13 @@ use subsurf::{Scheme, SubdivideOptions};
 /// A square pyramid without its base, as four triangles, with a crease along one edge.
 const TRIANGLES: &str = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0.5 0.5 1\n\
                          f 1 2 5\nf 2 3 5\nf 3 4 5\nf 4 1 5\nt crease 2/1/0 0 4 1.5\n";
+
+/// The pyramid with texture coordinates: a seam along the edge 1-5 (its two faces give
+/// vertex 1 the values 1 and 6), so the layout unfolds.
+const TEXTURED: &str = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0.5 0.5 1\n\
+                        vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvt 0.5 0.5\nvt 0 0.2\n\
+                        f 1/1 2/2 5/5\nf 2/2 3/3 5/5\nf 3/3 4/4 5/5\nf 4/4 1/6 5/5\n\
+                        t crease 2/1/0 0 4 1.5\n";
 
 /// The same with the last two triangles as one quad.
 const WITH_QUAD: &str = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0.5 0.5 1\n\
@@ -67,6 +74,52 @@ fn loop_and_bilinear_refine_as_the_library() {
         library(Scheme::Loop, 1).positions(),
         library(Scheme::CatmullClark, 1).positions()
     );
+}
+
+/// Loop refines texture coordinates (face-varying data) as the library does and writes them
+/// as `vt` lines and `f v/vt` faces, without a warning; with `--limit` it is refused as
+/// without them.
+#[test]
+fn loop_writes_refined_texture_coordinates() {
+    let dir = dir_with(&[("uv.obj", TEXTURED)]);
+    let args = [
+        "subdivide",
+        "uv.obj",
+        "-o",
+        "out.obj",
+        "-l",
+        "2",
+        "--scheme",
+        "loop",
+    ];
+    let o = run_in(dir.path(), &args);
+    assert_code(&o, 0);
+    assert!(!stderr(&o).contains("texture"), "{}", stderr(&o));
+    let text = std::fs::read_to_string(dir.path().join("out.obj")).expect("output written");
+    let got = parse_obj(text.as_bytes(), "out.obj").expect("valid output");
+    let input = parse_obj(TEXTURED.as_bytes(), "uv.obj").expect("valid OBJ");
+    let opts = SubdivideOptions {
+        levels: 2,
+        scheme: Scheme::Loop,
+        options: input.options.resolve(Options::default()),
+        ..Default::default()
+    };
+    let want = subsurf::subdivide(&input.mesh, &opts)
+        .expect("refines")
+        .mesh;
+    let (g, w) = (&got.mesh.face_varying, &want.face_varying);
+    assert_eq!((g.len(), w.len()), (1, 1), "one uv channel");
+    assert_eq!(g[0].indices(), w[0].indices());
+    assert_eq!(g[0].values(), w[0].values());
+    // The seam gives its vertices and the children of its edges two values each.
+    assert!(count_records(&text, "vt") > got.mesh.num_vertices());
+    assert!(text.lines().any(|l| l.starts_with("f ") && l.contains('/')));
+    let mut limit = args;
+    limit[3] = "lim.obj";
+    let o = run_in(dir.path(), &[&limit[..], &["--limit"]].concat());
+    assert_code(&o, 1);
+    assert!(stderr(&o).contains("moving to the limit"), "{}", stderr(&o));
+    assert!(!dir.path().join("lim.obj").exists());
 }
 
 #[test]

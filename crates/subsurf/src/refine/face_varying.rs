@@ -15,7 +15,8 @@
 //! - a *corner* (one face, or sharpened by the mode, an infinitely sharp edge inside the
 //!   span, a non-manifold vertex or a disjoint span) keeps its value;
 //! - a *crease* (a smooth face-varying boundary) takes the scheme's crease rule along the
-//!   two boundary values at the ends of its span (`¾ v + ⅛ (a + b)` for Catmull-Clark);
+//!   two boundary values at the ends of its span (`¾ v + ⅛ (a + b)` for Catmull-Clark
+//!   and Loop);
 //! - a *semi-sharp* value (a span with a semi-sharp edge, or a semi-sharp vertex) is a
 //!   corner until the sharpness has decayed, then a crease, blended during the step it
 //!   decays by OpenSubdiv's fractional weight.
@@ -24,12 +25,23 @@
 //! mask of the scheme when the edge is continuous, else one value per face of the edge,
 //! the midpoint of that face's two values.
 //!
+//! # Loop's triangle split
+//! The same topology and classification serve Loop (C. Loop, "Smooth subdivision surfaces
+//! based on triangles", M.S. thesis, University of Utah, 1987: [Loop 1987], with
+//! OpenSubdiv's rules), whose split ([`super::tri_topology`]) makes no face points and
+//! four triangles of each triangle: a continuous edge's child takes Loop's edge mask with
+//! the values of the edge's ends and of each triangle's corner opposite the edge
+//! (`⅜ (a + b) + ⅛ (o₀ + o₁)` when smooth); a vertex that matches takes Loop's vertex
+//! mask on its value and its edges' far values (`(1 − nβₙ) v + βₙ Σ eᵢ` when smooth);
+//! the rest is shared. A crease value at the child of a seam runs through the three
+//! child triangles of one face of the edge (two quads with the quad split).
+//!
 //! # Numbering of child values (OpenSubdiv's)
 //! Child values are numbered by child vertex (the children of vertices, then faces, then
-//! edges, [`super::topology`]'s order), each child vertex's values in sibling order: a
-//! vertex's child has its parent's values in the same order, a face's child one value, an
-//! edge's child one value, or one per face of the edge (in the edge's face order) when the
-//! edge is discontinuous.
+//! edges, [`super::topology`]'s order; vertices then edges with the triangle split), each
+//! child vertex's values in sibling order: a vertex's child has its parent's values in
+//! the same order, a face's child one value, an edge's child one value, or one per face
+//! of the edge (in the edge's face order) when the edge is discontinuous.
 
 use super::primvar::{edge_mask_at, vertex_mask_at};
 use super::topology::rot;
@@ -429,6 +441,13 @@ impl FvarLevel {
         }
     }
 
+    /// The value of face `f` opposite its edge `e` (two corners after the first corner
+    /// whose edge is `e`, as OpenSubdiv's `interpFVarFromEdges` finds it for Loop).
+    fn opposite_value(&self, t: &Topology, f: usize, e: usize) -> u32 {
+        let k = t.face_edge_list(f).iter().position(|&x| x as usize == e);
+        self.face_value(t, f, k.unwrap_or(0) + 2)
+    }
+
     /// The value at the far end of the `i`-th edge of vertex `v`, seen from the values of
     /// `v` (OpenSubdiv's `getVertexEdgeValues`, for a vertex that matches).
     fn vertex_edge_value(&self, t: &Topology, v: usize, i: usize) -> u32 {
@@ -529,17 +548,26 @@ impl FvarLevel {
 }
 
 impl FvarLevel {
-    /// The face-varying topology of `c`, the refinement of `p` (OpenSubdiv's
-    /// `FVarRefinement::applyRefinement`): child values numbered as the module docs say,
-    /// tags inherited (a discontinuous or linear edge's child values are creases, or
-    /// corners when boundaries are linear), crease ends carried down, and semi-sharp
-    /// values that have decayed reclassified as creases. Reads of `c` are limited to its
-    /// sharpness and vertex tags, so `c` may be a level built for output only.
-    pub(crate) fn refine(&self, p: &Topology, c: &Topology) -> Self {
-        let (nv, nf, ne) = (p.num_vertices(), p.num_faces(), p.num_edges());
+    /// The face-varying topology of `c`, the refinement of `p` by the quad split or, with
+    /// `triangles`, the triangle split (OpenSubdiv's `FVarRefinement::applyRefinement`):
+    /// child values numbered as the module docs say, tags inherited (a discontinuous or
+    /// linear edge's child values are creases, or corners when boundaries are linear),
+    /// crease ends carried down, and semi-sharp values that have decayed reclassified as
+    /// creases. Reads of `c` are limited to its sharpness and vertex tags, so `c` may be a
+    /// level built for output only.
+    pub(crate) fn refine(&self, p: &Topology, c: &Topology, triangles: bool) -> Self {
+        let (nv, ne) = (p.num_vertices(), p.num_edges());
+        let nf = face_children(p, triangles);
+        // Both splits make `2E` halves of edges after `S` edges inside the faces (the quad
+        // split one per face-vertex, the triangle split three per triangle), and four
+        // child face-vertices per parent face-vertex (`n` quads or four triangles).
         let s = p.face_verts.len();
         let smooth = !self.mode.linear_boundaries;
-        // Values per child vertex: vertices, faces, edges.
+        // Child faces at the child of an edge per face of the edge: the two quads of the
+        // face on each side, or the triangle split's two corner triangles and the middle
+        // one (`super::tri_topology` orders them).
+        let per_face: u16 = if triangles { 3 } else { 2 };
+        // Values per child vertex: vertices, faces (the quad split), edges.
         let mut vert_offsets = Vec::with_capacity(nv + nf + ne + 1);
         vert_offsets.push(0u32);
         let mut at = 0u32;
@@ -575,8 +603,9 @@ impl FvarLevel {
                 let cv = nv + nf + e;
                 for (i, slot) in (vert_offsets[cv]..vert_offsets[cv + 1]).enumerate() {
                     tags[slot as usize] = split;
-                    // Each face of the edge has two child faces at its child vertex.
-                    ends[slot as usize] = [2 * i as u16, 2 * i as u16 + 1];
+                    // The crease runs through the child faces of the edge's `i`-th face.
+                    let first = per_face * i as u16;
+                    ends[slot as usize] = [first, first + per_face - 1];
                 }
             }
         }
@@ -595,49 +624,68 @@ impl FvarLevel {
             ends,
             edge_tags,
         };
-        self.child_faces(p, &mut child);
+        self.child_faces(p, triangles, &mut child);
         if smooth {
             child.reclassify_semi_sharp(p, c);
         }
         child
     }
 
-    /// The values of the child faces: the child of face `f` at corner `j` is the quad
-    /// `[child of vertex j, child of edge j, child of f, child of edge j-1]` (rotated for
-    /// quads, as [`super::topology`] lays it out); a vertex's child takes the sibling of
-    /// its parent in `f`, an edge's child with one value per face the position of `f`
-    /// among the edge's faces.
-    fn child_faces(&self, p: &Topology, child: &mut Self) {
-        let (nv, nf) = (p.num_vertices() as u32, p.num_faces() as u32);
-        let edge_sibling = |e: u32, f: u32| -> u16 {
-            let cv = (nv + nf + e) as usize;
-            if child.vert_offsets[cv + 1] - child.vert_offsets[cv] == 1 {
-                return 0;
+    /// The values of the child faces. With the quad split the child of face `f` at corner
+    /// `j` is the quad `[child of vertex j, child of edge j, child of f, child of edge j-1]`
+    /// (rotated for quads, as [`super::topology`] lays it out); with the triangle split
+    /// (`triangles`) triangle `[v₀ v₁ v₂]` with edge children `E₀ E₁ E₂` gives `[v₀ E₀ E₂]`,
+    /// `[E₀ v₁ E₁]`, `[E₂ E₁ v₂]`, `[E₁ E₂ E₀]` ([`super::tri_topology`]). A vertex's child
+    /// takes the sibling of its parent in `f`, an edge's child with one value per face the
+    /// position of `f` among the edge's faces (the last, if `f` is there twice, as
+    /// OpenSubdiv's `populateChildValuesForEdgeVertex` finds it).
+    fn child_faces(&self, p: &Topology, triangles: bool, child: &mut Self) {
+        let nv = p.num_vertices() as u32;
+        let edge0 = nv + face_children(p, triangles) as u32;
+        let edge_child = |e: u32, f: usize| -> (u32, u16) {
+            let cv = edge0 + e;
+            let range = child.vert_offsets[cv as usize]..child.vert_offsets[cv as usize + 1];
+            if range.len() == 1 {
+                return (cv, 0);
             }
             let faces = p.edge_face_list(e as usize);
-            faces.iter().rposition(|&g| g == f).unwrap_or(0) as u16
+            (
+                cv,
+                faces.iter().rposition(|&g| g as usize == f).unwrap_or(0) as u16,
+            )
         };
         let (mut values, mut siblings) = (
             std::mem::take(&mut child.face_values),
             std::mem::take(&mut child.face_siblings),
         );
+        let mut put = |at: usize, (cv, sib): (u32, u16)| {
+            values[at] = child.vert_offsets[cv as usize] + sib as u32;
+            siblings[at] = sib;
+        };
         for f in 0..p.num_faces() {
             let o = p.face_offsets[f] as usize;
             let (fv, fe) = (p.face_vertices(f), p.face_edge_list(f));
+            let vert = |j: usize| (fv[j], self.face_siblings[o + j]);
+            let edge = |j: usize| edge_child(fe[j], f);
+            if triangles {
+                let corners = [
+                    [vert(0), edge(0), edge(2)],
+                    [edge(0), vert(1), edge(1)],
+                    [edge(2), edge(1), vert(2)],
+                    [edge(1), edge(2), edge(0)],
+                ];
+                for (k, c) in corners.into_iter().flatten().enumerate() {
+                    put(4 * o + k, c);
+                }
+                continue;
+            }
             let n = fv.len();
             for j in 0..n {
                 let jp = if j == 0 { n - 1 } else { j - 1 };
-                let corners = [
-                    (fv[j], self.face_siblings[o + j]),
-                    (nv + nf + fe[j], edge_sibling(fe[j], f as u32)),
-                    (nv + f as u32, 0),
-                    (nv + nf + fe[jp], edge_sibling(fe[jp], f as u32)),
-                ];
+                let corners = [vert(j), edge(j), (nv + f as u32, 0), edge(jp)];
                 let r = rot(n, j);
-                for (k, &(cv, sib)) in corners.iter().enumerate() {
-                    let at = 4 * (o + j) + (k + r) % 4;
-                    values[at] = child.vert_offsets[cv as usize] + sib as u32;
-                    siblings[at] = sib;
+                for (k, c) in corners.into_iter().enumerate() {
+                    put(4 * (o + j) + (k + r) % 4, c);
                 }
             }
         }
@@ -784,6 +832,16 @@ impl FvarLevel {
     }
 }
 
+/// The number of child vertices of the faces of `p`: one per face with the quad split,
+/// none with the triangle split.
+fn face_children(p: &Topology, triangles: bool) -> usize {
+    if triangles {
+        0
+    } else {
+        p.num_faces()
+    }
+}
+
 /// `acc += w · x` over `dim` components.
 #[inline]
 fn axpy(acc: &mut [f64], w: f64, x: &[f64]) {
@@ -796,7 +854,9 @@ fn axpy(acc: &mut [f64], w: f64, x: &[f64]) {
 /// indexes them) to the values of `cf`, the refinement of `pf` onto `c` (the refinement
 /// of `p`), into `dst` (`dim · cf.num_slots()` numbers): OpenSubdiv's
 /// `PrimvarRefiner::InterpolateFaceVarying` with the masks of `rules` (face points, then
-/// edge and vertex points, which read them).
+/// edge and vertex points, which read them). With a scheme that splits triangles (Loop,
+/// [`Rules::splits_triangles`]) there are no face points, and the face weights of an edge
+/// mask weigh each triangle's value opposite the edge.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn interpolate<R: Rules>(
     p: &Topology,
@@ -819,7 +879,8 @@ pub(crate) fn interpolate<R: Rules>(
         dim,
         src,
     };
-    let (nv, nf) = (p.num_vertices(), p.num_faces());
+    let nv = p.num_vertices();
+    let nf = face_children(p, rules.splits_triangles());
     let face0 = cf.vert_offsets[nv] as usize;
     let edge0 = cf.vert_offsets[nv + nf] as usize;
     let (vert_out, rest) = dst.split_at_mut(dim * face0);
@@ -850,8 +911,8 @@ impl<R: Rules> FvarPass<'_, R> {
         &self.src[self.dim * i as usize..self.dim * (i as usize + 1)]
     }
 
-    /// The child value of every parent face (`out`, one per face): the average of the
-    /// face's values.
+    /// The child value of every parent face (`out`, one per face; empty with the triangle
+    /// split): the average of the face's values.
     fn face_points(&self, out: &mut [f64]) {
         let p = self.p;
         for (f, out) in out.chunks_exact_mut(self.dim).enumerate() {
@@ -867,10 +928,13 @@ impl<R: Rules> FvarPass<'_, R> {
 
     /// The child values of every parent edge (`out`, from the first edge child's first
     /// value on), given the face points `face_out`: the edge mask where the edge's values
-    /// match across it, else (and for linear channels) each side's midpoint.
+    /// match across it, else (and for linear channels) each side's midpoint. The mask's
+    /// face weights weigh the face points, or with the triangle split each triangle's
+    /// value opposite the edge.
     fn edge_points(&self, face_out: &[f64], out: &mut [f64]) {
         let (p, pf, cf, dim) = (self.p, self.pf, self.cf, self.dim);
-        let (nv, nf) = (p.num_vertices(), p.num_faces());
+        let triangles = self.rules.splits_triangles();
+        let (nv, nf) = (p.num_vertices(), face_children(p, triangles));
         let edge0 = cf.vert_offsets[nv + nf] as usize;
         let face_pt = |f: u32| &face_out[dim * f as usize..dim * (f as usize + 1)];
         for e in 0..p.num_edges() {
@@ -900,7 +964,11 @@ impl<R: Rules> FvarPass<'_, R> {
             if !m.is_crease() {
                 for (j, &f) in p.edge_face_list(e).iter().enumerate() {
                     let w = if j < 2 { m.faces[j] } else { m.other_faces };
-                    axpy(out, w, face_pt(f));
+                    if triangles {
+                        axpy(out, w, self.val(pf.opposite_value(p, f as usize, e)));
+                    } else {
+                        axpy(out, w, face_pt(f));
+                    }
                 }
             }
         }
@@ -930,7 +998,8 @@ impl<R: Rules> FvarPass<'_, R> {
             }
             let scratch = (&mut pe, &mut ce, &mut cmask);
             vertex_mask_at(p, self.c, self.options, self.rules, v, &mut mask, scratch);
-            if mask.has_faces {
+            // Loop's vertex masks have no face weights (zero if set), and no face points.
+            if mask.has_faces && !self.rules.splits_triangles() {
                 for (&f, &w) in p.vertex_faces(v).iter().zip(&mask.faces) {
                     axpy(out, w, face_pt(f));
                 }
@@ -1014,10 +1083,24 @@ impl FaceVaryingRefiner {
     }
 
     /// Refines every channel from `p` to `c` (the refinement of `p`, possibly built for
-    /// output only) with the masks of `rules`.
+    /// output only) with the masks of `rules`: OpenSubdiv's
+    /// `Far::PrimvarRefiner::InterpolateFaceVarying` (see the module docs). `c` is the
+    /// quad split of `p` ([`crate::refine::TopologyRefiner`] with a scheme of the
+    /// Catmull-Clark family or bilinear), or its triangle split when `rules` splits
+    /// triangles (Loop, [`Rules::splits_triangles`]).
+    ///
+    /// # Panics
+    /// If `c` does not have the vertex count of that split of `p` (`V + F + E`, or
+    /// `V + E` for the triangle split).
     pub fn refine<R: Rules>(&mut self, p: &Topology, c: &Topology, options: &Options, rules: R) {
+        let triangles = rules.splits_triangles();
+        assert_eq!(
+            c.num_vertices(),
+            p.num_vertices() + face_children(p, triangles) + p.num_edges(),
+            "the child level is not the refinement of the parent by the scheme's split"
+        );
         for ((level, values), (_, dim)) in self.channels.iter_mut().zip(&self.names) {
-            let child = level.refine(p, c);
+            let child = level.refine(p, c, triangles);
             let mut next = vec![0.0; dim * child.num_slots()];
             interpolate(p, c, level, &child, options, rules, *dim, values, &mut next);
             *level = child;
@@ -1030,7 +1113,9 @@ impl FaceVaryingRefiner {
     /// level `last`, complete (built with its full adjacency). Where `last` has a face that
     /// is not a quad (the base level only), the limit masks, which assume quads, are
     /// applied one Catmull-Clark level further down, whose vertices' values are the
-    /// children of `last`'s and have the same limit.
+    /// children of `last`'s and have the same limit. The masks are Catmull-Clark's: this
+    /// is not the limit of channels refined with Loop (whose limit
+    /// [`subdivide`](fn@crate::subdivide) refuses).
     pub fn limit(&mut self, last: &Topology, options: &Options) {
         let all_quads = (0..last.num_faces()).all(|f| last.face_vertices(f).len() == 4);
         let child = (!all_quads).then(|| super::refine_topology(last, options, true));
@@ -1043,7 +1128,7 @@ impl FaceVaryingRefiner {
                     *values = lim;
                 }
                 Some(c) => {
-                    let cl = level.refine(last, c);
+                    let cl = level.refine(last, c, false);
                     let mut cv = vec![0.0; dim * cl.num_slots()];
                     let cc = crate::scheme::catmark::CatmullClark;
                     interpolate(last, c, level, &cl, options, cc, dim, values, &mut cv);

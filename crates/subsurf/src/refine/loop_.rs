@@ -4,7 +4,9 @@
 //! [`Scheme::Loop`](crate::Scheme::Loop) or `Bilinear`), then any primvar through it
 //! ([`interpolate_loop`], or [`interpolate_with`](super::interpolate_with) and
 //! [`Bilinear`](crate::scheme::bilinear::Bilinear)). [`subdivide`](fn@crate::subdivide)
-//! refines a mesh with either through `refine::uniform`.
+//! refines a mesh with either through `refine::uniform`, its face-varying channels (texture
+//! coordinates) with them through [`FaceVaryingRefiner`](super::FaceVaryingRefiner), which
+//! follows Loop's triangle split.
 
 use super::primvar::{axpy, run_chunks, vertex_points};
 use crate::mesh::{MeshError, Options, PolyMesh, Topology};
@@ -256,6 +258,149 @@ mod tests {
             .positions()
             .iter()
             .all(|p| (p[2] - (0.25 * p[0] - 0.5 * p[1] + 1.0)).abs() < 1e-12));
+    }
+
+    /// `mesh` with a face-varying channel `"p"` holding its positions, one value per
+    /// vertex indexed as the faces index the vertices: the channel's topology is the
+    /// vertex topology.
+    fn with_position_channel(mesh: &PolyMesh) -> PolyMesh {
+        let mut m = mesh.clone();
+        let values = m.positions().iter().flatten().copied().collect();
+        let ch = crate::mesh::FaceVarying::new("p", 3, values, m.face_verts().to_vec()).unwrap();
+        m.face_varying = vec![ch];
+        m
+    }
+
+    /// A face-varying channel laid out as the vertices, in mode `None` (no face-varying
+    /// boundary is made linear or sharp), takes exactly the vertex masks: Loop's
+    /// face-varying path (`FaceVaryingRefiner` with the triangle split) gives every face
+    /// corner the position that the vertex path (`interpolate_loop`) gives the corner's
+    /// vertex — with semi-sharp and infinitely sharp creases, a semi-sharp corner,
+    /// boundaries in every mode, both crease methods, a non-manifold edge and a
+    /// degenerate triangle.
+    #[test]
+    fn face_varying_on_the_vertex_topology_refines_as_the_vertices() {
+        use crate::mesh::FaceVaryingInterpolation;
+        let grid = creased_grid();
+        // Two more triangles on the grid's edge 6-7 (a non-manifold fin), one degenerate.
+        let mut pos = grid.positions().to_vec();
+        pos.push([1.5, 1.0, 2.0]);
+        let top = pos.len() as u32 - 1;
+        let mut faces: Vec<Vec<u32>> = grid.faces().map(<[u32]>::to_vec).collect();
+        faces.extend([vec![6, 7, top], vec![7, top, 7]]);
+        let mut fin = PolyMesh::from_faces(pos, &faces).unwrap();
+        fin.tags = grid.tags.clone();
+        for mesh in [grid, fin] {
+            let m = with_position_channel(&mesh);
+            for method in [CreaseMethod::Uniform, CreaseMethod::Chaikin] {
+                for boundary in [
+                    BoundaryInterpolation::EdgeOnly,
+                    BoundaryInterpolation::EdgeAndCorner,
+                    BoundaryInterpolation::None,
+                ] {
+                    let o = Options {
+                        crease_method: method,
+                        boundary,
+                        face_varying: FaceVaryingInterpolation::None,
+                        ..Options::default()
+                    };
+                    let out = subdivide_loop(&m, &o, 3, true).unwrap().0;
+                    let ch = &out.face_varying[0];
+                    assert_eq!(ch.indices().len(), out.face_verts().len());
+                    for (&v, &x) in out.face_verts().iter().zip(ch.indices()) {
+                        let (p, q) = (out.positions()[v as usize], ch.value(x as usize));
+                        for k in 0..3 {
+                            let e = (p[k] - q[k]).abs();
+                            assert!(e < 1e-13, "{method:?} {boundary:?}: vertex {v} {e:e}");
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// Loop's face-varying refinement of random triangle soups (repeated and degenerate
+    /// triangles, non-manifold edges and vertices, isolated vertices, random seams,
+    /// creases and corners) in every mode never panics and gives a well-formed channel:
+    /// one value index per face corner, all in range, all values finite; a constant
+    /// channel stays constant (the masks are affine combinations).
+    #[test]
+    fn face_varying_refines_random_triangle_soups() {
+        use crate::mesh::{FaceVarying, FaceVaryingInterpolation as F};
+        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = move |n: u64| {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed % n
+        };
+        let modes = [
+            F::None,
+            F::CornersOnly,
+            F::CornersPlus1,
+            F::CornersPlus2,
+            F::Boundaries,
+            F::All,
+        ];
+        let mut refined = 0;
+        for case in 0..120 {
+            let nv = 3 + next(6) as u32;
+            let nf = 1 + next(8) as usize;
+            let faces: Vec<[u32; 3]> = (0..nf)
+                .map(|_| [0; 3].map(|_| next(nv as u64) as u32))
+                .collect();
+            let pos = (0..nv)
+                .map(|i| [i as f64, (i * i % 7) as f64, next(5) as f64])
+                .collect();
+            let Ok(mut m) = PolyMesh::from_faces(pos, &faces) else {
+                continue;
+            };
+            let nvals = 1 + next(2 * nv as u64) as u32;
+            let indices = (0..3 * nf).map(|_| next(nvals as u64) as u32).collect();
+            let values = (0..2 * nvals).map(|i| f64::from(i % 5) * 0.25).collect();
+            let constant = vec![0.5; nv as usize];
+            let by_vertex = m.face_verts().to_vec();
+            m.face_varying = vec![
+                FaceVarying::new("uv", 2, values, indices).unwrap(),
+                FaceVarying::new("c", 1, constant, by_vertex).unwrap(),
+            ];
+            let edges: Vec<(u32, u32)> = faces.iter().map(|f| (f[0], f[1])).collect();
+            m.tags.creases = edges
+                .iter()
+                .take(next(3) as usize)
+                .map(|&(v0, v1)| Crease {
+                    v0,
+                    v1,
+                    sharpness: [0.5, 1.7, 10.0][next(3) as usize],
+                })
+                .collect();
+            m.tags.corners = vec![Corner {
+                vertex: next(nv as u64) as u32,
+                sharpness: 1.5,
+            }];
+            for mode in modes {
+                let o = Options {
+                    face_varying: mode,
+                    crease_method: [CreaseMethod::Uniform, CreaseMethod::Chaikin][case % 2],
+                    ..Options::default()
+                };
+                let Ok((out, _)) = subdivide_loop(&m, &o, 2, false) else {
+                    continue;
+                };
+                refined += 1;
+                for ch in &out.face_varying {
+                    assert_eq!(ch.indices().len(), out.face_verts().len(), "case {case}");
+                    assert!(ch.indices().iter().all(|&i| (i as usize) < ch.num_values()));
+                    assert!(ch.values().iter().all(|x| x.is_finite()), "case {case}");
+                }
+                let c = &out.face_varying[1];
+                assert!(
+                    c.values().iter().all(|&x| (x - 0.5).abs() < 1e-15),
+                    "case {case} {mode:?}: a constant channel changed"
+                );
+            }
+        }
+        assert!(refined > 300, "only {refined} refinements");
     }
 
     /// Bilinear: vertices stay, new points lie on the input's faces, sharpness changes

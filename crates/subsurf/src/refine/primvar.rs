@@ -218,7 +218,8 @@ pub(super) fn face_points<const D: usize>(
 
 /// The mask of parent edge `e`'s child vertex (OpenSubdiv's `ComputeEdgeVertexMask`): the
 /// scheme's [`Rules::edge_mask`] for the edge's sharpness, its faces (and which of the first
-/// two are triangles) and the rule of its child vertex in `child`.
+/// two are triangles) and the rule of its child vertex in `child` (`V + F + e` with the
+/// quad split, `V + e` with the triangle split, [`Rules::splits_triangles`]).
 pub(super) fn edge_mask_at<R: Rules>(
     parent: &Topology,
     child: &Topology,
@@ -229,7 +230,12 @@ pub(super) fn edge_mask_at<R: Rules>(
     let faces = parent.edge_face_list(e);
     let is_tri = |f: Option<&u32>| f.is_some_and(|&f| parent.face_vertices(f as usize).len() == 3);
     let tri = [is_tri(faces.first()), is_tri(faces.get(1))];
-    let child_rule = child.vert_tags[parent.num_vertices() + parent.num_faces() + e]
+    let face_children = if rules.splits_triangles() {
+        0
+    } else {
+        parent.num_faces()
+    };
+    let child_rule = child.vert_tags[parent.num_vertices() + face_children + e]
         .get()
         .rule;
     rules.edge_mask(

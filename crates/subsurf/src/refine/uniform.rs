@@ -15,6 +15,7 @@ use crate::mesh::{
 use crate::scheme::adjustable::Mixed;
 use crate::scheme::bilinear::Bilinear;
 use crate::scheme::catmark::CatmullClark;
+use crate::scheme::loop_::Loop;
 use crate::scheme::Scheme;
 
 /// How each level of a uniform refinement is made: the schemes [`refine_uniform`] refines.
@@ -25,7 +26,8 @@ pub(crate) enum Steps {
     Family(Mixed),
     /// The Catmull-Clark split with [`Bilinear`] masks.
     Bilinear,
-    /// The triangle split with Loop's masks (`interpolate_loop`).
+    /// The triangle split with Loop's masks (`interpolate_loop`, and `FaceVaryingRefiner`
+    /// for face-varying channels).
     Loop,
 }
 
@@ -148,12 +150,7 @@ pub(crate) fn refine_uniform(
     let options = &steps.topology_options(options);
     let (mut level, warnings) = Topology::from_mesh(mesh, options)?;
     let mut pos = mesh.positions().to_vec();
-    // Face-varying data on Loop's split is not refined yet (`subdivide` warns).
-    let channels = match steps {
-        Steps::Loop => &[][..],
-        _ => &mesh.face_varying[..],
-    };
-    let mut fvar = FaceVaryingRefiner::new(&level, channels, options);
+    let mut fvar = FaceVaryingRefiner::new(&level, &mesh.face_varying, options);
     let mut parent = None;
     for l in 1..=levels {
         // The last level needs its full adjacency only for limit masks, and its edge
@@ -180,6 +177,7 @@ pub(crate) fn refine_uniform(
             }
             Steps::Loop => {
                 interpolate_loop(&level, &child, options, &pos, &mut next);
+                fvar.refine(&level, &child, options, Loop);
             }
         }
         let p = std::mem::replace(&mut level, child);

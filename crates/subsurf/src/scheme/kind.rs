@@ -45,8 +45,9 @@ pub enum Scheme {
     Nurss,
     /// Loop subdivision of triangle meshes (C. Loop, "Smooth subdivision surfaces based on
     /// triangles", M.S. thesis, University of Utah, 1987) with OpenSubdiv's rules for
-    /// boundaries, creases, corners and non-manifold topology (`Sdc::SCHEME_LOOP`); masks in
-    /// `loop_`. A face that is not a triangle is an error naming it.
+    /// boundaries, creases, corners, non-manifold topology and face-varying data
+    /// (`Sdc::SCHEME_LOOP`); masks in `loop_`. A face that is not a triangle is an error
+    /// naming it.
     Loop,
     /// Bilinear subdivision (`Sdc::SCHEME_BILINEAR`): the Catmull-Clark split of any
     /// polygons with face centroids, edge midpoints and the vertices themselves, so the

@@ -72,6 +72,12 @@ impl Rules for Loop {
         [0.125, 0.75, 0.125]
     }
 
+    /// Loop splits triangles: no face points; edge masks weigh the opposite vertices.
+    #[inline]
+    fn splits_triangles(self) -> bool {
+        true
+    }
+
     /// `⅜(v₀ + v₁) + ⅛(o₀ + o₁)`; `faces` are the two opposite vertices.
     #[inline]
     fn smooth_edge_point<const D: usize>(

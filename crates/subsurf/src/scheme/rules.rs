@@ -25,6 +25,17 @@ pub trait Rules: Copy + Send + Sync {
     /// rule of the scheme's curve along a crease).
     fn crease_vertex_weights(self) -> [f64; 3];
 
+    /// Whether the scheme splits every triangle into four triangles (Loop: OpenSubdiv's
+    /// `Sdc::SPLIT_TO_TRIS`) rather than every face of `n` sides into `n` quads around a
+    /// face point (`Sdc::SPLIT_TO_QUADS`, the default). With the triangle split there are
+    /// no face points, and the face weights of an `EdgeMask` weigh the vertex opposite
+    /// the edge in each triangle (OpenSubdiv's `Mask::AreFaceWeightsForFaceCenters()`
+    /// false).
+    #[inline]
+    fn splits_triangles(self) -> bool {
+        false
+    }
+
     /// The point of a smooth edge between two faces (without the smooth-triangle rule):
     /// [`smooth_edge_mask`](Rules::smooth_edge_mask) applied to the two ends and the two
     /// new face points. Schemes may sum in an order of their own.

@@ -1,19 +1,21 @@
 //! # Face-varying data (texture coordinates) against OpenSubdiv
 //!
-//! Each shape of `tests/golden/fvar/` (OpenSubdiv's regression shapes with `vt` from
-//! `tests/shapes/osd/`, and `tests/golden/fvar/textured_cube.obj`) is refined with
-//! Catmull-Clark to levels 1–3 in each of the six face-varying modes, and the `"uv"`
-//! channel is compared with what OpenSubdiv 3.5 computed (`osd-oracle refine SHAPE L --fvar
-//! MODE`, written by `scripts/fvar-golden.py`; format in `tests/golden/README.md`):
-//! the number of values, the face-corner value indices of every written face exactly (an
-//! FNV-1a hash over each face's size and 0-based `vt` indices, as for the vertex golden
-//! data), up to 256 values index for index (all when there are at most 256) within 1e-12,
-//! and the sums of `s` and `t` over all values within 1e-12 per value. Values compare by
-//! index because subsurf numbers child values as OpenSubdiv does.
+//! Each shape of `tests/golden/fvar/` (OpenSubdiv's Catmull-Clark regression shapes with
+//! `vt` from `tests/shapes/osd/`, and `tests/golden/fvar/textured_cube.obj`) is refined with
+//! Catmull-Clark, and each shape of `tests/golden/fvar_loop/` (the 23 Loop regression
+//! shapes with `vt`, and the two `textured_tri_cube*.obj` there) with Loop, to levels 1–3 in each of the six face-varying modes, and
+//! the `"uv"` channel is compared with what OpenSubdiv 3.5 computed (`osd-oracle refine
+//! SHAPE L --fvar MODE [--scheme loop]`, written by `scripts/fvar-golden.py`; format in
+//! `tests/golden/README.md`): the number of values, the face-corner value indices of every
+//! written face exactly (an FNV-1a hash over each face's size and 0-based `vt` indices, as
+//! for the vertex golden data), up to 256 values index for index (all when there are at
+//! most 256) within 1e-12 (the shapes' values are at most 3 in size, most at most 1), and
+//! the sums of `s` and `t` over all values within 1e-12 per value. Values compare by index
+//! because subsurf numbers child values as OpenSubdiv does.
 
 use subsurf::io::read_obj;
 use subsurf::mesh::{FaceVaryingInterpolation, Options};
-use subsurf::{subdivide, SubdivideOptions};
+use subsurf::{subdivide, Scheme, SubdivideOptions};
 
 use crate::common::tests_dir as dir;
 
@@ -73,25 +75,41 @@ fn parse(text: &str) -> (String, Vec<Case>) {
     (shape, cases)
 }
 
-/// The differences of one case, if any, and its largest sampled error.
-fn check(shape: &str, c: &Case) -> (Vec<String>, f64) {
-    let path = if shape == "textured_cube" {
-        dir("golden/fvar").join("textured_cube.obj")
+/// The differences of one case of the golden directory `tests/<sub>` refined with
+/// `scheme`, if any, and its largest sampled error. The shape is the OBJ file beside the
+/// golden file if there is one, else the regression shape of `tests/shapes/osd/`. A shape
+/// that does not load or refine is a difference naming the reason.
+fn check(sub: &str, shape: &str, scheme: Scheme, c: &Case) -> (Vec<String>, f64) {
+    let own = dir(sub).join(format!("{shape}.obj"));
+    let path = if own.exists() {
+        own
     } else {
         dir("shapes/osd").join(format!("{shape}.obj"))
     };
-    let obj = read_obj(&path).unwrap();
+    let at = format!("{shape} ({scheme}) level {} {}", c.level, c.mode);
+    let obj = match read_obj(&path) {
+        Ok(obj) => obj,
+        Err(e) => {
+            return (
+                vec![format!("{at}: cannot read {path:?}: {e}")],
+                f64::INFINITY,
+            )
+        }
+    };
     let options = Options {
         face_varying: c.mode,
         ..obj.options.resolve(Options::default())
     };
     let opts = SubdivideOptions {
         levels: c.level,
+        scheme,
         options,
         ..Default::default()
     };
-    let out = subdivide(&obj.mesh, &opts).unwrap().mesh;
-    let at = format!("{shape} level {} {}", c.level, c.mode);
+    let out = match subdivide(&obj.mesh, &opts) {
+        Ok(s) => s.mesh,
+        Err(e) => return (vec![format!("{at}: not refined: {e}")], f64::INFINITY),
+    };
     let Some(uv) = out.face_varying.iter().find(|f| f.name() == "uv") else {
         return (vec![format!("{at}: no uv channel")], f64::INFINITY);
     };
@@ -130,21 +148,39 @@ fn check(shape: &str, c: &Case) -> (Vec<String>, f64) {
     (problems, worst)
 }
 
-#[test]
-fn fvar_golden_all_shapes() {
-    let files = crate::common::golden_texts("golden/fvar");
-    assert!(files.len() >= 14, "golden files missing: {}", files.len());
+/// Checks every golden file of `tests/<sub>` (at least `min_files`) refined with `scheme`.
+fn check_all(sub: &str, scheme: Scheme, min_files: usize) {
+    let files = crate::common::golden_texts(sub);
+    assert!(
+        files.len() >= min_files,
+        "golden files missing: {}",
+        files.len()
+    );
     let mut problems = Vec::new();
     for text in files {
         let (shape, cases) = parse(&text);
         assert_eq!(cases.len(), 18, "{shape}: 3 levels × 6 modes");
         let mut worst = 0.0f64;
         for c in &cases {
-            let (p, w) = check(&shape, c);
+            let (p, w) = check(sub, &shape, scheme, c);
             problems.extend(p);
             worst = worst.max(w);
         }
         println!("{shape:28} largest sampled uv error {worst:.1e}");
     }
     assert!(problems.is_empty(), "{}", problems.join("\n"));
+}
+
+#[test]
+fn fvar_golden_all_shapes() {
+    check_all("golden/fvar", Scheme::CatmullClark, 14);
+}
+
+/// Loop's face-varying refinement (the triangle split) against OpenSubdiv on its 23 Loop
+/// regression shapes with texture coordinates and two triangulated textured cubes: seams,
+/// the six modes, semi-sharp and infinitely sharp creases and corners, both crease
+/// methods, non-manifold edges and vertices, the three boundary modes.
+#[test]
+fn fvar_golden_loop_shapes() {
+    check_all("golden/fvar_loop", Scheme::Loop, 25);
 }
