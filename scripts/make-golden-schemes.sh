@@ -10,7 +10,7 @@
 # Oracle:  $OSD_ORACLE (default /tmp/osd-oracle); built with $OSD_ORACLE_SRC/build.sh
 #          (default ../shared/tools/osd-oracle beside the project) when missing.
 # Output:  crates/subsurf/tests/golden/osd_schemes/<shape>.txt.gz, one per shape, levels 1..4,
-#          refined positions only (`loop_*` with --scheme loop, `bilinear_*` with --scheme
+#          refined and limit positions (`loop_*` with --scheme loop, `bilinear_*` with --scheme
 #          bilinear; format: crates/subsurf/tests/golden/README.md).
 #
 # Not part of CI: the tests only read the committed files. Re-running on the same inputs
@@ -53,7 +53,7 @@ for scheme in loop bilinear; do
     tmp="$(mktemp -d)"
     ln -s "$shapes"/"${scheme}"_*.obj "$tmp"/
     python3 "$root/scripts/golden.py" --oracle "$oracle" --shapes "$tmp" --out "$out" \
-        --levels 1,2,3,4 --scheme "$scheme" --modes refine "${only[@]}"
+        --levels 1,2,3,4 --scheme "$scheme" --modes refine,limit "${only[@]}"
     rm -rf "$tmp"
 done
 end=$(date +%s%N)

@@ -5,9 +5,11 @@ use crate::limit;
 use crate::mesh::{Options, PolyMesh, Topology, TopologyWarning};
 use crate::refine::uniform::{estimate_uniform, refine_uniform, Steps};
 use crate::refine::Error;
-use crate::refine::{interpolate, refine_topology};
+use crate::refine::{interpolate_with, refine_topology};
 use crate::scheme::adjustable::Mixed;
-use crate::scheme::Scheme;
+use crate::scheme::catmark::CatmullClark;
+use crate::scheme::loop_::Loop;
+use crate::scheme::{Bilinear, Rules, Scheme};
 
 /// What [`subdivide`] should do.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -77,8 +79,7 @@ pub fn estimate_memory(mesh: &PolyMesh, opts: &SubdivideOptions) -> u64 {
 ///
 /// # Errors
 /// [`Error::Mesh`] for an invalid mesh or tags; [`Error::Nurss`] for bad knot tags or a
-/// semi-sharp crease with NURSS; [`Error::Unsupported`] for moving to the limit with Loop or
-/// bilinear; [`Error::TooLarge`] when the estimated memory exceeds
+/// semi-sharp crease with NURSS; [`Error::TooLarge`] when the estimated memory exceeds
 /// `opts.max_memory` or the result would exceed 32-bit indices.
 pub fn subdivide(mesh: &PolyMesh, opts: &SubdivideOptions) -> Result<Subdivision, Error> {
     subdivide_with_progress(mesh, opts, &mut |_, _| {})
@@ -100,12 +101,6 @@ pub fn subdivide_with_progress(
                 limit,
             });
         }
-    }
-    if opts.limit && matches!(opts.scheme, Scheme::Loop | Scheme::Bilinear) {
-        return Err(Error::Unsupported {
-            what: "moving to the limit",
-            scheme: opts.scheme.name(),
-        });
     }
     // Face-varying data with NURSS's intervals is not refined yet: the output has none,
     // with a warning.
@@ -134,8 +129,12 @@ pub fn subdivide_with_progress(
         progress,
     )?;
     let normals = opts.limit.then(|| {
-        u.limit_face_varying(&opts.options);
-        limit_in_place(&u.level, &opts.options, &mut u.positions)
+        u.limit_face_varying(opts.scheme, &opts.options);
+        match opts.scheme {
+            Scheme::Loop => limit_in_place(Loop, &u.level, &opts.options, &mut u.positions),
+            Scheme::Bilinear => limit_in_place(Bilinear, &u.level, &opts.options, &mut u.positions),
+            _ => limit_in_place(CatmullClark, &u.level, &opts.options, &mut u.positions),
+        }
     });
     let mut warnings = std::mem::take(&mut u.warnings);
     warnings.extend(fvar_warning);
@@ -146,26 +145,33 @@ pub fn subdivide_with_progress(
     })
 }
 
-/// Moves `pos` (values at the vertices of `level`) to their limit positions and returns
-/// unit limit normals. Limit masks need quads around each vertex; where a vertex touches
-/// an n-gon (only possible at the base level) the masks are applied one level further
-/// down, whose vertex `v` is the child of `v` and has the same limit.
-fn limit_in_place(level: &Topology, options: &Options, pos: &mut [[f64; 3]]) -> Vec<[f64; 3]> {
+/// Moves `pos` (values at the vertices of `level`) to their limit positions with the limit
+/// masks of `rules` and returns unit limit normals. Catmull-Clark's limit masks need quads
+/// around each vertex; where a vertex touches an n-gon (only possible at the base level)
+/// the masks are applied one level further down, whose vertex `v` is the child of `v` and
+/// has the same limit. Loop's need triangles only, which the triangle split keeps.
+fn limit_in_place<R: Rules>(
+    rules: R,
+    level: &Topology,
+    options: &Options,
+    pos: &mut [[f64; 3]],
+) -> Vec<[f64; 3]> {
     let nv = level.num_vertices();
-    let all_quads = (0..level.num_faces()).all(|f| level.face_vertices(f).len() == 4);
+    let all_quads = rules.splits_triangles()
+        || (0..level.num_faces()).all(|f| level.face_vertices(f).len() == 4);
     let (lim, t1, t2) = if all_quads {
         let mut lim = vec![[0.0; 3]; nv];
         let (mut t1, mut t2) = (vec![[0.0; 3]; nv], vec![[0.0; 3]; nv]);
-        limit::limit_points(level, pos, &mut lim, Some((&mut t1, &mut t2)));
+        limit::limit_points_with(rules, level, pos, &mut lim, Some((&mut t1, &mut t2)));
         (lim, t1, t2)
     } else {
         let child = refine_topology(level, options, true);
         let mut cpos = vec![[0.0; 3]; child.num_vertices()];
-        interpolate(level, &child, options, pos, &mut cpos);
+        interpolate_with(level, &child, options, rules, pos, &mut cpos);
         let n = child.num_vertices();
         let mut lim = vec![[0.0; 3]; n];
         let (mut t1, mut t2) = (vec![[0.0; 3]; n], vec![[0.0; 3]; n]);
-        limit::limit_points(&child, &cpos, &mut lim, Some((&mut t1, &mut t2)));
+        limit::limit_points_with(rules, &child, &cpos, &mut lim, Some((&mut t1, &mut t2)));
         lim.truncate(nv);
         t1.truncate(nv);
         t2.truncate(nv);

@@ -114,12 +114,36 @@ fn loop_writes_refined_texture_coordinates() {
     // The seam gives its vertices and the children of its edges two values each.
     assert!(count_records(&text, "vt") > got.mesh.num_vertices());
     assert!(text.lines().any(|l| l.starts_with("f ") && l.contains('/')));
+    // With --limit the texture coordinates move to their limit too (checked against
+    // OpenSubdiv by the library's `loop_limit_with_texture_coordinates_matches_opensubdiv`).
     let mut limit = args;
     limit[3] = "lim.obj";
     let o = run_in(dir.path(), &[&limit[..], &["--limit"]].concat());
-    assert_code(&o, 1);
-    assert!(stderr(&o).contains("moving to the limit"), "{}", stderr(&o));
-    assert!(!dir.path().join("lim.obj").exists());
+    assert_code(&o, 0);
+    let text = std::fs::read_to_string(dir.path().join("lim.obj")).expect("output written");
+    let lim = parse_obj(text.as_bytes(), "lim.obj").expect("valid output");
+    let linear = &lim.mesh.face_varying[0];
+    assert_eq!(linear.indices(), w[0].indices());
+    // In mode `all` (the default) they are linear: their limit is where they are.
+    assert_eq!(linear.values(), w[0].values());
+    assert_eq!(
+        count_records(&text, "vn"),
+        lim.mesh.num_vertices(),
+        "limit normals"
+    );
+    limit[3] = "smooth.obj";
+    let o = run_in(
+        dir.path(),
+        &[&limit[..], &["--limit", "--fvar", "none"]].concat(),
+    );
+    assert_code(&o, 0);
+    let text = std::fs::read_to_string(dir.path().join("smooth.obj")).expect("output written");
+    let smooth = parse_obj(text.as_bytes(), "smooth.obj").expect("valid output");
+    assert_ne!(
+        smooth.mesh.face_varying[0].values(),
+        linear.values(),
+        "mode none moves them"
+    );
 }
 
 #[test]
@@ -138,20 +162,6 @@ fn loop_refuses_a_quad_naming_it() {
 #[test]
 fn operations_not_available_yet_are_refused() {
     let dir = dir_with(&[("tri.obj", TRIANGLES)]);
-    let o = run_in(
-        dir.path(),
-        &[
-            "subdivide",
-            "tri.obj",
-            "-o",
-            "out.obj",
-            "--scheme",
-            "loop",
-            "--limit",
-        ],
-    );
-    assert_code(&o, 1);
-    assert!(stderr(&o).contains("moving to the limit"), "{}", stderr(&o));
     let o = run_in(
         dir.path(),
         &[

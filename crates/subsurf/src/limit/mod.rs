@@ -42,7 +42,8 @@ pub(crate) use vertex_rows::VertexLimitRows;
 
 use crate::geom;
 use crate::mesh::Topology;
-use crate::scheme::catmark::{self, VertexMask};
+use crate::scheme::catmark::{CatmullClark, VertexMask};
+use crate::scheme::Rules;
 
 /// Output buffers for the first and second limit tangents.
 pub type Tangents<'a, const D: usize> = (&'a mut [[f64; D]], &'a mut [[f64; D]]);
@@ -54,11 +55,23 @@ pub fn limit_points<const D: usize>(
     level: &Topology,
     src: &[[f64; D]],
     pos: &mut [[f64; D]],
+    tangents: Option<Tangents<'_, D>>,
+) {
+    limit_points_with(CatmullClark, level, src, pos, tangents);
+}
+
+/// [`limit_points`] with the limit masks of `rules` ([`Rules::limit_position_mask`],
+/// [`Rules::limit_tangent_masks`]): Catmull-Clark's, Loop's or bilinear's.
+pub(crate) fn limit_points_with<R: Rules, const D: usize>(
+    rules: R,
+    level: &Topology,
+    src: &[[f64; D]],
+    pos: &mut [[f64; D]],
     mut tangents: Option<Tangents<'_, D>>,
 ) {
     let mut masks = VertexMasks::default();
     for v in 0..level.num_vertices() {
-        if !masks.load(level, v, tangents.is_some()) {
+        if !masks.load(rules, level, v, tangents.is_some()) {
             pos[v] = src[v];
             if let Some((t1, t2)) = tangents.as_mut() {
                 t1[v] = [0.0; D];
@@ -91,7 +104,13 @@ pub(crate) struct VertexMasks {
 impl VertexMasks {
     /// Loads the masks of vertex `v` of `level` (the tangents' too with `tangents`);
     /// `false` for an isolated vertex, which has none (its limit is itself).
-    pub(crate) fn load(&mut self, level: &Topology, v: usize, tangents: bool) -> bool {
+    pub(crate) fn load<R: Rules>(
+        &mut self,
+        rules: R,
+        level: &Topology,
+        v: usize,
+        tangents: bool,
+    ) -> bool {
         let edges = level.vertex_edges(v);
         if edges.is_empty() {
             return false;
@@ -111,10 +130,10 @@ impl VertexMasks {
                     fv[(l as usize + 2) % fv.len()]
                 }),
         );
-        catmark::limit_position_mask(rule, &self.sharp, faces.len(), &mut self.position);
+        rules.limit_position_mask(rule, &self.sharp, faces.len(), &mut self.position);
         if tangents {
             let [t1, t2] = &mut self.tangents;
-            catmark::limit_tangent_masks(rule, &self.sharp, faces.len(), t1, t2);
+            rules.limit_tangent_masks(rule, &self.sharp, faces.len(), t1, t2);
         }
         true
     }

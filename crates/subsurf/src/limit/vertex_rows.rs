@@ -9,6 +9,7 @@ use rayon::prelude::*;
 use super::VertexMasks;
 use crate::hash::FxHasher;
 use crate::mesh::Topology;
+use crate::scheme::catmark::CatmullClark;
 
 /// Rows applied per task of [`VertexLimitRows::apply`].
 const BLOCK: usize = 4096;
@@ -57,7 +58,7 @@ impl VertexLimitRows {
         let (mut row, mut bits) = (Vec::new(), Vec::new());
         for v in 0..n {
             row.clear();
-            if masks.load(level, v, true) {
+            if masks.load(CatmullClark, level, v, true) {
                 masks.terms(v, |x, w| row.push((x, w)));
             } else {
                 row.push((v as u32, [1.0, 0.0, 0.0]));

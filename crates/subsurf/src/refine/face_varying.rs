@@ -49,8 +49,10 @@ use crate::mesh::sharpness as sharp;
 use crate::mesh::{
     BoundaryInterpolation, FaceVarying, FaceVaryingInterpolation, Options, Topology,
 };
-use crate::scheme::catmark::{self, VertexMask};
+use crate::scheme::catmark::{self, CatmullClark, VertexMask};
+use crate::scheme::loop_::Loop;
 use crate::scheme::{crease, Rules};
+use crate::scheme::{Bilinear, Scheme};
 
 /// The classification of a face-varying value (OpenSubdiv's `FVarLevel::ValueTag`, the
 /// part that refinement reads).
@@ -777,7 +779,7 @@ impl FvarLevel {
     /// boundary values next to it (the crease's B-spline limit), with OpenSubdiv's single
     /// precision weights ([`CREASE_LIMIT_END`]). `t` is the level's topology, complete, with
     /// quads around every vertex (every level after the first).
-    fn limit(&self, t: &Topology, dim: usize, src: &[f64], dst: &mut [f64]) {
+    fn limit<R: Rules>(&self, rules: R, t: &Topology, dim: usize, src: &[f64], dst: &mut [f64]) {
         let val = |i: u32| &src[dim * i as usize..dim * (i as usize + 1)];
         let (mut mask, mut sharp) = (VertexMask::default(), Vec::new());
         for v in 0..t.num_vertices() {
@@ -796,7 +798,7 @@ impl FvarLevel {
                 );
                 let faces = t.vertex_faces(v);
                 let rule = t.vertex_tag(v).rule;
-                catmark::limit_position_mask(rule, &sharp, faces.len(), &mut mask);
+                rules.limit_position_mask(rule, &sharp, faces.len(), &mut mask);
                 if mask.has_faces {
                     let locals = t.vertex_face_locals(v);
                     for ((&f, &l), &w) in faces.iter().zip(locals).zip(&mask.faces) {
@@ -1113,27 +1115,43 @@ impl FaceVaryingRefiner {
     /// level `last`, complete (built with its full adjacency). Where `last` has a face that
     /// is not a quad (the base level only), the limit masks, which assume quads, are
     /// applied one Catmull-Clark level further down, whose vertices' values are the
-    /// children of `last`'s and have the same limit. The masks are Catmull-Clark's: this
-    /// is not the limit of channels refined with Loop (whose limit
-    /// [`subdivide`](fn@crate::subdivide) refuses).
-    pub fn limit(&mut self, last: &Topology, options: &Options) {
-        let all_quads = (0..last.num_faces()).all(|f| last.face_vertices(f).len() == 4);
+    /// children of `last`'s and have the same limit. The masks are `scheme`'s
+    /// ([`Rules::limit_position_mask`]): Catmull-Clark's for the Catmull-Clark family
+    /// (the adjustable scheme's limit is the Catmull-Clark limit of its last level), Loop's
+    /// (on triangles, which need no further level) and bilinear's (the values themselves).
+    ///
+    /// # Panics
+    /// With [`Scheme::Nurss`], which has no face-varying channels to move.
+    pub fn limit(&mut self, scheme: Scheme, last: &Topology, options: &Options) {
+        match scheme {
+            Scheme::Loop => self.limit_with(Loop, last, options),
+            Scheme::Bilinear => self.limit_with(Bilinear, last, options),
+            Scheme::CatmullClark | Scheme::Adjustable(_) => {
+                self.limit_with(CatmullClark, last, options)
+            }
+            Scheme::Nurss => panic!("NURSS has no face-varying limit masks"),
+        }
+    }
+
+    /// [`limit`](Self::limit) with `rules`' masks.
+    fn limit_with<R: Rules>(&mut self, rules: R, last: &Topology, options: &Options) {
+        let all_quads = rules.splits_triangles()
+            || (0..last.num_faces()).all(|f| last.face_vertices(f).len() == 4);
         let child = (!all_quads).then(|| super::refine_topology(last, options, true));
         for ((level, values), (_, dim)) in self.channels.iter_mut().zip(&self.names) {
             let dim = *dim;
             match &child {
                 None => {
                     let mut lim = values.clone();
-                    level.limit(last, dim, values, &mut lim);
+                    level.limit(rules, last, dim, values, &mut lim);
                     *values = lim;
                 }
                 Some(c) => {
                     let cl = level.refine(last, c, false);
                     let mut cv = vec![0.0; dim * cl.num_slots()];
-                    let cc = crate::scheme::catmark::CatmullClark;
-                    interpolate(last, c, level, &cl, options, cc, dim, values, &mut cv);
+                    interpolate(last, c, level, &cl, options, rules, dim, values, &mut cv);
                     let mut lim = cv.clone();
-                    cl.limit(c, dim, &cv, &mut lim);
+                    cl.limit(rules, c, dim, &cv, &mut lim);
                     // The first slots of the child level are the children of `last`'s
                     // vertices' values, in the same order.
                     for (slot, &x) in level.slot_values.iter().enumerate() {

@@ -225,8 +225,8 @@ pub(crate) fn refine_mesh(
 impl Uniform {
     /// Moves the face-varying channels of the last level (complete: refined with
     /// `complete`) to their limit ([`FaceVaryingRefiner::limit`]).
-    pub(crate) fn limit_face_varying(&mut self, options: &Options) {
-        self.face_varying.limit(&self.level, options);
+    pub(crate) fn limit_face_varying(&mut self, scheme: Scheme, options: &Options) {
+        self.face_varying.limit(scheme, &self.level, options);
     }
 
     /// The refined mesh ([`output_mesh`]) with its face-varying channels, holes kept

@@ -88,4 +88,29 @@ impl Rules for Bilinear {
     ) {
         mask.set_corner(ctx.parent_edges.len(), ctx.num_faces);
     }
+
+    /// The vertex itself: the bilinear limit surface passes through every vertex
+    /// (OpenSubdiv's `assign*LimitMask` for `SCHEME_BILINEAR`).
+    fn limit_position_mask(
+        self,
+        _: Rule,
+        edge_sharpness: &[f32],
+        num_faces: usize,
+        m: &mut VertexMask,
+    ) {
+        m.set_corner(edge_sharpness.len(), num_faces);
+    }
+
+    /// Along the first two edges, `e₀ − v` and `e₁ − v` (ambiguous at every vertex of a
+    /// piecewise bilinear surface; OpenSubdiv's choice).
+    fn limit_tangent_masks(
+        self,
+        _: Rule,
+        edge_sharpness: &[f32],
+        num_faces: usize,
+        t1: &mut VertexMask,
+        t2: &mut VertexMask,
+    ) {
+        super::catmark::limit_tangent_masks(Rule::Corner, edge_sharpness, num_faces, t1, t2);
+    }
 }

@@ -21,9 +21,9 @@
 //! [`EdgeMask`] weigh the vertex of each incident triangle opposite the edge, and the
 //! vertex masks have no face weights.
 
-use super::catmark::EdgeMask;
-use super::Rules;
-use crate::mesh::Options;
+use super::catmark::{EdgeMask, VertexMask};
+use super::{crease, Rules};
+use crate::mesh::{Options, Rule};
 use std::f64::consts::PI;
 
 /// Loop's rules ([`Rules`]): OpenSubdiv's `Sdc::Scheme<SCHEME_LOOP>`. The refinement that
@@ -78,6 +78,94 @@ impl Rules for Loop {
         true
     }
 
+    /// Loop's limit positions (OpenSubdiv's `assign*LimitMask` for `SCHEME_LOOP`):
+    /// - smooth (and dart), valence `n`: `(1 − nε) v + ε Σ eᵢ` with
+    ///   `ε = 1/(n + 3/(8βₙ))` and Loop's [`beta`] (Loop 1987, §3.2, the left eigenvector of
+    ///   the subdivision matrix; `½ v + 1/12 Σ eᵢ` at `n = 6`), at every valence;
+    /// - crease: `⅔ v + ⅙(e_a + e_b)` along the two sharp edges (the cubic B-spline's limit,
+    ///   whatever the valence);
+    /// - corner: `v`.
+    fn limit_position_mask(
+        self,
+        rule: Rule,
+        edge_sharpness: &[f32],
+        num_faces: usize,
+        m: &mut VertexMask,
+    ) {
+        let ne = edge_sharpness.len();
+        match rule {
+            Rule::Smooth | Rule::Dart if num_faces == 6 => {
+                m.reset(ne, num_faces);
+                m.has_edges = true;
+                m.vertex = 0.5;
+                m.edges.fill(1.0 / 12.0);
+            }
+            Rule::Smooth | Rule::Dart => {
+                // OpenSubdiv's order of operations, in f64.
+                let n = num_faces as f64;
+                let inv = 1.0 / n;
+                let b = 0.25 * (PI * 2.0 * inv).cos() + 0.375;
+                let gamma = (0.625 - b * b) * inv;
+                let e = 1.0 / (n + 3.0 / (8.0 * gamma));
+                m.reset(ne, num_faces);
+                m.has_edges = true;
+                m.vertex = 1.0 - e * n;
+                m.edges.fill(e);
+            }
+            Rule::Crease => {
+                let (a, b) = crease::crease_ends(edge_sharpness);
+                m.reset(ne, num_faces);
+                m.has_edges = true;
+                m.vertex = 4.0 / 6.0;
+                m.edges[a] = 1.0 / 6.0;
+                m.edges[b] = 1.0 / 6.0;
+            }
+            Rule::Corner => m.set_corner(ne, num_faces),
+        }
+    }
+
+    /// Loop's limit tangents (OpenSubdiv's `assign*LimitTangentMasks` for `SCHEME_LOOP`,
+    /// scaled as it scales them so that tangents of a regular mesh are alike in size):
+    /// smooth, valence `n > 2`: `t₁ = Σ cos(2πi/n) eᵢ`, `t₂ = Σ sin(2πi/n) eᵢ` (at valence 2,
+    /// where these are parallel, the corner's, so that the normal is the two faces'); crease:
+    /// `t₁ = 3/2 (e_a − e_b)` along it and `t₂` across the faces between its edges (closed
+    /// forms for 0, 1 and 2 edges between them, else sine weights over them); corner:
+    /// `3(e₀ − v)` and `3(e₁ − v)`.
+    fn limit_tangent_masks(
+        self,
+        rule: Rule,
+        edge_sharpness: &[f32],
+        num_faces: usize,
+        t1: &mut VertexMask,
+        t2: &mut VertexMask,
+    ) {
+        let ne = edge_sharpness.len();
+        for t in [&mut *t1, &mut *t2] {
+            t.reset(ne, num_faces);
+            t.has_edges = true;
+        }
+        match rule {
+            Rule::Smooth | Rule::Dart if num_faces != 2 => {
+                let alpha = 2.0 * PI / num_faces as f64;
+                for i in 0..ne.min(num_faces) {
+                    t1.edges[i] = (alpha * i as f64).cos();
+                    t2.edges[i] = (alpha * i as f64).sin();
+                }
+            }
+            Rule::Crease => crease_tangents(edge_sharpness, t1, t2),
+            _ => {
+                t1.vertex = -3.0;
+                t2.vertex = -3.0;
+                if ne > 0 {
+                    t1.edges[0] = 3.0;
+                }
+                if ne > 1 {
+                    t2.edges[1] = 3.0;
+                }
+            }
+        }
+    }
+
     /// `⅜(v₀ + v₁) + ⅛(o₀ + o₁)`; `faces` are the two opposite vertices.
     #[inline]
     fn smooth_edge_point<const D: usize>(
@@ -88,6 +176,45 @@ impl Rules for Loop {
         std::array::from_fn(|k| {
             0.375 * (ends[0][k] + ends[1][k]) + 0.125 * (opposite[0][k] + opposite[1][k])
         })
+    }
+}
+
+/// Loop's crease tangents (see [`Loop::limit_tangent_masks`]): along the crease from its
+/// trailing sharp edge to its leading one, and across the faces between them, into the
+/// surface (OpenSubdiv's `assignCreaseLimitTangentMasks`).
+fn crease_tangents(edge_sharpness: &[f32], t1: &mut VertexMask, t2: &mut VertexMask) {
+    let (a, b) = crease::crease_ends(edge_sharpness);
+    t1.edges[a] = 1.5;
+    t1.edges[b] = -1.5;
+    let interior = b.saturating_sub(a).saturating_sub(1);
+    match interior {
+        0 => {
+            t2.vertex = -6.0;
+            t2.edges[a] = 3.0;
+            t2.edges[b] = 3.0;
+        }
+        1 => {
+            t2.vertex = -3.0;
+            t2.edges[a + 1] = 3.0;
+        }
+        2 => {
+            let root3 = 3f64.sqrt();
+            t2.vertex = -root3;
+            t2.edges[a] = -0.5 * root3;
+            t2.edges[b] = -0.5 * root3;
+            t2.edges[a + 1] = root3;
+            t2.edges[a + 2] = root3;
+        }
+        _ => {
+            let theta = PI / (interior + 1) as f64;
+            let c = -3.0 * theta.sin();
+            t2.edges[a] = c;
+            t2.edges[b] = c;
+            let e = -3.0 * 2.0 * (theta.cos() - 1.0);
+            for i in 1..=interior {
+                t2.edges[a + i] = e * (i as f64 * theta).sin();
+            }
+        }
     }
 }
 

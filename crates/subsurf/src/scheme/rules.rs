@@ -145,4 +145,35 @@ pub trait Rules: Copy + Send + Sync {
         ) as f64;
         mask.blend_with(child, w);
     }
+
+    /// The limit position mask of a vertex of rule `rule` (at the last level) with the
+    /// sharpness of its edges `edge_sharpness` (in its edge order) and `num_faces` faces
+    /// (OpenSubdiv's `Sdc::Scheme::ComputeVertexLimitMask`). The default is Catmull-Clark's
+    /// (see `catmark::limit_position_mask`).
+    #[inline]
+    fn limit_position_mask(
+        self,
+        rule: Rule,
+        edge_sharpness: &[f32],
+        num_faces: usize,
+        m: &mut VertexMask,
+    ) {
+        super::catmark::limit_position_mask(rule, edge_sharpness, num_faces, m);
+    }
+
+    /// The two limit tangent masks of a vertex, as
+    /// [`limit_position_mask`](Rules::limit_position_mask) (their cross product is the
+    /// limit normal's direction). The default is Catmull-Clark's (see
+    /// `catmark::limit_tangent_masks`).
+    #[inline]
+    fn limit_tangent_masks(
+        self,
+        rule: Rule,
+        edge_sharpness: &[f32],
+        num_faces: usize,
+        t1: &mut VertexMask,
+        t2: &mut VertexMask,
+    ) {
+        super::catmark::limit_tangent_masks(rule, edge_sharpness, num_faces, t1, t2);
+    }
 }

@@ -9,8 +9,10 @@
 //! `tests/golden/README.md`). The checks are those of `osd_golden.rs` (see its top comment):
 //! vertex count (hole-only vertices included), faces written (holes left out) with their
 //! sizes and their list in order (FNV-1a hash), sampled positions index for index within
-//! `1e-12 ×` the input's bounding-box diagonal, and sums over all vertices. Refined positions
-//! only: limit evaluation for these schemes is not compared here. The lower-level path,
+//! `1e-12 ×` the input's bounding-box diagonal, and sums over all vertices; each level both
+//! refined and with its vertices moved to their limit positions (`--limit`, OpenSubdiv's
+//! `PrimvarRefiner::Limit` with the scheme's limit masks). Limit evaluation at any
+//! `(face, u, v)` for these schemes is not compared here. The lower-level path,
 //! [`TopologyRefiner`] (and [`interpolate_with`]`(.., Bilinear, ..)`), gives the same bits
 //! (`refiners_equal_subdivide`).
 
@@ -42,17 +44,20 @@ fn written(level: &Topology, pos: Vec<[f64; 3]>) -> PolyMesh {
     PolyMesh::from_faces(pos, &faces).expect("a refined level is a valid mesh")
 }
 
-/// `mesh` refined `levels` times with `scheme` by the facade, hole faces left out.
+/// `mesh` refined `levels` times with `scheme` by the facade, hole faces left out; with
+/// `limit`, the last level moved to its limit positions.
 fn refine_with(
     mesh: &PolyMesh,
     scheme: Scheme,
     options: Options,
     levels: u32,
+    limit: bool,
 ) -> Result<PolyMesh, subsurf::Error> {
     let opts = SubdivideOptions {
         levels,
         scheme,
         options,
+        limit,
         ..Default::default()
     };
     Ok(subdivide(mesh, &opts)?.mesh)
@@ -117,7 +122,8 @@ fn check(prefix: &str) -> (String, Vec<String>) {
         let diag = diagonal(&obj.mesh);
         let _ = write!(table, "{name:<28} {:<16}", golden.boundary.to_string());
         for case in &golden.cases {
-            let what = format!("{name} level {}", case.level);
+            let mode = if case.limit { "limit" } else { "refine" };
+            let what = format!("{name} level {} {mode}", case.level);
             let Expect::Data(want) = &case.expect else {
                 failures.push(format!("{what}: the oracle failed on it"));
                 continue;
@@ -126,7 +132,7 @@ fn check(prefix: &str) -> (String, Vec<String>) {
                 "loop_" => Scheme::Loop,
                 _ => Scheme::Bilinear,
             };
-            let run = || refine_with(&obj.mesh, scheme, options, case.level);
+            let run = || refine_with(&obj.mesh, scheme, options, case.level, case.limit);
             let mesh = match quiet_catch(run) {
                 Ok(Ok(m)) => m,
                 Ok(Err(e)) => {
@@ -157,7 +163,10 @@ fn check(prefix: &str) -> (String, Vec<String>) {
 
 fn run_and_report(prefix: &str) {
     let (table, failures) = check(prefix);
-    println!("largest sampled error / input diagonal, levels 1-4 (check: <= {REL_TOL:e})\n{table}");
+    println!(
+        "largest sampled error / input diagonal, levels 1-4 refined and at the limit \
+         (check: <= {REL_TOL:e})\n{table}"
+    );
     assert!(
         failures.is_empty(),
         "subsurf differs from OpenSubdiv:\n  {}",
@@ -178,7 +187,7 @@ fn osd_golden_bilinear_shapes() {
 }
 
 /// The golden data itself: one file per shape and no strays, the shape's boundary tag,
-/// levels 1–4 refined, samples at the documented indices.
+/// levels 1–4 refined and at the limit, samples at the documented indices.
 #[test]
 fn osd_golden_schemes_data_is_complete() {
     let mut names = shape_names_with_prefix("loop_");
@@ -208,7 +217,11 @@ fn osd_golden_schemes_data_is_complete() {
             problems.push(format!("{name}: name or boundary differs from the shape's"));
         }
         let cases: Vec<(u32, bool)> = g.cases.iter().map(|c| (c.level, c.limit)).collect();
-        if cases != LEVELS.map(|l| (l, false)) {
+        let want: Vec<(u32, bool)> = LEVELS
+            .iter()
+            .flat_map(|&l| [(l, false), (l, true)])
+            .collect();
+        if cases != want {
             problems.push(format!("{name}: cases {cases:?}"));
         }
         for c in &g.cases {
@@ -240,7 +253,8 @@ fn refiners_equal_subdivide() {
             let obj = read_obj(&shapes_dir().join(format!("{name}.obj"))).expect("shape");
             let options = obj.options.resolve(Options::default());
             for levels in 1..=3 {
-                let facade = refine_with(&obj.mesh, scheme, options, levels).expect("subdivide");
+                let facade =
+                    refine_with(&obj.mesh, scheme, options, levels, false).expect("subdivide");
                 let refiner = match scheme {
                     Scheme::Loop => refine_loop(&obj.mesh, options, levels),
                     _ => refine_bilinear(&obj.mesh, options, levels),
@@ -261,4 +275,67 @@ fn refiners_equal_subdivide() {
         }
     }
     assert_eq!(cases, 3 * 28);
+}
+
+/// Loop's limit with texture coordinates against OpenSubdiv (`tests/golden/loop_limit/`,
+/// written by `scripts/loop-limit-golden.py` through `osd-oracle refine --scheme loop
+/// --limit --fvar MODE`): three shapes with seams, creases and an extraordinary boundary,
+/// levels 1–2, the six face-varying modes; every limit position within `1e-12 ×` the
+/// diagonal and every limit `vt` within `1e-12`, index for index.
+#[test]
+fn loop_limit_with_texture_coordinates_matches_opensubdiv() {
+    use subsurf::mesh::FaceVaryingInterpolation;
+    let texts = crate::common::golden_texts("golden/loop_limit");
+    assert_eq!(texts.len(), 3, "three shapes");
+    let mut cases = 0;
+    for text in &texts {
+        let name = (text.lines().next())
+            .and_then(|l| l.split(" for ").nth(1))
+            .and_then(|l| l.split(".obj").next())
+            .expect("a header naming the shape");
+        let obj = read_obj(&shapes_dir().join(format!("{name}.obj"))).expect("shape");
+        let diag = diagonal(&obj.mesh);
+        let mut lines = text.lines().skip(1);
+        while let Some(head) = lines.next() {
+            let t: Vec<&str> = head.split_whitespace().collect();
+            let (level, mode): (u32, FaceVaryingInterpolation) =
+                (t[1].parse().expect("level"), t[2].parse().expect("mode"));
+            let mut want_v = Vec::new();
+            let mut want_vt = Vec::new();
+            for l in lines.by_ref().take_while(|l| *l != "end") {
+                let x: Vec<f64> = l
+                    .split_whitespace()
+                    .skip(1)
+                    .map(|x| x.parse().unwrap())
+                    .collect();
+                if l.starts_with("vt ") {
+                    want_vt.push([x[0], x[1]]);
+                } else {
+                    want_v.push([x[0], x[1], x[2]]);
+                }
+            }
+            let options = Options {
+                face_varying: mode,
+                ..obj.options.resolve(Options::default())
+            };
+            let m = refine_with(&obj.mesh, Scheme::Loop, options, level, true).expect("subdivide");
+            let what = format!("{name} level {level} {mode}");
+            assert_eq!(m.num_vertices(), want_v.len(), "{what}");
+            for (i, (p, q)) in m.positions().iter().zip(&want_v).enumerate() {
+                let e = (0..3).map(|k| (p[k] - q[k]).abs()).fold(0.0, f64::max);
+                assert!(e <= REL_TOL * diag, "{what}: vertex {i}: {p:?} vs {q:?}");
+            }
+            let uv = m.face_varying.first().expect("texture coordinates");
+            assert_eq!(uv.num_values(), want_vt.len(), "{what}");
+            for (i, q) in want_vt.iter().enumerate() {
+                let p = uv.value(i);
+                assert!(
+                    (p[0] - q[0]).abs() <= 1e-12 && (p[1] - q[1]).abs() <= 1e-12,
+                    "{what}: vt {i}: {p:?} vs {q:?}"
+                );
+            }
+            cases += 1;
+        }
+    }
+    assert_eq!(cases, 3 * 2 * 6);
 }
