@@ -18,6 +18,7 @@ mod g2cap;
 mod g2cap_iges;
 mod g2cap_mixed;
 mod gltf;
+mod gltf_input;
 mod interpolate;
 mod interpolate_host;
 mod interpolate_junctions;
