@@ -539,3 +539,55 @@ fn ply_messages_count_from_zero() {
         stderr(&o)
     );
 }
+
+/// OBJ objects, groups and materials reach the refined OBJ of `subdivide` and of
+/// `repose`: `mtllib` first, each child face under its parent's `usemtl` (16 children per
+/// quad at level 2); smoothing groups are noted as not kept.
+#[test]
+fn obj_groups_and_materials_are_kept() {
+    let base = "mtllib cube.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n\
+                o cube\ng sides\nusemtl red\ns 1\nf 1 4 3 2\nf 5 6 7 8\nusemtl blue\nf 1 2 6 5\nf 2 3 7 6\n\
+                f 3 4 8 7\nf 4 1 5 8\n";
+    let dir = dir_with(&[("m.obj", base)]);
+    let o = run_in(
+        dir.path(),
+        &["subdivide", "m.obj", "-l", "2", "-o", "out.obj"],
+    );
+    assert_code(&o, 0);
+    assert!(
+        stderr(&o).contains("smoothing-group statement(s) (s)"),
+        "{}",
+        stderr(&o)
+    );
+    let o = run_in(
+        dir.path(),
+        &["repose", "m.obj", "m.obj", "-o", "poses", "-l", "2"],
+    );
+    assert_code(&o, 0);
+    for out in ["out.obj", "poses/m.obj"] {
+        let text = fs::read_to_string(dir.path().join(out)).unwrap();
+        let lines: Vec<&str> = text.lines().filter(|l| !l.starts_with('#')).collect();
+        assert_eq!(lines[0], "mtllib cube.mtl", "{out}");
+        let mut material = "";
+        let mut counts = std::collections::BTreeMap::new();
+        for l in &lines {
+            if let Some(m) = l.strip_prefix("usemtl ") {
+                material = m;
+            } else if l.starts_with("f ") {
+                *counts.entry(material).or_insert(0) += 1;
+            }
+        }
+        assert_eq!(
+            counts,
+            [("blue", 64), ("red", 32)].into_iter().collect(),
+            "{out}"
+        );
+        for (kw, n) in [("o cube", 1), ("g sides", 1), ("usemtl ", 2)] {
+            assert_eq!(
+                lines.iter().filter(|l| l.starts_with(kw)).count(),
+                n,
+                "{out} {kw}"
+            );
+        }
+    }
+}

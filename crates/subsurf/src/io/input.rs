@@ -426,6 +426,13 @@ fn obj_mesh(bytes: &[u8], name: &str, limit: Option<u64>) -> Result<MeshFile, Re
             obj.normals.len()
         ));
     }
+    if obj.smoothing_groups > 0 {
+        ignored.push(format!(
+            "{} smoothing-group statement(s) (s): a subdivision surface is smooth everywhere \
+             but at its creases, so they are not kept (use t crease tags for sharp edges)",
+            obj.smoothing_groups
+        ));
+    }
     Ok(MeshFile {
         format: MeshFormat::Obj,
         obj,

@@ -31,6 +31,7 @@ mod mesh_input;
 mod nurbs;
 mod nurss;
 mod nurss_surface;
+mod obj_groups;
 mod obj_io;
 mod osd_golden;
 mod osd_golden_schemes;
