@@ -1,5 +1,5 @@
-//! Reading the input mesh (OBJ or PLY, told apart by content) from a file or standard
-//! input, within the job's memory limit.
+//! Reading the input mesh (OBJ, PLY or glTF, told apart by content) from a file or
+//! standard input, within the job's memory limit.
 
 use std::path::Path;
 
@@ -12,11 +12,13 @@ use subsurf::mesh::{MeshError, TopologyWarning};
 pub struct Input {
     /// The file name as given, or `<stdin>`.
     pub name: String,
-    /// The parsed file (for PLY: the mesh, and the lines of an ASCII file's faces).
+    /// The parsed file (for PLY: the mesh, and the lines of an ASCII file's faces; for
+    /// glTF: the welded mesh).
     pub obj: ObjFile,
     /// The format it was read from.
     pub format: MeshFormat,
-    /// What the file holds and the mesh leaves out (PLY's other properties and elements).
+    /// What the file holds and the mesh leaves out (PLY's other properties and elements,
+    /// glTF's normals, materials, ...).
     pub ignored: Vec<String>,
 }
 
@@ -86,6 +88,9 @@ impl Input {
                      surface",
                     input.name
                 ),
+                MeshFormat::Gltf { .. } => {
+                    bail!("{}: no triangles, so there is no surface", input.name)
+                }
             }
         }
         Ok(input)

@@ -215,7 +215,7 @@ Examples:
 /// Arguments of `subsurf limit`.
 #[derive(Debug, Args)]
 pub struct LimitArgs {
-    /// Input OBJ file ('-' reads standard input).
+    /// Input mesh: OBJ, PLY or glTF (.gltf, .glb) ('-' reads standard input).
     #[arg(value_name = "IN")]
     pub input: PathBuf,
     /// Samples per side of each face.
@@ -270,7 +270,7 @@ Examples:
 /// Arguments of `subsurf tessellate`.
 #[derive(Debug, Args)]
 pub struct TessellateArgs {
-    /// Input OBJ file ('-' reads standard input).
+    /// Input mesh: OBJ, PLY or glTF (.gltf, .glb) ('-' reads standard input).
     #[arg(value_name = "IN")]
     pub input: PathBuf,
     /// Output file, .obj, .ply, .stl or .glb ('-' writes OBJ to standard output); written only
@@ -341,7 +341,7 @@ Examples:
 /// Arguments of `subsurf render`.
 #[derive(Debug, Args)]
 pub struct RenderArgs {
-    /// Input OBJ file ('-' reads standard input).
+    /// Input mesh: OBJ, PLY or glTF (.gltf, .glb) ('-' reads standard input).
     #[arg(value_name = "IN")]
     pub input: PathBuf,
     /// Output PNG file ('-' writes the PNG to standard output); written only when
@@ -424,7 +424,7 @@ Examples:
 /// Arguments of `subsurf bench`.
 #[derive(Debug, Args)]
 pub struct BenchArgs {
-    /// Input OBJ file ('-' reads standard input).
+    /// Input mesh: OBJ, PLY or glTF (.gltf, .glb) ('-' reads standard input).
     #[arg(value_name = "IN")]
     pub input: PathBuf,
     /// Number of refinement levels.
@@ -455,7 +455,7 @@ pub struct BenchArgs {
 /// Arguments of `subsurf subdivide`.
 #[derive(Debug, Args)]
 pub struct SubdivideArgs {
-    /// Input OBJ file ('-' reads standard input).
+    /// Input mesh: OBJ, PLY or glTF (.gltf, .glb) ('-' reads standard input).
     #[arg(value_name = "IN")]
     pub input: PathBuf,
     /// Output OBJ file ('-' writes to standard output); written only when everything succeeded.
@@ -579,7 +579,7 @@ impl SchemeArgs {
 /// Arguments of `subsurf info`.
 #[derive(Debug, Args)]
 pub struct InfoArgs {
-    /// Input OBJ file ('-' reads standard input).
+    /// Input mesh: OBJ, PLY or glTF (.gltf, .glb) ('-' reads standard input).
     #[arg(value_name = "IN")]
     pub input: PathBuf,
     /// Boundary interpolation used to classify the topology [default: the file's tag, else

@@ -297,7 +297,7 @@ impl Reposer {
                     crate::nonuniform::refined(base, &opts.options, opts.levels, &mut |_, _| {})?;
                 nurss_limit = opts.limit.then(|| s.limit_rows());
                 Subdivision {
-                    mesh: s.output_mesh(opts.keep_holes, false),
+                    mesh: crate::subdivide::nurss_output(base, &s, opts, false)?,
                     warnings: s.warnings().to_vec(),
                     normals: None,
                 }

@@ -3,7 +3,7 @@
 
 use crate::limit;
 use crate::mesh::{Options, PolyMesh, Topology, TopologyWarning};
-use crate::refine::uniform::{estimate_uniform, refine_uniform, Steps};
+use crate::refine::uniform::{estimate_uniform, groups_of_refined, refine_uniform, Steps};
 use crate::refine::Error;
 use crate::refine::{interpolate_with, refine_topology};
 use crate::scheme::adjustable::Mixed;
@@ -37,7 +37,8 @@ pub struct SubdivideOptions {
 #[derive(Clone, Debug, PartialEq)]
 pub struct Subdivision {
     /// The refined mesh. Its tags carry the sharpness still left at the last level, and
-    /// with [`Scheme::Nurss`] its knot intervals and weights ([`PolyMesh::knots`]).
+    /// with [`Scheme::Nurss`] its knot intervals and weights ([`PolyMesh::knots`]); each
+    /// face has its base face's object, group and material ([`PolyMesh::groups`]).
     pub mesh: PolyMesh,
     /// Unit limit normals per vertex, when [`SubdivideOptions::limit`] was set (not for
     /// NURSS).
@@ -115,7 +116,7 @@ pub fn subdivide_with_progress(
         let mut warnings = s.warnings().to_vec();
         warnings.extend(fvar_warning);
         return Ok(Subdivision {
-            mesh: s.output_mesh(opts.keep_holes, opts.limit),
+            mesh: nurss_output(mesh, &s, opts, opts.limit)?,
             normals: None,
             warnings,
         });
@@ -143,6 +144,22 @@ pub fn subdivide_with_progress(
         normals,
         warnings,
     })
+}
+
+/// The mesh of a NURSS refinement `s` of `mesh` (`Nurss::output_mesh`,
+/// moved to the limit with `limit`) with `mesh`'s face groups carried to the children of
+/// each face (NURSS numbers faces as Catmull-Clark does).
+pub(crate) fn nurss_output(
+    mesh: &PolyMesh,
+    s: &crate::nonuniform::Nurss,
+    opts: &SubdivideOptions,
+    limit: bool,
+) -> Result<PolyMesh, Error> {
+    let mut out = s.output_mesh(opts.keep_holes, limit);
+    let cc = Steps::Family(Mixed::CATMULL_CLARK);
+    out.groups = groups_of_refined(mesh, &opts.options, cc, opts.levels, opts.keep_holes)?;
+    debug_assert!(out.groups.validate(out.num_faces()).is_ok());
+    Ok(out)
 }
 
 /// Moves `pos` (values at the vertices of `level`) to their limit positions with the limit

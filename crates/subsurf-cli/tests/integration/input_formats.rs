@@ -197,25 +197,18 @@ fn every_mesh_command_reads_ply() {
 }
 
 /// Files of other formats are refused with a message that names the formats read: a
-/// binary glTF and a binary STL (which `tessellate` writes), by their content or name,
-/// also on standard input.
+/// binary STL (which `tessellate` writes), by its name; an ASCII STL by its content, on
+/// standard input.
 #[test]
 fn other_formats_are_named() {
     let dir = dir_with(&[("cube.obj", CUBE)]);
-    for out in ["cube.glb", "cube.stl"] {
-        let o = run_in(
-            dir.path(),
-            &["tessellate", "cube.obj", "-o", out, "--rate", "2"],
-        );
-        assert_code(&o, 0);
-    }
-    fs::copy(dir.path().join("cube.glb"), dir.path().join("model.obj")).unwrap();
-    let read = "meshes are read from OBJ and PLY files only";
-    for (file, what) in [
-        ("cube.glb", "a binary glTF (.glb) file"),
-        ("model.obj", "a binary glTF (.glb) file"),
-        ("cube.stl", "an STL file"),
-    ] {
+    let o = run_in(
+        dir.path(),
+        &["tessellate", "cube.obj", "-o", "cube.stl", "--rate", "2"],
+    );
+    assert_code(&o, 0);
+    let read = "meshes are read from OBJ, PLY and glTF (.gltf, .glb) files only";
+    for file in ["cube.stl"] {
         for command in ["info", "subdivide"] {
             let mut args = vec![command, file];
             if command == "subdivide" {
@@ -225,16 +218,144 @@ fn other_formats_are_named() {
             assert_code(&o, 1);
             let e = stderr(&o);
             assert!(
-                e.starts_with(&format!("error: {file}: this looks like {what}; {read}")),
+                e.starts_with(&format!(
+                    "error: {file}: this looks like an STL file; {read}"
+                )),
                 "{e}"
             );
         }
     }
-    let glb = fs::read(dir.path().join("cube.glb")).unwrap();
-    let o = run_with_bytes(dir.path(), &["info", "-"], &glb);
+    let o = run_with_bytes(
+        dir.path(),
+        &["info", "-"],
+        b"solid cube\nfacet normal 0 0 1\n",
+    );
     assert_code(&o, 1);
-    assert!(stderr(&o).starts_with("error: <stdin>: this looks like a binary glTF"));
+    assert!(stderr(&o).starts_with("error: <stdin>: this looks like an STL file"));
     assert!(!listing(dir.path()).contains(&"out.obj".to_owned()));
+}
+
+/// A textured cube in binary glTF as exporters write it: 24 vertices (every face corner
+/// its own), 12 triangles, each face's texture a square of its own, `v` down.
+fn textured_cube_glb() -> Vec<u8> {
+    let p = [
+        [0.0f32, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [1.0, 1.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, 0.0, 1.0],
+        [1.0, 0.0, 1.0],
+        [1.0, 1.0, 1.0],
+        [0.0, 1.0, 1.0],
+    ];
+    let faces = [
+        [0, 3, 2, 1],
+        [4, 5, 6, 7],
+        [0, 1, 5, 4],
+        [1, 2, 6, 5],
+        [2, 3, 7, 6],
+        [3, 0, 4, 7],
+    ];
+    let mut bin = Vec::new();
+    for f in &faces {
+        for &v in f {
+            bin.extend(p[v].iter().flat_map(|x| x.to_le_bytes()));
+        }
+    }
+    let uv_at = bin.len();
+    for (i, _) in faces.iter().enumerate() {
+        let (u0, v0) = ((i % 3) as f32 / 3.0, (i / 3) as f32 / 2.0);
+        for (du, dv) in [(0.0, 0.5), (1.0 / 3.0, 0.5), (1.0 / 3.0, 0.0), (0.0, 0.0)] {
+            bin.extend([u0 + du, v0 + dv].iter().flat_map(|x| x.to_le_bytes()));
+        }
+    }
+    let idx_at = bin.len();
+    for f in 0..6u32 {
+        for k in [0, 1, 2, 0, 2, 3] {
+            bin.extend((4 * f + k).to_le_bytes());
+        }
+    }
+    let doc = serde_json::json!({
+        "asset": {"version": "2.0"},
+        "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 1}, "indices": 2}]}],
+        "accessors": [
+            {"bufferView": 0, "componentType": 5126, "count": 24, "type": "VEC3",
+             "min": [0, 0, 0], "max": [1, 1, 1]},
+            {"bufferView": 1, "componentType": 5126, "count": 24, "type": "VEC2"},
+            {"bufferView": 2, "componentType": 5125, "count": 36, "type": "SCALAR"},
+        ],
+        "bufferViews": [
+            {"buffer": 0, "byteOffset": 0, "byteLength": uv_at},
+            {"buffer": 0, "byteOffset": uv_at, "byteLength": idx_at - uv_at},
+            {"buffer": 0, "byteOffset": idx_at, "byteLength": bin.len() - idx_at},
+        ],
+        "buffers": [{"byteLength": bin.len()}],
+    });
+    let mut json = serde_json::to_vec(&doc).unwrap();
+    while !json.len().is_multiple_of(4) {
+        json.push(b' ');
+    }
+    let mut out = b"glTF".to_vec();
+    let total = 12 + 8 + json.len() + 8 + bin.len();
+    for w in [2u32, total as u32, json.len() as u32, 0x4E4F_534A] {
+        out.extend(w.to_le_bytes());
+    }
+    out.extend(&json);
+    out.extend((bin.len() as u32).to_le_bytes());
+    out.extend(0x004E_4942u32.to_le_bytes());
+    out.extend(&bin);
+    out
+}
+
+/// glTF is read: a textured cube subdivides into an OBJ with its texture coordinates
+/// (`vt`, faces `v/vt`), welded into the closed cube (Catmull-Clark level 1 of 12
+/// triangles: 8 + 12 + 18 vertices, 36 quads); what the file holds besides is noted; a
+/// glTF written by `tessellate` reads back as the tessellation (its positions rounded to
+/// single precision, turned back to Z up).
+#[test]
+fn gltf_is_read() {
+    let dir = dir_with(&[("cube.obj", CUBE)]);
+    fs::write(dir.path().join("cube.glb"), textured_cube_glb()).unwrap();
+    let o = run_in(
+        dir.path(),
+        &["subdivide", "cube.glb", "-l", "1", "-o", "out.obj"],
+    );
+    assert_code(&o, 0);
+    let out = fs::read_to_string(dir.path().join("out.obj")).unwrap();
+    let count = |kw: &str| out.lines().filter(|l| l.starts_with(kw)).count();
+    assert_eq!((count("v "), count("f ")), (38, 36));
+    assert!(count("vt ") > 38, "seams split the values");
+    assert!(out
+        .lines()
+        .filter(|l| l.starts_with("f "))
+        .all(|l| l.split(' ').skip(1).all(|c| c.contains('/'))));
+    assert!(!stderr(&o).contains("ignored"), "{}", stderr(&o));
+    for out in ["t.obj", "t.glb"] {
+        let o = run_in(
+            dir.path(),
+            &["tessellate", "cube.obj", "-o", out, "--rate", "3"],
+        );
+        assert_code(&o, 0);
+    }
+    let o = run_in(
+        dir.path(),
+        &["subdivide", "t.glb", "-l", "0", "-o", "back.obj"],
+    );
+    assert_code(&o, 0);
+    assert!(stderr(&o).contains("normals (NORMAL)"), "{}", stderr(&o));
+    let single = |p: [f64; 3]| p.map(|x| (x as f32).to_bits());
+    let mut written: Vec<_> = positions(&fs::read_to_string(dir.path().join("t.obj")).unwrap())
+        .into_iter()
+        .map(single)
+        .collect();
+    let mut back: Vec<_> = positions(&fs::read_to_string(dir.path().join("back.obj")).unwrap())
+        .into_iter()
+        .map(|p| p.map(|x| (x as f32).to_bits()))
+        .collect();
+    written.sort_unstable();
+    back.sort_unstable();
+    assert_eq!(written, back);
 }
 
 /// Every command that reads a mesh names `<stdin>` in its errors about standard input:
@@ -417,4 +538,56 @@ fn ply_messages_count_from_zero() {
         "{}",
         stderr(&o)
     );
+}
+
+/// OBJ objects, groups and materials reach the refined OBJ of `subdivide` and of
+/// `repose`: `mtllib` first, each child face under its parent's `usemtl` (16 children per
+/// quad at level 2); smoothing groups are noted as not kept.
+#[test]
+fn obj_groups_and_materials_are_kept() {
+    let base = "mtllib cube.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n\
+                o cube\ng sides\nusemtl red\ns 1\nf 1 4 3 2\nf 5 6 7 8\nusemtl blue\nf 1 2 6 5\nf 2 3 7 6\n\
+                f 3 4 8 7\nf 4 1 5 8\n";
+    let dir = dir_with(&[("m.obj", base)]);
+    let o = run_in(
+        dir.path(),
+        &["subdivide", "m.obj", "-l", "2", "-o", "out.obj"],
+    );
+    assert_code(&o, 0);
+    assert!(
+        stderr(&o).contains("smoothing-group statement(s) (s)"),
+        "{}",
+        stderr(&o)
+    );
+    let o = run_in(
+        dir.path(),
+        &["repose", "m.obj", "m.obj", "-o", "poses", "-l", "2"],
+    );
+    assert_code(&o, 0);
+    for out in ["out.obj", "poses/m.obj"] {
+        let text = fs::read_to_string(dir.path().join(out)).unwrap();
+        let lines: Vec<&str> = text.lines().filter(|l| !l.starts_with('#')).collect();
+        assert_eq!(lines[0], "mtllib cube.mtl", "{out}");
+        let mut material = "";
+        let mut counts = std::collections::BTreeMap::new();
+        for l in &lines {
+            if let Some(m) = l.strip_prefix("usemtl ") {
+                material = m;
+            } else if l.starts_with("f ") {
+                *counts.entry(material).or_insert(0) += 1;
+            }
+        }
+        assert_eq!(
+            counts,
+            [("blue", 64), ("red", 32)].into_iter().collect(),
+            "{out}"
+        );
+        for (kw, n) in [("o cube", 1), ("g sides", 1), ("usemtl ", 2)] {
+            assert_eq!(
+                lines.iter().filter(|l| l.starts_with(kw)).count(),
+                n,
+                "{out} {kw}"
+            );
+        }
+    }
 }

@@ -1,15 +1,18 @@
-//! A polygon mesh from a file or a stream of any format read (OBJ, PLY), told apart by its
-//! content, read in blocks within a memory limit.
+//! A polygon mesh from a file or a stream of any format read (OBJ, PLY, glTF), told apart
+//! by its content, read in blocks within a memory limit.
 //!
 //! [`read_mesh`] and [`read_mesh_from`] read their input in blocks of [`BLOCK`] bytes and
 //! look at each block as it arrives:
 //!
 //! - the first block tells the format ([`MeshFormat`]): a file that starts with the line
-//!   `ply` is PLY whatever its name; other formats with a signature (binary glTF, FBX,
-//!   USD, ZIP, JSON, STL and OFF text) or with a known extension (`.glb`, `.gltf`,
-//!   `.stl`, `.fbx`, `.usd*`, ...) are refused with a message that names the formats
-//!   read; a file named `.ply` without the `ply` line is refused as not PLY; anything else
-//!   is read as OBJ;
+//!   `ply` is PLY whatever its name; one that starts with `glTF` is binary glTF, and a
+//!   JSON object named `.gltf` or holding `"asset"` in its first block is glTF (with the
+//!   `gltf` feature, [`crate::io::parse_gltf`]; relative buffer URIs are looked up in the
+//!   directory of the file's name); other formats with a signature (FBX, USD, ZIP, other
+//!   JSON, STL and OFF text) or with a known extension (`.stl`, `.fbx`, `.usd*`, ...) are
+//!   refused with a message that names the formats read; a file named `.ply` without the
+//!   `ply` line is refused as not PLY, one named `.glb` or `.gltf` that is not glTF as not
+//!   glTF; anything else is read as OBJ;
 //! - in an OBJ file (and the body of an ASCII PLY file), each block is checked for bytes
 //!   that are not text (control characters, bytes that are not UTF-8): at the first,
 //!   reading stops and the file read so far is parsed, which gives the error of the whole
@@ -40,15 +43,21 @@ pub enum MeshFormat {
     Obj,
     /// PLY (`crate::io::ply`) in the given encoding.
     Ply(PlyEncoding),
+    /// glTF 2.0 ([`crate::io::parse_gltf`]), binary (`.glb`) or JSON (`.gltf`).
+    Gltf {
+        /// Whether it was binary glTF.
+        binary: bool,
+    },
 }
 
 impl MeshFormat {
     /// The number of the first face and vertex in the file's terms: 1 in OBJ (its `f`
-    /// statements count vertices from 1), 0 in PLY (its vertex lists count from 0).
+    /// statements count vertices from 1), 0 in PLY (its vertex lists count from 0) and in
+    /// glTF (whose welded vertices and triangles the mesh numbers from 0).
     pub fn first_index(self) -> u64 {
         match self {
             Self::Obj => 1,
-            Self::Ply(_) => 0,
+            Self::Ply(_) | Self::Gltf { .. } => 0,
         }
     }
 }
@@ -58,6 +67,8 @@ impl std::fmt::Display for MeshFormat {
         match self {
             Self::Obj => f.write_str("OBJ"),
             Self::Ply(e) => write!(f, "PLY ({e})"),
+            Self::Gltf { binary: true } => f.write_str("glTF (binary)"),
+            Self::Gltf { binary: false } => f.write_str("glTF"),
         }
     }
 }
@@ -68,10 +79,11 @@ pub struct MeshFile {
     /// The format it was read from.
     pub format: MeshFormat,
     /// The mesh as an OBJ file holds it: for PLY, the mesh and, for an ASCII file, the line
-    /// of each face (no tags, texture coordinates or normals).
+    /// of each face (no tags, texture coordinates or normals); for glTF, the mesh (its
+    /// texture coordinates as the channel `"uv"`).
     pub obj: ObjFile,
     /// What the file holds and the mesh leaves out, for a note (PLY's other properties and
-    /// elements, [`crate::io::ply::PlyFile::ignored`]).
+    /// elements, [`crate::io::ply::PlyFile::ignored`]; glTF's, one line per kind).
     pub ignored: Vec<String>,
 }
 
@@ -92,6 +104,10 @@ pub enum ReadMeshError {
     /// The input is not valid PLY.
     #[error(transparent)]
     Ply(#[from] PlyError),
+    /// The input is not glTF that can be read.
+    #[cfg(feature = "gltf")]
+    #[error(transparent)]
+    Gltf(#[from] super::GltfError),
     /// The input is in a format that is not read.
     #[error("{name}: {message}")]
     Unsupported {
@@ -123,7 +139,8 @@ pub enum ReadMeshError {
 ///
 /// # Errors
 /// [`ReadMeshError`]: the file cannot be read, is not valid OBJ or PLY (the first problem,
-/// at its line), is in another format, or would need more than `limit`.
+/// at its line) or glTF (naming what is at fault), is in another format, or would need
+/// more than `limit`.
 pub fn read_mesh(path: &Path, limit: Option<u64>) -> Result<MeshFile, ReadMeshError> {
     let name = path.display().to_string();
     let io = |error| ReadMeshError::Io {
@@ -181,7 +198,14 @@ pub fn read_mesh_from<R: Read>(
         }
         let format = match format {
             Some(f) => f,
-            None => *format.insert(sniff(&bytes, name)?),
+            None => {
+                let f = *format.insert(sniff(&bytes, name)?);
+                if f == Sniffed::Gltf {
+                    // Binary, or JSON whose base64 data need no check as text.
+                    text_from = None;
+                }
+                f
+            }
         };
         if format == Sniffed::Ply && ply_body.is_none() {
             // Until the header is whole, nothing is checked as text; a binary body never.
@@ -201,8 +225,8 @@ pub fn read_mesh_from<R: Read>(
                 Ok(Some(at)) => {
                     let prefix = &bytes[..=checked + at];
                     return Err(match format {
-                        Sniffed::Obj => not_text(obj_mesh(prefix, name, limit), prefix, name),
                         Sniffed::Ply => not_text(ply_mesh(prefix, name, limit), prefix, name),
+                        _ => not_text(obj_mesh(prefix, name, limit), prefix, name),
                     });
                 }
             }
@@ -213,6 +237,7 @@ pub fn read_mesh_from<R: Read>(
     }
     match format {
         Some(Sniffed::Ply) => ply_mesh(&bytes, name, limit),
+        Some(Sniffed::Gltf) => gltf_mesh(&bytes, name, limit),
         _ => obj_mesh(&bytes, name, limit),
     }
 }
@@ -226,6 +251,7 @@ pub fn parse_mesh(bytes: &[u8], name: &str) -> Result<MeshFile, ReadMeshError> {
     match sniff(bytes, name)? {
         Sniffed::Ply => ply_mesh(bytes, name, None),
         Sniffed::Obj => obj_mesh(bytes, name, None),
+        Sniffed::Gltf => gltf_mesh(bytes, name, None),
     }
 }
 
@@ -234,11 +260,12 @@ pub fn parse_mesh(bytes: &[u8], name: &str) -> Result<MeshFile, ReadMeshError> {
 enum Sniffed {
     Obj,
     Ply,
+    /// Binary or JSON glTF (only with the `gltf` feature).
+    Gltf,
 }
 
 /// Formats recognised by the start of the file, and not read.
-const SIGNATURES: [(&[u8], &str); 5] = [
-    (b"glTF", "a binary glTF (.glb) file"),
+const SIGNATURES: [(&[u8], &str); 4] = [
     (b"Kaydara FBX Binary", "an FBX file"),
     (b"PXR-USDC", "a USD file"),
     (b"#usda", "a USD file"),
@@ -246,9 +273,7 @@ const SIGNATURES: [(&[u8], &str); 5] = [
 ];
 
 /// Formats recognised by the extension of the name, and not read.
-const EXTENSIONS: [(&str, &str); 19] = [
-    ("glb", "a binary glTF (.glb) file"),
-    ("gltf", "a glTF (.gltf) file"),
+const EXTENSIONS: [(&str, &str); 17] = [
     ("stl", "an STL file"),
     ("fbx", "an FBX file"),
     ("usd", "a USD file"),
@@ -268,6 +293,13 @@ const EXTENSIONS: [(&str, &str); 19] = [
     ("igs", "an IGES file"),
 ];
 
+/// The formats read, for messages.
+#[cfg(feature = "gltf")]
+const FORMATS_READ: &str = "OBJ, PLY and glTF (.gltf, .glb) files only";
+#[cfg(not(feature = "gltf"))]
+const FORMATS_READ: &str = "OBJ and PLY files only (glTF input needs the `gltf` feature of \
+                            the subsurf library)";
+
 /// The reader for a file that starts with `start` and is called `name`, or the error
 /// for a file in another format.
 fn sniff(start: &[u8], name: &str) -> Result<Sniffed, ReadMeshError> {
@@ -277,27 +309,37 @@ fn sniff(start: &[u8], name: &str) -> Result<Sniffed, ReadMeshError> {
     let unsupported = |what: &str| ReadMeshError::Unsupported {
         name: name.to_owned(),
         message: format!(
-            "this looks like {what}; meshes are read from OBJ and PLY files only (PLY: ascii, \
+            "this looks like {what}; meshes are read from {FORMATS_READ} (PLY: ascii, \
              binary_little_endian or binary_big_endian); convert it to one of them"
         ),
     };
+    let ext = Path::new(name)
+        .extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase());
+    let text = start.trim_ascii_start();
+    if let Some(gltf) = sniff_gltf(start, text, ext.as_deref()) {
+        return match gltf {
+            Ok(_) if cfg!(feature = "gltf") => Ok(Sniffed::Gltf),
+            Ok(what) => Err(unsupported(what)),
+            Err(message) => Err(ReadMeshError::Unsupported {
+                name: name.to_owned(),
+                message,
+            }),
+        };
+    }
     if let Some((_, what)) = SIGNATURES.iter().find(|(s, _)| start.starts_with(s)) {
         return Err(unsupported(what));
     }
-    let text = start.trim_ascii_start();
     let first_word = text
         .split(|b| b.is_ascii_whitespace())
         .next()
         .unwrap_or_default();
     match first_word {
-        _ if text.starts_with(b"{") => return Err(unsupported("a JSON (or .gltf) file")),
+        _ if text.starts_with(b"{") => return Err(unsupported("a JSON file (not glTF)")),
         b"solid" => return Err(unsupported("an STL file")),
         b"OFF" | b"COFF" | b"NOFF" => return Err(unsupported("an OFF file")),
         _ => {}
     }
-    let ext = Path::new(name)
-        .extension()
-        .map(|e| e.to_string_lossy().to_ascii_lowercase());
     match ext.as_deref() {
         Some("ply") => Err(PlyError {
             source_name: name.to_owned(),
@@ -310,6 +352,30 @@ fn sniff(start: &[u8], name: &str) -> Result<Sniffed, ReadMeshError> {
             None => Ok(Sniffed::Obj),
         },
         None => Ok(Sniffed::Obj),
+    }
+}
+
+/// Whether a file that starts with `start` (`text` without leading whitespace), of
+/// extension `ext`, is glTF: `Some(Ok(what it is))` for binary glTF (`glTF`) and for a
+/// JSON object named `.gltf` or holding `"asset"`; `Some(Err(message))` for a file named
+/// `.glb` or `.gltf` that is not; `None` for anything else.
+fn sniff_gltf(
+    start: &[u8],
+    text: &[u8],
+    ext: Option<&str>,
+) -> Option<Result<&'static str, String>> {
+    let json = text.starts_with(b"{");
+    let asset = json && start.windows(7).any(|w| w == b"\"asset\"");
+    match ext {
+        _ if start.starts_with(b"glTF") => Some(Ok("a binary glTF (.glb) file")),
+        _ if json && (asset || ext == Some("gltf")) => Some(Ok("a glTF (.gltf) file")),
+        Some("glb") => Some(Err(
+            "not a binary glTF file: it does not start with 'glTF'".into()
+        )),
+        Some("gltf") => Some(Err(
+            "not a glTF file: it is not a JSON object (it does not start with '{')".into(),
+        )),
+        _ => None,
     }
 }
 
@@ -360,6 +426,13 @@ fn obj_mesh(bytes: &[u8], name: &str, limit: Option<u64>) -> Result<MeshFile, Re
             obj.normals.len()
         ));
     }
+    if obj.smoothing_groups > 0 {
+        ignored.push(format!(
+            "{} smoothing-group statement(s) (s): a subdivision surface is smooth everywhere \
+             but at its creases, so they are not kept (use t crease tags for sharp edges)",
+            obj.smoothing_groups
+        ));
+    }
     Ok(MeshFile {
         format: MeshFormat::Obj,
         obj,
@@ -388,5 +461,39 @@ fn ply_mesh(bytes: &[u8], name: &str, limit: Option<u64>) -> Result<MeshFile, Re
             ..ObjFile::default()
         },
         ignored: ply.ignored,
+    })
+}
+
+#[cfg(feature = "gltf")]
+fn gltf_mesh(bytes: &[u8], name: &str, limit: Option<u64>) -> Result<MeshFile, ReadMeshError> {
+    use super::gltf_read::{parse_gltf_within, Refusal};
+    let dir = Path::new(name).parent();
+    let file = parse_gltf_within(bytes, name, dir, super::Up::Z, limit).map_err(|r| match r {
+        Refusal::Gltf(e) => ReadMeshError::Gltf(e),
+        Refusal::TooLarge { needed } => ReadMeshError::TooLarge {
+            name: name.to_owned(),
+            needed,
+            limit: limit.unwrap_or(0),
+            whole: true,
+        },
+    })?;
+    Ok(MeshFile {
+        format: MeshFormat::Gltf {
+            binary: file.binary,
+        },
+        obj: ObjFile {
+            mesh: file.mesh,
+            ..ObjFile::default()
+        },
+        ignored: file.ignored,
+    })
+}
+
+/// Not reached: without the `gltf` feature, [`sniff`] refuses glTF.
+#[cfg(not(feature = "gltf"))]
+fn gltf_mesh(_: &[u8], name: &str, _: Option<u64>) -> Result<MeshFile, ReadMeshError> {
+    Err(ReadMeshError::Unsupported {
+        name: name.to_owned(),
+        message: format!("glTF is not read; meshes are read from {FORMATS_READ}"),
     })
 }

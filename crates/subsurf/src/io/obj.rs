@@ -3,8 +3,11 @@
 //! Reading ([`parse_obj`], [`read_obj`]) accepts polygons (`f`, with every index form:
 //! `v`, `v/vt`, `v//vn`, `v/vt/vn`, positive or negative), vertices (`v`, an optional `w`
 //! or vertex colour is ignored), texture coordinates (`vt`) and normals (`vn`), LF, CRLF
-//! and CR-only (old Mac OS) line ends, `\` line continuations and `#` comments. Grouping,
-//! material, smoothing-group, polyline, point and free-form statements are ignored, as are
+//! and CR-only (old Mac OS) line ends, `\` line continuations and `#` comments. Objects,
+//! groups and materials (`o`, `g`, `usemtl`, `mtllib`) are kept as the mesh's
+//! [`FaceGroups`](crate::mesh::FaceGroups) (each face's state, and the libraries);
+//! smoothing groups (`s`) are counted ([`ObjFile::smoothing_groups`]) and not kept.
+//! Polyline, point and free-form statements are ignored, as are
 //! unknown statements; but a line must start with something that looks like a keyword (a
 //! letter, then letters, digits or `_`), and must be UTF-8 without control characters, so
 //! that a binary or non-OBJ file fails on its first line instead of being read as an empty
@@ -82,6 +85,9 @@ pub struct ObjFile {
     pub options: FileOptions,
     /// Tags read but not (yet) honoured.
     pub unsupported_tags: Vec<UnsupportedTag>,
+    /// The `s` statements that turn smoothing groups on (not `s off` or `s 0`): not kept,
+    /// since a subdivision surface is smooth everywhere but at its creases.
+    pub smoothing_groups: usize,
 }
 
 /// Scheme options read from `t interpolateboundary`, `t creasemethod`, `t smoothtriangles`.

@@ -76,6 +76,12 @@ pub enum MeshError {
         /// What is wrong.
         message: String,
     },
+    /// A face grouping that does not fit the mesh ([`FaceGroups::validate`](super::FaceGroups::validate)).
+    #[error("face groups: {message}")]
+    BadFaceGroups {
+        /// What is wrong.
+        message: String,
+    },
     /// A face refers to a face-varying value that does not exist.
     #[error("face {face} refers to value {index} of face-varying channel '{channel}', which has {count} values")]
     FaceVaryingOutOfRange {

@@ -12,6 +12,7 @@
 mod crease_angle;
 mod error;
 mod face_varying;
+mod groups;
 mod options;
 mod packed;
 mod polymesh;
@@ -22,6 +23,7 @@ mod topology;
 pub use crease_angle::{crease_by_angle, CreaseAngleError};
 pub use error::{MeshError, TopologyWarning};
 pub use face_varying::FaceVarying;
+pub use groups::{FaceGroups, GroupState};
 pub use options::{
     BoundaryInterpolation, CreaseMethod, FaceVaryingInterpolation, Options, TriangleSubdivision,
 };

@@ -2,7 +2,7 @@
 
 use std::hash::BuildHasherDefault;
 
-use super::{FaceVarying, KnotTags, MeshError, Tags, TopologyWarning};
+use super::{FaceGroups, FaceVarying, KnotTags, MeshError, Tags, TopologyWarning};
 use crate::hash::FxHasher;
 
 type BuildFx = BuildHasherDefault<FxHasher>;
@@ -44,6 +44,10 @@ pub struct PolyMesh {
     /// each with one index per face-vertex; the OBJ reader names its `vt` channel `"uv"`.
     /// Checked by [`validate`](Self::validate).
     pub face_varying: Vec<FaceVarying>,
+    /// The object, group and material of each face and the material libraries (OBJ's
+    /// `o`, `g`, `usemtl`, `mtllib`), carried to the children of each face by refinement.
+    /// Checked by [`validate`](Self::validate).
+    pub groups: FaceGroups,
 }
 
 /// A mesh lent: what [`LimitSurface::new`](crate::limit::LimitSurface::new) copies.
@@ -115,6 +119,7 @@ impl PolyMesh {
             tags: Tags::default(),
             knots: KnotTags::default(),
             face_varying: Vec::new(),
+            groups: FaceGroups::default(),
         }
     }
 
@@ -166,7 +171,7 @@ impl PolyMesh {
         for channel in &self.face_varying {
             channel.validate(&self.face_offsets)?;
         }
-        Ok(())
+        self.groups.validate(self.num_faces())
     }
 
     /// The first face that lists a vertex more than once, as an error.
@@ -283,7 +288,7 @@ impl PolyMesh {
     }
 
     /// The mesh's positions, face offsets and face vertices (CSR) and tags, taken apart
-    /// (the knot tags and face-varying channels are dropped).
+    /// (the knot tags, face-varying channels and face groups are dropped).
     pub(crate) fn into_parts(self) -> (Vec<[f64; 3]>, Vec<u32>, Vec<u32>, Tags) {
         (
             self.positions,

@@ -9,8 +9,8 @@ use super::{
     interpolate, interpolate_with, refine_topology, refine_topology_for_output, FaceVaryingRefiner,
 };
 use crate::mesh::{
-    BoundaryInterpolation, Corner, Crease, MeshError, Options, PolyMesh, Tags, Topology,
-    TopologyWarning,
+    BoundaryInterpolation, Corner, Crease, FaceGroups, MeshError, Options, PolyMesh, Tags,
+    Topology, TopologyWarning,
 };
 use crate::scheme::adjustable::Mixed;
 use crate::scheme::bilinear::Bilinear;
@@ -67,7 +67,88 @@ pub(crate) struct Uniform {
     pub(crate) warnings: Vec<TopologyWarning>,
     /// The face-varying channels, refined to the last level.
     face_varying: FaceVaryingRefiner,
+    /// The base mesh's face groups, when it has any, for [`refined_groups`].
+    groups: Option<BaseGroups>,
     boundary: BoundaryInterpolation,
+}
+
+/// What [`refined_groups`] needs of a base mesh: its face groups, the size of each face
+/// and whether it is a hole, the steps and levels of the refinement.
+pub(crate) struct BaseGroups {
+    groups: FaceGroups,
+    sizes: Vec<u32>,
+    holes: Vec<bool>,
+    steps: Steps,
+    levels: u32,
+}
+
+impl BaseGroups {
+    /// The groups of `mesh`, whose base level is `level`, refined `levels` times with
+    /// `steps`; `None` when it has none.
+    pub(crate) fn new(
+        mesh: &PolyMesh,
+        level: &Topology,
+        steps: Steps,
+        levels: u32,
+    ) -> Option<Self> {
+        if mesh.groups.is_empty() {
+            return None;
+        }
+        Some(Self {
+            groups: mesh.groups.clone(),
+            sizes: mesh.faces().map(|f| f.len() as u32).collect(),
+            holes: (0..mesh.num_faces()).map(|f| level.is_hole(f)).collect(),
+            steps,
+            levels,
+        })
+    }
+}
+
+/// The face groups of `mesh` refined `levels` times with `steps` ([`refined_groups`]),
+/// holes left out unless `keep_holes`, for the refinements that do not go through
+/// [`refine_uniform`] (NURSS, whose faces are numbered as Catmull-Clark's): empty when
+/// `mesh` has none.
+///
+/// # Errors
+/// Those of [`Topology::from_mesh`] (which finds the holes).
+pub(crate) fn groups_of_refined(
+    mesh: &PolyMesh,
+    options: &Options,
+    steps: Steps,
+    levels: u32,
+    keep_holes: bool,
+) -> Result<FaceGroups, MeshError> {
+    if mesh.groups.is_empty() {
+        return Ok(FaceGroups::default());
+    }
+    let (base, _) = Topology::from_mesh(mesh, options)?;
+    Ok(BaseGroups::new(mesh, &base, steps, levels)
+        .map(|g| refined_groups(&g, keep_holes))
+        .unwrap_or_default())
+}
+
+/// The face groups of the refined mesh: each face's state given to all its descendants.
+///
+/// Refinement numbers the children of a face contiguously, in the order of their parents
+/// (OpenSubdiv's `Vtr::Refinement`; `refine_topology`, `refine_tri_topology`): the quad
+/// split gives face `f` of `n` corners the `n` child quads `S_f .. S_f + n` (one per
+/// corner, `S_f` the corners of the faces before `f`), and every quad after the first
+/// level its four `4g .. 4g + 4`; the triangle split gives triangle `t` its four
+/// `4t .. 4t + 4`. So face `f` has `n·4^(L−1)` descendants at level `L ≥ 1` (the
+/// triangle split: `4^L`), in one run, the runs in the order of the faces; the
+/// descendants of a hole are holes, and are left out of the output unless `keep_holes`.
+pub(crate) fn refined_groups(base: &BaseGroups, keep_holes: bool) -> FaceGroups {
+    let l = base.levels;
+    base.groups.for_children(|f| {
+        if base.holes[f] && !keep_holes {
+            return 0;
+        }
+        match (base.steps, l) {
+            (_, 0) => 1,
+            (Steps::Loop, _) => 1 << (2 * l),
+            _ => (base.sizes[f] as usize) << (2 * (l - 1)),
+        }
+    })
 }
 
 /// Bytes per face of the last level held at once by [`refine_uniform`]: the child's faces, edge
@@ -151,6 +232,7 @@ pub(crate) fn refine_uniform(
     let (mut level, warnings) = Topology::from_mesh(mesh, options)?;
     let mut pos = mesh.positions().to_vec();
     let mut fvar = FaceVaryingRefiner::new(&level, &mesh.face_varying, options);
+    let groups = BaseGroups::new(mesh, &level, steps, levels);
     let mut parent = None;
     for l in 1..=levels {
         // The last level needs its full adjacency only for limit masks, and its edge
@@ -193,6 +275,7 @@ pub(crate) fn refine_uniform(
         positions: pos,
         warnings,
         face_varying: fvar,
+        groups,
         boundary: options.boundary,
     })
 }
@@ -229,10 +312,11 @@ impl Uniform {
         self.face_varying.limit(scheme, &self.level, options);
     }
 
-    /// The refined mesh ([`output_mesh`]) with its face-varying channels, holes kept
-    /// (tagged) with `keep_holes`.
+    /// The refined mesh ([`output_mesh`]) with its face-varying channels and face groups
+    /// ([`refined_groups`]), holes kept (tagged) with `keep_holes`.
     pub(crate) fn into_mesh(self, keep_holes: bool) -> PolyMesh {
         let face_varying = self.face_varying.finish(&self.level, keep_holes);
+        let groups = (self.groups.as_ref()).map(|g| refined_groups(g, keep_holes));
         let mut m = output_mesh(
             self.level,
             self.parent.as_ref(),
@@ -241,6 +325,10 @@ impl Uniform {
             keep_holes,
         );
         m.face_varying = face_varying;
+        if let Some(groups) = groups {
+            debug_assert!(groups.validate(m.num_faces()).is_ok());
+            m.groups = groups;
+        }
         m
     }
 }

@@ -224,20 +224,50 @@ fn the_format_is_told_by_content() {
             let shown = e.to_string();
             assert!(
                 shown.starts_with(&format!("{name}: this looks like {what};"))
-                    && shown.contains("meshes are read from OBJ and PLY files only"),
+                    && shown.contains(
+                        "meshes are read from OBJ, PLY and glTF (.gltf, .glb) files only"
+                    ),
                 "{shown}"
             );
         }
         other => panic!("{name}: {other:?}"),
     };
-    unsupported(b"glTF\x02\0\0\0", "x.obj", "a binary glTF (.glb) file");
     unsupported(b"Kaydara FBX Binary  \0", "x", "an FBX file");
     unsupported(b"PXR-USDC", "x", "a USD file");
-    unsupported(b"  {\"asset\": {}}", "scene.gltf", "a JSON (or .gltf) file");
+    unsupported(
+        b"  {\"type\": \"nurbs\"}",
+        "curves.json",
+        "a JSON file (not glTF)",
+    );
     unsupported(b"solid x\nfacet normal 0 0 1\n", "<stdin>", "an STL file");
     unsupported(b"OFF\n3 1 0\n", "x.txt", "an OFF file");
     unsupported(b"\x00\x01binary", "part.STL", "an STL file");
-    unsupported(b"v 0 0 0\n", "x.glb", "a binary glTF (.glb) file");
+    // glTF by content, whatever the name; not glTF under its name: refused as not glTF.
+    for (bytes, name, message) in [
+        (
+            &b"glTF\x02\0\0\0"[..],
+            "x.obj",
+            "x.obj: the binary glTF file is cut short (8 bytes)",
+        ),
+        (
+            b"  {\"asset\": {}}",
+            "scene",
+            "scene: not valid glTF JSON: missing field `version`",
+        ),
+        (
+            b"v 0 0 0\n",
+            "x.glb",
+            "x.glb: not a binary glTF file: it does not start with 'glTF'",
+        ),
+        (
+            b"v 0 0 0\n",
+            "x.gltf",
+            "x.gltf: not a glTF file: it is not a JSON object (it does not start with '{')",
+        ),
+    ] {
+        let e = parse_mesh(bytes, name).unwrap_err().to_string();
+        assert!(e.starts_with(message), "{e}");
+    }
     match parse_mesh(b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "x.ply") {
         Err(ReadMeshError::Ply(e)) => {
             assert_eq!(

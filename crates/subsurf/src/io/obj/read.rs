@@ -6,9 +6,9 @@
 
 use super::{FileOptions, ObjError, ObjFile, UnsupportedTag};
 use crate::mesh::{
-    BoundaryInterpolation, Corner, Crease, CreaseMethod, EdgeInterval, FaceVarying,
-    FaceVaryingInterpolation, KnotTagError, KnotTags, MeshError, PolyMesh, SideInterval, Tags,
-    TriangleSubdivision, VertexWeight, SHARPNESS_INFINITE,
+    BoundaryInterpolation, Corner, Crease, CreaseMethod, EdgeInterval, FaceGroups, FaceVarying,
+    FaceVaryingInterpolation, GroupState, KnotTagError, KnotTags, MeshError, PolyMesh,
+    SideInterval, Tags, TriangleSubdivision, VertexWeight, SHARPNESS_INFINITE,
 };
 use std::path::Path;
 use std::str::SplitAsciiWhitespace;
@@ -682,6 +682,21 @@ struct Parser {
     /// `t facevaryingpropagatecorners 1/0/0 1`: Hbr's flag, which with its "edge and
     /// corner" mode (`corners-plus1`) makes OpenSubdiv's `corners-plus2`.
     propagate_corners: bool,
+    /// The `o`, `g` and `usemtl` statements in order: the faces read before each (by this
+    /// parser), which, and its text.
+    group_events: Vec<(u32, GroupKind, String)>,
+    /// The text of the `mtllib` statements.
+    material_libraries: Vec<String>,
+    /// `s` statements other than `s off` and `s 0`.
+    smoothing: usize,
+}
+
+/// The statements that set a face's [`GroupState`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum GroupKind {
+    Object,
+    Group,
+    Material,
 }
 
 /// Source lines of the [`KnotTags`] entries, list by list.
@@ -715,6 +730,9 @@ impl Default for Parser {
             knots: KnotTags::default(),
             knot_lines: KnotLines::default(),
             propagate_corners: false,
+            group_events: Vec::new(),
+            material_libraries: Vec::new(),
+            smoothing: 0,
         }
     }
 }
@@ -935,6 +953,14 @@ impl Parser {
         self.forward_vertices.append(next.forward_vertices);
         self.forward_texcoords.append(next.forward_texcoords);
         self.forward_normals.append(next.forward_normals);
+        let faces = self.face_lines.len() as u32 - next.face_lines.len() as u32;
+        (self.group_events).extend(
+            next.group_events
+                .into_iter()
+                .map(|(f, k, t)| (f + faces, k, t)),
+        );
+        (self.material_libraries).extend(next.material_libraries);
+        self.smoothing += next.smoothing;
         Some(())
     }
 
@@ -948,9 +974,28 @@ impl Parser {
             "vn" => self.normal(toks),
             "f" | "fo" => self.face(toks, line),
             "t" => self.tag(toks, line),
-            // Everything else (o, g, s, usemtl, mtllib, l, p, vp, cstype, deg, curv, surf,
-            // parm, end, ... and unknown statements) carries nothing we use; but a line that
-            // does not even start with a keyword means this is not an OBJ file.
+            "o" | "g" | "usemtl" => {
+                let kind = match kw {
+                    "o" => GroupKind::Object,
+                    "g" => GroupKind::Group,
+                    _ => GroupKind::Material,
+                };
+                let faces = self.face_lines.len() as u32;
+                (self.group_events).push((faces, kind, toks.collect::<Vec<_>>().join(" ")));
+                Ok(())
+            }
+            "mtllib" => {
+                (self.material_libraries).push(toks.collect::<Vec<_>>().join(" "));
+                Ok(())
+            }
+            "s" => {
+                let on = !matches!(toks.next(), None | Some("off" | "0"));
+                self.smoothing += usize::from(on);
+                Ok(())
+            }
+            // Everything else (l, p, vp, cstype, deg, curv, surf, parm, end, ... and unknown
+            // statements) carries nothing we use; but a line that does not even start with
+            // a keyword means this is not an OBJ file.
             _ if is_keyword(kw) => Ok(()),
             _ => {
                 let shown: String = kw.chars().take(MAX_KEYWORD).collect();
@@ -1436,6 +1481,11 @@ impl Parser {
             })?;
         mesh.tags = self.tags;
         mesh.knots = self.knots;
+        mesh.groups = face_groups(
+            &self.group_events,
+            mesh.num_faces(),
+            self.material_libraries,
+        );
         let face_texcoords = self.face_texcoords.finish(corners);
         if let Some(indices) = &face_texcoords {
             let uv = uv_channel(&self.texcoords, indices.clone());
@@ -1460,8 +1510,52 @@ impl Parser {
             face_lines,
             options,
             unsupported_tags: self.unsupported_tags,
+            smoothing_groups: self.smoothing,
         })
     }
+}
+
+/// The [`FaceGroups`] of `faces` faces from the `o`, `g` and `usemtl` statements `events`
+/// (each applies to the faces from the count it holds on), with the `mtllib` texts
+/// `libraries`; no face states when every face is in the state before any statement.
+fn face_groups(
+    events: &[(u32, GroupKind, String)],
+    faces: usize,
+    libraries: Vec<String>,
+) -> FaceGroups {
+    let mut groups = FaceGroups {
+        material_libraries: libraries,
+        ..FaceGroups::default()
+    };
+    if events.iter().all(|&(f, _, _)| f as usize >= faces) {
+        return groups;
+    }
+    let mut ids: std::collections::HashMap<GroupState, u32> = std::collections::HashMap::new();
+    let mut state = GroupState::default();
+    let mut next = events.iter().peekable();
+    let mut id = 0;
+    groups.face_states.reserve_exact(faces);
+    for f in 0..faces {
+        let mut changed = f == 0;
+        while let Some((_, kind, text)) = next.next_if(|e| e.0 as usize <= f) {
+            let slot = match kind {
+                GroupKind::Object => &mut state.object,
+                GroupKind::Group => &mut state.group,
+                GroupKind::Material => &mut state.material,
+            };
+            *slot = Some(text.clone());
+            changed = true;
+        }
+        if changed {
+            let n = groups.states.len() as u32;
+            id = *ids.entry(state.clone()).or_insert(n);
+            if id == n {
+                groups.states.push(state.clone());
+            }
+        }
+        groups.face_states.push(id);
+    }
+    groups
 }
 
 /// The face-varying channel `"uv"` of the `vt` records: `(u, v)`, or `(u, v, w)` when a
@@ -1481,8 +1575,8 @@ mod tests {
     use super::*;
 
     /// A random OBJ text: vertices, texture coordinates and normals, faces (positive and
-    /// relative indices, with and without `vt`/`vn`), comments, blank lines, statements
-    /// that carry nothing, CRLF ends; with `odd` set, now and then what makes a chunk
+    /// relative indices, with and without `vt`/`vn`), comments, blank lines, groups,
+    /// materials, smoothing groups and statements that carry nothing, CRLF ends; with `odd` set, now and then what makes a chunk
     /// stop: tags, continued lines, malformed lines, forward references beyond the file,
     /// and lines ended by a lone `\r` (which keep the file from being read in chunks).
     fn random_obj(seed: u64, odd: bool) -> Vec<u8> {
@@ -1498,6 +1592,13 @@ mod tests {
             text.push('\u{feff}');
         }
         let (mut nv, mut nt, mut nn) = (0u64, 0u64, 0u64);
+        // Every face has texture coordinates or none does (a file that mixes them is
+        // refused): with them, one is defined first.
+        let with_t = next(2) == 0;
+        if with_t {
+            text += "vt 0.5 0.5\n";
+            nt += 1;
+        }
         for _ in 0..2000 {
             let end = if next(5) == 0 { "\r\n" } else { "\n" };
             match next(20) {
@@ -1517,7 +1618,7 @@ mod tests {
                 }
                 8..=14 if nv >= 4 => {
                     text.push('f');
-                    let (t, n) = (nt > 0 && next(3) == 0, nn > 0 && next(3) == 0);
+                    let (t, n) = (with_t, nn > 0 && next(3) == 0);
                     for _ in 0..3 + next(3) {
                         let v = 1 + next(nv);
                         match next(4) {
@@ -1535,7 +1636,15 @@ mod tests {
                 }
                 15 => text += &format!("# v 1 2 3 a comment{end}"),
                 16 => {
-                    text += ["\n", "g part\n", "usemtl m\n", "s off\n", "vp 1\n"][next(5) as usize]
+                    let n = next(5);
+                    text += &[
+                        "\n".to_string(),
+                        format!("g part{n}\n"),
+                        format!("usemtl m{}\n", next(3)),
+                        ["s off\n", "s 1\n", "o thing\n", "mtllib a.mtl\n"][next(4) as usize]
+                            .to_string(),
+                        "vp 1\n".to_string(),
+                    ][n as usize]
                 }
                 _ if odd && next(40) == 0 => {
                     text += match next(7) {
@@ -1563,10 +1672,11 @@ mod tests {
             .num_threads(3)
             .build()
             .unwrap();
-        let mut joined = 0;
+        let (mut joined, mut read) = (0, 0);
         for seed in 0..60 {
             let text = random_obj(seed, seed % 3 != 0);
             let one = parse_obj_in(&text, "x.obj", usize::MAX, None);
+            read += usize::from(one.as_ref().is_ok_and(|f| !f.mesh.groups.is_empty()));
             let shown = |r: &Result<ObjFile, Refusal>| format!("{r:?}");
             for chunk in [64, 500, 4096] {
                 let parallel = pool.install(|| parse_obj_in(&text, "x.obj", chunk, None));
@@ -1588,5 +1698,7 @@ mod tests {
         }
         // Some files were read whole in chunks, the others in part.
         assert!(joined > 20 && joined < 180, "{joined}");
+        // Some files are read (their meshes compared), the others refused.
+        assert!(read > 10 && read < 60, "{read}");
     }
 }

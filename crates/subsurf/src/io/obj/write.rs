@@ -2,7 +2,9 @@
 
 use super::WriteOptions;
 use crate::io::push_decimal;
-use crate::mesh::{CreaseMethod, FaceVaryingInterpolation, Options, PolyMesh, TriangleSubdivision};
+use crate::mesh::{
+    CreaseMethod, FaceVaryingInterpolation, GroupState, Options, PolyMesh, TriangleSubdivision,
+};
 use std::io::{self, Write};
 
 /// Bytes gathered before handing them to the writer.
@@ -14,7 +16,7 @@ const HOLES_PER_LINE: usize = 1000;
 /// Writes `mesh` (with its tags) as OBJ.
 ///
 /// The output is: a header comment (`# written by subsurf VERSION`, then `opts.comment`),
-/// `v x y z` per vertex, `vn x y z` per vertex when `opts.normals` is given, `vt` per value
+/// the `mtllib` lines of [`PolyMesh::groups`], `v x y z` per vertex, `vn x y z` per vertex when `opts.normals` is given, `vt` per value
 /// of the face-varying channel named `"uv"` (other channels are not written), one `f` line per
 /// face (1-based, `f a//a b//b ...` with normals, `f a/t b/u ...` or `f a/t/a ...` with
 /// texture coordinates), then the tags: `t interpolateboundary`
@@ -23,6 +25,10 @@ const HOLES_PER_LINE: usize = 1000;
 /// `opts.scheme` is given, one `t crease 2/1/0` per crease, one
 /// `t corner 1/1/0` per corner, `t hole N/0/0` lines of up to 1000 faces, and the knot tags
 /// of [`PolyMesh::knots`] (`t interval`, `t sideinterval`, `t weight`; see `super`).
+/// Before a face whose [`GroupState`] differs from the previous face's, each part that
+/// changes is written: `o NAME`, `g NAME...`, `usemtl NAME` (a part that changes back to
+/// none, which no file read gives, as `o default`, `g default`, `usemtl default`); a mesh
+/// without groups gets none of these lines.
 ///
 /// Coordinates are printed as the shortest decimals that read back as the same `f64`,
 /// never in exponent form ([`push_decimal`]), sharpness with Rust's shortest round-trip
@@ -43,6 +49,9 @@ pub fn write_obj<W: std::io::Write>(
 ) -> std::io::Result<()> {
     let mut buf: Vec<u8> = Vec::with_capacity(CHUNK + 4096);
     write_header(&mut buf, opts.comment)?;
+    for lib in &mesh.groups.material_libraries {
+        push_statement(&mut buf, "mtllib", lib);
+    }
     write_points(&mut buf, w, mesh, opts.normals)?;
     let uv = mesh.face_varying.iter().find(|c| c.name() == "uv");
     if let Some(uv) = uv {
@@ -138,7 +147,13 @@ fn write_faces<W: Write>(
     uv_indices: Option<&[u32]>,
     with_normals: bool,
 ) -> io::Result<()> {
-    for (face, &start) in mesh.faces().zip(mesh.face_offsets()) {
+    let none = GroupState::default();
+    let mut last = &none;
+    for (f, (face, &start)) in mesh.faces().zip(mesh.face_offsets()).enumerate() {
+        if let Some(state) = mesh.groups.state(f) {
+            write_state_change(buf, last, state);
+            last = state;
+        }
         buf.push(b'f');
         for (k, &v) in face.iter().enumerate() {
             let v = u64::from(v) + 1;
@@ -157,6 +172,35 @@ fn write_faces<W: Write>(
         flush(buf, w, false)?;
     }
     Ok(())
+}
+
+/// The `o`, `g` and `usemtl` lines that take the faces from state `last` to `state`.
+fn write_state_change(buf: &mut Vec<u8>, last: &GroupState, state: &GroupState) {
+    let parts = [
+        ("o", &last.object, &state.object),
+        ("g", &last.group, &state.group),
+        ("usemtl", &last.material, &state.material),
+    ];
+    for (keyword, before, now) in parts {
+        if before != now {
+            push_statement(buf, keyword, now.as_deref().unwrap_or("default"));
+        }
+    }
+}
+
+/// `keyword text` (`keyword` alone for an empty text) and a line end, control characters
+/// in `text` (which would end or continue the line) replaced by spaces.
+fn push_statement(buf: &mut Vec<u8>, keyword: &str, text: &str) {
+    buf.extend_from_slice(keyword.as_bytes());
+    if let Some(t) = Some(text).filter(|t| !t.is_empty()) {
+        buf.push(b' ');
+        let clean: String = t
+            .chars()
+            .map(|c| if c.is_control() { ' ' } else { c })
+            .collect();
+        buf.extend_from_slice(clean.trim_end_matches('\\').as_bytes());
+    }
+    buf.push(b'\n');
 }
 
 /// The scheme's tags: `t interpolateboundary`, and `t creasemethod`, `t smoothtriangles`,
