@@ -124,7 +124,8 @@ pub fn parse_gltf(
 
 /// [`parse_gltf`], refused when the file, its external buffers and the mesh read from
 /// them would need more than `limit` bytes (about 72 bytes per vertex and 28 per triangle
-/// corner read, counted before they are read).
+/// corner read, counted from the accessors before they are read; the buffer files by
+/// their sizes, before each is read).
 pub(crate) fn parse_gltf_within(
     bytes: &[u8],
     name: &str,
@@ -150,7 +151,7 @@ pub(crate) fn parse_gltf_within(
     if limit.is_some_and(|l| needed > l) {
         return Err(Refusal::TooLarge { needed });
     }
-    let room = limit.map(|l| l.saturating_sub(bytes.len() as u64));
+    let room = limit.map(|l| l.saturating_sub(needed));
     let mut buffers = Buffers::new(doc.buffers().count(), bin, dir, room);
     let mut builder = Builder::new(up);
     for instance in &instances {
@@ -158,8 +159,8 @@ pub(crate) fn parse_gltf_within(
             .instance(&doc, instance, &mut buffers, &mut notes)
             .map_err(|e| match e {
                 BufferError::Bad(m) => fail(m),
-                BufferError::TooLarge { needed } => Refusal::TooLarge {
-                    needed: needed.saturating_add(bytes.len() as u64),
+                BufferError::TooLarge { needed: files } => Refusal::TooLarge {
+                    needed: needed.saturating_add(files),
                 },
             })?;
     }
@@ -660,7 +661,9 @@ impl Builder {
                 continue;
             }
             let p = prim.index();
-            for accessor in prim.attributes().map(|(_, a)| a).chain(prim.indices()) {
+            // The buffers of what is read: an unread attribute's missing file is no error.
+            let read = [Semantic::Positions, Semantic::TexCoords(0)].map(|s| prim.get(&s));
+            for accessor in read.into_iter().flatten().chain(prim.indices()) {
                 if let Some(view) = accessor.view() {
                     buffers.load(&view.buffer()).map_err(|e| match e {
                         BufferError::Bad(msg) => BufferError::Bad(format!("{}: {msg}", place(p))),

@@ -232,7 +232,8 @@ fn cube_triangles_obj() -> PolyMesh {
 /// reads back as the connected cube: 8 vertices, 12 triangles, and as many texture
 /// values as the OBJ has (vertex, vt) pairs, so that the seams are exactly the OBJ's; every
 /// corner has the OBJ's position and `(s, t)` (from `v = 1 − t`). Refined with
-/// Catmull-Clark (UVs too), it gives the faces of the same triangles read from OBJ. The
+/// Catmull-Clark (UVs too), it gives the faces of the same triangles read from OBJ, and
+/// with Loop their positions. The
 /// base-64 `.gltf` gives the same mesh as the `.glb`.
 #[test]
 fn textured_cube_reads_welded_with_its_seams() {
@@ -261,6 +262,23 @@ fn textured_cube_reads_welded_with_its_seams() {
         let b = subdivide(&reference, &opts).unwrap().mesh;
         assert_eq!(face_set(&a), face_set(&b), "level {levels}");
     }
+    // Loop refines the triangles too (its positions as from the OBJ triangles).
+    let opts = SubdivideOptions {
+        levels: 2,
+        scheme: subsurf::Scheme::Loop,
+        ..Default::default()
+    };
+    let (a, b) = (
+        subdivide(mesh, &opts).unwrap(),
+        subdivide(&reference, &opts).unwrap(),
+    );
+    assert_eq!(a.mesh.num_faces(), 12 * 16);
+    let sorted = |m: &PolyMesh| {
+        let mut p: Vec<[u64; 3]> = m.positions().iter().map(|p| p.map(f64::to_bits)).collect();
+        p.sort_unstable();
+        p
+    };
+    assert_eq!(sorted(&a.mesh), sorted(&b.mesh));
     let text = gltf_embedded(&doc, &bin);
     let j = parse_gltf(&text, "cube.gltf", None, Up::Y).unwrap();
     assert!(!j.binary);

@@ -475,7 +475,7 @@ mod tests {
     fn glb_container_errors_never_panic() {
         let mut glb = b"glTF".to_vec();
         glb.extend_from_slice(&2u32.to_le_bytes());
-        glb.extend_from_slice(&28u32.to_le_bytes());
+        glb.extend_from_slice(&24u32.to_le_bytes());
         glb.extend_from_slice(&4u32.to_le_bytes());
         glb.extend_from_slice(&super::super::super::gltf::CHUNK_JSON.to_le_bytes());
         glb.extend_from_slice(b"{}  ");
