@@ -292,6 +292,7 @@ impl<'a> PerVertex<'a> {
     }
 
     /// `data` (one item per vertex of the tessellation) per written vertex.
+    #[cfg(feature = "gltf")]
     fn gather<T: Copy>(&self, data: &'a [T]) -> Cow<'a, [T]> {
         match &self.old {
             None => Cow::Borrowed(data),
