@@ -87,8 +87,8 @@ pub(crate) fn limit_points_with<R: Rules, const D: usize>(
     }
 }
 
-/// The limit masks of one vertex ([`catmark::limit_position_mask`],
-/// [`catmark::limit_tangent_masks`]) and the points they weigh: the vertex, the far ends of
+/// The limit masks of one vertex ([`Rules::limit_position_mask`],
+/// [`Rules::limit_tangent_masks`]) and the points they weigh: the vertex, the far ends of
 /// its edges and the corners of its faces opposite it.
 #[derive(Default)]
 pub(crate) struct VertexMasks {

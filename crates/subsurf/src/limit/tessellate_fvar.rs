@@ -16,7 +16,7 @@ impl Tessellation {
     /// The limit of a face-varying channel (e.g. texture coordinates) at every corner of
     /// the tessellation, as a channel of its faces, named `name`: for output face `q`,
     /// corner `i` has value `indices[face_offsets[q] + i]` as in a
-    /// [`PolyMesh`](crate::mesh::PolyMesh)'s channels, so that the tessellation can be
+    /// [`PolyMesh`]'s channels, so that the tessellation can be
     /// written with texture coordinates (`write_tessellation` writes the channel named
     /// `"uv"`).
     ///
