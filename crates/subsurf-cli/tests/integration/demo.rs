@@ -73,13 +73,23 @@ fn demo_builds_a_gallery_whose_pictures_all_exist() {
     let page = fs::read_to_string(out.join("index.html")).expect("index.html");
     let (srcs, hrefs) = check_html(&page);
 
-    // Every picture: a relative path to a PNG that decodes, of the gallery's size, not blank.
+    // Every picture: a relative path to a PNG that decodes, of the gallery's size, not blank
+    // (or an SVG plot with lines).
     assert!(srcs.len() >= 80, "only {} pictures", srcs.len());
     for src in &srcs {
         assert!(
             !src.contains('/') && !src.contains(':'),
             "not a local relative link: {src}"
         );
+        if src.ends_with(".svg") {
+            // A plot: an SVG with its lines (the browser test decodes it).
+            let svg = fs::read_to_string(out.join(src)).expect("the plot");
+            assert!(
+                svg.starts_with("<svg") && svg.contains("<polyline"),
+                "{src}"
+            );
+            continue;
+        }
         let img = image::open(out.join(src))
             .unwrap_or_else(|e| panic!("{src}: {e}"))
             .to_rgb8();
