@@ -20,6 +20,7 @@ const TYPES = {
   '.json': 'application/json',
   '.glb': 'model/gltf-binary',
   '.png': 'image/png',
+  '.svg': 'image/svg+xml',
 };
 
 /**
