@@ -296,8 +296,13 @@ impl Reposer {
                 let s =
                     crate::nonuniform::refined(base, &opts.options, opts.levels, &mut |_, _| {})?;
                 nurss_limit = opts.limit.then(|| s.limit_rows());
+                let mut mesh = crate::subdivide::nurss_output(base, &s, opts, false)?;
+                if opts.limit {
+                    // The face-varying channels are the same in every pose.
+                    mesh.face_varying = s.face_varying_limit(opts.keep_holes);
+                }
                 Subdivision {
-                    mesh: crate::subdivide::nurss_output(base, &s, opts, false)?,
+                    mesh,
                     warnings: s.warnings().to_vec(),
                     normals: None,
                 }
@@ -430,7 +435,8 @@ impl Reposer {
     /// topology once more (its vertices' fans) while the last level is kept complete with
     /// its masks: three times Catmull-Clark's estimate of one level more (the measured
     /// peaks it covers are in BENCHMARKS.md, "Allocator settings, kept buffers and memory
-    /// estimates").
+    /// estimates"). Each face-varying channel, refined as a value mesh of its own, adds
+    /// twice that estimate.
     pub fn estimate_memory(base: &PolyMesh, opts: &SubdivideOptions) -> u64 {
         let plan = RefinePlan::estimate_memory(base, opts.levels);
         if opts.scheme != Scheme::Nurss {
@@ -442,7 +448,8 @@ impl Reposer {
             scheme: Scheme::CatmullClark,
             ..opts.clone()
         };
-        let copies = if opts.limit { 3 } else { 2 };
+        // Each face-varying channel is a value mesh refined as the mesh (a level of its own).
+        let copies = u64::from(2 + u8::from(opts.limit)) + 2 * base.face_varying.len() as u64;
         (estimate_memory(base, &refined).saturating_mul(copies)).saturating_add(plan)
     }
 

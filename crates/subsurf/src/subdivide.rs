@@ -24,7 +24,8 @@ pub struct SubdivideOptions {
     /// (NURSS: limit positions only, [`Nurss::limit_points`](crate::nonuniform::Nurss::limit_points)).
     /// Face-varying channels (texture coordinates) are moved to their limit too, as
     /// OpenSubdiv's `PrimvarRefiner::LimitFaceVarying` moves them
-    /// ([`FaceVaryingRefiner::limit`](crate::refine::FaceVaryingRefiner::limit)).
+    /// ([`FaceVaryingRefiner::limit`](crate::refine::FaceVaryingRefiner::limit); NURSS: the
+    /// limit points of each channel's value mesh, see [`Nurss::new`](crate::nonuniform::Nurss::new)).
     pub limit: bool,
     /// Keep hole faces in the output (tagged as holes) so that the result can be refined
     /// again with the same outcome; by default holes are left out, as OpenSubdiv does.
@@ -50,18 +51,18 @@ pub struct Subdivision {
 /// Estimated peak memory in bytes of [`subdivide`] with `opts` (the scheme, the levels,
 /// and whether limit positions are computed), saturating at `u64::MAX`. NURSS keeps every
 /// level complete (with its knot intervals) and refines homogeneous points: twice
-/// Catmull-Clark's estimate.
+/// Catmull-Clark's estimate, and twice more for each face-varying channel (refined as a
+/// value mesh of its own, a level like the mesh's).
 pub fn estimate_memory(mesh: &PolyMesh, opts: &SubdivideOptions) -> u64 {
     match Steps::of(opts.scheme) {
         Some(steps) => estimate_uniform(mesh, steps, opts.levels, opts.limit),
-        // NURSS: Catmull-Clark's estimate, twice.
         None => estimate_uniform(
             mesh,
             Steps::Family(Mixed::CATMULL_CLARK),
             opts.levels,
             opts.limit,
         )
-        .saturating_mul(2),
+        .saturating_mul(2 * (1 + mesh.face_varying.len() as u64)),
     }
 }
 
@@ -69,6 +70,8 @@ pub fn estimate_memory(mesh: &PolyMesh, opts: &SubdivideOptions) -> u64 {
 /// result to the limit. Catmull-Clark and the adjustable scheme refine as OpenSubdiv does
 /// (same rules for boundaries, creases, corners, holes, triangles and non-manifold
 /// topology; same vertex and face order); so does NURSS, whose numbering is Catmull-Clark's.
+/// Face-varying channels are refined with every scheme (NURSS: as [`Nurss::new`](crate::nonuniform::Nurss::new)
+/// says).
 ///
 /// With `opts.limit` the last level is moved to its limit: for the adjustable scheme, the
 /// limit of the mixed scheme with `min(steps, opts.levels)` adjustable steps, which is the
@@ -103,22 +106,12 @@ pub fn subdivide_with_progress(
             });
         }
     }
-    // Face-varying data with NURSS's intervals is not refined yet: the output has none,
-    // with a warning.
-    let fvar_warning = (!mesh.face_varying.is_empty() && opts.scheme == Scheme::Nurss).then(|| {
-        TopologyWarning::FaceVaryingNotRefined {
-            channels: mesh.face_varying.len(),
-            scheme: opts.scheme.name(),
-        }
-    });
     let Some(steps) = Steps::of(opts.scheme) else {
         let s = crate::nonuniform::refined(mesh, &opts.options, opts.levels, progress)?;
-        let mut warnings = s.warnings().to_vec();
-        warnings.extend(fvar_warning);
         return Ok(Subdivision {
             mesh: nurss_output(mesh, &s, opts, opts.limit)?,
             normals: None,
-            warnings,
+            warnings: s.warnings().to_vec(),
         });
     };
     let mut u = refine_uniform(
@@ -137,8 +130,7 @@ pub fn subdivide_with_progress(
             _ => limit_in_place(CatmullClark, &u.level, &opts.options, &mut u.positions),
         }
     });
-    let mut warnings = std::mem::take(&mut u.warnings);
-    warnings.extend(fvar_warning);
+    let warnings = std::mem::take(&mut u.warnings);
     Ok(Subdivision {
         mesh: u.into_mesh(opts.keep_holes),
         normals,

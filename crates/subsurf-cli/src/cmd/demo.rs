@@ -745,7 +745,7 @@ type Series<'a> = (&'a str, &'a str, &'a [(f64, f64)]);
 /// A line plot of `series` (name, colour, points sorted by x) as an SVG of the gallery's
 /// size, x from −1 to 1 (labelled `x_label`), y over the values' range, with a legend and
 /// `title`; each series is drawn in two pieces, either side of x = 0.
-fn profile_svg(series: &[Series], title: &str, x_label: &str) -> String {
+fn profile_svg(series: &[Series<'_>], title: &str, x_label: &str) -> String {
     let (w, h) = (f64::from(SIZE.0), f64::from(SIZE.1));
     let (left, right, top, bottom) = (64.0, 16.0, 36.0, 48.0);
     let values = series.iter().flat_map(|s| s.2.iter().map(|p| p.1));

@@ -1,7 +1,8 @@
 //! `subsurf limit`: sample the exact limit surface on an N×N grid per quad face, in the
 //! column layout and order of `osd-oracle limit`, and per sub-face of every other face, in
 //! OpenSubdiv `Bfr`'s parameterisation of the face ([`Parameterization`]). When the mesh has
-//! texture coordinates, each row ends with their limit `s t` ([`FaceVaryingSurface`]).
+//! texture coordinates, each row ends with their limit `s t` ([`FaceVaryingSurface`]; with
+//! NURSS [`FaceVaryingSurface::nurss`]).
 
 use anyhow::{Context, Result};
 use subsurf::limit::{
@@ -190,8 +191,12 @@ pub fn run(args: &LimitArgs) -> Result<()> {
     )?;
     // Memory: the surface, then one block's rows as text, and the texture coordinates'
     // surface (a limit surface of the channel's value mesh, which has the mesh's faces and
-    // at least its vertices: estimated as the mesh's own).
+    // at least its vertices: estimated as the mesh's own; with NURSS its patches too).
     let uv_bytes = match uv_channel {
+        Some(_) if kind == SchemeKind::Nurss => {
+            LimitSurface::estimate_build_memory(&input.obj.mesh)
+                .saturating_add(NurssSurface::estimate_patch_memory(&input.obj.mesh))
+        }
         Some(_) => LimitSurface::estimate_build_memory(&input.obj.mesh),
         None => 0,
     };
@@ -209,8 +214,8 @@ pub fn run(args: &LimitArgs) -> Result<()> {
     let mesh = &input.obj.mesh;
     let (sampler, uv) = match (kind, super::adjustable::for_surface(&args.adjust)) {
         (SchemeKind::Nurss, _) => (
-            nurss_sampler(args, &input, &options, &guard, held, uv_channel.is_some())?,
-            None,
+            nurss_sampler(args, &input, &options, &guard, held)?,
+            nurss_uv(&input, &options, uv_channel)?,
         ),
         (_, Some(m)) => {
             let refined = super::adjustable::refined_mesh(&input, options, m)?;
@@ -242,14 +247,13 @@ pub fn run(args: &LimitArgs) -> Result<()> {
 /// The NURSS surface of `input`'s mesh within the memory guard (its exact patches and the
 /// Catmull-Clark surface of its faces with equal intervals), every face with a surface
 /// checked to have an exact evaluation before anything is written; `held` bytes are
-/// taken already. With texture coordinates (`has_uv`), a note that they have no limit here.
+/// taken already.
 fn nurss_sampler(
     args: &LimitArgs,
     input: &Input,
     options: &Options,
     guard: &crate::memory::SurfaceGuard,
     held: u64,
-    has_uv: bool,
 ) -> Result<Sampler> {
     let mesh = &input.obj.mesh;
     let hint = guard.hint;
@@ -276,13 +280,44 @@ fn nurss_sampler(
     for f in (0..mesh.num_faces()).filter(|&f| s.has_surface(f)) {
         s.check_face(f).with_context(|| input.name.clone())?;
     }
-    if has_uv && !args.quiet {
-        crate::output::eprint_line(&format!(
-            "note: {}: texture coordinates have no limit with NURSS: the rows have no s t",
-            input.name
-        ));
-    }
     Ok(Sampler::Nurss(s))
+}
+
+/// The NURSS limit of `input`'s texture coordinates (channel `channel`, if any), every face
+/// with a surface checked to have an exact evaluation (at the centre of each sub-face)
+/// before anything is written.
+fn nurss_uv(
+    input: &Input,
+    options: &Options,
+    channel: Option<usize>,
+) -> Result<Option<FaceVaryingSurface>> {
+    let Some(c) = channel else {
+        return Ok(None);
+    };
+    let mesh = &input.obj.mesh;
+    let context = || format!("{}: texture coordinates", input.name);
+    let uv = FaceVaryingSurface::nurss(mesh, *options, c).with_context(context)?;
+    let holes: std::collections::HashSet<u32> = mesh.tags.holes.iter().copied().collect();
+    for f in (0..mesh.num_faces() as u32).filter(|f| !holes.contains(f)) {
+        let subs = Parameterization::new(mesh.face(f as usize).len()).num_subfaces();
+        for subface in 0..subs as u32 {
+            let p = SurfacePoint {
+                face: f,
+                subface,
+                u: 0.5,
+                v: 0.5,
+            };
+            if let Err(e) = uv.eval_point(p) {
+                anyhow::bail!(
+                    "{}: texture coordinates: {e}; their NURSS limit is exact at the vertices \
+                     of refined levels (subdivide --scheme nurss --limit; tessellate --scheme \
+                     nurss samples it so)",
+                    input.name
+                );
+            }
+        }
+    }
+    Ok(Some(uv))
 }
 
 /// Errors of building a NURSS surface within the memory guard.

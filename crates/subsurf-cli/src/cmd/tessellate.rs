@@ -32,24 +32,22 @@ fn run_nurss(
     let mesh = &input.obj.mesh;
     let rate = args.rate.max(1).next_power_of_two();
     // NURSS keeps whole levels of homogeneous points and their topology: about three times
-    // what the Catmull-Clark sampling needs per output vertex.
+    // what the Catmull-Clark sampling needs per output vertex; each face-varying channel
+    // refined with them (its value mesh, a level of its own) about two times more.
     let verts = crate::memory::tessellation_vertices(mesh, rate);
+    let copies = 3 + 2 * mesh.face_varying.len() as u64;
     crate::memory::check(
         &input.name,
         &format!("sampling the NURSS surface at rate {rate}"),
-        verts.saturating_mul(3 * BYTES_PER_VERTEX),
+        verts.saturating_mul(copies * BYTES_PER_VERTEX),
         args.max_memory,
         "use a lower --rate",
     )?;
-    if uv_channel(mesh).is_some() && !args.quiet {
-        crate::output::eprint_line(&format!(
-            "note: {}: texture coordinates have no limit with NURSS: the output has none",
-            input.name
-        ));
-    }
     let triangles = args.triangles || format == TessellationFormat::Glb;
+    // Texture coordinates are refined with the surface and written at their limit.
     let t = subsurf::nonuniform::tessellate(mesh, options, args.rate, triangles)
         .with_context(|| input.name.clone())?;
+    stl_note(format, &t, input, args.quiet);
     if t.rate != args.rate && !args.quiet {
         crate::output::eprint_line(&format!(
             "note: {}: rate {} rounded up to {}: the NURSS surface is sampled through \
@@ -149,13 +147,7 @@ pub fn run(args: &TessellateArgs) -> Result<()> {
     add_uvs(&mut t, surface_mesh, &options, &input)?;
     // Not written: free them before the writer's buffers (BYTES_PER_VERTEX).
     t.points = Vec::new();
-    if format == TessellationFormat::Stl && !t.face_varying.is_empty() && !args.quiet {
-        crate::output::eprint_line(&format!(
-            "note: {}: STL stores no texture coordinates: they are not written (write .obj, \
-             .ply or .glb to keep them)",
-            input.name
-        ));
-    }
+    stl_note(format, &t, &input, args.quiet);
     if t.rate != rate && !args.quiet {
         crate::output::eprint_line(&format!(
             "note: {}: rate {} rounded up to {}, as the mesh has non-quad faces \
@@ -175,6 +167,18 @@ pub fn run(args: &TessellateArgs) -> Result<()> {
     let control = args.control_mesh.then_some(mesh);
     check_single_precision(&t, format, &input)?;
     write(&out, format, &t, &comment, control, up(args))
+}
+
+/// A note (unless `quiet`) that an STL output has no texture coordinates when `t` has some.
+fn stl_note(format: TessellationFormat, t: &Tessellation, input: &Input, quiet: bool) {
+    let uv = t.face_varying.iter().any(|c| c.name() == "uv");
+    if format == TessellationFormat::Stl && uv && !quiet {
+        crate::output::eprint_line(&format!(
+            "note: {}: STL stores no texture coordinates: they are not written (write .obj, \
+             .ply or .glb to keep them)",
+            input.name
+        ));
+    }
 }
 
 /// The index of `mesh`'s texture coordinates (the face-varying channel named `"uv"`).

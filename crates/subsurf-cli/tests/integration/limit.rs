@@ -367,20 +367,129 @@ fn adjustable_texture_coordinates_at_one_half_are_catmull_clarks() {
     }
 }
 
-/// NURSS has no face-varying limit: the rows have no `s t`, and a note says so.
+/// With NURSS the rows end with the texture coordinates' NURSS limit
+/// (`FaceVaryingSurface::nurss`): with equal intervals (no knot tags, `--scheme nurss`)
+/// Catmull-Clark's rows, `s t` included, in every mode.
 #[test]
-fn nurss_rows_have_no_texture_coordinates_and_a_note() {
+fn nurss_rows_end_with_texture_coordinates() {
     let dir = dir_with(&[("uv.obj", FVAR_BOUND1)]);
+    let run = |extra: &[&str], out: &str| {
+        let mut args = vec!["limit", "uv.obj", "--grid", "3", "-o", out];
+        args.extend_from_slice(extra);
+        let o = run_in(dir.path(), &args);
+        assert_code(&o, 0);
+        assert!(!stderr(&o).contains("texture"), "{}", stderr(&o));
+        rows(&fs::read_to_string(dir.path().join(out)).expect("out"))
+    };
+    for mode in ["none", "corners-plus1", "all"] {
+        let cc = run(&["--fvar", mode], "cc.tsv");
+        let nurss = run(&["--fvar", mode, "--scheme", "nurss"], "nurss.tsv");
+        assert_eq!(cc.len(), nurss.len());
+        for ((f, a), (g, b)) in cc.iter().zip(&nurss) {
+            assert_eq!((f, a.len(), b.len()), (g, 13, 13));
+            assert!(close(a, b, 1e-12), "{mode}: face {f}: {a:?} vs {b:?}");
+        }
+    }
+}
+
+/// An 8 × 6 torus with unequal intervals in tensor-product layout (every face an exact NURSS
+/// span) and texture coordinates `(i / 8, j / 6)` cut along the ring of column 0 (the faces
+/// of the last column give it `s = 1`).
+fn seam_torus() -> String {
+    let (n, m) = (8u32, 6u32);
+    let mut s = String::new();
+    for j in 0..m {
+        for i in 0..n {
+            let (a, b) = (
+                std::f64::consts::TAU * f64::from(i) / f64::from(n),
+                std::f64::consts::TAU * f64::from(j) / f64::from(m),
+            );
+            let r = 2.0 + b.cos();
+            s += &format!("v {} {} {}\n", r * a.cos(), r * a.sin(), b.sin());
+        }
+    }
+    for j in 0..=m {
+        for i in 0..=n {
+            s += &format!(
+                "vt {} {}\n",
+                f64::from(i) / f64::from(n),
+                f64::from(j) / f64::from(m)
+            );
+        }
+    }
+    let v = |i: u32, j: u32| (j % m) * n + i % n + 1;
+    let t = |i: u32, j: u32| j * (n + 1) + i + 1;
+    for j in 0..m {
+        for i in 0..n {
+            s += &format!(
+                "f {}/{} {}/{} {}/{} {}/{}\n",
+                v(i, j),
+                t(i, j),
+                v(i + 1, j),
+                t(i + 1, j),
+                v(i + 1, j + 1),
+                t(i + 1, j + 1),
+                v(i, j + 1),
+                t(i, j + 1)
+            );
+        }
+    }
+    for j in 0..m {
+        for i in 0..n {
+            s += &format!(
+                "t interval 2/1/0 {} {} {}\n",
+                v(i, j) - 1,
+                v(i + 1, j) - 1,
+                1 + i % 3
+            );
+            s += &format!(
+                "t interval 2/1/0 {} {} {}\n",
+                v(i, j) - 1,
+                v(i, j + 1) - 1,
+                1 + j % 2
+            );
+        }
+    }
+    s
+}
+
+/// Where the texture coordinates' NURSS limit has no exact evaluation (next to a seam, with
+/// unequal intervals) the command fails before writing, naming the face; the positions
+/// alone are sampled (the file without `vt`).
+#[test]
+fn nurss_texture_coordinates_without_exact_evaluation_are_refused() {
+    let torus = seam_torus();
+    let no_uv: String = (torus.lines())
+        .filter(|l| !l.starts_with("vt"))
+        .map(|l| {
+            let l = if l.starts_with("f ") {
+                (l.split_whitespace())
+                    .map(|w| w.split('/').next().unwrap_or(w))
+                    .collect::<Vec<_>>()
+                    .join(" ")
+            } else {
+                l.to_string()
+            };
+            l + "\n"
+        })
+        .collect();
+    let dir = dir_with(&[("uv.obj", &torus), ("plain.obj", &no_uv)]);
+    let args = [
+        "limit", "uv.obj", "--grid", "2", "--fvar", "none", "-o", "out.tsv",
+    ];
+    let o = run_in(dir.path(), &args);
+    assert_code(&o, 1);
+    let err = stderr(&o);
+    assert!(
+        err.contains("uv.obj: texture coordinates: face 0: the surface has no exact evaluation"),
+        "{err}"
+    );
+    assert!(!dir.path().join("out.tsv").exists());
     let o = run_in(
         dir.path(),
-        &[
-            "limit", "uv.obj", "--grid", "2", "--scheme", "nurss", "-o", "out.tsv",
-        ],
+        &["limit", "plain.obj", "--grid", "2", "-o", "out.tsv"],
     );
     assert_code(&o, 0);
-    assert!(stderr(&o).contains("no s t"), "{}", stderr(&o));
-    let out = rows(&fs::read_to_string(dir.path().join("out.tsv")).expect("out.tsv"));
-    assert!(!out.is_empty() && out.iter().all(|(_, x)| x.len() == 11));
 }
 
 /// `osd-oracle refine catmark_fvar_bound1.obj 1 --limit --fvar none` (OpenSubdiv 3.5's

@@ -336,3 +336,101 @@ fn tessellate_samples_the_nurss_limit_through_refinement() {
     );
     assert_code(&o, 2);
 }
+
+/// A 4 × 4 grid of quads with unequal intervals along one column and texture coordinates
+/// cut along the column `x = 2` (the right island's values shifted by `(0.05, 0)`).
+fn seam_grid() -> String {
+    let mut s = String::new();
+    for j in 0..5 {
+        for i in 0..5 {
+            s += &format!("v {i} {j} {}\n", 0.1 * f64::from((i * j) % 3));
+        }
+    }
+    for (shift, columns) in [(0.0, 0..3), (0.05, 2..5)] {
+        for j in 0..5 {
+            for i in columns.clone() {
+                s += &format!("vt {} {}\n", f64::from(i) / 4.0 + shift, f64::from(j) / 4.0);
+            }
+        }
+    }
+    // Left island: vt 3 j + i + 1 (i ≤ 2); right island: 16 + 3 j + (i − 2).
+    let vt = |i: u32, j: u32, right: bool| {
+        if right {
+            16 + 3 * j + (i - 2)
+        } else {
+            3 * j + i + 1
+        }
+    };
+    for j in 0..4 {
+        for i in 0..4 {
+            let right = i >= 2;
+            let c = [(i, j), (i + 1, j), (i + 1, j + 1), (i, j + 1)];
+            let corners: Vec<String> = (c.iter())
+                .map(|&(a, b)| format!("{}/{}", 5 * b + a + 1, vt(a, b, right)))
+                .collect();
+            s += &format!("f {}\n", corners.join(" "));
+        }
+    }
+    for j in 0..5 {
+        s += &format!("t interval 2/1/0 {} {} 3\n", 5 * j + 1, 5 * j + 2);
+    }
+    s + "t facevaryinginterpolateboundary 1/0/0 0\n"
+}
+
+/// Texture coordinates are refined with NURSS as the library refines them and written as
+/// `vt` lines and `f v/vt` faces consistent with the `f` lines (the seam keeps two values
+/// per vertex), without a warning; `--limit` moves them to the library's limit.
+#[test]
+fn texture_coordinates_are_refined_and_written() {
+    let text = seam_grid();
+    let dir = dir_with(&[("uv.obj", &text)]);
+    let input = parse_obj(text.as_bytes(), "uv.obj").unwrap();
+    for limit in [false, true] {
+        let mut args = vec!["subdivide", "uv.obj", "-o", "out.obj", "-l", "2"];
+        if limit {
+            args.push("--limit");
+        }
+        let o = run_in(dir.path(), &args);
+        assert_code(&o, 0);
+        assert!(!stderr(&o).contains("warning"), "{}", stderr(&o));
+        let out = read(dir.path(), "out.obj");
+        let opts = SubdivideOptions {
+            levels: 2,
+            scheme: Scheme::Nurss,
+            options: input.options.resolve(Options::default()),
+            limit,
+            ..Default::default()
+        };
+        let lib = subsurf::subdivide(&input.mesh, &opts).unwrap().mesh;
+        assert_eq!(out.mesh.face_verts(), lib.face_verts());
+        let (g, w) = (&out.mesh.face_varying, &lib.face_varying);
+        assert_eq!((g.len(), w.len()), (1, 1), "one uv channel");
+        assert_eq!(g[0].indices(), w[0].indices());
+        assert_eq!(g[0].values(), w[0].values());
+        // 17 × 17 vertices, and a second value on each of the seam's 17.
+        assert_eq!(g[0].num_values(), 17 * 17 + 17);
+    }
+}
+
+/// `tessellate` writes the NURSS limit of the texture coordinates at the samples (the
+/// library's `nonuniform::tessellate`), no note.
+#[test]
+fn tessellate_writes_nurss_texture_coordinates() {
+    let text = seam_grid();
+    let dir = dir_with(&[("uv.obj", &text)]);
+    let o = run_in(
+        dir.path(),
+        &["tessellate", "uv.obj", "-o", "t.obj", "--rate", "4"],
+    );
+    assert_code(&o, 0);
+    assert!(!stderr(&o).contains("texture"), "{}", stderr(&o));
+    let t = read(dir.path(), "t.obj");
+    let input = parse_obj(text.as_bytes(), "uv.obj").unwrap();
+    let options = input.options.resolve(Options::default());
+    let lib = subsurf::nonuniform::tessellate(&input.mesh, &options, 4, false).unwrap();
+    assert_eq!(t.mesh.face_verts(), &lib.face_verts[..]);
+    let (g, w) = (&t.mesh.face_varying[0], &lib.face_varying[0]);
+    assert_eq!(g.indices(), w.indices());
+    assert_eq!(g.values(), w.values());
+    assert_eq!(g.num_values(), 17 * 17 + 17);
+}

@@ -49,21 +49,22 @@
 //! of an `n`-gon the bilinear interpolation of corner `j`, the midpoints of edges `j` and
 //! `j − 1` and the centroid (`Bfr::Surface`'s linear patches).
 //!
-//! Not supported: Loop and NURSS (no face-varying limit: [`FaceVaryingError::Unsupported`]).
-//! The adjustable scheme's limit is the Catmull-Clark limit of its refined mesh, face-varying
-//! channels included: evaluate the channel of the refined mesh
-//! ([`crate::MixedSurface::refined_point`] maps the points).
+//! # Schemes
+//! NURSS: [`FaceVaryingSurface::nurss`], the same value mesh's non-uniform surface (built a
+//! layer above, from [`NurssSurface`](crate::nonuniform::NurssSurface)). Loop has no
+//! face-varying limit ([`FaceVaryingError::Unsupported`]). The adjustable scheme's limit is
+//! the Catmull-Clark limit of its refined mesh, face-varying channels included: evaluate the
+//! channel of the refined mesh ([`crate::MixedSurface::refined_point`] maps the points).
 
-use std::collections::HashSet;
+use std::sync::Arc;
 
 use rayon::prelude::*;
 
-use super::{EvalError, LimitSurface, Order, SurfacePoint};
+use super::{EvalError, LimitSurface, Order, Surface, SurfacePoint};
 use crate::mesh::{
-    BoundaryInterpolation, Corner, Crease, FaceVarying, FaceVaryingInterpolation, MeshError,
-    Options, PolyMesh, Tags, Topology,
+    FaceVarying, FaceVaryingInterpolation, MeshError, Options, PolyMesh, Topology, ValueMesh,
 };
-use crate::scheme::crease::SHARPNESS_INFINITE;
+use crate::refine::nurss::NurssError;
 use crate::scheme::Scheme;
 
 /// Errors of building a [`FaceVaryingSurface`].
@@ -80,12 +81,27 @@ pub enum FaceVaryingError {
         /// Number of channels.
         count: usize,
     },
+    /// The channel's value mesh has bad knot tags or semi-sharp creases with NURSS
+    /// ([`FaceVaryingSurface::nurss`]).
+    #[error(transparent)]
+    Nurss(#[from] NurssError),
     /// The scheme has no face-varying limit here.
-    #[error("the limit of face-varying data is not available with the {scheme} scheme")]
+    #[error("{}", unsupported(scheme))]
     Unsupported {
         /// The scheme's name.
         scheme: &'static str,
     },
+}
+
+/// The message of [`FaceVaryingError::Unsupported`].
+fn unsupported(scheme: &str) -> String {
+    if scheme == crate::scheme::Scheme::Nurss.name() {
+        "the limit of face-varying data with the nurss scheme is FaceVaryingSurface::nurss's (it \
+         reads the knot intervals)"
+            .to_string()
+    } else {
+        format!("the limit of face-varying data is not available with the {scheme} scheme")
+    }
 }
 
 /// A channel's limit at points: `dim` numbers per point for the value and each first
@@ -164,12 +180,22 @@ struct Linear {
     holes: Vec<bool>,
 }
 
-#[derive(Clone, Debug)]
+#[derive(Clone)]
 enum Kind {
     /// [`FaceVaryingInterpolation::All`]: bilinear on every (sub-)face.
     Linear(Linear),
-    /// The value mesh's limit surface, per 3 components.
-    Smooth(Vec<LimitSurface>),
+    /// The value mesh's limit surface, per 3 components: [`LimitSurface`]s, or the NURSS
+    /// surfaces of [`FaceVaryingSurface::nurss`].
+    Smooth(Vec<Arc<dyn Surface + Send + Sync>>),
+}
+
+impl std::fmt::Debug for Kind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Kind::Linear(l) => f.debug_tuple("Linear").field(l).finish(),
+            Kind::Smooth(s) => write!(f, "Smooth({} surfaces)", s.len()),
+        }
+    }
 }
 
 impl FaceVaryingSurface {
@@ -196,20 +222,16 @@ impl FaceVaryingSurface {
         if options.face_varying == FaceVaryingInterpolation::All {
             return Ok(Self::linear(&t, ch));
         }
-        let vm = ValueMesh::build(mesh, &t, &options, ch.indices());
+        let explicit = ValueMesh::explicit_sharpness(mesh);
+        let vm = ValueMesh::build(&t, &options, ch.indices(), &explicit);
         let dim = ch.dim();
-        let value_options = Options {
-            boundary: BoundaryInterpolation::EdgeOnly,
-            ..options
-        };
+        let value_options = ValueMesh::options(&options);
         let mut surfaces = Vec::new();
         for chunk in 0..dim.div_ceil(3) {
             let points = vm.points(ch, chunk);
             match surfaces.first() {
                 None => {
-                    let mut m = PolyMesh::new(points, vm.face_offsets.clone(), vm.faces.clone())?;
-                    m.tags = vm.tags.clone();
-                    surfaces.push(LimitSurface::new(m, value_options)?);
+                    surfaces.push(LimitSurface::new(vm.polymesh(points)?, value_options)?);
                 }
                 Some(first) => {
                     let mut s: LimitSurface = first.clone();
@@ -218,19 +240,30 @@ impl FaceVaryingSurface {
                 }
             }
         }
-        Ok(Self {
+        let surfaces = (surfaces.into_iter())
+            .map(|s| Arc::new(s) as Arc<dyn Surface + Send + Sync>)
+            .collect();
+        Ok(Self::smooth(dim, surfaces))
+    }
+
+    /// A channel of `dim` components whose value mesh's surfaces are `surfaces`, one per
+    /// 3 components (the last one's extra components ignored).
+    pub(crate) fn smooth(dim: usize, surfaces: Vec<Arc<dyn Surface + Send + Sync>>) -> Self {
+        Self {
             dim,
             kind: Kind::Smooth(surfaces),
-        })
+        }
     }
 
     /// [`FaceVaryingSurface::new`] for `scheme`: Catmull-Clark, and bilinear (whose
     /// face-varying limit is linear in every mode, as OpenSubdiv's); the adjustable scheme
-    /// through its refined mesh (see the module docs).
+    /// through its refined mesh (see the module docs); NURSS with
+    /// [`FaceVaryingSurface::nurss`].
     ///
     /// # Errors
-    /// [`FaceVaryingError::Unsupported`] for Loop, NURSS and the adjustable scheme (whose
-    /// channels are evaluated on the refined mesh), else as [`FaceVaryingSurface::new`].
+    /// [`FaceVaryingError::Unsupported`] for Loop, NURSS (built a layer above, its message
+    /// says by what) and the adjustable scheme (whose channels are evaluated on the refined
+    /// mesh), else as [`FaceVaryingSurface::new`].
     pub fn for_scheme(
         mesh: &PolyMesh,
         scheme: Scheme,
@@ -252,7 +285,9 @@ impl FaceVaryingSurface {
         }
     }
 
-    fn linear(t: &Topology, ch: &FaceVarying) -> Self {
+    /// The linear channel `ch` ([`FaceVaryingInterpolation::All`]) of a mesh of topology
+    /// `t`: bilinear on every (sub-)face.
+    pub(crate) fn linear(t: &Topology, ch: &FaceVarying) -> Self {
         Self {
             dim: ch.dim(),
             kind: Kind::Linear(Linear {
@@ -303,9 +338,9 @@ impl FaceVaryingSurface {
                     })?;
             }
             Kind::Smooth(surfaces) => {
-                let mut res = Vec::new();
+                let mut res = vec![Ok(super::Derivatives::default()); points.len()];
                 for (chunk, s) in surfaces.iter().enumerate() {
-                    s.eval_many_into(points, Order::First, &mut res);
+                    s.evaluate_many(points, Order::First, &mut res);
                     for (i, r) in res.iter().enumerate() {
                         let d = r.as_ref().map_err(Clone::clone)?;
                         for k in 0..3.min(dim - 3 * chunk) {
@@ -397,382 +432,6 @@ impl Linear {
             }
         }
         Ok(())
-    }
-}
-
-/// A channel's value mesh (see the module docs): faces through one vertex per
-/// face-varying subset, and its tags.
-struct ValueMesh {
-    face_offsets: Vec<u32>,
-    faces: Vec<u32>,
-    /// Per value-mesh vertex: the channel's value index.
-    value_of: Vec<u32>,
-    tags: Tags,
-}
-
-/// Union-find root of `x`, with path halving.
-fn root(parent: &mut [u32], mut x: u32) -> u32 {
-    while parent[x as usize] != x {
-        let p = parent[parent[x as usize] as usize];
-        parent[x as usize] = p;
-        x = p;
-    }
-    x
-}
-
-/// What the subset rules read about the mesh and the channel.
-struct Ctx<'a> {
-    t: &'a Topology,
-    indices: &'a [u32],
-    /// Per face-vertex: its value-mesh vertex.
-    vertex_of: Vec<u32>,
-    /// Per edge: its two faces agree on the values at both ends (false for an edge
-    /// without two faces).
-    matched: Vec<bool>,
-    /// Per mesh vertex: explicit (tagged) sharpness.
-    explicit: Vec<f32>,
-}
-
-impl ValueMesh {
-    fn build(mesh: &PolyMesh, t: &Topology, options: &Options, indices: &[u32]) -> Self {
-        let (vertex_of, value_of, matched) = Self::subsets(t, indices);
-        let mut explicit = vec![0.0f32; t.num_vertices()];
-        for c in &mesh.tags.corners {
-            if let Some(s) = explicit.get_mut(c.vertex as usize) {
-                *s = c.sharpness;
-            }
-        }
-        let ctx = Ctx {
-            t,
-            indices,
-            vertex_of,
-            matched,
-            explicit,
-        };
-        let mut tags = Tags {
-            holes: (0..t.num_faces() as u32)
-                .filter(|&f| t.is_hole(f as usize))
-                .collect(),
-            ..Tags::default()
-        };
-        tags.creases = ctx.creases();
-        tags.corners = ctx.corners(value_of.len(), options);
-        ValueMesh {
-            face_offsets: t.face_offsets.clone(),
-            faces: ctx.vertex_of,
-            value_of,
-            tags,
-        }
-    }
-
-    /// The subsets: per face-vertex its value-mesh vertex, per value-mesh vertex its
-    /// value, and per edge whether its faces agree.
-    fn subsets(t: &Topology, indices: &[u32]) -> (Vec<u32>, Vec<u32>, Vec<bool>) {
-        let mut parent: Vec<u32> = (0..indices.len() as u32).collect();
-        let mut matched = vec![false; t.num_edges()];
-        let mut ends = Vec::new();
-        for (e, m) in matched.iter_mut().enumerate() {
-            let faces = t.edge_face_list(e);
-            if faces.len() < 2 {
-                continue;
-            }
-            let a = t.edge_verts[e][0];
-            ends.clear();
-            for (i, &f) in faces.iter().enumerate() {
-                let f = f as usize;
-                let k = t.edge_face_local[t.edge_face_offsets[e] as usize + i] as usize;
-                let (o, n) = (t.face_offsets[f] as usize, t.face_vertices(f).len());
-                let (c0, c1) = (o + k, o + (k + 1) % n);
-                ends.push(if t.face_verts[c0] == a {
-                    (c0, c1)
-                } else {
-                    (c1, c0)
-                });
-            }
-            let mut all = true;
-            for i in 0..ends.len() {
-                for j in i + 1..ends.len() {
-                    let ((a0, b0), (a1, b1)) = (ends[i], ends[j]);
-                    if indices[a0] == indices[a1] && indices[b0] == indices[b1] {
-                        for (x, y) in [(a0, a1), (b0, b1)] {
-                            let (rx, ry) =
-                                (root(&mut parent, x as u32), root(&mut parent, y as u32));
-                            parent[rx as usize] = ry;
-                        }
-                    } else {
-                        all = false;
-                    }
-                }
-            }
-            *m = all && faces.len() == 2;
-        }
-        let mut id = vec![u32::MAX; indices.len()];
-        let mut vertex_of = vec![0u32; indices.len()];
-        let mut value_of = Vec::new();
-        for c in 0..indices.len() {
-            let r = root(&mut parent, c as u32) as usize;
-            if id[r] == u32::MAX {
-                id[r] = value_of.len() as u32;
-                value_of.push(indices[r]);
-            }
-            vertex_of[c] = id[r];
-        }
-        (vertex_of, value_of, matched)
-    }
-
-    /// Component `chunk` (3 components from `3 chunk`, zero beyond the channel's) of the
-    /// values of the value-mesh vertices.
-    fn points(&self, ch: &FaceVarying, chunk: usize) -> Vec<[f64; 3]> {
-        (self.value_of.iter())
-            .map(|&x| {
-                let v = ch.value(x as usize);
-                std::array::from_fn(|k| v.get(3 * chunk + k).copied().unwrap_or(0.0))
-            })
-            .collect()
-    }
-}
-
-impl Ctx<'_> {
-    /// The value-mesh vertex at the corner of `v`'s `i`-th face.
-    fn at(&self, v: usize, i: usize) -> u32 {
-        let f = self.t.vertex_faces(v)[i] as usize;
-        self.vertex_of[self.t.face_offsets[f] as usize + self.t.vertex_face_locals(v)[i] as usize]
-    }
-
-    /// The channel's value at the corner of `v`'s `i`-th face.
-    fn value_at(&self, v: usize, i: usize) -> u32 {
-        let f = self.t.vertex_faces(v)[i] as usize;
-        self.indices[self.t.face_offsets[f] as usize + self.t.vertex_face_locals(v)[i] as usize]
-    }
-
-    /// The mesh's sharp edges (explicit creases, and the implicit ones of non-manifold
-    /// edges) between the value-mesh vertices of their faces.
-    fn creases(&self) -> Vec<Crease> {
-        let t = self.t;
-        let mut seen = HashSet::new();
-        let mut out = Vec::new();
-        for e in 0..t.num_edges() {
-            let s = t.edge_sharpness[e];
-            let faces = t.edge_face_list(e);
-            if s <= 0.0 || faces.len() < 2 {
-                continue;
-            }
-            for (i, &f) in faces.iter().enumerate() {
-                let f = f as usize;
-                let k = t.edge_face_local[t.edge_face_offsets[e] as usize + i] as usize;
-                let (o, n) = (t.face_offsets[f] as usize, t.face_vertices(f).len());
-                let (a, b) = (self.vertex_of[o + k], self.vertex_of[o + (k + 1) % n]);
-                if seen.insert((a.min(b), a.max(b))) {
-                    out.push(Crease {
-                        v0: a,
-                        v1: b,
-                        sharpness: s,
-                    });
-                }
-            }
-        }
-        out
-    }
-
-    /// The sharpness of every value-mesh vertex (module docs, "Vertex sharpness of a
-    /// subset"), as corner tags.
-    fn corners(&self, count: usize, options: &Options) -> Vec<Corner> {
-        let mut sharp = vec![0.0f32; count];
-        for v in 0..self.t.num_vertices() {
-            let nf = self.t.vertex_faces(v).len();
-            let mut done = Vec::new();
-            for i in 0..nf {
-                let w = self.at(v, i);
-                if !done.contains(&w) {
-                    done.push(w);
-                    sharp[w as usize] = self.subset_sharpness(v, w, options);
-                }
-            }
-        }
-        (sharp.into_iter().enumerate())
-            .filter(|&(_, s)| s > 0.0)
-            .map(|(w, sharpness)| Corner {
-                vertex: w as u32,
-                sharpness,
-            })
-            .collect()
-    }
-
-    /// The sharpness of subset `w` of vertex `v`.
-    fn subset_sharpness(&self, v: usize, w: u32, options: &Options) -> f32 {
-        let t = self.t;
-        let vtag = t.vert_tags[v].get();
-        if vtag.non_manifold {
-            return SHARPNESS_INFINITE;
-        }
-        let nf = t.vertex_faces(v).len();
-        let size = (0..nf).filter(|&i| self.at(v, i) == w).count();
-        let edges = t.vertex_edges(v);
-        // Interior edges of the subset: between two of its faces, agreeing.
-        let inside = |i: usize| {
-            let e = edges[i] as usize;
-            self.matched[e] && {
-                let prev = if i == 0 { nf - 1 } else { i - 1 };
-                i < nf && self.at(v, prev) == w && self.at(v, i) == w
-            }
-        };
-        let closed = !vtag.boundary
-            && size == nf
-            && (0..edges.len()).all(|i| self.matched[edges[i] as usize]);
-        let boundary = !closed;
-        let mut s = if size == nf && boundary == vtag.boundary {
-            // The vertex's own sharpness (with the corner that edge-and-corner sharpens).
-            t.vert_sharpness[v]
-        } else {
-            let inf_inside = (0..edges.len())
-                .any(|i| inside(i) && t.edge_sharpness[edges[i] as usize] >= SHARPNESS_INFINITE);
-            if boundary && inf_inside {
-                SHARPNESS_INFINITE
-            } else {
-                self.explicit[v]
-            }
-        };
-        if s < SHARPNESS_INFINITE && size < nf {
-            let x = (0..nf)
-                .find(|&i| self.at(v, i) == w)
-                .map(|i| self.value_at(v, i));
-            if (0..nf).filter(|&i| Some(self.value_at(v, i)) == x).count() > size {
-                s = SHARPNESS_INFINITE;
-            }
-        }
-        if boundary && s < SHARPNESS_INFINITE {
-            s = self.by_mode(v, w, size, s, &inside, options.face_varying);
-        }
-        s
-    }
-
-    /// Rule 3 of the module docs: the sharpness `s` of boundary subset `w` (of `size`
-    /// faces) of vertex `v` under `mode`; `inside(i)`: `v`'s edge `i` is inside the subset.
-    fn by_mode(
-        &self,
-        v: usize,
-        w: u32,
-        size: usize,
-        s: f32,
-        inside: &dyn Fn(usize) -> bool,
-        mode: FaceVaryingInterpolation,
-    ) -> f32 {
-        use FaceVaryingInterpolation as F;
-        let t = self.t;
-        let nf = t.vertex_faces(v).len();
-        // `plus1` and `plus2`: corners and vertices of more than two subsets.
-        let plus = || (size == 1 || self.more_than_two_subsets(v, w)).then_some(SHARPNESS_INFINITE);
-        let dependent = |s: f32| -> f32 {
-            let edges = t.vertex_edges(v);
-            let sharp_edges = |e: &u32| {
-                t.edge_face_list(*e as usize).len() == 2 && t.edge_sharpness[*e as usize] > 0.0
-            };
-            let has = nf - size > 1
-                && edges.iter().any(sharp_edges)
-                && !(0..edges.len())
-                    .any(|i| inside(i) && t.edge_sharpness[edges[i] as usize] > 0.0);
-            if !has {
-                return s;
-            }
-            let dep = self.dependent_sharpness(v, w);
-            if dep > self.explicit[v] {
-                dep
-            } else {
-                s
-            }
-        };
-        match mode {
-            F::None => s,
-            F::CornersOnly => {
-                if size == 1 {
-                    SHARPNESS_INFINITE
-                } else {
-                    s
-                }
-            }
-            F::CornersPlus1 => plus().unwrap_or_else(|| dependent(s)),
-            F::CornersPlus2 => plus().unwrap_or_else(|| match nf - size {
-                0 if !t.vert_tags[v].get().boundary => SHARPNESS_INFINITE,
-                0 => s,
-                1 => SHARPNESS_INFINITE,
-                _ => dependent(s),
-            }),
-            F::Boundaries | F::All => SHARPNESS_INFINITE,
-        }
-    }
-
-    /// Whether vertex `v` has a value other than subset `w`'s and its own, or the one other
-    /// value in more than one fan (`Bfr`'s `hasMoreThanTwoFVarSubsets`).
-    fn more_than_two_subsets(&self, v: usize, w: u32) -> bool {
-        let t = self.t;
-        let nf = t.vertex_faces(v).len();
-        let boundary = t.vert_tags[v].get().boundary;
-        let edges = t.vertex_edges(v);
-        let corner = (0..nf)
-            .find(|&i| self.at(v, i) == w)
-            .map(|i| self.value_at(v, i));
-        let mut other = None;
-        let mut discts = 1;
-        for i in 0..nf {
-            let x = Some(self.value_at(v, i));
-            if x == corner {
-                continue;
-            }
-            if other.is_some() && x != other {
-                return true;
-            }
-            other = x;
-            // The edge to the next face: edge `i + 1` (edge `i` lies between faces `i - 1`
-            // and `i`).
-            let next_edge = if boundary {
-                (i + 1 < nf).then_some(i + 1)
-            } else {
-                Some((i + 1) % nf)
-            };
-            discts += next_edge.is_none_or(|k| !self.matched[edges[k] as usize]) as u32;
-            if discts > 2 {
-                return true;
-            }
-        }
-        false
-    }
-
-    /// The largest sharpness of `v`'s interior edges but the two bounding subset `w` (a fan
-    /// that is not all of `v`'s faces).
-    fn dependent_sharpness(&self, v: usize, w: u32) -> f32 {
-        let t = self.t;
-        let nf = t.vertex_faces(v).len();
-        let boundary = t.vert_tags[v].get().boundary;
-        let edges = t.vertex_edges(v);
-        let ins = |i: usize| self.at(v, i) == w;
-        let prev = |i: usize| {
-            if i == 0 {
-                (!boundary).then_some(nf - 1)
-            } else {
-                Some(i - 1)
-            }
-        };
-        let next = |i: usize| {
-            if i + 1 == nf {
-                (!boundary).then_some(0)
-            } else {
-                Some(i + 1)
-            }
-        };
-        // The edge before the fan's first face and the one after its last (edge `i` lies
-        // before face `i`).
-        let first = (0..nf).find(|&i| ins(i) && prev(i).is_none_or(|p| !ins(p)));
-        let last = (0..nf).find(|&i| ins(i) && next(i).is_none_or(|n| !ins(n)));
-        let skip_a = first.filter(|&i| prev(i).is_some());
-        let skip_b = last.and_then(next);
-        let mut sharp = 0.0f32;
-        for (i, &e) in edges.iter().enumerate().take(nf) {
-            if prev(i).is_none() || Some(i) == skip_a || Some(i) == skip_b {
-                continue;
-            }
-            sharp = sharp.max(t.edge_sharpness[e as usize]);
-        }
-        sharp
     }
 }
 
@@ -924,7 +583,8 @@ mod tests {
         }
     }
 
-    /// Loop and NURSS have no face-varying limit here; a missing channel is named.
+    /// Loop has no face-varying limit, NURSS's is built a layer above
+    /// ([`FaceVaryingSurface::nurss`]); a missing channel is named.
     #[test]
     fn unsupported_schemes_and_missing_channels_are_errors() {
         let m = grid(3);

@@ -209,14 +209,6 @@ pub enum TopologyWarning {
         /// The first one.
         first: u32,
     },
-    /// The mesh has face-varying channels (texture coordinates) that this scheme does not
-    /// refine yet; the result has none.
-    FaceVaryingNotRefined {
-        /// How many channels.
-        channels: usize,
-        /// The scheme ([`Scheme::name`](crate::scheme::Scheme::name)).
-        scheme: &'static str,
-    },
 }
 
 impl TopologyWarning {
@@ -234,9 +226,6 @@ impl TopologyWarning {
             }
             Self::NonManifoldEdges { .. } => "are treated as infinitely sharp, as OpenSubdiv does",
             Self::NonManifoldVertices { .. } => "are treated as sharp, as OpenSubdiv does",
-            Self::FaceVaryingNotRefined { .. } => {
-                "are not refined by this scheme yet: the output has no texture coordinates"
-            }
         }
     }
 }
@@ -263,11 +252,6 @@ impl std::fmt::Display for TopologyWarning {
             Self::NonManifoldVertices { count, first } => write!(
                 f,
                 "{count} non-manifold vertex/vertices (first: {first}) {then}"
-            ),
-            Self::FaceVaryingNotRefined { channels, scheme } => write!(
-                f,
-                "{channels} face-varying channel(s) (texture coordinates) with the {scheme} \
-                 scheme {then}"
             ),
         }
     }

@@ -19,6 +19,7 @@ mod polymesh;
 pub(crate) mod sharpness;
 mod tags;
 mod topology;
+mod value_mesh;
 
 pub use crease_angle::{crease_by_angle, CreaseAngleError};
 pub use error::{MeshError, TopologyWarning};
@@ -36,6 +37,7 @@ pub use tags::{
 };
 pub use topology::{EdgeTag, Rule, Topology, VertexTag, INVALID};
 pub(crate) use topology::{PackedEdgeTag, PackedVertexTag};
+pub(crate) use value_mesh::ValueMesh;
 
 /// An `n × m` grid of unit quads in the plane z = 0, vertex `(i, j)` at index
 /// `j * (n + 1) + i`, mapped through `f`. Shared by the unit tests of several layers.

@@ -1209,6 +1209,24 @@ impl Topology {
         }
     }
 
+    /// Sets vertex `v`'s sharpness to `s` and derives its tag and rule again from it and its
+    /// edges' tags, as [`Topology::from_mesh`] does (for a vertex that the boundary option
+    /// does not sharpen): a refined level re-tagged as reading it back from a file tags it.
+    pub(crate) fn set_vertex_sharpness(&mut self, v: usize, s: f32) {
+        let (mut inf, mut semi) = (0, 0);
+        for &e in self.vertex_edges(v) {
+            let t = self.edge_tags[e as usize].get();
+            inf += t.inf_sharp as usize;
+            semi += t.semi_sharp as usize;
+        }
+        self.vert_sharpness[v] = s;
+        let mut tag = self.vert_tags[v].get();
+        tag.inf_sharp = crease::is_infinite(s);
+        tag.semi_sharp = crease::is_semi_sharp(s);
+        tag.rule = crease::vertex_rule(s, inf + semi);
+        self.vert_tags[v] = tag.into();
+    }
+
     /// Rejects non-manifold topology with an error naming the first offending element:
     /// an edge with more than two faces, two faces running an edge the same way, or a
     /// vertex whose faces form more than one fan.

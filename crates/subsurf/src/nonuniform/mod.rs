@@ -22,6 +22,11 @@
 //! - [`NurssSurface`]: exact evaluation with derivatives at any `(face, u, v)` where the
 //!   surface has a closed form (regular tensor-product faces, and faces with equal
 //!   intervals around them, which are Catmull-Clark's), an error naming the face elsewhere.
+//! - Face-varying channels (texture coordinates): [`Nurss`] refines them with the mesh as
+//!   their value meshes (see [`Nurss::new`]), [`subdivide`](fn@crate::subdivide) and
+//!   [`tessellate`](fn@tessellate) write them (at the limit with `limit`), and
+//!   [`FaceVaryingSurface::nurss`](crate::limit::FaceVaryingSurface::nurss) evaluates their
+//!   exact limit where [`NurssSurface`] has one.
 //! - Re-posing (new positions of the same mesh, refined without refining again, or moved to
 //!   the limit): [`crate::Reposer::new`] with [`Scheme::Nurss`](crate::Scheme::Nurss), and
 //!   the plan underneath, [`crate::refine::RefinePlan::new`].
@@ -62,6 +67,7 @@
 //! assert!(iv.iter().all(|&d| d == 0.25 || d == 0.75) && iv.contains(&0.75));
 //! ```
 
+mod face_varying;
 pub(crate) mod limit;
 pub(crate) mod surface;
 pub(crate) mod tessellate;
@@ -105,13 +111,15 @@ pub(crate) fn refined(
 
 impl Nurss {
     /// The current level as [`subdivide`](fn@crate::subdivide) writes it: holes kept
-    /// (tagged) with `keep_holes`, and moved to the limit ([`Nurss::limit_points`]) with
-    /// `limit`.
+    /// (tagged) with `keep_holes`, and moved to the limit with `limit` (positions by
+    /// [`Nurss::limit_points`], face-varying channels by
+    /// [`face_varying_limit`](Nurss::face_varying_limit)).
     pub(crate) fn output_mesh(&self, keep_holes: bool, limit: bool) -> PolyMesh {
         let mut out = self.to_mesh(keep_holes);
         if limit {
             let lp = self.limit_points();
             out.positions_mut().copy_from_slice(&lp);
+            out.face_varying = self.face_varying_limit(keep_holes);
         }
         out
     }

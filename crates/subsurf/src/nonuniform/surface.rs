@@ -139,9 +139,21 @@ impl NurssSurface {
         options: &Options,
         limit_surface: impl FnOnce(&PolyMesh) -> Result<LimitSurface, E>,
     ) -> Result<Self, E> {
-        let nurss = Nurss::new(mesh, options)?;
+        let nurss = Nurss::vertices_only(mesh, options)?;
+        Self::from_level(&nurss, mesh, limit_surface)
+    }
+
+    /// The surface of `nurss`, a base level, whose mesh is `mesh` (its points the level's
+    /// projected, for the Catmull-Clark surface made by `limit_surface` when a face takes
+    /// it): [`build`](Self::build) for a level made otherwise (a face-varying channel's
+    /// value mesh).
+    pub(crate) fn from_level<E>(
+        nurss: &Nurss,
+        mesh: &PolyMesh,
+        limit_surface: impl FnOnce(&PolyMesh) -> Result<LimitSurface, E>,
+    ) -> Result<Self, E> {
         let t = nurss.topology();
-        let faces: Vec<Face> = (0..t.num_faces()).map(|f| classify(&nurss, f)).collect();
+        let faces: Vec<Face> = (0..t.num_faces()).map(|f| classify(nurss, f)).collect();
         let cc = if faces.iter().any(|f| matches!(f, Face::CatmullClark)) {
             Some(limit_surface(mesh)?)
         } else {

@@ -3,7 +3,7 @@
 use super::{Nurss, NurssError};
 use crate::geom;
 use crate::limit::Tessellation;
-use crate::mesh::{Options, PolyMesh};
+use crate::mesh::{FaceVarying, Options, PolyMesh};
 
 /// Samples the NURSS limit surface of `mesh` (with its [`PolyMesh::knots`]) at `rate`
 /// segments per input edge, rounded up to a power of two `2^L` (the rate used is in
@@ -16,6 +16,11 @@ use crate::mesh::{Options, PolyMesh};
 /// becomes `n` quad sub-faces of `2^(L−1) × 2^(L−1)`, as in
 /// [`limit::tessellate`](crate::limit::tessellate)); samples shared by neighbouring faces
 /// are one vertex, so the result is watertight.
+///
+/// **Face-varying channels** (texture coordinates) of `mesh` are refined with it and moved
+/// to their limit the same way ([`Nurss::new`] says how NURSS refines them), and written as
+/// the tessellation's [`Tessellation::face_varying`] at the corners of its faces: a sample
+/// on a seam has one value per side, as the input has.
 ///
 /// **Normals** are those of the sampled mesh: at each vertex the normalised sum of the
 /// Newell normals (area-weighted) of its faces. They converge to the surface normal as the
@@ -78,12 +83,21 @@ pub fn tessellate(
     let level = s.topology();
     let mut face_offsets = vec![0u32];
     let mut face_verts = Vec::with_capacity(level.face_verts().len());
+    // Per output corner, the level's face-vertex slot it is (for the channels).
+    let mut slots = Vec::with_capacity(level.face_verts().len());
     let mut out_source = Vec::with_capacity(level.num_faces());
     for (f, &src) in source.iter().enumerate().take(level.num_faces()) {
         if level.is_hole(f) {
             continue;
         }
         let fv = level.face_vertices(f);
+        let o = level.face_offsets[f];
+        let mut corners = |c: &[u32]| {
+            face_verts.extend(c.iter().map(|&i| fv[i as usize]));
+            slots.extend(c.iter().map(|&i| o + i));
+            face_offsets.push(face_verts.len() as u32);
+            out_source.push(src);
+        };
         if triangles && fv.len() == 4 {
             let dist2 = |a: u32, b: u32| {
                 let d = geom::sub(&positions[a as usize], &positions[b as usize]);
@@ -91,21 +105,18 @@ pub fn tessellate(
             };
             let (d02, d13) = (dist2(fv[0], fv[2]), dist2(fv[1], fv[3]));
             let tris = if d02 <= d13 {
-                [[fv[0], fv[1], fv[2]], [fv[0], fv[2], fv[3]]]
+                [[0, 1, 2], [0, 2, 3]]
             } else {
-                [[fv[0], fv[1], fv[3]], [fv[1], fv[2], fv[3]]]
+                [[0, 1, 3], [1, 2, 3]]
             };
-            for tri in tris {
-                face_verts.extend_from_slice(&tri);
-                face_offsets.push(face_verts.len() as u32);
-                out_source.push(src);
-            }
+            tris.iter().for_each(|t| corners(t));
         } else {
-            face_verts.extend_from_slice(fv);
-            face_offsets.push(face_verts.len() as u32);
-            out_source.push(src);
+            corners(&(0..fv.len() as u32).collect::<Vec<_>>());
         }
     }
+    let face_varying = (s.face_varying_limit(true).iter())
+        .map(|ch| corner_channel(ch, &slots))
+        .collect();
     // Keep only the vertices of written faces, in order of first use.
     let mut remap = vec![u32::MAX; positions.len()];
     let mut kept = Vec::new();
@@ -138,8 +149,27 @@ pub fn tessellate(
         face_verts,
         source: out_source,
         points: Vec::new(),
-        face_varying: Vec::new(),
+        face_varying,
     })
+}
+
+/// The channel `ch` (of a level) at the output corners, corner `k` being the level's
+/// face-vertex slot `slots[k]`: the values used, in order of first use.
+fn corner_channel(ch: &FaceVarying, slots: &[u32]) -> FaceVarying {
+    let dim = ch.dim();
+    let mut remap = vec![u32::MAX; ch.num_values()];
+    let mut values = Vec::new();
+    let indices = (slots.iter())
+        .map(|&s| {
+            let x = ch.indices()[s as usize] as usize;
+            if remap[x] == u32::MAX {
+                remap[x] = (values.len() / dim) as u32;
+                values.extend_from_slice(ch.value(x));
+            }
+            remap[x]
+        })
+        .collect();
+    FaceVarying::new_unchecked(ch.name().to_string(), dim, values, indices)
 }
 
 #[cfg(test)]

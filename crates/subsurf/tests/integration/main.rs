@@ -30,6 +30,7 @@ mod limit_stencils;
 mod mesh_input;
 mod nurbs;
 mod nurss;
+mod nurss_fvar;
 mod nurss_surface;
 mod obj_groups;
 mod obj_io;

@@ -1,8 +1,12 @@
 //! The NURSS refiner: one level of non-uniform Catmull-Clark subdivision alive at a time
-//! ([`Nurss`]), its knot intervals, and its re-posing plan. The masks of a step are in
-//! `masks`; the limit (rows of weights per vertex) and evaluation are in [`crate::nonuniform`].
+//! ([`Nurss`]), its knot intervals, its face-varying channels, and its re-posing plan. The
+//! masks of a step are in `masks`, the channels' refinement in `face_varying`; the limit
+//! (rows of weights per vertex) and evaluation are in [`crate::nonuniform`].
 
+mod face_varying;
 mod masks;
+
+pub(crate) use face_varying::{NurssFaceVarying, ValueChannel};
 
 pub(crate) use masks::{across_values, effective_knots, AcrossValues, NurssMasks};
 pub(crate) use masks::{child_knots, refine_nurss_step, NurssKnots};
@@ -55,7 +59,8 @@ pub enum NurssError {
     },
 }
 
-/// One level of a NURSS refinement: topology, homogeneous points and knot intervals.
+/// One level of a NURSS refinement: topology, homogeneous points, knot intervals and
+/// face-varying channels.
 #[derive(Clone, Debug)]
 pub struct Nurss {
     pub(crate) options: Options,
@@ -65,16 +70,50 @@ pub struct Nurss {
     pub(crate) knots: NurssKnots,
     pub(crate) level: u32,
     pub(crate) warnings: Vec<TopologyWarning>,
+    /// The mesh's face-varying channels at this level (`face_varying`'s docs).
+    pub(crate) face_varying: NurssFaceVarying,
 }
 
 impl Nurss {
     /// The base level of `mesh` with its [`PolyMesh::knots`] (intervals, side intervals,
-    /// weights; untagged edges have interval 1, untagged vertices weight 1).
+    /// weights; untagged edges have interval 1, untagged vertices weight 1) and its
+    /// face-varying channels ([`PolyMesh::face_varying`], e.g. texture coordinates), which
+    /// [`step`](Self::step) refines with the mesh and [`to_mesh`](Self::to_mesh) writes.
+    ///
+    /// A channel is refined as the NURSS refinement of its *value mesh* (the mesh's faces
+    /// through one vertex per face-varying subset, seams made boundaries, tagged per
+    /// [`Options::face_varying`] as [`FaceVaryingSurface`](crate::limit::FaceVaryingSurface)
+    /// describes): each value-mesh edge carries the interval of the mesh edge it lies on,
+    /// each value-mesh vertex the weight of its mesh vertex (values are refined as
+    /// homogeneous coordinates, so a channel that is an affine function of the positions
+    /// stays that function of the refined positions), and on every level these and the
+    /// mode's corners are the refined mesh's, as the level is written (so refining `a` then
+    /// `b` levels equals `a + b`). With all intervals equal and no weights this is the
+    /// Catmull-Clark refinement of the value mesh, which equals OpenSubdiv's face-varying
+    /// refinement in all six modes on its regression shapes; in mode `all` channels are
+    /// refined linearly (centroids and midpoints), as for Catmull-Clark, whatever the
+    /// intervals. Sources: Sederberg, Zheng, Sewell & Sabin, "Non-uniform recursive
+    /// subdivision surfaces", SIGGRAPH 1998 (the rules); OpenSubdiv 3.6
+    /// `Bfr::SurfaceFactory::InitFaceVaryingSurface` (the value mesh); docs/nurss.md,
+    /// "Texture coordinates" (the derivation and the checks).
     ///
     /// # Errors
     /// [`NurssError::Knots`] for a bad tag (naming it), [`NurssError::SemiSharp`],
-    /// [`NurssError::Mesh`] from [`Topology::from_mesh`].
+    /// [`NurssError::Mesh`] from [`Topology::from_mesh`] (of the mesh or of a channel's
+    /// value mesh).
     pub fn new(mesh: &PolyMesh, options: &Options) -> Result<Self, NurssError> {
+        let mut s = Self::vertices_only(mesh, options)?;
+        let weights = vertex_weights(mesh);
+        s.face_varying = NurssFaceVarying::new(mesh, &s, &weights)?;
+        Ok(s)
+    }
+
+    /// [`new`](Self::new) without the face-varying channels (for the surface and the
+    /// re-posing plan, which do not read them).
+    ///
+    /// # Errors
+    /// As [`new`](Self::new).
+    pub(crate) fn vertices_only(mesh: &PolyMesh, options: &Options) -> Result<Self, NurssError> {
         mesh.knots.validate(mesh)?;
         let (topology, warnings) = Topology::from_mesh(mesh, options)?;
         let mut intervals = vec![1.0; topology.num_edges()];
@@ -215,6 +254,7 @@ impl Nurss {
             knots,
             level: 0,
             warnings: Vec::new(),
+            face_varying: NurssFaceVarying::None,
         })
     }
 
@@ -223,10 +263,13 @@ impl Nurss {
         (self.topology, self.knots, self.warnings)
     }
 
-    /// Refines one level (auxiliary side intervals are used, then dropped).
+    /// Refines one level, face-varying channels included (auxiliary side intervals are
+    /// used, then dropped).
     pub fn step(&mut self) {
         let (child, points, knots) =
             refine_nurss_step(&self.topology, &self.options, &self.knots, &self.points);
+        let rational = self.rational.then_some(points.as_slice());
+        (self.face_varying).step((&self.topology, &child), &knots, rational, &self.options);
         self.topology = child;
         self.points = points;
         self.knots = knots;
@@ -290,8 +333,9 @@ impl Nurss {
 
     /// The current level as a [`PolyMesh`]: hole faces left out unless `keep_holes` (then
     /// tagged), remaining sharpness as crease and corner tags (as [`crate::subdivide`](fn@crate::subdivide)
-    /// writes them), and [`PolyMesh::knots`] holding every interval that is not 1 (of edges of
-    /// written faces) and, for a rational mesh, every weight.
+    /// writes them), [`PolyMesh::knots`] holding every interval that is not 1 (of edges of
+    /// written faces) and, for a rational mesh, every weight, and the refined face-varying
+    /// channels (their corners those of the written faces).
     pub fn to_mesh(&self, keep_holes: bool) -> PolyMesh {
         let level = &self.topology;
         let explicit_boundary = self.options.boundary == crate::mesh::BoundaryInterpolation::None;
@@ -361,6 +405,7 @@ impl Nurss {
         let mut m = PolyMesh::new_unchecked(self.positions(), offsets, verts);
         m.tags = tags;
         m.knots = knots;
+        m.face_varying = self.face_varying.channels(level, keep_holes, None);
         m
     }
 
@@ -429,7 +474,7 @@ pub(crate) fn plan(
 ) -> Result<RefinePlan, NurssError> {
     mesh.validate()?;
     check_size(mesh, Steps::Family(Mixed::CATMULL_CLARK), levels)?;
-    let (level, knots, warnings) = Nurss::new(mesh, &options)?.into_parts();
+    let (level, knots, warnings) = Nurss::vertices_only(mesh, &options)?.into_parts();
     Ok(RefinePlan::from_nurss(
         level, knots, options, levels, warnings,
     ))
