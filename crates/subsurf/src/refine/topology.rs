@@ -126,7 +126,7 @@ pub(super) fn collect<T: Send>(n: usize, f: impl Fn(usize) -> T + Sync + Send) -
 }
 
 /// `v.extend((0..n).map(f))`, in parallel when large (writing straight into the vector).
-fn extend<T: Send>(v: &mut Vec<T>, n: usize, f: impl Fn(usize) -> T + Sync + Send) {
+pub(super) fn extend<T: Send>(v: &mut Vec<T>, n: usize, f: impl Fn(usize) -> T + Sync + Send) {
     if !parallel(n) {
         v.extend((0..n).map(f));
     } else {
