@@ -137,9 +137,9 @@ impl Mode {
 /// of its value in the user's value array, below it a slot is the index of its value.
 ///
 /// A level refined onto a topology built for output only (not complete, so neither refined
-/// further nor moved to the limit) is *not full*: it keeps the tags of its vertex
-/// children's values only (what [`interpolate`] reads of the child), no crease ends and no
-/// edge tags.
+/// further nor moved to the limit) is *not full*: it has no tags, crease ends or edge tags
+/// ([`interpolate`] reads only its offsets, the parent's tags giving those of its vertex
+/// children).
 #[derive(Clone, Debug)]
 pub(crate) struct FvarLevel {
     mode: Mode,
@@ -153,7 +153,7 @@ pub(crate) struct FvarLevel {
     vert_offsets: Vec<u32>,
     /// Per slot: its value in the user's array (the base level's only).
     slot_values: Option<Vec<u32>>,
-    /// Per slot (of every vertex when `full`, else of the vertex children): its class.
+    /// Per slot (empty when not `full`): its class.
     tags: Vec<ValueTag>,
     /// Per slot (empty when not `full`): the vertex-face positions whose faces hold a
     /// crease's two end values.
@@ -685,10 +685,10 @@ impl FvarLevel {
         offsets
     }
 
-    /// The tags and crease ends of the child's values (`offsets` its first slots), of all
-    /// of them when `full`, else the tags of the vertex children's only: a vertex's child has its
-    /// parent's values' (semi-sharp values whose sharpness has decayed becoming creases,
-    /// [`reclassify_semi_sharp`](Self::reclassify_semi_sharp)), a face's child a matching
+    /// The tags and crease ends of the child's values (`offsets` its first slots) when
+    /// `full` (else none): a vertex's child has its parent's values' (semi-sharp values
+    /// whose sharpness has decayed becoming creases,
+    /// [`child_vertex_tags`](Self::child_vertex_tags)), a face's child a matching
     /// value, a discontinuous or linear edge's child values are creases (corners when
     /// boundaries are linear) each running through the child faces of one face of the
     /// edge: the two quads of the face on each side, or the triangle split's two corner
@@ -701,13 +701,12 @@ impl FvarLevel {
         offsets: &[u32],
         full: bool,
     ) -> (Vec<ValueTag>, Vec<[u16; 2]>) {
+        if !full {
+            return (Vec::new(), Vec::new());
+        }
         let nv = p.num_vertices();
         let vert_slots = offsets[nv] as usize;
-        let total = if full {
-            offsets[offsets.len() - 1] as usize
-        } else {
-            vert_slots
-        };
+        let total = offsets[offsets.len() - 1] as usize;
         let mut tags = Vec::with_capacity(total);
         extend(&mut tags, vert_slots, |i| self.tags[i]);
         if !self.mode.linear_boundaries {
@@ -715,11 +714,14 @@ impl FvarLevel {
                 nv,
                 &mut tags,
                 |v| offsets[v] as usize,
-                |r, t| self.reclassify_semi_sharp(p, c, r, t),
+                |r, tags| {
+                    let first = offsets[r.start] as usize;
+                    for v in r {
+                        let slots = offsets[v] as usize - first..offsets[v + 1] as usize - first;
+                        self.child_vertex_tags(p, c, v, &mut tags[slots]);
+                    }
+                },
             );
-        }
-        if !full {
-            return (tags, Vec::new());
         }
         let mut ends = Vec::with_capacity(total);
         extend(&mut ends, vert_slots, |i| self.ends[i]);
@@ -841,69 +843,59 @@ impl FvarLevel {
         }
     }
 
-    /// Semi-sharp values of the children of the vertices `range` whose sharpness has
-    /// decayed become creases (OpenSubdiv's `FVarRefinement::reclassifySemisharpValues`):
-    /// `tags` are the child's tags of those vertices' values, copies of this level's.
-    fn reclassify_semi_sharp(
-        &self,
-        p: &Topology,
-        c: &Topology,
-        range: Range<usize>,
-        tags: &mut [ValueTag],
-    ) {
-        let s = p.face_verts.len();
-        let base = self.vert_offsets[range.start] as usize;
-        for v in range {
-            let slots = self.slots(v);
-            let tags = &mut tags[slots.start - base..slots.end - base];
-            if !tags[0].mismatch {
-                continue;
-            }
-            let (pt, ct) = (p.vert_tags[v].get(), c.vert_tags[v].get());
-            if (!pt.semi_sharp && !pt.semi_sharp_edges) || ct.semi_sharp || ct.inf_sharp {
-                continue;
-            }
-            let to_crease = |t: &mut ValueTag| {
-                t.semi_sharp = false;
-                t.dep_sharp = false;
-                t.crease = true;
-            };
-            if !ct.semi_sharp_edges {
-                for t in tags.iter_mut() {
-                    if t.semi_sharp {
-                        to_crease(t);
-                    }
-                }
-                continue;
-            }
-            let (edges, locals) = (p.vertex_edges(v), p.vertex_edge_locals(v));
-            let child_semi = |k: usize| {
-                sharp::is_semi_sharp(
-                    c.edge_sharpness[s + 2 * edges[k] as usize + locals[k] as usize],
-                )
-            };
-            for (t, &ends) in tags.iter_mut().zip(&self.ends[slots]) {
-                if !t.semi_sharp || t.dep_sharp {
-                    continue;
-                }
-                let [a, b] = ends.map(usize::from);
-                let still = if b > a {
-                    (a + 1..=b).any(child_semi)
-                } else if a > b {
-                    (a + 1..edges.len()).chain(0..=b).any(child_semi)
-                } else {
-                    false
-                };
-                if !still {
+    /// The tags of the values of the child of vertex `v` into `tags` (one per value):
+    /// this level's, the semi-sharp ones whose sharpness has decayed in the step from `p`
+    /// to `c` become creases (OpenSubdiv's `FVarRefinement::reclassifySemisharpValues`,
+    /// with smooth face-varying boundaries; with linear ones they are corners and stay).
+    fn child_vertex_tags(&self, p: &Topology, c: &Topology, v: usize, tags: &mut [ValueTag]) {
+        let slots = self.slots(v);
+        tags.copy_from_slice(&self.tags[slots.clone()]);
+        if self.mode.linear_boundaries || !tags[0].mismatch {
+            return;
+        }
+        let (pt, ct) = (p.vert_tags[v].get(), c.vert_tags[v].get());
+        if (!pt.semi_sharp && !pt.semi_sharp_edges) || ct.semi_sharp || ct.inf_sharp {
+            return;
+        }
+        let to_crease = |t: &mut ValueTag| {
+            t.semi_sharp = false;
+            t.dep_sharp = false;
+            t.crease = true;
+        };
+        if !ct.semi_sharp_edges {
+            for t in tags.iter_mut() {
+                if t.semi_sharp {
                     to_crease(t);
                 }
             }
-            if tags.len() == 2 && self.mode.dependent {
-                if tags[0].dep_sharp && !tags[1].semi_sharp {
-                    tags[0].dep_sharp = false;
-                } else if tags[1].dep_sharp && !tags[0].semi_sharp {
-                    tags[1].dep_sharp = false;
-                }
+            return;
+        }
+        let s = p.face_verts.len();
+        let (edges, locals) = (p.vertex_edges(v), p.vertex_edge_locals(v));
+        let child_semi = |k: usize| {
+            sharp::is_semi_sharp(c.edge_sharpness[s + 2 * edges[k] as usize + locals[k] as usize])
+        };
+        for (t, &ends) in tags.iter_mut().zip(&self.ends[slots]) {
+            if !t.semi_sharp || t.dep_sharp {
+                continue;
+            }
+            let [a, b] = ends.map(usize::from);
+            let still = if b > a {
+                (a + 1..=b).any(child_semi)
+            } else if a > b {
+                (a + 1..edges.len()).chain(0..=b).any(child_semi)
+            } else {
+                false
+            };
+            if !still {
+                to_crease(t);
+            }
+        }
+        if tags.len() == 2 && self.mode.dependent {
+            if tags[0].dep_sharp && !tags[1].semi_sharp {
+                tags[0].dep_sharp = false;
+            } else if tags[1].dep_sharp && !tags[0].semi_sharp {
+                tags[1].dep_sharp = false;
             }
         }
     }
@@ -1079,6 +1071,14 @@ pub(crate) fn interpolate<R: Rules>(
     }
 }
 
+/// Scratch space of [`FvarPass::split_vertex_points`]: the child's tags of a vertex's
+/// values, and the sharpness of the edges of a crease span before and after the step.
+#[derive(Default)]
+struct SplitScratch {
+    tags: Vec<ValueTag>,
+    sharpness: (Vec<f32>, Vec<f32>),
+}
+
 /// What every pass of [`interpolate`] reads: the parent and child topologies and
 /// face-varying levels, the options, the scheme's rules, and the parent's values
 /// (`dim` numbers each; `D` is `dim` when not 0).
@@ -1234,12 +1234,13 @@ impl<R: Rules, const D: usize> FvarPass<'_, R, D> {
         }
         let (mut mask, mut cmask) = (VertexMask::default(), VertexMask::default());
         let (mut pe, mut ce) = (Vec::new(), Vec::new());
-        let mut sharpness = (Vec::new(), Vec::new());
+        let mut scratch = SplitScratch::default();
         for v in range {
             let cs = cf.slots(v);
             let out_all = &mut out[d * (cs.start - first)..d * (cs.end - first)];
-            if cf.tags[cs.start].mismatch {
-                self.split_vertex_points(v, out_all, &mut sharpness);
+            // The child of a vertex has its parent's values and their tags' `mismatch`.
+            if pf.tags[pf.vert_offsets[v] as usize].mismatch {
+                self.split_vertex_points(v, out_all, &mut scratch);
                 continue;
             }
             let out = &mut out_all[..d];
@@ -1269,16 +1270,20 @@ impl<R: Rules, const D: usize> FvarPass<'_, R, D> {
     /// The child values of vertex `v`, whose values differ around it (`out`, one per
     /// value): each value a corner (kept) or a crease point between the values at the ends
     /// of its crease, semi-sharp ones blended toward the corner by the fractional weight.
-    /// `sharpness` is scratch space.
-    fn split_vertex_points(&self, v: usize, out: &mut [f64], sharpness: &mut (Vec<f32>, Vec<f32>)) {
-        let (p, pf, cf) = (self.p, self.pf, self.cf);
-        let (ps, cs) = (pf.slots(v), cf.slots(v));
+    fn split_vertex_points(&self, v: usize, out: &mut [f64], scratch: &mut SplitScratch) {
+        let (p, pf) = (self.p, self.pf);
+        let ps = pf.slots(v);
         let [end_w, centre_w, _] = self.rules.crease_vertex_weights();
+        let child_tags = &mut scratch.tags;
+        if !pf.mode.linear {
+            child_tags.resize(ps.len(), ValueTag::default());
+            pf.child_vertex_tags(p, self.c, v, child_tags);
+        }
         for (k, out) in out.chunks_exact_mut(self.d()).enumerate() {
             let pslot = ps.start + k;
             let pv = self.val(pf.slot_value(pslot));
             out.fill(0.0);
-            if pf.mode.linear || cf.tags[cs.start + k].is_corner() {
+            if pf.mode.linear || child_tags[k].is_corner() {
                 out.copy_from_slice(pv);
                 continue;
             }
@@ -1292,6 +1297,7 @@ impl<R: Rules, const D: usize> FvarPass<'_, R, D> {
                 } else {
                     pslot
                 };
+                let sharpness = &mut scratch.sharpness;
                 let corner = pf.fractional_weight(p, self.c, self.options, v, from, sharpness);
                 vw = (1.0 - corner) * centre_w + corner;
                 ew = (1.0 - corner) * end_w;
