@@ -790,9 +790,10 @@ impl FvarLevel {
         let edge0 = nv + face_children(p, triangles);
         let base = 4 * p.face_offsets[range.start] as usize;
         let edge_child = |e: u32, f: usize| -> u32 {
-            let first = offsets[edge0 + e as usize];
+            let cv = edge0 + e as usize;
+            let first = offsets[cv];
             // A discontinuous edge's child has a value per face of the edge.
-            if !self.edge_tags[e as usize].mismatch {
+            if offsets[cv + 1] - first == 1 {
                 return first;
             }
             let faces = p.edge_face_list(e as usize);
