@@ -48,7 +48,9 @@ use std::ops::Range;
 use rayon::prelude::*;
 
 use super::primvar::{edge_mask_at, vertex_mask_at};
-use super::topology::{chunk_ranges, collect, extend, parallel, rot, run, split_pieces};
+use super::topology::{
+    chunk_ranges, collect, extend, filled, parallel, rot, run, split_pieces,
+};
 use crate::mesh::sharpness as sharp;
 use crate::mesh::{
     BoundaryInterpolation, FaceVarying, FaceVaryingInterpolation, Options, Topology,
@@ -761,7 +763,7 @@ impl FvarLevel {
     /// The values of the child faces (`offsets` the child's first slots), in parallel over
     /// ranges of parent faces ([`fill_child_faces`](Self::fill_child_faces)).
     fn child_face_values(&self, p: &Topology, triangles: bool, offsets: &[u32]) -> Vec<u32> {
-        let mut values = vec![0; 4 * p.face_verts.len()];
+        let mut values = filled(4 * p.face_verts.len(), 0);
         let start = |f: usize| 4 * p.face_offsets[f] as usize;
         for_pieces(p.num_faces(), &mut values, start, |r, out| {
             self.fill_child_faces(p, triangles, offsets, r, out)
@@ -1028,7 +1030,7 @@ fn axpy(acc: &mut [f64], w: f64, x: &[f64]) {
 
 /// Refines the values `src` (`dim` numbers each, indexed as level `pf` of topology `p`
 /// indexes them) to the values of `cf`, the refinement of `pf` onto `c` (the refinement
-/// of `p`), into `dst` (`dim · cf.num_slots()` numbers): OpenSubdiv's
+/// of `p`), returned (`dim · cf.num_slots()` numbers): OpenSubdiv's
 /// `PrimvarRefiner::InterpolateFaceVarying` with the masks of `rules` (face points, then
 /// edge and vertex points, which read them). With a scheme that splits triangles (Loop,
 /// [`Rules::splits_triangles`]) there are no face points, and the face weights of an edge
@@ -1045,8 +1047,7 @@ pub(crate) fn interpolate<R: Rules>(
     rules: R,
     dim: usize,
     src: &[f64],
-    dst: &mut [f64],
-) {
+) -> Vec<f64> {
     // Values of one to three numbers (texture coordinates, colours) have their size
     // known to the compiler.
     macro_rules! pass {
@@ -1061,7 +1062,7 @@ pub(crate) fn interpolate<R: Rules>(
                 dim,
                 src,
             }
-            .run(dst)
+            .run()
         };
     }
     match dim {
@@ -1112,15 +1113,26 @@ impl<R: Rules, const D: usize> FvarPass<'_, R, D> {
         &self.src[d * i as usize..][..d]
     }
 
-    /// The child values into `dst`: the face points, then the edge and the vertex points
-    /// (at the same time when the level is large).
-    fn run(&self, dst: &mut [f64]) {
-        let (p, d) = (self.p, self.d());
+    /// The child values: the face points, then the edge and the vertex points (at the same
+    /// time when the level is large). The vertex children of a linear channel below the
+    /// base level keep their parent's values, slot for slot: those are copied as they are
+    /// written into the new array, before its other values are zeroed.
+    fn run(&self) -> Vec<f64> {
+        let (p, pf, d) = (self.p, self.pf, self.d());
         let offsets = &self.cf.vert_offsets;
         let (nv, ne) = (p.num_vertices(), p.num_edges());
         let nf = face_children(p, self.rules.splits_triangles());
         let face0 = offsets[nv] as usize;
         let edge0 = offsets[nv + nf] as usize;
+        let total = d * self.cf.num_slots();
+        let mut dst = Vec::with_capacity(total);
+        let kept = pf.mode.linear && pf.slot_values.is_none();
+        if kept {
+            debug_assert_eq!(pf.num_slots(), face0);
+            extend(&mut dst, d * face0, |i| self.src[i]);
+        }
+        let rest = total - dst.len();
+        extend(&mut dst, rest, |_| 0.0);
         let (vert_out, rest) = dst.split_at_mut(d * face0);
         let (face_out, edge_out) = rest.split_at_mut(d * (edge0 - face0));
         for_pieces(nf, face_out, |f| d * f, |r, out| self.face_points(r, out));
@@ -1132,6 +1144,9 @@ impl<R: Rules, const D: usize> FvarPass<'_, R, D> {
             })
         };
         let mut verts = move || {
+            if kept {
+                return;
+            }
             let start = |v: usize| d * offsets[v] as usize;
             for_pieces(nv, vert_out, start, |r, out| {
                 self.vertex_points(face_out, r, out)
@@ -1143,6 +1158,7 @@ impl<R: Rules, const D: usize> FvarPass<'_, R, D> {
             edges();
             verts();
         }
+        dst
     }
 
     /// The child values of the parent faces `range` (`out`, one per face; none with the
@@ -1226,13 +1242,6 @@ impl<R: Rules, const D: usize> FvarPass<'_, R, D> {
         let (p, pf, cf, d) = (self.p, self.pf, self.cf, self.d());
         let face_pt = |f: u32| &face_out[d * f as usize..][..d];
         let first = cf.vert_offsets[range.start] as usize;
-        if pf.mode.linear && pf.slot_values.is_none() {
-            // Every value is kept, and the child of a vertex has its parent's slots.
-            let last = cf.vert_offsets[range.end] as usize;
-            debug_assert_eq!(pf.vert_offsets[range.end] as usize, last);
-            out.copy_from_slice(&self.src[d * first..d * last]);
-            return;
-        }
         let (mut mask, mut cmask) = (VertexMask::default(), VertexMask::default());
         let (mut pe, mut ce) = (Vec::new(), Vec::new());
         let mut scratch = SplitScratch::default();
@@ -1362,10 +1371,8 @@ impl FaceVaryingRefiner {
         );
         for ((level, values), (_, dim)) in self.channels.iter_mut().zip(&self.names) {
             let child = level.refine(p, c, triangles);
-            let mut next = vec![0.0; dim * child.num_slots()];
-            interpolate(p, c, level, &child, options, rules, *dim, values, &mut next);
+            *values = interpolate(p, c, level, &child, options, rules, *dim, values);
             *level = child;
-            *values = next;
         }
     }
 
@@ -1390,9 +1397,8 @@ impl FaceVaryingRefiner {
                 }
                 Some(c) => {
                     let cl = level.refine(last, c, false);
-                    let mut cv = vec![0.0; dim * cl.num_slots()];
                     let cc = crate::scheme::catmark::CatmullClark;
-                    interpolate(last, c, level, &cl, options, cc, dim, values, &mut cv);
+                    let cv = interpolate(last, c, level, &cl, options, cc, dim, values);
                     let mut lim = cv.clone();
                     cl.limit(c, dim, &cv, &mut lim);
                     // The first slots of the child level are the children of `last`'s

@@ -135,7 +135,7 @@ pub(super) fn extend<T: Send>(v: &mut Vec<T>, n: usize, f: impl Fn(usize) -> T +
 }
 
 /// `vec![value; n]`, written in parallel when large.
-fn filled<T: Copy + Send + Sync>(n: usize, value: T) -> Vec<T> {
+pub(super) fn filled<T: Copy + Send + Sync>(n: usize, value: T) -> Vec<T> {
     if !parallel(n) {
         vec![value; n]
     } else {
