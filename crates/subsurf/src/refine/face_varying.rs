@@ -43,8 +43,14 @@
 //! the same order, a face's child one value, an edge's child one value, or one per face
 //! of the edge (in the edge's face order) when the edge is discontinuous.
 
+use std::ops::Range;
+
+use rayon::prelude::*;
+
 use super::primvar::{edge_mask_at, vertex_mask_at};
-use super::topology::rot;
+use super::topology::{
+    chunk_ranges, collect, extend, filled, parallel, rot, run, split_pieces,
+};
 use crate::mesh::sharpness as sharp;
 use crate::mesh::{
     BoundaryInterpolation, FaceVarying, FaceVaryingInterpolation, Options, Topology,
@@ -131,22 +137,35 @@ impl Mode {
 }
 
 /// The face-varying topology of one level of one channel. Values are addressed by *slot*
-/// (`vert_offsets[v] + sibling`); `slot_values` maps a slot to the index of its value in
-/// the level's value array (the user's indices at the base level, the slot itself below).
+/// (`vert_offsets[v] + sibling`); at the base level `slot_values` maps a slot to the index
+/// of its value in the user's value array, below it a slot is the index of its value.
+///
+/// A level refined onto a topology built for output only (not complete, so neither refined
+/// further nor moved to the limit) is *not full*: it has no tags, crease ends or edge tags
+/// ([`interpolate`] reads only its offsets, the parent's tags giving those of its vertex
+/// children).
 #[derive(Clone, Debug)]
 pub(crate) struct FvarLevel {
     mode: Mode,
     /// Per face-vertex: the value index.
     face_values: Vec<u32>,
-    /// Per face-vertex: which of its vertex's values it takes.
-    face_siblings: Vec<u16>,
+    /// Per face-vertex: which of its vertex's values it takes. The base level's only: below
+    /// it a face-vertex's value is its slot, so its sibling is
+    /// `face_values[i] - vert_offsets[v]`.
+    face_siblings: Option<Vec<u16>>,
     /// Per vertex (`V + 1` prefix sums): its first slot.
     vert_offsets: Vec<u32>,
-    slot_values: Vec<u32>,
+    /// Per slot: its value in the user's array (the base level's only).
+    slot_values: Option<Vec<u32>>,
+    /// Per slot (empty when not `full`): its class.
     tags: Vec<ValueTag>,
-    /// Per slot: the vertex-face positions whose faces hold a crease's two end values.
+    /// Per slot (empty when not `full`): the vertex-face positions whose faces hold a
+    /// crease's two end values.
     ends: Vec<[u16; 2]>,
+    /// Per edge (empty when not `full`).
     edge_tags: Vec<EdgeTag>,
+    /// Whether the level has everything refining it further and its limit read.
+    full: bool,
 }
 
 impl FvarLevel {
@@ -160,20 +179,48 @@ impl FvarLevel {
 
     /// Number of values of the level (beyond the base level: of the refined channel).
     pub(crate) fn num_slots(&self) -> usize {
-        self.slot_values.len()
+        self.vert_offsets.last().copied().unwrap_or(0) as usize
+    }
+
+    /// The index of the value of `slot`.
+    #[inline]
+    fn slot_value(&self, slot: usize) -> u32 {
+        match &self.slot_values {
+            Some(values) => values[slot],
+            None => slot as u32,
+        }
+    }
+
+    /// The sibling of vertex `v` at face-vertex `at` (a corner of a face of `v`).
+    #[inline]
+    fn sibling(&self, at: usize, v: u32) -> u16 {
+        match &self.face_siblings {
+            Some(siblings) => siblings[at],
+            None => (self.face_values[at] - self.vert_offsets[v as usize]) as u16,
+        }
     }
 
     /// The sibling of vertex `v` in its `i`-th face.
     fn vertex_face_sibling(&self, t: &Topology, v: usize, i: usize) -> usize {
         let f = t.vertex_faces(v)[i] as usize;
-        self.face_siblings[t.face_offsets[f] as usize + t.vertex_face_locals(v)[i] as usize]
-            as usize
+        let at = t.face_offsets[f] as usize + t.vertex_face_locals(v)[i] as usize;
+        self.sibling(at, v as u32) as usize
     }
 
     /// The value at corner `k` (taken cyclically) of face `f`.
+    #[inline]
     fn face_value(&self, t: &Topology, f: usize, k: usize) -> u32 {
         let (a, b) = (t.face_offsets[f] as usize, t.face_offsets[f + 1] as usize);
-        self.face_values[a + k % (b - a)]
+        let n = b - a;
+        // Callers step at most one turn past a corner: no division then.
+        let k = if k < n {
+            k
+        } else if k - n < n {
+            k - n
+        } else {
+            k % n
+        };
+        self.face_values[a + k]
     }
 
     /// The base level of a channel whose corner values are `indices` (OpenSubdiv's
@@ -185,13 +232,16 @@ impl FvarLevel {
         let mut l = Self {
             mode,
             face_values: indices.to_vec(),
-            face_siblings: vec![0; indices.len()],
+            face_siblings: None,
             vert_offsets: Vec::with_capacity(nv + 1),
-            slot_values: Vec::with_capacity(nv),
+            slot_values: None,
             tags: Vec::new(),
             ends: Vec::new(),
             edge_tags: vec![EdgeTag::default(); t.num_edges()],
+            full: true,
         };
+        let mut slot_values = Vec::with_capacity(nv);
+        let mut face_siblings = vec![0; indices.len()];
         let mut mismatch = vec![false; nv];
         l.vert_offsets.push(0);
         let mut vals = Vec::new();
@@ -209,38 +259,40 @@ impl FvarLevel {
             // sibling; otherwise, with two values so far, a value other than the first is
             // a new sibling even if it is the second (so A B A B gives three siblings, the
             // last B a value of its own), and beyond two values the list is searched.
-            let first = l.slot_values.len();
-            l.slot_values.push(vals.first().copied().unwrap_or(0));
+            let first = slot_values.len();
+            slot_values.push(vals.first().copied().unwrap_or(0));
             let mut prev_sib = 0;
             for (i, &x) in vals.iter().enumerate() {
-                let unique = &l.slot_values[first..];
+                let unique = &slot_values[first..];
                 let sib = if i == 0 || x == vals[i - 1] {
                     prev_sib
                 } else if unique.len() == 1 || (unique.len() == 2 && unique[0] != x) {
-                    l.slot_values.push(x);
-                    l.slot_values.len() - 1 - first
+                    slot_values.push(x);
+                    slot_values.len() - 1 - first
                 } else {
                     match unique.iter().position(|&y| y == x) {
                         Some(s) => s,
                         None => {
-                            l.slot_values.push(x);
-                            l.slot_values.len() - 1 - first
+                            slot_values.push(x);
+                            slot_values.len() - 1 - first
                         }
                     }
                 };
                 prev_sib = sib;
                 let f = faces[i] as usize;
                 let at = t.face_offsets[f] as usize + t.vertex_face_locals(v)[i] as usize;
-                l.face_siblings[at] = sib as u16;
+                face_siblings[at] = sib as u16;
             }
-            let count = l.slot_values.len() - first;
+            let count = slot_values.len() - first;
             if t.vert_tags[v].get().non_manifold && count > 1 {
                 mismatch[v] = true;
             }
-            l.vert_offsets.push(l.slot_values.len() as u32);
+            l.vert_offsets.push(slot_values.len() as u32);
         }
-        l.tags = vec![ValueTag::default(); l.slot_values.len()];
-        l.ends = vec![[0, 0]; l.slot_values.len()];
+        l.tags = vec![ValueTag::default(); slot_values.len()];
+        l.ends = vec![[0, 0]; slot_values.len()];
+        l.slot_values = Some(slot_values);
+        l.face_siblings = Some(face_siblings);
         let mut spans = Vec::new();
         for v in (0..nv).filter(|&v| mismatch[v]) {
             l.classify(t, v, &mut spans);
@@ -434,13 +486,22 @@ impl FvarLevel {
     fn edge_face_values(&self, t: &Topology, e: usize, i: usize) -> [u32; 2] {
         let [a, b] = t.edge_verts[e];
         if self.count(a as usize) + self.count(b as usize) > 2 {
-            let f = t.edge_face_list(e)[i] as usize;
-            let k = t.edge_face_local[t.edge_face_offsets[e] as usize + i] as usize;
-            [self.face_value(t, f, k), self.face_value(t, f, k + 1)]
+            self.face_edge_values(t, e, i)
         } else {
-            let at = |v: u32| self.slot_values[self.vert_offsets[v as usize] as usize];
+            let at = |v: u32| self.slot_value(self.vert_offsets[v as usize] as usize);
             [at(a), at(b)]
         }
+    }
+
+    /// The values at the two ends of edge `e` in its `i`-th face, read from the face:
+    /// [`edge_face_values`](Self::edge_face_values) of an edge with an end that has more
+    /// than one value, as either end of a discontinuous edge has (its faces give an end
+    /// different values).
+    #[inline]
+    fn face_edge_values(&self, t: &Topology, e: usize, i: usize) -> [u32; 2] {
+        let at = t.edge_face_offsets[e] as usize + i;
+        let (f, k) = (t.edge_faces[at] as usize, t.edge_face_local[at] as usize);
+        [self.face_value(t, f, k), self.face_value(t, f, k + 1)]
     }
 
     /// The value of face `f` opposite its edge `e` (two corners after the first corner
@@ -456,7 +517,7 @@ impl FvarLevel {
         let e = t.vertex_edges(v)[i] as usize;
         let other = t.edge_verts[e][(t.vertex_edge_locals(v)[i] == 0) as usize] as usize;
         if self.count(other) == 1 {
-            return self.slot_values[self.vert_offsets[other] as usize];
+            return self.slot_value(self.vert_offsets[other] as usize);
         }
         let vtag = t.vert_tags[v].get();
         let (faces, locals) = (t.vertex_faces(v), t.vertex_face_locals(v));
@@ -504,22 +565,16 @@ impl FvarLevel {
         slot: usize,
         out: &mut (Vec<f32>, Vec<f32>),
     ) {
-        let [s, e] = self.ends[slot];
+        let [s, e] = self.ends[slot].map(usize::from);
         let edges = p.vertex_edges(v);
         let locals = p.vertex_edge_locals(v);
         let k0 = p.face_verts.len();
-        let inside: Vec<usize> = if e > s {
-            (s as usize + 1..=e as usize).collect()
-        } else if s > e {
-            (s as usize + 1..edges.len())
-                .chain(0..=e as usize)
-                .collect()
-        } else {
-            Vec::new()
-        };
+        // The edges after the first face up to the last, around the vertex.
+        let n = edges.len();
+        let inside = if e >= s { e - s } else { n - s + e };
         out.0.clear();
         out.1.clear();
-        for k in inside {
+        for k in (1..=inside).map(|i| (s + i) % n) {
             let pe = edges[k] as usize;
             out.0.push(p.edge_sharpness[pe]);
             out.1
@@ -536,15 +591,15 @@ impl FvarLevel {
         options: &Options,
         v: usize,
         slot: usize,
+        sharpness: &mut (Vec<f32>, Vec<f32>),
     ) -> f64 {
-        let mut sh = (Vec::new(), Vec::new());
-        self.span_sharpness(p, c, v, slot, &mut sh);
+        self.span_sharpness(p, c, v, slot, sharpness);
         crease::fractional_weight(
             options.crease_method,
             p.vert_sharpness[v],
             c.vert_sharpness[v],
-            &sh.0,
-            &sh.1,
+            &sharpness.0,
+            &sharpness.1,
         ) as f64
     }
 }
@@ -555,204 +610,327 @@ impl FvarLevel {
     /// child values numbered as the module docs say, tags inherited (a discontinuous or
     /// linear edge's child values are creases, or corners when boundaries are linear),
     /// crease ends carried down, and semi-sharp values that have decayed reclassified as
-    /// creases. Reads of `c` are limited to its sharpness and vertex tags, so `c` may be a
-    /// level built for output only.
+    /// creases. Reads of `c` are limited to its sharpness, its vertex tags and whether it
+    /// is complete: a level built for output only gives a level that is not full (see
+    /// [`FvarLevel`]). Large levels are refined in parallel over ranges of parent
+    /// vertices, faces and edges, each writing its own part of every array, so the result
+    /// does not depend on the number of threads.
     pub(crate) fn refine(&self, p: &Topology, c: &Topology, triangles: bool) -> Self {
-        let (nv, ne) = (p.num_vertices(), p.num_edges());
+        debug_assert!(self.full, "a level built for output only is not refined");
         let nf = face_children(p, triangles);
+        let full = c.is_complete();
+        let vert_offsets = self.child_offsets(p, nf);
+        let (tags, ends) = self.child_tags(p, c, triangles, &vert_offsets, full);
+        let face_values = self.child_face_values(p, triangles, &vert_offsets);
         // Both splits make `2E` halves of edges after `S` edges inside the faces (the quad
-        // split one per face-vertex, the triangle split three per triangle), and four
-        // child face-vertices per parent face-vertex (`n` quads or four triangles).
-        let s = p.face_verts.len();
-        let smooth = !self.mode.linear_boundaries;
-        // Child faces at the child of an edge per face of the edge: the two quads of the
-        // face on each side, or the triangle split's two corner triangles and the middle
-        // one (`super::tri_topology` orders them).
-        let per_face: u16 = if triangles { 3 } else { 2 };
-        // Values per child vertex: vertices, faces (the quad split), edges.
-        let mut vert_offsets = Vec::with_capacity(nv + nf + ne + 1);
-        vert_offsets.push(0u32);
-        let mut at = 0u32;
-        let mut push = |n: usize| {
-            at += n as u32;
-            vert_offsets.push(at);
-        };
-        (0..nv).for_each(|v| push(self.count(v)));
-        (0..nf).for_each(|_| push(1));
-        for e in 0..ne {
-            push(if self.edge_tags[e].mismatch {
-                p.edge_face_list(e).len()
-            } else {
-                1
-            });
-        }
-        let total = at as usize;
-        let mut tags = vec![ValueTag::default(); total];
-        let mut ends = vec![[0u16; 2]; total];
-        for v in 0..nv {
-            let (ps, cs) = (self.slots(v), vert_offsets[v] as usize);
-            tags[cs..cs + ps.len()].copy_from_slice(&self.tags[ps.clone()]);
-            ends[cs..cs + ps.len()].copy_from_slice(&self.ends[ps]);
-        }
-        let split = ValueTag {
-            mismatch: true,
-            crease: smooth,
-            ..ValueTag::default()
-        };
-        for e in 0..ne {
-            let et = self.edge_tags[e];
-            if et.mismatch || et.linear {
-                let cv = nv + nf + e;
-                for (i, slot) in (vert_offsets[cv]..vert_offsets[cv + 1]).enumerate() {
-                    tags[slot as usize] = split;
-                    // The crease runs through the child faces of the edge's `i`-th face.
-                    let first = per_face * i as u16;
-                    ends[slot as usize] = [first, first + per_face - 1];
+        // split one per face-vertex, the triangle split three per triangle).
+        let edge_tags = if full {
+            let s = p.face_verts.len();
+            collect(s + 2 * p.num_edges(), |i| {
+                if i < s {
+                    EdgeTag::default()
+                } else {
+                    self.edge_tags[(i - s) / 2]
                 }
-            }
-        }
-        let mut edge_tags = vec![EdgeTag::default(); s + 2 * ne];
-        for e in 0..ne {
-            edge_tags[s + 2 * e] = self.edge_tags[e];
-            edge_tags[s + 2 * e + 1] = self.edge_tags[e];
-        }
-        let mut child = Self {
+            })
+        } else {
+            Vec::new()
+        };
+        Self {
             mode: self.mode,
-            face_values: vec![0; 4 * s],
-            face_siblings: vec![0; 4 * s],
+            face_values,
+            face_siblings: None,
             vert_offsets,
-            slot_values: (0..total as u32).collect(),
+            slot_values: None,
             tags,
             ends,
             edge_tags,
-        };
-        self.child_faces(p, triangles, &mut child);
-        if smooth {
-            child.reclassify_semi_sharp(p, c);
+            full,
         }
-        child
     }
 
-    /// The values of the child faces. With the quad split the child of face `f` at corner
-    /// `j` is the quad `[child of vertex j, child of edge j, child of f, child of edge j-1]`
-    /// (rotated for quads, as [`super::topology`] lays it out); with the triangle split
-    /// (`triangles`) triangle `[v₀ v₁ v₂]` with edge children `E₀ E₁ E₂` gives `[v₀ E₀ E₂]`,
-    /// `[E₀ v₁ E₁]`, `[E₂ E₁ v₂]`, `[E₁ E₂ E₀]` ([`super::tri_topology`]). A vertex's child
-    /// takes the sibling of its parent in `f`, an edge's child with one value per face the
-    /// position of `f` among the edge's faces (the last, if `f` is there twice, as
-    /// OpenSubdiv's `populateChildValuesForEdgeVertex` finds it).
-    fn child_faces(&self, p: &Topology, triangles: bool, child: &mut Self) {
-        let nv = p.num_vertices() as u32;
-        let edge0 = nv + face_children(p, triangles) as u32;
-        let edge_child = |e: u32, f: usize| -> (u32, u16) {
-            let cv = edge0 + e;
-            let range = child.vert_offsets[cv as usize]..child.vert_offsets[cv as usize + 1];
-            if range.len() == 1 {
-                return (cv, 0);
+    /// The child's first slot per child vertex (prefix sums): a vertex's child has its
+    /// parent's values (so the first `V + 1` offsets are the parent's), a face's child
+    /// (`nf` of them) one value, an edge's child one, or one per face of the edge when the
+    /// edge is discontinuous.
+    fn child_offsets(&self, p: &Topology, nf: usize) -> Vec<u32> {
+        let (nv, ne) = (p.num_vertices(), p.num_edges());
+        let values = |e: usize| -> u32 {
+            if self.edge_tags[e].mismatch {
+                p.edge_face_list(e).len() as u32
+            } else {
+                1
+            }
+        };
+        let mut offsets = Vec::with_capacity(nv + nf + ne + 1);
+        offsets.extend_from_slice(&self.vert_offsets[..=nv]);
+        let faces0 = offsets[nv];
+        extend(&mut offsets, nf, |f| faces0 + f as u32 + 1);
+        // Each range of edges starts after the values of the ranges before it.
+        let ranges = chunk_ranges(ne);
+        let counts = map_ranges(&ranges, |r| r.map(values).sum::<u32>());
+        let mut at = faces0 + nf as u32;
+        let starts = counts.iter().map(|&n| {
+            at += n;
+            at - n
+        });
+        let items: Vec<_> = ranges.iter().cloned().zip(starts).collect();
+        offsets.resize(nv + nf + ne + 1, 0);
+        let pieces = split_pieces(&mut offsets[nv + nf + 1..], &ranges, |e| e);
+        run(
+            items.into_iter().zip(pieces).collect(),
+            |((r, mut at), out)| {
+                for (e, o) in r.zip(out) {
+                    at += values(e);
+                    *o = at;
+                }
+            },
+        );
+        offsets
+    }
+
+    /// The tags and crease ends of the child's values (`offsets` its first slots) when
+    /// `full` (else none): a vertex's child has its parent's values' (semi-sharp values
+    /// whose sharpness has decayed becoming creases,
+    /// [`child_vertex_tags`](Self::child_vertex_tags)), a face's child a matching
+    /// value, a discontinuous or linear edge's child values are creases (corners when
+    /// boundaries are linear) each running through the child faces of one face of the
+    /// edge: the two quads of the face on each side, or the triangle split's two corner
+    /// triangles and the middle one (`super::tri_topology` orders them).
+    fn child_tags(
+        &self,
+        p: &Topology,
+        c: &Topology,
+        triangles: bool,
+        offsets: &[u32],
+        full: bool,
+    ) -> (Vec<ValueTag>, Vec<[u16; 2]>) {
+        if !full {
+            return (Vec::new(), Vec::new());
+        }
+        let nv = p.num_vertices();
+        let vert_slots = offsets[nv] as usize;
+        let total = offsets[offsets.len() - 1] as usize;
+        let mut tags = Vec::with_capacity(total);
+        extend(&mut tags, vert_slots, |i| self.tags[i]);
+        if !self.mode.linear_boundaries {
+            for_pieces(
+                nv,
+                &mut tags,
+                |v| offsets[v] as usize,
+                |r, tags| {
+                    let first = offsets[r.start] as usize;
+                    for v in r {
+                        let slots = offsets[v] as usize - first..offsets[v + 1] as usize - first;
+                        self.child_vertex_tags(p, c, v, &mut tags[slots]);
+                    }
+                },
+            );
+        }
+        let mut ends = Vec::with_capacity(total);
+        extend(&mut ends, vert_slots, |i| self.ends[i]);
+        tags.resize(total, ValueTag::default());
+        ends.resize(total, [0, 0]);
+        let split = ValueTag {
+            mismatch: true,
+            crease: !self.mode.linear_boundaries,
+            ..ValueTag::default()
+        };
+        let per_face: u16 = if triangles { 3 } else { 2 };
+        let edge_offsets = &offsets[nv + face_children(p, triangles)..];
+        let start = |e: usize| edge_offsets[e] as usize;
+        let ranges = chunk_ranges(p.num_edges());
+        let tag_pieces = split_pieces(&mut tags[start(0)..], &ranges, start);
+        let end_pieces = split_pieces(&mut ends[start(0)..], &ranges, start);
+        let items = ranges
+            .into_iter()
+            .zip(tag_pieces.into_iter().zip(end_pieces));
+        run(items.collect(), |(r, (tags, ends))| {
+            let first = start(r.start);
+            for e in r {
+                let et = self.edge_tags[e];
+                if !et.mismatch && !et.linear {
+                    continue;
+                }
+                for (i, slot) in (start(e) - first..start(e + 1) - first).enumerate() {
+                    tags[slot] = split;
+                    let first = per_face * i as u16;
+                    ends[slot] = [first, first + per_face - 1];
+                }
+            }
+        });
+        (tags, ends)
+    }
+
+    /// The values of the child faces (`offsets` the child's first slots), in parallel over
+    /// ranges of parent faces ([`fill_child_faces`](Self::fill_child_faces)).
+    fn child_face_values(&self, p: &Topology, triangles: bool, offsets: &[u32]) -> Vec<u32> {
+        let mut values = filled(4 * p.face_verts.len(), 0);
+        let start = |f: usize| 4 * p.face_offsets[f] as usize;
+        for_pieces(p.num_faces(), &mut values, start, |r, out| {
+            self.fill_child_faces(p, triangles, offsets, r, out)
+        });
+        values
+    }
+
+    /// The values of the children of the parent faces `range` into `out` (from the first
+    /// child face-vertex of `range.start` on). With the quad split the child of face `f` at
+    /// corner `j` is the quad `[child of vertex j, child of edge j, child of f, child of
+    /// edge j-1]` (rotated for quads, as [`super::topology`] lays it out); with the
+    /// triangle split (`triangles`) triangle `[v₀ v₁ v₂]` with edge children `E₀ E₁ E₂`
+    /// gives `[v₀ E₀ E₂]`, `[E₀ v₁ E₁]`, `[E₂ E₁ v₂]`, `[E₁ E₂ E₀]` ([`super::tri_topology`]).
+    /// A vertex's child takes the sibling of its parent in `f`, an edge's child with one
+    /// value per face the position of `f` among the edge's faces (the last, if `f` is
+    /// there twice, as OpenSubdiv's `populateChildValuesForEdgeVertex` finds it).
+    fn fill_child_faces(
+        &self,
+        p: &Topology,
+        triangles: bool,
+        offsets: &[u32],
+        range: Range<usize>,
+        out: &mut [u32],
+    ) {
+        let nv = p.num_vertices();
+        let edge0 = nv + face_children(p, triangles);
+        let base = 4 * p.face_offsets[range.start] as usize;
+        let edge_child = |e: u32, f: usize| -> u32 {
+            let cv = edge0 + e as usize;
+            let first = offsets[cv];
+            // A discontinuous edge's child has a value per face of the edge.
+            if offsets[cv + 1] - first == 1 {
+                return first;
             }
             let faces = p.edge_face_list(e as usize);
-            (
-                cv,
-                faces.iter().rposition(|&g| g as usize == f).unwrap_or(0) as u16,
-            )
+            first + faces.iter().rposition(|&g| g as usize == f).unwrap_or(0) as u32
         };
-        let (mut values, mut siblings) = (
-            std::mem::take(&mut child.face_values),
-            std::mem::take(&mut child.face_siblings),
-        );
-        let mut put = |at: usize, (cv, sib): (u32, u16)| {
-            values[at] = child.vert_offsets[cv as usize] + sib as u32;
-            siblings[at] = sib;
-        };
-        for f in 0..p.num_faces() {
+        for f in range {
             let o = p.face_offsets[f] as usize;
             let (fv, fe) = (p.face_vertices(f), p.face_edge_list(f));
-            let vert = |j: usize| (fv[j], self.face_siblings[o + j]);
+            // Below the base level a face-vertex's value is its slot, which is the slot of
+            // the vertex's child (the child of a vertex has its parent's slots).
+            let vert = |j: usize| match &self.face_siblings {
+                Some(siblings) => offsets[fv[j] as usize] + siblings[o + j] as u32,
+                None => self.face_values[o + j],
+            };
             let edge = |j: usize| edge_child(fe[j], f);
+            let out = &mut out[4 * o - base..];
             if triangles {
+                let (e0, e1, e2) = (edge(0), edge(1), edge(2));
                 let corners = [
-                    [vert(0), edge(0), edge(2)],
-                    [edge(0), vert(1), edge(1)],
-                    [edge(2), edge(1), vert(2)],
-                    [edge(1), edge(2), edge(0)],
+                    vert(0),
+                    e0,
+                    e2, //
+                    e0,
+                    vert(1),
+                    e1, //
+                    e2,
+                    e1,
+                    vert(2), //
+                    e1,
+                    e2,
+                    e0,
                 ];
-                for (k, c) in corners.into_iter().flatten().enumerate() {
-                    put(4 * o + k, c);
-                }
+                out[..12].copy_from_slice(&corners);
                 continue;
             }
             let n = fv.len();
+            let centre = offsets[nv + f];
+            let mut before = edge(n - 1);
             for j in 0..n {
-                let jp = if j == 0 { n - 1 } else { j - 1 };
-                let corners = [vert(j), edge(j), (nv + f as u32, 0), edge(jp)];
+                let after = edge(j);
+                let corners = [vert(j), after, centre, before];
+                before = after;
                 let r = rot(n, j);
                 for (k, c) in corners.into_iter().enumerate() {
-                    put(4 * (o + j) + (k + r) % 4, c);
+                    out[4 * j + (k + r) % 4] = c;
                 }
             }
         }
-        child.face_values = values;
-        child.face_siblings = siblings;
     }
 
-    /// Semi-sharp values of the children of vertices whose sharpness has decayed become
-    /// creases (OpenSubdiv's `FVarRefinement::reclassifySemisharpValues`).
-    fn reclassify_semi_sharp(&mut self, p: &Topology, c: &Topology) {
+    /// The tags of the values of the child of vertex `v` into `tags` (one per value):
+    /// this level's, the semi-sharp ones whose sharpness has decayed in the step from `p`
+    /// to `c` become creases (OpenSubdiv's `FVarRefinement::reclassifySemisharpValues`,
+    /// with smooth face-varying boundaries; with linear ones they are corners and stay).
+    fn child_vertex_tags(&self, p: &Topology, c: &Topology, v: usize, tags: &mut [ValueTag]) {
+        let slots = self.slots(v);
+        tags.copy_from_slice(&self.tags[slots.clone()]);
+        if self.mode.linear_boundaries || !tags[0].mismatch {
+            return;
+        }
+        let (pt, ct) = (p.vert_tags[v].get(), c.vert_tags[v].get());
+        if (!pt.semi_sharp && !pt.semi_sharp_edges) || ct.semi_sharp || ct.inf_sharp {
+            return;
+        }
+        let to_crease = |t: &mut ValueTag| {
+            t.semi_sharp = false;
+            t.dep_sharp = false;
+            t.crease = true;
+        };
+        if !ct.semi_sharp_edges {
+            for t in tags.iter_mut() {
+                if t.semi_sharp {
+                    to_crease(t);
+                }
+            }
+            return;
+        }
         let s = p.face_verts.len();
-        for v in 0..p.num_vertices() {
-            let slots = self.slots(v);
-            if !self.tags[slots.start].mismatch {
+        let (edges, locals) = (p.vertex_edges(v), p.vertex_edge_locals(v));
+        let child_semi = |k: usize| {
+            sharp::is_semi_sharp(c.edge_sharpness[s + 2 * edges[k] as usize + locals[k] as usize])
+        };
+        for (t, &ends) in tags.iter_mut().zip(&self.ends[slots]) {
+            if !t.semi_sharp || t.dep_sharp {
                 continue;
             }
-            let (pt, ct) = (p.vert_tags[v].get(), c.vert_tags[v].get());
-            if (!pt.semi_sharp && !pt.semi_sharp_edges) || ct.semi_sharp || ct.inf_sharp {
-                continue;
-            }
-            let to_crease = |t: &mut ValueTag| {
-                t.semi_sharp = false;
-                t.dep_sharp = false;
-                t.crease = true;
+            let [a, b] = ends.map(usize::from);
+            let still = if b > a {
+                (a + 1..=b).any(child_semi)
+            } else if a > b {
+                (a + 1..edges.len()).chain(0..=b).any(child_semi)
+            } else {
+                false
             };
-            if !ct.semi_sharp_edges {
-                for t in &mut self.tags[slots] {
-                    if t.semi_sharp {
-                        to_crease(t);
-                    }
-                }
-                continue;
-            }
-            let (edges, locals) = (p.vertex_edges(v), p.vertex_edge_locals(v));
-            let child_semi = |k: usize| {
-                sharp::is_semi_sharp(
-                    c.edge_sharpness[s + 2 * edges[k] as usize + locals[k] as usize],
-                )
-            };
-            for slot in slots.clone() {
-                let t = self.tags[slot];
-                if !t.semi_sharp || t.dep_sharp {
-                    continue;
-                }
-                let [a, b] = self.ends[slot].map(usize::from);
-                let still = if b > a {
-                    (a + 1..=b).any(child_semi)
-                } else if a > b {
-                    (a + 1..edges.len()).chain(0..=b).any(child_semi)
-                } else {
-                    false
-                };
-                if !still {
-                    to_crease(&mut self.tags[slot]);
-                }
-            }
-            if slots.len() == 2 && self.mode.dependent {
-                let (i, j) = (slots.start, slots.start + 1);
-                if self.tags[i].dep_sharp && !self.tags[j].semi_sharp {
-                    self.tags[i].dep_sharp = false;
-                } else if self.tags[j].dep_sharp && !self.tags[i].semi_sharp {
-                    self.tags[j].dep_sharp = false;
-                }
+            if !still {
+                to_crease(t);
             }
         }
+        if tags.len() == 2 && self.mode.dependent {
+            if tags[0].dep_sharp && !tags[1].semi_sharp {
+                tags[0].dep_sharp = false;
+            } else if tags[1].dep_sharp && !tags[0].semi_sharp {
+                tags[1].dep_sharp = false;
+            }
+        }
+    }
+}
+
+/// Runs `f(range, piece)` over `0..n` cut into ranges ([`chunk_ranges`]), `out` cut into
+/// the pieces that the ranges write ([`split_pieces`]: piece of `range` from
+/// `start(range.start)` on), in parallel when large.
+fn for_pieces<T: Send>(
+    n: usize,
+    out: &mut [T],
+    start: impl Fn(usize) -> usize,
+    f: impl Fn(Range<usize>, &mut [T]) + Sync + Send,
+) {
+    let ranges = chunk_ranges(n);
+    let pieces = split_pieces(out, &ranges, start);
+    run(ranges.into_iter().zip(pieces).collect(), |(r, piece)| {
+        f(r, piece)
+    });
+}
+
+/// `f` of every range, in parallel when there is more than one.
+fn map_ranges<T: Send>(
+    ranges: &[Range<usize>],
+    f: impl Fn(Range<usize>) -> T + Sync + Send,
+) -> Vec<T> {
+    if ranges.len() <= 1 {
+        ranges.iter().cloned().map(f).collect()
+    } else {
+        ranges.par_iter().cloned().map(f).collect()
     }
 }
 
@@ -788,7 +966,7 @@ impl FvarLevel {
                 continue;
             }
             if !self.tags[slots.start].mismatch {
-                let x = self.slot_values[slots.start] as usize;
+                let x = self.slot_value(slots.start) as usize;
                 let mut out = vec![0.0; dim];
                 sharp.clear();
                 sharp.extend(
@@ -822,7 +1000,7 @@ impl FvarLevel {
                 if self.tags[slot].is_corner() {
                     continue;
                 }
-                let x = self.slot_values[slot] as usize;
+                let x = self.slot_value(slot) as usize;
                 let [a, b] = self.crease_end_values(t, v, k);
                 let out = &mut dst[dim * x..dim * (x + 1)];
                 out.fill(0.0);
@@ -845,7 +1023,7 @@ fn face_children(p: &Topology, triangles: bool) -> usize {
 }
 
 /// `acc += w · x` over `dim` components.
-#[inline]
+#[inline(always)]
 fn axpy(acc: &mut [f64], w: f64, x: &[f64]) {
     for (a, &b) in acc.iter_mut().zip(x) {
         *a += w * b;
@@ -854,11 +1032,13 @@ fn axpy(acc: &mut [f64], w: f64, x: &[f64]) {
 
 /// Refines the values `src` (`dim` numbers each, indexed as level `pf` of topology `p`
 /// indexes them) to the values of `cf`, the refinement of `pf` onto `c` (the refinement
-/// of `p`), into `dst` (`dim · cf.num_slots()` numbers): OpenSubdiv's
+/// of `p`), returned (`dim · cf.num_slots()` numbers): OpenSubdiv's
 /// `PrimvarRefiner::InterpolateFaceVarying` with the masks of `rules` (face points, then
 /// edge and vertex points, which read them). With a scheme that splits triangles (Loop,
 /// [`Rules::splits_triangles`]) there are no face points, and the face weights of an edge
-/// mask weigh each triangle's value opposite the edge.
+/// mask weigh each triangle's value opposite the edge. Large levels are interpolated in
+/// parallel over ranges of faces, edges and vertices (each value is computed by the same
+/// operations whatever the ranges).
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn interpolate<R: Rules>(
     p: &Topology,
@@ -869,33 +1049,44 @@ pub(crate) fn interpolate<R: Rules>(
     rules: R,
     dim: usize,
     src: &[f64],
-    dst: &mut [f64],
-) {
-    let pass = FvarPass {
-        p,
-        c,
-        pf,
-        cf,
-        options,
-        rules,
-        dim,
-        src,
-    };
-    let nv = p.num_vertices();
-    let nf = face_children(p, rules.splits_triangles());
-    let face0 = cf.vert_offsets[nv] as usize;
-    let edge0 = cf.vert_offsets[nv + nf] as usize;
-    let (vert_out, rest) = dst.split_at_mut(dim * face0);
-    let (face_out, edge_out) = rest.split_at_mut(dim * (edge0 - face0));
-    pass.face_points(face_out);
-    pass.edge_points(face_out, edge_out);
-    pass.vertex_points(face_out, vert_out);
+) -> Vec<f64> {
+    // Values of one to three numbers (texture coordinates, colours) have their size
+    // known to the compiler.
+    macro_rules! pass {
+        ($d:literal) => {
+            FvarPass::<R, $d> {
+                p,
+                c,
+                pf,
+                cf,
+                options,
+                rules,
+                dim,
+                src,
+            }
+            .run()
+        };
+    }
+    match dim {
+        1 => pass!(1),
+        2 => pass!(2),
+        3 => pass!(3),
+        _ => pass!(0),
+    }
+}
+
+/// Scratch space of [`FvarPass::split_vertex_points`]: the child's tags of a vertex's
+/// values, and the sharpness of the edges of a crease span before and after the step.
+#[derive(Default)]
+struct SplitScratch {
+    tags: Vec<ValueTag>,
+    sharpness: (Vec<f32>, Vec<f32>),
 }
 
 /// What every pass of [`interpolate`] reads: the parent and child topologies and
 /// face-varying levels, the options, the scheme's rules, and the parent's values
-/// (`dim` numbers each).
-struct FvarPass<'a, R> {
+/// (`dim` numbers each; `D` is `dim` when not 0).
+struct FvarPass<'a, R, const D: usize> {
     p: &'a Topology,
     c: &'a Topology,
     pf: &'a FvarLevel,
@@ -906,18 +1097,77 @@ struct FvarPass<'a, R> {
     src: &'a [f64],
 }
 
-impl<R: Rules> FvarPass<'_, R> {
-    /// The parent's value `i`.
-    #[inline]
-    fn val(&self, i: u32) -> &[f64] {
-        &self.src[self.dim * i as usize..self.dim * (i as usize + 1)]
+impl<R: Rules, const D: usize> FvarPass<'_, R, D> {
+    /// The numbers per value.
+    #[inline(always)]
+    fn d(&self) -> usize {
+        if D == 0 {
+            self.dim
+        } else {
+            D
+        }
     }
 
-    /// The child value of every parent face (`out`, one per face; empty with the triangle
-    /// split): the average of the face's values.
-    fn face_points(&self, out: &mut [f64]) {
+    /// The parent's value `i`.
+    #[inline(always)]
+    fn val(&self, i: u32) -> &[f64] {
+        let d = self.d();
+        &self.src[d * i as usize..][..d]
+    }
+
+    /// The child values: the face points, then the edge and the vertex points (at the same
+    /// time when the level is large). The vertex children of a linear channel below the
+    /// base level keep their parent's values, slot for slot: those are copied as they are
+    /// written into the new array, before its other values are zeroed.
+    fn run(&self) -> Vec<f64> {
+        let (p, pf, d) = (self.p, self.pf, self.d());
+        let offsets = &self.cf.vert_offsets;
+        let (nv, ne) = (p.num_vertices(), p.num_edges());
+        let nf = face_children(p, self.rules.splits_triangles());
+        let face0 = offsets[nv] as usize;
+        let edge0 = offsets[nv + nf] as usize;
+        let total = d * self.cf.num_slots();
+        let mut dst = Vec::with_capacity(total);
+        let kept = pf.mode.linear && pf.slot_values.is_none();
+        if kept {
+            debug_assert_eq!(pf.num_slots(), face0);
+            extend(&mut dst, d * face0, |i| self.src[i]);
+        }
+        let rest = total - dst.len();
+        extend(&mut dst, rest, |_| 0.0);
+        let (vert_out, rest) = dst.split_at_mut(d * face0);
+        let (face_out, edge_out) = rest.split_at_mut(d * (edge0 - face0));
+        for_pieces(nf, face_out, |f| d * f, |r, out| self.face_points(r, out));
+        let face_out: &[f64] = face_out;
+        let mut edges = move || {
+            let start = |e: usize| d * offsets[nv + nf + e] as usize;
+            for_pieces(ne, edge_out, start, |r, out| {
+                self.edge_points(face_out, r, out)
+            })
+        };
+        let mut verts = move || {
+            if kept {
+                return;
+            }
+            let start = |v: usize| d * offsets[v] as usize;
+            for_pieces(nv, vert_out, start, |r, out| {
+                self.vertex_points(face_out, r, out)
+            })
+        };
+        if parallel(ne.max(nv)) {
+            rayon::join(edges, verts);
+        } else {
+            edges();
+            verts();
+        }
+        dst
+    }
+
+    /// The child values of the parent faces `range` (`out`, one per face; none with the
+    /// triangle split): the average of the face's values.
+    fn face_points(&self, range: Range<usize>, out: &mut [f64]) {
         let p = self.p;
-        for (f, out) in out.chunks_exact_mut(self.dim).enumerate() {
+        for (f, out) in range.zip(out.chunks_exact_mut(self.d())) {
             out.fill(0.0);
             let w = catmark::face_point_weight(p.face_vertices(f).len());
             let o = p.face_offsets[f] as usize..p.face_offsets[f + 1] as usize;
@@ -928,31 +1178,41 @@ impl<R: Rules> FvarPass<'_, R> {
         }
     }
 
-    /// The child values of every parent edge (`out`, from the first edge child's first
-    /// value on), given the face points `face_out`: the edge mask where the edge's values
-    /// match across it, else (and for linear channels) each side's midpoint. The mask's
-    /// face weights weigh the face points, or with the triangle split each triangle's
-    /// value opposite the edge.
-    fn edge_points(&self, face_out: &[f64], out: &mut [f64]) {
-        let (p, pf, cf, dim) = (self.p, self.pf, self.cf, self.dim);
+    /// The child values of the parent edges `range` (`out`, from the first value of the
+    /// child of `range.start` on), given the face points `face_out`: the edge mask where
+    /// the edge's values match across it, else (and for linear channels) each side's
+    /// midpoint. The mask's face weights weigh the face points, or with the triangle split
+    /// each triangle's value opposite the edge.
+    fn edge_points(&self, face_out: &[f64], range: Range<usize>, out: &mut [f64]) {
+        let (p, pf, d) = (self.p, self.pf, self.d());
         let triangles = self.rules.splits_triangles();
-        let (nv, nf) = (p.num_vertices(), face_children(p, triangles));
-        let edge0 = cf.vert_offsets[nv + nf] as usize;
-        let face_pt = |f: u32| &face_out[dim * f as usize..dim * (f as usize + 1)];
-        for e in 0..p.num_edges() {
-            let slots = cf.slots(nv + nf + e);
-            let first = dim * (slots.start - edge0);
-            if cf.tags[slots.start].mismatch {
-                for i in 0..slots.len() {
-                    let out = &mut out[first + dim * i..first + dim * (i + 1)];
+        let child0 = p.num_vertices() + face_children(p, triangles);
+        let first = self.cf.vert_offsets[child0 + range.start] as usize;
+        let face_pt = |f: u32| &face_out[d * f as usize..][..d];
+        for e in range {
+            let slots = self.cf.slots(child0 + e);
+            let out = &mut out[d * (slots.start - first)..d * (slots.end - first)];
+            // The child's values are split (`refine`'s tags).
+            let et = pf.edge_tags[e];
+            if et.mismatch || et.linear {
+                debug_assert!(
+                    !et.mismatch || {
+                        let [a, b] = p.edge_verts[e].map(|v| pf.count(v as usize));
+                        a + b > 2
+                    }
+                );
+                for (i, out) in out.chunks_exact_mut(d).enumerate() {
                     out.fill(0.0);
-                    let [a, b] = pf.edge_face_values(p, e, i);
+                    let [a, b] = if et.mismatch {
+                        pf.face_edge_values(p, e, i)
+                    } else {
+                        pf.edge_face_values(p, e, i)
+                    };
                     axpy(out, 0.5, self.val(a));
                     axpy(out, 0.5, self.val(b));
                 }
                 continue;
             }
-            let out = &mut out[first..first + dim];
             out.fill(0.0);
             let [a, b] = pf.edge_face_values(p, e, 0);
             if pf.mode.linear {
@@ -976,24 +1236,28 @@ impl<R: Rules> FvarPass<'_, R> {
         }
     }
 
-    /// The child values of every parent vertex (`out`, from the first vertex's first value
-    /// on), given the face points `face_out`: the vertex mask where the vertex's values
-    /// match around it, else [`split_vertex_points`](Self::split_vertex_points).
-    fn vertex_points(&self, face_out: &[f64], out: &mut [f64]) {
-        let (p, pf, cf, dim) = (self.p, self.pf, self.cf, self.dim);
-        let face_pt = |f: u32| &face_out[dim * f as usize..dim * (f as usize + 1)];
+    /// The child values of the parent vertices `range` (`out`, from the first value of
+    /// `range.start` on), given the face points `face_out`: the vertex mask where the
+    /// vertex's values match around it, else
+    /// [`split_vertex_points`](Self::split_vertex_points).
+    fn vertex_points(&self, face_out: &[f64], range: Range<usize>, out: &mut [f64]) {
+        let (p, pf, cf, d) = (self.p, self.pf, self.cf, self.d());
+        let face_pt = |f: u32| &face_out[d * f as usize..][..d];
+        let first = cf.vert_offsets[range.start] as usize;
         let (mut mask, mut cmask) = (VertexMask::default(), VertexMask::default());
         let (mut pe, mut ce) = (Vec::new(), Vec::new());
-        for v in 0..p.num_vertices() {
+        let mut scratch = SplitScratch::default();
+        for v in range {
             let cs = cf.slots(v);
-            let out_all = &mut out[dim * cs.start..dim * cs.end];
-            if cf.tags[cs.start].mismatch {
-                self.split_vertex_points(v, out_all);
+            let out_all = &mut out[d * (cs.start - first)..d * (cs.end - first)];
+            // The child of a vertex has its parent's values and their tags' `mismatch`.
+            if pf.tags[pf.vert_offsets[v] as usize].mismatch {
+                self.split_vertex_points(v, out_all, &mut scratch);
                 continue;
             }
-            let out = &mut out_all[..dim];
+            let out = &mut out_all[..d];
             out.fill(0.0);
-            let pv = self.val(pf.slot_values[pf.slots(v).start]);
+            let pv = self.val(pf.slot_value(pf.slots(v).start));
             if pf.mode.linear || p.vertex_edges(v).is_empty() {
                 out.copy_from_slice(pv);
                 continue;
@@ -1018,15 +1282,20 @@ impl<R: Rules> FvarPass<'_, R> {
     /// The child values of vertex `v`, whose values differ around it (`out`, one per
     /// value): each value a corner (kept) or a crease point between the values at the ends
     /// of its crease, semi-sharp ones blended toward the corner by the fractional weight.
-    fn split_vertex_points(&self, v: usize, out: &mut [f64]) {
-        let (p, pf, cf) = (self.p, self.pf, self.cf);
-        let (ps, cs) = (pf.slots(v), cf.slots(v));
+    fn split_vertex_points(&self, v: usize, out: &mut [f64], scratch: &mut SplitScratch) {
+        let (p, pf) = (self.p, self.pf);
+        let ps = pf.slots(v);
         let [end_w, centre_w, _] = self.rules.crease_vertex_weights();
-        for (k, out) in out.chunks_exact_mut(self.dim).enumerate() {
+        let child_tags = &mut scratch.tags;
+        if !pf.mode.linear {
+            child_tags.resize(ps.len(), ValueTag::default());
+            pf.child_vertex_tags(p, self.c, v, child_tags);
+        }
+        for (k, out) in out.chunks_exact_mut(self.d()).enumerate() {
             let pslot = ps.start + k;
-            let pv = self.val(pf.slot_values[pslot]);
+            let pv = self.val(pf.slot_value(pslot));
             out.fill(0.0);
-            if pf.mode.linear || cf.tags[cs.start + k].is_corner() {
+            if pf.mode.linear || child_tags[k].is_corner() {
                 out.copy_from_slice(pv);
                 continue;
             }
@@ -1040,7 +1309,8 @@ impl<R: Rules> FvarPass<'_, R> {
                 } else {
                     pslot
                 };
-                let corner = pf.fractional_weight(p, self.c, self.options, v, from);
+                let sharpness = &mut scratch.sharpness;
+                let corner = pf.fractional_weight(p, self.c, self.options, v, from, sharpness);
                 vw = (1.0 - corner) * centre_w + corner;
                 ew = (1.0 - corner) * end_w;
             }
@@ -1103,10 +1373,8 @@ impl FaceVaryingRefiner {
         );
         for ((level, values), (_, dim)) in self.channels.iter_mut().zip(&self.names) {
             let child = level.refine(p, c, triangles);
-            let mut next = vec![0.0; dim * child.num_slots()];
-            interpolate(p, c, level, &child, options, rules, *dim, values, &mut next);
+            *values = interpolate(p, c, level, &child, options, rules, *dim, values);
             *level = child;
-            *values = next;
         }
     }
 
@@ -1148,14 +1416,13 @@ impl FaceVaryingRefiner {
                 }
                 Some(c) => {
                     let cl = level.refine(last, c, false);
-                    let mut cv = vec![0.0; dim * cl.num_slots()];
-                    interpolate(last, c, level, &cl, options, rules, dim, values, &mut cv);
+                    let cv = interpolate(last, c, level, &cl, options, rules, dim, values);
                     let mut lim = cv.clone();
                     cl.limit(rules, c, dim, &cv, &mut lim);
                     // The first slots of the child level are the children of `last`'s
                     // vertices' values, in the same order.
-                    for (slot, &x) in level.slot_values.iter().enumerate() {
-                        let x = x as usize;
+                    for slot in 0..level.num_slots() {
+                        let x = level.slot_value(slot) as usize;
                         values[dim * x..dim * (x + 1)]
                             .copy_from_slice(&lim[dim * slot..dim * (slot + 1)]);
                     }

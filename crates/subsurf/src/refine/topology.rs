@@ -126,7 +126,7 @@ pub(super) fn collect<T: Send>(n: usize, f: impl Fn(usize) -> T + Sync + Send) -
 }
 
 /// `v.extend((0..n).map(f))`, in parallel when large (writing straight into the vector).
-fn extend<T: Send>(v: &mut Vec<T>, n: usize, f: impl Fn(usize) -> T + Sync + Send) {
+pub(super) fn extend<T: Send>(v: &mut Vec<T>, n: usize, f: impl Fn(usize) -> T + Sync + Send) {
     if !parallel(n) {
         v.extend((0..n).map(f));
     } else {
@@ -135,7 +135,7 @@ fn extend<T: Send>(v: &mut Vec<T>, n: usize, f: impl Fn(usize) -> T + Sync + Sen
 }
 
 /// `vec![value; n]`, written in parallel when large.
-fn filled<T: Copy + Send + Sync>(n: usize, value: T) -> Vec<T> {
+pub(super) fn filled<T: Copy + Send + Sync>(n: usize, value: T) -> Vec<T> {
     if !parallel(n) {
         vec![value; n]
     } else {

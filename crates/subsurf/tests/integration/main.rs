@@ -14,6 +14,7 @@ mod blend_rational;
 mod cross_scheme;
 mod fvar_golden;
 mod fvar_limit_golden;
+mod fvar_threads;
 mod g2cap;
 mod g2cap_iges;
 mod g2cap_mixed;
