@@ -447,6 +447,16 @@ pub struct BenchArgs {
     pub max_memory: Option<u64>,
     #[command(flatten)]
     pub scheme: SchemeArgs,
+    /// Subdivision scheme: catmull-clark, loop or bilinear (OpenSubdiv's three, as
+    /// `osd-oracle bench --scheme`; refinement and --replay).
+    #[arg(
+        long = "scheme",
+        id = "scheme_kind",
+        value_name = "SCHEME",
+        value_enum,
+        default_value = "catmull-clark"
+    )]
+    pub scheme_kind: SchemeKind,
     /// Print no warnings.
     #[arg(short, long)]
     pub quiet: bool,
@@ -526,11 +536,11 @@ pub enum SchemeKind {
     /// Non-uniform Catmull-Clark (NURSS): knot intervals on edges and rational weights from
     /// the file's tags (untagged edges: interval 1; all equal: Catmull-Clark).
     Nurss,
-    /// Loop, for triangle meshes, exactly as OpenSubdiv (refinement only: no --limit,
-    /// limit, tessellate or repose yet).
+    /// Loop, for triangle meshes, exactly as OpenSubdiv (refinement, --limit and repose;
+    /// no limit or tessellate yet).
     Loop,
-    /// Bilinear, exactly as OpenSubdiv: the control mesh split, not smoothed (refinement
-    /// only: no --limit, limit, tessellate or repose yet).
+    /// Bilinear, exactly as OpenSubdiv: the control mesh split, not smoothed (refinement,
+    /// --limit and repose; no limit or tessellate yet).
     Bilinear,
 }
 

@@ -25,7 +25,7 @@
 use crate::limit::{largest_coordinate, normals_into, VertexLimitRows};
 use crate::mesh::{check_coordinates, MeshError, PolyMesh, Topology, TopologyWarning};
 use crate::nonuniform::LimitRows;
-use crate::refine::{refine_topology, Error, PlanScratch, RefinePlan};
+use crate::refine::{refine_topology, Error, PlanScratch, RefinePlan, TopologyRefiner};
 use crate::scheme::adjustable::Mixed;
 use crate::scheme::Scheme;
 use crate::subdivide::{estimate_memory, subdivide, SubdivideOptions, Subdivision};
@@ -163,12 +163,13 @@ impl Lists {
 }
 
 impl LimitMap {
-    /// The maps of the first `n` vertices of `rows` (full adjacency), the normals' faces
+    /// The maps (`scheme`'s limit masks) of the first `n` vertices of `rows` (full
+    /// adjacency), the normals' faces
     /// from `faces` (the refined level), and the current normals `normals`.
-    fn new(rows: &Topology, faces: &Topology, normals: Vec<[f64; 3]>) -> Self {
+    fn new(scheme: Scheme, rows: &Topology, faces: &Topology, normals: Vec<[f64; 3]>) -> Self {
         let n = faces.num_vertices();
         LimitMap {
-            rows: VertexLimitRows::new(rows, n),
+            rows: VertexLimitRows::new(scheme, rows, n),
             vertex_faces: Lists::new(n, |v| faces.vertex_faces(v)),
             face_verts: Lists::new(faces.num_faces(), |f| faces.face_vertices(f)),
             level: Vec::new(),
@@ -311,10 +312,10 @@ impl Reposer {
         };
         // Limit masks need quads around each vertex: on a base mesh with other faces,
         // refined 0 levels, they are taken one level further down (as `subdivide` does).
-        // (NURSS limit rows map the level itself.)
+        // (NURSS limit rows map the level itself; Loop's masks need triangles, which it has.)
         let ngons = (0..base.num_faces()).any(|f| base.face(f).len() != 4);
-        let nurss = matches!(scheme, Scheme::Nurss);
-        let plan_levels = if opts.limit && opts.levels == 0 && ngons && !nurss {
+        let own_rows = matches!(scheme, Scheme::Nurss | Scheme::Loop);
+        let plan_levels = if opts.limit && opts.levels == 0 && ngons && !own_rows {
             1
         } else {
             opts.levels
@@ -330,6 +331,7 @@ impl Reposer {
         let plan = RefinePlan::new(base, plan_scheme, opts.options, plan_levels)?;
         // NURSS in homogeneous points when rational or mapped to the limit (whose rows map
         // homogeneous points).
+        let nurss = scheme == Scheme::Nurss;
         let mut homogeneous = (nurss && (!base.knots.weights.is_empty() || nurss_limit.is_some()))
             .then(|| {
                 Box::new(Homogeneous {
@@ -346,15 +348,14 @@ impl Reposer {
         }
         let limit = match sub.normals {
             Some(normals) => {
-                let (mut level, _) = Topology::from_mesh(base, &opts.options)?;
-                for _ in 0..opts.levels {
-                    level = refine_topology(&level, &opts.options, true);
-                }
+                let refiner = TopologyRefiner::new(base, scheme, opts.options)?;
+                let topology_options = *refiner.options();
+                let level = refiner.into_level(opts.levels);
                 let map = if plan_levels > opts.levels {
-                    let rows = refine_topology(&level, &opts.options, true);
-                    LimitMap::new(&rows, &level, normals)
+                    let rows = refine_topology(&level, &topology_options, true);
+                    LimitMap::new(scheme, &rows, &level, normals)
                 } else {
-                    LimitMap::new(&level, &level, normals)
+                    LimitMap::new(scheme, &level, &level, normals)
                 };
                 Some(Box::new(map))
             }
@@ -438,7 +439,7 @@ impl Reposer {
     /// estimates"). Each face-varying channel, refined as a value mesh of its own, adds
     /// twice that estimate.
     pub fn estimate_memory(base: &PolyMesh, opts: &SubdivideOptions) -> u64 {
-        let plan = RefinePlan::estimate_memory(base, opts.levels);
+        let plan = RefinePlan::estimate_memory(base, opts.scheme, opts.levels);
         if opts.scheme != Scheme::Nurss {
             return estimate_memory(base, opts).saturating_add(plan);
         }

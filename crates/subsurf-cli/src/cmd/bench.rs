@@ -10,13 +10,25 @@ use anyhow::{Context, Result};
 use subsurf::limit::{Derivatives, EvalError, LimitSurface, Order, SurfacePoint};
 use subsurf::mesh::{Options, PolyMesh};
 use subsurf::refine::{PlanScratch, RefinePlan};
-use subsurf::{subdivide, SubdivideOptions};
+use subsurf::{subdivide, Scheme, SubdivideOptions};
 
+use super::adjustable::usage_error;
 use crate::input::Input;
-use crate::BenchArgs;
+use crate::{BenchArgs, SchemeKind};
 
 /// Runs `subsurf bench` on `threads` worker threads (0: one per core).
 pub fn run(args: &BenchArgs, threads: usize) -> Result<()> {
+    let scheme = match args.scheme_kind {
+        SchemeKind::CatmullClark => Scheme::CatmullClark,
+        SchemeKind::Loop => Scheme::Loop,
+        SchemeKind::Bilinear => Scheme::Bilinear,
+        SchemeKind::Adjustable | SchemeKind::Nurss => usage_error(
+            "bench times OpenSubdiv's schemes: --scheme catmull-clark, loop or bilinear",
+        ),
+    };
+    if args.limit_grid.is_some() && scheme != Scheme::CatmullClark {
+        usage_error("--limit-grid times the Catmull-Clark limit surface only");
+    }
     let input = Input::read_surface(&args.input, args.max_memory)?;
     if !args.quiet {
         for w in input.warnings() {
@@ -32,6 +44,7 @@ pub fn run(args: &BenchArgs, threads: usize) -> Result<()> {
     }
     let opts = SubdivideOptions {
         levels: args.levels,
+        scheme,
         options: args
             .scheme
             .over(input.obj.options)
@@ -67,7 +80,7 @@ pub fn run(args: &BenchArgs, threads: usize) -> Result<()> {
     let (what, estimate) = if args.replay {
         (
             format!("building a re-posing plan to level {}", args.levels),
-            RefinePlan::estimate_memory(mesh, args.levels),
+            RefinePlan::estimate_memory(mesh, scheme, args.levels),
         )
     } else {
         (
@@ -79,7 +92,7 @@ pub fn run(args: &BenchArgs, threads: usize) -> Result<()> {
     crate::memory::check(&input.name, &what, estimate, args.max_memory, hint)?;
     crate::memory::for_refinement(estimate);
     if args.replay {
-        return bench_replay(&input, opts.options, args.levels, reps, &pool);
+        return bench_replay(&input, &opts, reps, &pool);
     }
     let mut verts = 0;
     let times = time_reps(&pool, reps, || {
@@ -119,15 +132,15 @@ pub fn run(args: &BenchArgs, threads: usize) -> Result<()> {
 /// is returned ([`crate::memory::return_freed_memory`]).
 fn bench_replay(
     input: &Input,
-    options: Options,
-    levels: u32,
+    opts: &SubdivideOptions,
     reps: usize,
     pool: &rayon::ThreadPool,
 ) -> Result<()> {
     let mesh = &input.obj.mesh;
+    let levels = opts.levels;
     let t0 = Instant::now();
     let plan = pool
-        .install(|| RefinePlan::new(mesh, subsurf::Scheme::CatmullClark, options, levels))
+        .install(|| RefinePlan::new(mesh, opts.scheme, opts.options, levels))
         .with_context(|| input.name.clone())?;
     let build = t0.elapsed().as_secs_f64();
     // The build's temporaries go back to the system before the buffers are allocated.

@@ -19,8 +19,8 @@ use crate::{AdjustArgs, SchemeArgs, SchemeKind};
 pub const REPOSE_EXAMPLES: &str = "\
 The base mesh's faces, tags (creases, corners, holes, knot intervals, weights) and scheme
 (Catmull-Clark; the adjustable one with --scheme adjustable --c C [--adjust-steps K]; NURSS
-with --scheme nurss, the default for a base mesh with knot interval or weight tags; as
-'subsurf subdivide' refines) hold for every pose. A rational base mesh's weights stay with
+with --scheme nurss, the default for a base mesh with knot interval or weight tags; Loop
+and bilinear with --scheme loop|bilinear; as 'subsurf subdivide' refines) hold for every pose. A rational base mesh's weights stay with
 its vertices. A pose
 is an OBJ file with the base mesh's vertices moved: it repeats the base mesh's faces (same
 vertices, same order; its tags are not read) or has no faces at all ('v' lines only, as a
@@ -37,7 +37,8 @@ Examples:
   subsurf repose rest.obj frames/f0001.obj frames/f0002.obj -o refined -l 3
   subsurf repose rest.obj frames/*.obj -o refined -l 2 --boundary edge-and-corner
   subsurf repose rest.obj frames/*.obj -o refined -l 3 --scheme adjustable --c 0.3
-  subsurf repose knots.obj frames/*.obj -o refined -l 3 --scheme nurss";
+  subsurf repose knots.obj frames/*.obj -o refined -l 3 --scheme nurss
+  subsurf repose scan.obj frames/*.obj -o refined -l 2 --scheme loop --limit";
 
 /// Arguments of `subsurf repose`.
 #[derive(Debug, Args)]

@@ -376,6 +376,32 @@ fn nurss_poses_are_what_subdivide_writes() {
     }
 }
 
+/// Loop (a triangle mesh with a semi-sharp crease and a boundary) and bilinear (the hut,
+/// with n-gons): each refined pose is what `subsurf subdivide` writes with the same
+/// scheme, faces alike and positions to rounding, with and without `--limit`.
+#[test]
+fn loop_and_bilinear_poses_are_what_subdivide_writes() {
+    let triangles = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0.5 0.5 1\nv 0.5 -0.5 0.3\n\
+                     f 1 2 5\nf 2 3 5\nf 3 4 5\nf 4 1 5\nf 1 6 2\nt crease 2/1/0 0 4 1.5\n";
+    for (base, scheme) in [(triangles, "loop"), (HUT, "bilinear")] {
+        for limit in [false, true] {
+            let mut flags = vec!["--scheme", scheme];
+            if limit {
+                flags.push("--limit");
+            }
+            let (repose, full) = repose_and_subdivide(base, "3", &flags);
+            let ((p, f), (q, g)) = (parse(&repose), parse(&full));
+            assert_eq!(f, g, "{flags:?}: faces");
+            assert_same_positions(&p, &q, &flags);
+            let header = repose.lines().nth(1).unwrap_or_default();
+            assert!(
+                header.contains(&flags[..2].join(" ")) && header.contains("--limit") == limit,
+                "{flags:?}: {header}"
+            );
+        }
+    }
+}
+
 /// What cannot be re-posed is an error that says what to do: a semi-sharp crease under
 /// NURSS; `--c` needs `--scheme adjustable` (a usage error).
 #[test]

@@ -1,6 +1,7 @@
 //! `--scheme loop` and `--scheme bilinear`: refinement as the library's `subdivide` gives it
-//! (with Loop, texture coordinates too), a quad for Loop refused naming the face, and the
-//! operations not available yet refused with a message (never another scheme's surface).
+//! (with Loop, texture coordinates too), a quad for Loop refused naming the face, the
+//! operations not available yet refused with a message (never another scheme's surface),
+//! and `bench --scheme` timing the scheme it names.
 
 use crate::common;
 
@@ -162,14 +163,6 @@ fn loop_refuses_a_quad_naming_it() {
 #[test]
 fn operations_not_available_yet_are_refused() {
     let dir = dir_with(&[("tri.obj", TRIANGLES)]);
-    let o = run_in(
-        dir.path(),
-        &[
-            "repose", "tri.obj", "tri.obj", "-o", "poses", "--scheme", "bilinear",
-        ],
-    );
-    assert_code(&o, 1);
-    assert!(stderr(&o).contains("re-posing"), "{}", stderr(&o));
     for args in [
         ["tessellate", "--rate", "4", "-o", "out.obj"],
         ["limit", "--grid", "3", "-o", "out.txt"],
@@ -186,4 +179,34 @@ fn operations_not_available_yet_are_refused() {
         );
     }
     assert!(!dir.path().join("out.obj").exists());
+}
+
+/// `bench --scheme loop|bilinear` refines (and with `--replay` re-poses) with that scheme:
+/// the vertex count it prints is the scheme's; the schemes OpenSubdiv does not have are
+/// usage errors.
+#[test]
+fn bench_times_the_scheme_it_names() {
+    let dir = dir_with(&[("tri.obj", TRIANGLES)]);
+    for (name, scheme) in [("loop", Scheme::Loop), ("bilinear", Scheme::Bilinear)] {
+        let verts = library(scheme, 2).num_vertices();
+        for replay in [false, true] {
+            let mut args = vec![
+                "bench", "tri.obj", "-l", "2", "--reps", "1", "--scheme", name,
+            ];
+            if replay {
+                args.push("--replay");
+            }
+            let o = run_in(dir.path(), &args);
+            assert_code(&o, 0);
+            let out = stdout(&o);
+            assert!(out.contains(&format!("verts={verts} ")), "{args:?}: {out}");
+        }
+    }
+    let o = run_in(dir.path(), &["bench", "tri.obj", "--scheme", "nurss"]);
+    assert_code(&o, 2);
+    assert!(
+        stderr(&o).contains("OpenSubdiv's schemes"),
+        "{}",
+        stderr(&o)
+    );
 }

@@ -10,6 +10,8 @@ use super::VertexMasks;
 use crate::hash::FxHasher;
 use crate::mesh::Topology;
 use crate::scheme::catmark::CatmullClark;
+use crate::scheme::loop_::Loop;
+use crate::scheme::{Bilinear, Rules, Scheme};
 
 /// Rows applied per task of [`VertexLimitRows::apply`].
 const BLOCK: usize = 4096;
@@ -42,9 +44,24 @@ pub(crate) struct VertexLimitRows {
 }
 
 impl VertexLimitRows {
-    /// The rows of vertices `0..n` of `level` (with full adjacency). An isolated vertex's
-    /// limit is itself, with zero tangents.
-    pub(crate) fn new(level: &Topology, n: usize) -> Self {
+    /// The rows of vertices `0..n` of `level` (with full adjacency), with the limit masks
+    /// of `scheme` (Catmull-Clark's for the Catmull-Clark family, Loop's, bilinear's; as
+    /// `subdivide` moves a level to its limit). An isolated vertex's limit is itself, with
+    /// zero tangents.
+    ///
+    /// # Panics
+    /// With [`Scheme::Nurss`], whose limit rows are `nonuniform::LimitRows`.
+    pub(crate) fn new(scheme: Scheme, level: &Topology, n: usize) -> Self {
+        match scheme {
+            Scheme::Loop => Self::with(Loop, level, n),
+            Scheme::Bilinear => Self::with(Bilinear, level, n),
+            Scheme::CatmullClark | Scheme::Adjustable(_) => Self::with(CatmullClark, level, n),
+            Scheme::Nurss => panic!("NURSS limit rows are nonuniform::LimitRows"),
+        }
+    }
+
+    /// [`new`](Self::new) with the masks of `rules`.
+    fn with<R: Rules>(rules: R, level: &Topology, n: usize) -> Self {
         let mut masks = VertexMasks::default();
         let mut ids: HashMap<Vec<u64>, u32, BuildHasherDefault<FxHasher>> = HashMap::default();
         let mut rows = VertexLimitRows {
@@ -58,7 +75,7 @@ impl VertexLimitRows {
         let (mut row, mut bits) = (Vec::new(), Vec::new());
         for v in 0..n {
             row.clear();
-            if masks.load(CatmullClark, level, v, true) {
+            if masks.load(rules, level, v, true) {
                 masks.terms(v, |x, w| row.push((x, w)));
             } else {
                 row.push((v as u32, [1.0, 0.0, 0.0]));

@@ -106,6 +106,16 @@ impl TopologyRefiner {
         self.levels.push(child);
     }
 
+    /// The last level of [`refine_uniform`](Self::refine_uniform)`(levels)` (complete),
+    /// holding no more than two levels at a time.
+    pub(crate) fn into_level(mut self, levels: u32) -> Topology {
+        for _ in 0..levels {
+            self.refine_one();
+            self.levels.swap_remove(0);
+        }
+        self.levels.swap_remove(0)
+    }
+
     /// Level `i` (0 is the base).
     ///
     /// # Panics

@@ -89,9 +89,11 @@ use std::ops::Range;
 
 use rayon::prelude::*;
 
+use super::loop_::check_triangles;
 use super::nurss::{child_knots, NurssKnots, NurssMasks};
 use super::plan_patches::{Claims, PatchLayer, BASE_RING_DEPTH, QUAD_DEPTH};
 use super::topology::{refine_topology, run, split_pieces};
+use super::tri_topology::refine_tri_topology;
 use super::uniform::{check_size, Steps};
 use super::Error;
 use crate::mesh::{
@@ -100,7 +102,8 @@ use crate::mesh::{
 use crate::scheme::adjustable::Adjustable;
 use crate::scheme::adjustable::Mixed;
 use crate::scheme::catmark::{self, VertexContext, VertexMask};
-use crate::scheme::{Rules, Scheme};
+use crate::scheme::loop_::Loop;
+use crate::scheme::{Bilinear, Rules, Scheme};
 
 /// Rows per block: the unit of parallel work when applying a step, and of building it.
 const BLOCK: usize = 1024;
@@ -235,22 +238,61 @@ impl RefinePlan {
     ///
     /// # Errors
     /// [`Error::Mesh`] for an invalid mesh or tags, or when the last level would exceed
-    /// 32-bit indices; [`Error::Nurss`] for bad knot tags or semi-sharp creases with NURSS;
-    /// [`Error::Unsupported`] for Loop and bilinear, whose plans are not built yet.
+    /// 32-bit indices (and for a face that is not a triangle with Loop);
+    /// [`Error::Nurss`] for bad knot tags or semi-sharp creases with NURSS.
     pub fn new(
         mesh: &PolyMesh,
         scheme: Scheme,
         options: Options,
         levels: u32,
     ) -> Result<Self, Error> {
-        match scheme.mixed() {
-            Some(mixed) => Ok(Self::build(mesh, options, levels, BASE_RING_DEPTH, mixed)?),
-            None if scheme == Scheme::Nurss => Ok(super::nurss::plan(mesh, options, levels)?),
-            None => Err(Error::Unsupported {
-                what: "building a re-posing plan",
-                scheme: scheme.name(),
-            }),
+        match Steps::of(scheme) {
+            Some(Steps::Family(mixed)) => {
+                Ok(Self::build(mesh, options, levels, BASE_RING_DEPTH, mixed)?)
+            }
+            Some(Steps::Loop) => Ok(Self::build_rows(mesh, options, levels, Loop)?),
+            Some(Steps::Bilinear) => Ok(Self::build_rows(mesh, options, levels, Bilinear)?),
+            None => Ok(super::nurss::plan(mesh, options, levels)?),
         }
+    }
+
+    /// The plan of `levels` levels of `rules` (Loop's on the triangle split, or bilinear's
+    /// on the Catmull-Clark split, with the topology options of
+    /// [`Steps::topology_options`]), as sparse rows on every level: the masks
+    /// `subdivide` applies, with no patch kernels.
+    fn build_rows<R: Rules>(
+        mesh: &PolyMesh,
+        options: Options,
+        levels: u32,
+        rules: R,
+    ) -> Result<Self, MeshError> {
+        let steps_of = if rules.splits_triangles() {
+            check_triangles(mesh)?;
+            Steps::Loop
+        } else {
+            Steps::Bilinear
+        };
+        mesh.validate()?;
+        check_size(mesh, steps_of, levels)?;
+        let options = steps_of.topology_options(&options);
+        let (mut level, warnings) = Topology::from_mesh(mesh, &options)?;
+        let mut steps = Vec::with_capacity(levels as usize);
+        for l in 1..=levels {
+            let child = if rules.splits_triangles() {
+                refine_tri_topology(&level, &options)
+            } else {
+                refine_topology(&level, &options, l < levels)
+            };
+            steps.push(Step::build(&level, &child, &options, None, rules));
+            level = child;
+        }
+        Ok(Self {
+            steps,
+            tail: None,
+            num_base: mesh.num_vertices(),
+            levels,
+            warnings,
+        })
     }
 
     /// The plan of NURSS refinement from the complete level `level` (the base level of a
@@ -337,22 +379,19 @@ impl RefinePlan {
         })
     }
 
-    /// Estimated peak memory in bytes of building a plan for `mesh` to `levels` and
-    /// applying it once, saturating at `u64::MAX`: twice [`estimate_memory`] of a
-    /// Catmull-Clark refinement to the same level (building holds the last four levels at once; the
-    /// measured peak of `subsurf bench --replay` on `catmark_bishop` to level 6 is
-    /// ~120 bytes per output face, the estimate 320). Check it before [`new`](Self::new)
-    /// to refuse a level that would not fit instead of failing to allocate.
+    /// Estimated peak memory in bytes of building a plan for `mesh` to `levels` with
+    /// `scheme` and applying it once, saturating at `u64::MAX`: twice [`estimate_memory`]
+    /// of that scheme's refinement to the same level (NURSS: Catmull-Clark's; building
+    /// holds the last four levels at once; the measured peak of `subsurf bench --replay`
+    /// on `catmark_bishop` to level 6 is ~120 bytes per output face, the estimate 320; a
+    /// Loop or bilinear plan, sparse rows of about 5 weights on every level, holds about
+    /// 30 bytes per output vertex). Check it before [`new`](Self::new) to refuse a level
+    /// that would not fit instead of failing to allocate.
     ///
     /// [`estimate_memory`]: crate::estimate_memory
-    pub fn estimate_memory(mesh: &PolyMesh, levels: u32) -> u64 {
-        super::uniform::estimate_uniform(
-            mesh,
-            super::uniform::Steps::Family(Mixed::CATMULL_CLARK),
-            levels,
-            false,
-        )
-        .saturating_mul(2)
+    pub fn estimate_memory(mesh: &PolyMesh, scheme: Scheme, levels: u32) -> u64 {
+        let steps = Steps::of(scheme).unwrap_or(Steps::Family(Mixed::CATMULL_CLARK));
+        super::uniform::estimate_uniform(mesh, steps, levels, false).saturating_mul(2)
     }
 
     /// Number of patches: faces whose last levels the plan computes by the bicubic kernel
@@ -670,17 +709,18 @@ impl Step {
 
     /// The weights of the vertices `only` of `c` (the refinement of `p`; all of them when
     /// `None`) on the vertices of `p`, one row per vertex in that order, with the masks of
-    /// `scheme` (Catmull-Clark's when it is [`Adjustable::CATMULL_CLARK`]).
-    fn build(
+    /// `rules` (Catmull-Clark's when it is [`Adjustable::CATMULL_CLARK`]; Loop's on the
+    /// triangle split).
+    fn build<R: Rules>(
         p: &Topology,
         c: &Topology,
         options: &Options,
         only: Option<&[u32]>,
-        scheme: Adjustable,
+        rules: R,
     ) -> Step {
         let rows = only.map_or(c.num_vertices(), <[u32]>::len);
         Step::from_rows(rows, only, |cv, scratch| {
-            stencil(p, c, options, scheme, cv, scratch)
+            stencil(p, c, options, rules, cv, scratch)
         })
     }
 
@@ -935,21 +975,27 @@ pub(crate) fn refinement_rows(
 }
 
 /// The row of child vertex `cv`: the masks of [`interpolate_with`](super::interpolate_with)
-/// with `scheme` ([`Adjustable::CATMULL_CLARK`]'s are Catmull-Clark's bit for bit), with
-/// face points expanded into their vertices.
-fn stencil(
+/// with `rules` ([`Adjustable::CATMULL_CLARK`]'s are Catmull-Clark's bit for bit), with
+/// face points expanded into their vertices; with a scheme that splits triangles (Loop,
+/// `c` the triangle split of `p`), those of `interpolate_loop`: no face points, an edge
+/// point's face weights on the vertices opposite the edge.
+fn stencil<R: Rules>(
     p: &Topology,
     c: &Topology,
     options: &Options,
-    scheme: Adjustable,
+    rules: R,
     cv: usize,
     scratch: &mut RowScratch,
 ) {
     let nv = p.num_vertices();
-    let nf = p.num_faces();
+    let nf = if rules.splits_triangles() {
+        0
+    } else {
+        p.num_faces()
+    };
     let row = &mut scratch.row;
     if cv < nv {
-        vertex_stencil(p, c, options, scheme, cv, scratch);
+        vertex_stencil(p, c, options, rules, cv, scratch);
     } else if cv < nv + nf {
         row.add_face(p, cv - nv, 0, 1.0);
     } else {
@@ -958,31 +1004,39 @@ fn stencil(
         let faces = p.edge_face_list(e);
         let locals = &p.edge_face_local[p.edge_face_offsets[e] as usize..];
         let sharp = p.edge_sharpness[e];
-        let tri_option = options.triangles == TriangleSubdivision::Smooth;
+        // The edge's share of face `f` (the face's local edge `i`): its face point, or
+        // with Loop the vertex opposite the edge.
+        let add_face = |row: &mut Row, f: u32, i: u16, w: f64| {
+            if rules.splits_triangles() {
+                row.add(p.face_vertices(f as usize)[(i as usize + 2) % 3], w);
+            } else {
+                row.add_face(p, f as usize, i as usize, w);
+            }
+        };
+        let tri_option =
+            options.triangles == TriangleSubdivision::Smooth && !rules.splits_triangles();
         if sharp <= 0.0 && faces.len() == 2 && !tri_option {
-            let m = scheme.smooth_edge_mask(options, 2, [false; 2]);
+            let m = rules.smooth_edge_mask(options, 2, [false; 2]);
             row.add(a, m.vertex);
             row.add(b, m.vertex);
             for ((&f, &i), &w) in faces.iter().zip(locals).zip(&m.faces) {
-                row.add_face(p, f as usize, i as usize, w);
+                add_face(row, f, i, w);
             }
         } else {
-            let tri = [
-                faces
-                    .first()
-                    .is_some_and(|&f| p.face_vertices(f as usize).len() == 3),
-                faces
-                    .get(1)
-                    .is_some_and(|&f| p.face_vertices(f as usize).len() == 3),
-            ];
+            let tri = [0, 1].map(|j| {
+                tri_option
+                    && faces
+                        .get(j)
+                        .is_some_and(|&f| p.face_vertices(f as usize).len() == 3)
+            });
             let child_rule = c.vert_tags[cv].get().rule;
-            let m = scheme.edge_mask(options, sharp, child_rule, faces.len(), tri);
+            let m = rules.edge_mask(options, sharp, child_rule, faces.len(), tri);
             row.add(a, m.vertex);
             row.add(b, m.vertex);
             if !m.is_crease() {
                 for (j, (&f, &i)) in faces.iter().zip(locals).enumerate() {
                     let w = if j < 2 { m.faces[j] } else { m.other_faces };
-                    row.add_face(p, f as usize, i as usize, w);
+                    add_face(row, f, i, w);
                 }
             }
         }
@@ -990,11 +1044,11 @@ fn stencil(
 }
 
 /// The row of the child of parent vertex `v` ([`stencil`]).
-fn vertex_stencil(
+fn vertex_stencil<R: Rules>(
     p: &Topology,
     c: &Topology,
     options: &Options,
-    scheme: Adjustable,
+    rules: R,
     v: usize,
     s: &mut RowScratch,
 ) {
@@ -1008,13 +1062,22 @@ fn vertex_stencil(
         return;
     }
     if matches!(ptag.rule, Rule::Smooth | Rule::Dart) {
-        let (vw, ew, fw) = scheme.smooth_vertex_weights(edges.len());
+        // Loop's valence is the face count (`vertex_points`), the same at the manifold
+        // interior vertices that smooth rules apply to.
+        let n = if rules.splits_triangles() {
+            faces.len()
+        } else {
+            edges.len()
+        };
+        let (vw, ew, fw) = rules.smooth_vertex_weights(n);
         row.add(v as u32, vw);
-        for x in p.vertex_neighbours(v) {
+        for x in p.vertex_neighbours(v).take(n) {
             row.add(x, ew);
         }
-        for (&f, &j) in faces.iter().zip(corners) {
-            row.add_face(p, f as usize, j as usize, fw);
+        if !rules.splits_triangles() {
+            for (&f, &j) in faces.iter().zip(corners) {
+                row.add_face(p, f as usize, j as usize, fw);
+            }
         }
         return;
     }
@@ -1037,7 +1100,7 @@ fn vertex_stencil(
         child_edges: &s.ce,
         num_faces: faces.len(),
     };
-    scheme.vertex_mask(options.crease_method, &ctx, &mut s.mask, &mut s.child_mask);
+    rules.vertex_mask(options.crease_method, &ctx, &mut s.mask, &mut s.child_mask);
     let mask = &s.mask;
     row.add(v as u32, mask.vertex);
     if mask.has_edges {
@@ -1045,7 +1108,7 @@ fn vertex_stencil(
             row.add(x, w);
         }
     }
-    if mask.has_faces {
+    if mask.has_faces && !rules.splits_triangles() {
         for ((&f, &j), &w) in faces.iter().zip(corners).zip(&mask.faces) {
             row.add_face(p, f as usize, j as usize, w);
         }

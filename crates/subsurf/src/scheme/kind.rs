@@ -67,16 +67,6 @@ impl Scheme {
             Self::Bilinear => "bilinear",
         }
     }
-
-    /// The scheme as [`Mixed`] steps when it is of the Catmull-Clark family with uniform
-    /// knots (Catmull-Clark: no adjusted step), `None` for the others.
-    pub(crate) fn mixed(&self) -> Option<Mixed> {
-        match *self {
-            Self::CatmullClark => Some(Mixed::CATMULL_CLARK),
-            Self::Adjustable(m) => Some(m),
-            Self::Nurss | Self::Loop | Self::Bilinear => None,
-        }
-    }
 }
 
 impl fmt::Display for Scheme {

@@ -9,7 +9,9 @@
 //! `1e-14 ×` the bounding-box diagonal of the input — both on the original positions and
 //! after moving every vertex (the plan does not depend on positions). The same holds for
 //! the plans of mixed subdivision (the shape-adjustable scheme on the first levels) against
-//! [`subdivide`] with `Scheme::Adjustable`, and for [`subsurf::Reposer`] with the limit.
+//! [`subdivide`] with `Scheme::Adjustable`, for [`subsurf::Reposer`] with the limit, and for
+//! Loop (its 25 shapes) and bilinear (its 3 shapes and every Catmull-Clark shape), plans
+//! and re-posed limits.
 
 use subsurf::io::read_obj;
 use subsurf::mesh::{
@@ -20,7 +22,7 @@ use subsurf::refine::{PlanScratch, RefinePlan};
 use subsurf::scheme::Adjustable;
 use subsurf::{subdivide, Mixed, Scheme, SubdivideOptions};
 
-use crate::common::{osd_shapes, osd_shapes_dir, Rng};
+use crate::common::{osd_shapes, osd_shapes_dir, osd_shapes_of, Rng};
 
 /// Tolerance relative to the input's bounding-box diagonal.
 const REL_TOL: f64 = 1e-14;
@@ -465,15 +467,20 @@ fn memory_estimate_covers_the_plan() {
     for mesh in [load("catmark_pawn").0, scrambled_triangle_torus(12)] {
         for levels in 1..=4 {
             let plan = RefinePlan::new(&mesh, Scheme::CatmullClark, options, levels).unwrap();
-            let estimate = RefinePlan::estimate_memory(&mesh, levels);
+            let estimate = RefinePlan::estimate_memory(&mesh, Scheme::CatmullClark, levels);
             let output = (24 * plan.num_vertices()) as u64;
             assert!(
                 estimate > plan.memory_bytes() as u64 + output,
                 "level {levels}"
             );
-            assert!(RefinePlan::estimate_memory(&mesh, levels + 1) > 3 * estimate);
+            assert!(
+                RefinePlan::estimate_memory(&mesh, Scheme::CatmullClark, levels + 1) > 3 * estimate
+            );
         }
-        assert_eq!(RefinePlan::estimate_memory(&mesh, 40), u64::MAX);
+        assert_eq!(
+            RefinePlan::estimate_memory(&mesh, Scheme::CatmullClark, 40),
+            u64::MAX
+        );
     }
 }
 
@@ -666,5 +673,84 @@ fn reposer_limit_equals_subdivide_on_all_shapes() {
         }
     }
     assert!(cases >= 960, "{cases} cases");
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// Loop and bilinear plans (sparse rows on every level) equal `subdivide` with the same
+/// scheme, index for index, within `1e-14 ×` the diagonal: Loop on its regression shapes at
+/// levels 1–4, bilinear on its own and on every Catmull-Clark shape (n-gons, holes,
+/// non-manifold) at levels 1–3; on the shapes' positions and moved ones. `Reposer` with
+/// the limit (levels 0–2) gives `subdivide`'s limit positions (1e-14) and normals (1e-9).
+#[test]
+fn loop_and_bilinear_plans_equal_subdivide() {
+    let loop_shapes = osd_shapes_of("loop_")
+        .into_iter()
+        .map(|s| (Scheme::Loop, 4, s));
+    let bilinear_shapes = osd_shapes_of("bilinear_")
+        .into_iter()
+        .chain(osd_shapes())
+        .map(|s| (Scheme::Bilinear, 3, s));
+    let mut failures = Vec::new();
+    let (mut cases, mut limit_cases) = (0, 0);
+    let mut check = |what: String, got: &[[f64; 3]], want: &[[f64; 3]], tol: f64| {
+        if got.len() != want.len() {
+            failures.push(format!(
+                "{what}: {} values, {} wanted",
+                got.len(),
+                want.len()
+            ));
+            return;
+        }
+        let (d, at) = max_diff(got, want);
+        if d > tol || d.is_nan() {
+            failures.push(format!(
+                "{what}: value {at} differs by {d:e} (tolerance {tol:e})"
+            ));
+        }
+    };
+    for (scheme, max_level, (name, mesh, options)) in loop_shapes.chain(bilinear_shapes) {
+        let mut moved = mesh.clone();
+        moved
+            .positions_mut()
+            .copy_from_slice(&deform(mesh.positions()));
+        for levels in 0..=max_level {
+            let opts = SubdivideOptions {
+                levels,
+                options,
+                scheme,
+                ..SubdivideOptions::default()
+            };
+            let plan = RefinePlan::new(&mesh, scheme, options, levels).expect("plan");
+            let limit_opts = SubdivideOptions {
+                limit: true,
+                ..opts.clone()
+            };
+            let mut reposer =
+                (levels <= 2).then(|| subsurf::Reposer::new(&mesh, &limit_opts).expect("reposer"));
+            for (which, m) in [("original", &mesh), ("moved", &moved)] {
+                let tol = REL_TOL * diagonal(m.positions());
+                let case = format!("{scheme} {name} level {levels} {which}");
+                let want = subdivide(m, &opts).expect("subdivide");
+                check(
+                    case.clone(),
+                    &plan.apply(m.positions()),
+                    want.mesh.positions(),
+                    tol,
+                );
+                cases += 1;
+                if let Some(r) = reposer.as_mut() {
+                    let want = subdivide(m, &limit_opts).expect("subdivide --limit");
+                    let got = r.pose(m.positions()).expect("pose").positions().to_vec();
+                    check(format!("{case} limit"), &got, want.mesh.positions(), tol);
+                    let normals = r.normals().expect("normals");
+                    let want_n = want.normals.as_deref().expect("normals");
+                    check(format!("{case} normals"), normals, want_n, 1e-9);
+                    limit_cases += 1;
+                }
+            }
+        }
+    }
+    assert!(cases >= 2 * (25 * 5 + 90 * 4), "{cases} cases");
+    assert!(limit_cases >= 2 * 3 * 115, "{limit_cases} limit cases");
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }

@@ -27,20 +27,28 @@ pub fn osd_shapes_dir() -> PathBuf {
 }
 
 /// Every Catmull-Clark regression shape of OpenSubdiv's (`catmark_*.obj`; the Loop and
-/// bilinear ones are `osd_golden_schemes.rs`'s), sorted by name, with the scheme options of
-/// its tags.
+/// bilinear ones are [`osd_shapes_of`]`("loop_")`, `("bilinear_")`), sorted by name, with
+/// the scheme options of its tags.
 pub fn osd_shapes() -> Vec<(String, PolyMesh, Options)> {
+    let shapes = osd_shapes_of("catmark_");
+    assert!(shapes.len() >= 80, "expected the 87 OpenSubdiv shapes");
+    shapes
+}
+
+/// The regression shapes whose names start with `prefix`, sorted by name, with the scheme
+/// options of their tags.
+pub fn osd_shapes_of(prefix: &str) -> Vec<(String, PolyMesh, Options)> {
     let mut paths: Vec<PathBuf> = std::fs::read_dir(osd_shapes_dir())
         .expect("shapes directory")
         .map(|e| e.expect("directory entry").path())
         .filter(|p| p.extension().is_some_and(|e| e == "obj"))
         .filter(|p| {
             p.file_name()
-                .is_some_and(|n| n.to_string_lossy().starts_with("catmark_"))
+                .is_some_and(|n| n.to_string_lossy().starts_with(prefix))
         })
         .collect();
     paths.sort();
-    assert!(paths.len() >= 80, "expected the 87 OpenSubdiv shapes");
+    assert!(!paths.is_empty(), "no shapes named {prefix}*");
     paths
         .iter()
         .map(|path| {
