@@ -194,6 +194,7 @@ impl From<VertexTag> for PackedVertexTag {
 /// array; this reproduces OpenSubdiv's edge order exactly, so refined vertices come out
 /// in OpenSubdiv's order too.
 #[derive(Clone, Debug, Default)]
+#[cfg_attr(test, derive(PartialEq))]
 pub struct Topology {
     pub(crate) num_vertices: u32,
     pub(crate) face_offsets: Vec<u32>,

@@ -279,7 +279,7 @@ impl RefinePlan {
         let mut steps = Vec::with_capacity(levels as usize);
         for l in 1..=levels {
             let child = if rules.splits_triangles() {
-                refine_tri_topology(&level, &options)
+                refine_tri_topology(&level, &options, l < levels)
             } else {
                 refine_topology(&level, &options, l < levels)
             };

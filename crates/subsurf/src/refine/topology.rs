@@ -552,7 +552,7 @@ fn build_relations(p: &Topology, c: &mut Topology) {
 /// corners in the parent: the child edge `ce < S` inside a parent face lies in two child
 /// faces; each half `S + 2e + k` of parent edge `e` in as many as `e` has faces.
 #[inline]
-fn child_edge_face_offset(pef: &[u32], s: usize, ce: usize) -> u32 {
+pub(super) fn child_edge_face_offset(pef: &[u32], s: usize, ce: usize) -> u32 {
     if ce <= s {
         2 * ce as u32
     } else {
@@ -721,16 +721,16 @@ fn child_vertex_offsets(p: &Topology) -> (Vec<u32>, Vec<u32>) {
 
 /// A piece of the child's vertex → faces and vertex → edges arrays, with the vertex's
 /// position in each face and edge.
-struct VertexRelations<'a> {
-    faces: &'a mut [u32],
-    face_local: &'a mut [u16],
-    edges: &'a mut [u32],
-    edge_local: &'a mut [u8],
+pub(super) struct VertexRelations<'a> {
+    pub(super) faces: &'a mut [u32],
+    pub(super) face_local: &'a mut [u16],
+    pub(super) edges: &'a mut [u32],
+    pub(super) edge_local: &'a mut [u8],
 }
 
 impl<'a> VertexRelations<'a> {
     /// `self` cut after its first `faces` face entries and `edges` edge entries.
-    fn split_at(self, faces: usize, edges: usize) -> (Self, Self) {
+    pub(super) fn split_at(self, faces: usize, edges: usize) -> (Self, Self) {
         let (f0, f1) = self.faces.split_at_mut(faces);
         let (fl0, fl1) = self.face_local.split_at_mut(faces);
         let (e0, e1) = self.edges.split_at_mut(edges);
@@ -754,7 +754,7 @@ impl<'a> VertexRelations<'a> {
     /// `self` cut into one piece per range (as [`split_pieces`]): the piece of range `r`
     /// starts at face entry `face_start(r.start)` and edge entry `edge_start(r.start)`;
     /// each piece comes with its range.
-    fn pieces(
+    pub(super) fn pieces(
         self,
         ranges: Vec<Range<usize>>,
         face_start: impl Fn(usize) -> usize,

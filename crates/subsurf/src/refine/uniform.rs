@@ -237,9 +237,9 @@ pub(crate) fn refine_uniform(
     for l in 1..=levels {
         // The last level needs its full adjacency only for limit masks, and its edge
         // vertices only for the output's creases, which are read from its parent.
-        let for_output = l == levels && !complete && steps != Steps::Loop;
+        let for_output = l == levels && !complete;
         let child = match steps {
-            Steps::Loop => refine_tri_topology(&level, options),
+            Steps::Loop => refine_tri_topology(&level, options, !for_output),
             _ if for_output => refine_topology_for_output(&level, options),
             _ => refine_topology(&level, options, true),
         };
@@ -263,7 +263,8 @@ pub(crate) fn refine_uniform(
             }
         }
         let p = std::mem::replace(&mut level, child);
-        if for_output {
+        // The triangle split writes the child's edge vertices in any case.
+        if for_output && steps != Steps::Loop {
             parent = Some(p);
         }
         pos = next;
