@@ -2,6 +2,7 @@
 
 use crate::mesh::{Options, PolyMesh, Topology};
 use crate::refine::Error;
+use crate::scheme::Scheme;
 use std::collections::BTreeMap;
 
 /// Counts and classification of a mesh.
@@ -39,6 +40,19 @@ pub struct MeshInfo {
     pub holes: usize,
     /// Bounding box.
     pub bounding_box: Option<([f64; 3], [f64; 3])>,
+}
+
+impl MeshInfo {
+    /// The scheme that suits the mesh: Loop when every face is a triangle (a scan, a game
+    /// asset, a CAD tessellation: Catmull-Clark splits each triangle into three quads with
+    /// an extraordinary vertex at its centre, a bumpier surface than Loop's), else
+    /// Catmull-Clark. A suggestion for `subsurf info`; nothing chooses a scheme by it.
+    pub fn suggested_scheme(&self) -> Scheme {
+        match self.face_sizes.as_slice() {
+            [(3, _)] => Scheme::Loop,
+            _ => Scheme::CatmullClark,
+        }
+    }
 }
 
 /// Summarises `mesh` (topology built with `options`).

@@ -157,7 +157,20 @@ fn mesh_lines(
                 from_file(src.file.triangles.is_some())
             ),
         ),
+        ("suggested scheme", suggestion(info)),
     ]
+}
+
+/// The suggested scheme and why ([`MeshInfo::suggested_scheme`]).
+fn suggestion(info: &MeshInfo) -> String {
+    match info.suggested_scheme() {
+        subsurf::Scheme::Loop => {
+            "loop (every face is a triangle: --scheme loop; Catmull-Clark would split each \
+             into three quads around an extraordinary vertex)"
+                .to_owned()
+        }
+        s => s.to_string(),
+    }
 }
 
 /// The lines of `subsurf info`'s text report after the counts: the bounding box, the knot
@@ -310,6 +323,10 @@ fn to_json(input: &Input, info: &MeshInfo, options: &Options, src: &Sources) -> 
                 ),
                 ("triangles", Json::str(options.triangles.to_string())),
             ]),
+        ),
+        (
+            "suggested_scheme",
+            Json::str(info.suggested_scheme().to_string()),
         ),
         (
             "file_scheme",

@@ -556,6 +556,26 @@ fn info_json_is_valid_json() {
     );
     assert_eq!(v["scheme"]["boundary"], "edge-only");
     assert!(v["file_scheme"]["boundary"].is_null());
+    assert_eq!(v["suggested_scheme"], "catmull-clark");
+}
+
+/// `info` suggests Loop for a mesh of triangles only, and Catmull-Clark as soon as one
+/// face is not a triangle.
+#[test]
+fn info_suggests_loop_for_triangle_meshes() {
+    let tris = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 1 3 4\n";
+    let mixed = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 0 0\nf 1 2 3 4\nf 2 5 3\n";
+    let dir = dir_with(&[("tris.obj", tris), ("mixed.obj", mixed)]);
+    for (file, want) in [("tris.obj", "loop"), ("mixed.obj", "catmull-clark")] {
+        let o = run_in(dir.path(), &["info", file]);
+        assert_code(&o, 0);
+        let text = stdout(&o);
+        let line = info_value(&text, "suggested scheme").expect("a suggestion");
+        assert!(line.starts_with(want), "{file}: {line}");
+        let o = run_in(dir.path(), &["info", file, "--json"]);
+        let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("valid JSON");
+        assert_eq!(v["suggested_scheme"], want, "{file}");
+    }
 }
 
 #[test]
