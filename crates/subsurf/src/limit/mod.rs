@@ -9,12 +9,14 @@
 //! derivatives, is [`LimitSurface`].
 
 pub mod bspline;
+mod box_spline;
 mod builder;
 mod corner;
 mod crease_patch;
 mod eval;
 mod face_varying;
 mod local;
+mod loop_surface;
 mod memory;
 mod param;
 mod rows;
@@ -29,8 +31,9 @@ use crate::refine::patch::Index;
 
 pub use bspline::{Derivatives, Order};
 pub use builder::SurfaceBuilder;
-pub use eval::Surface;
+pub use eval::{Domain, Surface};
 pub use face_varying::{ChannelValues, FaceVaryingError, FaceVaryingSurface};
+pub use loop_surface::LoopSurface;
 pub use memory::BuildError;
 pub use param::Parameterization;
 pub use stencil::{LimitStencils, StencilError};
