@@ -387,3 +387,4 @@ fn errors_name_the_face_and_the_parameter() {
     assert!(matches!(s.eval(hole as u32, 0.2, 0.2), Err(EvalError::Hole { .. })));
 }
 
+
