@@ -90,7 +90,7 @@ enum Sampler {
     /// Non-uniform Catmull-Clark (knot tags or `--scheme nurss`).
     Nurss(NurssSurface),
     /// Loop, on triangles.
-    Loop(LoopSurface),
+    Loop(Box<LoopSurface>),
 }
 
 impl Sampler {
@@ -263,7 +263,7 @@ pub fn run(args: &LimitArgs) -> Result<()> {
             let estimate = LimitSurface::estimate_build_memory(mesh).saturating_add(held);
             crate::memory::check(&input.name, &guard.what, estimate, args.max_memory, hint)?;
             let s = LoopSurface::new(mesh, options).with_context(|| input.name.clone())?;
-            (Sampler::Loop(s), uv_surface(mesh, Scheme::Loop)?)
+            (Sampler::Loop(Box::new(s)), uv_surface(mesh, Scheme::Loop)?)
         }
         (_, None) => (
             Sampler::Limit(guard.limit_surface(mesh, options, args.grid, held)?),
@@ -400,7 +400,11 @@ fn write_rows(
             .with_context(face)?;
         // Rows give the face's (u, v) in Bfr's parameterisation, derivatives by them.
         let param = Parameterization::new(u.size);
-        let scale = if triangles { 1.0 } else { param.derivative_scale() };
+        let scale = if triangles {
+            1.0
+        } else {
+            param.derivative_scale()
+        };
         let mut s = Vec::new();
         for (i, (p, d)) in points.iter().zip(results.iter()).enumerate() {
             let d = d.as_ref().map_err(Clone::clone).with_context(face)?;

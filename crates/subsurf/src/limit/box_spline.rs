@@ -250,8 +250,13 @@ fn corner_fan(t: &Topology, f: usize, k: usize) -> Option<Fan> {
         return None;
     }
     let edges = t.vertex_edges(c as usize);
-    let sharp = edges.iter().filter(|&&e| t.edge_sharpness(e as usize) > 0.0);
-    if sharp.clone().any(|&e| !is_infinite(t.edge_sharpness(e as usize))) {
+    let sharp = edges
+        .iter()
+        .filter(|&&e| t.edge_sharpness(e as usize) > 0.0);
+    if sharp
+        .clone()
+        .any(|&e| !is_infinite(t.edge_sharpness(e as usize)))
+    {
         return None;
     }
     let num_sharp = sharp.count();
@@ -263,7 +268,11 @@ fn corner_fan(t: &Topology, f: usize, k: usize) -> Option<Fan> {
     let (after, closed) = next;
     // Around a closed fan the walk toward the next corner met every neighbour but the
     // previous corner.
-    let before = if closed { vec![fv[(k + 2) % 3]] } else { prev.0 };
+    let before = if closed {
+        vec![fv[(k + 2) % 3]]
+    } else {
+        prev.0
+    };
     let fan = Fan {
         centre: c,
         before,
@@ -329,7 +338,14 @@ mod tests {
 
     #[test]
     fn partition_of_unity_and_linear_precision() {
-        for &(u, v) in &[(0.0, 0.0), (0.3, 0.2), (1.0, 0.0), (0.0, 1.0), (0.25, 0.75), (0.1, 0.6)] {
+        for &(u, v) in &[
+            (0.0, 0.0),
+            (0.3, 0.2),
+            (1.0, 0.0),
+            (0.0, 1.0),
+            (0.25, 0.75),
+            (0.1, 0.6),
+        ] {
             let b = basis(u, v);
             let sum: f64 = b[0].iter().sum();
             assert!((sum - 1.0).abs() < 1e-14);

@@ -661,7 +661,13 @@ mod tests {
         let e = FaceVaryingSurface::for_scheme(&m, Scheme::Nurss, Options::default(), 0);
         assert!(matches!(e, Err(FaceVaryingError::Unsupported { .. })));
         let e = FaceVaryingSurface::for_scheme(&m, Scheme::Loop, Options::default(), 0);
-        assert!(matches!(e, Err(FaceVaryingError::Mesh(MeshError::NotTriangle { face: 0, .. }))));
+        assert!(matches!(
+            e,
+            Err(FaceVaryingError::Mesh(MeshError::NotTriangle {
+                face: 0,
+                ..
+            }))
+        ));
         let e = FaceVaryingSurface::new(&m, Options::default(), 1);
         assert!(matches!(
             e,

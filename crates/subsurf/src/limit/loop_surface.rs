@@ -32,8 +32,12 @@
 //!   [`Rules::limit_tangent_masks`](crate::scheme::Rules::limit_tangent_masks)): the position
 //!   is exact, and as `du`, `dv` the tangents along the face's sides, mapped as the face's
 //!   `(u, v)` maps them (at an extraordinary vertex the parametric derivatives are degenerate;
-//!   these span the exact tangent plane, their lengths are not derivatives; `Bfr`'s are
-//!   approximate there too); second derivatives are zero. Otherwise (a dart, a semi-sharp
+//!   at a smooth vertex these span the exact tangent plane, their lengths are not
+//!   derivatives; `Bfr`'s are approximate there too); second derivatives are zero. **Known
+//!   limitation:** at an irregular crease or boundary vertex (crease rule, sector other than
+//!   three faces) the across-crease tangent mask (OpenSubdiv's `assignCreaseLimitTangentMasks`,
+//!   after Hoppe et al. 1994) is not the limit's: on `loop_xord_boundary` the normal there is
+//!   22° from the limit of nearby exact points (and from `Bfr`'s). Positions are exact. Otherwise (a dart, a semi-sharp
 //!   vertex or edge that still decays) the corner child is refined again.
 //! - The depth is capped at [`MAX_DEPTH`] levels: a point within `2^-48` of its face's size
 //!   from an irregular corner (or a dart reached so deep) takes that corner's masks at that
@@ -240,9 +244,10 @@ pub(super) fn in_triangle(u: f64, v: f64) -> bool {
 }
 
 /// The evaluation of one base face: a patch, or the root of its tree of refined cut-outs.
+#[allow(clippy::large_enum_variant)] // one per face being evaluated, on the stack
 enum FaceEval<'a> {
     Patch([[f64; 3]; 12]),
-    Tree(Node<'a>),
+    Tree(Box<Node<'a>>),
 }
 
 impl<'a> FaceEval<'a> {
@@ -251,7 +256,7 @@ impl<'a> FaceEval<'a> {
             Some(net) => FaceEval::Patch(net.map(|p| p.at(&s.pos))),
             None => {
                 let chaikin = s.options.crease_method == CreaseMethod::Chaikin;
-                FaceEval::Tree(Node::cut(&s.topo, &s.pos, f, &s.options, chaikin))
+                FaceEval::Tree(Box::new(Node::cut(&s.topo, &s.pos, f, &s.options, chaikin)))
             }
         }
     }
@@ -301,6 +306,7 @@ struct Node<'a> {
 }
 
 /// A child of an irregular face: a patch or irregular again.
+#[allow(clippy::large_enum_variant)] // patches are most children; a box each would cost more
 enum Child<'a> {
     Patch([[f64; 3]; 12]),
     Node(Box<Node<'a>>),
@@ -425,7 +431,10 @@ impl<'a> Node<'a> {
         let pos = &self.pos;
         let mut masks = VertexMasks::default();
         let (p, toward): ([f64; 3], [[f64; 3]; 2]) = if !masks.load(Loop, t, c, true) {
-            (pos[c], [next, prev].map(|x| geom::sub(&pos[x as usize], &pos[c])))
+            (
+                pos[c],
+                [next, prev].map(|x| geom::sub(&pos[x as usize], &pos[c])),
+            )
         } else {
             let mut acc = [[0.0; 3]; 3];
             masks.terms(c, |x, w| {

@@ -153,7 +153,8 @@ fn equals_the_limit_masks_of_refinement() {
                 let e = dist(d.p, lim[x]) / diag;
                 assert!(e < 1e-12, "{name}: face {f} ({u}, {v}): {e:e}");
                 worst_p = worst_p.max(e);
-                let smooth_interior = tag.rule == Rule::Smooth && !tag.boundary && !tag.non_manifold;
+                let smooth_interior =
+                    tag.rule == Rule::Smooth && !tag.boundary && !tag.non_manifold;
                 // `loop_val2_interior`'s two-triangle pillows collapse: no tangent plane.
                 // Nor do faces with a repeated vertex (`loop_nonman_edges`).
                 let pillow = *name == "loop_val2_interior";
@@ -162,8 +163,14 @@ fn equals_the_limit_masks_of_refinement() {
                 if smooth_interior && level.vertex_faces(x).len() >= 3 && !pillow && !degenerate {
                     let (a, b) = (d.normal(), geom::unit_cross(&t1[x], &t2[x]));
                     let e = angle(a, b).min(angle(a, b.map(|c| -c)));
-                    assert!(e < 1e-8, "{name}: face {f} ({u}, {v}): normal {e:e} rad {a:?} {b:?}");
-                    assert!(geom::norm(&a) > 0.5, "{name}: face {f} ({u}, {v}): no normal {d:?}");
+                    assert!(
+                        e < 1e-8,
+                        "{name}: face {f} ({u}, {v}): normal {e:e} rad {a:?} {b:?}"
+                    );
+                    assert!(
+                        geom::norm(&a) > 0.5,
+                        "{name}: face {f} ({u}, {v}): no normal {d:?}"
+                    );
                     worst_n = worst_n.max(e);
                 }
             }
@@ -203,11 +210,25 @@ const POINTS: [(f64, f64); 7] = [
 /// `a` and `b` agree: positions to `tol · diag`, first and second derivatives relative to
 /// their size (floor `diag`).
 fn assert_same(a: &Derivatives, b: &Derivatives, diag: f64, tol: f64, what: &str) {
-    assert!(dist(a.p, b.p) < tol * diag, "{what}: position {:e}", dist(a.p, b.p) / diag);
-    let pairs = [(a.du, b.du), (a.dv, b.dv), (a.duu, b.duu), (a.duv, b.duv), (a.dvv, b.dvv)];
+    assert!(
+        dist(a.p, b.p) < tol * diag,
+        "{what}: position {:e}",
+        dist(a.p, b.p) / diag
+    );
+    let pairs = [
+        (a.du, b.du),
+        (a.dv, b.dv),
+        (a.duu, b.duu),
+        (a.duv, b.duv),
+        (a.dvv, b.dvv),
+    ];
     for (k, (x, y)) in pairs.into_iter().enumerate() {
         let scale = geom::norm(&y).max(diag);
-        assert!(dist(x, y) < 1e3 * tol * scale, "{what}: derivative {k} {:e}", dist(x, y) / scale);
+        assert!(
+            dist(x, y) < 1e3 * tol * scale,
+            "{what}: derivative {k} {:e}",
+            dist(x, y) / scale
+        );
     }
 }
 
@@ -222,7 +243,10 @@ fn the_refined_mesh_has_the_same_surface() {
         vec![("torus".into(), torus(6, 5), Options::default())];
     // Not `loop_val2_interior`: its level 1 read back as a mesh does not refine as level 1
     // does (its two-triangle pillows; `subdivide` of the output differs from two levels).
-    for name in SHAPES.iter().filter(|&&n| n != "loop_val2_interior" && n != "loop_nonman_edges") {
+    for name in SHAPES
+        .iter()
+        .filter(|&&n| n != "loop_val2_interior" && n != "loop_nonman_edges")
+    {
         let (m, o) = shape(name);
         cases.push((name.to_string(), m, o));
     }
@@ -264,17 +288,34 @@ fn affine_invariance_and_planarity() {
     let apply = |p: &V3, b: f64| -> V3 {
         std::array::from_fn(|i| (0..3).map(|k| a[i][k] * p[k]).sum::<f64>() + b * shift[i])
     };
-    for name in ["loop_xord_boundary", "loop_cube_creases1", "loop_chaikin0", "loop_nonman_verts"] {
+    for name in [
+        "loop_xord_boundary",
+        "loop_cube_creases1",
+        "loop_chaikin0",
+        "loop_nonman_verts",
+    ] {
         let (mut mesh, options) = shape(name);
         let s = LoopSurface::new(&mesh, options).expect("surface");
-        mesh.positions_mut().iter_mut().for_each(|p| *p = apply(p, 1.0));
+        mesh.positions_mut()
+            .iter_mut()
+            .for_each(|p| *p = apply(p, 1.0));
         let t = LoopSurface::new(&mesh, options).expect("surface");
         let diag = diagonal(&mesh);
         let pts: Vec<SurfacePoint> = (0..mesh.num_faces() as u32)
             .filter(|&f| s.has_surface(f as usize))
-            .flat_map(|f| quarter_grid().into_iter().map(move |(u, v)| SurfacePoint { face: f, subface: 0, u, v }))
+            .flat_map(|f| {
+                quarter_grid().into_iter().map(move |(u, v)| SurfacePoint {
+                    face: f,
+                    subface: 0,
+                    u,
+                    v,
+                })
+            })
             .collect();
-        let (d0, d1) = (s.eval_many(&pts, Order::Second), t.eval_many(&pts, Order::Second));
+        let (d0, d1) = (
+            s.eval_many(&pts, Order::Second),
+            t.eval_many(&pts, Order::Second),
+        );
         for (p, (x, y)) in pts.iter().zip(d0.iter().zip(&d1)) {
             let (x, y) = (x.as_ref().expect("eval"), y.as_ref().expect("eval"));
             let want = Derivatives {
@@ -298,7 +339,11 @@ fn affine_invariance_and_planarity() {
     // Planar: a triangulated square with a crease and a corner stays in z = 0.
     let (mut mesh, options) = shape("loop_saddle_edgecorner");
     mesh.positions_mut().iter_mut().for_each(|p| p[2] = 0.0);
-    mesh.tags.creases.push(Crease { v0: mesh.face(0)[0], v1: mesh.face(0)[1], sharpness: 1.5 });
+    mesh.tags.creases.push(Crease {
+        v0: mesh.face(0)[0],
+        v1: mesh.face(0)[1],
+        sharpness: 1.5,
+    });
     let s = LoopSurface::new(&mesh, options).expect("surface");
     for f in 0..mesh.num_faces() as u32 {
         for (u, v) in quarter_grid() {
@@ -364,16 +409,42 @@ fn watertight_along_shared_edges() {
 fn errors_name_the_face_and_the_parameter() {
     let (mesh, options) = shape("loop_icosahedron");
     let s = LoopSurface::new(&mesh, options).expect("surface");
-    assert!(matches!(s.eval(0, 0.7, 0.4), Err(EvalError::BadParameter { .. })));
-    assert!(matches!(s.eval(0, -0.1, 0.4), Err(EvalError::BadParameter { .. })));
-    assert!(matches!(s.eval(0, f64::NAN, 0.4), Err(EvalError::BadParameter { .. })));
+    assert!(matches!(
+        s.eval(0, 0.7, 0.4),
+        Err(EvalError::BadParameter { .. })
+    ));
+    assert!(matches!(
+        s.eval(0, -0.1, 0.4),
+        Err(EvalError::BadParameter { .. })
+    ));
+    assert!(matches!(
+        s.eval(0, f64::NAN, 0.4),
+        Err(EvalError::BadParameter { .. })
+    ));
     assert!(s.eval(0, 0.5, 0.5).is_ok());
     let n = mesh.num_faces() as u32;
-    assert!(matches!(s.eval(n, 0.1, 0.1), Err(EvalError::NoSuchFace { .. })));
-    let p = SurfacePoint { face: 0, subface: 1, u: 0.1, v: 0.1 };
-    assert!(matches!(s.eval_point(p), Err(EvalError::NoSuchSubface { .. })));
+    assert!(matches!(
+        s.eval(n, 0.1, 0.1),
+        Err(EvalError::NoSuchFace { .. })
+    ));
+    let p = SurfacePoint {
+        face: 0,
+        subface: 1,
+        u: 0.1,
+        v: 0.1,
+    };
+    assert!(matches!(
+        s.eval_point(p),
+        Err(EvalError::NoSuchSubface { .. })
+    ));
     let quad = PolyMesh::from_faces(
-        vec![[0.0; 3], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0], [2.0, 0.0, 0.0]],
+        vec![
+            [0.0; 3],
+            [1.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [2.0, 0.0, 0.0],
+        ],
         &[vec![1u32, 4, 2], vec![0, 1, 2, 3]],
     )
     .expect("mesh");
@@ -381,10 +452,16 @@ fn errors_name_the_face_and_the_parameter() {
     assert_eq!(e, MeshError::NotTriangle { face: 1, count: 4 });
     // Boundary interpolation `none`: the faces at the boundary have no surface.
     let (mesh, _) = shape("loop_triangle_edgenone");
-    let o = Options { boundary: BoundaryInterpolation::None, ..Options::default() };
+    let o = Options {
+        boundary: BoundaryInterpolation::None,
+        ..Options::default()
+    };
     let s = LoopSurface::new(&mesh, o).expect("surface");
-    let hole = (0..mesh.num_faces()).find(|&f| !s.has_surface(f)).expect("a hole");
-    assert!(matches!(s.eval(hole as u32, 0.2, 0.2), Err(EvalError::Hole { .. })));
+    let hole = (0..mesh.num_faces())
+        .find(|&f| !s.has_surface(f))
+        .expect("a hole");
+    assert!(matches!(
+        s.eval(hole as u32, 0.2, 0.2),
+        Err(EvalError::Hole { .. })
+    ));
 }
-
-

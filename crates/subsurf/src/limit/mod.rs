@@ -8,8 +8,8 @@
 //! sharpness is infinite. Exact evaluation anywhere on the limit surface, with
 //! derivatives, is [`LimitSurface`].
 
-pub mod bspline;
 mod box_spline;
+pub mod bspline;
 mod builder;
 mod corner;
 mod crease_patch;

@@ -48,9 +48,7 @@ use std::ops::Range;
 use rayon::prelude::*;
 
 use super::primvar::{edge_mask_at, vertex_mask_at};
-use super::topology::{
-    chunk_ranges, collect, extend, filled, parallel, rot, run, split_pieces,
-};
+use super::topology::{chunk_ranges, collect, extend, filled, parallel, rot, run, split_pieces};
 use crate::mesh::sharpness as sharp;
 use crate::mesh::{
     BoundaryInterpolation, FaceVarying, FaceVaryingInterpolation, Options, Topology,

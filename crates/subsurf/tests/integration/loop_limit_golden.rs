@@ -91,7 +91,10 @@ fn load(name: &str) -> Vec<Row> {
         .expect("gzip");
     let mut rows = Vec::new();
     for line in text.lines().filter(|l| !l.starts_with('#')) {
-        let x: Vec<f64> = line.split_whitespace().map(|t| t.parse().expect("number")).collect();
+        let x: Vec<f64> = line
+            .split_whitespace()
+            .map(|t| t.parse().expect("number"))
+            .collect();
         assert!(x.len() == 12 || x.len() == 14, "{name}: {line}");
         rows.push(Row {
             face: x[0] as u32,
@@ -123,7 +126,8 @@ fn loop_limit_surface_matches_opensubdiv_bfr() {
     let names = shape_names();
     assert_eq!(names.len(), 25);
     for name in &names {
-        let obj = read_obj(&crate_dir().join(format!("tests/shapes/osd/{name}.obj"))).expect("shape");
+        let obj =
+            read_obj(&crate_dir().join(format!("tests/shapes/osd/{name}.obj"))).expect("shape");
         let options = obj.options.resolve(subsurf::mesh::Options::default());
         let mesh = &obj.mesh;
         let s = LoopSurface::new(mesh, options).expect("surface");
@@ -143,7 +147,12 @@ fn loop_limit_surface_matches_opensubdiv_bfr() {
         }
         let pts: Vec<SurfacePoint> = rows
             .iter()
-            .map(|r| SurfacePoint { face: r.face, subface: 0, u: r.u, v: r.v })
+            .map(|r| SurfacePoint {
+                face: r.face,
+                subface: 0,
+                u: r.u,
+                v: r.v,
+            })
             .collect();
         let got = s.eval_many(&pts, subsurf::limit::Order::First);
         let uv = mesh.face_varying.iter().position(|c| c.name() == "uv");
@@ -220,12 +229,21 @@ fn loop_limit_surface_matches_opensubdiv_bfr() {
             rows.len()
         );
     }
-    assert!(failures.is_empty(), "{} failures:\n{}", failures.len(), failures.join("\n"));
+    assert!(
+        failures.is_empty(),
+        "{} failures:\n{}",
+        failures.len(),
+        failures.join("\n")
+    );
 }
 
 /// Whether base vertex `v` is a smooth interior manifold vertex with no sharp edge (its
 /// limit masks are exact, Bfr's normal there the same plane).
-fn smooth_interior(mesh: &subsurf::mesh::PolyMesh, v: usize, options: &subsurf::mesh::Options) -> bool {
+fn smooth_interior(
+    mesh: &subsurf::mesh::PolyMesh,
+    v: usize,
+    options: &subsurf::mesh::Options,
+) -> bool {
     let (t, _) = subsurf::mesh::Topology::from_mesh(mesh, options).expect("topology");
     let tag = t.vertex_tag(v);
     tag.rule == subsurf::mesh::Rule::Smooth
