@@ -201,6 +201,10 @@ v = floor(k / D) + t/2 (s = t = 0 at vertex k, s toward vertex k+1, (s, t) = (1,
 face's centre), and du, dv are derivatives by that u, v (twice those by s, t), so that
 Bfr::Surface::Evaluate at (u, v) gives the same row. At an extraordinary vertex (a face's
 centre too) the derivatives are tangent directions (see the library docs of LimitSurface).
+With --scheme loop (every face a triangle; another face is an error naming it) each triangle
+gets the triangular grid u = i/(N-1) outer, v = j/(N-1) inner, i + j <= N-1 (the centroid when
+N = 1), in OpenSubdiv's triangle parameterisation ((0,0) at its first vertex, u toward the
+second, v toward the third), as osd-oracle limit --scheme loop prints it.
 With knot interval or weight tags (or --scheme nurss) the non-uniform (NURSS) surface is
 sampled; it is evaluated exactly, with derivatives, only on faces whose neighbourhood is a
 regular grid of quads or has equal intervals (see the library docs of NurssSurface), and any
@@ -210,7 +214,8 @@ Examples:
   subsurf limit model.obj --grid 5 -o samples.tsv
   subsurf limit textured.obj --grid 3 --fvar corners-only -o uv-samples.tsv
   subsurf limit model.obj --grid 3 -o - | head
-  subsurf limit model.obj --grid 5 -o tight.tsv --c 0.3";
+  subsurf limit model.obj --grid 5 -o tight.tsv --c 0.3
+  subsurf limit scan.obj --scheme loop --grid 5 -o loop-samples.tsv";
 
 /// Arguments of `subsurf limit`.
 #[derive(Debug, Args)]
@@ -536,8 +541,8 @@ pub enum SchemeKind {
     /// Non-uniform Catmull-Clark (NURSS): knot intervals on edges and rational weights from
     /// the file's tags (untagged edges: interval 1; all equal: Catmull-Clark).
     Nurss,
-    /// Loop, for triangle meshes, exactly as OpenSubdiv (refinement, --limit and repose;
-    /// no limit or tessellate yet).
+    /// Loop, for triangle meshes, exactly as OpenSubdiv (refinement, --limit, repose, and
+    /// its exact limit with limit; no tessellate or render yet).
     Loop,
     /// Bilinear, exactly as OpenSubdiv: the control mesh split, not smoothed (refinement,
     /// --limit and repose; no limit or tessellate yet).

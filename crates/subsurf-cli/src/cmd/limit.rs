@@ -1,17 +1,19 @@
 //! `subsurf limit`: sample the exact limit surface on an N×N grid per quad face, in the
 //! column layout and order of `osd-oracle limit`, and per sub-face of every other face, in
-//! OpenSubdiv `Bfr`'s parameterisation of the face ([`Parameterization`]). When the mesh has
-//! texture coordinates, each row ends with their limit `s t` ([`FaceVaryingSurface`]; with
-//! NURSS [`FaceVaryingSurface::nurss`]).
+//! OpenSubdiv `Bfr`'s parameterisation of the face ([`Parameterization`]); with
+//! `--scheme loop`, the Loop limit ([`LoopSurface`]) on a triangular grid per triangle,
+//! `(u, v) = (i/(N−1), j/(N−1))`, `i + j ≤ N − 1`, as `osd-oracle limit --scheme loop`.
+//! When the mesh has texture coordinates, each row ends with their limit `s t`
+//! ([`FaceVaryingSurface`]; with NURSS [`FaceVaryingSurface::nurss`]).
 
 use anyhow::{Context, Result};
 use subsurf::limit::{
-    ChannelValues, Derivatives, FaceVaryingSurface, LimitSurface, Order, Parameterization,
-    SurfacePoint,
+    ChannelValues, Derivatives, FaceVaryingSurface, LimitSurface, LoopSurface, Order,
+    Parameterization, SurfacePoint,
 };
 use subsurf::mesh::{Options, PolyMesh};
 use subsurf::nonuniform::NurssSurface;
-use subsurf::MixedSurface;
+use subsurf::{MixedSurface, Scheme};
 
 use crate::input::Input;
 use crate::output::Output;
@@ -63,6 +65,22 @@ fn subface_grid(face: u32, subface: u32, n: usize) -> impl Iterator<Item = Surfa
     })
 }
 
+/// The triangular grid of `n` samples per side on triangle `face`, in `osd-oracle limit
+/// --scheme loop`'s order: `u = i / (n − 1)` outer, `v = j / (n − 1)` inner, `i + j ≤ n − 1`
+/// (the centroid for `n = 1`).
+fn triangle_grid(face: u32, n: usize) -> impl Iterator<Item = SurfacePoint> {
+    let third = 1.0 / 3.0;
+    let at = move |i: usize| i as f64 / (n.max(2) - 1) as f64;
+    (0..n).flat_map(move |i| {
+        (0..n - i).map(move |j| SurfacePoint {
+            face,
+            subface: 0,
+            u: if n == 1 { third } else { at(i) },
+            v: if n == 1 { third } else { at(j) },
+        })
+    })
+}
+
 /// The surface sampled.
 enum Sampler {
     /// Catmull-Clark.
@@ -71,6 +89,8 @@ enum Sampler {
     Mixed(Box<MixedSurface>),
     /// Non-uniform Catmull-Clark (knot tags or `--scheme nurss`).
     Nurss(NurssSurface),
+    /// Loop, on triangles.
+    Loop(Box<LoopSurface>),
 }
 
 impl Sampler {
@@ -91,6 +111,7 @@ impl Sampler {
                     .is_ok_and(|(q, _)| s.limit_surface().has_surface(q.face as usize))
             }
             Sampler::Nurss(s) => s.has_surface(f),
+            Sampler::Loop(s) => return usize::from(s.has_surface(f)),
         };
         if has {
             Parameterization::new(size).num_subfaces()
@@ -123,6 +144,11 @@ impl Sampler {
         match self {
             Sampler::Limit(s) => s.eval_many_into(points, Order::First, out),
             Sampler::Mixed(s) => s.eval_many_into(points, Order::First, out),
+            Sampler::Loop(s) => {
+                out.clear();
+                out.resize(points.len(), Ok(Derivatives::default()));
+                s.eval_many_to(points, Order::First, out);
+            }
             Sampler::Nurss(s) => {
                 out.clear();
                 for &p in points {
@@ -148,7 +174,13 @@ struct Unit {
 
 /// Runs `subsurf limit`.
 pub fn run(args: &LimitArgs) -> Result<()> {
-    super::adjustable::check_surface_flags(args.scheme_kind, &args.adjust);
+    if args.scheme_kind == Some(SchemeKind::Loop) {
+        if args.adjust.c.is_some() {
+            super::adjustable::usage_error("--c applies to --scheme adjustable only");
+        }
+    } else {
+        super::adjustable::check_surface_flags(args.scheme_kind, &args.adjust);
+    }
     // Every block is evaluated in parallel: this thread is the first of rayon's global
     // pool, one thread fewer than a pool beside it (`catmark_pawn --grid 5` 7.0 -> 6.4
     // MiB). Commands that may not use the pool at all leave it to start on first use.
@@ -172,8 +204,8 @@ pub fn run(args: &LimitArgs) -> Result<()> {
         options.face_varying = mode;
     }
     let uv_channel = (input.obj.mesh.face_varying.iter()).position(|c| c.name() == "uv");
-    let uv_surface = |m: &PolyMesh| {
-        (uv_channel.map(|c| FaceVaryingSurface::new(m, options, c)))
+    let uv_surface = |m: &PolyMesh, scheme: Scheme| {
+        (uv_channel.map(|c| FaceVaryingSurface::for_scheme(m, scheme, options, c)))
             .transpose()
             .with_context(|| format!("{}: texture coordinates", input.name))
     };
@@ -220,14 +252,22 @@ pub fn run(args: &LimitArgs) -> Result<()> {
         (_, Some(m)) => {
             let refined = super::adjustable::refined_mesh(&input, options, m)?;
             let surface = guard.limit_surface(&refined, options, args.grid, held)?;
-            let uv = uv_surface(&refined)?;
+            let uv = uv_surface(&refined, Scheme::CatmullClark)?;
             let mixed = MixedSurface::from_refined(mesh, refined, surface, m)
                 .with_context(|| input.name.clone())?;
             (Sampler::Mixed(Box::new(mixed)), uv)
         }
+        (SchemeKind::Loop, _) => {
+            // The surface keeps the topology and the points; each face's refinement lives
+            // only while its points are evaluated.
+            let estimate = LimitSurface::estimate_build_memory(mesh).saturating_add(held);
+            crate::memory::check(&input.name, &guard.what, estimate, args.max_memory, hint)?;
+            let s = LoopSurface::new(mesh, options).with_context(|| input.name.clone())?;
+            (Sampler::Loop(Box::new(s)), uv_surface(mesh, Scheme::Loop)?)
+        }
         (_, None) => (
             Sampler::Limit(guard.limit_surface(mesh, options, args.grid, held)?),
-            uv_surface(mesh)?,
+            uv_surface(mesh, Scheme::CatmullClark)?,
         ),
     };
     let units: Vec<Unit> = (0..mesh.num_faces())
@@ -345,9 +385,14 @@ fn write_rows(
     n: usize,
 ) -> Result<()> {
     let units_per_block = (POINTS_PER_BLOCK / (n * n)).max(1);
+    let triangles = matches!(sampler, Sampler::Loop(_));
     let unit_rows = |points: &mut Vec<SurfacePoint>, results: &mut Vec<_>, u: Unit| {
         points.clear();
-        points.extend(subface_grid(u.face, u.subface, n));
+        if triangles {
+            points.extend(triangle_grid(u.face, n));
+        } else {
+            points.extend(subface_grid(u.face, u.subface, n));
+        }
         let face = || format!("{}: face {}", input.name, u.face);
         sampler.eval(points, results).with_context(face)?;
         let uvs = (uv.map(|uv| sampler.eval_uv(uv, points)))
@@ -355,11 +400,19 @@ fn write_rows(
             .with_context(face)?;
         // Rows give the face's (u, v) in Bfr's parameterisation, derivatives by them.
         let param = Parameterization::new(u.size);
-        let scale = param.derivative_scale();
+        let scale = if triangles {
+            1.0
+        } else {
+            param.derivative_scale()
+        };
         let mut s = Vec::new();
         for (i, (p, d)) in points.iter().zip(results.iter()).enumerate() {
             let d = d.as_ref().map_err(Clone::clone).with_context(face)?;
-            let (fu, fv) = param.to_face(u.subface as usize, p.u, p.v);
+            let (fu, fv) = if triangles {
+                (p.u, p.v)
+            } else {
+                param.to_face(u.subface as usize, p.u, p.v)
+            };
             let (du, dv) = (d.du.map(|x| scale * x), d.dv.map(|x| scale * x));
             use std::io::Write as _;
             let _ = write!(s, "{}", u.face);

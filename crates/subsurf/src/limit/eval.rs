@@ -3,8 +3,20 @@
 //! the NURSS surface are evaluated the same way, so that drawing, tessellating
 //! ([`tessellate`](super::tessellate())) and comparing take any of them.
 
-use super::{Derivatives, EvalError, LimitSurface, Order, SurfacePoint};
+use super::{Derivatives, EvalError, LimitSurface, LoopSurface, Order, SurfacePoint};
 use rayon::prelude::*;
+
+/// The parameter domain of a face (of each of its sub-faces).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Domain {
+    /// The unit square `(u, v) ∈ [0, 1]²` (Catmull-Clark and its relatives).
+    #[default]
+    Quad,
+    /// The triangle `u, v ≥ 0, u + v ≤ 1`, `(0, 0)` at the face's first vertex, `u` toward
+    /// the second, `v` toward the third (Loop; OpenSubdiv's `Bfr` parameterisation of a
+    /// triangle).
+    Triangle,
+}
 
 /// A parametric surface over the faces of a control mesh, addressed as
 /// [`LimitSurface`] addresses its own: a point is a face (a sub-face of a non-quad, see
@@ -21,11 +33,19 @@ pub trait Surface: Sync {
     /// surface leaves out).
     fn has_surface(&self, f: usize) -> bool;
 
+    /// The parameter domain of face `f`'s sub-faces: the unit square unless the surface says
+    /// otherwise ([`LoopSurface`]'s triangles). Consumers that only handle quads
+    /// ([`tessellate`](super::tessellate()), rendering) refuse other domains.
+    fn domain(&self, f: usize) -> Domain {
+        let _ = f;
+        Domain::Quad
+    }
+
     /// Position and first and second derivatives at `p`.
     ///
     /// # Errors
     /// As [`LimitSurface::eval_point`]: a face that does not exist, a parameter outside
-    /// `[0, 1]²`, a face without a surface (a hole).
+    /// the face's [`domain`](Self::domain), a face without a surface (a hole).
     fn evaluate(&self, p: SurfacePoint) -> Result<Derivatives, EvalError>;
 
     /// [`evaluate`](Self::evaluate) at every point of `points` into `out` (one result per
@@ -60,6 +80,38 @@ impl Surface for LimitSurface {
 
     fn has_surface(&self, f: usize) -> bool {
         LimitSurface::has_surface(self, f)
+    }
+
+    fn evaluate(&self, p: SurfacePoint) -> Result<Derivatives, EvalError> {
+        self.eval_point(p)
+    }
+
+    fn evaluate_many(
+        &self,
+        points: &[SurfacePoint],
+        order: Order,
+        out: &mut [Result<Derivatives, EvalError>],
+    ) {
+        self.eval_many_to(points, order, out);
+    }
+}
+
+impl Surface for LoopSurface {
+    fn num_faces(&self) -> usize {
+        LoopSurface::num_faces(self)
+    }
+
+    /// 1 for every face (each triangle is one domain), 0 if there is no such face.
+    fn num_subfaces(&self, f: usize) -> usize {
+        usize::from(f < LoopSurface::num_faces(self))
+    }
+
+    fn has_surface(&self, f: usize) -> bool {
+        LoopSurface::has_surface(self, f)
+    }
+
+    fn domain(&self, _: usize) -> Domain {
+        Domain::Triangle
     }
 
     fn evaluate(&self, p: SurfacePoint) -> Result<Derivatives, EvalError> {

@@ -51,8 +51,10 @@
 //!
 //! # Schemes
 //! NURSS: [`FaceVaryingSurface::nurss`], the same value mesh's non-uniform surface (built a
-//! layer above, from [`NurssSurface`](crate::nonuniform::NurssSurface)). Loop has no
-//! face-varying limit ([`FaceVaryingError::Unsupported`]). The adjustable scheme's limit is
+//! layer above, from [`NurssSurface`](crate::nonuniform::NurssSurface)). Loop
+//! ([`FaceVaryingSurface::for_scheme`]): the value mesh's Loop limit ([`LoopSurface`]), each
+//! face a triangle with the triangle's parameterisation; in the linear mode the value is
+//! linear on each triangle, `(1 − u − v) a + u b + v c` (`Bfr::Surface`'s linear triangle). The adjustable scheme's limit is
 //! the Catmull-Clark limit of its refined mesh, face-varying channels included: evaluate the
 //! channel of the refined mesh ([`crate::MixedSurface::refined_point`] maps the points).
 
@@ -60,7 +62,7 @@ use std::sync::Arc;
 
 use rayon::prelude::*;
 
-use super::{EvalError, LimitSurface, Order, Surface, SurfacePoint};
+use super::{EvalError, LimitSurface, LoopSurface, Order, Surface, SurfacePoint};
 use crate::mesh::{
     FaceVarying, FaceVaryingInterpolation, MeshError, Options, PolyMesh, Topology, ValueMesh,
 };
@@ -178,6 +180,8 @@ struct Linear {
     indices: Vec<u32>,
     values: Vec<f64>,
     holes: Vec<bool>,
+    /// Loop: every face is one triangle, linear in `(u, v)`; else bilinear per (sub-)face.
+    triangles: bool,
 }
 
 #[derive(Clone)]
@@ -210,7 +214,21 @@ impl FaceVaryingSurface {
         options: Options,
         channel: usize,
     ) -> Result<Self, FaceVaryingError> {
+        Self::build(mesh, options, channel, false)
+    }
+
+    /// [`new`](Self::new) with Catmull-Clark's surface of the value mesh, or with `triangles`
+    /// Loop's ([`LoopSurface`]; every face must be a triangle).
+    fn build(
+        mesh: &PolyMesh,
+        options: Options,
+        channel: usize,
+        triangles: bool,
+    ) -> Result<Self, FaceVaryingError> {
         mesh.validate()?;
+        if triangles {
+            crate::refine::check_triangles(mesh)?;
+        }
         let ch = mesh
             .face_varying
             .get(channel)
@@ -220,12 +238,26 @@ impl FaceVaryingSurface {
             })?;
         let (t, _) = Topology::from_mesh(mesh, &options)?;
         if options.face_varying == FaceVaryingInterpolation::All {
-            return Ok(Self::linear(&t, ch));
+            let mut linear = Self::linear(&t, ch);
+            if let Kind::Linear(l) = &mut linear.kind {
+                l.triangles = triangles;
+            }
+            return Ok(linear);
         }
         let explicit = ValueMesh::explicit_sharpness(mesh);
         let vm = ValueMesh::build(&t, &options, ch.indices(), &explicit);
         let dim = ch.dim();
         let value_options = ValueMesh::options(&options);
+        if triangles {
+            let surfaces = (0..dim.div_ceil(3))
+                .map(|chunk| {
+                    let m = vm.polymesh(vm.points(ch, chunk))?;
+                    let s = LoopSurface::new(&m, value_options)?;
+                    Ok(Arc::new(s) as Arc<dyn Surface + Send + Sync>)
+                })
+                .collect::<Result<_, FaceVaryingError>>()?;
+            return Ok(Self::smooth(dim, surfaces));
+        }
         let mut surfaces = Vec::new();
         for chunk in 0..dim.div_ceil(3) {
             let points = vm.points(ch, chunk);
@@ -255,15 +287,16 @@ impl FaceVaryingSurface {
         }
     }
 
-    /// [`FaceVaryingSurface::new`] for `scheme`: Catmull-Clark, and bilinear (whose
-    /// face-varying limit is linear in every mode, as OpenSubdiv's); the adjustable scheme
-    /// through its refined mesh (see the module docs); NURSS with
-    /// [`FaceVaryingSurface::nurss`].
+    /// [`FaceVaryingSurface::new`] for `scheme`: Catmull-Clark, Loop (the value mesh's
+    /// [`LoopSurface`], see the module docs), and bilinear (whose face-varying limit is
+    /// linear in every mode, as OpenSubdiv's); the adjustable scheme through its refined mesh
+    /// (see the module docs); NURSS with [`FaceVaryingSurface::nurss`].
     ///
     /// # Errors
-    /// [`FaceVaryingError::Unsupported`] for Loop, NURSS (built a layer above, its message
-    /// says by what) and the adjustable scheme (whose channels are evaluated on the refined
-    /// mesh), else as [`FaceVaryingSurface::new`].
+    /// [`FaceVaryingError::Unsupported`] for NURSS (built a layer above, its message says by
+    /// what) and the adjustable scheme (whose channels are evaluated on the refined mesh),
+    /// [`FaceVaryingError::Mesh`] naming a face that is not a triangle with Loop, else as
+    /// [`FaceVaryingSurface::new`].
     pub fn for_scheme(
         mesh: &PolyMesh,
         scheme: Scheme,
@@ -272,6 +305,7 @@ impl FaceVaryingSurface {
     ) -> Result<Self, FaceVaryingError> {
         match scheme {
             Scheme::CatmullClark => Self::new(mesh, options, channel),
+            Scheme::Loop => Self::build(mesh, options, channel, true),
             Scheme::Bilinear => {
                 let linear = Options {
                     face_varying: FaceVaryingInterpolation::All,
@@ -296,6 +330,7 @@ impl FaceVaryingSurface {
                 indices: ch.indices().to_vec(),
                 values: ch.values().to_vec(),
                 holes: (0..t.num_faces()).map(|f| t.is_hole(f)).collect(),
+                triangles: false,
             }),
         }
     }
@@ -372,6 +407,7 @@ impl Linear {
             indices,
             values,
             holes,
+            triangles,
         } = self;
         let (f, dim) = (p.face as usize, *dim);
         if f + 1 >= face_offsets.len() {
@@ -382,6 +418,9 @@ impl Linear {
         }
         let corners = &indices[face_offsets[f] as usize..face_offsets[f + 1] as usize];
         let n = corners.len();
+        if *triangles {
+            return self.eval_triangle(p, corners, (val, du, dv));
+        }
         let subs = if n == 4 { 1 } else { n };
         if p.subface as usize >= subs {
             return Err(EvalError::NoSuchSubface {
@@ -430,6 +469,37 @@ impl Linear {
                 du[k] += au * x;
                 dv[k] += av * x;
             }
+        }
+        Ok(())
+    }
+
+    /// The linear value on a triangle `corners` (Loop): `(1 − u − v) a + u b + v c`.
+    fn eval_triangle(
+        &self,
+        p: SurfacePoint,
+        corners: &[u32],
+        (val, du, dv): (&mut [f64], &mut [f64], &mut [f64]),
+    ) -> Result<(), EvalError> {
+        if p.subface != 0 {
+            return Err(EvalError::NoSuchSubface {
+                face: p.face,
+                subface: p.subface,
+                size: 1,
+            });
+        }
+        if !super::loop_surface::in_triangle(p.u, p.v) {
+            return Err(EvalError::BadParameter { u: p.u, v: p.v });
+        }
+        if self.holes[p.face as usize] {
+            return Err(EvalError::Hole { face: p.face });
+        }
+        let dim = self.dim;
+        let value = |c: usize| &self.values[dim * corners[c] as usize..][..dim];
+        let (a, b, c) = (value(0), value(1), value(2));
+        for k in 0..dim {
+            val[k] = (1.0 - p.u - p.v) * a[k] + p.u * b[k] + p.v * c[k];
+            du[k] = b[k] - a[k];
+            dv[k] = c[k] - a[k];
         }
         Ok(())
     }
@@ -583,15 +653,21 @@ mod tests {
         }
     }
 
-    /// Loop has no face-varying limit, NURSS's is built a layer above
-    /// ([`FaceVaryingSurface::nurss`]); a missing channel is named.
+    /// NURSS's face-varying limit is built a layer above ([`FaceVaryingSurface::nurss`]);
+    /// Loop's needs triangles; a missing channel is named.
     #[test]
     fn unsupported_schemes_and_missing_channels_are_errors() {
         let m = grid(3);
-        for scheme in [Scheme::Loop, Scheme::Nurss] {
-            let e = FaceVaryingSurface::for_scheme(&m, scheme, Options::default(), 0);
-            assert!(matches!(e, Err(FaceVaryingError::Unsupported { .. })));
-        }
+        let e = FaceVaryingSurface::for_scheme(&m, Scheme::Nurss, Options::default(), 0);
+        assert!(matches!(e, Err(FaceVaryingError::Unsupported { .. })));
+        let e = FaceVaryingSurface::for_scheme(&m, Scheme::Loop, Options::default(), 0);
+        assert!(matches!(
+            e,
+            Err(FaceVaryingError::Mesh(MeshError::NotTriangle {
+                face: 0,
+                ..
+            }))
+        ));
         let e = FaceVaryingSurface::new(&m, Options::default(), 1);
         assert!(matches!(
             e,

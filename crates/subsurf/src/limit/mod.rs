@@ -8,6 +8,7 @@
 //! sharpness is infinite. Exact evaluation anywhere on the limit surface, with
 //! derivatives, is [`LimitSurface`].
 
+mod box_spline;
 pub mod bspline;
 mod builder;
 mod corner;
@@ -15,6 +16,7 @@ mod crease_patch;
 mod eval;
 mod face_varying;
 mod local;
+mod loop_surface;
 mod memory;
 mod param;
 mod rows;
@@ -29,8 +31,9 @@ use crate::refine::patch::Index;
 
 pub use bspline::{Derivatives, Order};
 pub use builder::SurfaceBuilder;
-pub use eval::Surface;
+pub use eval::{Domain, Surface};
 pub use face_varying::{ChannelValues, FaceVaryingError, FaceVaryingSurface};
+pub use loop_surface::LoopSurface;
 pub use memory::BuildError;
 pub use param::Parameterization;
 pub use stencil::{LimitStencils, StencilError};

@@ -85,6 +85,15 @@ pub enum TessellateError {
     /// `rate` was 0.
     #[error("the tessellation rate must be at least 1")]
     ZeroRate,
+    /// The surface's faces are triangles ([`Domain::Triangle`](super::Domain::Triangle), a
+    /// Loop surface): the tessellator samples quad domains only.
+    #[error(
+        "face {face} has a triangle domain (a Loop surface): tessellating triangle domains is          not supported"
+    )]
+    TriangleDomain {
+        /// The first such face.
+        face: u32,
+    },
     /// The mesh is invalid.
     #[error(transparent)]
     Mesh(#[from] MeshError),
@@ -254,6 +263,10 @@ pub fn tessellate<S: Surface + ?Sized>(
 ) -> Result<Tessellation, TessellateError> {
     if rate == 0 {
         return Err(TessellateError::ZeroRate);
+    }
+    if let Some(face) = (0..surface.num_faces()).find(|&f| surface.domain(f) != super::Domain::Quad)
+    {
+        return Err(TessellateError::TriangleDomain { face: face as u32 });
     }
     check_match(surface, mesh)?;
     // The adjacency only: the scheme's options play no part in it.

@@ -41,11 +41,13 @@ pub(crate) mod uniform;
 
 pub(crate) use error::Error;
 pub use face_varying::FaceVaryingRefiner;
+pub(crate) use loop_::check_triangles;
 pub use loop_::interpolate_loop;
 pub(crate) use plan::refinement_rows;
 pub use plan::{PlanScratch, RefinePlan};
 pub use primvar::{interpolate, interpolate_with};
 pub(crate) use topology::{refine_topology, refine_topology_for_output};
+pub(crate) use tri_topology::refine_tri_topology;
 
 use crate::mesh::{Options, PolyMesh, Topology, TopologyWarning};
 use crate::scheme::bilinear::Bilinear;

@@ -28,6 +28,7 @@ mod limit_golden;
 mod limit_ngon_golden;
 mod limit_second_derivatives;
 mod limit_stencils;
+mod loop_limit_golden;
 mod mesh_input;
 mod nurbs;
 mod nurss;

@@ -1,0 +1,540 @@
+//! [`LoopSurface`]: exact evaluation of the Loop limit surface at any `(triangle, u, v)`,
+//! with first and second derivatives, matching OpenSubdiv's `Bfr` for `SCHEME_LOOP`.
+//!
+//! # Parameterisation
+//! Each face is a triangle `[c₀ c₁ c₂]` with its own domain `u, v ≥ 0, u + v ≤ 1`: `(0, 0)`
+//! at `c₀`, `u` toward `c₁`, `v` toward `c₂` (OpenSubdiv's `Bfr::Parameterization` of a
+//! triangle, [`Domain::Triangle`](super::Domain::Triangle)).
+//!
+//! # Method: sub-patch recursion
+//! (J. Stam, "Evaluation of Loop subdivision surfaces", SIGGRAPH 1998 course notes, §3, by
+//! recursion rather than eigen-analysis; OpenSubdiv's `Bfr` likewise refines irregular faces.)
+//! - A triangle whose limit is one quartic box-spline patch ([`super::box_spline`]: its
+//!   corners smooth of valence 6, or regular boundary/crease corners of 3 faces, or
+//!   infinitely sharp corners of one face, with phantom points where the sector ends, and no
+//!   semi-sharp feature at a corner) is evaluated in closed form on its twelve control points.
+//! - Any other triangle is refined: its 1-ring is cut out ([`super::local::cut_out_unbounded`],
+//!   with the far ends of semi-sharp edges under Chaikin's rule and only the face's sectors at
+//!   infinitely sharp vertices) as a [`Topology::subset`], whose tags, sharpness and rules are
+//!   the level's, and refined one Loop step by the project's own refinement
+//!   ([`refine_tri_topology`], [`interpolate_loop`]), so creases decay, boundaries, corners
+//!   and non-manifold vertices behave exactly as in [`subdivide`](fn@crate::subdivide). Its
+//!   four children (OpenSubdiv's numbering: child `j < 3` at corner `j`, `(u, v) = (s, t)/2`
+//!   shifted to that corner; the middle child `3 = [E₁ E₂ E₀]` turned by half a turn,
+//!   `(u, v) = ((1, 1) − (s, t))/2`) are patches or refined again. A point on an edge
+//!   shared by children is taken in a patch child if there is one, else in the middle one,
+//!   away from the irregular corners. First derivatives scale by 2 per level (by −2 through
+//!   the middle child), second ones by 4.
+//! - A point exactly at a corner of a face that is not one patch takes its corner child if
+//!   that is a patch; otherwise, when the corner's rule is final (smooth of valence ≥ 3,
+//!   crease or corner, no semi-sharp feature left to decay), the limit masks of the level
+//!   ([`Rules::limit_position_mask`](crate::scheme::Rules::limit_position_mask),
+//!   [`Rules::limit_tangent_masks`](crate::scheme::Rules::limit_tangent_masks)): the position
+//!   is exact, and as `du`, `dv` the tangents along the face's sides, mapped as the face's
+//!   `(u, v)` maps them (at an extraordinary vertex the parametric derivatives are degenerate;
+//!   at a smooth vertex these span the exact tangent plane, their lengths are not
+//!   derivatives; `Bfr`'s are approximate there too); second derivatives are zero. **Known
+//!   limitation:** at an irregular crease or boundary vertex (crease rule, sector other than
+//!   three faces) the across-crease tangent mask (OpenSubdiv's `assignCreaseLimitTangentMasks`,
+//!   after Hoppe et al. 1994) is not the limit's: on `loop_xord_boundary` the normal there is
+//!   22° from the limit of nearby exact points (and from `Bfr`'s). Positions are exact. Otherwise (a dart, a semi-sharp
+//!   vertex or edge that still decays) the corner child is refined again.
+//! - The depth is capped at [`MAX_DEPTH`] levels: a point within `2^-48` of its face's size
+//!   from an irregular corner (or a dart reached so deep) takes that corner's masks at that
+//!   level. At a dart, whose masks are the smooth vertex's and not exact, the position so
+//!   taken is the limit up to the dart's subdominant eigenvalue to the 48th power.
+//!
+//! # Cost
+//! Building the surface analyses nothing; a face that is one patch costs a walk around its
+//! corners per evaluation. [`LoopSurface::eval_many`] evaluates the points of each face
+//! together (list them face by face): the face's tree of refined cut-outs is built once for
+//! them, as deep as they need, and dropped after them, so memory holds one tree per thread.
+
+use std::cell::OnceCell;
+
+use rayon::prelude::*;
+
+use super::box_spline::{basis, box_net, NetPoint};
+use super::local::cut_out_unbounded;
+use super::{Derivatives, EvalError, Order, SurfacePoint, VertexMasks, MAX_DEPTH};
+use crate::geom;
+use crate::mesh::{CreaseMethod, MeshError, Options, PolyMesh, Rule, Topology};
+use crate::refine::{check_triangles, interpolate_loop, refine_tri_topology};
+use crate::scheme::loop_::Loop;
+
+/// The exact Loop limit surface of a triangle mesh (see the module docs).
+///
+/// ```
+/// use subsurf::limit::LoopSurface;
+/// use subsurf::mesh::{Options, PolyMesh};
+/// // A tetrahedron: every vertex of valence 3.
+/// let p = vec![[1.0, 1.0, 1.0], [-1.0, -1.0, 1.0], [-1.0, 1.0, -1.0], [1.0, -1.0, -1.0]];
+/// let tet = PolyMesh::from_faces(p, &[[0u32, 1, 2], [0, 2, 3], [0, 3, 1], [1, 3, 2]]).unwrap();
+/// let s = LoopSurface::new(&tet, Options::default()).unwrap();
+/// let centre = s.eval(0, 1.0 / 3.0, 1.0 / 3.0).unwrap();
+/// // The limit of a regular tetrahedron is symmetric about the origin, inside the hull.
+/// let r = centre.p.iter().map(|x| x * x).sum::<f64>().sqrt();
+/// assert!(r > 0.1 && r < 1.0);
+/// ```
+#[derive(Clone, Debug)]
+pub struct LoopSurface {
+    topo: Topology,
+    options: Options,
+    pos: Vec<[f64; 3]>,
+}
+
+impl LoopSurface {
+    /// The Loop limit surface of `mesh` (every face a triangle) with `options` (boundary
+    /// interpolation, crease method; the mesh's tags give creases, corners and holes).
+    ///
+    /// # Errors
+    /// [`MeshError::NotTriangle`] naming the first face that is not a triangle, or any error
+    /// of [`Topology::from_mesh`].
+    pub fn new(mesh: &PolyMesh, options: Options) -> Result<Self, MeshError> {
+        mesh.validate()?;
+        check_triangles(mesh)?;
+        let (topo, _) = Topology::from_mesh(mesh, &options)?;
+        Ok(Self {
+            topo,
+            options,
+            pos: mesh.positions().to_vec(),
+        })
+    }
+
+    /// Number of faces of the control mesh.
+    pub fn num_faces(&self) -> usize {
+        self.topo.num_faces()
+    }
+
+    /// Whether face `f` exists and has a surface (is not a hole, nor made one by
+    /// [`BoundaryInterpolation::None`](crate::mesh::BoundaryInterpolation::None)).
+    pub fn has_surface(&self, f: usize) -> bool {
+        f < self.num_faces() && !self.topo.is_hole(f)
+    }
+
+    /// The control points.
+    pub fn positions(&self) -> &[[f64; 3]] {
+        &self.pos
+    }
+
+    /// Replaces the control points (the same number, finite).
+    ///
+    /// # Errors
+    /// [`EvalError::InvalidPositions`]: naming the first vertex that is not finite, or, when
+    /// the number of points differs from the mesh's, the smaller of the two counts.
+    pub fn set_positions(&mut self, pos: &[[f64; 3]]) -> Result<(), EvalError> {
+        if pos.len() != self.pos.len() {
+            return Err(EvalError::InvalidPositions {
+                vertex: pos.len().min(self.pos.len()),
+            });
+        }
+        if let Some(v) = pos.iter().position(|p| p.iter().any(|x| !x.is_finite())) {
+            return Err(EvalError::InvalidPositions { vertex: v });
+        }
+        self.pos.copy_from_slice(pos);
+        Ok(())
+    }
+
+    /// Position and first and second derivatives at `(u, v)` of triangle `face`.
+    ///
+    /// # Errors
+    /// As [`LoopSurface::eval_point`].
+    pub fn eval(&self, face: u32, u: f64, v: f64) -> Result<Derivatives, EvalError> {
+        self.eval_point(SurfacePoint {
+            face,
+            subface: 0,
+            u,
+            v,
+        })
+    }
+
+    /// Position and derivatives at `p` (its `subface` must be 0).
+    ///
+    /// # Errors
+    /// [`EvalError::NoSuchFace`], [`EvalError::NoSuchSubface`], [`EvalError::Hole`], and
+    /// [`EvalError::BadParameter`] for `(u, v)` outside the triangle `u, v ≥ 0, u + v ≤ 1`
+    /// (or not finite).
+    pub fn eval_point(&self, p: SurfacePoint) -> Result<Derivatives, EvalError> {
+        self.check(p)?;
+        Ok(FaceEval::new(self, p.face as usize).eval(p.u, p.v))
+    }
+
+    /// [`eval_point`](Self::eval_point) at every point, in parallel over runs of points on
+    /// one face (each run shares its face's refinement, see the module docs); `order` is
+    /// accepted for the [`Surface`](super::Surface) interface (second derivatives are
+    /// always computed).
+    pub fn eval_many(
+        &self,
+        points: &[SurfacePoint],
+        order: Order,
+    ) -> Vec<Result<Derivatives, EvalError>> {
+        let mut out = vec![Ok(Derivatives::default()); points.len()];
+        self.eval_many_to(points, order, &mut out);
+        out
+    }
+
+    /// [`eval_many`](Self::eval_many) into `out` (one result per point).
+    ///
+    /// # Panics
+    /// If `out.len() != points.len()`.
+    pub fn eval_many_to(
+        &self,
+        points: &[SurfacePoint],
+        _order: Order,
+        out: &mut [Result<Derivatives, EvalError>],
+    ) {
+        assert_eq!(out.len(), points.len(), "one result per point");
+        // Runs of consecutive points on one face.
+        let mut runs = Vec::new();
+        let mut start = 0;
+        for i in 1..=points.len() {
+            if i == points.len() || points[i].face != points[start].face {
+                runs.push(start..i);
+                start = i;
+            }
+        }
+        let mut slices = Vec::with_capacity(runs.len());
+        let mut rest = out;
+        for r in &runs {
+            let (head, tail) = rest.split_at_mut(r.len());
+            slices.push((r.clone(), head));
+            rest = tail;
+        }
+        slices.into_par_iter().for_each(|(r, o)| {
+            let mut face: Option<FaceEval<'_>> = None;
+            for (p, o) in points[r].iter().zip(o.iter_mut()) {
+                *o = self.check(*p).map(|()| {
+                    let f = face.get_or_insert_with(|| FaceEval::new(self, p.face as usize));
+                    f.eval(p.u, p.v)
+                });
+            }
+        });
+    }
+
+    /// The errors of point `p` (see [`eval_point`](Self::eval_point)).
+    fn check(&self, p: SurfacePoint) -> Result<(), EvalError> {
+        let f = p.face as usize;
+        if f >= self.num_faces() {
+            return Err(EvalError::NoSuchFace {
+                face: p.face,
+                count: self.num_faces(),
+            });
+        }
+        if p.subface != 0 {
+            return Err(EvalError::NoSuchSubface {
+                face: p.face,
+                subface: p.subface,
+                size: 1,
+            });
+        }
+        if !in_triangle(p.u, p.v) {
+            return Err(EvalError::BadParameter { u: p.u, v: p.v });
+        }
+        if self.topo.is_hole(f) {
+            return Err(EvalError::Hole { face: p.face });
+        }
+        Ok(())
+    }
+}
+
+/// Whether `(u, v)` is in the triangle `u, v ≥ 0, u + v ≤ 1`, allowing `u + v` a few units
+/// of rounding above 1 (a grid's `i/(N−1) + j/(N−1)` with `i + j = N − 1`).
+pub(super) fn in_triangle(u: f64, v: f64) -> bool {
+    u.is_finite() && v.is_finite() && u >= 0.0 && v >= 0.0 && u + v <= 1.0 + 4.0 * f64::EPSILON
+}
+
+/// The evaluation of one base face: a patch, or the root of its tree of refined cut-outs.
+#[allow(clippy::large_enum_variant)] // one per face being evaluated, on the stack
+enum FaceEval<'a> {
+    Patch([[f64; 3]; 12]),
+    Tree(Box<Node<'a>>),
+}
+
+impl<'a> FaceEval<'a> {
+    fn new(s: &'a LoopSurface, f: usize) -> Self {
+        match box_net(&s.topo, f) {
+            Some(net) => FaceEval::Patch(net.map(|p| p.at(&s.pos))),
+            None => {
+                let chaikin = s.options.crease_method == CreaseMethod::Chaikin;
+                FaceEval::Tree(Box::new(Node::cut(&s.topo, &s.pos, f, &s.options, chaikin)))
+            }
+        }
+    }
+
+    fn eval(&self, u: f64, v: f64) -> Derivatives {
+        // Rounding above the hypotenuse is moved onto it.
+        let excess = (u + v - 1.0).max(0.0);
+        let (u, v) = (u - 0.5 * excess, v - 0.5 * excess);
+        match self {
+            FaceEval::Patch(cp) => eval_patch(cp, u, v),
+            FaceEval::Tree(n) => n.eval(u, v, 0),
+        }
+    }
+}
+
+/// The box-spline patch with control points `cp` at `(u, v)`.
+fn eval_patch(cp: &[[f64; 3]; 12], u: f64, v: f64) -> Derivatives {
+    let b = basis(u, v);
+    let combine = |w: &[f64; 12]| -> [f64; 3] {
+        let mut acc = [0.0; 3];
+        for (p, &x) in cp.iter().zip(w) {
+            for k in 0..3 {
+                acc[k] += x * p[k];
+            }
+        }
+        acc
+    };
+    Derivatives {
+        p: combine(&b[0]),
+        du: combine(&b[1]),
+        dv: combine(&b[2]),
+        duu: combine(&b[3]),
+        duv: combine(&b[4]),
+        dvv: combine(&b[5]),
+    }
+}
+
+/// An irregular face of a level, with its cut-out (the face is `face` there) and, built when
+/// first needed, its four children and the limits at its corners.
+struct Node<'a> {
+    topo: Topology,
+    pos: Vec<[f64; 3]>,
+    face: usize,
+    options: &'a Options,
+    chaikin: bool,
+    children: OnceCell<Box<[Child<'a>; 4]>>,
+}
+
+/// A child of an irregular face: a patch or irregular again.
+#[allow(clippy::large_enum_variant)] // patches are most children; a box each would cost more
+enum Child<'a> {
+    Patch([[f64; 3]; 12]),
+    Node(Box<Node<'a>>),
+}
+
+impl<'a> Node<'a> {
+    /// Face `f` of the level `t` (points `pos`), cut out with its 1-ring.
+    fn cut(t: &Topology, pos: &[[f64; 3]], f: usize, options: &'a Options, chaikin: bool) -> Self {
+        let faces = cut_out_unbounded(t, f, chaikin);
+        let (topo, verts) = t.subset(&faces);
+        Node {
+            pos: verts.iter().map(|&v| pos[v as usize]).collect(),
+            topo,
+            face: 0,
+            options,
+            chaikin,
+            children: OnceCell::new(),
+        }
+    }
+
+    /// The four children, refined from the cut-out.
+    fn children(&self) -> &[Child<'a>; 4] {
+        self.children.get_or_init(|| {
+            let child = refine_tri_topology(&self.topo, self.options, true);
+            let mut cpos = vec![[0.0; 3]; child.num_vertices()];
+            interpolate_loop(&self.topo, &child, self.options, &self.pos, &mut cpos);
+            Box::new(std::array::from_fn(|j| {
+                let f = 4 * self.face + j;
+                match box_net(&child, f) {
+                    Some(net) => Child::Patch(net.map(|p: NetPoint| p.at(&cpos))),
+                    None => Child::Node(Box::new(Node::cut(
+                        &child,
+                        &cpos,
+                        f,
+                        self.options,
+                        self.chaikin,
+                    ))),
+                }
+            }))
+        })
+    }
+
+    /// Position and derivatives at `(u, v)` of this face, `depth` levels below the base.
+    fn eval(&self, u: f64, v: f64, depth: u32) -> Derivatives {
+        let corner = match (u, v) {
+            (0.0, 0.0) => Some(0),
+            (1.0, 0.0) => Some(1),
+            (0.0, 1.0) => Some(2),
+            _ if depth >= MAX_DEPTH => Some(nearest_corner(u, v)),
+            _ => None,
+        };
+        if let Some(k) = corner {
+            let settled = depth >= MAX_DEPTH || self.corner_is_final(k);
+            if settled && !matches!(self.children()[k], Child::Patch(_)) {
+                return self.corner_limit(k);
+            }
+        }
+        let (j, s, t) = self.pick_child(u, v);
+        let d = match &self.children()[j] {
+            Child::Patch(cp) => eval_patch(cp, s, t),
+            Child::Node(n) => n.eval(s, t, depth + 1),
+        };
+        d.scaled(if j == 3 { -2.0 } else { 2.0 })
+    }
+
+    /// The child holding `(u, v)` and the point in the child's parameters: a patch child if
+    /// one holds it, else the middle child, else a corner child.
+    fn pick_child(&self, u: f64, v: f64) -> (usize, f64, f64) {
+        let local = [
+            (2.0 * u, 2.0 * v),
+            (2.0 * u - 1.0, 2.0 * v),
+            (2.0 * u, 2.0 * v - 1.0),
+            (1.0 - 2.0 * u, 1.0 - 2.0 * v),
+        ];
+        // How far each child's parameters are outside its triangle (0 inside).
+        let outside = |(s, t): (f64, f64)| (-s).max(-t).max(s + t - 1.0).max(0.0);
+        let children = self.children();
+        let rank = |j: usize| {
+            let patch = matches!(children[j], Child::Patch(_));
+            (outside(local[j]) > 0.0, !patch, j != 3)
+        };
+        let best = (0..4)
+            .min_by(|&a, &b| {
+                let (ra, rb) = (rank(a), rank(b));
+                if ra.0 && rb.0 {
+                    outside(local[a]).total_cmp(&outside(local[b]))
+                } else {
+                    ra.cmp(&rb)
+                }
+            })
+            .unwrap_or(3);
+        let (s, t) = local[best];
+        // A point a rounding error outside is moved in.
+        (best, s.max(0.0), t.max(0.0))
+    }
+
+    /// Whether the rule at corner `k` no longer changes with refinement, so that its limit
+    /// masks are exact: smooth of valence ≥ 3 (manifold, interior), crease or corner, with
+    /// no semi-sharp vertex or edge.
+    fn corner_is_final(&self, k: usize) -> bool {
+        let c = self.topo.face_vertices(self.face)[k] as usize;
+        let tag = self.topo.vertex_tag(c);
+        if tag.semi_sharp || tag.semi_sharp_edges {
+            return false;
+        }
+        match tag.rule {
+            Rule::Smooth => {
+                let n = self.topo.vertex_faces(c).len();
+                !tag.boundary && !tag.non_manifold && n >= 3 && self.topo.vertex_edges(c).len() == n
+            }
+            Rule::Crease | Rule::Corner => true,
+            Rule::Dart => false,
+        }
+    }
+
+    /// The limit at corner `k` from the level's masks (module docs): the position, and the
+    /// tangents along the face's sides mapped to `du`, `dv`.
+    fn corner_limit(&self, k: usize) -> Derivatives {
+        let fv = self.topo.face_vertices(self.face);
+        let (c, next, prev) = (fv[k] as usize, fv[(k + 1) % 3], fv[(k + 2) % 3]);
+        let t = &self.topo;
+        let pos = &self.pos;
+        let mut masks = VertexMasks::default();
+        let (p, toward): ([f64; 3], [[f64; 3]; 2]) = if !masks.load(Loop, t, c, true) {
+            (
+                pos[c],
+                [next, prev].map(|x| geom::sub(&pos[x as usize], &pos[c])),
+            )
+        } else {
+            let mut acc = [[0.0; 3]; 3];
+            masks.terms(c, |x, w| {
+                for (a, &wi) in acc.iter_mut().zip(&w) {
+                    for d in 0..3 {
+                        a[d] += wi * pos[x as usize][d];
+                    }
+                }
+            });
+            let [p, t1, t2] = acc;
+            (p, side_tangents(t, pos, c, [next, prev], p, [t1, t2]))
+        };
+        // `toward` = tangents toward the next and the previous corner; the face's `(u, v)`
+        // maps the sides at corner `k` as: k = 0: u → next, v → prev; k = 1: u → −prev,
+        // v → next − prev; k = 2: u → prev − next... see `map_sides`.
+        let (du, dv) = map_sides(k, toward);
+        Derivatives {
+            p,
+            du,
+            dv,
+            ..Derivatives::default()
+        }
+    }
+}
+
+/// The tangents at vertex `c` (limit `p`, mask tangents `t1`, `t2`) toward its neighbours
+/// `toward`: for a smooth interior vertex of valence `n ≥ 3`, the tangent of Loop's
+/// characteristic map along the edge `j` to the neighbour, `cos(2πj/n) t₁ + sin(2πj/n) t₂`;
+/// at any other vertex the chord to the neighbour projected onto the tangent plane
+/// `t₁ × t₂` (under the corner rule, or where the masks' tangents are parallel, the chord).
+fn side_tangents(
+    t: &Topology,
+    pos: &[[f64; 3]],
+    c: usize,
+    toward: [u32; 2],
+    p: [f64; 3],
+    [t1, t2]: [[f64; 3]; 2],
+) -> [[f64; 3]; 2] {
+    let tag = t.vertex_tag(c);
+    let edges = t.vertex_edges(c);
+    let n = edges.len();
+    let smooth = matches!(tag.rule, Rule::Smooth | Rule::Dart)
+        && !tag.boundary
+        && !tag.non_manifold
+        && n >= 3
+        && t.vertex_faces(c).len() == n;
+    let chord = |x: u32| geom::sub(&pos[x as usize], &pos[c]);
+    if smooth {
+        let along = |x: u32| {
+            let j = edges.iter().position(|&e| {
+                let [a, b] = t.edge_vertices(e as usize);
+                (a == x && b as usize == c) || (b == x && a as usize == c)
+            });
+            match j {
+                Some(j) => {
+                    let th = 2.0 * std::f64::consts::PI * j as f64 / n as f64;
+                    std::array::from_fn(|d| th.cos() * t1[d] + th.sin() * t2[d])
+                }
+                None => chord(x),
+            }
+        };
+        return toward.map(along);
+    }
+    let normal = geom::normalize_or_zero(geom::cross(&t1, &t2));
+    if tag.rule == Rule::Corner || normal == [0.0; 3] {
+        return toward.map(chord);
+    }
+    toward.map(|x| {
+        let d = geom::sub(&pos[x as usize], &p);
+        let h = geom::dot(&d, &normal);
+        std::array::from_fn(|i| d[i] - h * normal[i])
+    })
+}
+
+/// `(du, dv)` at corner `k` of a triangle from the tangents `[a, b]` along its sides toward
+/// the next and the previous corner: the linear map that takes the sides' parameter
+/// directions (corner 0: `(1, 0)` and `(0, 1)`; corner 1: `(−1, 1)` and `(−1, 0)`; corner 2:
+/// `(0, −1)` and `(1, −1)`) to them.
+fn map_sides(k: usize, [a, b]: [[f64; 3]; 2]) -> ([f64; 3], [f64; 3]) {
+    let lin = |x: f64, p: &[f64; 3], y: f64, q: &[f64; 3]| -> [f64; 3] {
+        std::array::from_fn(|i| x * p[i] + y * q[i])
+    };
+    match k {
+        // Corner 0: next = c₁ along (1, 0), prev = c₂ along (0, 1).
+        0 => (a, b),
+        // Corner 1: next = c₂ along (−1, 1), prev = c₀ along (−1, 0):
+        // (1, 0) = −prev, (0, 1) = next − prev.
+        1 => (lin(-1.0, &b, 0.0, &a), lin(1.0, &a, -1.0, &b)),
+        // Corner 2: next = c₀ along (0, −1), prev = c₁ along (1, −1):
+        // (1, 0) = prev − next, (0, 1) = −next.
+        _ => (lin(1.0, &b, -1.0, &a), lin(-1.0, &a, 0.0, &b)),
+    }
+}
+
+/// The corner of the triangle nearest `(u, v)`.
+fn nearest_corner(u: f64, v: f64) -> usize {
+    let d = [u + v, (1.0 - u) + v, u + (1.0 - v)];
+    (0..3).min_by(|&a, &b| d[a].total_cmp(&d[b])).unwrap_or(0)
+}
+
+#[cfg(test)]
+#[path = "loop_surface_tests.rs"]
+mod tests;
