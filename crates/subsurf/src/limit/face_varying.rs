@@ -29,7 +29,7 @@
 //! whole closed fan of an interior vertex with no seam.
 //! 1. If `S` has the extent of `v`'s own faces (same count, same boundary status) it keeps
 //!    `v`'s sharpness, including the corner sharpened by
-//!    [`BoundaryInterpolation::EdgeAndCorner`]. Otherwise its sharpness is `v`'s explicit
+//!    [`BoundaryInterpolation::EdgeAndCorner`](crate::mesh::BoundaryInterpolation::EdgeAndCorner). Otherwise its sharpness is `v`'s explicit
 //!    (tagged) sharpness, and it is infinitely sharp if it is a boundary with an infinitely
 //!    sharp edge inside the fan.
 //! 2. Infinitely sharp if `v` is non-manifold, or if `S`'s value occurs at `v` in faces

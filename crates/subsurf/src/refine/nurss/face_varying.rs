@@ -109,7 +109,7 @@ impl ValueChannel {
     ///
     /// # Errors
     /// [`NurssError::Mesh`] if the value mesh is invalid, or
-    /// ([`MeshError::BadFaceVarying`](crate::mesh::MeshError::BadFaceVarying)) a value
+    /// ([`MeshError::BadFaceVarying`]) a value
     /// beyond the `f64` range once weighted.
     pub(crate) fn new(
         mesh: &PolyMesh,
