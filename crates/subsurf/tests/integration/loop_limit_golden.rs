@@ -11,11 +11,13 @@
 //! 3. **First derivatives** off the face corners (there `Bfr`'s patches are exact, its
 //!    adaptive refinement reaching regular sub-patches): `|d_ours − d_osd| ≤ 1e-9 ×
 //!    max(|d_osd|, 1e-3 d)`, and the unit normals within 1e-8 rad where not degenerate.
-//! 4. At a face corner that is an extraordinary (smooth interior) vertex, `Bfr`'s derivatives
-//!    are those of its approximating patch: only the normals are compared, to 1e-8 rad
-//!    (ours are the exact limit masks' tangent plane). At other irregular corners (boundary,
-//!    crease, corner, dart, non-manifold) only positions are compared (see
-//!    `LoopSurface`'s docs for the tangents there).
+//! 4. At a face corner that is an extraordinary (smooth interior) vertex or a boundary
+//!    vertex of any sector, `Bfr`'s derivatives are those of its approximating patch: only
+//!    the normals are compared, to 1e-8 rad (ours: the exact limit masks' tangent plane, or
+//!    at an irregular boundary sector the masks after refining the corner, see
+//!    `LoopSurface`'s docs; [`BFR_CORNER_NORMALS`] where `Bfr`'s is approximate). At other
+//!    irregular corners (interior crease, corner rule, dart, semi-sharp, non-manifold) only
+//!    positions are compared.
 //! 5. **Texture coordinates** (`s t`, when the shape has `vt`): to 1e-9 everywhere.
 //!
 //! Exceptions, each listed with its reason: [`BFR_APPROXIMATE`] (face corners where `Bfr`'s
@@ -197,13 +199,18 @@ fn loop_limit_surface_matches_opensubdiv_bfr() {
                     _ => 2,
                 };
                 let v = mesh.face(r.face as usize)[k] as usize;
-                if !smooth_interior(mesh, v, &options) {
+                let boundary = final_boundary(mesh, v, &options);
+                if !smooth_interior(mesh, v, &options) && !boundary {
                     continue;
                 }
+                let bound = match BFR_CORNER_NORMALS.iter().find(|(n, _)| n == name) {
+                    Some(&(_, b)) if boundary => b,
+                    _ => 1e-8,
+                };
                 if !degenerate(n0, d.du, d.dv) && !degenerate(n1, r.du, r.dv) {
                     let a = angle(n0, n1);
                     wn = wn.max(a);
-                    if a > 1e-8 {
+                    if a > bound {
                         failures.push(format!("{at}: corner normal {a:.2e} rad"));
                     }
                 }
@@ -235,6 +242,34 @@ fn loop_limit_surface_matches_opensubdiv_bfr() {
         failures.len(),
         failures.join("\n")
     );
+}
+
+/// Shapes whose boundary corners of irregular sectors `Bfr` evaluates with an approximate
+/// normal, and the bound. `loop_xord_boundary`: `Bfr`'s corner normals at approximation
+/// levels 6, 8 and 10 differ by 2.9e-3 and 5.0e-4 rad (`osd-oracle limit --approx`; 12 and
+/// above crash it), a geometric convergence of ratio 0.46 per level whose extrapolated
+/// error at level 10 is 1.31e-4 rad; `LoopSurface`'s normals there differ from level 10's by
+/// 1.3e-4 rad, i.e. they are that extrapolated limit.
+const BFR_CORNER_NORMALS: &[(&str, f64)] = &[("loop_xord_boundary", 2e-4)];
+
+/// Whether base vertex `v` is a manifold boundary vertex under the crease rule, with no
+/// semi-sharp vertex or edge: its limit has a tangent plane, which `LoopSurface` finds by
+/// refining the corner when its sector is irregular. (At infinitely sharp interior crease
+/// vertices `Bfr`'s corner normals differ from ours by up to 1.3 rad on `loop_cubes_infsharp`
+/// and `loop_icos_infsharp`; which is right there is not settled, so only positions are
+/// compared.)
+fn final_boundary(
+    mesh: &subsurf::mesh::PolyMesh,
+    v: usize,
+    options: &subsurf::mesh::Options,
+) -> bool {
+    let (t, _) = subsurf::mesh::Topology::from_mesh(mesh, options).expect("topology");
+    let tag = t.vertex_tag(v);
+    tag.rule == subsurf::mesh::Rule::Crease
+        && tag.boundary
+        && !tag.non_manifold
+        && !tag.semi_sharp
+        && !tag.semi_sharp_edges
 }
 
 /// Whether base vertex `v` is a smooth interior manifold vertex with no sharp edge (its
