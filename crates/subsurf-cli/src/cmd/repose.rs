@@ -31,7 +31,8 @@ The positions are those 'subsurf subdivide' writes for the pose, to rounding (1e
 mesh's size); with --limit, the limit positions and normals too (the limit masks applied
 as rows of weights after the plan; NURSS: the limit positions, no normals, as 'subdivide
 --limit' writes them). Refining a pose costs a tenth of a full refinement or
-less; writing the OBJ text then takes most of the time (the library's Reposer skips that).
+less (Loop and bilinear: a third to a twelfth, their plans having no patch kernels);
+writing the OBJ text then takes most of the time (the library's Reposer skips that).
 
 Examples:
   subsurf repose rest.obj frames/f0001.obj frames/f0002.obj -o refined -l 3
