@@ -106,19 +106,23 @@ fn targets(after: &str) -> Vec<String> {
     out
 }
 
-/// Whether `path` holds unit tests only: a file that its directory's sources include as
+/// The files of `dir` that hold unit tests only: those its sources include as
 /// `#[cfg(test)] #[path = "NAME"] mod …;` (tests may use any layer, as the unit tests at the
 /// end of a file may).
-fn is_unit_test_file(path: &Path) -> bool {
-    let (Some(dir), Some(name)) = (path.parent(), path.file_name().and_then(|n| n.to_str())) else {
-        return false;
-    };
-    let include = format!("#[cfg(test)]\n#[path = \"{name}\"]");
-    fs::read_dir(dir).expect("source directory").any(|e| {
-        let p = e.expect("directory entry").path();
-        p.extension().is_some_and(|x| x == "rs")
-            && fs::read_to_string(&p).is_ok_and(|t| t.contains(&include))
-    })
+fn unit_test_files(dir: &Path) -> BTreeSet<String> {
+    const INCLUDE: &str = "#[cfg(test)]\n#[path = \"";
+    let mut names = BTreeSet::new();
+    for entry in fs::read_dir(dir).expect("source directory") {
+        let path = entry.expect("directory entry").path();
+        if path.extension().is_some_and(|x| x == "rs") {
+            let text = fs::read_to_string(&path).expect("readable source");
+            for (i, _) in text.match_indices(INCLUDE) {
+                let rest = &text[i + INCLUDE.len()..];
+                names.extend(rest.split('"').next().map(str::to_string));
+            }
+        }
+    }
+    names
 }
 
 fn visit(
@@ -127,6 +131,7 @@ fn visit(
     exports: &[(String, String)],
     found: &mut BTreeSet<(String, String, String)>,
 ) {
+    let tests = unit_test_files(dir);
     for entry in fs::read_dir(dir).expect("source directory") {
         let path = entry.expect("directory entry").path();
         if path.is_dir() {
@@ -146,7 +151,11 @@ fn visit(
         let Some(from_layer) = layer(&from) else {
             continue;
         };
-        if is_unit_test_file(&path) {
+        if path
+            .file_name()
+            .and_then(|n| n.to_str())
+            .is_some_and(|n| tests.contains(n))
+        {
             continue;
         }
         let text = code(&fs::read_to_string(&path).expect("readable source"));

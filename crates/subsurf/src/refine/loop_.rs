@@ -85,7 +85,7 @@ pub fn interpolate_loop<const D: usize>(
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
     use crate::mesh::{BoundaryInterpolation, Corner, Crease, Tags, TopologyWarning};
     use crate::refine::uniform::{refine_uniform, Steps};
@@ -126,7 +126,7 @@ mod tests {
 
     /// An `n × n` grid of squares, each cut into two triangles along alternating
     /// diagonals, with heights `z(i, j)`.
-    fn tri_grid(n: u32, z: impl Fn(u32, u32) -> f64) -> PolyMesh {
+    pub(in crate::refine) fn tri_grid(n: u32, z: impl Fn(u32, u32) -> f64) -> PolyMesh {
         let id = |i: u32, j: u32| i * (n + 1) + j;
         let mut pos = Vec::new();
         for i in 0..=n {

@@ -312,30 +312,18 @@ fn fill_edge_children(p: &Topology, range: Range<usize>, out: VertexRelations<'_
 mod tests {
     use super::*;
     use crate::mesh::{Crease, PolyMesh};
+    use crate::refine::loop_::tests::tri_grid;
 
-    /// A triangulated `n × n` grid with a fin (a triangle on an interior edge, making it
-    /// non-manifold) and creases: every pass is parallel from level 0 when `n ≥ 100`.
+    /// A triangulated `n × n` grid (`loop_`'s test grid) with a fin (a triangle on an
+    /// interior edge, making it non-manifold) and creases: every pass is parallel from
+    /// level 0 when `n ≥ 100`.
     fn big_mesh(n: u32) -> PolyMesh {
+        let grid = tri_grid(n, |i, j| ((i * 7 + j * 3) % 5) as f64 * 0.1);
         let id = |i: u32, j: u32| i * (n + 1) + j;
-        let mut pos = Vec::new();
-        for i in 0..=n {
-            for j in 0..=n {
-                pos.push([j as f64, i as f64, ((i * 7 + j * 3) % 5) as f64 * 0.1]);
-            }
-        }
-        let mut faces = Vec::new();
-        for i in 0..n {
-            for j in 0..n {
-                let (a, b, c, d) = (id(i, j), id(i, j + 1), id(i + 1, j + 1), id(i + 1, j));
-                if (i + j) % 2 == 0 {
-                    faces.extend([[a, b, c], [a, c, d]]);
-                } else {
-                    faces.extend([[a, b, d], [b, c, d]]);
-                }
-            }
-        }
+        let mut pos = grid.positions().to_vec();
+        let mut faces: Vec<Vec<u32>> = grid.faces().map(<[u32]>::to_vec).collect();
         pos.push([5.0, 5.0, 3.0]);
-        faces.push([id(5, 5), id(5, 6), pos.len() as u32 - 1]);
+        faces.push(vec![id(5, 5), id(5, 6), pos.len() as u32 - 1]);
         let mut m = PolyMesh::from_faces(pos, &faces).expect("valid grid");
         m.tags.creases = (0..n / 2)
             .map(|j| Crease {

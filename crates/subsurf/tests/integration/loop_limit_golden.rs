@@ -132,6 +132,7 @@ fn loop_limit_surface_matches_opensubdiv_bfr() {
             read_obj(&crate_dir().join(format!("tests/shapes/osd/{name}.obj"))).expect("shape");
         let options = obj.options.resolve(subsurf::mesh::Options::default());
         let mesh = &obj.mesh;
+        let (topology, _) = subsurf::mesh::Topology::from_mesh(mesh, &options).expect("topology");
         let s = LoopSurface::new(mesh, options).expect("surface");
         let rows = load(name);
         let diag = mesh
@@ -199,10 +200,10 @@ fn loop_limit_surface_matches_opensubdiv_bfr() {
                     _ => 2,
                 };
                 let v = mesh.face(r.face as usize)[k] as usize;
-                let boundary = final_boundary(mesh, v, &options);
-                if !smooth_interior(mesh, v, &options) && !boundary {
+                let kind = exact_corner(&topology, v);
+                let Some(boundary) = kind.map(|k| k == ExactCorner::Boundary) else {
                     continue;
-                }
+                };
                 let bound = match BFR_CORNER_NORMALS.iter().find(|(n, _)| n == name) {
                     Some(&(_, b)) if boundary => b,
                     _ => 1e-8,
@@ -252,38 +253,31 @@ fn loop_limit_surface_matches_opensubdiv_bfr() {
 /// 1.3e-4 rad, i.e. they are that extrapolated limit.
 const BFR_CORNER_NORMALS: &[(&str, f64)] = &[("loop_xord_boundary", 2e-4)];
 
-/// Whether base vertex `v` is a manifold boundary vertex under the crease rule, with no
-/// semi-sharp vertex or edge: its limit has a tangent plane, which `LoopSurface` finds by
-/// refining the corner when its sector is irregular. (At infinitely sharp interior crease
-/// vertices `Bfr`'s corner normals differ from ours by up to 1.3 rad on `loop_cubes_infsharp`
-/// and `loop_icos_infsharp`; which is right there is not settled, so only positions are
-/// compared.)
-fn final_boundary(
-    mesh: &subsurf::mesh::PolyMesh,
-    v: usize,
-    options: &subsurf::mesh::Options,
-) -> bool {
-    let (t, _) = subsurf::mesh::Topology::from_mesh(mesh, options).expect("topology");
-    let tag = t.vertex_tag(v);
-    tag.rule == subsurf::mesh::Rule::Crease
-        && tag.boundary
-        && !tag.non_manifold
-        && !tag.semi_sharp
-        && !tag.semi_sharp_edges
+/// The corners whose normal `LoopSurface` gives exactly, as `Bfr` does (up to its
+/// approximation, [`BFR_CORNER_NORMALS`]).
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum ExactCorner {
+    /// A smooth interior manifold vertex with no sharp edge: the limit masks are exact.
+    Smooth,
+    /// A manifold boundary vertex under the crease rule, with no semi-sharp vertex or edge:
+    /// its limit has a tangent plane, which `LoopSurface` finds by refining the corner when
+    /// its sector is irregular. (At infinitely sharp interior crease vertices `Bfr`'s corner
+    /// normals differ from ours by up to 1.3 rad on `loop_cubes_infsharp` and
+    /// `loop_icos_infsharp`; which is right there is not settled, so only positions are
+    /// compared.)
+    Boundary,
 }
 
-/// Whether base vertex `v` is a smooth interior manifold vertex with no sharp edge (its
-/// limit masks are exact, Bfr's normal there the same plane).
-fn smooth_interior(
-    mesh: &subsurf::mesh::PolyMesh,
-    v: usize,
-    options: &subsurf::mesh::Options,
-) -> bool {
-    let (t, _) = subsurf::mesh::Topology::from_mesh(mesh, options).expect("topology");
+/// The kind of base vertex `v` of `t` if its corner normal is compared, else `None`.
+fn exact_corner(t: &subsurf::mesh::Topology, v: usize) -> Option<ExactCorner> {
+    use subsurf::mesh::Rule;
     let tag = t.vertex_tag(v);
-    tag.rule == subsurf::mesh::Rule::Smooth
-        && !tag.boundary
-        && !tag.non_manifold
-        && !tag.semi_sharp_edges
-        && t.vertex_faces(v).len() >= 3
+    if tag.non_manifold || tag.semi_sharp_edges {
+        return None;
+    }
+    match tag.rule {
+        Rule::Smooth if !tag.boundary && t.vertex_faces(v).len() >= 3 => Some(ExactCorner::Smooth),
+        Rule::Crease if tag.boundary && !tag.semi_sharp => Some(ExactCorner::Boundary),
+        _ => None,
+    }
 }
