@@ -256,7 +256,8 @@ const TESSELLATE_EXAMPLES: &str = "\
 Each quad face becomes N x N quads sampled at u = i/N, v = j/N on the exact limit surface;
 samples on shared edges and vertices are evaluated once and shared, so the output is
 watertight. A non-quad face is sampled through its quad sub-faces at N/2 x N/2 (an odd N is
-rounded up when the mesh has non-quad faces). Holes produce no faces. The format follows
+rounded up when the mesh has non-quad faces). With --scheme loop each triangle becomes the
+N x N triangles of its grid u = i/N, v = j/N, i + j <= N. Holes produce no faces. The format follows
 OUT's extension: .obj (positions and vn normals, full precision), .ply (binary, f64
 positions and normals), .stl (binary, f32, triangles), .glb (binary glTF, f32 triangles
 and normals, turned to glTF's +Y up from --up, Z by default). '-o -' writes OBJ to
@@ -270,6 +271,7 @@ Examples:
   subsurf tessellate model.obj -o model.ply --rate 16
   subsurf tessellate model.obj -o print.stl --rate 12 --triangles
   subsurf tessellate textured.obj -o textured.glb --rate 8 --fvar corners-only
+  subsurf tessellate scan.obj -o scan-smooth.ply --rate 4 --scheme loop
   subsurf tessellate grid.obj -o - --rate 4 --boundary edge-and-corner > grid-limit.obj";
 
 /// Arguments of `subsurf tessellate`.
@@ -331,6 +333,8 @@ degrees; --up z: azimuth 0 looks along +Y; --up y: along -Z) and fits the boundi
 the range ignores outliers (98th percentile of |value|, capped near creases) unless --range
 is given. Meshes of more than 16 000 faces get a lower default rate. --control-mesh draws
 the input's edges on top: dark where in front of the surface, faint where hidden.
+--scheme loop draws a triangle mesh's Loop limit surface (N x N triangles per triangle) or
+its Loop levels; --c C the shape-adjustable (mixed) surface.
 --texture checker maps a checkerboard through the texture coordinates (vt): on the limit
 surface their exact limit in the --fvar mode, on a --level the refined ones; seams, stretching
 and coordinates outside the unit square (tinted red) show.
@@ -341,6 +345,7 @@ Examples:
   subsurf render model.obj -o mean.png --curvature mean --view 45,30
   subsurf render model.obj -o cage.png --level 2 --shade flat --control-mesh
   subsurf render model.obj -o patches.png --faces --up y
+  subsurf render scan.obj -o scan-zebra.png --zebra --scheme loop
   subsurf render textured.obj -o uv.png --texture checker --squares 16 --fvar corners-only";
 
 /// Arguments of `subsurf render`.
@@ -409,6 +414,10 @@ pub struct RenderArgs {
     pub max_memory: Option<u64>,
     #[command(flatten)]
     pub scheme: SchemeArgs,
+    /// Surface to draw: catmull-clark, adjustable (with --c, the default with --c) or loop
+    /// (a mesh of triangles) [default: catmull-clark]; --level draws its refined levels.
+    #[arg(long = "scheme", id = "scheme_kind", value_name = "SCHEME", value_enum)]
+    pub scheme_kind: Option<SchemeKind>,
     #[command(flatten)]
     pub adjust: AdjustArgs,
     /// Print no warnings or notes.
@@ -542,7 +551,7 @@ pub enum SchemeKind {
     /// the file's tags (untagged edges: interval 1; all equal: Catmull-Clark).
     Nurss,
     /// Loop, for triangle meshes, exactly as OpenSubdiv (refinement, --limit, repose, and
-    /// its exact limit with limit; no tessellate or render yet).
+    /// its exact limit with limit, tessellate and render).
     Loop,
     /// Bilinear, exactly as OpenSubdiv: the control mesh split, not smoothed (refinement,
     /// --limit and repose; no limit or tessellate yet).

@@ -6,7 +6,7 @@
 use std::borrow::Cow;
 use std::sync::atomic::{AtomicI64, Ordering};
 
-use subsurf::limit::{BuildError, LimitSurface};
+use subsurf::limit::{BuildError, LimitSurface, LoopSurface};
 use subsurf::mesh::{Options, PolyMesh};
 
 /// The memory the system reports as available (Linux `/proc/meminfo` `MemAvailable`), or
@@ -293,6 +293,22 @@ impl SurfaceGuard<'_> {
         };
         check(surface.estimate_memory(divisions).saturating_add(reserved))?;
         Ok(surface)
+    }
+
+    /// The Loop limit surface of `mesh`, for a job that needs `reserved` bytes of its own
+    /// besides. The surface keeps the topology and the points (estimated as the
+    /// Catmull-Clark surface's build); each face's refinement lives only while its points
+    /// are evaluated.
+    pub fn loop_surface(
+        &self,
+        mesh: &PolyMesh,
+        options: Options,
+        reserved: u64,
+    ) -> anyhow::Result<LoopSurface> {
+        use anyhow::Context as _;
+        let estimate = LimitSurface::estimate_build_memory(mesh).saturating_add(reserved);
+        check(self.name, &self.what, estimate, self.max, self.hint)?;
+        LoopSurface::new(mesh, options).with_context(|| self.name.to_owned())
     }
 }
 

@@ -24,7 +24,7 @@
 use crate::limit::{Derivatives, EvalError, LimitSurface, Order, SurfacePoint};
 use crate::mesh::MeshError;
 use crate::mesh::{Options, PolyMesh};
-use crate::refine::uniform::refine_mesh;
+use crate::refine::uniform::{refine_mesh, Steps};
 use crate::scheme::adjustable::Mixed;
 
 /// The exact limit surface of mixed subdivision, evaluable at `(input face, u, v)` with
@@ -66,7 +66,7 @@ impl MixedSurface {
     /// [`MeshError`] for an invalid mesh, or when `mixed.steps` is so large (e.g.
     /// [`Mixed::all`]'s `u32::MAX`) that the refined mesh would not fit in 32-bit indices.
     pub fn new(mesh: &PolyMesh, options: Options, mixed: Mixed) -> Result<Self, MeshError> {
-        let refined = refine_mesh(mesh, &options, mixed, mixed.steps, true)?;
+        let refined = refine_mesh(mesh, &options, Steps::Family(mixed), mixed.steps, true)?;
         let surface = LimitSurface::new(&refined, options)?;
         Ok(Self {
             mixed,

@@ -922,7 +922,7 @@ fn texture(ctx: &Ctx) -> Result<Vec<Item>> {
 /// Mean curvature of the exact limit surface, its colour range holding
 /// [`CURVATURE_QUANTILE`] of the samples, with the measured spread in the caption.
 fn mean_curvature(ctx: &Ctx) -> Result<Item> {
-    let samples = sample_curvature(ctx.mesh(), &ctx.options, ctx.ex.rate)
+    let samples = sample_curvature(ctx.mesh(), &ctx.options, Scheme::CatmullClark, ctx.ex.rate)
         .with_context(|| format!("{}: curvature samples", ctx.input.name))?;
     let mut size: Vec<f64> = samples
         .iter()

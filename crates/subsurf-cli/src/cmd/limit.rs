@@ -174,13 +174,7 @@ struct Unit {
 
 /// Runs `subsurf limit`.
 pub fn run(args: &LimitArgs) -> Result<()> {
-    if args.scheme_kind == Some(SchemeKind::Loop) {
-        if args.adjust.c.is_some() {
-            super::adjustable::usage_error("--c applies to --scheme adjustable only");
-        }
-    } else {
-        super::adjustable::check_surface_flags(args.scheme_kind, &args.adjust);
-    }
+    super::adjustable::check_surface_flags(args.scheme_kind, &args.adjust);
     // Every block is evaluated in parallel: this thread is the first of rayon's global
     // pool, one thread fewer than a pool beside it (`catmark_pawn --grid 5` 7.0 -> 6.4
     // MiB). Commands that may not use the pool at all leave it to start on first use.
@@ -258,11 +252,7 @@ pub fn run(args: &LimitArgs) -> Result<()> {
             (Sampler::Mixed(Box::new(mixed)), uv)
         }
         (SchemeKind::Loop, _) => {
-            // The surface keeps the topology and the points; each face's refinement lives
-            // only while its points are evaluated.
-            let estimate = LimitSurface::estimate_build_memory(mesh).saturating_add(held);
-            crate::memory::check(&input.name, &guard.what, estimate, args.max_memory, hint)?;
-            let s = LoopSurface::new(mesh, options).with_context(|| input.name.clone())?;
+            let s = guard.loop_surface(mesh, options, held)?;
             (Sampler::Loop(Box::new(s)), uv_surface(mesh, Scheme::Loop)?)
         }
         (_, None) => (

@@ -9,10 +9,11 @@ use subsurf::limit::{BuildError, LimitSurface};
 use subsurf::mesh::Options;
 use subsurf::render::CurvatureKind;
 use subsurf::render::{render_detailed, write_png, Geometry, Paint, Render, RenderError, Shading};
+use subsurf::Scheme;
 
 use crate::input::Input;
 use crate::output::Output;
-use crate::RenderArgs;
+use crate::{RenderArgs, SchemeKind};
 
 /// Default samples per base edge of the limit surface.
 const DEFAULT_RATE: u32 = 16;
@@ -22,6 +23,17 @@ const DEFAULT_BUDGET: u64 = 4 << 20;
 
 /// Runs `subsurf render`.
 pub fn run(args: &RenderArgs) -> Result<()> {
+    if args.scheme_kind == Some(SchemeKind::Nurss) {
+        super::adjustable::usage_error(
+            "render draws the catmull-clark, adjustable (--c) and loop surfaces; sample the \
+             NURSS surface with tessellate --scheme nurss",
+        );
+    }
+    super::adjustable::check_surface_flags(args.scheme_kind, &args.adjust);
+    let scheme = match args.scheme_kind {
+        Some(SchemeKind::Loop) => Scheme::Loop,
+        _ => Scheme::CatmullClark,
+    };
     check_png(&args.output)?;
     let out = Output::new(&args.output);
     out.check()?;
@@ -38,9 +50,12 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     if let Some(mode) = args.fvar {
         options.face_varying = mode;
     }
-    let mut opts = render_options(args);
+    let mut opts = Render {
+        scheme,
+        ..render_options(args)
+    };
     if args.level.is_none() && args.limit_rate.is_none() {
-        let rate = default_rate(&input.obj.mesh);
+        let rate = default_rate(&input.obj.mesh, scheme);
         if rate < DEFAULT_RATE && !args.quiet {
             crate::output::eprint_line(&format!(
                 "note: {}: the mesh is large; drawing its limit surface at rate {rate} \
@@ -131,6 +146,7 @@ fn estimate_memory(mesh: &subsurf::mesh::PolyMesh, options: &Options, opts: &Ren
             &subsurf::SubdivideOptions {
                 levels: l,
                 options: *options,
+                scheme: opts.scheme,
                 ..subsurf::SubdivideOptions::default()
             },
         ),
@@ -152,9 +168,13 @@ pub(crate) fn drawing_memory(mesh: &subsurf::mesh::PolyMesh, opts: &Render) -> u
     let pixels = u64::from(opts.width) * u64::from(opts.height) * BYTES_PER_PIXEL;
     let vertices = match opts.geometry {
         Geometry::Limit { rate } => crate::memory::tessellation_vertices(mesh, rate),
-        Geometry::Level(l) => (mesh.face_verts().len() as u64)
-            .checked_shl(2 * l.saturating_sub(1))
-            .unwrap_or(u64::MAX),
+        // The first level has a quad per face corner, or four triangles per triangle.
+        Geometry::Level(l) => match opts.scheme {
+            Scheme::Loop => 4 * mesh.num_faces() as u64,
+            _ => mesh.face_verts().len() as u64,
+        }
+        .checked_shl(2 * l.saturating_sub(1))
+        .unwrap_or(u64::MAX),
     };
     pixels.saturating_add(vertices.saturating_mul(BYTES_PER_VERTEX))
 }
@@ -198,13 +218,14 @@ fn render_options(args: &RenderArgs) -> Render {
 }
 
 /// [`DEFAULT_RATE`], or less (at least 1) for meshes that would draw more than
-/// [`DEFAULT_BUDGET`] polygons.
-fn default_rate(mesh: &subsurf::mesh::PolyMesh) -> u32 {
-    // Polygons per unit of rate²: 1 per quad, n/4 per n-gon (n sub-faces of (rate/2)²).
+/// [`DEFAULT_BUDGET`] polygons with `scheme`.
+fn default_rate(mesh: &subsurf::mesh::PolyMesh, scheme: Scheme) -> u32 {
+    // Polygons per unit of rate²: 1 per quad (and per Loop triangle), n/4 per n-gon (n
+    // sub-faces of (rate/2)²).
     let per_rate2: f64 = mesh
         .faces()
         .map(|f| {
-            if f.len() == 4 {
+            if f.len() == 4 || scheme == Scheme::Loop {
                 1.0
             } else {
                 f.len() as f64 / 4.0
@@ -301,10 +322,11 @@ mod tests {
                 .collect();
             PolyMesh::from_faces(p, &f).expect("a valid grid")
         };
-        assert_eq!(default_rate(&grid(4)), DEFAULT_RATE);
+        let cc = Scheme::CatmullClark;
+        assert_eq!(default_rate(&grid(4), cc), DEFAULT_RATE);
         // 102 400 quads: 4 Mi / 102 400 = 40.96 polygons each, rate 6.
-        assert_eq!(default_rate(&grid(320)), 6);
-        assert_eq!(default_rate(&PolyMesh::default()), DEFAULT_RATE);
+        assert_eq!(default_rate(&grid(320), cc), 6);
+        assert_eq!(default_rate(&PolyMesh::default(), cc), DEFAULT_RATE);
     }
 
     #[test]

@@ -5,8 +5,9 @@
 use anyhow::{bail, Context, Result};
 use subsurf::io::Up;
 use subsurf::io::{write_tessellation, TessellationFormat, TessellationWriteOptions};
-use subsurf::limit::{tessellate, FaceVaryingSurface, LimitSurface, Tessellation};
+use subsurf::limit::{tessellate, FaceVaryingSurface, LimitSurface, Surface, Tessellation};
 use subsurf::mesh::{Options, PolyMesh, TriangleSubdivision};
+use subsurf::Scheme;
 
 use crate::input::Input;
 use crate::output::{formats, tessellation_format, Output};
@@ -126,25 +127,27 @@ pub fn run(args: &TessellateArgs) -> Result<()> {
         hint: "use a lower --rate",
         quads_only: false,
     };
-    let surface = if verts <= subsurf::limit::MAX_TESSELLATION_VERTICES {
-        guard.limit_surface(
-            surface_mesh,
-            options,
-            rate,
-            verts
-                .saturating_mul(BYTES_PER_VERTEX)
-                .saturating_add(uv_bytes),
-        )?
+    // Only the build is guarded beyond the library's cap: the tessellation is refused
+    // before any evaluation.
+    let (divisions, reserved) = if verts <= subsurf::limit::MAX_TESSELLATION_VERTICES {
+        let held = verts.saturating_mul(BYTES_PER_VERTEX);
+        (rate, held.saturating_add(uv_bytes))
     } else {
-        // Only the build is guarded: the tessellation is refused before any evaluation.
-        guard.limit_surface(surface_mesh, options, 1, 0)?
+        (1, 0)
+    };
+    let (surface, scheme): (Box<dyn Surface>, _) = if kind == SchemeKind::Loop {
+        let s = guard.loop_surface(surface_mesh, options, reserved)?;
+        (Box::new(s), Scheme::Loop)
+    } else {
+        let s = guard.limit_surface(surface_mesh, options, divisions, reserved)?;
+        (Box::new(s), Scheme::CatmullClark)
     };
     // glTF draws triangles: let the tessellation split its quads (it picks the diagonals).
     let triangles = args.triangles || format == TessellationFormat::Glb;
     let mut t =
-        tessellate(&surface, surface_mesh, rate, triangles).with_context(|| input.name.clone())?;
+        tessellate(&*surface, surface_mesh, rate, triangles).with_context(|| input.name.clone())?;
     drop(surface);
-    add_uvs(&mut t, surface_mesh, &options, &input)?;
+    add_uvs(&mut t, surface_mesh, scheme, &options, &input)?;
     // Not written: free them before the writer's buffers (BYTES_PER_VERTEX).
     t.points = Vec::new();
     stl_note(format, &t, &input, args.quiet);
@@ -163,6 +166,9 @@ pub fn run(args: &TessellateArgs) -> Result<()> {
     if let Some(m) = mixed {
         let flags = format!(" --c {} --adjust-steps {}", m.scheme.c(), m.steps);
         comment.insert_str("subsurf tessellate".len(), &flags);
+    }
+    if scheme == Scheme::Loop {
+        comment.insert_str("subsurf tessellate".len(), " --scheme loop");
     }
     let control = args.control_mesh.then_some(mesh);
     check_single_precision(&t, format, &input)?;
@@ -186,14 +192,21 @@ fn uv_channel(mesh: &PolyMesh) -> Option<usize> {
     mesh.face_varying.iter().position(|c| c.name() == "uv")
 }
 
-/// Adds the limit of `mesh`'s texture coordinates (if any) at the corners of `t`, sampled
-/// from `mesh` with `options` (whose face-varying mode applies).
-fn add_uvs(t: &mut Tessellation, mesh: &PolyMesh, options: &Options, input: &Input) -> Result<()> {
+/// Adds the limit of `mesh`'s texture coordinates (if any) under `scheme` at the corners of
+/// `t`, sampled from `mesh` with `options` (whose face-varying mode applies).
+fn add_uvs(
+    t: &mut Tessellation,
+    mesh: &PolyMesh,
+    scheme: Scheme,
+    options: &Options,
+    input: &Input,
+) -> Result<()> {
     let Some(c) = uv_channel(mesh) else {
         return Ok(());
     };
     let context = || format!("{}: texture coordinates", input.name);
-    let surface = FaceVaryingSurface::new(mesh, *options, c).with_context(context)?;
+    let surface =
+        FaceVaryingSurface::for_scheme(mesh, scheme, *options, c).with_context(context)?;
     let uv = t
         .evaluate_face_varying(mesh, &surface, "uv")
         .with_context(context)?;

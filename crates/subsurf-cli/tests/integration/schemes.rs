@@ -1,7 +1,8 @@
 //! `--scheme loop` and `--scheme bilinear`: refinement as the library's `subdivide` gives it
-//! (with Loop, texture coordinates too), a quad for Loop refused naming the face, the
-//! operations not available yet refused with a message (never another scheme's surface),
-//! and `bench --scheme` timing the scheme it names.
+//! (with Loop, texture coordinates too), a quad for Loop refused naming the face, Loop's
+//! limit surface tessellated and drawn, the operations not available yet refused with a
+//! message (never another scheme's surface), and `bench --scheme` timing the scheme it
+//! names.
 
 use crate::common;
 
@@ -168,10 +169,8 @@ fn operations_not_available_yet_are_refused() {
         ["limit", "--grid", "3", "-o", "out.txt"],
     ] {
         let cmd = args[0];
-        // `limit` samples Loop's exact limit; bilinear's is refused.
-        let scheme = if cmd == "limit" { "bilinear" } else { "loop" };
         let mut args = args.to_vec();
-        args.extend(["tri.obj", "--scheme", scheme]);
+        args.extend(["tri.obj", "--scheme", "bilinear"]);
         let o = run_in(dir.path(), &args);
         assert_code(&o, 2);
         assert!(
@@ -181,6 +180,84 @@ fn operations_not_available_yet_are_refused() {
         );
     }
     assert!(!dir.path().join("out.obj").exists());
+}
+
+/// `tessellate --scheme loop` writes the library's tessellation of the Loop limit surface
+/// (`rate²` triangles per triangle, texture coordinates at their limit, the scheme in the
+/// header); `render --scheme loop` draws it, differently from Catmull-Clark's surface of
+/// the same triangles; NURSS, `--c` and quads are refused.
+#[test]
+fn loop_tessellates_and_renders_its_limit_surface() {
+    use subsurf::limit::{tessellate, LoopSurface};
+    let dir = dir_with(&[("uv.obj", TEXTURED), ("quad.obj", WITH_QUAD)]);
+    let o = run_in(
+        dir.path(),
+        &[
+            "tessellate",
+            "uv.obj",
+            "-o",
+            "t.obj",
+            "--rate",
+            "4",
+            "--scheme",
+            "loop",
+        ],
+    );
+    assert_code(&o, 0);
+    let text = std::fs::read_to_string(dir.path().join("t.obj")).expect("output written");
+    assert!(
+        text.contains("subsurf tessellate --scheme loop --rate 4"),
+        "{text:.300}"
+    );
+    let got = parse_obj(text.as_bytes(), "t.obj").expect("valid output");
+    let input = parse_obj(TEXTURED.as_bytes(), "uv.obj").expect("valid OBJ");
+    let options = input.options.resolve(Options::default());
+    let surface = LoopSurface::new(&input.mesh, options).expect("a Loop surface");
+    let want = tessellate(&surface, &input.mesh, 4, false).expect("tessellates");
+    assert_eq!(got.mesh.num_faces(), 4 * 16);
+    assert_eq!(got.mesh.face_verts(), &want.face_verts[..]);
+    assert_eq!(got.mesh.positions(), &want.positions[..]);
+    // The seam along edge 1-5 gives vertex 1 and the 3 samples inside the edge a texture
+    // coordinate per side (the apex has one).
+    let uv = &got.mesh.face_varying[0];
+    assert_eq!(uv.num_values(), want.num_vertices() + 4);
+
+    let render = |extra: &[&str]| {
+        let args = [
+            &[
+                "render", "uv.obj", "-o", "z.png", "--zebra", "--size", "64x48",
+            ],
+            extra,
+        ];
+        let o = run_in(dir.path(), &args.concat());
+        let png = std::fs::read(dir.path().join("z.png")).ok();
+        let _ = std::fs::remove_file(dir.path().join("z.png"));
+        (o, png)
+    };
+    let (o, loop_png) = render(&["--scheme", "loop"]);
+    assert_code(&o, 0);
+    let (o, cc_png) = render(&[]);
+    assert_code(&o, 0);
+    assert!(loop_png.is_some() && loop_png != cc_png);
+    for (extra, code) in [
+        (&["--scheme", "nurss"][..], 2),
+        (&["--scheme", "loop", "--c", "0.3"][..], 2),
+    ] {
+        let (o, png) = render(extra);
+        assert_code(&o, code);
+        assert!(png.is_none(), "{extra:?}");
+    }
+    let o = run_in(
+        dir.path(),
+        &["render", "quad.obj", "-o", "q.png", "--scheme", "loop"],
+    );
+    assert_code(&o, 1);
+    assert!(
+        stderr(&o).contains("quad.obj") && stderr(&o).contains("face"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(!dir.path().join("q.png").exists());
 }
 
 /// `bench --scheme loop|bilinear` refines (and with `--replay` re-poses) with that scheme:

@@ -38,6 +38,7 @@ use super::grid::VertexGrid;
 use super::BlendError;
 use crate::mesh::{Corner, Crease, EdgeInterval, KnotTags, Options, PolyMesh, Tags, Topology};
 use crate::nonuniform::Nurss;
+use crate::refine::uniform::{refine_mesh, Steps};
 use crate::scheme::adjustable::Mixed;
 
 /// Boundary vertices of `mesh`: vertices on an edge that only one face uses.
@@ -203,7 +204,7 @@ pub fn nurss_refine_once(mesh: &PolyMesh) -> Result<PolyMesh, BlendError> {
 /// [`BlendError::Subdivide`] for an invalid mesh.
 pub fn catmark_refine_once(mesh: &PolyMesh) -> Result<PolyMesh, BlendError> {
     let options = crate::mesh::Options::default();
-    crate::refine::uniform::refine_mesh(mesh, &options, Mixed::CATMULL_CLARK, 1, true)
+    refine_mesh(mesh, &options, Steps::Family(Mixed::CATMULL_CLARK), 1, true)
         .map_err(|e| BlendError::Subdivide(e.to_string()))
 }
 

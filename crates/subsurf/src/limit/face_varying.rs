@@ -62,7 +62,7 @@ use std::sync::Arc;
 
 use rayon::prelude::*;
 
-use super::{EvalError, LimitSurface, LoopSurface, Order, Surface, SurfacePoint};
+use super::{Domain, EvalError, LimitSurface, LoopSurface, Order, Surface, SurfacePoint};
 use crate::mesh::{
     FaceVarying, FaceVaryingInterpolation, MeshError, Options, PolyMesh, Topology, ValueMesh,
 };
@@ -338,6 +338,16 @@ impl FaceVaryingSurface {
     /// Components per value.
     pub fn dim(&self) -> usize {
         self.dim
+    }
+
+    /// The parameter domain of face `f` (see [`Surface::domain`]): a triangle with Loop,
+    /// else the unit square.
+    pub fn domain(&self, f: usize) -> Domain {
+        match &self.kind {
+            Kind::Linear(l) if l.triangles => Domain::Triangle,
+            Kind::Linear(_) => Domain::Quad,
+            Kind::Smooth(s) => s.first().map_or(Domain::Quad, |s| s.domain(f)),
+        }
     }
 
     /// The value and first derivatives at `p`.

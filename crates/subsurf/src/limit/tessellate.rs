@@ -4,7 +4,7 @@
 //! See [`tessellate`] for the grid, the sharing of samples, normals and limits.
 
 use super::bspline::{Derivatives, Order};
-use super::eval::Surface;
+use super::eval::{Domain, Surface};
 use super::surface::{EvalError, LimitSurface, SurfacePoint};
 use crate::mesh::{FaceVarying, MeshError, Options, PolyMesh, Topology, INVALID};
 
@@ -26,8 +26,8 @@ pub struct Tessellation {
     pub normals: Vec<[f64; 3]>,
     /// CSR offsets of the output faces (`num_faces() + 1` entries).
     pub face_offsets: Vec<u32>,
-    /// CSR vertex indices of the output faces: quads, or triangles with `triangles`,
-    /// counter-clockwise like their base faces.
+    /// CSR vertex indices of the output faces: quads, or triangles with `triangles` (and
+    /// always on triangle domains), counter-clockwise like their base faces.
     pub face_verts: Vec<u32>,
     /// Per output face, the base face and sub-face (0 for quads) it samples.
     pub source: Vec<(u32, u32)>,
@@ -85,15 +85,6 @@ pub enum TessellateError {
     /// `rate` was 0.
     #[error("the tessellation rate must be at least 1")]
     ZeroRate,
-    /// The surface's faces are triangles ([`Domain::Triangle`](super::Domain::Triangle), a
-    /// Loop surface): the tessellator samples quad domains only.
-    #[error(
-        "face {face} has a triangle domain (a Loop surface): tessellating triangle domains is          not supported"
-    )]
-    TriangleDomain {
-        /// The first such face.
-        face: u32,
-    },
     /// The mesh is invalid.
     #[error(transparent)]
     Mesh(#[from] MeshError),
@@ -193,8 +184,8 @@ pub fn tessellate_mesh(
 
 /// Samples `surface` (built from `mesh`, which gives the adjacency) on a watertight grid of
 /// `rate` segments per base edge. Any [`Surface`] is tessellated the same way: the exact
-/// limit surface, the mixed, G2 and sub-basis spline surfaces, a NURSS surface that is
-/// exact on every face.
+/// Catmull-Clark and Loop limit surfaces, the mixed, G2 and sub-basis spline surfaces, a
+/// NURSS surface that is exact on every face.
 ///
 /// # Grid
 /// Every quad face with a surface becomes a `rate × rate` grid of quads, sampled at
@@ -213,6 +204,14 @@ pub fn tessellate_mesh(
 /// cells from `v = 0`, each row from `u = 0`; the cell at `(a, b)` is the quad of the
 /// samples `(a, b)`, `(a + 1, b)`, `(a + 1, b + 1)`, `(a, b + 1)` (counter-clockwise like
 /// its base face, in units of `1 / rate`, or of `2 / rate` on a sub-face).
+///
+/// A face whose domain is a triangle ([`Domain::Triangle`]: every face of a
+/// [`LoopSurface`](super::LoopSurface)) is sampled at `u = a / rate`, `v = b / rate` with
+/// `a + b ≤ rate`, and becomes the `rate²` triangles of that grid, by rows of constant
+/// `v` from `v = 0`: in row `b`, for `a = 0, 1, …, rate − b − 1`, the triangle `(a, b)`,
+/// `(a + 1, b)`, `(a, b + 1)` and, unless it is the row's last, `(a + 1, b)`,
+/// `(a + 1, b + 1)`, `(a, b + 1)` (counter-clockwise like the base triangle). Its edges
+/// have `rate` segments too, so it meets any neighbour watertight.
 ///
 /// Faces without a surface (holes, and the faces that
 /// [`BoundaryInterpolation::None`](crate::mesh::BoundaryInterpolation::None) drops) produce
@@ -240,7 +239,8 @@ pub fn tessellate_mesh(
 /// orientation, along its shorter diagonal in space (`a c` when both are equally long) —
 /// except at a vertex with only two quads around it (at a base vertex of valence 2), where
 /// the two quads share two sides: both are split through that vertex, as otherwise they
-/// would give two triangles on the same three vertices.
+/// would give two triangles on the same three vertices. The triangles of triangle domains
+/// are output as they are, with or without `triangles`.
 ///
 /// # Cost
 /// Evaluation runs in parallel ([`Surface::evaluate_many`]) in chunks; memory is about
@@ -264,36 +264,36 @@ pub fn tessellate<S: Surface + ?Sized>(
     if rate == 0 {
         return Err(TessellateError::ZeroRate);
     }
-    if let Some(face) = (0..surface.num_faces()).find(|&f| surface.domain(f) != super::Domain::Quad)
-    {
-        return Err(TessellateError::TriangleDomain { face: face as u32 });
-    }
     check_match(surface, mesh)?;
     // The adjacency only: the scheme's options play no part in it.
     let (topo, _) = Topology::from_mesh(mesh, &Options::default())?;
     let live: Vec<bool> = (0..topo.num_faces())
         .map(|f| surface.has_surface(f))
         .collect();
-    let has_ngon = (0..topo.num_faces()).any(|f| live[f] && topo.face_vertices(f).len() != 4);
+    let tri: Vec<bool> = (0..topo.num_faces())
+        .map(|f| surface.domain(f) == Domain::Triangle)
+        .collect();
+    let has_ngon =
+        (0..topo.num_faces()).any(|f| live[f] && !tri[f] && topo.face_vertices(f).len() != 4);
     let rate = if has_ngon && rate % 2 == 1 {
         // Only u32::MAX is odd and cannot be rounded up; the size guard refuses it anyway.
         rate.checked_add(1).unwrap_or(rate)
     } else {
         rate
     };
-    estimate(&topo, &live, rate, triangles)?;
+    estimate(&topo, &live, &tri, rate, triangles)?;
 
-    let g = Grid::number(&topo, &live, rate);
+    let g = Grid::number(&topo, &live, tri, rate);
     let (positions, mut normals) = evaluate(surface, &g.points)?;
-    let (mut face_verts, mut source) = g.quads(&topo, &live);
-    let size = if triangles {
-        face_verts = split(&face_verts, positions.len(), &positions);
-        source = source.iter().flat_map(|&s| [s, s]).collect();
-        3
-    } else {
-        4
-    };
-    let face_offsets: Vec<u32> = (0..=source.len()).map(|f| (f * size) as u32).collect();
+    let mut cells = g.cells(&topo, &live);
+    if triangles {
+        cells = cells.split(&positions);
+    }
+    let Cells {
+        offsets: face_offsets,
+        verts: face_verts,
+        source,
+    } = cells;
     fix_normals(&mut normals, &positions, &face_offsets, &face_verts);
     Ok(Tessellation {
         rate,
@@ -314,8 +314,11 @@ fn check_match<S: Surface + ?Sized>(surface: &S, mesh: &PolyMesh) -> Result<(), 
         } else {
             0
         };
-        let expect = if size == 4 { 1 } else { size };
-        if surface.num_subfaces(f) != expect {
+        // A triangle domain is one triangle; a quad domain is a quad or the sub-faces of
+        // an n-gon.
+        let tri = surface.domain(f) == Domain::Triangle;
+        let expect = if size == 4 || tri { 1 } else { size };
+        if surface.num_subfaces(f) != expect || (tri && size != 3 && size != 0) {
             return Err(TessellateError::Mismatch {
                 face: f,
                 surface: surface.num_subfaces(f),
@@ -331,13 +334,15 @@ fn check_match<S: Surface + ?Sized>(surface: &S, mesh: &PolyMesh) -> Result<(), 
 fn estimate(
     topo: &Topology,
     live: &[bool],
+    tri: &[bool],
     rate: u32,
     triangles: bool,
 ) -> Result<(), TessellateError> {
     let r = u128::from(rate);
     let mut used_v = vec![false; topo.num_vertices()];
     let mut used_e = vec![false; topo.num_edges()];
-    let (mut interior, mut faces) = (0u128, 0u128);
+    // Interior samples, quads and triangles of triangle domains.
+    let (mut interior, mut faces, mut tris) = (0u128, 0u128, 0u128);
     for f in (0..topo.num_faces()).filter(|&f| live[f]) {
         let fv = topo.face_vertices(f);
         fv.iter().for_each(|&v| used_v[v as usize] = true);
@@ -345,7 +350,10 @@ fn estimate(
             .iter()
             .for_each(|&e| used_e[e as usize] = true);
         let n = fv.len() as u128;
-        if fv.len() == 4 {
+        if tri[f] {
+            interior += (r - 1) * r.saturating_sub(2) / 2;
+            tris += r * r;
+        } else if fv.len() == 4 {
             interior += (r - 1) * (r - 1);
             faces += r * r;
         } else {
@@ -357,9 +365,9 @@ fn estimate(
     let count = |u: &[bool]| u.iter().filter(|&&x| x).count() as u128;
     let vertices = count(&used_v) + count(&used_e) * (r - 1) + interior;
     let (faces, face_verts) = if triangles {
-        (2 * faces, 6 * faces)
+        (2 * faces + tris, 6 * faces + 3 * tris)
     } else {
-        (faces, 4 * faces)
+        (faces + tris, 4 * faces + 3 * tris)
     };
     if vertices > u128::from(MAX_TESSELLATION_VERTICES) || face_verts > u128::from(u32::MAX) {
         return Err(TessellateError::TooLarge {
@@ -388,6 +396,15 @@ struct Grid {
     face: Vec<u32>,
     /// Per output vertex, where its owner evaluates it.
     points: Vec<SurfacePoint>,
+    /// Per base face, whether its domain is a triangle ([`Domain::Triangle`]).
+    tri: Vec<bool>,
+}
+
+/// Output polygons: CSR offsets and vertices, and per polygon its base face and sub-face.
+struct Cells {
+    offsets: Vec<u32>,
+    verts: Vec<u32>,
+    source: Vec<(u32, u32)>,
 }
 
 fn param(k: u32, n: u32) -> f64 {
@@ -407,13 +424,14 @@ impl Grid {
     /// Numbers every sample, faces in order, each at first sight (so its owner is the
     /// lowest-numbered face with a surface that contains it), and records where to
     /// evaluate it.
-    fn number(topo: &Topology, live: &[bool], r: u32) -> Self {
+    fn number(topo: &Topology, live: &[bool], tri: Vec<bool>, r: u32) -> Self {
         let mut g = Grid {
             r,
             vert: vec![INVALID; topo.num_vertices()],
             edge: vec![INVALID; topo.num_edges()],
             face: vec![INVALID; topo.num_faces()],
             points: Vec::new(),
+            tri,
         };
         for f in (0..topo.num_faces()).filter(|&f| live[f]) {
             let fv = topo.face_vertices(f);
@@ -438,7 +456,13 @@ impl Grid {
                 }
             }
             g.face[f] = g.points.len() as u32;
-            if n == 4 {
+            if g.tri[f] {
+                for b in 1..r {
+                    for a in 1..r - b {
+                        g.points.push(point(f, 0, param(a, r), param(b, r)));
+                    }
+                }
+            } else if n == 4 {
                 for b in 1..r {
                     for a in 1..r {
                         g.points.push(point(f, 0, param(a, r), param(b, r)));
@@ -468,9 +492,17 @@ impl Grid {
     /// direction: `m = 0` at vertex `i`, `m = r` at vertex `i + 1`.
     fn boundary_point(&self, f: usize, n: usize, i: usize, m: u32) -> SurfacePoint {
         let r = self.r;
+        let t = param(m, r);
+        let t_rev = param(r - m, r);
+        if self.tri[f] {
+            // Edge 1 runs from (1, 0) to (0, 1), edge 2 down the v axis.
+            return match i {
+                0 => point(f, 0, t, 0.0),
+                1 => point(f, 0, t_rev, t),
+                _ => point(f, 0, 0.0, t_rev),
+            };
+        }
         if n == 4 {
-            let t = param(m, r);
-            let t_rev = param(r - m, r);
             return match i {
                 0 => point(f, 0, t, 0.0),
                 1 => point(f, 0, 1.0, t),
@@ -518,11 +550,31 @@ impl Grid {
     }
 
     /// The output vertices of the `(s + 1)²` grid points of sub-face `j` of face `f`
-    /// (`(a, b)` at `b * (s + 1) + a`).
+    /// (`(a, b)` at `b * (s + 1) + a`; on a triangle domain only those with `a + b ≤ s`,
+    /// the others [`INVALID`]).
     fn patch(&self, topo: &Topology, f: usize, j: usize, out: &mut Vec<u32>) -> u32 {
         let n = topo.face_vertices(f).len();
         let r = self.r;
         out.clear();
+        if self.tri[f] {
+            out.resize(((r + 1) * (r + 1)) as usize, INVALID);
+            let mut interior = self.face[f];
+            for b in 0..=r {
+                for a in 0..=r - b {
+                    out[(b * (r + 1) + a) as usize] = if b == 0 {
+                        self.on_edge(topo, f, 0, a)
+                    } else if a + b == r {
+                        self.on_edge(topo, f, 1, b)
+                    } else if a == 0 {
+                        self.on_edge(topo, f, 2, r - b)
+                    } else {
+                        interior += 1;
+                        interior - 1
+                    };
+                }
+            }
+            return r;
+        }
         if n == 4 {
             let w = r - 1;
             for b in 0..=r {
@@ -564,63 +616,101 @@ impl Grid {
         s
     }
 
-    /// The output quads (4 indices each) and their sources, in base face order,
-    /// sub-faces in order, rows of constant `v` from `v = 0`, cells along `u`.
-    fn quads(&self, topo: &Topology, live: &[bool]) -> (Vec<u32>, Vec<(u32, u32)>) {
+    /// The output polygons, in base face order, sub-faces in order, each grid by rows of
+    /// constant `v` from `v = 0`: on a quad domain the quads along `u`, on a triangle
+    /// domain the triangles along `u` (see [`tessellate`]).
+    fn cells(&self, topo: &Topology, live: &[bool]) -> Cells {
         let mut verts = Vec::new();
         let mut source = Vec::new();
+        let mut offsets = vec![0u32];
         let mut grid = Vec::new();
+        let mut push = |poly: &[u32], f: usize, j: usize| {
+            verts.extend_from_slice(poly);
+            offsets.push(verts.len() as u32);
+            source.push((f as u32, j as u32));
+        };
         for f in (0..topo.num_faces()).filter(|&f| live[f]) {
             let n = topo.face_vertices(f).len();
+            if self.tri[f] {
+                let s = self.patch(topo, f, 0, &mut grid) as usize;
+                let at = |a: usize, b: usize| grid[b * (s + 1) + a];
+                for b in 0..s {
+                    for a in 0..s - b {
+                        push(&[at(a, b), at(a + 1, b), at(a, b + 1)], f, 0);
+                        if a + 1 < s - b {
+                            push(&[at(a + 1, b), at(a + 1, b + 1), at(a, b + 1)], f, 0);
+                        }
+                    }
+                }
+                continue;
+            }
             let subfaces = if n == 4 { 1 } else { n };
             for j in 0..subfaces {
                 let s = self.patch(topo, f, j, &mut grid) as usize;
                 let at = |a: usize, b: usize| grid[b * (s + 1) + a];
                 for b in 0..s {
                     for a in 0..s {
-                        verts.extend_from_slice(&[
-                            at(a, b),
-                            at(a + 1, b),
-                            at(a + 1, b + 1),
-                            at(a, b + 1),
-                        ]);
-                        source.push((f as u32, j as u32));
+                        let quad = [at(a, b), at(a + 1, b), at(a + 1, b + 1), at(a, b + 1)];
+                        push(&quad, f, j);
                     }
                 }
             }
         }
-        (verts, source)
+        Cells {
+            offsets,
+            verts,
+            source,
+        }
     }
 }
 
-/// Splits each quad `a b c d` into two triangles: through a corner that has only two
-/// quads around it (where two quads share two sides, and splitting both along the other
-/// diagonal would put two triangles on the same three vertices), else along the shorter
-/// diagonal (`a c` on a tie).
-fn split(quads: &[u32], num_vertices: usize, pos: &[[f64; 3]]) -> Vec<u32> {
-    let mut valence = vec![0u8; num_vertices];
-    for &v in quads {
-        valence[v as usize] = valence[v as usize].saturating_add(1);
-    }
-    let mut out = Vec::with_capacity(quads.len() / 4 * 6);
-    for q in quads.chunks_exact(4) {
-        let two = |k: usize| valence[q[k] as usize] == 2;
-        let d02 = dist2(&pos[q[0] as usize], &pos[q[2] as usize]);
-        let d13 = dist2(&pos[q[1] as usize], &pos[q[3] as usize]);
-        let along02 = if two(0) || two(2) {
-            true
-        } else if two(1) || two(3) {
-            false
-        } else {
-            d02 <= d13
+impl Cells {
+    /// Splits each quad `a b c d` into two triangles (triangles are kept): through a
+    /// corner that has only two quads around it (where two quads share two sides, and
+    /// splitting both along the other diagonal would put two triangles on the same three
+    /// vertices), else along the shorter diagonal (`a c` on a tie).
+    fn split(self, pos: &[[f64; 3]]) -> Self {
+        let polys = || {
+            self.offsets
+                .windows(2)
+                .map(|w| &self.verts[w[0] as usize..w[1] as usize])
         };
-        if along02 {
-            out.extend_from_slice(&[q[0], q[1], q[2], q[0], q[2], q[3]]);
-        } else {
-            out.extend_from_slice(&[q[0], q[1], q[3], q[1], q[2], q[3]]);
+        let mut valence = vec![0u8; pos.len()];
+        for &v in polys().filter(|p| p.len() == 4).flatten() {
+            valence[v as usize] = valence[v as usize].saturating_add(1);
+        }
+        let mut verts = Vec::with_capacity(self.verts.len() / 4 * 6);
+        let mut source = Vec::with_capacity(2 * self.source.len());
+        for (q, &src) in polys().zip(&self.source) {
+            if q.len() != 4 {
+                verts.extend_from_slice(q);
+                source.push(src);
+                continue;
+            }
+            let two = |k: usize| valence[q[k] as usize] == 2;
+            let d02 = dist2(&pos[q[0] as usize], &pos[q[2] as usize]);
+            let d13 = dist2(&pos[q[1] as usize], &pos[q[3] as usize]);
+            let along02 = if two(0) || two(2) {
+                true
+            } else if two(1) || two(3) {
+                false
+            } else {
+                d02 <= d13
+            };
+            if along02 {
+                verts.extend_from_slice(&[q[0], q[1], q[2], q[0], q[2], q[3]]);
+            } else {
+                verts.extend_from_slice(&[q[0], q[1], q[3], q[1], q[2], q[3]]);
+            }
+            source.extend([src, src]);
+        }
+        let offsets = (0..=source.len()).map(|f| (3 * f) as u32).collect();
+        Cells {
+            offsets,
+            verts,
+            source,
         }
     }
-    out
 }
 
 /// Whether face `f` runs its edge `i` from the edge's first vertex to its second.
@@ -693,6 +783,7 @@ fn fix_normals(normals: &mut [[f64; 3]], pos: &[[f64; 3]], offsets: &[u32], vert
 
 #[cfg(test)]
 mod tests {
+    use super::super::LoopSurface;
     use super::*;
     use crate::mesh::{Crease, Tags};
 
@@ -701,23 +792,32 @@ mod tests {
     /// between neighbours (orientation, half-edges of n-gons, spokes) is right.
     fn check_grid(mesh: &PolyMesh, options: Options, rate: u32) {
         let surface = LimitSurface::new(mesh, options).unwrap();
-        let t = tessellate(&surface, mesh, rate, false).unwrap();
+        check_surface_grid(&surface, mesh, options, rate);
+    }
+
+    fn check_surface_grid(surface: &dyn Surface, mesh: &PolyMesh, options: Options, rate: u32) {
+        let t = tessellate(surface, mesh, rate, false).unwrap();
         let (topo, _) = Topology::from_mesh(mesh, &options).unwrap();
         let live: Vec<bool> = (0..topo.num_faces())
             .map(|f| surface.has_surface(f))
             .collect();
-        let g = Grid::number(&topo, &live, t.rate);
+        let tri = (0..topo.num_faces())
+            .map(|f| surface.domain(f) == Domain::Triangle)
+            .collect();
+        let g = Grid::number(&topo, &live, tri, t.rate);
         assert_eq!(g.points.len(), t.num_vertices());
         let mut grid = Vec::new();
         let mut checked = 0;
         for f in (0..topo.num_faces()).filter(|&f| live[f]) {
-            let n = topo.face_vertices(f).len();
-            for j in 0..if n == 4 { 1 } else { n } {
+            for j in 0..surface.num_subfaces(f) {
                 let s = g.patch(&topo, f, j, &mut grid);
                 for b in 0..=s {
                     for a in 0..=s {
+                        if g.tri[f] && a + b > s {
+                            continue;
+                        }
                         let d = surface
-                            .eval_point(point(f, j, param(a, s), param(b, s)))
+                            .evaluate(point(f, j, param(a, s), param(b, s)))
                             .unwrap();
                         let got = t.positions[grid[(b * (s + 1) + a) as usize] as usize];
                         let err = dist2(&d.p, &got).sqrt();
@@ -778,6 +878,66 @@ mod tests {
         check_grid(&creased, Options::default(), 3);
     }
 
+    /// The cube with each face split into two triangles: a Loop mesh whose vertices have
+    /// valence 4 or 5 (every face irregular).
+    fn tri_cube() -> PolyMesh {
+        let c = cube();
+        let faces: Vec<[u32; 3]> = (c.faces())
+            .flat_map(|f| [[f[0], f[1], f[2]], [f[0], f[2], f[3]]])
+            .collect();
+        PolyMesh::from_faces(c.positions().to_vec(), &faces).unwrap()
+    }
+
+    /// Triangle domains become triangular grids whose shared samples agree with every
+    /// face; the output is a closed, consistently oriented 2-manifold with the counts of
+    /// the grid, facing the way the limit normals do, with or without `triangles`.
+    #[test]
+    fn triangle_domains_are_watertight_triangular_grids() {
+        let m = tri_cube();
+        let o = Options::default();
+        let s = LoopSurface::new(&m, o).unwrap();
+        for rate in 1..=5 {
+            check_surface_grid(&s, &m, o, rate);
+            let t = tessellate(&s, &m, rate, false).unwrap();
+            let r = rate as usize;
+            assert_eq!(t.rate, rate);
+            assert_eq!(t.num_faces(), 12 * r * r);
+            // 8 vertices, 18 edges of r − 1 inner samples, 12 faces of (r − 1)(r − 2) / 2.
+            let inner = (r - 1) * r.saturating_sub(2) / 2;
+            assert_eq!(t.num_vertices(), 8 + 18 * (r - 1) + 12 * inner);
+            let mut directed = std::collections::HashSet::new();
+            for f in 0..t.num_faces() {
+                let fv = t.face(f);
+                assert_eq!(fv.len(), 3);
+                for i in 0..3 {
+                    assert!(directed.insert((fv[i], fv[(i + 1) % 3])), "face {f}");
+                }
+                let n = crate::geom::newell_normal(&t.positions, fv);
+                let at = |k: usize| t.normals[fv[k] as usize];
+                let mean: [f64; 3] = std::array::from_fn(|c| at(0)[c] + at(1)[c] + at(2)[c]);
+                assert!(crate::geom::dot(&n, &mean) > 0.0, "face {f} faces inwards");
+            }
+            assert!(directed.iter().all(|&(a, b)| directed.contains(&(b, a))));
+            assert_eq!(tessellate(&s, &m, rate, true).unwrap(), t);
+        }
+        let mut creased = tri_cube();
+        creased.tags = Tags {
+            creases: vec![Crease {
+                v0: 4,
+                v1: 5,
+                sharpness: 2.5,
+            }],
+            holes: vec![3],
+            ..Tags::default()
+        };
+        let s = LoopSurface::new(&creased, o).unwrap();
+        check_surface_grid(&s, &creased, o, 4);
+        assert_eq!(
+            tessellate(&s, &creased, 4, false).unwrap().num_faces(),
+            11 * 16
+        );
+    }
+
     #[test]
     fn odd_rates_round_up_only_with_ngons() {
         let o = Options::default();
@@ -812,6 +972,13 @@ mod tests {
         let e = tessellate(&s, &mixed(), 2, false).unwrap_err();
         assert!(
             matches!(e, TessellateError::Mismatch { face: 1, .. }),
+            "{e}"
+        );
+        // A triangle domain over a quad.
+        let s = LoopSurface::new(&tri_cube(), o).unwrap();
+        let e = tessellate(&s, &cube(), 2, false).unwrap_err();
+        assert!(
+            matches!(e, TessellateError::Mismatch { face: 0, .. }),
             "{e}"
         );
     }

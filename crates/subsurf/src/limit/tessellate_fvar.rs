@@ -1,6 +1,7 @@
 //! [`Tessellation::evaluate_face_varying`]: face-varying data (texture coordinates) at the
 //! corners of a tessellation.
 
+use super::eval::Domain;
 use super::face_varying::FaceVaryingSurface;
 use super::surface::SurfacePoint;
 use super::tessellate::{TessellateError, Tessellation};
@@ -42,7 +43,7 @@ impl Tessellation {
         surface: &FaceVaryingSurface,
         name: &str,
     ) -> Result<FaceVarying, TessellateError> {
-        let corners = self.corner_points(mesh)?;
+        let corners = self.corner_points(mesh, surface)?;
         // One evaluation per (output vertex, base face): `request[c]` for corner `c`.
         let mut last_face = vec![INVALID; self.num_vertices()];
         let mut last_request = vec![INVALID; self.num_vertices()];
@@ -93,13 +94,16 @@ impl Tessellation {
     /// [`tessellate`](super::tessellate()) documents: faces in base face order, each
     /// sub-face's grid by rows of cells from `v = 0`, cells along `u`, a cell's quad
     /// `(a, b) (a + 1, b) (a + 1, b + 1) (a, b + 1)`, and with triangles each quad as two
-    /// triangles (`0 1 2, 0 2 3` or `0 1 3, 1 2 3`, told apart by their first vertices).
-    fn corner_points(&self, mesh: &PolyMesh) -> Result<Vec<SurfacePoint>, TessellateError> {
+    /// triangles (`0 1 2, 0 2 3` or `0 1 3, 1 2 3`, told apart by their first vertices);
+    /// on a triangle domain of `surface`, the triangles of its triangular grid.
+    fn corner_points(
+        &self,
+        mesh: &PolyMesh,
+        surface: &FaceVaryingSurface,
+    ) -> Result<Vec<SurfacePoint>, TessellateError> {
         if self.points.is_empty() && self.num_faces() > 0 {
             return Err(TessellateError::NoCornerPoints);
         }
-        let triangles = self.num_faces() > 0 && self.face(0).len() == 3;
-        let per_cell = if triangles { 2 } else { 1 };
         let r = self.rate;
         let mut out = Vec::with_capacity(self.face_verts.len());
         let mut q = 0;
@@ -110,18 +114,38 @@ impl Tessellation {
             } else {
                 0
             };
-            let s = if n == 4 { r } else { r / 2 };
-            let cells = (s as usize) * (s as usize);
-            let end = q + cells * per_cell;
-            if n < 3 || end > self.num_faces() || self.source[q..end].iter().any(|&x| x != (f, j)) {
-                return Err(TessellateError::Layout { face: q });
-            }
+            let tri = surface.domain(f as usize) == Domain::Triangle;
+            let s = if n == 4 || tri { r } else { r / 2 };
             let at = |a: u32, b: u32| SurfacePoint {
                 face: f,
                 subface: j,
                 u: f64::from(a) / f64::from(s),
                 v: f64::from(b) / f64::from(s),
             };
+            let cells = (s as usize) * (s as usize);
+            // Quads split into triangles come two per cell.
+            let per_cell = if !tri && self.face(q).len() == 3 {
+                2
+            } else {
+                1
+            };
+            let end = q + cells * per_cell;
+            if n < 3 || end > self.num_faces() || self.source[q..end].iter().any(|&x| x != (f, j)) {
+                return Err(TessellateError::Layout { face: q });
+            }
+            if tri {
+                for b in 0..s {
+                    for a in 0..s - b {
+                        out.extend([at(a, b), at(a + 1, b), at(a, b + 1)]);
+                        if a + 1 < s - b {
+                            out.extend([at(a + 1, b), at(a + 1, b + 1), at(a, b + 1)]);
+                        }
+                    }
+                }
+                q = end;
+                continue;
+            }
+            let triangles = per_cell == 2;
             for c in 0..cells as u32 {
                 let (a, b) = (c % s, c / s);
                 let quad = [at(a, b), at(a + 1, b), at(a + 1, b + 1), at(a, b + 1)];
@@ -203,7 +227,7 @@ fn merge_per_vertex(
 #[cfg(test)]
 mod tests {
     use super::super::tessellate::tessellate;
-    use super::super::LimitSurface;
+    use super::super::{LimitSurface, LoopSurface};
     use super::*;
     use crate::mesh::{FaceVaryingInterpolation, Options};
 
@@ -274,6 +298,34 @@ mod tests {
                 let (p, x) = (t.positions[v as usize], ch.value(k as usize));
                 assert!((0..3).all(|c| (p[c] - x[c]).abs() < 1e-12), "{p:?} {x:?}");
             }
+        }
+    }
+
+    /// The same on triangle domains: a Loop channel of the positions is the Loop limit
+    /// surface at every corner of its triangular grids.
+    #[test]
+    fn a_loop_channel_of_the_positions_is_the_tessellation() {
+        let q = grid(false);
+        let faces: Vec<[u32; 3]> = (q.faces())
+            .flat_map(|f| match f.len() {
+                4 => vec![[f[0], f[1], f[2]], [f[0], f[2], f[3]]],
+                _ => vec![[f[0], f[1], f[2]]],
+            })
+            .collect();
+        let mut m = PolyMesh::from_faces(q.positions().to_vec(), &faces).unwrap();
+        let values = m.positions().iter().flatten().copied().collect();
+        let indices = m.face_verts().to_vec();
+        m.face_varying
+            .push(FaceVarying::new("data", 3, values, indices).unwrap());
+        let o = options(FaceVaryingInterpolation::None);
+        let s = LoopSurface::new(&m, o).unwrap();
+        let uv = FaceVaryingSurface::for_scheme(&m, crate::scheme::Scheme::Loop, o, 0).unwrap();
+        let t = tessellate(&s, &m, 3, false).unwrap();
+        let ch = t.evaluate_face_varying(&m, &uv, "data").unwrap();
+        assert_eq!(ch.num_values(), t.num_vertices());
+        for (&v, &k) in t.face_verts.iter().zip(ch.indices()) {
+            let (p, x) = (t.positions[v as usize], ch.value(k as usize));
+            assert!((0..3).all(|c| (p[c] - x[c]).abs() < 1e-12), "{p:?} {x:?}");
         }
     }
 

@@ -281,28 +281,21 @@ pub(crate) fn refine_uniform(
     })
 }
 
-/// `mesh` refined `levels` times with the Catmull-Clark family's `mixed` steps
-/// ([`refine_uniform`]) as a mesh, holes kept (tagged) with `keep_holes`: what the paper
-/// methods refine control meshes with.
+/// `mesh` refined `levels` times with `steps` ([`refine_uniform`]) as a mesh, holes kept
+/// (tagged) with `keep_holes`: what the paper methods refine control meshes with, and what
+/// rendering draws a level of.
 ///
 /// # Errors
 /// [`MeshError`] for an invalid mesh, and as [`refine_uniform`].
 pub(crate) fn refine_mesh(
     mesh: &PolyMesh,
     options: &Options,
-    mixed: Mixed,
+    steps: Steps,
     levels: u32,
     keep_holes: bool,
 ) -> Result<PolyMesh, MeshError> {
     mesh.validate()?;
-    let u = refine_uniform(
-        mesh,
-        options,
-        Steps::Family(mixed),
-        levels,
-        false,
-        &mut |_, _| {},
-    )?;
+    let u = refine_uniform(mesh, options, steps, levels, false, &mut |_, _| {})?;
     Ok(u.into_mesh(keep_holes))
 }
 

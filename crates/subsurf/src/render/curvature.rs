@@ -21,6 +21,7 @@ use super::RenderError;
 use crate::geom;
 use crate::limit::{Derivatives, SurfacePoint};
 use crate::mesh::{Options, PolyMesh};
+use crate::scheme::Scheme;
 
 /// Which curvature to show.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -109,18 +110,22 @@ pub struct CurvatureSample {
     pub curvature: Option<Curvature>,
 }
 
-/// The exact curvature at the vertices that [`render`](super::render) colours with
-/// [`Paint::Curvature`](super::Paint::Curvature) at `rate`: every (sub-)face's
-/// `rate × rate` grid (`rate/2` on sub-faces of `n`-gons), evaluated from that face.
+/// The exact curvature of the limit surface of `mesh` under `scheme` (Catmull-Clark or
+/// Loop, see [`Render::scheme`](super::Render::scheme)) at the vertices that
+/// [`render`](super::render) colours with [`Paint::Curvature`](super::Paint::Curvature) at
+/// `rate`: every (sub-)face's `rate × rate` grid (`rate/2` on sub-faces of `n`-gons; a
+/// Loop triangle's points `(a, b) / rate`, `a + b ≤ rate`), evaluated from that face.
 ///
 /// # Errors
-/// As [`tessellate`](crate::limit::tessellate), or an invalid mesh.
+/// As [`tessellate`](crate::limit::tessellate), an invalid mesh, or
+/// [`RenderError::Scheme`] for another scheme.
 pub fn sample_curvature(
     mesh: &PolyMesh,
     options: &Options,
+    scheme: Scheme,
     rate: u32,
 ) -> Result<Vec<CurvatureSample>, RenderError> {
-    let g = LimitGrid::sample(mesh, options, rate, true)?;
+    let g = LimitGrid::sample_with(mesh, options, scheme, rate, true, None, None)?;
     let curv = g.curvature.unwrap_or_default();
     Ok(g.points
         .iter()

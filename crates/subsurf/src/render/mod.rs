@@ -60,6 +60,7 @@ pub use image::RgbImage;
 use crate::io::Up;
 use crate::limit::{BuildError, EvalError, FaceVaryingError, TessellateError};
 use crate::mesh::{MeshError, Options, PolyMesh};
+use crate::scheme::Scheme;
 use camera::{Camera, Viewport};
 use rayon::prelude::*;
 use scene::Scene;
@@ -67,14 +68,15 @@ use scene::Scene;
 /// Which surface to draw.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Geometry {
-    /// The exact limit surface, sampled `rate × rate` per quad face (see
+    /// The exact limit surface of [`Render::scheme`], sampled `rate × rate` per quad face
+    /// (`rate²` triangles per triangle of a Loop surface; see
     /// [`tessellate`](crate::limit::tessellate)), with exact limit normals.
     Limit {
         /// Samples per base edge (at least 1).
         rate: u32,
     },
-    /// The control mesh refined this many levels (0: the input itself), with normals
-    /// averaged from its faces.
+    /// The control mesh refined this many levels with [`Render::scheme`] (0: the input
+    /// itself), with normals averaged from its faces.
     Level(u32),
 }
 
@@ -151,6 +153,13 @@ pub struct Render {
     pub curvature_range: Option<(f64, f64)>,
     /// Background colour.
     pub background: [u8; 3],
+    /// The subdivision scheme whose limit surface ([`Geometry::Limit`]) or refined levels
+    /// ([`Geometry::Level`]) are drawn: Catmull-Clark (the default) or Loop (every face a
+    /// triangle: [`LoopSurface`](crate::limit::LoopSurface)); the adjustable and bilinear
+    /// schemes' refined levels. Other limit surfaces (the adjustable scheme's
+    /// [`MixedSurface`](crate::MixedSurface), NURSS) are drawn with [`render_surface`];
+    /// NURSS levels are not drawn ([`RenderError::Scheme`]).
+    pub scheme: Scheme,
     /// Bytes the exact limit surface ([`Geometry::Limit`]) may take, built and evaluated at
     /// the rate (see [`LimitSurface::new_within`](crate::limit::LimitSurface::new_within)
     /// and [`LimitSurface::estimate_memory`](crate::limit::LimitSurface::estimate_memory)):
@@ -174,6 +183,7 @@ impl Default for Render {
             zoom: 1.0,
             curvature_range: None,
             background: [244, 244, 246],
+            scheme: Scheme::CatmullClark,
             surface_memory: None,
         }
     }
@@ -205,6 +215,14 @@ pub enum RenderError {
     /// The fixed curvature range is empty or not finite.
     #[error("curvature range {0}..{1} is empty or not finite")]
     BadRange(f64, f64),
+    /// The scheme ([`Render::scheme`]) cannot be drawn this way.
+    #[error("the {scheme} scheme cannot be drawn as {what} (see Render::scheme)")]
+    Scheme {
+        /// The scheme's name.
+        scheme: &'static str,
+        /// What was asked: "a limit surface" or "a refined level".
+        what: &'static str,
+    },
     /// The mesh is invalid.
     #[error(transparent)]
     Mesh(#[from] MeshError),

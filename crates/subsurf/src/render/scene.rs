@@ -5,14 +5,16 @@ use super::camera::{Camera, Projected};
 use super::curvature::{Curvature, CurvatureKind};
 use super::{Geometry, Paint, Render, RenderError};
 use crate::geom::{self, V3};
-use crate::limit::Surface;
-use crate::limit::{tessellate, FaceVaryingSurface, LimitSurface, SurfacePoint, Tessellation};
+use crate::limit::{
+    tessellate, Derivatives, Domain, EvalError, FaceVaryingSurface, LimitSurface, LoopSurface,
+    Order, Surface, SurfacePoint, Tessellation,
+};
 use crate::mesh::{FaceVarying, Options, PolyMesh};
-use crate::refine::uniform::refine_mesh;
-use crate::scheme::adjustable::Mixed;
+use crate::refine::uniform::{refine_mesh, Steps};
+use crate::scheme::Scheme;
 use rayon::prelude::*;
 
-/// Points evaluated per call of [`LimitSurface::eval_many`] (bounds the memory of the
+/// Points evaluated per call of [`Surface::evaluate_many`] (bounds the memory of the
 /// derivatives held at once).
 const CHUNK: usize = 1 << 16;
 
@@ -73,7 +75,7 @@ impl Scene {
         if matches!(opts.paint, Paint::Checker { .. }) && uv_channel(mesh).is_none() {
             return Err(RenderError::NoTextureCoordinates);
         }
-        let faces = drawn_faces(mesh, opts.geometry);
+        let faces = drawn_faces(mesh, opts.geometry, opts.scheme);
         if faces > MAX_DRAWN_FACES as u128 {
             return Err(RenderError::TooLarge {
                 faces,
@@ -89,13 +91,16 @@ impl Scene {
                 let grid = LimitGrid::sample_with(
                     mesh,
                     options,
+                    opts.scheme,
                     rate,
                     kind.is_some(),
                     surface,
                     opts.surface_memory,
                 )?;
                 let uv = match opts.paint {
-                    Paint::Checker { .. } => Some(grid_uvs(mesh, options, &grid.points)?),
+                    Paint::Checker { .. } => {
+                        Some(grid_uvs(mesh, options, opts.scheme, &grid.points)?)
+                    }
                     _ => None,
                 };
                 Self {
@@ -105,7 +110,7 @@ impl Scene {
             }
             Geometry::Level(levels) => {
                 let textured = matches!(opts.paint, Paint::Checker { .. });
-                Self::from_level(mesh, options, levels, textured)?
+                Self::from_level(mesh, options, opts.scheme, levels, textured)?
             }
         };
         if opts.control_mesh {
@@ -118,15 +123,19 @@ impl Scene {
     }
 
     fn from_grid(grid: LimitGrid, kind: Option<CurvatureKind>) -> Self {
-        let mut triangles = Vec::with_capacity(2 * grid.quads.len());
-        let mut flat = Vec::with_capacity(2 * grid.quads.len());
-        let mut face = Vec::with_capacity(2 * grid.quads.len());
-        for (q, &[a, b, c, d]) in grid.quads.iter().enumerate() {
-            let n = geom::normalize_or_zero(geom::newell_normal(&grid.positions, &[a, b, c, d]));
-            for t in split_quad(&grid.positions, [a, b, c, d]) {
+        let mut triangles = Vec::with_capacity(2 * grid.cells.len());
+        let mut flat = Vec::with_capacity(2 * grid.cells.len());
+        let mut face = Vec::with_capacity(2 * grid.cells.len());
+        for (&cell, &f) in grid.cells.iter().zip(&grid.cell_face) {
+            let n = geom::normalize_or_zero(geom::newell_normal(&grid.positions, cell.verts()));
+            let split = match cell {
+                Cell::Quad(q) => split_quad(&grid.positions, q).to_vec(),
+                Cell::Tri(t) => vec![t],
+            };
+            for t in split {
                 triangles.push(t);
                 flat.push(n);
-                face.push(grid.quad_face[q]);
+                face.push(f);
             }
         }
         let values = kind.zip(grid.curvature.as_ref()).map(|(k, cs)| {
@@ -134,7 +143,7 @@ impl Scene {
                 .iter()
                 .map(|c| c.map_or(f64::NAN, |c| c.get(k)))
                 .collect();
-            fill_missing(&mut v, &grid.quads);
+            fill_missing(&mut v, &grid.cells);
             v
         });
         Self {
@@ -150,16 +159,21 @@ impl Scene {
         }
     }
 
-    /// The mesh refined `levels` times (holes left out), normals averaged from its faces;
-    /// with `textured`, its refined texture coordinates, each vertex copied per texture
-    /// coordinate its corners take (see [`Scene::unweld`]).
+    /// The mesh refined `levels` times with `scheme` (holes left out), normals averaged
+    /// from its faces; with `textured`, its refined texture coordinates, each vertex copied
+    /// per texture coordinate its corners take (see [`Scene::unweld`]).
     fn from_level(
         mesh: &PolyMesh,
         options: &Options,
+        scheme: Scheme,
         levels: u32,
         textured: bool,
     ) -> Result<Self, RenderError> {
-        let m = &refine_mesh(mesh, options, Mixed::CATMULL_CLARK, levels, true)?;
+        let steps = Steps::of(scheme).ok_or(RenderError::Scheme {
+            scheme: scheme.name(),
+            what: "a refined level",
+        })?;
+        let m = &refine_mesh(mesh, options, steps, levels, true)?;
         let channel = match textured {
             true => Some(uv_channel(m).ok_or(RenderError::NoTextureCoordinates)?),
             false => None,
@@ -179,7 +193,8 @@ impl Scene {
             }
         }
         // Refined face i comes from level-1 face i >> 2(levels - 1), which is the child of
-        // the base face owning that face-vertex slot (see ARCHITECTURE.md, numbering).
+        // the base face owning that face-vertex slot (see ARCHITECTURE.md, numbering); with
+        // Loop, of base face i >> 2 levels (four children per triangle).
         let mut slot_face = vec![0u32; mesh.face_verts().len()];
         for f in 0..mesh.num_faces() {
             let o = mesh.face_offsets();
@@ -188,6 +203,9 @@ impl Scene {
         let base_face = |i: usize| -> u32 {
             if levels == 0 {
                 return i as u32;
+            }
+            if steps == Steps::Loop {
+                return i.checked_shr(2 * levels).unwrap_or(0) as u32;
             }
             let slot = i.checked_shr(2 * (levels - 1)).unwrap_or(0);
             slot_face.get(slot).copied().unwrap_or(0)
@@ -372,22 +390,29 @@ impl Scene {
 /// vertex).
 pub(crate) const MAX_DRAWN_FACES: u64 = 1 << 24;
 
-/// How many polygons drawing `mesh` as `geometry` makes (an upper bound: holes counted).
-fn drawn_faces(mesh: &PolyMesh, geometry: Geometry) -> u128 {
+/// How many polygons drawing `mesh` as `geometry` with `scheme` makes (an upper bound:
+/// holes counted).
+fn drawn_faces(mesh: &PolyMesh, geometry: Geometry, scheme: Scheme) -> u128 {
+    let triangles = scheme == Scheme::Loop;
     match geometry {
         Geometry::Limit { rate } => {
             let r = u128::from(rate) + 1;
             mesh.faces()
                 .map(|f| match f.len() {
                     4 => r * r,
+                    _ if triangles => r * r,
                     n => n as u128 * (r / 2 + 1) * (r / 2 + 1),
                 })
                 .sum()
         }
         Geometry::Level(0) => mesh.num_faces() as u128,
         Geometry::Level(l) => {
+            // The first level has a quad per face corner, or four triangles per triangle.
             let shift = 2 * u128::from(l - 1);
-            let s = mesh.face_verts().len() as u128;
+            let s = match triangles {
+                true => 4 * mesh.num_faces() as u128,
+                false => mesh.face_verts().len() as u128,
+            };
             if shift >= 100 {
                 u128::MAX
             } else {
@@ -475,15 +500,15 @@ pub(crate) fn face_colours(mesh: &PolyMesh, palette: usize) -> Vec<u8> {
     colour
 }
 
-/// Replaces NaN values by the mean of the known values of the vertices sharing a quad
+/// Replaces NaN values by the mean of the known values of the vertices sharing a cell
 /// with them (twice, so that a missing value next to a missing value is filled too).
-fn fill_missing(values: &mut [f64], quads: &[[u32; 4]]) {
+fn fill_missing(values: &mut [f64], cells: &[Cell]) {
     for _ in 0..2 {
         if !values.iter().any(|v| v.is_nan()) {
             return;
         }
         let mut sum = vec![(0.0, 0u32); values.len()];
-        for q in quads {
+        for q in cells.iter().map(Cell::verts) {
             for &a in q {
                 if !values[a as usize].is_nan() {
                     continue;
@@ -505,6 +530,23 @@ fn fill_missing(values: &mut [f64], quads: &[[u32; 4]]) {
     }
 }
 
+/// A cell of a [`LimitGrid`]: a quad of a quad domain's grid, or a triangle of a
+/// triangle domain's (see [`tessellate`]), counter-clockwise like its base face.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Cell {
+    Quad([u32; 4]),
+    Tri([u32; 3]),
+}
+
+impl Cell {
+    fn verts(&self) -> &[u32] {
+        match self {
+            Cell::Quad(q) => q,
+            Cell::Tri(t) => t,
+        }
+    }
+}
+
 /// The limit surface sampled on a grid per (sub-)face, each grid with its own vertices
 /// evaluated from its own face; positions from the watertight tessellation (so that
 /// neighbouring grids meet exactly).
@@ -519,56 +561,53 @@ pub(crate) struct LimitGrid {
     /// Exact curvature per vertex (`None` where the second derivatives are degenerate:
     /// at irregular corners), when asked for.
     pub curvature: Option<Vec<Option<Curvature>>>,
-    /// Grid cells, counter-clockwise like their base faces.
-    pub quads: Vec<[u32; 4]>,
+    /// Grid cells.
+    pub cells: Vec<Cell>,
     /// Per cell, its base face.
-    pub quad_face: Vec<u32>,
+    pub cell_face: Vec<u32>,
 }
 
 impl LimitGrid {
-    /// Samples `mesh`'s limit surface at `rate` (see [`tessellate`]).
-    pub(super) fn sample(
-        mesh: &PolyMesh,
-        options: &Options,
-        rate: u32,
-        with_curvature: bool,
-    ) -> Result<Self, RenderError> {
-        Self::sample_with(mesh, options, rate, with_curvature, None, None)
-    }
-
-    /// [`sample`](Self::sample) on the same grid, evaluating `other` (positions, normals
-    /// and curvature) instead of the limit surface when given, with the limit surface
-    /// within `max_bytes` (see [`Render::surface_memory`]).
+    /// Samples the limit surface of `mesh` under `scheme` at `rate`, evaluating `other`
+    /// (positions, normals and curvature) on the same grid instead when given, with the
+    /// limit surface within `max_bytes` (see [`Render::surface_memory`]).
+    #[allow(clippy::too_many_arguments)]
     pub(super) fn sample_with(
         mesh: &PolyMesh,
         options: &Options,
+        scheme: Scheme,
         rate: u32,
         with_curvature: bool,
         other: Option<&dyn Surface>,
         max_bytes: Option<u64>,
     ) -> Result<Self, RenderError> {
-        let surface = surface_within(mesh, options, rate, max_bytes)?;
-        let t = tessellate(&surface, mesh, rate, false)?;
-        let (mut g, layout) = Self::layout(&surface, &t);
-        g.evaluate(&surface, other, &layout, with_curvature)?;
+        let surface = limit_surface(mesh, options, scheme, rate, max_bytes)?;
+        let t = tessellate(&*surface, mesh, rate, false)?;
+        let (mut g, layout) = Self::layout(&*surface, &t);
+        g.evaluate(
+            other.unwrap_or(&*surface),
+            other.is_some(),
+            &layout,
+            with_curvature,
+        )?;
         Ok(g)
     }
 
     /// The grids of the tessellation `t` of `surface`, one per (sub-)face, positions from
     /// `t` and normals not yet evaluated; and per grid vertex the tessellation's normal
     /// (the fallback where the derivatives are degenerate) and whether it is a grid corner.
-    fn layout(surface: &LimitSurface, t: &Tessellation) -> (Self, GridLayout) {
+    fn layout(surface: &dyn Surface, t: &Tessellation) -> (Self, GridLayout) {
         let mut g = LimitGrid {
             positions: Vec::new(),
             normals: Vec::new(),
             points: Vec::new(),
             curvature: None,
-            quads: Vec::with_capacity(t.num_faces()),
-            quad_face: Vec::with_capacity(t.num_faces()),
+            cells: Vec::with_capacity(t.num_faces()),
+            cell_face: Vec::with_capacity(t.num_faces()),
         };
         let mut fallback = Vec::new();
         let mut corner = Vec::new();
-        // Output faces come per (sub-)face, each a row-major s × s grid of cells from
+        // Output faces come per (sub-)face, each a row-major grid of cells from
         // (u, v) = (0, 0) (see `tessellate`).
         let mut q = 0;
         while q < t.num_faces() {
@@ -577,7 +616,8 @@ impl LimitGrid {
                 .iter()
                 .take_while(|&&s| s == (face, sub))
                 .count();
-            let s = if surface.num_subfaces(face as usize) == 1 {
+            let tri = surface.domain(face as usize) == Domain::Triangle;
+            let s = if tri || surface.num_subfaces(face as usize) == 1 {
                 t.rate
             } else {
                 t.rate / 2
@@ -585,29 +625,52 @@ impl LimitGrid {
             .max(1) as usize;
             let side = s + 1;
             let base = g.positions.len() as u32;
+            // Per grid point `(a, b)` at `b * side + a`, its tessellation vertex.
             let mut grid = vec![u32::MAX; side * side];
-            for c in 0..run.min(s * s) {
-                let fv = t.face(q + c);
-                let (a, b) = (c % s, c / s);
-                let at = [
-                    b * side + a,
-                    b * side + a + 1,
-                    (b + 1) * side + a + 1,
-                    (b + 1) * side + a,
-                ];
-                for k in 0..4 {
-                    grid[at[k]] = fv[k];
+            // The cells in grid points, in `tessellate`'s order.
+            let at = |a: usize, b: usize| (b * side + a) as u32;
+            let mut cells = Vec::with_capacity(run);
+            if tri {
+                for b in 0..s {
+                    for a in 0..s - b {
+                        cells.push(Cell::Tri([at(a, b), at(a + 1, b), at(a, b + 1)]));
+                        if a + 1 < s - b {
+                            cells.push(Cell::Tri([at(a + 1, b), at(a + 1, b + 1), at(a, b + 1)]));
+                        }
+                    }
                 }
-                g.quads.push(at.map(|i| base + i as u32));
-                g.quad_face.push(face);
+            } else {
+                for c in 0..s * s {
+                    let (a, b) = (c % s, c / s);
+                    let quad = [at(a, b), at(a + 1, b), at(a + 1, b + 1), at(a, b + 1)];
+                    cells.push(Cell::Quad(quad));
+                }
             }
-            for (i, &v) in grid.iter().enumerate() {
+            // The grid's vertices, row by row (on a triangle only those with a + b ≤ s).
+            let inside = |i: usize| !tri || i % side + i / side <= s;
+            let mut local = vec![u32::MAX; side * side];
+            let kept = (0..side * side).filter(|&i| inside(i));
+            for (i, v) in kept.zip(base..) {
+                local[i] = v;
+            }
+            for (c, cell) in cells.iter().take(run).enumerate() {
+                for (&i, &v) in cell.verts().iter().zip(t.face(q + c)) {
+                    grid[i as usize] = v;
+                }
+                g.cells.push(match *cell {
+                    Cell::Quad(q) => Cell::Quad(q.map(|i| local[i as usize])),
+                    Cell::Tri(t) => Cell::Tri(t.map(|i| local[i as usize])),
+                });
+                g.cell_face.push(face);
+            }
+            for (i, &v) in grid.iter().enumerate().filter(|&(i, _)| inside(i)) {
                 let (a, b) = (i % side, i / side);
                 // Unused only if the run were short (never, per `tessellate`'s layout).
                 let v = if v == u32::MAX { 0 } else { v as usize };
                 g.positions.push(t.positions[v]);
                 fallback.push(t.normals[v]);
-                corner.push((a == 0 || a == s) && (b == 0 || b == s));
+                let end = |x: usize| x == 0 || x == s;
+                corner.push(end(a) && end(b) && (!tri || a + b <= s));
                 g.points.push(SurfacePoint {
                     face,
                     subface: sub,
@@ -619,28 +682,32 @@ impl LimitGrid {
         }
         (g, GridLayout { fallback, corner })
     }
-
-    /// Evaluates `surface` (or `other`, whose positions then replace the tessellation's)
-    /// at every grid point: the unit normals (`layout`'s fallback where degenerate) and,
+    /// Evaluates `surface` (whose positions replace the tessellation's when `moved`: another
+    /// surface than the tessellated one) at every grid point: the unit normals (`layout`'s fallback where degenerate) and,
     /// `with_curvature`, the curvature (none at irregular corners, where the evaluator
     /// returns tangents and zero second derivatives).
     fn evaluate(
         &mut self,
-        surface: &LimitSurface,
-        other: Option<&dyn Surface>,
+        surface: &dyn Surface,
+        moved: bool,
         layout: &GridLayout,
         with_curvature: bool,
     ) -> Result<(), RenderError> {
+        let order = if with_curvature {
+            Order::Second
+        } else {
+            Order::First
+        };
         let mut curv = Vec::new();
+        let mut evaluated: Vec<Result<Derivatives, EvalError>> = Vec::new();
         for (i, chunk) in self.points.chunks(CHUNK).enumerate() {
-            let evaluated = match other {
-                Some(o) => chunk.par_iter().map(|&p| o.evaluate(p)).collect(),
-                None => surface.eval_many(chunk),
-            };
-            for (j, d) in evaluated.into_iter().enumerate() {
+            evaluated.clear();
+            evaluated.resize(chunk.len(), Ok(Derivatives::default()));
+            surface.evaluate_many(chunk, order, &mut evaluated);
+            for (j, d) in evaluated.drain(..).enumerate() {
                 let d = d?;
                 let k = i * CHUNK + j;
-                if other.is_some() {
+                if moved {
                     self.positions[k] = d.p;
                 }
                 let n = d.normal();
@@ -679,12 +746,13 @@ fn uv_channel(mesh: &PolyMesh) -> Option<&FaceVarying> {
 fn grid_uvs(
     mesh: &PolyMesh,
     options: &Options,
+    scheme: Scheme,
     points: &[SurfacePoint],
 ) -> Result<Vec<[f64; 2]>, RenderError> {
     let c = (mesh.face_varying.iter())
         .position(|c| c.name() == "uv")
         .ok_or(RenderError::NoTextureCoordinates)?;
-    let surface = FaceVaryingSurface::new(mesh, *options, c)?;
+    let surface = FaceVaryingSurface::for_scheme(mesh, scheme, *options, c)?;
     let mut out = Vec::with_capacity(points.len());
     for chunk in points.chunks(CHUNK) {
         let got = surface.eval_many(chunk)?;
@@ -696,8 +764,40 @@ fn grid_uvs(
     Ok(out)
 }
 
-/// The limit surface of `mesh`, built within `max_bytes` when given, which its evaluation at
-/// `rate` must fit too.
+/// The limit surface of `mesh` under `scheme` (Catmull-Clark's [`LimitSurface`], Loop's
+/// [`LoopSurface`]), built within `max_bytes` when given, which its evaluation at `rate` must
+/// fit too.
+fn limit_surface(
+    mesh: &PolyMesh,
+    options: &Options,
+    scheme: Scheme,
+    rate: u32,
+    max_bytes: Option<u64>,
+) -> Result<Box<dyn Surface>, RenderError> {
+    match scheme {
+        Scheme::CatmullClark => Ok(Box::new(surface_within(mesh, options, rate, max_bytes)?)),
+        Scheme::Loop => {
+            // The surface keeps the topology and the points (as much as the Catmull-Clark
+            // surface's build); each face's refinement lives only while it is evaluated.
+            let estimate = LimitSurface::estimate_build_memory(mesh);
+            match max_bytes {
+                Some(limit) if estimate > limit => Err(RenderError::SurfaceMemory {
+                    rate,
+                    estimate,
+                    limit,
+                }),
+                _ => Ok(Box::new(LoopSurface::new(mesh, *options)?)),
+            }
+        }
+        _ => Err(RenderError::Scheme {
+            scheme: scheme.name(),
+            what: "a limit surface",
+        }),
+    }
+}
+
+/// The Catmull-Clark limit surface of `mesh`, built within `max_bytes` when given, which its
+/// evaluation at `rate` must fit too.
 fn surface_within(
     mesh: &PolyMesh,
     options: &Options,

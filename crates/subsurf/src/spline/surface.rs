@@ -7,7 +7,7 @@ use super::subbasis::Class;
 use super::table::{valence_table, ValenceTable};
 use crate::limit::Derivatives;
 use crate::mesh::{Options, PolyMesh, Topology};
-use crate::refine::uniform::refine_mesh;
+use crate::refine::uniform::{refine_mesh, Steps};
 use crate::scheme::adjustable::Mixed;
 use rayon::prelude::*;
 use std::borrow::Cow;
@@ -95,8 +95,14 @@ pub fn quad_control_mesh(mesh: &PolyMesh) -> Result<(Cow<'_, PolyMesh>, bool), S
     if mesh.faces().all(|f| f.len() == 4) {
         return Ok((Cow::Borrowed(mesh), false));
     }
-    let out = refine_mesh(mesh, &Options::default(), Mixed::CATMULL_CLARK, 1, false)
-        .map_err(|e| SplineError::Subdivide(e.to_string()))?;
+    let out = refine_mesh(
+        mesh,
+        &Options::default(),
+        Steps::Family(Mixed::CATMULL_CLARK),
+        1,
+        false,
+    )
+    .map_err(|e| SplineError::Subdivide(e.to_string()))?;
     Ok((Cow::Owned(out), true))
 }
 

@@ -8,6 +8,7 @@ use subsurf::render::{
     render, render_detailed, write_png, Geometry, Paint, Render, RenderError, RgbImage, Shading,
 };
 use subsurf::render::{sample_curvature, CurvatureKind};
+use subsurf::Scheme;
 
 use crate::common::cube;
 
@@ -29,6 +30,27 @@ fn small(paint: Paint) -> Render {
         paint,
         ..Render::default()
     }
+}
+
+/// `mesh` with every quad `a b c d` split into the triangles `a b c` and `a c d` (texture
+/// coordinates too): on a grid of quads, a Loop mesh whose interior vertices are regular
+/// (valence 6).
+fn triangulated(mesh: &PolyMesh) -> PolyMesh {
+    use subsurf::mesh::FaceVarying;
+    let split = |f: &[u32]| [[f[0], f[1], f[2]], [f[0], f[2], f[3]]];
+    let faces: Vec<[u32; 3]> = mesh.faces().flat_map(split).collect();
+    let mut out = PolyMesh::from_faces(mesh.positions().to_vec(), &faces).unwrap();
+    for c in &mesh.face_varying {
+        let offsets = mesh.face_offsets();
+        let indices: Vec<u32> = (0..mesh.num_faces())
+            .flat_map(|f| split(&c.indices()[offsets[f] as usize..offsets[f + 1] as usize]))
+            .flatten()
+            .collect();
+        let values = c.values().to_vec();
+        out.face_varying
+            .push(FaceVarying::new(c.name(), c.dim(), values, indices).unwrap());
+    }
+    out
 }
 
 /// Pixels that differ from the background.
@@ -186,7 +208,7 @@ fn renders_are_deterministic() {
 fn torus_gaussian_curvature_is_positive_outside_and_negative_inside() {
     // Major radius 1, minor 0.4, axis z.
     let (mesh, options) = example("torus.obj");
-    let samples = sample_curvature(&mesh, &options, 6).unwrap();
+    let samples = sample_curvature(&mesh, &options, Scheme::CatmullClark, 6).unwrap();
     let (mut outside, mut inside) = (0, 0);
     for s in &samples {
         let c = s
@@ -207,9 +229,37 @@ fn torus_gaussian_curvature_is_positive_outside_and_negative_inside() {
     assert!(outside > 100 && inside > 100, "{outside} {inside}");
 }
 
+/// The Loop limit of the torus split into triangles (every vertex regular: quartic box
+/// splines, C2) has the torus's curvature signs everywhere, at every point of its
+/// triangular grids.
+#[test]
+fn loop_torus_curvature_has_the_signs_of_a_torus() {
+    let (mesh, options) = example("torus.obj");
+    let tri = triangulated(&mesh);
+    let samples = sample_curvature(&tri, &options, Scheme::Loop, 4).unwrap();
+    // (4 + 1)(4 + 2) / 2 points per triangle.
+    assert_eq!(samples.len(), tri.num_faces() * 15);
+    let (mut outside, mut inside) = (0, 0);
+    for s in &samples {
+        let c = s
+            .curvature
+            .expect("a regular Loop surface is C2 everywhere");
+        let rho = s.position[0].hypot(s.position[1]);
+        if rho > 1.15 {
+            assert!(c.gauss > 0.0, "K = {} at {:?}", c.gauss, s.position);
+            outside += 1;
+        } else if rho < 0.85 {
+            assert!(c.gauss < 0.0, "K = {} at {:?}", c.gauss, s.position);
+            inside += 1;
+        }
+        assert!(c.mean > 0.0, "H = {} at {:?}", c.mean, s.position);
+    }
+    assert!(outside > 100 && inside > 100, "{outside} {inside}");
+}
+
 #[test]
 fn cube_limit_is_convex_and_curvature_is_missing_only_at_its_corners() {
-    let samples = sample_curvature(&cube(), &Options::default(), 4).unwrap();
+    let samples = sample_curvature(&cube(), &Options::default(), Scheme::CatmullClark, 4).unwrap();
     let mut missing = 0;
     for s in &samples {
         match s.curvature {
@@ -308,6 +358,59 @@ fn faces_levels_flat_shading_and_the_control_mesh_change_the_picture() {
     };
     assert_eq!(lines(&base), 0);
     assert!(lines(&with_lines) > 200, "{}", lines(&with_lines));
+}
+
+/// With `Render::scheme` Loop, the limit surface is drawn as `rate²` triangles per
+/// triangle and a level as four triangles per triangle per level; zebra, curvature and
+/// base faces are drawn on them, and the picture differs from Catmull-Clark's of the same
+/// triangles.
+#[test]
+fn loop_surfaces_and_levels_are_drawn_as_triangles() {
+    let (mesh, options) = example("torus.obj");
+    let tri = triangulated(&mesh);
+    let draw = |geometry, paint| {
+        let opts = Render {
+            geometry,
+            scheme: Scheme::Loop,
+            ..small(paint)
+        };
+        render_detailed(&tri, &options, &opts).unwrap()
+    };
+    let limit = Geometry::Limit { rate: 4 };
+    let zebra = draw(limit, Paint::Zebra);
+    assert_eq!(zebra.triangles, tri.num_faces() * 16);
+    let lum: Vec<f64> = zebra.image.pixels().map(luminance).collect();
+    assert!(lum.iter().any(|&l| l < 40.0) && lum.iter().any(|&l| l > 215.0));
+    let curvature = draw(limit, Paint::Curvature(CurvatureKind::Gauss));
+    let (lo, hi) = curvature.curvature_range.unwrap();
+    assert!(lo < 0.0 && hi > 0.0, "{lo}..{hi}");
+    let level = draw(Geometry::Level(2), Paint::Faces);
+    assert_eq!(level.triangles, tri.num_faces() * 16);
+    let cc = Render {
+        geometry: limit,
+        ..small(Paint::Zebra)
+    };
+    assert_ne!(render(&tri, &options, &cc).unwrap(), zebra.image);
+}
+
+#[test]
+fn loop_needs_triangles_and_nurss_levels_are_refused() {
+    let o = Options::default();
+    let opts = Render {
+        scheme: Scheme::Loop,
+        ..small(Paint::Plain)
+    };
+    let e = render(&cube(), &o, &opts).unwrap_err();
+    assert!(e.to_string().contains("face 0 has 4 vertices"), "{e}");
+    for geometry in [Geometry::Level(1), Geometry::Limit { rate: 2 }] {
+        let opts = Render {
+            scheme: Scheme::Nurss,
+            geometry,
+            ..small(Paint::Plain)
+        };
+        let e = render(&cube(), &o, &opts).unwrap_err();
+        assert!(matches!(e, RenderError::Scheme { .. }), "{e}");
+    }
 }
 
 #[test]
@@ -469,20 +572,27 @@ fn a_checker_follows_the_texture_coordinates_across_a_seam() {
         face_varying: FaceVaryingInterpolation::All,
         ..Options::default()
     };
-    for geometry in [
+    let tri = triangulated(&m);
+    let geometries = [
         Geometry::Level(0),
         Geometry::Level(2),
         Geometry::Limit { rate: 16 },
-    ] {
+    ];
+    for (scheme, geometry) in geometries
+        .iter()
+        .flat_map(|&g| [(Scheme::CatmullClark, g), (Scheme::Loop, g)])
+    {
         let opts = Render {
             width: 320,
             height: 200,
             view: (0.0, 89.0),
             geometry,
             shading: Shading::Flat,
+            scheme,
             ..small(Paint::Checker { squares: 2 })
         };
-        let img = render(&m, &options, &opts).unwrap();
+        let mesh = if scheme == Scheme::Loop { &tri } else { &m };
+        let img = render(mesh, &options, &opts).unwrap();
         for y in [80, 120] {
             let runs = checker_runs(&img, y, opts.background);
             assert_eq!(runs.len(), 4, "{geometry:?}, row {y}: {runs:?}");
