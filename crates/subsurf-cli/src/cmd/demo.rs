@@ -71,6 +71,8 @@ enum Kind {
     Knots,
     /// A planar net: the regularity certificate.
     Planar,
+    /// A mesh of triangles: Loop beside Catmull-Clark of the same triangles.
+    Triangles,
 }
 
 /// A bundled example mesh.
@@ -107,6 +109,7 @@ const EXAMPLES: &[Example] = &[
     example!("torus", Kind::Surface, true, 6, (30.0, 35.0)),
     example!("pentaprism", Kind::Surface, false, 6, (20.0, 35.0)),
     example!("catmark_pawn", Kind::Surface, false, 2, (30.0, 10.0)),
+    example!("pawn-triangles", Kind::Triangles, false, 4, (30.0, 10.0)),
     example!("nurss-grid", Kind::Knots, false, 8, (30.0, 25.0)),
     example!("regularity-gear", Kind::Planar, false, 1, (0.0, 90.0)),
     example!("regularity-dolphin", Kind::Planar, false, 1, (0.0, 90.0)),
@@ -216,6 +219,10 @@ const METHODS: &[Method] = &[
         run: texture,
     },
     Method {
+        name: LOOP,
+        run: loop_scheme,
+    },
+    Method {
         name: "Shape-adjustable Catmull-Clark",
         run: adjustable,
     },
@@ -240,6 +247,7 @@ const METHODS: &[Method] = &[
 /// Headings of the methods that are not on meshes (and of some that are, for tests).
 const NURSS: &str = "Non-uniform Catmull-Clark (NURSS)";
 const TEXTURE: &str = "Texture coordinates";
+const LOOP: &str = "Loop subdivision of triangles";
 const G2: &str = "G2 caps at extraordinary vertices";
 const SPLINE: &str = "Sub-basis spline surface";
 const REGULARITY: &str = "Regularity certificate";
@@ -917,6 +925,75 @@ fn texture(ctx: &Ctx) -> Result<Vec<Item>> {
         at_mode,
         at_other,
     ])
+}
+
+/// Loop beside Catmull-Clark on a mesh of triangles: the reflection lines and the mean
+/// curvature of both exact limit surfaces, the curvature on one colour range (holding
+/// [`CURVATURE_QUANTILE`] of both surfaces' samples), with the spread of each measured.
+fn loop_scheme(ctx: &Ctx) -> Result<Vec<Item>> {
+    if ctx.ex.kind != Kind::Triangles {
+        return Ok(Vec::new());
+    }
+    let mesh = ctx.mesh();
+    let schemes = [
+        (Scheme::Loop, "loop", "Loop"),
+        (Scheme::CatmullClark, "cc", "Catmull-Clark"),
+    ];
+    let mut mean = Vec::new();
+    for (scheme, _, name) in schemes {
+        let samples = sample_curvature(mesh, &ctx.options, scheme, ctx.ex.rate)
+            .with_context(|| format!("{}: {name} curvature samples", ctx.input.name))?;
+        let mut h: Vec<f64> = (samples.iter())
+            .filter_map(|s| s.curvature.map(|c| c.mean))
+            .filter(|h| h.is_finite())
+            .collect();
+        h.sort_unstable_by(f64::total_cmp);
+        mean.push(h);
+    }
+    let quantile = |v: &[f64], q: f64| v[((v.len() - 1) as f64 * q).round() as usize];
+    let mut size: Vec<f64> = mean.iter().flatten().map(|h| h.abs()).collect();
+    if size.is_empty() {
+        anyhow::bail!("{}: no curvature samples", ctx.input.name);
+    }
+    size.sort_unstable_by(f64::total_cmp);
+    let bound = match quantile(&size, CURVATURE_QUANTILE) {
+        b if b > 0.0 => b,
+        _ => 1.0,
+    };
+    let mut items = Vec::new();
+    for ((scheme, tag, name), h) in schemes.into_iter().zip(&mean) {
+        let zebra = Render {
+            scheme,
+            ..ctx.picture(Paint::Zebra)
+        };
+        let what = match scheme {
+            Scheme::Loop => "Loop limit surface (a quartic box spline over each regular triangle)",
+            _ => "Catmull-Clark limit surface of the same triangles (each split into three quads)",
+        };
+        items.push(ctx.png(
+            mesh,
+            &zebra,
+            &ctx.file(&format!("{tag}-zebra.png")),
+            format!("{what}: reflection lines"),
+        )?);
+        let curvature = Render {
+            scheme,
+            curvature_range: Some((-bound, bound)),
+            ..ctx.picture(Paint::Curvature(CurvatureKind::Mean))
+        };
+        let spread = quantile(h, 0.75) - quantile(h, 0.25);
+        items.push(ctx.png(
+            mesh,
+            &curvature,
+            &ctx.file(&format!("{tag}-curvature.png")),
+            format!(
+                "{name}: mean curvature H, both surfaces on one colour range |H| ≤ {bound:.3}; \
+                 the middle half of its {n} samples spans {spread:.3}",
+                n = h.len()
+            ),
+        )?);
+    }
+    Ok(items)
 }
 
 /// Mean curvature of the exact limit surface, its colour range holding
@@ -1657,7 +1734,7 @@ mod tests {
             assert!(e.rate >= 1);
         }
         assert!(EXAMPLES.iter().any(|e| e.limit));
-        for kind in [Kind::Surface, Kind::Knots, Kind::Planar] {
+        for kind in [Kind::Surface, Kind::Knots, Kind::Planar, Kind::Triangles] {
             assert!(EXAMPLES.iter().any(|e| e.kind == kind), "{kind:?}");
         }
         let names: Vec<&str> = EXAMPLES
