@@ -498,7 +498,7 @@ impl Linear {
             });
         }
         if !super::loop_surface::in_triangle(p.u, p.v) {
-            return Err(EvalError::BadParameter { u: p.u, v: p.v });
+            return Err(EvalError::OutsideTriangle { u: p.u, v: p.v });
         }
         if self.holes[p.face as usize] {
             return Err(EvalError::Hole { face: p.face });

@@ -158,7 +158,7 @@ impl LoopSurface {
     ///
     /// # Errors
     /// [`EvalError::NoSuchFace`], [`EvalError::NoSuchSubface`], [`EvalError::Hole`], and
-    /// [`EvalError::BadParameter`] for `(u, v)` outside the triangle `u, v ≥ 0, u + v ≤ 1`
+    /// [`EvalError::OutsideTriangle`] for `(u, v)` outside the triangle `u, v ≥ 0, u + v ≤ 1`
     /// (or not finite).
     pub fn eval_point(&self, p: SurfacePoint) -> Result<Derivatives, EvalError> {
         self.check(p)?;
@@ -234,7 +234,7 @@ impl LoopSurface {
             });
         }
         if !in_triangle(p.u, p.v) {
-            return Err(EvalError::BadParameter { u: p.u, v: p.v });
+            return Err(EvalError::OutsideTriangle { u: p.u, v: p.v });
         }
         if self.topo.is_hole(f) {
             return Err(EvalError::Hole { face: p.face });

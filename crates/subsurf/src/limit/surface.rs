@@ -150,6 +150,15 @@ pub enum EvalError {
         /// `v`.
         v: f64,
     },
+    /// A parameter outside a triangle domain `u, v ≥ 0, u + v ≤ 1`
+    /// ([`Domain::Triangle`](super::Domain::Triangle)) or not finite.
+    #[error("parameter ({u}, {v}) is outside the triangle u, v ≥ 0, u + v ≤ 1")]
+    OutsideTriangle {
+        /// `u`.
+        u: f64,
+        /// `v`.
+        v: f64,
+    },
     /// The control points last written by [`LimitSurface::update_positions`] were not
     /// valid: the surface has no shape until valid ones are set.
     #[error(
