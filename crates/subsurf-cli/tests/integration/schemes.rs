@@ -163,20 +163,23 @@ fn loop_refuses_a_quad_naming_it() {
 #[test]
 fn operations_not_available_yet_are_refused() {
     let dir = dir_with(&[("tri.obj", TRIANGLES)]);
-    for args in [
-        ["tessellate", "--rate", "4", "-o", "out.obj"],
-        ["limit", "--grid", "3", "-o", "out.txt"],
-    ] {
-        let cmd = args[0];
-        // `limit` samples Loop's exact limit; bilinear's is refused.
-        let scheme = if cmd == "limit" { "bilinear" } else { "loop" };
-        let mut args = args.to_vec();
-        args.extend(["tri.obj", "--scheme", scheme]);
+    // `limit` samples Loop's and bilinear's exact limits (tests in `limit.rs`).
+    for scheme in ["loop", "bilinear"] {
+        let args = [
+            "tessellate",
+            "--rate",
+            "4",
+            "-o",
+            "out.obj",
+            "tri.obj",
+            "--scheme",
+            scheme,
+        ];
         let o = run_in(dir.path(), &args);
         assert_code(&o, 2);
         assert!(
             stderr(&o).contains("not available yet"),
-            "{cmd}: {}",
+            "{scheme}: {}",
             stderr(&o)
         );
     }

@@ -266,6 +266,10 @@ fn edge_point(s: &BilinearSurface, mesh: &PolyMesh, f: usize, i: usize, t: f64) 
     s.eval_point(p).expect("eval").p
 }
 
+/// A face's use of an edge: the face, the edge's index in it, and whether it runs the edge
+/// from its larger vertex to its smaller.
+type EdgeUse = (usize, usize, bool);
+
 /// Closed forms on every face of the shapes, quads and others: the corners of each sub-face
 /// are the face's vertex, the midpoints of its edges and its centroid; the first derivatives
 /// and the twist are the differences of positions; neighbouring faces agree along every
@@ -340,7 +344,7 @@ fn closed_forms_and_watertightness_on_the_shapes() {
             }
         }
         // Watertight: the faces around every edge, at the same fraction from its first end.
-        let mut edges: BTreeMap<(u32, u32), Vec<(usize, usize, bool)>> = BTreeMap::new();
+        let mut edges: BTreeMap<(u32, u32), Vec<EdgeUse>> = BTreeMap::new();
         for f in (0..mesh.num_faces()).filter(|&f| s.has_surface(f)) {
             let fv = mesh.face(f);
             for i in 0..fv.len() {
