@@ -205,6 +205,10 @@ With --scheme loop (every face a triangle; another face is an error naming it) e
 gets the triangular grid u = i/(N-1) outer, v = j/(N-1) inner, i + j <= N-1 (the centroid when
 N = 1), in OpenSubdiv's triangle parameterisation ((0,0) at its first vertex, u toward the
 second, v toward the third), as osd-oracle limit --scheme loop prints it.
+With --scheme bilinear the limit of bilinear subdivision is sampled in the layout above: the
+bilinear patch of each quad, and of each sub-face of another face (its vertex, the midpoints
+of its two edges there and its centre), as OpenSubdiv's Bfr evaluates it; creases, corners and
+the boundary mode do not change it, and the texture coordinates are linear in every --fvar mode.
 With knot interval or weight tags (or --scheme nurss) the non-uniform (NURSS) surface is
 sampled; it is evaluated exactly, with derivatives, only on faces whose neighbourhood is a
 regular grid of quads or has equal intervals (see the library docs of NurssSurface), and any
@@ -215,7 +219,8 @@ Examples:
   subsurf limit textured.obj --grid 3 --fvar corners-only -o uv-samples.tsv
   subsurf limit model.obj --grid 3 -o - | head
   subsurf limit model.obj --grid 5 -o tight.tsv --c 0.3
-  subsurf limit scan.obj --scheme loop --grid 5 -o loop-samples.tsv";
+  subsurf limit scan.obj --scheme loop --grid 5 -o loop-samples.tsv
+  subsurf limit cage.obj --scheme bilinear --grid 3 -o cage-samples.tsv";
 
 /// Arguments of `subsurf limit`.
 #[derive(Debug, Args)]
@@ -334,7 +339,8 @@ the range ignores outliers (98th percentile of |value|, capped near creases) unl
 is given. Meshes of more than 16 000 faces get a lower default rate. --control-mesh draws
 the input's edges on top: dark where in front of the surface, faint where hidden.
 --scheme loop draws a triangle mesh's Loop limit surface (N x N triangles per triangle) or
-its Loop levels; --c C the shape-adjustable (mixed) surface.
+its Loop levels, --scheme bilinear the bilinear one; --c C the shape-adjustable (mixed)
+surface.
 --texture checker maps a checkerboard through the texture coordinates (vt): on the limit
 surface their exact limit in the --fvar mode, on a --level the refined ones; seams, stretching
 and coordinates outside the unit square (tinted red) show.
@@ -414,8 +420,9 @@ pub struct RenderArgs {
     pub max_memory: Option<u64>,
     #[command(flatten)]
     pub scheme: SchemeArgs,
-    /// Surface to draw: catmull-clark, adjustable (with --c, the default with --c) or loop
-    /// (a mesh of triangles) [default: catmull-clark]; --level draws its refined levels.
+    /// Surface to draw: catmull-clark, adjustable (with --c, the default with --c), loop (a
+    /// mesh of triangles) or bilinear (the control mesh itself, n-gons split at their
+    /// centroids) [default: catmull-clark]; --level draws its refined levels.
     #[arg(long = "scheme", id = "scheme_kind", value_name = "SCHEME", value_enum)]
     pub scheme_kind: Option<SchemeKind>,
     #[command(flatten)]
@@ -554,7 +561,7 @@ pub enum SchemeKind {
     /// its exact limit with limit, tessellate and render).
     Loop,
     /// Bilinear, exactly as OpenSubdiv: the control mesh split, not smoothed (refinement,
-    /// --limit and repose; no limit or tessellate yet).
+    /// --limit, repose, and its exact limit with limit, tessellate and render).
     Bilinear,
 }
 

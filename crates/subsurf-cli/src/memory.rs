@@ -6,7 +6,7 @@
 use std::borrow::Cow;
 use std::sync::atomic::{AtomicI64, Ordering};
 
-use subsurf::limit::{BuildError, LimitSurface, LoopSurface};
+use subsurf::limit::{BuildError, LimitSurface};
 use subsurf::mesh::{Options, PolyMesh};
 
 /// The memory the system reports as available (Linux `/proc/meminfo` `MemAvailable`), or
@@ -295,20 +295,23 @@ impl SurfaceGuard<'_> {
         Ok(surface)
     }
 
-    /// The Loop limit surface of `mesh`, for a job that needs `reserved` bytes of its own
-    /// besides. The surface keeps the topology and the points (estimated as the
-    /// Catmull-Clark surface's build); each face's refinement lives only while its points
-    /// are evaluated.
-    pub fn loop_surface(
+    /// A Loop or bilinear limit surface of `mesh` (`build`), for a job that needs
+    /// `reserved` bytes of its own besides. Such a surface keeps the topology and the points
+    /// (estimated as the Catmull-Clark surface's build); Loop's refinement of a face lives
+    /// only while its points are evaluated.
+    pub fn local_surface<S, E>(
         &self,
         mesh: &PolyMesh,
-        options: Options,
         reserved: u64,
-    ) -> anyhow::Result<LoopSurface> {
+        build: impl FnOnce() -> Result<S, E>,
+    ) -> anyhow::Result<S>
+    where
+        E: std::error::Error + Send + Sync + 'static,
+    {
         use anyhow::Context as _;
         let estimate = LimitSurface::estimate_build_memory(mesh).saturating_add(reserved);
         check(self.name, &self.what, estimate, self.max, self.hint)?;
-        LoopSurface::new(mesh, options).with_context(|| self.name.to_owned())
+        build().with_context(|| self.name.to_owned())
     }
 }
 

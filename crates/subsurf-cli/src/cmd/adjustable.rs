@@ -76,13 +76,9 @@ pub fn check_surface_flags(given: Option<SchemeKind>, args: &AdjustArgs) {
     let c = args.c.is_some();
     match given {
         Some(SchemeKind::Adjustable) if !c => usage_error("--scheme adjustable needs --c C"),
-        Some(SchemeKind::Bilinear) => usage_error(
-            "exact limit evaluation of the bilinear scheme is not available yet: use \
-             subdivide --scheme bilinear",
-        ),
-        Some(SchemeKind::Nurss | SchemeKind::CatmullClark | SchemeKind::Loop) if c => {
-            usage_error("--c applies to --scheme adjustable only")
-        }
+        Some(
+            SchemeKind::Nurss | SchemeKind::CatmullClark | SchemeKind::Loop | SchemeKind::Bilinear,
+        ) if c => usage_error("--c applies to --scheme adjustable only"),
         _ => {}
     }
 }

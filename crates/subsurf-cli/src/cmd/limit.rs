@@ -2,14 +2,16 @@
 //! column layout and order of `osd-oracle limit`, and per sub-face of every other face, in
 //! OpenSubdiv `Bfr`'s parameterisation of the face ([`Parameterization`]); with
 //! `--scheme loop`, the Loop limit ([`LoopSurface`]) on a triangular grid per triangle,
-//! `(u, v) = (i/(N−1), j/(N−1))`, `i + j ≤ N − 1`, as `osd-oracle limit --scheme loop`.
+//! `(u, v) = (i/(N−1), j/(N−1))`, `i + j ≤ N − 1`, as `osd-oracle limit --scheme loop`;
+//! with `--scheme bilinear`, the bilinear limit ([`BilinearSurface`]) on the grids of
+//! Catmull-Clark's layout (quads, then the sub-faces of other faces).
 //! When the mesh has texture coordinates, each row ends with their limit `s t`
 //! ([`FaceVaryingSurface`]; with NURSS [`FaceVaryingSurface::nurss`]).
 
 use anyhow::{Context, Result};
 use subsurf::limit::{
-    ChannelValues, Derivatives, FaceVaryingSurface, LimitSurface, LoopSurface, Order,
-    Parameterization, SurfacePoint,
+    BilinearSurface, ChannelValues, Derivatives, FaceVaryingSurface, LimitSurface, LoopSurface,
+    Order, Parameterization, Surface, SurfacePoint,
 };
 use subsurf::mesh::{Options, PolyMesh};
 use subsurf::nonuniform::NurssSurface;
@@ -91,6 +93,8 @@ enum Sampler {
     Nurss(NurssSurface),
     /// Loop, on triangles.
     Loop(Box<LoopSurface>),
+    /// Bilinear.
+    Bilinear(BilinearSurface),
 }
 
 impl Sampler {
@@ -112,6 +116,7 @@ impl Sampler {
             }
             Sampler::Nurss(s) => s.has_surface(f),
             Sampler::Loop(s) => return usize::from(s.has_surface(f)),
+            Sampler::Bilinear(s) => s.has_surface(f),
         };
         if has {
             Parameterization::new(size).num_subfaces()
@@ -144,11 +149,8 @@ impl Sampler {
         match self {
             Sampler::Limit(s) => s.eval_many_into(points, Order::First, out),
             Sampler::Mixed(s) => s.eval_many_into(points, Order::First, out),
-            Sampler::Loop(s) => {
-                out.clear();
-                out.resize(points.len(), Ok(Derivatives::default()));
-                s.eval_many_to(points, Order::First, out);
-            }
+            Sampler::Loop(s) => eval_surface(&**s, points, out),
+            Sampler::Bilinear(s) => eval_surface(s, points, out),
             Sampler::Nurss(s) => {
                 out.clear();
                 for &p in points {
@@ -162,6 +164,17 @@ impl Sampler {
         }
         Ok(())
     }
+}
+
+/// `s`'s derivatives at `points` into `out` (resized to them).
+fn eval_surface(
+    s: &impl Surface,
+    points: &[SurfacePoint],
+    out: &mut Vec<Result<Derivatives, subsurf::limit::EvalError>>,
+) {
+    out.clear();
+    out.resize(points.len(), Ok(Derivatives::default()));
+    s.evaluate_many(points, Order::First, out);
 }
 
 /// One input face's sub-face to sample: the face, its size and the sub-face.
@@ -252,8 +265,12 @@ pub fn run(args: &LimitArgs) -> Result<()> {
             (Sampler::Mixed(Box::new(mixed)), uv)
         }
         (SchemeKind::Loop, _) => {
-            let s = guard.loop_surface(mesh, options, held)?;
+            let s = guard.local_surface(mesh, held, || LoopSurface::new(mesh, options))?;
             (Sampler::Loop(Box::new(s)), uv_surface(mesh, Scheme::Loop)?)
+        }
+        (SchemeKind::Bilinear, _) => {
+            let s = guard.local_surface(mesh, held, || BilinearSurface::new(mesh))?;
+            (Sampler::Bilinear(s), uv_surface(mesh, Scheme::Bilinear)?)
         }
         (_, None) => (
             Sampler::Limit(guard.limit_surface(mesh, options, args.grid, held)?),

@@ -25,13 +25,14 @@ const DEFAULT_BUDGET: u64 = 4 << 20;
 pub fn run(args: &RenderArgs) -> Result<()> {
     if args.scheme_kind == Some(SchemeKind::Nurss) {
         super::adjustable::usage_error(
-            "render draws the catmull-clark, adjustable (--c) and loop surfaces; sample the \
-             NURSS surface with tessellate --scheme nurss",
+            "render draws the catmull-clark, adjustable (--c), loop and bilinear surfaces; \
+             sample the NURSS surface with tessellate --scheme nurss",
         );
     }
     super::adjustable::check_surface_flags(args.scheme_kind, &args.adjust);
     let scheme = match args.scheme_kind {
         Some(SchemeKind::Loop) => Scheme::Loop,
+        Some(SchemeKind::Bilinear) => Scheme::Bilinear,
         _ => Scheme::CatmullClark,
     };
     check_png(&args.output)?;

@@ -5,7 +5,10 @@
 use anyhow::{bail, Context, Result};
 use subsurf::io::Up;
 use subsurf::io::{write_tessellation, TessellationFormat, TessellationWriteOptions};
-use subsurf::limit::{tessellate, FaceVaryingSurface, LimitSurface, Surface, Tessellation};
+use subsurf::limit::{
+    tessellate, BilinearSurface, FaceVaryingSurface, LimitSurface, LoopSurface, Surface,
+    Tessellation,
+};
 use subsurf::mesh::{Options, PolyMesh, TriangleSubdivision};
 use subsurf::Scheme;
 
@@ -135,12 +138,20 @@ pub fn run(args: &TessellateArgs) -> Result<()> {
     } else {
         (1, 0)
     };
-    let (surface, scheme): (Box<dyn Surface>, _) = if kind == SchemeKind::Loop {
-        let s = guard.loop_surface(surface_mesh, options, reserved)?;
-        (Box::new(s), Scheme::Loop)
-    } else {
-        let s = guard.limit_surface(surface_mesh, options, divisions, reserved)?;
-        (Box::new(s), Scheme::CatmullClark)
+    let m = surface_mesh;
+    let (surface, scheme): (Box<dyn Surface>, _) = match kind {
+        SchemeKind::Loop => {
+            let s = guard.local_surface(m, reserved, || LoopSurface::new(m, options))?;
+            (Box::new(s), Scheme::Loop)
+        }
+        SchemeKind::Bilinear => {
+            let s = guard.local_surface(m, reserved, || BilinearSurface::new(m))?;
+            (Box::new(s), Scheme::Bilinear)
+        }
+        _ => {
+            let s = guard.limit_surface(m, options, divisions, reserved)?;
+            (Box::new(s), Scheme::CatmullClark)
+        }
     };
     // glTF draws triangles: let the tessellation split its quads (it picks the diagonals).
     let triangles = args.triangles || format == TessellationFormat::Glb;
@@ -167,8 +178,9 @@ pub fn run(args: &TessellateArgs) -> Result<()> {
         let flags = format!(" --c {} --adjust-steps {}", m.scheme.c(), m.steps);
         comment.insert_str("subsurf tessellate".len(), &flags);
     }
-    if scheme == Scheme::Loop {
-        comment.insert_str("subsurf tessellate".len(), " --scheme loop");
+    if matches!(scheme, Scheme::Loop | Scheme::Bilinear) {
+        let flag = format!(" --scheme {}", scheme.name());
+        comment.insert_str("subsurf tessellate".len(), &flag);
     }
     let control = args.control_mesh.then_some(mesh);
     check_single_precision(&t, format, &input)?;

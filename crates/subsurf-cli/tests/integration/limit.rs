@@ -551,3 +551,82 @@ fn subdivide_limit_moves_texture_coordinates_as_opensubdiv() {
     }
     assert!(limit != refined, "--limit moved the values");
 }
+
+/// The rows of a golden file of the library's `tests/golden/bilinear_bfr/` (OpenSubdiv
+/// `Bfr`'s, every face in `subsurf limit`'s layout; see the README there).
+fn bilinear_golden(name: &str) -> Vec<(u32, Vec<f64>)> {
+    use std::io::Read as _;
+    let path = format!(
+        "{}/../subsurf/tests/golden/bilinear_bfr/{name}.txt.gz",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let mut text = String::new();
+    flate2::read::GzDecoder::new(fs::File::open(path).expect("golden file"))
+        .read_to_string(&mut text)
+        .expect("gzip");
+    let data: String = (text.lines())
+        .filter(|l| !l.starts_with('#'))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    rows(&data)
+}
+
+/// `limit --scheme bilinear --grid 4` writes OpenSubdiv `Bfr`'s rows: every face (quads,
+/// and the sub-faces of triangles, pentagons and hexagons in `Bfr`'s `(u, v)` of the face),
+/// positions, derivatives and texture coordinates to 1e-12, whatever the face-varying mode
+/// (bilinear's is linear in all) and with boundary mode `none` (which leaves no bilinear face
+/// out: `catmark_edgenone`'s tag).
+#[test]
+fn bilinear_rows_are_opensubdivs() {
+    for (name, obj) in [
+        (
+            "bilinear_nonquads1",
+            include_str!("../../../subsurf/tests/shapes/osd/bilinear_nonquads1.obj"),
+        ),
+        (
+            "catmark_nonquads",
+            include_str!("../../../subsurf/tests/shapes/osd/catmark_nonquads.obj"),
+        ),
+        (
+            "catmark_edgenone",
+            include_str!("../../../subsurf/tests/shapes/osd/catmark_edgenone.obj"),
+        ),
+    ] {
+        let want = bilinear_golden(name);
+        let dir = dir_with(&[("in.obj", obj)]);
+        for fvar in ["all", "none"] {
+            let o = run_in(
+                dir.path(),
+                &[
+                    "limit", "in.obj", "--grid", "4", "--scheme", "bilinear", "--fvar", fvar, "-o",
+                    "out.tsv",
+                ],
+            );
+            assert_code(&o, 0);
+            let got = rows(&fs::read_to_string(dir.path().join("out.tsv")).expect("out.tsv"));
+            assert_eq!(got.len(), want.len(), "{name}");
+            for (i, ((gf, g), (wf, w))) in got.iter().zip(&want).enumerate() {
+                assert_eq!((gf, &g[..2]), (wf, &w[..2]), "{name} row {i}: face, u, v");
+                assert_eq!(g.len(), 13, "{name} row {i}: s t at the end");
+                assert!(
+                    g.iter()
+                        .zip(w)
+                        .all(|(a, b)| (a - b).abs() <= 1e-12 * b.abs().max(1.0)),
+                    "{name} {fvar} row {i}: {g:?} vs {w:?}"
+                );
+            }
+        }
+    }
+}
+
+/// `--c` belongs to the adjustable scheme: a usage error with `--scheme bilinear`.
+#[test]
+fn bilinear_refuses_c() {
+    let dir = dir_with(&[("in.obj", NONQUADS)]);
+    let o = run_in(
+        dir.path(),
+        &["limit", "in.obj", "--scheme", "bilinear", "--c", "0.3"],
+    );
+    assert_code(&o, 2);
+    assert!(stderr(&o).contains("--c"), "{}", stderr(&o));
+}

@@ -1,8 +1,7 @@
 //! `--scheme loop` and `--scheme bilinear`: refinement as the library's `subdivide` gives it
 //! (with Loop, texture coordinates too), a quad for Loop refused naming the face, Loop's
-//! limit surface tessellated and drawn, the operations not available yet refused with a
-//! message (never another scheme's surface), and `bench --scheme` timing the scheme it
-//! names.
+//! and bilinear's limit surfaces tessellated and drawn, and `bench --scheme` timing the
+//! scheme it names.
 
 use crate::common;
 
@@ -161,25 +160,39 @@ fn loop_refuses_a_quad_naming_it() {
     assert!(!dir.path().join("out.obj").exists());
 }
 
+/// `tessellate --scheme bilinear` writes the library's tessellation of the bilinear limit
+/// surface (the control mesh itself, n-gons through their sub-faces); `render --scheme
+/// bilinear` draws it; `--c` is refused.
 #[test]
-fn operations_not_available_yet_are_refused() {
-    let dir = dir_with(&[("tri.obj", TRIANGLES)]);
-    for args in [
-        ["tessellate", "--rate", "4", "-o", "out.obj"],
-        ["limit", "--grid", "3", "-o", "out.txt"],
-    ] {
-        let cmd = args[0];
-        let mut args = args.to_vec();
-        args.extend(["tri.obj", "--scheme", "bilinear"]);
-        let o = run_in(dir.path(), &args);
-        assert_code(&o, 2);
-        assert!(
-            stderr(&o).contains("not available yet"),
-            "{cmd}: {}",
-            stderr(&o)
-        );
+fn bilinear_tessellates_and_renders_its_limit_surface() {
+    use subsurf::limit::{tessellate, BilinearSurface};
+    let dir = dir_with(&[("mixed.obj", WITH_QUAD)]);
+    let args = ["tessellate", "mixed.obj", "-o", "t.obj", "--rate", "2"];
+    let o = run_in(dir.path(), &[&args[..], &["--scheme", "bilinear"]].concat());
+    assert_code(&o, 0);
+    let text = std::fs::read_to_string(dir.path().join("t.obj")).expect("output written");
+    assert!(
+        text.contains("subsurf tessellate --scheme bilinear"),
+        "{text:.300}"
+    );
+    let got = parse_obj(text.as_bytes(), "t.obj").expect("valid output");
+    let input = parse_obj(WITH_QUAD.as_bytes(), "mixed.obj").expect("valid OBJ");
+    let surface = BilinearSurface::new(&input.mesh).expect("a bilinear surface");
+    let want = tessellate(&surface, &input.mesh, 2, false).expect("tessellates");
+    assert_eq!(got.mesh.face_verts(), &want.face_verts[..]);
+    assert_eq!(got.mesh.positions(), &want.positions[..]);
+    // Two triangles (three sub-faces each) and a quad, at rate 2.
+    assert_eq!(got.mesh.num_faces(), 2 * 3 + 4);
+    for (extra, code) in [(&[][..], 0), (&["--c", "0.3"][..], 2)] {
+        let args = [
+            &["render", "mixed.obj", "-o", "b.png", "--scheme", "bilinear"][..],
+            extra,
+        ];
+        let o = run_in(dir.path(), &args.concat());
+        assert_code(&o, code);
+        assert_eq!(dir.path().join("b.png").exists(), code == 0, "{extra:?}");
+        let _ = std::fs::remove_file(dir.path().join("b.png"));
     }
-    assert!(!dir.path().join("out.obj").exists());
 }
 
 /// `tessellate --scheme loop` writes the library's tessellation of the Loop limit surface

@@ -3,7 +3,9 @@
 //! the NURSS surface are evaluated the same way, so that drawing, tessellating
 //! ([`tessellate`](super::tessellate())) and comparing take any of them.
 
-use super::{Derivatives, EvalError, LimitSurface, LoopSurface, Order, SurfacePoint};
+use super::{
+    BilinearSurface, Derivatives, EvalError, LimitSurface, LoopSurface, Order, SurfacePoint,
+};
 use rayon::prelude::*;
 
 /// The parameter domain of a face (of each of its sub-faces).
@@ -112,6 +114,33 @@ impl Surface for LoopSurface {
 
     fn domain(&self, _: usize) -> Domain {
         Domain::Triangle
+    }
+
+    fn evaluate(&self, p: SurfacePoint) -> Result<Derivatives, EvalError> {
+        self.eval_point(p)
+    }
+
+    fn evaluate_many(
+        &self,
+        points: &[SurfacePoint],
+        order: Order,
+        out: &mut [Result<Derivatives, EvalError>],
+    ) {
+        self.eval_many_to(points, order, out);
+    }
+}
+
+impl Surface for BilinearSurface {
+    fn num_faces(&self) -> usize {
+        BilinearSurface::num_faces(self)
+    }
+
+    fn num_subfaces(&self, f: usize) -> usize {
+        BilinearSurface::num_subfaces(self, f)
+    }
+
+    fn has_surface(&self, f: usize) -> bool {
+        BilinearSurface::has_surface(self, f)
     }
 
     fn evaluate(&self, p: SurfacePoint) -> Result<Derivatives, EvalError> {

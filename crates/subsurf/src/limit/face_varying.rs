@@ -62,6 +62,7 @@ use std::sync::Arc;
 
 use rayon::prelude::*;
 
+use super::bilinear_surface::corner_weights;
 use super::{Domain, EvalError, LimitSurface, LoopSurface, Order, Surface, SurfacePoint};
 use crate::mesh::{
     FaceVarying, FaceVaryingInterpolation, MeshError, Options, PolyMesh, Topology, ValueMesh,
@@ -289,8 +290,10 @@ impl FaceVaryingSurface {
 
     /// [`FaceVaryingSurface::new`] for `scheme`: Catmull-Clark, Loop (the value mesh's
     /// [`LoopSurface`], see the module docs), and bilinear (whose face-varying limit is
-    /// linear in every mode, as OpenSubdiv's); the adjustable scheme through its refined mesh
-    /// (see the module docs); NURSS with [`FaceVaryingSurface::nurss`].
+    /// linear in every mode, as OpenSubdiv's, on every face of
+    /// [`BilinearSurface`](super::BilinearSurface): boundary mode `None` makes no holes for
+    /// this scheme); the adjustable scheme through its refined mesh (see the module docs);
+    /// NURSS with [`FaceVaryingSurface::nurss`].
     ///
     /// # Errors
     /// [`FaceVaryingError::Unsupported`] for NURSS (built a layer above, its message says by
@@ -307,9 +310,11 @@ impl FaceVaryingSurface {
             Scheme::CatmullClark => Self::new(mesh, options, channel),
             Scheme::Loop => Self::build(mesh, options, channel, true),
             Scheme::Bilinear => {
+                // Linear, with the scheme's holes: the tagged ones only, boundary mode
+                // `None` making none (as `BilinearSurface`).
                 let linear = Options {
                     face_varying: FaceVaryingInterpolation::All,
-                    ..options
+                    ..crate::scheme::Bilinear::topology_options(&options)
                 };
                 Self::new(mesh, linear, channel)
             }
@@ -446,40 +451,18 @@ impl Linear {
             return Err(EvalError::Hole { face: p.face });
         }
         let value = |c: usize| &values[dim * corners[c] as usize..][..dim];
-        // The four corners of the bilinear patch, (0,0), (1,0), (1,1), (0,1), as weights
-        // on the face's corners: the face's own for a quad; for sub-face `j` of an n-gon,
-        // corner `j`, the midpoint of edge `j`, the centroid, the midpoint of edge `j - 1`.
-        let mut w = vec![[0.0; 4]; n];
-        if n == 4 {
-            (0..4).for_each(|c| w[c][c] = 1.0);
-        } else {
-            let j = p.subface as usize;
-            let (next, prev) = ((j + 1) % n, (j + n - 1) % n);
-            w[j][0] = 1.0;
-            w[j][1] += 0.5;
-            w[next][1] += 0.5;
-            (0..n).for_each(|c| w[c][2] = 1.0 / n as f64);
-            w[j][3] += 0.5;
-            w[prev][3] += 0.5;
-        }
-        let (u, v) = (p.u, p.v);
-        // Bilinear weights of the patch corners and their derivatives.
-        let b = [(1.0 - u) * (1.0 - v), u * (1.0 - v), u * v, (1.0 - u) * v];
-        let bu = [-(1.0 - v), 1.0 - v, v, -v];
-        let bv = [-(1.0 - u), -u, u, 1.0 - u];
+        // The bilinear patch of the quad, or of sub-face `j` of an n-gon (corner `j`, the
+        // midpoints of edges `j` and `j - 1`, the centroid), as weights on the corners.
         val.fill(0.0);
         du.fill(0.0);
         dv.fill(0.0);
-        for (c, wc) in w.iter().enumerate() {
-            let (a, au, av) = (0..4).fold((0.0, 0.0, 0.0), |(a, au, av), k| {
-                (a + wc[k] * b[k], au + wc[k] * bu[k], av + wc[k] * bv[k])
-            });
+        corner_weights(n, p.subface as usize, p.u, p.v, |c, w| {
             for (k, &x) in value(c).iter().enumerate() {
-                val[k] += a * x;
-                du[k] += au * x;
-                dv[k] += av * x;
+                val[k] += w[0] * x;
+                du[k] += w[1] * x;
+                dv[k] += w[2] * x;
             }
-        }
+        });
         Ok(())
     }
 

@@ -8,6 +8,7 @@
 //! sharpness is infinite. Exact evaluation anywhere on the limit surface, with
 //! derivatives, is [`LimitSurface`].
 
+mod bilinear_surface;
 mod box_spline;
 pub mod bspline;
 mod builder;
@@ -29,6 +30,7 @@ mod vertex_rows;
 
 use crate::refine::patch::Index;
 
+pub use bilinear_surface::BilinearSurface;
 pub use bspline::{Derivatives, Order};
 pub use builder::SurfaceBuilder;
 pub use eval::{Domain, Surface};

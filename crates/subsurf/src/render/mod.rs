@@ -154,9 +154,10 @@ pub struct Render {
     /// Background colour.
     pub background: [u8; 3],
     /// The subdivision scheme whose limit surface ([`Geometry::Limit`]) or refined levels
-    /// ([`Geometry::Level`]) are drawn: Catmull-Clark (the default) or Loop (every face a
-    /// triangle: [`LoopSurface`](crate::limit::LoopSurface)); the adjustable and bilinear
-    /// schemes' refined levels. Other limit surfaces (the adjustable scheme's
+    /// ([`Geometry::Level`]) are drawn: Catmull-Clark (the default), Loop (every face a
+    /// triangle: [`LoopSurface`](crate::limit::LoopSurface)) or bilinear
+    /// ([`BilinearSurface`](crate::limit::BilinearSurface)); the adjustable scheme's refined
+    /// levels. Other limit surfaces (the adjustable scheme's
     /// [`MixedSurface`](crate::MixedSurface), NURSS) are drawn with [`render_surface`];
     /// NURSS levels are not drawn ([`RenderError::Scheme`]).
     pub scheme: Scheme,

@@ -6,8 +6,8 @@ use super::curvature::{Curvature, CurvatureKind};
 use super::{Geometry, Paint, Render, RenderError};
 use crate::geom::{self, V3};
 use crate::limit::{
-    tessellate, Derivatives, Domain, EvalError, FaceVaryingSurface, LimitSurface, LoopSurface,
-    Order, Surface, SurfacePoint, Tessellation,
+    tessellate, BilinearSurface, Derivatives, Domain, EvalError, FaceVaryingSurface, LimitSurface,
+    LoopSurface, Order, Surface, SurfacePoint, Tessellation,
 };
 use crate::mesh::{FaceVarying, Options, PolyMesh};
 use crate::refine::uniform::{refine_mesh, Steps};
@@ -765,7 +765,7 @@ fn grid_uvs(
 }
 
 /// The limit surface of `mesh` under `scheme` (Catmull-Clark's [`LimitSurface`], Loop's
-/// [`LoopSurface`]), built within `max_bytes` when given, which its evaluation at `rate` must
+/// [`LoopSurface`], the bilinear [`BilinearSurface`]), built within `max_bytes` when given, which its evaluation at `rate` must
 /// fit too.
 fn limit_surface(
     mesh: &PolyMesh,
@@ -776,18 +776,22 @@ fn limit_surface(
 ) -> Result<Box<dyn Surface>, RenderError> {
     match scheme {
         Scheme::CatmullClark => Ok(Box::new(surface_within(mesh, options, rate, max_bytes)?)),
-        Scheme::Loop => {
+        Scheme::Loop | Scheme::Bilinear => {
             // The surface keeps the topology and the points (as much as the Catmull-Clark
-            // surface's build); each face's refinement lives only while it is evaluated.
+            // surface's build); Loop's refinement of a face lives only while it is
+            // evaluated.
             let estimate = LimitSurface::estimate_build_memory(mesh);
-            match max_bytes {
-                Some(limit) if estimate > limit => Err(RenderError::SurfaceMemory {
+            if let Some(limit) = max_bytes.filter(|&limit| estimate > limit) {
+                return Err(RenderError::SurfaceMemory {
                     rate,
                     estimate,
                     limit,
-                }),
-                _ => Ok(Box::new(LoopSurface::new(mesh, *options)?)),
+                });
             }
+            Ok(match scheme {
+                Scheme::Loop => Box::new(LoopSurface::new(mesh, *options)?),
+                _ => Box::new(BilinearSurface::new(mesh)?),
+            })
         }
         _ => Err(RenderError::Scheme {
             scheme: scheme.name(),

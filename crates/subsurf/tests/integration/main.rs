@@ -9,6 +9,7 @@
 mod common;
 
 mod adjustable;
+mod bilinear_limit_golden;
 mod blend;
 mod blend_rational;
 mod cross_scheme;

@@ -393,6 +393,33 @@ fn loop_surfaces_and_levels_are_drawn_as_triangles() {
     assert_ne!(render(&tri, &options, &cc).unwrap(), zebra.image);
 }
 
+/// The bilinear limit surface of the cube is the cube itself: flat faces, zero curvature at
+/// every sample (none at the grids' corners, where zero second derivatives are read as a
+/// corner's), normals along the faces' normals; drawn, it differs from Catmull-Clark's.
+#[test]
+fn the_bilinear_cube_is_flat() {
+    let o = Options::default();
+    let samples = sample_curvature(&cube(), &o, Scheme::Bilinear, 4).unwrap();
+    assert_eq!(samples.len(), 6 * 25);
+    for s in &samples {
+        let corner = [s.point.u, s.point.v].iter().all(|&x| x == 0.0 || x == 1.0);
+        let Some(c) = s.curvature else {
+            assert!(corner, "{:?}", s.point);
+            continue;
+        };
+        assert!(c.gauss == 0.0 && c.mean == 0.0 && c.max == 0.0, "{c:?}");
+        let p = s.position;
+        let on_face = (0..3).any(|k| (p[k] == 0.0 || p[k] == 1.0) && s.normal[k].abs() == 1.0);
+        assert!(on_face, "{:?} {:?}", p, s.normal);
+    }
+    let opts = Render {
+        scheme: Scheme::Bilinear,
+        ..small(Paint::Plain)
+    };
+    let bilinear = render(&cube(), &o, &opts).unwrap();
+    assert_ne!(bilinear, render(&cube(), &o, &small(Paint::Plain)).unwrap());
+}
+
 #[test]
 fn loop_needs_triangles_and_nurss_levels_are_refused() {
     let o = Options::default();
