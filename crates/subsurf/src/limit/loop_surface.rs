@@ -43,8 +43,12 @@
 //!   to the face's corner, so no digit is lost). There the normal differs from `Bfr`'s
 //!   (approximation level 10) by 1.3e-4 rad, the error that `Bfr`'s own convergence over
 //!   levels 6, 8, 10 (ratio 0.46 per level) extrapolates for it, 1.31e-4: ours is that
-//!   limit. Otherwise (a dart, a semi-sharp vertex or edge that still decays) the corner
-//!   child is refined again.
+//!   limit. At an interior crease vertex (two infinitely sharp edges) each of the two sectors
+//!   has its own tangent plane: the masks are those of the face's sector (the vertex's
+//!   edges listed from the sharp edge that begins it), as `Bfr` evaluates a corner in its
+//!   face's sector (on `loop_cubes_infsharp` `Bfr`'s normals converge to ours, 1.4e-4 rad
+//!   off at its level 10, its extrapolated error). Otherwise (a dart, a semi-sharp vertex
+//!   or edge that still decays) the corner child is refined again.
 //! - The depth is capped at [`MAX_DEPTH`] levels: a point within `2^-48` of its face's size
 //!   from an irregular corner (or a dart reached so deep) takes that corner's masks at that
 //!   level. At a dart, whose masks are the smooth vertex's and not exact, the position so
@@ -463,7 +467,8 @@ impl<'a> Node<'a> {
         let t = &self.topo;
         let pos = &self.pos;
         let mut masks = VertexMasks::default();
-        let (p, toward): ([f64; 3], [[f64; 3]; 2]) = if !masks.load(Loop, t, c, true) {
+        let loaded = masks.load_for_face(Loop, t, c, true, Some(self.face));
+        let (p, toward): ([f64; 3], [[f64; 3]; 2]) = if !loaded {
             (
                 pos[c],
                 [next, prev].map(|x| geom::sub(&pos[x as usize], &pos[c])),

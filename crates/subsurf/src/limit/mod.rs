@@ -116,12 +116,32 @@ impl VertexMasks {
         v: usize,
         tangents: bool,
     ) -> bool {
+        self.load_for_face(rules, level, v, tangents, None)
+    }
+
+    /// [`load`](Self::load), with the tangents of the sector of face `face` (one of `v`'s)
+    /// when given. At an interior crease vertex the crease's two sharp edges split the faces
+    /// into two sectors, each with its own tangent plane (the surface has a sharp crease
+    /// there); the crease tangent masks (`Rules::limit_tangent_masks`, OpenSubdiv's
+    /// `assignCreaseLimitTangentMasks`) span the plane of the sector that runs from the
+    /// first sharp edge to the next, so the vertex's edges and faces are listed from the
+    /// sharp edge that begins `face`'s sector. OpenSubdiv's `Bfr` evaluates a face's corner
+    /// in its own sector in the same way.
+    pub(crate) fn load_for_face<R: Rules>(
+        &mut self,
+        rules: R,
+        level: &Topology,
+        v: usize,
+        tangents: bool,
+        face: Option<usize>,
+    ) -> bool {
         let edges = level.vertex_edges(v);
         if edges.is_empty() {
             return false;
         }
         let faces = level.vertex_faces(v);
-        let rule = level.vertex_tag(v).rule;
+        let tag = level.vertex_tag(v);
+        let rule = tag.rule;
         self.sharp.clear();
         (self.sharp).extend(edges.iter().map(|&e| level.edge_sharpness(e as usize)));
         self.ends.clear();
@@ -135,6 +155,19 @@ impl VertexMasks {
                     fv[(l as usize + 2) % fv.len()]
                 }),
         );
+        // Face i lies between edges i and i + 1 of a manifold interior vertex.
+        let interior = !tag.boundary && !tag.non_manifold && faces.len() == edges.len();
+        let local = face.and_then(|f| faces.iter().position(|&x| x as usize == f));
+        if let (crate::mesh::Rule::Crease, true, Some(k)) = (rule, interior, local) {
+            let n = edges.len();
+            let sharp = |i: usize| crate::mesh::sharpness::is_sharp(self.sharp[i % n]);
+            if let Some(back) = (0..n).find(|&b| sharp(k + n - b)) {
+                let first = (k + n - back) % n;
+                self.sharp.rotate_left(first);
+                self.ends.rotate_left(first);
+                self.opposite.rotate_left(first);
+            }
+        }
         rules.limit_position_mask(rule, &self.sharp, faces.len(), &mut self.position);
         if tangents {
             let [t1, t2] = &mut self.tangents;
