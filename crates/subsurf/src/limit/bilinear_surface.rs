@@ -1,5 +1,5 @@
 //! [`BilinearSurface`]: exact evaluation of the limit of bilinear subdivision (OpenSubdiv's
-//! `Sdc::SCHEME_BILINEAR`, [`Bilinear`](crate::scheme::Bilinear)) at any `(face, u, v)`, with first and
+//! `Sdc::SCHEME_BILINEAR`, [`scheme::Bilinear`](crate::scheme::Bilinear)) at any `(face, u, v)`, with first and
 //! second derivatives, as OpenSubdiv's `Bfr::Surface` evaluates it.
 //!
 //! # The surface

@@ -22,7 +22,8 @@ pub enum Domain {
 
 /// A parametric surface over the faces of a control mesh, addressed as
 /// [`LimitSurface`] addresses its own: a point is a face (a sub-face of a non-quad, see
-/// [`Parameterization`](super::Parameterization)) and `(u, v)` in `[0, 1]²`.
+/// [`Parameterization`](super::Parameterization)) and `(u, v)` in its
+/// [`domain`](Surface::domain), `[0, 1]²` or a triangle.
 pub trait Surface: Sync {
     /// Number of faces of the control mesh.
     fn num_faces(&self) -> usize;
@@ -36,8 +37,8 @@ pub trait Surface: Sync {
     fn has_surface(&self, f: usize) -> bool;
 
     /// The parameter domain of face `f`'s sub-faces: the unit square unless the surface says
-    /// otherwise ([`LoopSurface`]'s triangles). Consumers that only handle quads
-    /// ([`tessellate`](super::tessellate()), rendering) refuse other domains.
+    /// otherwise ([`LoopSurface`]'s triangles, which [`tessellate`](super::tessellate())
+    /// samples on triangular grids).
     fn domain(&self, f: usize) -> Domain {
         let _ = f;
         Domain::Quad
