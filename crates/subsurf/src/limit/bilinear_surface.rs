@@ -42,7 +42,7 @@
 
 use rayon::prelude::*;
 
-use super::{Derivatives, EvalError, Order, SurfacePoint};
+use super::{copy_positions, Derivatives, EvalError, Order, SurfacePoint};
 use crate::mesh::{MeshError, PolyMesh, Topology};
 use crate::scheme::Bilinear;
 
@@ -126,16 +126,7 @@ impl BilinearSurface {
     /// [`EvalError::InvalidPositions`]: naming the first vertex that is not finite, or, when
     /// the number of points differs from the mesh's, the smaller of the two counts.
     pub fn set_positions(&mut self, pos: &[[f64; 3]]) -> Result<(), EvalError> {
-        if pos.len() != self.pos.len() {
-            return Err(EvalError::InvalidPositions {
-                vertex: pos.len().min(self.pos.len()),
-            });
-        }
-        if let Some(v) = pos.iter().position(|p| p.iter().any(|x| !x.is_finite())) {
-            return Err(EvalError::InvalidPositions { vertex: v });
-        }
-        self.pos.copy_from_slice(pos);
-        Ok(())
+        copy_positions(&mut self.pos, pos)
     }
 
     /// Position and first and second derivatives at `(u, v)` of quad `face` (sub-face 0 of

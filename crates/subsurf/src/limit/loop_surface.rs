@@ -66,7 +66,7 @@ use rayon::prelude::*;
 
 use super::box_spline::{basis, box_net, NetPoint};
 use super::local::cut_out_unbounded;
-use super::{Derivatives, EvalError, Order, SurfacePoint, VertexMasks, MAX_DEPTH};
+use super::{copy_positions, Derivatives, EvalError, Order, SurfacePoint, VertexMasks, MAX_DEPTH};
 use crate::geom;
 use crate::mesh::{CreaseMethod, MeshError, Options, PolyMesh, Rule, Topology};
 use crate::refine::{check_triangles, interpolate_loop, refine_tri_topology};
@@ -133,16 +133,7 @@ impl LoopSurface {
     /// [`EvalError::InvalidPositions`]: naming the first vertex that is not finite, or, when
     /// the number of points differs from the mesh's, the smaller of the two counts.
     pub fn set_positions(&mut self, pos: &[[f64; 3]]) -> Result<(), EvalError> {
-        if pos.len() != self.pos.len() {
-            return Err(EvalError::InvalidPositions {
-                vertex: pos.len().min(self.pos.len()),
-            });
-        }
-        if let Some(v) = pos.iter().position(|p| p.iter().any(|x| !x.is_finite())) {
-            return Err(EvalError::InvalidPositions { vertex: v });
-        }
-        self.pos.copy_from_slice(pos);
-        Ok(())
+        copy_positions(&mut self.pos, pos)
     }
 
     /// Position and first and second derivatives at `(u, v)` of triangle `face`.

@@ -92,6 +92,24 @@ pub(crate) fn limit_points_with<R: Rules, const D: usize>(
     }
 }
 
+/// Copies the control points `src` over `dst` (a surface's `set_positions`).
+///
+/// # Errors
+/// [`EvalError::InvalidPositions`]: naming the first point that is not finite, or, when the
+/// counts differ, the smaller of the two counts.
+pub(crate) fn copy_positions(dst: &mut [[f64; 3]], src: &[[f64; 3]]) -> Result<(), EvalError> {
+    if src.len() != dst.len() {
+        return Err(EvalError::InvalidPositions {
+            vertex: src.len().min(dst.len()),
+        });
+    }
+    if let Some(v) = src.iter().position(|p| p.iter().any(|x| !x.is_finite())) {
+        return Err(EvalError::InvalidPositions { vertex: v });
+    }
+    dst.copy_from_slice(src);
+    Ok(())
+}
+
 /// The limit masks of one vertex ([`Rules::limit_position_mask`],
 /// [`Rules::limit_tangent_masks`]) and the points they weigh: the vertex, the far ends of
 /// its edges and the corners of its faces opposite it.
