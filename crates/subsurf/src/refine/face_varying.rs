@@ -1211,6 +1211,8 @@ impl<R: Rules, const D: usize> FvarPass<'_, R, D> {
                 }
                 continue;
             }
+            // A continuous edge's child has one value.
+            let out = &mut out[..d];
             out.fill(0.0);
             let [a, b] = pf.edge_face_values(p, e, 0);
             if pf.mode.linear {
