@@ -72,88 +72,57 @@ pub trait Surface: Sync {
     }
 }
 
+/// The [`Surface`] methods that forward to a surface type's own of the same name.
+macro_rules! forward_surface {
+    ($t:ty) => {
+        fn num_faces(&self) -> usize {
+            <$t>::num_faces(self)
+        }
+
+        fn has_surface(&self, f: usize) -> bool {
+            <$t>::has_surface(self, f)
+        }
+
+        fn evaluate(&self, p: SurfacePoint) -> Result<Derivatives, EvalError> {
+            self.eval_point(p)
+        }
+
+        fn evaluate_many(
+            &self,
+            points: &[SurfacePoint],
+            order: Order,
+            out: &mut [Result<Derivatives, EvalError>],
+        ) {
+            self.eval_many_to(points, order, out);
+        }
+    };
+}
+
 impl Surface for LimitSurface {
-    fn num_faces(&self) -> usize {
-        LimitSurface::num_faces(self)
-    }
+    forward_surface!(LimitSurface);
 
     fn num_subfaces(&self, f: usize) -> usize {
         LimitSurface::num_subfaces(self, f)
     }
-
-    fn has_surface(&self, f: usize) -> bool {
-        LimitSurface::has_surface(self, f)
-    }
-
-    fn evaluate(&self, p: SurfacePoint) -> Result<Derivatives, EvalError> {
-        self.eval_point(p)
-    }
-
-    fn evaluate_many(
-        &self,
-        points: &[SurfacePoint],
-        order: Order,
-        out: &mut [Result<Derivatives, EvalError>],
-    ) {
-        self.eval_many_to(points, order, out);
-    }
 }
 
 impl Surface for LoopSurface {
-    fn num_faces(&self) -> usize {
-        LoopSurface::num_faces(self)
-    }
+    forward_surface!(LoopSurface);
 
     /// 1 for every face (each triangle is one domain), 0 if there is no such face.
     fn num_subfaces(&self, f: usize) -> usize {
         usize::from(f < LoopSurface::num_faces(self))
     }
 
-    fn has_surface(&self, f: usize) -> bool {
-        LoopSurface::has_surface(self, f)
-    }
-
     fn domain(&self, _: usize) -> Domain {
         Domain::Triangle
-    }
-
-    fn evaluate(&self, p: SurfacePoint) -> Result<Derivatives, EvalError> {
-        self.eval_point(p)
-    }
-
-    fn evaluate_many(
-        &self,
-        points: &[SurfacePoint],
-        order: Order,
-        out: &mut [Result<Derivatives, EvalError>],
-    ) {
-        self.eval_many_to(points, order, out);
     }
 }
 
 impl Surface for BilinearSurface {
-    fn num_faces(&self) -> usize {
-        BilinearSurface::num_faces(self)
-    }
+    forward_surface!(BilinearSurface);
 
     fn num_subfaces(&self, f: usize) -> usize {
         BilinearSurface::num_subfaces(self, f)
-    }
-
-    fn has_surface(&self, f: usize) -> bool {
-        BilinearSurface::has_surface(self, f)
-    }
-
-    fn evaluate(&self, p: SurfacePoint) -> Result<Derivatives, EvalError> {
-        self.eval_point(p)
-    }
-
-    fn evaluate_many(
-        &self,
-        points: &[SurfacePoint],
-        order: Order,
-        out: &mut [Result<Derivatives, EvalError>],
-    ) {
-        self.eval_many_to(points, order, out);
     }
 }

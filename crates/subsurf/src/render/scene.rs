@@ -128,11 +128,11 @@ impl Scene {
         let mut face = Vec::with_capacity(2 * grid.cells.len());
         for (&cell, &f) in grid.cells.iter().zip(&grid.cell_face) {
             let n = geom::normalize_or_zero(geom::newell_normal(&grid.positions, cell.verts()));
-            let split = match cell {
-                Cell::Quad(q) => split_quad(&grid.positions, q).to_vec(),
-                Cell::Tri(t) => vec![t],
+            let (split, count) = match cell {
+                Cell::Quad(q) => (split_quad(&grid.positions, q), 2),
+                Cell::Tri(t) => ([t, t], 1),
             };
-            for t in split {
+            for &t in &split[..count] {
                 triangles.push(t);
                 flat.push(n);
                 face.push(f);
