@@ -72,6 +72,7 @@ mod cpu;
 mod geom;
 mod hash;
 mod info;
+mod json;
 mod mixed;
 mod repose;
 mod subdivide;

@@ -12,7 +12,7 @@ use std::path::Path;
 
 /// Layers, bottom-up; modules of one layer may use each other.
 const LAYERS: &[&[&str]] = &[
-    &["geom", "hash", "cpu"],
+    &["geom", "hash", "cpu", "json"],
     &["mesh"],
     &["scheme"],
     &["refine"],

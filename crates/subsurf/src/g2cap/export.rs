@@ -5,12 +5,13 @@
 use super::bezier::BezierPatch;
 use super::surface::{G2Surface, PatchRef};
 use super::G2Error;
+use crate::json::{object, ToJson};
 use crate::limit::SurfacePoint;
 use crate::mesh::PolyMesh;
 use rayon::prelude::*;
 
 /// One patch of [`patches_json`].
-#[derive(Clone, Debug, serde::Serialize)]
+#[derive(Clone, Debug)]
 pub struct PatchJson {
     /// Base face.
     pub face: u32,
@@ -30,7 +31,7 @@ pub struct PatchJson {
 }
 
 /// One cap of [`patches_json`].
-#[derive(Clone, Debug, serde::Serialize)]
+#[derive(Clone, Debug)]
 pub struct CapJson {
     /// The extraordinary vertex, or `null` for the centre of a face.
     pub vertex: Option<usize>,
@@ -43,7 +44,7 @@ pub struct CapJson {
 }
 
 /// The mixed-subdivision parameters of a [`SurfaceJson`].
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct MixedJson {
     /// Shape parameter `c` of the adjustable scheme.
     pub c: f64,
@@ -52,7 +53,7 @@ pub struct MixedJson {
 }
 
 /// The document of [`patches_json`].
-#[derive(Clone, Debug, serde::Serialize)]
+#[derive(Clone, Debug)]
 pub struct SurfaceJson {
     /// `"subsurf-g2"`.
     pub format: &'static str,
@@ -62,7 +63,6 @@ pub struct SurfaceJson {
     pub levels: u32,
     /// For the G2 surface of a mixed surface ([`G2Surface::new`] with [`Scheme::Adjustable`](crate::Scheme::Adjustable)): its parameters
     /// (absent for Catmull-Clark).
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub mixed: Option<MixedJson>,
     /// The caps.
     pub caps: Vec<CapJson>,
@@ -90,10 +90,59 @@ impl SurfaceJson {
 }
 
 impl SurfaceJson {
-    /// The document as compact JSON text (shortest round-trip `f64` digits).
+    /// The document as compact JSON text (shortest round-trip `f64` digits; absent
+    /// `mixed` omitted, other absent values `null`).
     pub fn to_json(&self) -> String {
-        // Serialising plain numbers, strings and vectors cannot fail.
-        serde_json::to_string(self).unwrap_or_default()
+        crate::json::to_string(self)
+    }
+}
+
+impl ToJson for PatchJson {
+    fn write_json(&self, out: &mut String) {
+        object(out, |o| {
+            o.field("face", &self.face);
+            o.field("subface", &self.subface);
+            o.field("domain", &self.domain);
+            o.field("corner", &self.corner);
+            o.field("degree", &self.degree);
+            o.field("points", &self.points);
+        });
+    }
+}
+
+impl ToJson for CapJson {
+    fn write_json(&self, out: &mut String) {
+        object(out, |o| {
+            o.field("vertex", &self.vertex);
+            o.field("face_centre", &self.face_centre);
+            o.field("valence", &self.valence);
+            o.field("patches", &self.patches);
+        });
+    }
+}
+
+impl ToJson for MixedJson {
+    fn write_json(&self, out: &mut String) {
+        object(out, |o| {
+            o.field("c", &self.c);
+            o.field("adjust_steps", &self.adjust_steps);
+        });
+    }
+}
+
+impl ToJson for SurfaceJson {
+    fn write_json(&self, out: &mut String) {
+        object(out, |o| {
+            o.field("format", self.format);
+            o.field("version", &self.version);
+            o.field("levels", &self.levels);
+            o.field_if_some("mixed", &self.mixed);
+            o.field("caps", &self.caps);
+            o.field("bicubic", &self.bicubic);
+            o.field("not_polynomial", &self.not_polynomial);
+            o.field("uncapped", &self.uncapped);
+            o.field("uncapped_reasons", &self.uncapped_reasons);
+        });
     }
 }
 

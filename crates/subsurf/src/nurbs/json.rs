@@ -47,8 +47,8 @@
 //! [`Curve::from_json_str`] / [`Surface::from_json_str`] read numbers with a correctly
 //! rounding parser, and [`Curve::to_json_string`] / [`Surface::to_json_string`] write the
 //! shortest representation that reads back to the same `f64`, so a round trip is exact.
-//! The [`CurveJson`] / [`SurfaceJson`] structs also implement `serde`'s traits for
-//! embedding in other documents; note that `serde_json`'s own float parser (without its
+//! The text is compact and is what `serde_json` writes for the same fields, so documents
+//! embed in other JSON tools; note that `serde_json`'s own float parser (without its
 //! `float_roundtrip` feature) may be off by one unit in the last place.
 //!
 //! ```
@@ -64,7 +64,7 @@
 
 use super::json_reader::{line_col, parse, Node, Value};
 use super::{BSplineCurve, BSplineSurface, KnotVector, NurbsCurve, NurbsError, NurbsSurface};
-use serde::{Deserialize, Serialize};
+use crate::json::{object, ToJson};
 
 /// The `type` of a curve document.
 pub const CURVE_TYPE: &str = "bspline-curve";
@@ -72,11 +72,9 @@ pub const CURVE_TYPE: &str = "bspline-curve";
 pub const SURFACE_TYPE: &str = "bspline-surface";
 
 /// A curve document (see the schema).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct CurveJson {
-    /// Always [`CURVE_TYPE`].
-    #[serde(rename = "type")]
+    /// The member `type`: always [`CURVE_TYPE`].
     pub kind: String,
     /// The degree `p`.
     pub degree: usize,
@@ -85,19 +83,15 @@ pub struct CurveJson {
     /// The distinct control points.
     pub points: Vec<[f64; 3]>,
     /// The weights, for a rational curve.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub weights: Option<Vec<f64>>,
     /// Whether the knots are periodic.
-    #[serde(default)]
     pub closed: bool,
 }
 
 /// A surface document (see the schema).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct SurfaceJson {
-    /// Always [`SURFACE_TYPE`].
-    #[serde(rename = "type")]
+    /// The member `type`: always [`SURFACE_TYPE`].
     pub kind: String,
     /// The degree along `u`.
     pub degree_u: usize,
@@ -110,13 +104,10 @@ pub struct SurfaceJson {
     /// `points[i][j] = P_{i,j}`.
     pub points: Vec<Vec<[f64; 3]>>,
     /// `weights[i][j] = w_{i,j}`, for a rational surface.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub weights: Option<Vec<Vec<f64>>>,
     /// Whether the `u` knots are periodic.
-    #[serde(default)]
     pub closed_u: bool,
     /// Whether the `v` knots are periodic.
-    #[serde(default)]
     pub closed_v: bool,
 }
 
@@ -317,7 +308,7 @@ impl Curve {
     /// The curve as compact JSON text (exact: [`from_json_str`](Self::from_json_str) reads
     /// back an equal curve).
     pub fn to_json_string(&self) -> String {
-        to_string(&self.to_json())
+        crate::json::to_string(&self.to_json())
     }
 }
 
@@ -467,13 +458,37 @@ impl Surface {
 
     /// The surface as compact JSON text (exact, see [`Curve::to_json_string`]).
     pub fn to_json_string(&self) -> String {
-        to_string(&self.to_json())
+        crate::json::to_string(&self.to_json())
     }
 }
 
-/// Serializes a document; plain structs of numbers, strings and arrays cannot fail.
-fn to_string<T: Serialize>(doc: &T) -> String {
-    serde_json::to_string(doc).unwrap_or_else(|e| format!("{{\"error\":{:?}}}", e.to_string()))
+impl ToJson for CurveJson {
+    fn write_json(&self, out: &mut String) {
+        object(out, |o| {
+            o.field("type", &self.kind);
+            o.field("degree", &self.degree);
+            o.field("knots", &self.knots);
+            o.field("points", &self.points);
+            o.field_if_some("weights", &self.weights);
+            o.field("closed", &self.closed);
+        });
+    }
+}
+
+impl ToJson for SurfaceJson {
+    fn write_json(&self, out: &mut String) {
+        object(out, |o| {
+            o.field("type", &self.kind);
+            o.field("degree_u", &self.degree_u);
+            o.field("degree_v", &self.degree_v);
+            o.field("knots_u", &self.knots_u);
+            o.field("knots_v", &self.knots_v);
+            o.field("points", &self.points);
+            o.field_if_some("weights", &self.weights);
+            o.field("closed_u", &self.closed_u);
+            o.field("closed_v", &self.closed_v);
+        });
+    }
 }
 
 /// The open or periodic knot vector of a document.

@@ -1,12 +1,13 @@
 //! A small, strict JSON reader (RFC 8259) that keeps numbers exact and remembers where every
 //! value starts, so that schema errors can name the field and its line.
 //!
-//! Why not `serde_json::from_str`: without its `float_roundtrip` feature, `serde_json`
-//! parses a decimal with more than ~15 significant digits to a neighbour of the correctly
-//! rounded `f64` about one time in ten, so a written curve would not read back bit for bit.
-//! Here number tokens are checked against the JSON grammar and converted by
-//! `str::parse::<f64>`, which rounds correctly; writing uses `serde_json` (shortest
-//! round-trip representation), so `write → read` is the identity.
+//! Why not `serde_json::from_str`: it needs `serde` (a dependency the library's lean
+//! builds avoid), does not say where a value starts, and without its `float_roundtrip`
+//! feature parses a decimal with more than ~15 significant digits to a neighbour of the
+//! correctly rounded `f64` about one time in ten. Here number tokens are checked against
+//! the JSON grammar and converted by `str::parse::<f64>`, which rounds correctly; the
+//! writer (`crate::json`) writes the shortest round-trip representation, so
+//! `write → read` is the identity.
 
 use super::NurbsError;
 

@@ -122,3 +122,35 @@ fn iges_entities_read_back_as_the_json_patches() {
     // Deterministic: the same surface gives the same file.
     assert_eq!(text, to_iges(&doc, "cube-g2.igs"));
 }
+
+#[test]
+fn json_text_reads_back_with_an_independent_parser() {
+    let mesh = cube();
+    let surface = G2Surface::new(&mesh, &G2SurfaceOptions::default()).unwrap();
+    let doc = patches_json(&surface, &mesh).unwrap();
+    let v: serde_json::Value = serde_json::from_str(&doc.to_json()).unwrap();
+    assert_eq!(v["format"], "subsurf-g2");
+    assert_eq!(v["levels"].as_u64(), Some(u64::from(doc.levels)));
+    assert!(v.get("mixed").is_none(), "absent `mixed` is omitted");
+    let caps = v["caps"].as_array().unwrap();
+    assert_eq!(caps.len(), doc.caps.len());
+    let patches: Vec<&serde_json::Value> = caps
+        .iter()
+        .flat_map(|c| c["patches"].as_array().unwrap())
+        .chain(v["bicubic"].as_array().unwrap())
+        .collect();
+    let expected: Vec<&PatchJson> = doc.patches().collect();
+    assert_eq!(patches.len(), expected.len());
+    for (p, e) in patches.iter().zip(&expected) {
+        assert_eq!(p["face"].as_u64(), Some(u64::from(e.face)));
+        assert_eq!(p["corner"].as_u64(), e.corner.map(u64::from));
+        assert_eq!(p["degree"].as_u64(), Some(e.degree as u64));
+        let points = p["points"].as_array().unwrap();
+        assert_eq!(points.len(), e.points.len());
+        for (q, x) in points.iter().zip(&e.points) {
+            for (a, b) in q.as_array().unwrap().iter().zip(x) {
+                assert_eq!(a.as_f64().unwrap().to_bits(), b.to_bits());
+            }
+        }
+    }
+}

@@ -916,7 +916,28 @@ proptest! {
             let text = g.to_json_string();
             let back = Curve::from_json_str(&text).unwrap();
             prop_assert_eq!(&back, &g);
-            prop_assert_eq!(back.to_json_string(), text);
+            prop_assert_eq!(back.to_json_string(), text.clone());
+            // An independent parser reads the same document, number for number.
+            let doc = g.to_json();
+            let v: serde_json::Value = serde_json::from_str(&text).unwrap();
+            let numbers = |v: &serde_json::Value| -> Vec<f64> {
+                let mut out = Vec::new();
+                let mut stack = vec![v];
+                while let Some(v) = stack.pop() {
+                    match v {
+                        serde_json::Value::Array(items) => stack.extend(items.iter().rev()),
+                        other => out.push(other.as_f64().unwrap()),
+                    }
+                }
+                out
+            };
+            prop_assert_eq!(v["type"].as_str(), Some(doc.kind.as_str()));
+            prop_assert_eq!(v["degree"].as_u64(), Some(doc.degree as u64));
+            prop_assert_eq!(numbers(&v["knots"]), doc.knots.clone());
+            prop_assert_eq!(numbers(&v["points"]), doc.points.concat());
+            prop_assert_eq!(v.get("weights").map(numbers), doc.weights.clone());
+            prop_assert_eq!(v["closed"].as_bool(), Some(doc.closed));
+            prop_assert_eq!(v.as_object().unwrap().len(), 5 + usize::from(doc.weights.is_some()));
         }
     }
 
