@@ -10,7 +10,7 @@ use subsurf::limit::{
     Tessellation,
 };
 use subsurf::mesh::{Options, PolyMesh, TriangleSubdivision};
-use subsurf::Scheme;
+use subsurf::{Mixed, Scheme};
 
 use crate::input::Input;
 use crate::output::{formats, tessellation_format, Output};
@@ -69,20 +69,7 @@ fn run_nurss(
 /// Runs `subsurf tessellate`.
 pub fn run(args: &TessellateArgs) -> Result<()> {
     super::adjustable::check_surface_flags(args.scheme_kind, &args.adjust);
-    let format = tessellation_format(&args.output, formats::TESSELLATE)?;
-    if args.control_mesh && format != TessellationFormat::Glb {
-        bail!(
-            "--control-mesh needs a .glb output ({} is not one)",
-            args.output.display()
-        );
-    }
-    if args.up.is_some() && format != TessellationFormat::Glb {
-        bail!(
-            "--up applies to a .glb output only ({} is not one; OBJ, PLY and STL keep the \
-             input's axes)",
-            args.output.display()
-        );
-    }
+    let format = output_format(args)?;
     let out = Output::new(&args.output);
     out.check()?;
     let input = Input::read_surface(&args.input, args.max_memory)?;
@@ -173,7 +160,41 @@ pub fn run(args: &TessellateArgs) -> Result<()> {
             t.rate / 2
         ));
     }
-    let mut comment = command_line(args, &options, &input.name);
+    let comment = scheme_comment(args, &options, &input.name, mixed, scheme);
+    let control = args.control_mesh.then_some(mesh);
+    check_single_precision(&t, format, &input)?;
+    write(&out, format, &t, &comment, control, up(args))
+}
+
+/// The output's format, checked against the flags that only some formats take.
+fn output_format(args: &TessellateArgs) -> Result<TessellationFormat> {
+    let format = tessellation_format(&args.output, formats::TESSELLATE)?;
+    if args.control_mesh && format != TessellationFormat::Glb {
+        bail!(
+            "--control-mesh needs a .glb output ({} is not one)",
+            args.output.display()
+        );
+    }
+    if args.up.is_some() && format != TessellationFormat::Glb {
+        bail!(
+            "--up applies to a .glb output only ({} is not one; OBJ, PLY and STL keep the \
+             input's axes)",
+            args.output.display()
+        );
+    }
+    Ok(format)
+}
+
+/// The output's comment: the command line with the surface's scheme flags (`--c` and
+/// `--adjust-steps` of a mixed surface, `--scheme` of Loop and bilinear).
+fn scheme_comment(
+    args: &TessellateArgs,
+    options: &Options,
+    name: &str,
+    mixed: Option<Mixed>,
+    scheme: Scheme,
+) -> String {
+    let mut comment = command_line(args, options, name);
     if let Some(m) = mixed {
         let flags = format!(" --c {} --adjust-steps {}", m.scheme.c(), m.steps);
         comment.insert_str("subsurf tessellate".len(), &flags);
@@ -182,9 +203,7 @@ pub fn run(args: &TessellateArgs) -> Result<()> {
         let flag = format!(" --scheme {}", scheme.name());
         comment.insert_str("subsurf tessellate".len(), &flag);
     }
-    let control = args.control_mesh.then_some(mesh);
-    check_single_precision(&t, format, &input)?;
-    write(&out, format, &t, &comment, control, up(args))
+    comment
 }
 
 /// A note (unless `quiet`) that an STL output has no texture coordinates when `t` has some.

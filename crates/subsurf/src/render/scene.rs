@@ -192,38 +192,9 @@ impl Scene {
                 *x = true;
             }
         }
-        // Refined face i comes from level-1 face i >> 2(levels - 1), which is the child of
-        // the base face owning that face-vertex slot (see ARCHITECTURE.md, numbering); with
-        // Loop, of base face i >> 2 levels (four children per triangle).
-        let mut slot_face = vec![0u32; mesh.face_verts().len()];
-        for f in 0..mesh.num_faces() {
-            let o = mesh.face_offsets();
-            slot_face[o[f] as usize..o[f + 1] as usize].fill(f as u32);
-        }
-        let base_face = |i: usize| -> u32 {
-            if levels == 0 {
-                return i as u32;
-            }
-            if steps == Steps::Loop {
-                return i.checked_shr(2 * levels).unwrap_or(0) as u32;
-            }
-            let slot = i.checked_shr(2 * (levels - 1)).unwrap_or(0);
-            slot_face.get(slot).copied().unwrap_or(0)
-        };
+        let base_face = base_faces(mesh, steps, levels, m.num_faces());
         let mut positions = m.positions().to_vec();
-        let mut acc = vec![[0.0; 3]; positions.len()];
-        let mut polygon_normal = vec![[0.0; 3]; m.num_faces()];
-        for (f, fv) in m.faces().enumerate() {
-            if hole[f] {
-                continue;
-            }
-            let n = geom::newell_normal(&positions, fv);
-            for &v in fv {
-                (0..3).for_each(|k| acc[v as usize][k] += n[k]);
-            }
-            polygon_normal[f] = geom::normalize_or_zero(n);
-        }
-        let mut normals: Vec<V3> = acc.into_iter().map(geom::normalize_or_zero).collect();
+        let (mut normals, polygon_normal) = normals_of(m, &hole);
         let (mut triangles, mut flat, mut face) = (Vec::new(), Vec::new(), Vec::new());
         for (f, fv) in m.faces().enumerate() {
             if hole[f] {
@@ -253,7 +224,7 @@ impl Scene {
             let mut push = |t: [u32; 3]| {
                 triangles.push(t);
                 flat.push(polygon_normal[f]);
-                face.push(base_face(f));
+                face.push(base_face[f]);
                 if channel.is_some() {
                     corner_uv.push(t.map(|v| uv_of(v, centre_uv)));
                 }
@@ -762,6 +733,54 @@ fn grid_uvs(
         }));
     }
     Ok(out)
+}
+
+/// The base face of each of the `num_faces` faces of `mesh` refined `levels` times with
+/// `steps`. Refined face `i` comes from level-1 face `i >> 2(levels - 1)`, which is the
+/// child of the base face owning that face-vertex slot (OpenSubdiv's numbering, see
+/// ARCHITECTURE.md); with Loop, from base face `i >> 2 levels` (four children per
+/// triangle).
+fn base_faces(mesh: &PolyMesh, steps: Steps, levels: u32, num_faces: usize) -> Vec<u32> {
+    if levels == 0 {
+        return (0..num_faces as u32).collect();
+    }
+    if steps == Steps::Loop {
+        return (0..num_faces)
+            .map(|i| i.checked_shr(2 * levels).unwrap_or(0) as u32)
+            .collect();
+    }
+    let mut slot_face = vec![0u32; mesh.face_verts().len()];
+    let o = mesh.face_offsets();
+    for f in 0..mesh.num_faces() {
+        slot_face[o[f] as usize..o[f + 1] as usize].fill(f as u32);
+    }
+    (0..num_faces)
+        .map(|i| {
+            let slot = i.checked_shr(2 * (levels - 1)).unwrap_or(0);
+            slot_face.get(slot).copied().unwrap_or(0)
+        })
+        .collect()
+}
+
+/// The normals of a polygon mesh `m`, faces marked in `hole` left out: per vertex the
+/// normalised sum of the Newell normals of its faces, and per face its unit Newell normal
+/// (zero for holes and degenerate faces).
+fn normals_of(m: &PolyMesh, hole: &[bool]) -> (Vec<V3>, Vec<V3>) {
+    let positions = m.positions();
+    let mut acc = vec![[0.0; 3]; positions.len()];
+    let mut polygon_normal = vec![[0.0; 3]; m.num_faces()];
+    for (f, fv) in m.faces().enumerate() {
+        if hole[f] {
+            continue;
+        }
+        let n = geom::newell_normal(positions, fv);
+        for &v in fv {
+            (0..3).for_each(|k| acc[v as usize][k] += n[k]);
+        }
+        polygon_normal[f] = geom::normalize_or_zero(n);
+    }
+    let normals = acc.into_iter().map(geom::normalize_or_zero).collect();
+    (normals, polygon_normal)
 }
 
 /// The limit surface of `mesh` under `scheme` (Catmull-Clark's [`LimitSurface`], Loop's
