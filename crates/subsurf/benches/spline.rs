@@ -30,6 +30,22 @@ fn params() -> Vec<(f64, f64)> {
         .collect()
 }
 
+/// One 4 × 4 B-spline control net per face: the same number of patches, the same memory
+/// traffic pattern (the positions `pos` of the pawn's control points, cycled).
+fn nets(pos: &[[f64; 3]], faces: usize) -> Vec<[[[f64; 3]; 4]; 4]> {
+    (0..faces)
+        .map(|f| {
+            let mut net = [[[0.0; 3]; 4]; 4];
+            for (i, row) in net.iter_mut().enumerate() {
+                for (j, p) in row.iter_mut().enumerate() {
+                    *p = pos[(f * 7 + i * 4 + j) % pos.len()];
+                }
+            }
+            net
+        })
+        .collect()
+}
+
 fn bench(c: &mut Criterion) {
     let pawn = parse_obj(
         include_bytes!("../../../examples/meshes/catmark_pawn.obj"),
@@ -41,20 +57,7 @@ fn bench(c: &mut Criterion) {
     let faces: Vec<u32> = (0..pawn.num_faces() as u32)
         .filter(|&f| surface.has_surface(f as usize))
         .collect();
-    // One 4 × 4 B-spline control net per face: the same number of patches, same memory
-    // traffic pattern (the positions of the pawn's control points, cycled).
-    let pos = pawn.positions();
-    let nets: Vec<[[[f64; 3]; 4]; 4]> = (0..faces.len())
-        .map(|f| {
-            let mut net = [[[0.0; 3]; 4]; 4];
-            for i in 0..4 {
-                for j in 0..4 {
-                    net[i][j] = pos[(f * 7 + i * 4 + j) % pos.len()];
-                }
-            }
-            net
-        })
-        .collect();
+    let nets = nets(pawn.positions(), faces.len());
     let uv = params();
     let points = (faces.len() * uv.len()) as u64;
 

@@ -94,16 +94,28 @@ pub fn run(args: &BenchArgs, threads: usize) -> Result<()> {
     if args.replay {
         return bench_replay(&input, &opts, reps, &pool);
     }
+    bench_refine(&input, &opts, reps, &pool)
+}
+
+/// Times `reps` refinements of `input` with `opts` and prints their median and minimum;
+/// with face-varying channels, also the same refinement without them and their share.
+fn bench_refine(
+    input: &Input,
+    opts: &SubdivideOptions,
+    reps: usize,
+    pool: &rayon::ThreadPool,
+) -> Result<()> {
+    let mesh = &input.obj.mesh;
     let mut verts = 0;
-    let times = time_reps(&pool, reps, || {
-        let sub = subdivide(&input.obj.mesh, &opts).with_context(|| input.name.clone())?;
+    let times = time_reps(pool, reps, || {
+        let sub = subdivide(mesh, opts).with_context(|| input.name.clone())?;
         verts = sub.mesh.num_vertices();
         Ok(sub)
     })?;
     let median = times[times.len() / 2];
     let mut line = format!(
         "subsurf refine level={} verts={} threads={} median_s={median:.6} min_s={:.6}",
-        args.levels,
+        opts.levels,
         verts,
         pool.current_num_threads(),
         times[0]
@@ -112,8 +124,8 @@ pub fn run(args: &BenchArgs, threads: usize) -> Result<()> {
         // The face-varying channels' share: the same refinement without them.
         let mut plain = mesh.clone();
         plain.face_varying.clear();
-        let vertices = time_reps(&pool, reps, || {
-            subdivide(&plain, &opts).with_context(|| input.name.clone())
+        let vertices = time_reps(pool, reps, || {
+            subdivide(&plain, opts).with_context(|| input.name.clone())
         })?;
         let vertices = vertices[vertices.len() / 2];
         let pct = 100.0 * (median / vertices - 1.0);

@@ -1259,19 +1259,26 @@ fn g2_caps(ctx: &Ctx) -> Result<Vec<Item>> {
     if let Some(item) = curvature_profile(ctx, &surface)? {
         items.push(item);
     }
-    let doc = patches_json(&surface, mesh)?;
+    items.push(g2_patches(ctx, &surface)?);
+    Ok(items)
+}
+
+/// The Bézier control points of every patch of `surface` (the G2 surface of the example's
+/// mesh), written as JSON.
+fn g2_patches(ctx: &Ctx, surface: &G2Surface) -> Result<Item> {
+    let doc = patches_json(surface, ctx.mesh())?;
     let file = ctx.file("g2.json");
     let text = doc.to_json();
     Output::File(ctx.dir.join(&file)).write(|w| writeln!(w, "{text}"))?;
-    items.push(Item {
+    Ok(Item {
         file,
         caption: format!(
-            "Bézier control points of every patch ({caps} caps of bi-septic patches, bicubic \
-             B-spline elsewhere; schema in docs/adjustable-g2.md)"
+            "Bézier control points of every patch ({} caps of bi-septic patches, bicubic \
+             B-spline elsewhere; schema in docs/adjustable-g2.md)",
+            surface.caps().len()
         ),
         counts: None,
-    });
-    Ok(items)
+    })
 }
 
 /// The sub-basis spline on closed meshes without tags: its tessellation, and pictures with

@@ -277,7 +277,13 @@ pub fn run(args: &LimitArgs) -> Result<()> {
             uv_surface(mesh, Scheme::CatmullClark)?,
         ),
     };
-    let units: Vec<Unit> = (0..mesh.num_faces())
+    let units = units(mesh, &sampler);
+    write_rows(&out, &input, (&sampler, uv.as_ref()), &units, n)
+}
+
+/// The sub-faces `sampler` samples, face by face in order.
+fn units(mesh: &PolyMesh, sampler: &Sampler) -> Vec<Unit> {
+    (0..mesh.num_faces())
         .flat_map(|f| {
             let size = mesh.face(f).len();
             let subs = sampler.subfaces(f, size);
@@ -287,8 +293,7 @@ pub fn run(args: &LimitArgs) -> Result<()> {
                 subface,
             })
         })
-        .collect();
-    write_rows(&out, &input, (&sampler, uv.as_ref()), &units, n)
+        .collect()
 }
 
 /// The NURSS surface of `input`'s mesh within the memory guard (its exact patches and the

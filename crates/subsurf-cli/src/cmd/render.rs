@@ -6,7 +6,7 @@ use std::path::Path;
 use anyhow::{bail, Context, Result};
 use subsurf::io::Up;
 use subsurf::limit::{BuildError, LimitSurface};
-use subsurf::mesh::Options;
+use subsurf::mesh::{Options, PolyMesh};
 use subsurf::render::CurvatureKind;
 use subsurf::render::{render_detailed, write_png, Geometry, Paint, Render, RenderError, Shading};
 use subsurf::Scheme;
@@ -66,20 +66,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         }
         opts.geometry = Geometry::Limit { rate };
     }
-    // With --c: the mixed surface, drawn as the limit of the c-refined mesh.
-    let refined = match super::adjustable::for_surface(&args.adjust) {
-        Some(_) if args.level.is_some() => super::adjustable::usage_error(
-            "--c draws the mixed limit surface; it does not combine with --level",
-        ),
-        Some(m) => {
-            if let Geometry::Limit { rate } = opts.geometry {
-                let rate = super::adjustable::refined_rate(rate, m.steps);
-                opts.geometry = Geometry::Limit { rate };
-            }
-            Some(super::adjustable::refined_mesh(&input, options, m)?)
-        }
-        None => None,
-    };
+    let refined = mixed_refined(args, &input, options, &mut opts)?;
     let mesh = refined.as_ref().unwrap_or(&input.obj.mesh);
     let what = match opts.geometry {
         Geometry::Level(l) => format!("drawing level {l}"),
@@ -127,6 +114,29 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         ));
     }
     out.write(|w| write_png(w, &r.image))
+}
+
+/// With --c, the mixed surface is drawn as the limit of the c-refined mesh: that mesh, with
+/// the limit rate of `opts` divided as its faces are (`None` without --c).
+fn mixed_refined(
+    args: &RenderArgs,
+    input: &Input,
+    options: Options,
+    opts: &mut Render,
+) -> Result<Option<PolyMesh>> {
+    let Some(m) = super::adjustable::for_surface(&args.adjust) else {
+        return Ok(None);
+    };
+    if args.level.is_some() {
+        super::adjustable::usage_error(
+            "--c draws the mixed limit surface; it does not combine with --level",
+        );
+    }
+    if let Geometry::Limit { rate } = opts.geometry {
+        let rate = super::adjustable::refined_rate(rate, m.steps);
+        opts.geometry = Geometry::Limit { rate };
+    }
+    Ok(Some(super::adjustable::refined_mesh(input, options, m)?))
 }
 
 /// Peak bytes per drawn vertex (measured: 307 at 6 million, with exact limit normals).

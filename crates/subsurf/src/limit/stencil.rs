@@ -161,6 +161,28 @@ impl LimitStencils {
     }
 }
 
+/// The vertices of the 1-ring of face `f` (the faces around its vertices): everything the
+/// face's surface can depend on (see `local`), in order of first appearance.
+fn one_ring(base: &Topology, f: usize) -> Vec<u32> {
+    let mut faces: Vec<u32> = vec![f as u32];
+    for &v in base.face_vertices(f) {
+        for &g in base.vertex_faces(v as usize) {
+            if !faces.contains(&g) {
+                faces.push(g);
+            }
+        }
+    }
+    let mut ring: Vec<u32> = Vec::new();
+    for &g in &faces {
+        for &w in base.face_vertices(g as usize) {
+            if !ring.contains(&w) {
+                ring.push(w);
+            }
+        }
+    }
+    ring
+}
+
 /// Stencils of the samples `group` (indices into `points`, all on one face): evaluate the
 /// face's surface built on unit control points, three vertices at a time (one per
 /// coordinate), over the vertices of the face's 1-ring. `unit` is all zeros on entry and
@@ -188,24 +210,7 @@ fn face_stencils(
             return Err(err(i, EvalError::BadParameter { u: p.u, v: p.v }));
         }
     }
-    // The vertices of the 1-ring (the faces around the face's vertices): everything the
-    // face's surface can depend on (see `local`).
-    let mut ring: Vec<u32> = Vec::new();
-    let mut faces: Vec<u32> = vec![f as u32];
-    for &v in base.face_vertices(f) {
-        for &g in base.vertex_faces(v as usize) {
-            if !faces.contains(&g) {
-                faces.push(g);
-            }
-        }
-    }
-    for &g in &faces {
-        for &w in base.face_vertices(g as usize) {
-            if !ring.contains(&w) {
-                ring.push(w);
-            }
-        }
-    }
+    let ring = one_ring(base, f);
     let mut rows: FaceRows = group.iter().map(|&i| (i, Vec::new())).collect();
     for chunk in ring.chunks(3) {
         for (k, &v) in chunk.iter().enumerate() {

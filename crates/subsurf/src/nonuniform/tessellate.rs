@@ -61,24 +61,7 @@ pub fn tessellate(
         });
     }
     let mut s = Nurss::new(mesh, options)?;
-    // Which base face (and sub-face, for n-gons) each face of the current level samples.
-    let t0 = s.topology();
-    let mut source: Vec<(u32, u32)> = (0..t0.num_faces() as u32).map(|f| (f, 0)).collect();
-    for level in 0..levels {
-        let parent = s.topology();
-        let mut child = vec![(0u32, 0u32); parent.face_verts().len()];
-        for (f, &(base, sub)) in source.iter().enumerate() {
-            let o = parent.face_offsets[f] as usize;
-            let n = parent.face_vertices(f).len();
-            for j in 0..n {
-                // A non-quad base face's first-level children are its quad sub-faces.
-                let sub = if level == 0 && n != 4 { j as u32 } else { sub };
-                child[o + j] = (base, sub);
-            }
-        }
-        source = child;
-        s.step();
-    }
+    let source = refine_with_sources(&mut s, levels);
     let positions = s.limit_points();
     let level = s.topology();
     let mut face_offsets = vec![0u32];
@@ -151,6 +134,30 @@ pub fn tessellate(
         points: Vec::new(),
         face_varying,
     })
+}
+
+/// Refines `s` by `levels` steps and returns, for each face of the last level, the base
+/// face and sub-face (for a non-quad base face, its quad sub-face of the first level) that
+/// it samples.
+fn refine_with_sources(s: &mut Nurss, levels: u32) -> Vec<(u32, u32)> {
+    let t0 = s.topology();
+    let mut source: Vec<(u32, u32)> = (0..t0.num_faces() as u32).map(|f| (f, 0)).collect();
+    for level in 0..levels {
+        let parent = s.topology();
+        let mut child = vec![(0u32, 0u32); parent.face_verts().len()];
+        for (f, &(base, sub)) in source.iter().enumerate() {
+            let o = parent.face_offsets[f] as usize;
+            let n = parent.face_vertices(f).len();
+            for j in 0..n {
+                // A non-quad base face's first-level children are its quad sub-faces.
+                let sub = if level == 0 && n != 4 { j as u32 } else { sub };
+                child[o + j] = (base, sub);
+            }
+        }
+        source = child;
+        s.step();
+    }
+    source
 }
 
 /// The channel `ch` (of a level) at the output corners, corner `k` being the level's

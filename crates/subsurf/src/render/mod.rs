@@ -388,9 +388,22 @@ pub fn render_surface(
             shader.resolve(&band, &cover, ss, w, rows)
         })
         .collect();
+    let image = compose(opts, rows, bar.as_ref());
+    Ok(Rendered {
+        image,
+        triangles: scene.triangles.len(),
+        curvature_range: range,
+    })
+}
+
+/// The picture of `opts`'s size from its bands of RGB rows, with the colour bar `bar` drawn
+/// in its strip on the right. The surface is framed left of the strip, but a zoomed view
+/// runs past it: the strip is cleared so that the bar never lies over the surface.
+fn compose(opts: &Render, bands: Vec<Vec<u8>>, bar: Option<&colorbar::ColorBar>) -> RgbImage {
+    let w = opts.width as usize;
     let mut image = RgbImage::new(opts.width, opts.height);
     let mut y = 0u32;
-    for band in rows {
+    for band in bands {
         for row in band.chunks_exact(w * 3) {
             for (x, px) in row.chunks_exact(3).enumerate() {
                 image.put_pixel(x as u32, y, image::Rgb([px[0], px[1], px[2]]));
@@ -398,10 +411,8 @@ pub fn render_surface(
             y += 1;
         }
     }
-    if let Some(bar) = &bar {
-        // The surface is framed left of the strip, but a zoomed view runs past it: the
-        // strip is cleared so that the bar never lies over the surface.
-        let x0 = (w - strip) as u32;
+    if let Some(bar) = bar {
+        let x0 = (w - bar.strip_width) as u32;
         for y in 0..opts.height {
             for x in x0..opts.width {
                 image.put_pixel(x, y, image::Rgb(opts.background));
@@ -409,11 +420,7 @@ pub fn render_surface(
         }
         bar.draw(&mut image);
     }
-    Ok(Rendered {
-        image,
-        triangles: scene.triangles.len(),
-        curvature_range: range,
-    })
+    image
 }
 
 fn check(opts: &Render) -> Result<(), RenderError> {

@@ -237,17 +237,7 @@ impl Scene {
                 n => {
                     // A fan around the centroid (also fine for non-convex n-gons that are
                     // star-shaped from it).
-                    let c = positions.len() as u32;
-                    let mut centre = [0.0; 3];
-                    let mut nrm = [0.0; 3];
-                    for &v in fv {
-                        (0..3).for_each(|k| {
-                            centre[k] += positions[v as usize][k] / n as f64;
-                            nrm[k] += normals[v as usize][k];
-                        });
-                    }
-                    positions.push(centre);
-                    normals.push(geom::normalize_or_zero(nrm));
+                    let c = push_centroid(&mut positions, &mut normals, fv);
                     for i in 0..n {
                         push([fv[i], fv[(i + 1) % n], c]);
                     }
@@ -760,6 +750,24 @@ fn base_faces(mesh: &PolyMesh, steps: Steps, levels: u32, num_faces: usize) -> V
             slot_face.get(slot).copied().unwrap_or(0)
         })
         .collect()
+}
+
+/// Appends the centroid of the polygon `fv` to `positions`, with the normalised sum of its
+/// corners' normals to `normals`, and returns its index.
+fn push_centroid(positions: &mut Vec<V3>, normals: &mut Vec<V3>, fv: &[u32]) -> u32 {
+    let c = positions.len() as u32;
+    let n = fv.len() as f64;
+    let mut centre = [0.0; 3];
+    let mut nrm = [0.0; 3];
+    for &v in fv {
+        (0..3).for_each(|k| {
+            centre[k] += positions[v as usize][k] / n;
+            nrm[k] += normals[v as usize][k];
+        });
+    }
+    positions.push(centre);
+    normals.push(geom::normalize_or_zero(nrm));
+    c
 }
 
 /// The normals of a polygon mesh `m`, faces marked in `hole` left out: per vertex the
