@@ -1,0 +1,141 @@
+"""Type stubs of the extension module `subsurf._subsurf` (see `subsurf/__init__.py`)."""
+
+from os import PathLike
+from typing import Literal, Optional, Tuple, Union
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+
+Scheme = Literal["catmullClark", "loop", "bilinear"]
+Boundary = Literal["none", "edgeOnly", "edgeAndCorner"]
+FaceVaryingMode = Literal["none", "cornersOnly", "cornersPlus1", "cornersPlus2", "boundaries", "all"]
+Floats = npt.NDArray[np.float64]
+Ints = npt.NDArray[np.int32]
+ArrayLike = npt.ArrayLike
+Path = Union[str, PathLike]
+
+class SubsurfError(ValueError):
+    """A mesh, its tags or an evaluation request that subsurf refuses; the message names the
+    face, vertex or point at fault."""
+
+class Mesh:
+    """A polygon mesh with its subdivision options, in USD's vocabulary (`UsdGeomMesh`)."""
+
+    def __init__(
+        self,
+        points: ArrayLike,
+        face_vertex_counts: ArrayLike,
+        face_vertex_indices: ArrayLike,
+        *,
+        crease_indices: Optional[ArrayLike] = None,
+        crease_lengths: Optional[ArrayLike] = None,
+        crease_sharpnesses: Optional[ArrayLike] = None,
+        corner_indices: Optional[ArrayLike] = None,
+        corner_sharpnesses: Optional[ArrayLike] = None,
+        hole_indices: Optional[ArrayLike] = None,
+        interpolate_boundary: Boundary = "edgeOnly",
+        scheme: Scheme = "catmullClark",
+        uvs: Optional[ArrayLike] = None,
+        uv_indices: Optional[ArrayLike] = None,
+        face_varying_linear_interpolation: FaceVaryingMode = "all",
+        crease_method: Literal["uniform", "chaikin"] = "uniform",
+        triangle_subdivision_rule: Literal["catmullClark", "smooth"] = "catmullClark",
+    ) -> None: ...
+    @property
+    def points(self) -> Floats:
+        """`(n, 3)` positions."""
+    @property
+    def face_vertex_counts(self) -> Ints: ...
+    @property
+    def face_vertex_indices(self) -> Ints: ...
+    @property
+    def crease_indices(self) -> Ints:
+        """Two vertices per sharp edge."""
+    @property
+    def crease_lengths(self) -> Ints:
+        """2 per sharp edge."""
+    @property
+    def crease_sharpnesses(self) -> Floats: ...
+    @property
+    def corner_indices(self) -> Ints: ...
+    @property
+    def corner_sharpnesses(self) -> Floats: ...
+    @property
+    def hole_indices(self) -> Ints: ...
+    @property
+    def uvs(self) -> Optional[Floats]:
+        """`(m, 2)` texture coordinates, or None."""
+    @property
+    def uv_indices(self) -> Optional[Ints]:
+        """One index into `uvs` per face corner, or None."""
+    @property
+    def normals(self) -> Optional[Floats]:
+        """`(n, 3)` unit limit normals (`subdivide(limit=True)`, `tessellate`), or None."""
+    @property
+    def scheme(self) -> Scheme: ...
+    @property
+    def interpolate_boundary(self) -> Boundary: ...
+    @property
+    def face_varying_linear_interpolation(self) -> FaceVaryingMode: ...
+    @property
+    def crease_method(self) -> Literal["uniform", "chaikin"]: ...
+    @property
+    def triangle_subdivision_rule(self) -> Literal["catmullClark", "smooth"]: ...
+    @property
+    def num_points(self) -> int: ...
+    @property
+    def num_faces(self) -> int: ...
+    def subdivide(self, levels: int, *, limit: bool = False) -> Mesh:
+        """Refine `levels` times, as OpenSubdiv's `Far` numbers and computes it; with
+        `limit`, move the last level to its limit and set `normals`.
+
+        >>> import subsurf
+        >>> tri = subsurf.Mesh([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [3], [0, 1, 2], scheme="loop")
+        >>> tri.subdivide(2).num_faces
+        16
+        """
+    def limit_surface(self) -> LimitSurface:
+        """The exact limit surface (and the limit of the texture coordinates)."""
+    def tessellate(self, rate: int = 8, *, triangles: bool = False) -> Mesh:
+        """A watertight tessellation of the limit surface, with limit normals and texture
+        coordinates; its scheme is "bilinear"."""
+    def write(self, path: Path) -> None:
+        """Write OBJ (`.obj`) or PLY (`.ply`); the file appears only once complete."""
+    @staticmethod
+    def from_trimesh(mesh: object, *, scheme: Scheme = "loop") -> Mesh:
+        """A mesh from a `trimesh.Trimesh` (its `vertices` and `faces`)."""
+    def to_trimesh(self) -> object:
+        """The mesh as a `trimesh.Trimesh` (polygons as triangle fans). Needs trimesh."""
+
+class LimitSurface:
+    """The exact limit surface of a mesh, as OpenSubdiv's `Bfr::Surface` evaluates it."""
+
+    @property
+    def num_faces(self) -> int: ...
+    def evaluate(
+        self,
+        face_ids: ArrayLike,
+        u: ArrayLike,
+        v: ArrayLike,
+        *,
+        subfaces: Optional[ArrayLike] = None,
+        second: bool = False,
+    ) -> Tuple[Floats, ...]:
+        """`(pos, du, dv)` at every `(face_ids[i], u[i], v[i])`, each `(n, 3)`; with
+        `second`, also `(duu, duv, dvv)`. Loop triangles take `u, v >= 0, u + v <= 1`; an
+        n-gon's quad sub-face is chosen by `subfaces`."""
+    def evaluate_uv(
+        self,
+        face_ids: ArrayLike,
+        u: ArrayLike,
+        v: ArrayLike,
+        *,
+        subfaces: Optional[ArrayLike] = None,
+    ) -> Floats:
+        """The limit of the texture coordinates, `(n, 2)`."""
+
+def read(path: Path, *, scheme: Scheme = "catmullClark") -> Mesh:
+    """Read an OBJ, PLY or glTF mesh with its tags and texture coordinates; what the file
+    holds and the mesh cannot keep is reported as a warning."""

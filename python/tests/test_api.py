@@ -1,0 +1,211 @@
+"""The Python API: arrays in and out, USD's crease encoding, texture coordinates, errors
+that name what is at fault, files, and the interpreter lock released during long calls."""
+
+import sys
+import threading
+
+import numpy as np
+import pytest
+
+import subsurf
+
+CUBE_POINTS = np.array(
+    [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [0, 0, 1], [1, 0, 1], [1, 1, 1], [0, 1, 1]],
+    float,
+)
+CUBE_COUNTS = [4] * 6
+CUBE_INDICES = [0, 3, 2, 1, 4, 5, 6, 7, 0, 1, 5, 4, 1, 2, 6, 5, 2, 3, 7, 6, 3, 0, 4, 7]
+
+
+def cube(**kw):
+    return subsurf.Mesh(CUBE_POINTS, CUBE_COUNTS, CUBE_INDICES, **kw)
+
+
+def test_arrays_round_trip_with_numpy_dtypes():
+    m = subsurf.Mesh(
+        CUBE_POINTS.astype(np.float32),
+        np.array(CUBE_COUNTS, np.uint8),
+        np.array(CUBE_INDICES, np.int64),
+        corner_indices=[0],
+        corner_sharpnesses=[3.0],
+        hole_indices=[5],
+    )
+    assert m.points.dtype == np.float64 and m.points.shape == (8, 3)
+    assert np.array_equal(m.points, CUBE_POINTS)
+    assert m.face_vertex_counts.tolist() == CUBE_COUNTS
+    assert m.face_vertex_indices.tolist() == CUBE_INDICES
+    assert m.corner_indices.tolist() == [0] and m.corner_sharpnesses.tolist() == [3.0]
+    assert m.hole_indices.tolist() == [5]
+    assert (m.num_points, m.num_faces) == (8, 6)
+    assert m.interpolate_boundary == "edgeOnly" and m.scheme == "catmullClark"
+    # The hole is left out of the refined mesh, as OpenSubdiv does.
+    assert m.subdivide(1).num_faces == 20
+
+
+def test_crease_chains_per_crease_and_per_edge_are_the_same_edges():
+    chain = cube(crease_indices=[0, 1, 2, 3], crease_lengths=[4], crease_sharpnesses=[2.5])
+    edges = cube(
+        crease_indices=[0, 1, 2, 3], crease_lengths=[4], crease_sharpnesses=[2.5, 2.5, 2.5]
+    )
+    pairs = cube(
+        crease_indices=[0, 1, 1, 2, 2, 3], crease_lengths=[2, 2, 2], crease_sharpnesses=[2.5] * 3
+    )
+    assert chain.crease_indices.tolist() == [0, 1, 1, 2, 2, 3]
+    assert chain.crease_lengths.tolist() == [2, 2, 2]
+    a, b, c = (m.subdivide(3).points for m in (chain, edges, pairs))
+    assert np.array_equal(a, b) and np.array_equal(a, c)
+    assert not np.array_equal(a, cube().subdivide(3).points)
+
+
+def test_refined_sharpness_is_what_is_left():
+    r = cube(crease_indices=[0, 1], crease_lengths=[2], crease_sharpnesses=[2.5]).subdivide(1)
+    assert r.crease_sharpnesses.tolist() == [1.5, 1.5]
+    # Refining 1 then 2 levels gives the points of refining 3 (numbered otherwise: the
+    # second refinement numbers from the written mesh's edges).
+    once = cube(crease_indices=[0, 1], crease_lengths=[2], crease_sharpnesses=[2.5])
+    a, b = (set(map(tuple, np.round(x.points, 12))) for x in (r.subdivide(2), once.subdivide(3)))
+    assert len(a) == 386 and a == b
+
+
+def test_limit_evaluation_agrees_with_limit_refinement_at_the_corners():
+    m = cube(crease_indices=[0, 1, 2], crease_lengths=[3], crease_sharpnesses=[1.5])
+    refined = m.subdivide(2, limit=True)
+    surface = m.limit_surface()
+    assert surface.num_faces == 6
+    # Vertex 0 of the mesh stays vertex 0; its limit is corner (0, 0) of face 0.
+    pos, du, dv = surface.evaluate([0], [0.0], [0.0])
+    assert np.allclose(pos[0], refined.points[0], atol=1e-12)
+    n = np.cross(du[0], dv[0])
+    n /= np.linalg.norm(n)
+    assert np.allclose(n, refined.normals[0], atol=1e-9)
+    p2 = surface.evaluate(np.arange(6), np.full(6, 0.3), np.full(6, 0.6), second=True)
+    assert len(p2) == 6 and all(a.shape == (6, 3) for a in p2)
+
+
+def test_texture_coordinates_are_refined_and_evaluated():
+    # One (u, v) per face corner: each face gets the unit square.
+    square = np.array([[0, 0], [1, 0], [1, 1], [0, 1]], float)
+    m = cube(uvs=np.tile(square, (6, 1)), face_varying_linear_interpolation="none")
+    assert m.uvs.shape == (24, 2) and m.uv_indices.tolist() == list(range(24))
+    r = m.subdivide(2)
+    assert r.uvs is not None and len(r.uv_indices) == 4 * r.num_faces
+    assert r.face_varying_linear_interpolation == "none"
+    # Smooth within each face ("none"): not the square's own parameter off the centre.
+    uv = m.limit_surface().evaluate_uv([0, 3], [0.5, 0.25], [0.5, 0.75])
+    assert np.allclose(uv[0], [0.5, 0.5], atol=1e-12)
+    assert not np.allclose(uv[1], [0.25, 0.75], atol=1e-3)
+    # Linear everywhere ("all"): the bilinear map of each face's square.
+    linear = cube(uvs=np.tile(square, (6, 1)), face_varying_linear_interpolation="all")
+    uv = linear.limit_surface().evaluate_uv([0, 3], [0.5, 0.25], [0.5, 0.75])
+    assert np.allclose(uv, [[0.5, 0.5], [0.25, 0.75]], atol=1e-12)
+    t = m.tessellate(4)
+    assert t.uvs is not None and t.normals.shape == (t.num_points, 3)
+    with pytest.raises(subsurf.SubsurfError, match="no texture coordinates"):
+        cube().limit_surface().evaluate_uv([0], [0.5], [0.5])
+
+
+def test_tessellation_is_watertight_and_closed():
+    t = cube(crease_indices=[0, 1], crease_lengths=[2], crease_sharpnesses=[10.0]).tessellate(
+        rate=5, triangles=True
+    )
+    counts, idx = t.face_vertex_counts, t.face_vertex_indices
+    assert (counts == 3).all() and t.num_faces == 6 * 25 * 2
+    directed = {}
+    for f in idx.reshape(-1, 3):
+        for a, b in ((f[0], f[1]), (f[1], f[2]), (f[2], f[0])):
+            directed[(a, b)] = directed.get((a, b), 0) + 1
+    # Closed and consistently oriented: every directed edge once, and its reverse once.
+    assert all(n == 1 and directed.get((b, a)) == 1 for (a, b), n in directed.items())
+    assert t.num_points - len(directed) // 2 + t.num_faces == 2  # Euler characteristic
+
+
+def test_loop_needs_triangles_and_bad_input_names_the_culprit():
+    with pytest.raises(subsurf.SubsurfError, match="face 0"):
+        cube(scheme="loop").subdivide(1)
+    with pytest.raises(subsurf.SubsurfError, match="vertex 9"):
+        subsurf.Mesh(CUBE_POINTS, [3], [0, 1, 9])
+    with pytest.raises(ValueError, match="sum to 4"):
+        subsurf.Mesh(CUBE_POINTS, [4], [0, 1, 2])
+    with pytest.raises(ValueError, match=r"shape \(n, 3\)"):
+        subsurf.Mesh(CUBE_POINTS[:, :2], CUBE_COUNTS, CUBE_INDICES)
+    with pytest.raises(TypeError, match="integers"):
+        subsurf.Mesh(CUBE_POINTS, CUBE_COUNTS, np.array(CUBE_INDICES, float))
+    with pytest.raises(ValueError, match=r"points\[2\]"):
+        bad = CUBE_POINTS.copy()
+        bad[2, 1] = np.nan
+        subsurf.Mesh(bad, CUBE_COUNTS, CUBE_INDICES)
+    with pytest.raises(ValueError, match=r"face_vertex_indices\[0\] = -1"):
+        subsurf.Mesh(CUBE_POINTS, [3], [-1, 1, 2])
+    with pytest.raises(ValueError, match="interpolate_boundary"):
+        cube(interpolate_boundary="edgeAndCorners")
+    with pytest.raises(ValueError, match="scheme"):
+        cube(scheme="catmark")
+    with pytest.raises(ValueError, match="crease_sharpnesses has 2 values"):
+        cube(crease_indices=[0, 1, 2, 3], crease_lengths=[4], crease_sharpnesses=[1.0, 2.0])
+    with pytest.raises(subsurf.SubsurfError, match=r"point 1 \(face 2, subface 0, u 1.5"):
+        cube().limit_surface().evaluate([0, 2], [0.5, 1.5], [0.5, 0.5])
+    with pytest.raises(ValueError, match="one entry per point"):
+        cube().limit_surface().evaluate([0, 1], [0.5], [0.5])
+    assert issubclass(subsurf.SubsurfError, ValueError)
+
+
+def test_files_are_written_whole_and_read_back(tmp_path):
+    m = cube(crease_indices=[0, 1], crease_lengths=[2], crease_sharpnesses=[3.0])
+    r = m.subdivide(1)
+    r.write(tmp_path / "r.obj")
+    back = subsurf.read(str(tmp_path / "r.obj"))
+    assert np.array_equal(back.points, r.points)
+    assert np.array_equal(back.face_vertex_indices, r.face_vertex_indices)
+    assert back.crease_sharpnesses.tolist() == r.crease_sharpnesses.tolist()
+    t = m.tessellate(2)
+    t.write(tmp_path / "t.ply")
+    assert subsurf.read(str(tmp_path / "t.ply")).num_faces == t.num_faces
+    with pytest.raises(subsurf.SubsurfError, match="PLY would drop"):
+        r.write(tmp_path / "r.ply")
+    assert not (tmp_path / "r.ply").exists()
+    with pytest.raises(ValueError, match="write .obj or .ply"):
+        r.write(tmp_path / "r.stl")
+    with pytest.raises(subsurf.SubsurfError, match="missing.obj"):
+        subsurf.read(str(tmp_path / "missing.obj"))
+
+
+def test_trimesh_interop():
+    trimesh = pytest.importorskip("trimesh")
+    tri = cube().tessellate(2, triangles=True).to_trimesh()
+    assert isinstance(tri, trimesh.Trimesh) and tri.is_watertight
+    back = subsurf.Mesh.from_trimesh(tri)
+    assert back.scheme == "loop" and back.num_faces == len(tri.faces)
+
+
+def test_long_calls_release_the_interpreter_lock():
+    """While one thread refines, another runs Python code. With the thread switch interval
+    at an hour, the lock changes hands only when a thread gives it up: the counter can move
+    during the refinement only if `subdivide` released it."""
+    big = cube()
+    in_call, done, seen = threading.Event(), threading.Event(), []
+
+    def refine():
+        in_call.set()
+        big.subdivide(7)
+        in_call.clear()
+        done.set()
+
+    def count():
+        while not done.is_set():
+            if in_call.is_set():
+                seen.append(1)
+                return
+            done.wait(0.0005)
+
+    old = sys.getswitchinterval()
+    sys.setswitchinterval(3600)
+    try:
+        counter = threading.Thread(target=count)
+        counter.start()
+        worker = threading.Thread(target=refine)
+        worker.start()
+        worker.join()
+        counter.join()
+    finally:
+        sys.setswitchinterval(old)
+    assert seen, "no Python code ran while subdivide() ran"
