@@ -136,6 +136,21 @@ class LimitSurface:
     ) -> Floats:
         """The limit of the texture coordinates, `(n, 2)`."""
 
+class Reposer:
+    """Refinement of one mesh in many poses: topology and masks computed once, each pose
+    only interpolated (animation)."""
+
+    def __init__(self, mesh: Mesh, levels: int, *, limit: bool = False) -> None: ...
+    def pose(self, points: ArrayLike) -> Floats:
+        """The refined points of the base mesh's points moved to `points`; equal to
+        `Mesh.subdivide` of the moved mesh."""
+    @property
+    def mesh(self) -> Mesh:
+        """The refined mesh in the last pose."""
+    @property
+    def normals(self) -> Optional[Floats]:
+        """The limit normals of the last pose (`limit=True`), or None."""
+
 def read(path: Path, *, scheme: Scheme = "catmullClark") -> Mesh:
     """Read an OBJ, PLY or glTF mesh with its tags and texture coordinates; what the file
     holds and the mesh cannot keep is reported as a warning."""

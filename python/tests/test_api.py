@@ -169,6 +169,24 @@ def test_files_are_written_whole_and_read_back(tmp_path):
         subsurf.read(str(tmp_path / "missing.obj"))
 
 
+def test_reposing_equals_refining_the_moved_mesh():
+    m = cube(crease_indices=[0, 1, 2], crease_lengths=[3], crease_sharpnesses=[1.5])
+    reposer = subsurf.Reposer(m, 3, limit=True)
+    rng = np.random.default_rng(7)
+    for _ in range(3):
+        moved = CUBE_POINTS + rng.normal(scale=0.2, size=CUBE_POINTS.shape)
+        posed = reposer.pose(moved)
+        full = subsurf.Mesh(
+            moved, CUBE_COUNTS, CUBE_INDICES,
+            crease_indices=[0, 1, 2], crease_lengths=[3], crease_sharpnesses=[1.5],
+        ).subdivide(3, limit=True)
+        assert np.abs(posed - full.points).max() < 1e-13
+        assert np.abs(reposer.normals - full.normals).max() < 1e-12
+        assert np.array_equal(reposer.mesh.face_vertex_indices, full.face_vertex_indices)
+    with pytest.raises(subsurf.SubsurfError, match="the pose has 7 vertices, the base mesh 8"):
+        reposer.pose(CUBE_POINTS[:7])
+
+
 def test_trimesh_interop():
     trimesh = pytest.importorskip("trimesh")
     tri = cube().tessellate(2, triangles=True).to_trimesh()
