@@ -20,10 +20,12 @@ use subsurf::limit::{
     LoopSurface, Order, Surface, SurfacePoint,
 };
 use subsurf::mesh::{
-    BoundaryInterpolation, Corner, Crease, CreaseMethod, FaceVarying, FaceVaryingInterpolation,
-    Options, PolyMesh, Tags, TriangleSubdivision,
+    BoundaryInterpolation, Corner, Crease, CreaseMethod, EdgeInterval, FaceVarying,
+    FaceVaryingInterpolation, KnotTags, Options, PolyMesh, Tags, TriangleSubdivision, VertexWeight,
 };
-use subsurf::{subdivide, Reposer, Scheme, SubdivideOptions};
+use subsurf::nonuniform::{tessellate as nonuniform_tessellate, NurssSurface};
+use subsurf::scheme::Adjustable;
+use subsurf::{subdivide, Mixed, MixedSurface, Reposer, Scheme, SubdivideOptions};
 
 create_exception!(
     subsurf,
@@ -43,13 +45,22 @@ fn error(e: impl std::fmt::Display) -> PyErr {
 // ---------------------------------------------------------------------------------------
 // Tokens (USD's, where USD has the attribute).
 
-fn scheme_of(token: &str) -> PyResult<Scheme> {
+/// The scheme of a token: USD's three, and subsurf's shape-adjustable Catmull-Clark
+/// (`"adjustable"`: `c` for the first `adjust_steps` levels, then Catmull-Clark) and
+/// non-uniform Catmull-Clark (`"nurss"`, with knot intervals).
+fn scheme_of(token: &str, c: f64, adjust_steps: u32) -> PyResult<Scheme> {
     match token {
         "catmullClark" => Ok(Scheme::CatmullClark),
         "loop" => Ok(Scheme::Loop),
         "bilinear" => Ok(Scheme::Bilinear),
+        "adjustable" => Ok(Scheme::Adjustable(Mixed {
+            scheme: Adjustable::new(c).map_err(error)?,
+            steps: adjust_steps,
+        })),
+        "nurss" => Ok(Scheme::Nurss),
         _ => Err(PyValueError::new_err(format!(
-            "scheme must be \"catmullClark\", \"loop\" or \"bilinear\", not {token:?}"
+            "scheme must be \"catmullClark\", \"loop\", \"bilinear\", \"adjustable\" or \
+             \"nurss\", not {token:?}"
         ))),
     }
 }
@@ -58,6 +69,8 @@ fn scheme_token(scheme: Scheme) -> &'static str {
     match scheme {
         Scheme::Loop => "loop",
         Scheme::Bilinear => "bilinear",
+        Scheme::Adjustable(_) => "adjustable",
+        Scheme::Nurss => "nurss",
         _ => "catmullClark",
     }
 }
@@ -367,6 +380,7 @@ impl Mesh {
         interpolate_boundary="edgeOnly", scheme="catmullClark",
         uvs=None, uv_indices=None, face_varying_linear_interpolation="all",
         crease_method="uniform", triangle_subdivision_rule="catmullClark",
+        c=0.5, adjust_steps=1, knot_interval_indices=None, knot_intervals=None, weights=None,
     ))]
     #[allow(clippy::too_many_arguments)]
     fn new(
@@ -386,8 +400,13 @@ impl Mesh {
         face_varying_linear_interpolation: &str,
         crease_method: &str,
         triangle_subdivision_rule: &str,
+        c: f64,
+        adjust_steps: u32,
+        knot_interval_indices: Option<&Bound<'_, PyAny>>,
+        knot_intervals: Option<&Bound<'_, PyAny>>,
+        weights: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
-        let scheme = scheme_of(scheme)?;
+        let scheme = scheme_of(scheme, c, adjust_steps)?;
         let options = Options {
             boundary: boundary_of(interpolate_boundary)?,
             crease_method: crease_method_of(crease_method)?,
@@ -437,6 +456,12 @@ impl Mesh {
             mesh.face_varying.push(channel);
         } else if optional(uv_indices, |_| Ok(()))?.is_some() {
             return Err(PyValueError::new_err("uv_indices given without uvs"));
+        }
+        mesh.knots = knot_tags(knot_interval_indices, knot_intervals, weights)?;
+        if !mesh.knots.is_empty() && scheme != Scheme::Nurss {
+            return Err(PyValueError::new_err(
+                "knot intervals and weights are the input of scheme=\"nurss\" only",
+            ));
         }
         mesh.validate().map_err(error)?;
         Ok(Self {
@@ -548,6 +573,24 @@ impl Mesh {
         scheme_token(self.scheme)
     }
 
+    /// The shape parameter `c` of the adjustable scheme, or `None`.
+    #[getter]
+    fn c(&self) -> Option<f64> {
+        match self.scheme {
+            Scheme::Adjustable(m) => Some(m.scheme.c()),
+            _ => None,
+        }
+    }
+
+    /// The levels refined by the adjustable scheme before Catmull-Clark, or `None`.
+    #[getter]
+    fn adjust_steps(&self) -> Option<u32> {
+        match self.scheme {
+            Scheme::Adjustable(m) => Some(m.steps),
+            _ => None,
+        }
+    }
+
     /// `"none"`, `"edgeOnly"` or `"edgeAndCorner"`.
     #[getter]
     fn interpolate_boundary(&self) -> &'static str {
@@ -632,15 +675,23 @@ impl Mesh {
     #[pyo3(signature = (rate=8, *, triangles=false))]
     fn tessellate(&self, py: Python<'_>, rate: u32, triangles: bool) -> PyResult<Self> {
         py.detach(|| -> Result<Self, String> {
-            let surface = LimitSurfaceObject::build(self)?;
-            let mut t = tessellate(surface.surface.as_dyn(), &self.mesh, rate, triangles)
-                .map_err(|e| e.to_string())?;
-            if let Some(uv) = &surface.uv {
-                let channel = t
-                    .evaluate_face_varying(&self.mesh, uv, UV)
+            let t = if self.scheme == Scheme::Nurss {
+                // NURSS faces without an exact evaluation are sampled through refinement
+                // (the tessellation's texture coordinates included).
+                nonuniform_tessellate(&self.mesh, &self.options, rate, triangles)
+                    .map_err(|e| e.to_string())?
+            } else {
+                let surface = LimitSurfaceObject::build(self)?;
+                let mut t = tessellate(surface.surface.as_dyn(), &self.mesh, rate, triangles)
                     .map_err(|e| e.to_string())?;
-                t.face_varying.push(channel);
-            }
+                if let Some(uv) = surface.uv? {
+                    let channel = t
+                        .evaluate_face_varying(&self.mesh, &uv, UV)
+                        .map_err(|e| e.to_string())?;
+                    t.face_varying.push(channel);
+                }
+                t
+            };
             let mesh = t.to_polymesh().map_err(|e| e.to_string())?;
             Ok(Self {
                 mesh,
@@ -779,6 +830,40 @@ fn corners(
         .collect()
 }
 
+/// NURSS's knot tags: an interval per edge of `(k, 2)` `indices`, and one rational weight
+/// per point (all 1 when absent).
+fn knot_tags(
+    indices: Option<&Bound<'_, PyAny>>,
+    intervals: Option<&Bound<'_, PyAny>>,
+    weights: Option<&Bound<'_, PyAny>>,
+) -> PyResult<KnotTags> {
+    let mut tags = KnotTags::default();
+    if let Some(edges) = optional(indices, |o| index_array(o, "knot_interval_indices"))? {
+        let values = optional(intervals, |o| float_array(o, "knot_intervals"))?
+            .ok_or_else(|| PyValueError::new_err("knot_interval_indices need knot_intervals"))?;
+        if edges.len() != 2 * values.len() {
+            return Err(PyValueError::new_err(format!(
+                "knot_interval_indices has {} entries for {} knot_intervals (two per edge)",
+                edges.len(),
+                values.len()
+            )));
+        }
+        tags.intervals = edges
+            .chunks_exact(2)
+            .zip(values)
+            .map(|(e, interval)| EdgeInterval {
+                v0: e[0],
+                v1: e[1],
+                interval,
+            })
+            .collect();
+    }
+    if let Some(w) = optional(weights, |o| float_array(o, "weights"))? {
+        tags.weights = VertexWeight::tags(&w);
+    }
+    Ok(tags)
+}
+
 // ---------------------------------------------------------------------------------------
 // Limit surfaces.
 
@@ -787,6 +872,8 @@ enum AnySurface {
     CatmullClark(LimitSurface),
     Loop(Box<LoopSurface>),
     Bilinear(BilinearSurface),
+    Mixed(Box<MixedSurface>),
+    Nurss(Box<NurssSurface>),
 }
 
 impl AnySurface {
@@ -795,6 +882,8 @@ impl AnySurface {
             Self::CatmullClark(s) => s,
             Self::Loop(s) => &**s,
             Self::Bilinear(s) => s,
+            Self::Mixed(s) => &**s,
+            Self::Nurss(s) => &**s,
         }
     }
 }
@@ -804,7 +893,7 @@ impl AnySurface {
 #[pyclass(module = "subsurf", name = "LimitSurface", frozen)]
 struct LimitSurfaceObject {
     surface: AnySurface,
-    uv: Option<FaceVaryingSurface>,
+    uv: Result<Option<FaceVaryingSurface>, String>,
 }
 
 impl LimitSurfaceObject {
@@ -817,16 +906,23 @@ impl LimitSurfaceObject {
             Scheme::Bilinear => {
                 AnySurface::Bilinear(BilinearSurface::new(&m.mesh).map_err(|e| s(&e))?)
             }
+            Scheme::Adjustable(mixed) => AnySurface::Mixed(Box::new(
+                MixedSurface::new(&m.mesh, m.options, mixed).map_err(|e| s(&e))?,
+            )),
+            Scheme::Nurss => AnySurface::Nurss(Box::new(
+                NurssSurface::new(&m.mesh, &m.options).map_err(|e| s(&e))?,
+            )),
             _ => {
                 AnySurface::CatmullClark(LimitSurface::new(&m.mesh, m.options).map_err(|e| s(&e))?)
             }
         };
+        // The texture coordinates' limit, or why there is none for this scheme (raised
+        // when they are asked for).
         let uv = match m.mesh.face_varying.iter().position(|c| c.name() == UV) {
-            Some(c) => Some(
-                FaceVaryingSurface::for_scheme(&m.mesh, m.scheme, m.options, c)
-                    .map_err(|e| format!("texture coordinates: {e}"))?,
-            ),
-            None => None,
+            Some(c) => FaceVaryingSurface::for_scheme(&m.mesh, m.scheme, m.options, c)
+                .map(Some)
+                .map_err(|e| format!("texture coordinates: {e}")),
+            None => Ok(None),
         };
         Ok(Self { surface, uv })
     }
@@ -919,7 +1015,7 @@ impl LimitSurfaceObject {
         v: &Bound<'py, PyAny>,
         subfaces: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let Some(uv) = &self.uv else {
+        let Some(uv) = self.uv.as_ref().map_err(error)? else {
             return Err(error("the mesh has no texture coordinates (uvs)"));
         };
         let points = surface_points(face_ids, u, v, subfaces)?;
@@ -1018,9 +1114,9 @@ impl ReposerObject {
 /// (OBJ's `t interpolateboundary`, `t creasemethod`, …) and its texture coordinates. What the
 /// file holds and the mesh cannot (normals, other properties) is reported as a warning.
 #[pyfunction]
-#[pyo3(signature = (path, *, scheme="catmullClark"))]
-fn read(py: Python<'_>, path: PathBuf, scheme: &str) -> PyResult<Mesh> {
-    let scheme = scheme_of(scheme)?;
+#[pyo3(signature = (path, *, scheme="catmullClark", c=0.5, adjust_steps=1))]
+fn read(py: Python<'_>, path: PathBuf, scheme: &str, c: f64, adjust_steps: u32) -> PyResult<Mesh> {
+    let scheme = scheme_of(scheme, c, adjust_steps)?;
     let file = py.detach(|| read_mesh(&path, None)).map_err(error)?;
     let name = path.display().to_string();
     // The file's own notes (what it holds that the mesh leaves out: `vn`, other PLY
@@ -1028,6 +1124,12 @@ fn read(py: Python<'_>, path: PathBuf, scheme: &str) -> PyResult<Mesh> {
     let mut notes = file.ignored.clone();
     for t in &file.obj.unsupported_tags {
         notes.push(format!("tag not supported: {t:?}"));
+    }
+    if !file.obj.mesh.knots.is_empty() && scheme != Scheme::Nurss {
+        notes.push(format!(
+            "knot interval or weight tags: the {} scheme ignores them (scheme=\"nurss\" reads them)",
+            scheme_token(scheme)
+        ));
     }
     let warnings = py.import("warnings")?;
     for note in notes {

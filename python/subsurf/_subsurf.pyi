@@ -8,7 +8,7 @@ import numpy.typing as npt
 
 __version__: str
 
-Scheme = Literal["catmullClark", "loop", "bilinear"]
+Scheme = Literal["catmullClark", "loop", "bilinear", "adjustable", "nurss"]
 Boundary = Literal["none", "edgeOnly", "edgeAndCorner"]
 FaceVaryingMode = Literal["none", "cornersOnly", "cornersPlus1", "cornersPlus2", "boundaries", "all"]
 Floats = npt.NDArray[np.float64]
@@ -42,7 +42,18 @@ class Mesh:
         face_varying_linear_interpolation: FaceVaryingMode = "all",
         crease_method: Literal["uniform", "chaikin"] = "uniform",
         triangle_subdivision_rule: Literal["catmullClark", "smooth"] = "catmullClark",
+        c: float = 0.5,
+        adjust_steps: int = 1,
+        knot_interval_indices: Optional[ArrayLike] = None,
+        knot_intervals: Optional[ArrayLike] = None,
+        weights: Optional[ArrayLike] = None,
     ) -> None: ...
+    @property
+    def c(self) -> Optional[float]:
+        """The adjustable scheme's shape parameter, or None."""
+    @property
+    def adjust_steps(self) -> Optional[int]:
+        """The levels the adjustable scheme refines before Catmull-Clark, or None."""
     @property
     def points(self) -> Floats:
         """`(n, 3)` positions."""
@@ -151,6 +162,8 @@ class Reposer:
     def normals(self) -> Optional[Floats]:
         """The limit normals of the last pose (`limit=True`), or None."""
 
-def read(path: Path, *, scheme: Scheme = "catmullClark") -> Mesh:
+def read(
+    path: Path, *, scheme: Scheme = "catmullClark", c: float = 0.5, adjust_steps: int = 1
+) -> Mesh:
     """Read an OBJ, PLY or glTF mesh with its tags and texture coordinates; what the file
     holds and the mesh cannot keep is reported as a warning."""

@@ -187,6 +187,42 @@ def test_reposing_equals_refining_the_moved_mesh():
         reposer.pose(CUBE_POINTS[:7])
 
 
+def test_the_adjustable_scheme_is_catmull_clark_at_c_one_half():
+    cc = cube().subdivide(2).points
+    assert np.abs(cube(scheme="adjustable", c=0.5).subdivide(2).points - cc).max() < 1e-15
+    tight = cube(scheme="adjustable", c=0.3, adjust_steps=2)
+    assert (tight.c, tight.adjust_steps, tight.scheme) == (0.3, 2, "adjustable")
+    r = tight.subdivide(3)
+    assert np.abs(r.points - cube().subdivide(3).points).max() > 1e-3
+    # Re-posing and the limit surface take the scheme too.
+    assert np.abs(subsurf.Reposer(tight, 3).pose(CUBE_POINTS) - r.points).max() < 1e-14
+    pos, _, _ = tight.limit_surface().evaluate([0], [0.0], [0.0])
+    limit = tight.subdivide(3, limit=True).points[0]
+    assert np.abs(pos[0] - limit).max() < 1e-12
+    t = tight.tessellate(4)
+    assert t.num_faces == 6 * 16
+    with pytest.raises(subsurf.SubsurfError, match="c"):
+        cube(scheme="adjustable", c=1.5)
+
+
+def test_nurss_takes_knot_intervals():
+    x_edges = [[0, 1], [3, 2], [4, 5], [7, 6]]
+    uniform = cube(scheme="nurss").subdivide(2).points
+    assert np.abs(uniform - cube().subdivide(2).points).max() < 1e-12
+    stretched = cube(
+        scheme="nurss", knot_interval_indices=x_edges, knot_intervals=[3.0] * 4
+    )
+    r = stretched.subdivide(2)
+    assert np.abs(r.points - uniform).max() > 1e-3
+    assert np.abs(subsurf.Reposer(stretched, 2).pose(CUBE_POINTS) - r.points).max() < 1e-14
+    t = stretched.tessellate(4)
+    assert t.num_faces == 6 * 16
+    with pytest.raises(ValueError, match="nurss"):
+        cube(knot_interval_indices=x_edges, knot_intervals=[3.0] * 4)
+    with pytest.raises(ValueError, match="two per edge"):
+        cube(scheme="nurss", knot_interval_indices=x_edges, knot_intervals=[3.0] * 3)
+
+
 def test_trimesh_interop():
     trimesh = pytest.importorskip("trimesh")
     tri = cube().tessellate(2, triangles=True).to_trimesh()
