@@ -14,6 +14,7 @@ use pyo3::exceptions::{PyImportError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;
 
+use subsurf::g2cap::{G2Surface, G2SurfaceOptions};
 use subsurf::io::{read_mesh, write_atomically, write_obj, write_ply, WriteOptions};
 use subsurf::limit::{
     tessellate, BilinearSurface, Derivatives, EvalError, FaceVaryingSurface, LimitSurface,
@@ -25,6 +26,7 @@ use subsurf::mesh::{
 };
 use subsurf::nonuniform::{tessellate as nonuniform_tessellate, NurssSurface};
 use subsurf::scheme::Adjustable;
+use subsurf::spline::{QuadSpline, SubBasisSurface};
 use subsurf::{subdivide, Mixed, MixedSurface, Reposer, Scheme, SubdivideOptions};
 
 create_exception!(
@@ -663,44 +665,36 @@ impl Mesh {
 
     /// The exact limit surface of the mesh under its scheme (and of its texture
     /// coordinates), to evaluate at any `(face, u, v)`.
-    fn limit_surface(&self, py: Python<'_>) -> PyResult<LimitSurfaceObject> {
-        py.detach(|| LimitSurfaceObject::build(self)).map_err(error)
+    fn limit_surface(&self, py: Python<'_>) -> PyResult<SurfaceObject> {
+        py.detach(|| SurfaceObject::limit(self)).map_err(error)
     }
 
-    /// A watertight tessellation of the limit surface: each quad face (each sub-face of
-    /// other polygons) becomes `rate × rate` quads, each Loop triangle `rate²` triangles
-    /// (split quads into triangles with `triangles`), with limit normals and, when the
-    /// mesh has texture coordinates, their limit. The result's scheme is `"bilinear"`: it
-    /// is a surface already.
+    /// The surface with G2 caps at the extraordinary vertices (Tang, Li, Liu and Gu, "Smooth
+    /// Connection near Singular Points on Subdivision Surfaces", Advances in Applied
+    /// Mathematics 6(9), 2017; `subsurf::g2cap`): the limit
+    /// surface of the Catmull-Clark (or adjustable) scheme with the neighbourhood of each
+    /// extraordinary vertex, after `levels` isolation levels (default 2, or 3 with non-quad
+    /// faces), replaced by bi-septic patches that are curvature continuous.
+    #[pyo3(signature = (levels=None))]
+    fn g2_surface(&self, py: Python<'_>, levels: Option<u32>) -> PyResult<SurfaceObject> {
+        py.detach(|| SurfaceObject::g2(self, levels)).map_err(error)
+    }
+
+    /// The rational bicubic spline surface of the sub-basis functions ([Sub-basis splines]
+    /// in the repository's `docs/references.md`: the uniform bicubic B-spline basis split
+    /// into sub-basis functions, rebuilt at irregular vertices; `subsurf::spline`): over
+    /// the mesh's faces, or over those of its first Catmull-Clark level when it has faces
+    /// that are not quads (`Surface.mesh`).
+    fn spline_surface(&self, py: Python<'_>) -> PyResult<SurfaceObject> {
+        py.detach(|| SurfaceObject::spline(self)).map_err(error)
+    }
+
+    /// A watertight tessellation of the limit surface (`limit_surface().tessellate`; NURSS
+    /// faces without an exact evaluation sampled through refinement).
     #[pyo3(signature = (rate=8, *, triangles=false))]
     fn tessellate(&self, py: Python<'_>, rate: u32, triangles: bool) -> PyResult<Self> {
-        py.detach(|| -> Result<Self, String> {
-            let t = if self.scheme == Scheme::Nurss {
-                // NURSS faces without an exact evaluation are sampled through refinement
-                // (the tessellation's texture coordinates included).
-                nonuniform_tessellate(&self.mesh, &self.options, rate, triangles)
-                    .map_err(|e| e.to_string())?
-            } else {
-                let surface = LimitSurfaceObject::build(self)?;
-                let mut t = tessellate(surface.surface.as_dyn(), &self.mesh, rate, triangles)
-                    .map_err(|e| e.to_string())?;
-                if let Some(uv) = surface.uv? {
-                    let channel = t
-                        .evaluate_face_varying(&self.mesh, &uv, UV)
-                        .map_err(|e| e.to_string())?;
-                    t.face_varying.push(channel);
-                }
-                t
-            };
-            let mesh = t.to_polymesh().map_err(|e| e.to_string())?;
-            Ok(Self {
-                mesh,
-                scheme: Scheme::Bilinear,
-                options: self.options,
-                normals: Some(t.normals),
-            })
-        })
-        .map_err(error)
+        py.detach(|| SurfaceObject::limit(self)?.tessellation(rate, triangles))
+            .map_err(error)
     }
 
     /// Writes the mesh to `path`: OBJ (`.obj`, with its tags, texture coordinates and
@@ -874,6 +868,8 @@ enum AnySurface {
     Bilinear(BilinearSurface),
     Mixed(Box<MixedSurface>),
     Nurss(Box<NurssSurface>),
+    G2(Box<G2Surface>),
+    Spline(Box<SubBasisSurface>),
 }
 
 impl AnySurface {
@@ -884,20 +880,27 @@ impl AnySurface {
             Self::Bilinear(s) => s,
             Self::Mixed(s) => &**s,
             Self::Nurss(s) => &**s,
+            Self::G2(s) => &**s,
+            Self::Spline(s) => &**s,
         }
     }
 }
 
-/// The exact limit surface of a mesh (`Mesh.limit_surface()`): positions, derivatives and
-/// texture coordinates at any `(face, u, v)`, as OpenSubdiv's `Bfr::Surface` evaluates them.
-#[pyclass(module = "subsurf", name = "LimitSurface", frozen)]
-struct LimitSurfaceObject {
+/// A smooth surface over the faces of a mesh: its exact limit surface
+/// (`Mesh.limit_surface()`, as OpenSubdiv's `Bfr::Surface` evaluates it, with the limit of
+/// its texture coordinates), its G2-capped surface or its sub-basis spline surface.
+#[pyclass(module = "subsurf", name = "Surface", frozen)]
+struct SurfaceObject {
     surface: AnySurface,
+    /// The texture coordinates' limit, or why there is none (raised when asked for).
     uv: Result<Option<FaceVaryingSurface>, String>,
+    /// The mesh whose faces the surface is parametrised over.
+    base: Mesh,
+    kind: &'static str,
 }
 
-impl LimitSurfaceObject {
-    fn build(m: &Mesh) -> Result<Self, String> {
+impl SurfaceObject {
+    fn limit(m: &Mesh) -> Result<Self, String> {
         let s = |e: &dyn std::fmt::Display| e.to_string();
         let surface = match m.scheme {
             Scheme::Loop => AnySurface::Loop(Box::new(
@@ -916,17 +919,80 @@ impl LimitSurfaceObject {
                 AnySurface::CatmullClark(LimitSurface::new(&m.mesh, m.options).map_err(|e| s(&e))?)
             }
         };
-        // The texture coordinates' limit, or why there is none for this scheme (raised
-        // when they are asked for).
         let uv = match m.mesh.face_varying.iter().position(|c| c.name() == UV) {
             Some(c) => FaceVaryingSurface::for_scheme(&m.mesh, m.scheme, m.options, c)
                 .map(Some)
                 .map_err(|e| format!("texture coordinates: {e}")),
             None => Ok(None),
         };
-        Ok(Self { surface, uv })
+        Ok(Self {
+            surface,
+            uv,
+            base: m.derived(m.mesh.clone(), None),
+            kind: "limit",
+        })
+    }
+
+    fn g2(m: &Mesh, levels: Option<u32>) -> Result<Self, String> {
+        let opts = G2SurfaceOptions {
+            scheme: m.scheme,
+            options: m.options,
+            levels,
+            ..G2SurfaceOptions::default()
+        };
+        let surface = G2Surface::new(&m.mesh, &opts).map_err(|e| e.to_string())?;
+        Ok(Self {
+            surface: AnySurface::G2(Box::new(surface)),
+            uv: Err(NO_UV.to_owned()),
+            base: m.derived(m.mesh.clone(), None),
+            kind: "g2",
+        })
+    }
+
+    fn spline(m: &Mesh) -> Result<Self, String> {
+        let q = QuadSpline::new(&m.mesh).map_err(|e| e.to_string())?;
+        Ok(Self {
+            surface: AnySurface::Spline(Box::new(q.surface)),
+            uv: Err(NO_UV.to_owned()),
+            base: m.derived(q.control, None),
+            kind: "spline",
+        })
+    }
+
+    /// The tessellation of the surface at `rate` as a mesh (scheme `"bilinear"`: it is a
+    /// surface already) with normals and, for a limit surface, texture coordinates.
+    fn tessellation(&self, rate: u32, triangles: bool) -> Result<Mesh, String> {
+        let m = &self.base;
+        let t = if let AnySurface::Nurss(_) = self.surface {
+            // NURSS faces without an exact evaluation are sampled through refinement (the
+            // tessellation's texture coordinates included).
+            nonuniform_tessellate(&m.mesh, &m.options, rate, triangles)
+                .map_err(|e| e.to_string())?
+        } else {
+            let mut t = tessellate(self.surface.as_dyn(), &m.mesh, rate, triangles)
+                .map_err(|e| e.to_string())?;
+            if let Ok(Some(uv)) = &self.uv {
+                let channel = t
+                    .evaluate_face_varying(&m.mesh, uv, UV)
+                    .map_err(|e| e.to_string())?;
+                t.face_varying.push(channel);
+            } else if let (Err(e), Some(_)) = (&self.uv, m.uv()) {
+                return Err(format!("{e}; tessellate the limit surface to keep them"));
+            }
+            t
+        };
+        Ok(Mesh {
+            mesh: t.to_polymesh().map_err(|e| e.to_string())?,
+            scheme: Scheme::Bilinear,
+            options: m.options,
+            normals: Some(t.normals),
+        })
     }
 }
+
+/// Why a G2 or spline surface has no texture coordinates.
+const NO_UV: &str = "texture coordinates are evaluated on the limit surface only \
+                     (Mesh.limit_surface())";
 
 /// The points `(face, subface, u, v)` of the arrays given to `evaluate`.
 fn surface_points(
@@ -967,7 +1033,7 @@ fn point_error(i: usize, p: SurfacePoint, e: &EvalError) -> PyErr {
 }
 
 #[pymethods]
-impl LimitSurfaceObject {
+impl SurfaceObject {
     /// Position and first derivatives (and with `second`, the second derivatives `duu`,
     /// `duv`, `dvv`) at every point `(face_ids[i], u[i], v[i])`, as `(n, 3)` float64 arrays.
     /// Quads and Loop triangles are one parameter domain each (a triangle's is
@@ -1038,6 +1104,30 @@ impl LimitSurfaceObject {
     #[getter]
     fn num_faces(&self) -> usize {
         self.surface.as_dyn().num_faces()
+    }
+
+    /// `"limit"`, `"g2"` or `"spline"`.
+    #[getter]
+    fn kind(&self) -> &'static str {
+        self.kind
+    }
+
+    /// The mesh whose faces `evaluate` takes: the mesh itself, or for a spline surface of a
+    /// mesh with non-quad faces, its first Catmull-Clark level.
+    #[getter]
+    fn mesh(&self) -> Mesh {
+        self.base.derived(self.base.mesh.clone(), None)
+    }
+
+    /// A watertight tessellation: each quad face (each sub-face of other polygons) becomes
+    /// `rate × rate` quads, each Loop triangle `rate²` triangles (quads split into triangles
+    /// with `triangles`), with the surface's normals and, on a limit surface, the limit of
+    /// the texture coordinates. The result's scheme is `"bilinear"`: it is a surface
+    /// already.
+    #[pyo3(signature = (rate=8, *, triangles=false))]
+    fn tessellate(&self, py: Python<'_>, rate: u32, triangles: bool) -> PyResult<Mesh> {
+        py.detach(|| self.tessellation(rate, triangles))
+            .map_err(error)
     }
 }
 
@@ -1151,7 +1241,7 @@ fn read(py: Python<'_>, path: PathBuf, scheme: &str, c: f64, adjust_steps: u32) 
 #[pymodule]
 fn _subsurf(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<Mesh>()?;
-    m.add_class::<LimitSurfaceObject>()?;
+    m.add_class::<SurfaceObject>()?;
     m.add_class::<ReposerObject>()?;
     m.add_function(wrap_pyfunction!(read, m)?)?;
     m.add("SubsurfError", m.py().get_type::<SubsurfError>())?;

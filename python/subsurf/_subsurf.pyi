@@ -107,8 +107,14 @@ class Mesh:
         >>> tri.subdivide(2).num_faces
         16
         """
-    def limit_surface(self) -> LimitSurface:
+    def limit_surface(self) -> Surface:
         """The exact limit surface (and the limit of the texture coordinates)."""
+    def g2_surface(self, levels: Optional[int] = None) -> Surface:
+        """The surface with curvature-continuous (G2) bi-septic caps at the extraordinary
+        vertices (Tang, Li, Liu and Gu 2017), after `levels` isolation levels."""
+    def spline_surface(self) -> Surface:
+        """The rational bicubic sub-basis spline surface (over the first Catmull-Clark level
+        when the mesh has non-quad faces: see `Surface.mesh`)."""
     def tessellate(self, rate: int = 8, *, triangles: bool = False) -> Mesh:
         """A watertight tessellation of the limit surface, with limit normals and texture
         coordinates; its scheme is "bilinear"."""
@@ -120,11 +126,20 @@ class Mesh:
     def to_trimesh(self) -> object:
         """The mesh as a `trimesh.Trimesh` (polygons as triangle fans). Needs trimesh."""
 
-class LimitSurface:
-    """The exact limit surface of a mesh, as OpenSubdiv's `Bfr::Surface` evaluates it."""
+class Surface:
+    """A smooth surface over a mesh's faces: the exact limit surface (as OpenSubdiv's
+    `Bfr::Surface` evaluates it), the G2-capped surface or the sub-basis spline surface."""
 
     @property
     def num_faces(self) -> int: ...
+    @property
+    def kind(self) -> Literal["limit", "g2", "spline"]: ...
+    @property
+    def mesh(self) -> Mesh:
+        """The mesh whose faces `evaluate` takes."""
+    def tessellate(self, rate: int = 8, *, triangles: bool = False) -> Mesh:
+        """A watertight tessellation with normals (and, on a limit surface, the limit of the
+        texture coordinates)."""
     def evaluate(
         self,
         face_ids: ArrayLike,

@@ -3,6 +3,7 @@ that name what is at fault, files, and the interpreter lock released during long
 
 import sys
 import threading
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -221,6 +222,40 @@ def test_nurss_takes_knot_intervals():
         cube(knot_interval_indices=x_edges, knot_intervals=[3.0] * 4)
     with pytest.raises(ValueError, match="two per edge"):
         cube(scheme="nurss", knot_interval_indices=x_edges, knot_intervals=[3.0] * 3)
+
+
+def test_g2_and_spline_surfaces():
+    limit = cube().limit_surface()
+    g2 = cube().g2_surface()
+    assert (limit.kind, g2.kind) == ("limit", "g2")
+    # Outside the caps (corner squares of side 2^-2 at the eight valence-3 vertices) the
+    # G2 surface is the limit surface.
+    f, u, v = np.arange(6), np.full(6, 0.5), np.full(6, 0.5)
+    assert np.abs(g2.evaluate(f, u, v)[0] - limit.evaluate(f, u, v)[0]).max() < 1e-12
+    inside = g2.evaluate([0], [0.05], [0.05])[0] - limit.evaluate([0], [0.05], [0.05])[0]
+    assert np.abs(inside).max() > 1e-6
+    t = g2.tessellate(4, triangles=True)
+    assert t.num_faces == 6 * 16 * 2 and t.normals.shape == (t.num_points, 3)
+    with pytest.raises(subsurf.SubsurfError, match="limit surface only"):
+        g2.evaluate_uv([0], [0.5], [0.5])
+    # On a torus every vertex is regular: the sub-basis spline is the uniform bicubic
+    # B-spline, which is the Catmull-Clark limit.
+    torus = subsurf.read(str(Path(__file__).resolve().parents[2] / "examples/meshes/torus.obj"))
+    spline = torus.spline_surface()
+    assert spline.kind == "spline" and spline.mesh.num_faces == torus.num_faces
+    rng = np.random.default_rng(3)
+    f = rng.integers(0, torus.num_faces, 50)
+    u, v = rng.random(50), rng.random(50)
+    a = spline.evaluate(f, u, v)
+    b = torus.limit_surface().evaluate(f, u, v)
+    assert all(np.abs(x - y).max() < 1e-12 for x, y in zip(a, b))
+    # A mesh with a triangle gets one Catmull-Clark step first.
+    pyramid = subsurf.Mesh(
+        [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [0.5, 0.5, 1]],
+        [4, 3, 3, 3, 3],
+        [0, 3, 2, 1, 0, 1, 4, 1, 2, 4, 2, 3, 4, 3, 0, 4],
+    )
+    assert pyramid.spline_surface().mesh.num_faces == 16
 
 
 def test_trimesh_interop():
