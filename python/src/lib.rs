@@ -14,8 +14,9 @@ use pyo3::exceptions::{PyImportError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;
 
+use subsurf::curves::{embed_geometry, interpolate_geometry, HostOptions, InterpolateOptions};
 use subsurf::g2cap::{G2Surface, G2SurfaceOptions};
-use subsurf::io::{read_mesh, write_atomically, write_obj, write_ply, WriteOptions};
+use subsurf::io::{read_geometry, read_mesh, write_atomically, write_obj, write_ply, WriteOptions};
 use subsurf::limit::{
     tessellate, BilinearSurface, Derivatives, EvalError, FaceVaryingSurface, LimitSurface,
     LoopSurface, Order, Surface, SurfacePoint,
@@ -1238,12 +1239,63 @@ fn read(py: Python<'_>, path: PathBuf, scheme: &str, c: f64, adjust_steps: u32) 
     })
 }
 
+/// The control mesh whose non-uniform (NURSS) limit surface interpolates the cubic B-spline
+/// and NURBS curves of the file `path` (JSON documents or OBJ free-form curves), by the
+/// symmetric zonal meshes of [JOS 2003] (the repository's `docs/references.md`;
+/// `subsurf::curves`): a mesh with scheme `"nurss"` and its knot intervals, to refine or
+/// evaluate. `width` is the zone's half-width relative to each curve's size and `side` a
+/// direction for the zones' sides (default: a rotation-minimising frame). With `host`, the
+/// curves' control polygons run along edges of that mesh and the zones are embedded in it
+/// (`width` then a fraction of the shortest host edge at each point, in `(0, 1)`).
+#[pyfunction]
+#[pyo3(signature = (path, *, width=None, side=None, host=None))]
+fn interpolate_curves(
+    py: Python<'_>,
+    path: PathBuf,
+    width: Option<f64>,
+    side: Option<[f64; 3]>,
+    host: Option<&Mesh>,
+) -> PyResult<Mesh> {
+    let name = path.display().to_string();
+    let items = py.detach(|| read_geometry(&path)).map_err(error)?;
+    let interpolation = py.detach(|| match host {
+        Some(h) => {
+            if side.is_some() {
+                return Err("side applies to curves without a host".to_owned());
+            }
+            let mut opts = HostOptions::default();
+            if let Some(w) = width {
+                opts.width = w;
+            }
+            embed_geometry(&h.mesh, &items, &opts).map_err(|e| e.to_string())
+        }
+        None => {
+            let mut opts = InterpolateOptions {
+                side,
+                ..InterpolateOptions::default()
+            };
+            if let Some(w) = width {
+                opts.width = w;
+            }
+            interpolate_geometry(&items, &opts).map_err(|e| e.to_string())
+        }
+    });
+    let interpolation = interpolation.map_err(|e| error(format!("{name}: {e}")))?;
+    Ok(Mesh {
+        mesh: interpolation.mesh,
+        scheme: Scheme::Nurss,
+        options: host.map_or_else(Options::default, |h| h.options),
+        normals: None,
+    })
+}
+
 #[pymodule]
 fn _subsurf(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<Mesh>()?;
     m.add_class::<SurfaceObject>()?;
     m.add_class::<ReposerObject>()?;
     m.add_function(wrap_pyfunction!(read, m)?)?;
+    m.add_function(wrap_pyfunction!(interpolate_curves, m)?)?;
     m.add("SubsurfError", m.py().get_type::<SubsurfError>())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())

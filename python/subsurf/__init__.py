@@ -21,6 +21,14 @@ The mesh speaks USD's vocabulary (``UsdGeomMesh``'s attribute names and tokens):
 Every call releases the interpreter lock and runs on the library's own threads.
 """
 
-from ._subsurf import Mesh, Reposer, SubsurfError, Surface, __version__, read
+from ._subsurf import Mesh, Reposer, SubsurfError, Surface, __version__, interpolate_curves, read
 
-__all__ = ["Mesh", "Reposer", "SubsurfError", "Surface", "__version__", "read"]
+__all__ = [
+    "Mesh",
+    "Reposer",
+    "SubsurfError",
+    "Surface",
+    "__version__",
+    "interpolate_curves",
+    "read",
+]

@@ -182,3 +182,14 @@ def read(
 ) -> Mesh:
     """Read an OBJ, PLY or glTF mesh with its tags and texture coordinates; what the file
     holds and the mesh cannot keep is reported as a warning."""
+
+def interpolate_curves(
+    path: Path,
+    *,
+    width: Optional[float] = None,
+    side: Optional[Tuple[float, float, float]] = None,
+    host: Optional[Mesh] = None,
+) -> Mesh:
+    """The control mesh (scheme "nurss", with knot intervals) whose limit surface
+    interpolates the cubic B-spline and NURBS curves of a JSON or OBJ file; with `host`,
+    the curves are embedded in that mesh."""

@@ -258,6 +258,25 @@ def test_g2_and_spline_surfaces():
     assert pyramid.spline_surface().mesh.num_faces == 16
 
 
+def test_interpolated_curves_lie_on_the_limit_surface(tmp_path):
+    # A closed planar cubic B-spline with uniform knots: its point at knot i is
+    # (P[i-1] + 4 P[i] + P[i+1]) / 6 (de Boor), computed here independently of subsurf.
+    angle = np.linspace(0, 2 * np.pi, 8, endpoint=False)
+    radius = 1.0 + 0.3 * np.cos(3 * angle)
+    points = np.stack([radius * np.cos(angle), radius * np.sin(angle), np.zeros(8)], axis=1)
+    doc = {"type": "bspline-curve", "degree": 3, "knots": list(range(9)),
+           "points": points.tolist(), "closed": True}
+    (tmp_path / "curve.json").write_text(__import__("json").dumps(doc))
+    mesh = subsurf.interpolate_curves(tmp_path / "curve.json", width=0.2)
+    assert mesh.scheme == "nurss"
+    limit = mesh.subdivide(4, limit=True).points
+    on_curve = (np.roll(points, 1, 0) + 4 * points + np.roll(points, -1, 0)) / 6
+    distance = np.linalg.norm(limit[:, None, :] - on_curve[None, :, :], axis=2).min(axis=0)
+    assert (distance < 1e-9).all(), distance
+    with pytest.raises(subsurf.SubsurfError, match="width"):
+        subsurf.interpolate_curves(tmp_path / "curve.json", width=-1.0)
+
+
 def test_trimesh_interop():
     trimesh = pytest.importorskip("trimesh")
     tri = cube().tessellate(2, triangles=True).to_trimesh()
