@@ -81,11 +81,11 @@
 //! [`refine_topology`]: super::topology::refine_topology
 
 use crate::mesh::{Corner, Crease, Options, PolyMesh, Topology};
-use crate::scheme::adjustable::Mixed;
 
 use super::plan::RefinePlan;
 use super::plan_patches::{grid_indices, prefetch_next, ring_span, Runs, SharedOut, NOT_OWNED};
-use super::topology::{refine_topology, rot};
+use super::topology::rot;
+use super::uniform::Steps;
 #[cfg(target_arch = "x86_64")]
 use crate::cpu::{has_avx2_fma, has_avx512f};
 use std::collections::HashMap;
@@ -111,6 +111,47 @@ pub(super) struct RingNet {
     pub(super) verts: Vec<u32>,
     /// The mesh faces of the ring, in the key's order.
     faces: Vec<u32>,
+}
+
+impl RingNet {
+    /// A ring of face `f` read from its corner `start`, with no face listed yet.
+    fn new(f: usize, start: usize) -> Self {
+        RingNet {
+            key: Vec::new(),
+            start,
+            verts: Vec::new(),
+            faces: vec![f as u32],
+        }
+    }
+
+    /// Appends a face to the key: its size, then its points, numbered in order of first
+    /// appearance.
+    fn push(&mut self, face: impl ExactSizeIterator<Item = u32>) {
+        self.key.push(face.len() as u32);
+        for v in face {
+            let p = self.verts.iter().position(|&x| x == v).unwrap_or_else(|| {
+                self.verts.push(v);
+                self.verts.len() - 1
+            });
+            self.key.push(p as u32);
+        }
+    }
+}
+
+/// The "ring" of face `f` of `t` under bilinear subdivision: the face alone, on its
+/// corners, read from corner 0 (`None` past [`MAX_POINTS`] corners). Bilinear face,
+/// edge and vertex points are the centroid, the midpoint and the vertex itself whatever
+/// the rule (smooth, crease, corner, boundary, non-manifold: `scheme::bilinear`), so every
+/// vertex that any number of levels put on a face is a fixed combination of its corners:
+/// one matrix per face size, whatever the mesh around it.
+pub(super) fn face_net(t: &Topology, f: usize) -> Option<RingNet> {
+    let fv = t.face_vertices(f);
+    if fv.len() > MAX_POINTS {
+        return None;
+    }
+    let mut ring = RingNet::new(f, 0);
+    ring.push(fv.iter().copied());
+    Some(ring)
 }
 
 /// Whether vertex `v` of `t` can be a corner of a ring patch (module docs): manifold, of
@@ -177,24 +218,8 @@ pub(super) fn ring_net(t: &Topology, f: usize, chaikin: bool) -> Option<RingNet>
 fn read_ring(t: &Topology, f: usize, start: usize) -> Option<RingNet> {
     let fv = t.face_vertices(f);
     let n = fv.len();
-    let mut ring = RingNet {
-        key: Vec::new(),
-        start,
-        verts: Vec::new(),
-        faces: vec![f as u32],
-    };
-    // Appends a face (its size, then its points, numbered in order of first appearance).
-    fn push(ring: &mut RingNet, face: impl ExactSizeIterator<Item = u32>) {
-        ring.key.push(face.len() as u32);
-        for v in face {
-            let p = ring.verts.iter().position(|&x| x == v).unwrap_or_else(|| {
-                ring.verts.push(v);
-                ring.verts.len() - 1
-            });
-            ring.key.push(p as u32);
-        }
-    }
-    push(&mut ring, (0..n).map(|j| fv[(start + j) % n]));
+    let mut ring = RingNet::new(f, start);
+    ring.push((0..n).map(|j| fv[(start + j) % n]));
     for j in 0..n {
         let k = (start + j) % n;
         let v = fv[k] as usize;
@@ -209,7 +234,7 @@ fn read_ring(t: &Topology, f: usize, start: usize) -> Option<RingNet> {
             ring.faces.push(g);
             let gv = t.face_vertices(g as usize);
             let l = locals[(i0 + s) % m] as usize;
-            push(&mut ring, (0..gv.len()).map(|q| gv[(l + q) % gv.len()]));
+            ring.push((0..gv.len()).map(|q| gv[(l + q) % gv.len()]));
         }
         if ring.verts.len() > MAX_POINTS {
             return None;
@@ -295,16 +320,28 @@ fn template(key: &[u32]) -> Option<PolyMesh> {
     Some(mesh)
 }
 
-/// Appends to `out` the vertices that `levels.len()` levels put on the closed face `f`
-/// of `levels[0]`, numbered in the level below the last of `levels`, walking from corner
-/// `start` (module docs), with repetitions; `None` if a child face is not where the
-/// numbering says.
+/// Appends to `out` the vertices that `levels.len()` levels of `steps` put on the closed
+/// face `f` of `levels[0]`, numbered in the level below the last of `levels`, walking from
+/// corner `start` (module docs), with repetitions; `None` if a child face is not where
+/// the numbering says.
 pub(super) fn descendants(
+    steps: Steps,
     levels: &[Topology],
     f: usize,
     start: usize,
     out: &mut Vec<u32>,
 ) -> Option<()> {
+    match steps {
+        Steps::Loop => tri_descendants(levels, f, start, out),
+        Steps::Family(_) | Steps::Bilinear => quad_descendants(levels, f, start, out),
+    }
+}
+
+/// [`descendants`] under the Catmull-Clark split ([`refine_topology`](super::topology::refine_topology)): child quad `k` of
+/// a face holds the child of its corner `k`, at the quad's corner `rot(n, k)`; the last
+/// level lists, from corner `start`, each corner and the child of the edge after it,
+/// then the face's child.
+fn quad_descendants(levels: &[Topology], f: usize, start: usize, out: &mut Vec<u32>) -> Option<()> {
     let t = &levels[0];
     let fv = t.face_vertices(f);
     let n = fv.len();
@@ -326,9 +363,50 @@ pub(super) fn descendants(
         if cv.len() != 4 || cv[r] != fv[k] {
             return None;
         }
-        descendants(&levels[1..], g, r, out)?;
+        quad_descendants(&levels[1..], g, r, out)?;
     }
     Some(())
+}
+
+/// [`descendants`] under Loop's triangle split
+/// ([`refine_tri_topology`](super::tri_topology::refine_tri_topology); no face children): triangle `f = [v₀ v₁ v₂]` with edge children `Eⱼ` (of edge `vⱼvⱼ₊₁`, vertex
+/// `V + eⱼ`) has the corner children `4f + j = [.., vⱼ at corner j, ..]`, read from
+/// corner `j` as `vⱼ, Eⱼ, Eⱼ₋₁`, and the middle one `4f + 3 = [E₁ E₂ E₀]`, which holds
+/// `Eⱼ` at corner `j + 2`. From corner `s` the walk lists the corner children `s`, `s + 1`,
+/// `s + 2`, each from its corner `j`, then the middle one from `Eₛ`: the same list for
+/// every corner `s` read as corner 0, so the template's face 0 from corner 0 and `f`
+/// from `s` list matching vertices in the same order. The last level lists each corner
+/// and the child of the edge after it.
+fn tri_descendants(levels: &[Topology], f: usize, start: usize, out: &mut Vec<u32>) -> Option<()> {
+    let t = &levels[0];
+    let (fv, fe) = (t.face_vertices(f), t.face_edge_list(f));
+    if fv.len() != 3 {
+        return None;
+    }
+    let nv = t.num_vertices() as u32;
+    if levels.len() == 1 {
+        for j in 0..3 {
+            let k = (start + j) % 3;
+            out.extend([fv[k], nv + fe[k]]);
+        }
+        return Some(());
+    }
+    let child = &levels[1];
+    for j in 0..3 {
+        let k = (start + j) % 3;
+        let g = 4 * f + k;
+        let cv = child.face_vertices(g);
+        if cv.len() != 3 || cv[k] != fv[k] {
+            return None;
+        }
+        tri_descendants(&levels[1..], g, k, out)?;
+    }
+    let (g, r) = (4 * f + 3, (start + 2) % 3);
+    let cv = child.face_vertices(g);
+    if cv.len() != 3 || cv[r] != nv + fe[start] {
+        return None;
+    }
+    tri_descendants(&levels[1..], g, r, out)
 }
 
 /// Rows of a ring matrix computed together: enough independent sums to keep the
@@ -363,21 +441,21 @@ pub(super) struct Kernel {
 
 impl Kernel {
     /// The matrix of ring `key` for `depth` levels, refined with `options`, step `s` with
-    /// the masks of `mixed.step(s)` (module docs). `None` if the template cannot be built
+    /// the split and masks of step `s` of `steps` (module docs). `None` if the template cannot be built
     /// or refined as a mesh of its own (the faces are then left to the sparse rows).
-    pub(super) fn new(key: &[u32], depth: u32, options: &Options, mixed: Mixed) -> Option<Kernel> {
+    pub(super) fn new(key: &[u32], depth: u32, options: &Options, steps: Steps) -> Option<Kernel> {
         let mesh = template(key)?;
         let points = mesh.num_vertices();
-        let plan = RefinePlan::build(&mesh, *options, depth, 0, mixed).ok()?;
+        let plan = RefinePlan::build(&mesh, *options, depth, 0, steps).ok()?;
         let (mut level, _) = Topology::from_mesh(&mesh, options).ok()?;
         let mut levels = Vec::with_capacity(depth as usize);
         for _ in 1..depth {
-            let child = refine_topology(&level, options, true);
+            let child = steps.refine(&level, options, true);
             levels.push(std::mem::replace(&mut level, child));
         }
         levels.push(level);
         let mut walk = Vec::new();
-        descendants(&levels, 0, 0, &mut walk)?;
+        descendants(steps, &levels, 0, 0, &mut walk)?;
         let columns: Vec<Vec<[f64; 1]>> = (0..points)
             .map(|s| {
                 let unit: Vec<[f64; 1]> =
@@ -404,7 +482,7 @@ impl Kernel {
                     .fold(0u64, |m, s| m | 1 << s)
             };
             let mut rows = Vec::new();
-            for class in by_owner(&levels, &walk) {
+            for class in by_owner(steps, &levels, &walk) {
                 rows.extend(greedy_groups(
                     class.into_iter().map(|v| (v, support(v))).collect(),
                 ));
@@ -532,7 +610,7 @@ impl Kernel {
 /// its inside, half of its sides and a sixth of its corners on average: 12 of its 19
 /// vertices at depth 2, where its rows in groups by support alone (owned and not owned
 /// mixed) made it compute nearly all.
-fn by_owner(levels: &[Topology], walk: &[u32]) -> Vec<Vec<u32>> {
+fn by_owner(steps: Steps, levels: &[Topology], walk: &[u32]) -> Vec<Vec<u32>> {
     let t = &levels[0];
     let (fv, fe) = (t.face_vertices(0), t.face_edge_list(0));
     // The vertices of the face across each side (empty without one).
@@ -540,7 +618,7 @@ fn by_owner(levels: &[Topology], walk: &[u32]) -> Vec<Vec<u32>> {
         .map(|&e| {
             let mut d = Vec::new();
             if let Some(&g) = t.edge_face_list(e as usize).iter().find(|&&g| g != 0) {
-                if descendants(levels, g as usize, 0, &mut d).is_none() {
+                if descendants(steps, levels, g as usize, 0, &mut d).is_none() {
                     d.clear();
                 }
             }
@@ -1082,6 +1160,10 @@ unsafe fn ring_patches_avx512(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scheme::adjustable::Mixed;
+
+    /// Catmull-Clark's steps.
+    const CC: Steps = Steps::Family(Mixed::CATMULL_CLARK);
 
     /// The `n + 5` quads of the 1-ring of a quad with one corner of valence `n` (vertex 0)
     /// and three regular ones: the fan `(0, aᵢ, bᵢ, aᵢ₊₁)` with `aᵢ = 1 + 2i`,
@@ -1179,7 +1261,7 @@ mod tests {
             let t = topology(&faces, &options);
             let ring = ring_net(&t, 0, false).unwrap();
             for depth in [2u32, 3, 4] {
-                let k = Kernel::new(&ring.key, depth, &options, Mixed::CATMULL_CLARK).unwrap();
+                let k = Kernel::new(&ring.key, depth, &options, CC).unwrap();
                 assert_eq!(k.points, 2 * n + 8);
                 let side = (1usize << depth) + 1;
                 assert_eq!(k.rows, (side * side).next_multiple_of(LANES));
@@ -1190,11 +1272,11 @@ mod tests {
                 // The patch's own vertices: vertex 0 keeps its index in every level.
                 let mut levels = vec![t.clone()];
                 for _ in 1..depth {
-                    let child = refine_topology(&levels[levels.len() - 1], &options, true);
+                    let child = CC.refine(&levels[levels.len() - 1], &options, true);
                     levels.push(child);
                 }
                 let mut walk = Vec::new();
-                descendants(&levels, 0, ring.start, &mut walk).unwrap();
+                descendants(CC, &levels, 0, ring.start, &mut walk).unwrap();
                 let grid = k.grid(&ring.verts, &walk).unwrap();
                 let row = grid.iter().position(|&g| g == 0).unwrap();
                 let slot = ring.verts.iter().position(|&v| v == 0).unwrap();
@@ -1248,7 +1330,7 @@ mod tests {
         for depth in [2u32, 3, 4] {
             let mut levels = vec![t.clone()];
             while levels.len() < depth as usize + 1 {
-                let child = refine_topology(&levels[levels.len() - 1], options, true);
+                let child = CC.refine(&levels[levels.len() - 1], options, true);
                 levels.push(child);
             }
             let n_out = levels[depth as usize].num_vertices();
@@ -1256,9 +1338,9 @@ mod tests {
                 let Some(ring) = ring_net(t, f, false) else {
                     continue;
                 };
-                let kernel = Kernel::new(&ring.key, depth, options, Mixed::CATMULL_CLARK).unwrap();
+                let kernel = Kernel::new(&ring.key, depth, options, CC).unwrap();
                 let mut walk = Vec::new();
-                descendants(&levels[..depth as usize], f, ring.start, &mut walk).unwrap();
+                descendants(CC, &levels[..depth as usize], f, ring.start, &mut walk).unwrap();
                 if let Some(grid) = kernel.grid(&ring.verts, &walk) {
                     patches.push(TestPatch {
                         depth,
@@ -1454,7 +1536,7 @@ mod tests {
         let ring = ring_net(&t, 0, false).unwrap();
         assert_eq!(ring.verts.len(), 6);
         for depth in [2u32, 3, 4] {
-            let k = Kernel::new(&ring.key, depth, &options, Mixed::CATMULL_CLARK).unwrap();
+            let k = Kernel::new(&ring.key, depth, &options, CC).unwrap();
             let h = 1usize << (depth - 1);
             let rows = 3 * (h + 1) * (h + 1) - 3 * (h + 1) + 1;
             assert_eq!(
