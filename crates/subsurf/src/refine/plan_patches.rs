@@ -99,7 +99,9 @@ use std::ops::Range;
 use rayon::prelude::*;
 
 use super::patch::{refinement_patch_cells, Cell, Sharp};
-use super::plan_ring::{descendants, face_net, ring_net, Kernel, RingGroups, RingNet, RingPatches};
+use super::plan_ring::{
+    descendants, face_net, ring_net, subset_rows, Kernel, RingGroups, RingNet, RingPatches,
+};
 use super::uniform::Steps;
 #[cfg(target_arch = "x86_64")]
 use crate::cpu::{has_avx2_fma, has_avx512f};
@@ -539,18 +541,20 @@ struct ClaimedPatches {
 /// Claims, in face order, the output vertices of the patches `found` that no earlier
 /// patch (or deeper layer) claimed (the others' grid entries become [`NOT_OWNED`]), and
 /// sorts the patches that claim at least one by kind; `kernels` are the ring keys'
-/// matrices, `runs` the number of runs of faces.
+/// matrices, `runs` the number of runs of faces, `subset_rows` says which ring patches
+/// are packed ([`RingGroups`]).
 fn claim_patches(
     found: Vec<(u32, Net, Vec<u32>, usize)>,
     claims: &mut Claims,
     kernels: &[Option<Kernel>],
     runs: usize,
+    subset_rows: usize,
 ) -> ClaimedPatches {
     let mut ctrl = Vec::with_capacity(found.len());
     let mut out = Vec::with_capacity(found.iter().map(|(_, _, g, _)| g.len()).sum());
     let (mut edge_nets, mut edge_out) = (Vec::new(), Vec::new());
     let (mut ctrl_run, mut edge_run) = (Vec::new(), Vec::new());
-    let mut ring_groups = RingGroups::new(kernels);
+    let mut ring_groups = RingGroups::new(kernels, subset_rows);
     for (f, net, mut grid, key) in found {
         let run = f / RUN as u32;
         let mut any = false;
@@ -607,7 +611,7 @@ impl PatchLayer {
         let runs = levels[0].num_faces().div_ceil(RUN);
         let found = find_patches(levels, claims, options.crease_method, steps);
         let (found, kernels) = with_ring_grids(found, depth, options, steps);
-        let sorted = claim_patches(found, claims, &kernels, runs);
+        let sorted = claim_patches(found, claims, &kernels, runs, subset_rows(steps));
         let mut layer = PatchLayer {
             depth,
             source,

@@ -667,16 +667,34 @@ fn greedy_groups(mut left: Vec<(u32, u64)>) -> Vec<Option<u32>> {
     rows
 }
 
-/// Most rows of a kernel whose patches get kernels of the rows they own
+/// Most rows of a Catmull-Clark kernel whose patches get kernels of the rows they own
 /// ([`RingGroups`]): 24 at depth 2 on a triangle. Past that (depth 3 and more), packing
 /// a patch's rows saves a smaller share of its groups, and the more numerous matrices
 /// cost more than that saves (`catmark_bishop_l2_tri` at level 3, 6–10 % slower).
 const SUBSET_ROWS: usize = 4 * LANES;
 
+/// [`SUBSET_ROWS`] for Loop's triangles: their kernels at depth 3 (56 rows: 45 vertices
+/// in fours by owners) too. A triangle there owns 32 of its 45 vertices on average,
+/// which its key's groups spread over about five groups of eight and a kernel of its own
+/// packs into four: on the scan-like torus at level 3, 10–20 % less time and a plan of
+/// 19 MiB instead of 26 (BENCHMARKS.md, "Loop and bilinear"). At depth 4 (160 rows)
+/// packing was slower, as for Catmull-Clark at depth 3.
+const LOOP_SUBSET_ROWS: usize = 8 * LANES;
+
+/// The most rows of a kernel whose patches [`RingGroups`] packs into kernels of the rows
+/// they own, with `steps`.
+pub(super) fn subset_rows(steps: Steps) -> usize {
+    match steps {
+        Steps::Loop => LOOP_SUBSET_ROWS,
+        Steps::Family(_) | Steps::Bilinear => SUBSET_ROWS,
+    }
+}
+
 /// The ring patches of a layer as they are claimed, each with its matrix, until they are
-/// laid out ([`RingGroups::finish`]). A patch whose key's kernel is grouped by owners and has at most [`SUBSET_ROWS`] rows goes to the kernel of
-/// the rows it owns ([`Kernel::subset`]), made once per key and set of rows, its grid
-/// those rows' vertices; the others to their key's kernel.
+/// laid out ([`RingGroups::finish`]). A patch whose key's kernel is grouped by owners and
+/// has at most [`subset_rows`] rows goes to the kernel of the rows it owns
+/// ([`Kernel::subset`]), made once per key and set of rows, its grid those rows'
+/// vertices; the others to their key's kernel.
 ///
 /// On an all-triangle mesh at depth 2 a face owns its inside, the sides it claims and the
 /// corners it claims, 12 of its 24 rows on average, which its key's groups of owners
@@ -685,6 +703,8 @@ const SUBSET_ROWS: usize = 4 * LANES;
 pub(super) struct RingGroups<'a> {
     /// The kernel of each key (`None`: the key's faces are left to the rows).
     kernels: &'a [Option<Kernel>],
+    /// The most rows of a kernel whose patches are packed ([`subset_rows`]).
+    subset_rows: usize,
     /// The matrix of each key and set of owned rows (empty: the key's kernel).
     index: HashMap<(usize, Vec<u16>), usize>,
     /// The matrices.
@@ -706,9 +726,12 @@ struct Claimed {
 }
 
 impl<'a> RingGroups<'a> {
-    pub(super) fn new(kernels: &'a [Option<Kernel>]) -> Self {
+    /// The ring patches of matrices `kernels` (by key), those of at most `subset_rows`
+    /// rows packed.
+    pub(super) fn new(kernels: &'a [Option<Kernel>], subset_rows: usize) -> Self {
         RingGroups {
             kernels,
+            subset_rows,
             index: HashMap::new(),
             matrices: Vec::new(),
             patches: Vec::new(),
@@ -722,7 +745,7 @@ impl<'a> RingGroups<'a> {
         let Some(kernel) = &self.kernels[k] else {
             return;
         };
-        let rows: Vec<u16> = if kernel.by_owner() && kernel.rows <= SUBSET_ROWS {
+        let rows: Vec<u16> = if kernel.by_owner() && kernel.rows <= self.subset_rows {
             (0..grid.len() as u16)
                 .filter(|&r| grid[usize::from(r)] != NOT_OWNED)
                 .collect()
@@ -942,8 +965,22 @@ impl Kernel {
 }
 
 /// [`Kernel::apply`] for positions, with AVX2 and FMA (as the regular patches'
-/// `patches_avx`): the control points split by component, and for each group of
-/// [`LANES`] rows six independent sums (two vectors of rows × three components).
+/// `patches_avx`): two patches at a time, so that each term's two vectors of weights
+/// (a group of [`LANES`] rows) are loaded once for both, and twelve independent sums
+/// (two patches × two vectors of rows × three components) keep the multiply-adds busy;
+/// each broadcasts its ring point's components straight from `src`. A group that one of
+/// the two patches owns only in part, and the last patch of an odd number, are computed
+/// one patch at a time ([`ring_group_avx`]). Each row's sum is the same, in the same
+/// order, as with one patch at a time, and as [`ring_patches_avx512`]'s: bit for bit
+/// (test `vector_kernels_agree`).
+///
+/// Why two patches: one patch's group did six multiply-adds per term on six sums, each
+/// waiting on the previous term's; with the two loads of weights and three broadcasts a
+/// term cost about eight cycles. Two patches at once were 10–25 % faster on Loop's
+/// triangles and no slower on Catmull-Clark's ring patches (BENCHMARKS.md, "Loop and
+/// bilinear"). The ring is no longer copied to the stack by component first (a fifth of
+/// the kernel's samples when it was measured; reading it from `src` was faster at depth
+/// 2 and slower at depth 3 for one patch at a time).
 ///
 /// # Safety
 /// As [`Kernel::apply`], with `src` and `out` pointing at `[f64; 3]` values; the
@@ -959,58 +996,120 @@ unsafe fn ring_patches_avx(
 ) {
     use std::arch::x86_64::*;
     let (points, nn) = (k.points, k.rows);
-    let mut local = [[0.0; MAX_POINTS]; 3];
+    let groups = k.starts.len() - 1;
     let mut scratch = [0.0f64; 3];
-    // SAFETY (whole body): the caller's bounds; slots are below `points ≤ MAX_POINTS`.
+    let pairs = ctrl
+        .chunks_exact(2 * points)
+        .zip(grids.chunks_exact(2 * nn));
+    // SAFETY (whole body): the caller's bounds; slots are below `points`.
     unsafe {
-        for (p, (c, g)) in ctrl
-            .chunks_exact(points)
-            .zip(grids.chunks_exact(nn))
-            .enumerate()
-        {
-            prefetch_next::<3>(grids, p, nn, out);
-            for (s, &v) in c.iter().enumerate() {
-                let q = src.add(3 * v as usize);
-                local[0][s] = *q;
-                local[1][s] = *q.add(1);
-                local[2][s] = *q.add(2);
-            }
-            for (group, rows) in g.chunks(LANES).enumerate() {
-                let (low, high) = (any_owned(&rows[..4]), any_owned(&rows[4..]));
-                if !(low || high) {
+        for (p, (c, g)) in pairs.enumerate() {
+            // The two patches of the next pair.
+            prefetch_next::<3>(grids, 2 * p + 1, nn, out);
+            prefetch_next::<3>(grids, 2 * p + 2, nn, out);
+            let (c0, c1) = c.split_at(points);
+            let (g0, g1) = g.split_at(nn);
+            for group in 0..groups {
+                let rows = LANES * group..LANES * (group + 1);
+                let (r0, r1) = (&g0[rows.clone()], &g1[rows]);
+                let halves = [&r0[..4], &r0[4..], &r1[..4], &r1[4..]];
+                if !halves.iter().all(|h| any_owned(h)) {
+                    ring_group_avx(k, group, src, c0, r0, out, &mut scratch);
+                    ring_group_avx(k, group, src, c1, r1, out, &mut scratch);
                     continue;
                 }
-                let mut acc = [[_mm256_setzero_pd(); 2]; 3];
+                let mut acc = [[[_mm256_setzero_pd(); 2]; 3]; 2];
                 let terms = k.starts[group] as usize..k.starts[group + 1] as usize;
-                let terms = k.weights[terms.clone()].iter().zip(&k.slots[terms]);
-                if low && high {
-                    for (w, &s) in terms {
-                        let w = [
-                            _mm256_loadu_pd(w.as_ptr()),
-                            _mm256_loadu_pd(w.as_ptr().add(4)),
-                        ];
-                        for (acc, local) in acc.iter_mut().zip(&local) {
-                            let x = _mm256_broadcast_sd(local.get_unchecked(s as usize));
-                            acc[0] = _mm256_fmadd_pd(w[0], x, acc[0]);
-                            acc[1] = _mm256_fmadd_pd(w[1], x, acc[1]);
-                        }
-                    }
-                } else {
-                    // Only one half of the rows is written: half the work.
-                    let h = usize::from(high);
-                    for (w, &s) in terms {
-                        let w = _mm256_loadu_pd(w.as_ptr().add(4 * h));
-                        for (acc, local) in acc.iter_mut().zip(&local) {
-                            let x = _mm256_broadcast_sd(local.get_unchecked(s as usize));
-                            acc[h] = _mm256_fmadd_pd(w, x, acc[h]);
+                for (w, &s) in k.weights[terms.clone()].iter().zip(&k.slots[terms]) {
+                    let w = [
+                        _mm256_loadu_pd(w.as_ptr()),
+                        _mm256_loadu_pd(w.as_ptr().add(4)),
+                    ];
+                    let q = [c0, c1].map(|c| src.add(3 * *c.get_unchecked(s as usize) as usize));
+                    for i in 0..3 {
+                        for (acc, q) in acc.iter_mut().zip(q) {
+                            let x = _mm256_broadcast_sd(&*q.add(i));
+                            acc[i][0] = _mm256_fmadd_pd(w[0], x, acc[i][0]);
+                            acc[i][1] = _mm256_fmadd_pd(w[1], x, acc[i][1]);
                         }
                     }
                 }
-                for (half, rows) in rows.chunks(4).enumerate() {
-                    let [x, y, z] = acc.map(|a| a[half]);
-                    store_four(x, y, z, rows, out, &mut scratch);
+                for (acc, r) in acc.iter().zip([r0, r1]) {
+                    for (half, rows) in r.chunks(4).enumerate() {
+                        let [x, y, z] = acc.map(|a| a[half]);
+                        store_four(x, y, z, rows, out, &mut scratch);
+                    }
                 }
             }
+        }
+        let done = ctrl.len() / (2 * points) * 2;
+        if done * points < ctrl.len() {
+            // (Prefetched with the last pair, if any.)
+            let (c, g) = (&ctrl[done * points..], &grids[done * nn..]);
+            for group in 0..groups {
+                let rows = &g[LANES * group..LANES * (group + 1)];
+                ring_group_avx(k, group, src, c, rows, out, &mut scratch);
+            }
+        }
+    }
+}
+
+/// Group `group` of the patch with ring points `c` and output rows `rows` (its
+/// [`LANES`] rows of the grid), for [`ring_patches_avx`]: nothing if the patch owns none
+/// of them, half the work if it owns rows of one half only.
+///
+/// # Safety
+/// As [`ring_patches_avx`].
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+#[inline]
+unsafe fn ring_group_avx(
+    k: &Kernel,
+    group: usize,
+    src: *const f64,
+    c: &[u32],
+    rows: &[u32],
+    out: *mut f64,
+    scratch: &mut [f64; 3],
+) {
+    use std::arch::x86_64::*;
+    let (low, high) = (any_owned(&rows[..4]), any_owned(&rows[4..]));
+    if !(low || high) {
+        return;
+    }
+    let mut acc = [[_mm256_setzero_pd(); 2]; 3];
+    let terms = k.starts[group] as usize..k.starts[group + 1] as usize;
+    let terms = k.weights[terms.clone()].iter().zip(&k.slots[terms]);
+    // SAFETY (whole body): the caller's bounds; slots are below `points`.
+    unsafe {
+        if low && high {
+            for (w, &s) in terms {
+                let w = [
+                    _mm256_loadu_pd(w.as_ptr()),
+                    _mm256_loadu_pd(w.as_ptr().add(4)),
+                ];
+                let q = src.add(3 * *c.get_unchecked(s as usize) as usize);
+                for (i, acc) in acc.iter_mut().enumerate() {
+                    let x = _mm256_broadcast_sd(&*q.add(i));
+                    acc[0] = _mm256_fmadd_pd(w[0], x, acc[0]);
+                    acc[1] = _mm256_fmadd_pd(w[1], x, acc[1]);
+                }
+            }
+        } else {
+            // Only one half of the rows is written: half the work.
+            let h = usize::from(high);
+            for (w, &s) in terms {
+                let w = _mm256_loadu_pd(w.as_ptr().add(4 * h));
+                let q = src.add(3 * *c.get_unchecked(s as usize) as usize);
+                for (i, acc) in acc.iter_mut().enumerate() {
+                    let x = _mm256_broadcast_sd(&*q.add(i));
+                    acc[h] = _mm256_fmadd_pd(w, x, acc[h]);
+                }
+            }
+        }
+        for (half, rows) in rows.chunks(4).enumerate() {
+            let [x, y, z] = acc.map(|a| a[half]);
+            store_four(x, y, z, rows, out, scratch);
         }
     }
 }
@@ -1404,7 +1503,7 @@ mod tests {
                     }
                 }
                 let kept = part.iter().filter(|&&o| o != NOT_OWNED).count();
-                let mut groups = RingGroups::new(&kernels);
+                let mut groups = RingGroups::new(&kernels, SUBSET_ROWS);
                 groups.push(0, 0, p.ring.verts.clone(), part.clone());
                 let (patches, _) = groups.finish(1);
                 assert_eq!((patches.kernels.len(), patches.len()), (1, 1));
@@ -1524,6 +1623,77 @@ mod tests {
             }
         }
         assert!(patches >= 20, "{patches} ring patches");
+    }
+
+    /// The AVX2 kernel computes two patches at a time: three copies of each ring patch of
+    /// a closed mesh of quads and triangles (depths 2 to 4), each reading its own points
+    /// (moved differently) and writing its own vertices, computed together (a pair, then
+    /// the last alone) give bit for bit what each gives alone, with all its rows owned
+    /// and with every third row owned by another face (groups owned in part, computed one
+    /// patch at a time).
+    #[test]
+    #[cfg(target_arch = "x86_64")]
+    fn avx_pairs_agree() {
+        if !has_avx2_fma() {
+            return;
+        }
+        let options = Options::default();
+        let t = topology(&cube_with_triangles(), &options);
+        let (nv, copies) = (t.num_vertices(), 3);
+        // Copy `i` reads its ring's vertex `v` at `i nv + v`.
+        let base: Vec<[f64; 3]> = (0..copies * nv)
+            .map(|i| {
+                let x = i as f64;
+                [
+                    (0.7 * x).sin() * 3.1,
+                    (1.3 * x).cos() + 0.1 * x,
+                    1.0 / (1.0 + x),
+                ]
+            })
+            .collect();
+        let bits =
+            |v: &[[f64; 3]]| -> Vec<[u64; 3]> { v.iter().map(|p| p.map(f64::to_bits)).collect() };
+        let mut pairs = 0;
+        for p in ring_patches(&t, &options) {
+            let (points, nn, n_out) = (p.kernel.points, p.kernel.rows, p.n_out);
+            let keep: [&dyn Fn(usize) -> bool; 2] = [&|_| true, &|r| r % 3 != 1];
+            for keep in keep {
+                let (mut ctrl, mut grids) = (Vec::new(), Vec::new());
+                for i in 0..copies {
+                    ctrl.extend(p.ring.verts.iter().map(|&v| v + (i * nv) as u32));
+                    grids.extend(p.grid.iter().enumerate().map(|(r, &o)| {
+                        if o == NOT_OWNED || !keep(r) {
+                            NOT_OWNED
+                        } else {
+                            o + (i * n_out) as u32
+                        }
+                    }));
+                }
+                let src = base.as_ptr().cast();
+                let mut together = vec![[f64::NAN; 3]; copies * n_out];
+                let mut alone = together.clone();
+                // SAFETY: every grid index is in bounds of its copy's part of the output,
+                // every ring point of the base; the processor has AVX2 and FMA.
+                unsafe {
+                    ring_patches_avx(&p.kernel, src, &ctrl, &grids, together.as_mut_ptr().cast());
+                    for i in 0..copies {
+                        let (c, g) = (&ctrl[i * points..][..points], &grids[i * nn..][..nn]);
+                        ring_patches_avx(&p.kernel, src, c, g, alone.as_mut_ptr().cast());
+                    }
+                }
+                let (b, a) = (bits(&together), bits(&alone));
+                let differs = (0..a.len()).find(|&i| b[i] != a[i]);
+                let (f, depth) = (p.f, p.depth);
+                assert!(differs.is_none(), "face {f} depth {depth}: {differs:?}");
+                // The copies read different points: their vertices differ.
+                let j = (0..n_out)
+                    .find(|&j| !alone[j][0].is_nan())
+                    .expect("a vertex");
+                assert_ne!(alone[j], alone[n_out + j], "face {f}");
+                pairs += 1;
+            }
+        }
+        assert!(pairs >= 40, "{pairs} pairs");
     }
 
     /// A triangle's vertices: three child quads of `(2ᵈ⁻¹ + 1)²` points sharing their
