@@ -1,7 +1,8 @@
 //! `RefinePlan::apply_into` allocates nothing once its output and scratch buffers have their
 //! sizes (its documented promise, which re-posing every frame relies on): checked with a
 //! counting global allocator, on shapes whose plans have sparse rows, plain patches and
-//! edge patches (boundaries, creases), for positions and for a wider primvar.
+//! edge patches (boundaries, creases), Loop's ring patches and bilinear's face patches,
+//! for positions and for a wider primvar.
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::path::Path;
@@ -53,11 +54,19 @@ fn apply_into_does_not_allocate() {
         .num_threads(1)
         .build()
         .unwrap();
-    for name in ["catmark_pawn", "catmark_quadstrips", "catmark_inf_crease1"] {
+    use subsurf::Scheme;
+    for (name, scheme) in [
+        ("catmark_pawn", Scheme::CatmullClark),
+        ("catmark_quadstrips", Scheme::CatmullClark),
+        ("catmark_inf_crease1", Scheme::CatmullClark),
+        ("loop_pole360", Scheme::Loop),
+        ("loop_cube_creases1", Scheme::Loop),
+        ("catmark_nonquads", Scheme::Bilinear),
+    ] {
         let path = format!("{}/tests/shapes/osd/{name}.obj", env!("CARGO_MANIFEST_DIR"));
         let obj = read_obj(Path::new(&path)).unwrap();
         let options = obj.options.resolve(Options::default());
-        let plan = RefinePlan::new(&obj.mesh, subsurf::Scheme::CatmullClark, options, 4).unwrap();
+        let plan = RefinePlan::new(&obj.mesh, scheme, options, 4).unwrap();
         assert!(plan.num_patches() > 0, "{name}");
         let pos = obj.mesh.positions();
         let wide: Vec<[f64; 5]> = pos.iter().map(|p| [p[0], p[1], p[2], 1.0, 0.5]).collect();

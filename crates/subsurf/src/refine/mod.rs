@@ -101,10 +101,7 @@ impl TopologyRefiner {
     /// Adds one level.
     pub fn refine_one(&mut self) {
         let last = self.levels.last().expect("the base level always exists");
-        let child = match self.steps {
-            Steps::Loop => tri_topology::refine_tri_topology(last, &self.options, true),
-            _ => topology::refine_topology(last, &self.options, true),
-        };
+        let child = self.steps.refine(last, &self.options, true);
         self.levels.push(child);
     }
 

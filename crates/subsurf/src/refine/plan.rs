@@ -91,9 +91,10 @@ use rayon::prelude::*;
 
 use super::loop_::check_triangles;
 use super::nurss::{child_knots, NurssKnots, NurssMasks};
-use super::plan_patches::{Claims, PatchLayer, BASE_RING_DEPTH, QUAD_DEPTH};
+use super::plan_patches::{
+    Claims, PatchLayer, BASE_RING_DEPTH, BILINEAR_DEPTH, LOOP_DEPTH, QUAD_DEPTH,
+};
 use super::topology::{refine_topology, run, split_pieces};
-use super::tri_topology::refine_tri_topology;
 use super::uniform::{check_size, Steps};
 use super::Error;
 use crate::mesh::{
@@ -247,52 +248,9 @@ impl RefinePlan {
         levels: u32,
     ) -> Result<Self, Error> {
         match Steps::of(scheme) {
-            Some(Steps::Family(mixed)) => {
-                Ok(Self::build(mesh, options, levels, BASE_RING_DEPTH, mixed)?)
-            }
-            Some(Steps::Loop) => Ok(Self::build_rows(mesh, options, levels, Loop)?),
-            Some(Steps::Bilinear) => Ok(Self::build_rows(mesh, options, levels, Bilinear)?),
+            Some(steps) => Ok(Self::build(mesh, options, levels, u32::MAX, steps)?),
             None => Ok(super::nurss::plan(mesh, options, levels)?),
         }
-    }
-
-    /// The plan of `levels` levels of `rules` (Loop's on the triangle split, or bilinear's
-    /// on the Catmull-Clark split, with the topology options of
-    /// [`Steps::topology_options`]), as sparse rows on every level: the masks
-    /// `subdivide` applies, with no patch kernels.
-    fn build_rows<R: Rules>(
-        mesh: &PolyMesh,
-        options: Options,
-        levels: u32,
-        rules: R,
-    ) -> Result<Self, MeshError> {
-        let steps_of = if rules.splits_triangles() {
-            check_triangles(mesh)?;
-            Steps::Loop
-        } else {
-            Steps::Bilinear
-        };
-        mesh.validate()?;
-        check_size(mesh, steps_of, levels)?;
-        let options = steps_of.topology_options(&options);
-        let (mut level, warnings) = Topology::from_mesh(mesh, &options)?;
-        let mut steps = Vec::with_capacity(levels as usize);
-        for l in 1..=levels {
-            let child = if rules.splits_triangles() {
-                refine_tri_topology(&level, &options, l < levels)
-            } else {
-                refine_topology(&level, &options, l < levels)
-            };
-            steps.push(Step::build(&level, &child, &options, None, rules));
-            level = child;
-        }
-        Ok(Self {
-            steps,
-            tail: None,
-            num_base: mesh.num_vertices(),
-            levels,
-            warnings,
-        })
     }
 
     /// The plan of NURSS refinement from the complete level `level` (the base level of a
@@ -331,47 +289,42 @@ impl RefinePlan {
         }
     }
 
-    /// [`new`](Self::new) with patches of at most `max_depth` levels (none below 2; past
-    /// [`QUAD_DEPTH`], only on the base mesh's faces that are not quads, when it refines
-    /// [`BASE_RING_DEPTH`] levels), and the adjustable masks on the first levels that
-    /// `mixed` says ([`Mixed::CATMULL_CLARK`]: none).
+    /// [`new`](Self::new) with patches of at most `max_depth` levels (none below 2; see
+    /// [`tail_depth`] for each scheme's), refined with `steps` (the adjustable masks on the
+    /// first levels that a [`Steps::Family`] says; Loop's on the triangle split; bilinear's
+    /// with the topology options of [`Steps::topology_options`]).
     pub(super) fn build(
         mesh: &PolyMesh,
         options: Options,
         levels: u32,
         max_depth: u32,
-        mixed: Mixed,
+        steps: Steps,
     ) -> Result<Self, MeshError> {
+        if steps == Steps::Loop {
+            check_triangles(mesh)?;
+        }
         mesh.validate()?;
-        check_size(mesh, Steps::Family(mixed), levels)?;
+        check_size(mesh, steps, levels)?;
+        let options = steps.topology_options(&options);
         let (mut level, warnings) = Topology::from_mesh(mesh, &options)?;
-        let depth = if levels < 2 || max_depth < 2 {
-            0
-        } else if levels == BASE_RING_DEPTH
-            && max_depth >= BASE_RING_DEPTH
-            && (0..mesh.num_faces()).any(|f| mesh.face(f).len() != 4)
-        {
-            BASE_RING_DEPTH
-        } else {
-            max_depth.min(levels).min(QUAD_DEPTH)
-        };
+        let depth = tail_depth(mesh, steps, levels, max_depth);
         let full = levels - depth;
-        let mut steps = Vec::with_capacity(full as usize);
+        let mut rows = Vec::with_capacity(full as usize);
         for l in 1..=full {
-            let child = refine_topology(&level, &options, l < levels);
-            steps.push(Step::build(&level, &child, &options, None, mixed.step(l)));
+            let child = steps.refine(&level, &options, l < levels);
+            rows.push(Step::of_steps(&level, &child, &options, None, steps, l));
             level = child;
         }
         let tail = (depth > 0).then(|| {
             let mut tops = vec![level];
             for l in full + 1..=levels {
-                let child = refine_topology(&tops[tops.len() - 1], &options, l < levels);
+                let child = steps.refine(&tops[tops.len() - 1], &options, l < levels);
                 tops.push(child);
             }
-            Tail::build(&tops, &options, mixed.after(full))
+            Tail::build(&tops, &options, steps.after(full))
         });
         Ok(Self {
-            steps,
+            steps: rows,
             tail,
             num_base: mesh.num_vertices(),
             levels,
@@ -515,18 +468,43 @@ impl RefinePlan {
     }
 }
 
+/// Levels of the tail of a plan of `levels` levels of `mesh` refined with `steps`, its
+/// patches of at most `max_depth` levels (0: sparse rows only; never 1):
+/// - the Catmull-Clark family: [`BASE_RING_DEPTH`] when the plan refines exactly that many
+///   levels of a mesh with faces that are not quads, else at most [`QUAD_DEPTH`];
+/// - Loop: at most [`LOOP_DEPTH`] (ring patches of triangles, `refine/plan_ring.rs`);
+/// - bilinear: at most [`BILINEAR_DEPTH`] (a matrix per face size on the face's corners).
+fn tail_depth(mesh: &PolyMesh, steps: Steps, levels: u32, max_depth: u32) -> u32 {
+    if levels < 2 || max_depth < 2 {
+        return 0;
+    }
+    let most = match steps {
+        Steps::Family(_)
+            if levels == BASE_RING_DEPTH
+                && max_depth >= BASE_RING_DEPTH
+                && (0..mesh.num_faces()).any(|f| mesh.face(f).len() != 4) =>
+        {
+            BASE_RING_DEPTH
+        }
+        Steps::Family(_) => QUAD_DEPTH,
+        Steps::Loop => LOOP_DEPTH,
+        Steps::Bilinear => BILINEAR_DEPTH,
+    };
+    most.min(max_depth).min(levels)
+}
+
 impl Tail {
     /// The tail that refines `tops[0]` to `tops[d]` (`d = tops.len() − 1 ≥ 2`), `tops`
-    /// being consecutive levels, step `s` (from 1) with the masks of `mixed.step(s)`.
-    fn build(tops: &[Topology], options: &Options, mixed: Mixed) -> Tail {
+    /// being consecutive levels, step `s` (from 1) with the masks of step `s` of `steps`.
+    fn build(tops: &[Topology], options: &Options, steps: Steps) -> Tail {
         let d = tops.len() - 1;
         let mut claims = Claims::new(tops[d].num_vertices());
         let mut layers: Vec<PatchLayer> = (2..=d)
             .rev()
             .map(|depth| {
                 let start = d - depth;
-                let mixed = mixed.after(start as u32);
-                PatchLayer::build(&tops[start..d], start, &mut claims, options, mixed)
+                let steps = steps.after(start as u32);
+                PatchLayer::build(&tops[start..d], start, &mut claims, options, steps)
             })
             .collect();
         // From the last level down: the rows that are needed, and the vertices they read.
@@ -535,7 +513,7 @@ impl Tail {
         let mut subsets = Vec::with_capacity(d);
         for s in (1..=d).rev() {
             let (p, c) = (&tops[s - 1], &tops[s]);
-            let mut step = Step::build(p, c, options, Some(&rows), mixed.step(s as u32));
+            let mut step = Step::of_steps(p, c, options, Some(&rows), steps, s as u32);
             if s > 1 {
                 let mut used = vec![false; p.num_vertices()];
                 for &col in &step.cols {
@@ -704,6 +682,22 @@ impl Step {
     fn remap_cols(&mut self, map: &[u32]) {
         for c in &mut self.cols {
             *c = map[*c as usize];
+        }
+    }
+
+    /// [`Step::build`] with the masks of step `s` (from 1) of `steps`.
+    fn of_steps(
+        p: &Topology,
+        c: &Topology,
+        options: &Options,
+        only: Option<&[u32]>,
+        steps: Steps,
+        s: u32,
+    ) -> Step {
+        match steps {
+            Steps::Family(mixed) => Step::build(p, c, options, only, mixed.step(s)),
+            Steps::Loop => Step::build(p, c, options, only, Loop),
+            Steps::Bilinear => Step::build(p, c, options, only, Bilinear),
         }
     }
 
@@ -1117,7 +1111,10 @@ fn vertex_stencil<R: Rules>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::mesh::BoundaryInterpolation;
+    use crate::mesh::{BoundaryInterpolation, Corner, Crease, CreaseMethod};
+
+    /// Catmull-Clark's steps.
+    const CC: Steps = Steps::Family(Mixed::CATMULL_CLARK);
 
     /// `a + b` as a double-double (Knuth's two-sum).
     fn two_sum(a: f64, b: f64) -> (f64, f64) {
@@ -1171,8 +1168,7 @@ mod tests {
         let (obj, options) = shape("catmark_pole360");
         for levels in 1..=3 {
             // Sparse rows only (patches are not near the pole; see `patches_match_rows`).
-            let plan =
-                RefinePlan::build(&obj.mesh, options, levels, 0, Mixed::CATMULL_CLARK).unwrap();
+            let plan = RefinePlan::build(&obj.mesh, options, levels, 0, CC).unwrap();
             let exact = apply_dd(&plan, obj.mesh.positions());
             let got = plan.apply(obj.mesh.positions());
             let opts = crate::SubdivideOptions {
@@ -1217,16 +1213,28 @@ mod tests {
     /// the numbers of patches with phantom points (edge patches) and of ring patches over
     /// all of them.
     fn check_mesh_patches(mesh: &PolyMesh, options: Options, name: &str) -> (usize, usize) {
+        check_steps_patches(mesh, options, CC, 4, name)
+    }
+
+    /// [`check_mesh_patches`] with `steps`, to levels 2..=`max_level`, with patches of
+    /// at most every depth from 2 to the deepest of any scheme ([`tail_depth`]).
+    fn check_steps_patches(
+        mesh: &PolyMesh,
+        options: Options,
+        steps: Steps,
+        max_level: u32,
+        name: &str,
+    ) -> (usize, usize) {
         let pos = mesh.positions();
         let (lo, hi) = mesh.bounding_box().unwrap();
         let size = (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f64>().sqrt();
         let (mut edge_patches, mut ring_patches) = (0, 0);
-        for levels in 2..=4 {
-            let rows = RefinePlan::build(mesh, options, levels, 0, Mixed::CATMULL_CLARK).unwrap();
+        let deepest = BASE_RING_DEPTH.max(LOOP_DEPTH).max(BILINEAR_DEPTH);
+        for levels in 2..=max_level {
+            let rows = RefinePlan::build(mesh, options, levels, 0, steps).unwrap();
             let want = rows.apply(pos);
-            for depth in 2..=BASE_RING_DEPTH {
-                let plan =
-                    RefinePlan::build(mesh, options, levels, depth, Mixed::CATMULL_CLARK).unwrap();
+            for depth in 2..=deepest {
+                let plan = RefinePlan::build(mesh, options, levels, depth, steps).unwrap();
                 // (A face is a patch once its corners are smooth or regular: on every
                 // level of a mesh without sharp features.)
                 assert!(
@@ -1529,8 +1537,7 @@ mod tests {
     #[test]
     fn classes_are_shared() {
         let (obj, _) = shape("catmark_torus");
-        let plan =
-            RefinePlan::build(&obj.mesh, Options::default(), 3, 0, Mixed::CATMULL_CLARK).unwrap();
+        let plan = RefinePlan::build(&obj.mesh, Options::default(), 3, 0, CC).unwrap();
         let last = plan.steps.last().unwrap();
         // Regular quads: face points, smooth edge points and valence-4 vertex points.
         assert_eq!(last.class_offsets.len() - 1, 3);
@@ -1538,5 +1545,242 @@ mod tests {
             plan.num_weights(),
             plan.steps.iter().map(|s| s.cols.len()).sum::<usize>()
         );
+    }
+
+    /// The triangles of `catmark_bishop` (each face split into a fan from its corner 0):
+    /// corners of valence 3 to 12, and the two poles of valence 20.
+    fn bishop_triangles() -> PolyMesh {
+        let (obj, _) = shape("catmark_bishop");
+        let mesh = &obj.mesh;
+        let mut tris: Vec<[u32; 3]> = Vec::new();
+        for f in 0..mesh.num_faces() {
+            let v = mesh.face(f);
+            for k in 1..v.len() - 1 {
+                tris.push([v[0], v[k], v[k + 1]]);
+            }
+        }
+        PolyMesh::from_faces(mesh.positions().to_vec(), &tris).unwrap()
+    }
+
+    /// A closed torus of `n × m` squares, each cut into two triangles along the same
+    /// diagonal: every vertex has valence 6.
+    fn regular_tri_torus(n: u32, m: u32) -> PolyMesh {
+        let id = |i: u32, j: u32| (i % n) * m + j % m;
+        let mut pos = Vec::new();
+        for i in 0..n {
+            for j in 0..m {
+                let (u, v) = (
+                    std::f64::consts::TAU * f64::from(i) / f64::from(n),
+                    std::f64::consts::TAU * f64::from(j) / f64::from(m),
+                );
+                let r = 1.0 + 0.4 * v.cos();
+                pos.push([r * u.cos(), r * u.sin(), 0.4 * v.sin()]);
+            }
+        }
+        let mut faces = Vec::new();
+        for i in 0..n {
+            for j in 0..m {
+                let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
+                faces.extend([[a, b, c], [a, c, d]]);
+            }
+        }
+        PolyMesh::from_faces(pos, &faces).unwrap()
+    }
+
+    /// `mesh` with pseudo-random tags (a linear congruential sequence from `seed`): about
+    /// a third of its edges semi-sharp (0.23 to 3.9, some at whole values, where the
+    /// rules change at the last step) or infinitely sharp, three semi-sharp or
+    /// infinitely sharp corners, and two holes.
+    fn with_random_tags(mut mesh: PolyMesh, seed: u64) -> PolyMesh {
+        let mut state = seed;
+        let mut next = move || {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (state >> 33) as u32
+        };
+        const SHARPNESS: [f32; 10] = [0.23, 0.557, 0.99, 1.0, 1.5, 2.0001, 2.891, 3.0, 3.9, 10.0];
+        let mut edges: Vec<[u32; 2]> = mesh
+            .faces()
+            .flat_map(|f| (0..f.len()).map(move |k| [f[k], f[(k + 1) % f.len()]]))
+            .map(|[a, b]| [a.min(b), a.max(b)])
+            .collect();
+        edges.sort_unstable();
+        edges.dedup();
+        for [v0, v1] in edges {
+            if next() % 3 == 0 {
+                let sharpness = SHARPNESS[next() as usize % SHARPNESS.len()];
+                mesh.tags.creases.push(Crease { v0, v1, sharpness });
+            }
+        }
+        let (nv, nf) = (mesh.num_vertices() as u32, mesh.num_faces() as u32);
+        for sharpness in [0.7, 2.5, 10.0] {
+            let vertex = next() % nv;
+            mesh.tags.corners.push(Corner { vertex, sharpness });
+        }
+        mesh.tags.holes = vec![next() % nf, next() % nf];
+        mesh
+    }
+
+    /// Ring patches of Loop's triangles compute the vertices of the sparse rows, to
+    /// rounding, at every depth, on every Loop regression shape: corners of valence 3
+    /// (`loop_tetrahedron`) to 8 (`loop_pole8`), boundaries in each mode
+    /// (`loop_triangle_edge*`, the saddles), infinitely sharp and semi-sharp creases and
+    /// corners (with Chaikin's rule in `loop_chaikin*`), non-manifold edges and vertices
+    /// (their faces left to the rows) and a pole of valence 360 (beyond `MAX_VALENCE`:
+    /// rows).
+    #[test]
+    fn loop_ring_patches_match_rows() {
+        for name in [
+            "loop_chaikin0",
+            "loop_chaikin1",
+            "loop_cube",
+            "loop_cube_asymmetric",
+            "loop_cube_creases0",
+            "loop_cube_creases1",
+            "loop_cubes_infsharp",
+            "loop_fvar_bound0",
+            "loop_icos_infsharp",
+            "loop_icosahedron",
+            "loop_nonman_edge100",
+            "loop_nonman_edges",
+            "loop_nonman_verts",
+            "loop_pole360",
+            "loop_pole8",
+            "loop_saddle_edgecorner",
+            "loop_saddle_edgeonly",
+            "loop_tetrahedron",
+            "loop_triangle_edgecorner",
+            "loop_triangle_edgenone",
+            "loop_triangle_edgeonly",
+            "loop_val2_interior",
+            "loop_xord_boundary",
+        ] {
+            let (obj, options) = shape(name);
+            let levels = if name == "loop_pole360" { 3 } else { 4 };
+            let (_, rings) = check_steps_patches(&obj.mesh, options, Steps::Loop, levels, name);
+            assert!(rings > 0, "{name}: no ring patches");
+        }
+    }
+
+    /// Loop ring patches whose corners and the edges at them carry random sharpness
+    /// (part of the key), with holes, in each boundary mode, with uniform decay and with
+    /// Chaikin's rule (semi-sharp edges at a corner then leave the face to the rows):
+    /// the vertices of the sparse rows, on a closed mesh (`loop_icosahedron` refined
+    /// once, so that the tags fall on corners of valence 5 and 6) and an open one (the
+    /// all-triangle bishop below a cut).
+    #[test]
+    fn loop_ring_patches_with_random_tags() {
+        let (ico, _) = shape("loop_icosahedron");
+        let ico = crate::subdivide(
+            &ico.mesh,
+            &crate::SubdivideOptions {
+                levels: 1,
+                scheme: Scheme::Loop,
+                ..Default::default()
+            },
+        )
+        .unwrap()
+        .mesh;
+        let bishop = bishop_triangles();
+        let pos = bishop.positions();
+        let below: Vec<Vec<u32>> = (bishop.faces())
+            .filter(|f| f.iter().map(|&v| pos[v as usize][2]).sum::<f64>() < 3.0 * 0.6)
+            .map(<[u32]>::to_vec)
+            .collect();
+        let open = PolyMesh::from_faces(pos.to_vec(), &below).unwrap();
+        for (name, mesh, seed) in [("icosahedron", ico, 7), ("open bishop", open, 11)] {
+            let mesh = with_random_tags(mesh, seed);
+            for boundary in [
+                BoundaryInterpolation::EdgeOnly,
+                BoundaryInterpolation::EdgeAndCorner,
+                BoundaryInterpolation::None,
+            ] {
+                for crease_method in [CreaseMethod::Uniform, CreaseMethod::Chaikin] {
+                    let options = Options {
+                        boundary,
+                        crease_method,
+                        ..Options::default()
+                    };
+                    let what = format!("{name} {boundary:?} {crease_method:?}");
+                    let (_, rings) = check_steps_patches(&mesh, options, Steps::Loop, 3, &what);
+                    assert!(rings > 0, "{what}: no ring patches");
+                }
+            }
+        }
+    }
+
+    /// A regular all-triangle torus (every vertex of valence 6) is covered by Loop ring
+    /// patches of one ring shape: every face of the level `LOOP_DEPTH` above the output
+    /// is a patch, no vertex is left to the rows, and the plan stores no weight when it
+    /// refines at most `LOOP_DEPTH` levels; the all-triangle bishop (corners of valence 3
+    /// to 12, two poles of valence 20 whose faces are rows on every level) leaves few.
+    #[test]
+    fn loop_kernels_cover_triangle_meshes() {
+        let torus = regular_tri_torus(12, 8);
+        let faces = torus.num_faces();
+        for levels in 2..=LOOP_DEPTH + 1 {
+            let plan = RefinePlan::new(&torus, Scheme::Loop, Options::default(), levels).unwrap();
+            let tail = plan.tail.as_ref().unwrap();
+            let depth = levels.min(LOOP_DEPTH);
+            assert!(tail.out_rows.is_empty(), "level {levels}");
+            assert_eq!(tail.layers.len(), depth as usize - 1);
+            assert_eq!(plan.num_patches(), faces << (2 * (levels - depth)));
+            let first = &tail.layers[0];
+            assert_eq!((first.depth(), first.len()), (depth, plan.num_patches()));
+            if levels <= LOOP_DEPTH {
+                assert_eq!(plan.num_weights(), 0, "level {levels}");
+            }
+        }
+        // Measured: 6.4 %, 1.0 %, 0.26 %, 0.065 % of the output at levels 2 to 5 (the
+        // faces at the poles and their children, and at level 2 the triangles whose
+        // ring is shared by fewer than `MIN_RING_FACES`), where every vertex was a row
+        // before Loop's ring patches.
+        let bishop = bishop_triangles();
+        for (levels, bound) in [(2, 0.08), (3, 0.015), (4, 0.004), (5, 0.001)] {
+            let plan = RefinePlan::new(&bishop, Scheme::Loop, Options::default(), levels).unwrap();
+            let tail = plan.tail.as_ref().unwrap();
+            let rows = tail.out_rows.len() as f64 / tail.num_out as f64;
+            assert!(
+                rows < bound,
+                "level {levels}: {rows} of the output in sparse rows"
+            );
+        }
+    }
+
+    /// Bilinear plans compute every vertex on a face from its corners by one matrix per
+    /// face size: the same vertices as the sparse rows, to rounding, on quads, triangles
+    /// and n-gons, at boundaries in each mode, creases, holes and non-manifold edges and
+    /// vertices (which do not change bilinear points), every vertex on a face written by
+    /// a patch.
+    #[test]
+    fn bilinear_face_patches_match_rows() {
+        for name in [
+            "bilinear_cube",
+            "bilinear_nonquads0",
+            "bilinear_nonquads1",
+            "catmark_nonquads",
+            "catmark_hole_test3",
+            "catmark_nonman_edges",
+            "catmark_nonman_verts",
+            "catmark_nonman_quadpole64",
+            "catmark_edgenone",
+            "catmark_cube_creases1",
+            "catmark_val2_foldover",
+        ] {
+            let (obj, options) = shape(name);
+            let (_, rings) = check_steps_patches(&obj.mesh, options, Steps::Bilinear, 4, name);
+            assert!(rings > 0, "{name}: no patches");
+            for levels in 2..=BILINEAR_DEPTH {
+                let plan = RefinePlan::new(&obj.mesh, Scheme::Bilinear, options, levels).unwrap();
+                let tail = plan.tail.as_ref().unwrap();
+                // Faces whose size has fewer than `MIN_RING_FACES` faces are rows.
+                let sizes = |n: usize| obj.mesh.faces().filter(|f| f.len() == n).count();
+                if obj.mesh.faces().all(|f| sizes(f.len()) >= 4) {
+                    assert!(tail.out_rows.is_empty(), "{name} level {levels}");
+                    assert_eq!(plan.num_weights(), 0, "{name} level {levels}");
+                }
+            }
+        }
     }
 }

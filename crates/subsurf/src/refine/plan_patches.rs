@@ -99,7 +99,10 @@ use std::ops::Range;
 use rayon::prelude::*;
 
 use super::patch::{refinement_patch_cells, Cell, Sharp};
-use super::plan_ring::{descendants, ring_net, Kernel, RingGroups, RingNet, RingPatches};
+use super::plan_ring::{
+    descendants, face_net, ring_net, subset_rows, Kernel, RingGroups, RingNet, RingPatches,
+};
+use super::uniform::Steps;
 #[cfg(target_arch = "x86_64")]
 use crate::cpu::{has_avx2_fma, has_avx512f};
 use crate::mesh::{CreaseMethod, Options, Topology};
@@ -170,11 +173,18 @@ pub(super) const QUAD_DEPTH: u32 = 3;
 /// half of the quads regular, at 8 multiply-adds per vertex in the bicubic kernel.
 pub(super) const BASE_RING_DEPTH: u32 = 4;
 
+/// Deepest ring patches of Loop's triangles (`refine/plan_ring.rs`).
+pub(super) const LOOP_DEPTH: u32 = 4;
+
+/// Deepest patches of bilinear faces (a matrix per face size on its corners, [`face_net`]).
+pub(super) const BILINEAR_DEPTH: u32 = 4;
+
 /// All patches of one depth, on one level.
 #[derive(Clone, Debug)]
 pub(super) struct PatchLayer {
     /// Levels refined within each patch (2 or 3; [`BASE_RING_DEPTH`] for a layer of ring
-    /// patches on the base mesh's faces that are not quads).
+    /// patches on the base mesh's faces that are not quads; up to [`LOOP_DEPTH`] and
+    /// [`BILINEAR_DEPTH`] for Loop's and bilinear's, ring patches only).
     depth: u32,
     /// Which level's values the control indices refer to (see [`RefinePlan`]'s tail):
     /// 0 for the fully computed level, `s ≥ 1` for the `s`-th subset level.
@@ -411,16 +421,18 @@ fn cell_verts(c: &Cell) -> &[u32] {
     &c.verts[..c.len]
 }
 
-/// The faces of `levels[0]` that can be patches of depth `levels.len()` (past
-/// [`QUAD_DEPTH`], only those that are not quads) and would write an output vertex not
-/// yet in `claims`: each with its net, and its grid of output vertices (regular and edge
-/// patches) or its `descendants` (ring patches, whose grids come once the matrix of their
-/// key says which vertices repeat). Not the faces whose every vertex a deeper layer
-/// claimed (at level 4 of a triangle mesh, every quad of level 1).
+/// The faces of `levels[0]` that can be patches of depth `levels.len()` refined with
+/// `steps` and would write an output vertex not yet in `claims`: each with its net, and
+/// its grid of output vertices (regular and edge patches) or its `descendants` (ring
+/// patches, whose grids come once the matrix of their key says which vertices repeat).
+/// Not the faces whose every vertex a deeper layer claimed (at level 4 of a triangle
+/// mesh, every quad of level 1). Which faces are patches ([`face_patch`]) depends on the
+/// scheme.
 fn find_patches(
     levels: &[Topology],
     claims: &Claims,
     crease_method: CreaseMethod,
+    steps: Steps,
 ) -> Vec<(u32, Net, Vec<u32>)> {
     let depth = levels.len() as u32;
     let sharp = Sharp::for_levels(depth, crease_method);
@@ -431,14 +443,11 @@ fn find_patches(
         .into_par_iter()
         .with_min_len(RUN)
         .filter_map(|f| {
-            if depth > QUAD_DEPTH && t.face_vertices(f).len() == 4 {
-                return None;
-            }
-            let net = patch_controls(t, f, sharp, chaikin)?;
+            let net = face_patch(t, f, depth, steps, sharp, chaikin)?;
             let verts = match &net {
                 Net::Ring(ring) => {
                     let mut walk = Vec::new();
-                    descendants(levels, f, ring.start, &mut walk)?;
+                    descendants(steps, levels, f, ring.start, &mut walk)?;
                     walk
                 }
                 _ => grid_indices(levels, f)?,
@@ -447,6 +456,29 @@ fn find_patches(
             open.then_some((f as u32, net, verts))
         })
         .collect()
+}
+
+/// The net of face `f` of `t` if it can be a patch of depth `depth` refined with `steps`:
+/// - the Catmull-Clark family: a regular or edge patch, or else a ring patch
+///   ([`patch_controls`]); past [`QUAD_DEPTH`], only faces that are not quads;
+/// - Loop: a ring patch of the triangle (`refine/plan_ring.rs`): its 1-ring plays the part
+///   it plays for Catmull-Clark, the masks of Loop's triangle split reading no further;
+/// - bilinear: every face, its "ring" its corners alone ([`face_net`]): bilinear points
+///   are averages of the face's own corners at every level.
+fn face_patch(
+    t: &Topology,
+    f: usize,
+    depth: u32,
+    steps: Steps,
+    sharp: Sharp,
+    chaikin: bool,
+) -> Option<Net> {
+    match steps {
+        Steps::Family(_) if depth > QUAD_DEPTH && t.face_vertices(f).len() == 4 => None,
+        Steps::Family(_) => patch_controls(t, f, sharp, chaikin),
+        Steps::Loop => ring_net(t, f, chaikin).map(Net::Ring),
+        Steps::Bilinear => face_net(t, f).map(Net::Ring),
+    }
 }
 
 /// The patches `found` with their grids and (ring patches) the index of their key, and
@@ -459,7 +491,7 @@ fn with_ring_grids(
     found: Vec<(u32, Net, Vec<u32>)>,
     depth: u32,
     options: &Options,
-    mixed: Mixed,
+    steps: Steps,
 ) -> (Vec<(u32, Net, Vec<u32>, usize)>, Vec<Option<Kernel>>) {
     let mut keys: Vec<&[u32]> = (found.iter())
         .filter_map(|(_, net, _)| match net {
@@ -471,7 +503,7 @@ fn with_ring_grids(
     let counts: Vec<usize> = keys.chunk_by(|a, b| a == b).map(<[_]>::len).collect();
     keys.dedup();
     let kernels: Vec<Option<Kernel>> = (keys.par_iter().zip(counts))
-        .map(|(key, n)| (n >= MIN_RING_FACES).then(|| Kernel::new(key, depth, options, mixed))?)
+        .map(|(key, n)| (n >= MIN_RING_FACES).then(|| Kernel::new(key, depth, options, steps))?)
         .collect();
     let ring_grids: Vec<Option<(usize, Vec<u32>)>> = (found.par_iter())
         .with_min_len(RUN)
@@ -509,18 +541,20 @@ struct ClaimedPatches {
 /// Claims, in face order, the output vertices of the patches `found` that no earlier
 /// patch (or deeper layer) claimed (the others' grid entries become [`NOT_OWNED`]), and
 /// sorts the patches that claim at least one by kind; `kernels` are the ring keys'
-/// matrices, `runs` the number of runs of faces.
+/// matrices, `runs` the number of runs of faces, `subset_rows` says which ring patches
+/// are packed ([`RingGroups`]).
 fn claim_patches(
     found: Vec<(u32, Net, Vec<u32>, usize)>,
     claims: &mut Claims,
     kernels: &[Option<Kernel>],
     runs: usize,
+    subset_rows: usize,
 ) -> ClaimedPatches {
     let mut ctrl = Vec::with_capacity(found.len());
     let mut out = Vec::with_capacity(found.iter().map(|(_, _, g, _)| g.len()).sum());
     let (mut edge_nets, mut edge_out) = (Vec::new(), Vec::new());
     let (mut ctrl_run, mut edge_run) = (Vec::new(), Vec::new());
-    let mut ring_groups = RingGroups::new(kernels);
+    let mut ring_groups = RingGroups::new(kernels, subset_rows);
     for (f, net, mut grid, key) in found {
         let run = f / RUN as u32;
         let mut any = false;
@@ -563,22 +597,21 @@ fn claim_patches(
 
 impl PatchLayer {
     /// The patches of depth `levels.len()` on the faces of `levels[0]` (refined with
-    /// `options`, step `s` from `levels[0]` with the masks of `mixed.step(s)`): every face
-    /// that can be one and writes at least one output vertex not yet in `claims` (which
-    /// it then claims). Past [`QUAD_DEPTH`], only the faces that are not quads
-    /// ([`BASE_RING_DEPTH`]).
+    /// `options`, step `s` from `levels[0]` with the masks of step `s` of `steps`): every
+    /// face that can be one ([`face_patch`]) and writes at least one output vertex not yet
+    /// in `claims` (which it then claims).
     pub(super) fn build(
         levels: &[Topology],
         source: usize,
         claims: &mut Claims,
         options: &Options,
-        mixed: Mixed,
+        steps: Steps,
     ) -> Self {
         let depth = levels.len() as u32;
         let runs = levels[0].num_faces().div_ceil(RUN);
-        let found = find_patches(levels, claims, options.crease_method);
-        let (found, kernels) = with_ring_grids(found, depth, options, mixed);
-        let sorted = claim_patches(found, claims, &kernels, runs);
+        let found = find_patches(levels, claims, options.crease_method, steps);
+        let (found, kernels) = with_ring_grids(found, depth, options, steps);
+        let sorted = claim_patches(found, claims, &kernels, runs, subset_rows(steps));
         let mut layer = PatchLayer {
             depth,
             source,
@@ -591,7 +624,11 @@ impl PatchLayer {
             edge_out: sorted.edge_out,
             edge_runs: Runs::new(&sorted.edge_run, runs),
             rings: sorted.rings,
-            w: weights(depth, mixed),
+            // The bicubic kernel's, for the regular patches of the Catmull-Clark family.
+            w: match steps {
+                Steps::Family(mixed) if depth <= QUAD_DEPTH => weights(depth, mixed),
+                _ => Vec::new(),
+            },
             bounds: [0, 0],
         };
         layer.set_bounds();
@@ -664,12 +701,14 @@ impl PatchLayer {
         // Every index the kernels use is in bounds (they do not check each one).
         assert!(self.bounds[0] <= src.len() && self.bounds[1] <= out.len());
         let dst = SharedOut(out.as_mut_ptr());
+        let rings_only = self.ctrl.is_empty() && self.edge_nets.is_empty();
         match self.depth {
+            // Ring patches only: every layer of Loop and bilinear, and a Catmull-Clark
+            // layer past `QUAD_DEPTH` (`face_patch`).
+            _ if rings_only => self.run(src, &dst, |_| {}),
             2 => self.run(src, &dst, |r| self.plain_and_edge::<5, 25, D>(r, src, &dst)),
             3 => self.run(src, &dst, |r| self.plain_and_edge::<9, 81, D>(r, src, &dst)),
-            // Ring patches only (`build`).
-            BASE_RING_DEPTH => self.run(src, &dst, |_| {}),
-            d => unreachable!("patch depth {d}"),
+            d => unreachable!("regular patches of depth {d}"),
         }
     }
 

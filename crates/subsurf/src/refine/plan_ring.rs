@@ -81,11 +81,11 @@
 //! [`refine_topology`]: super::topology::refine_topology
 
 use crate::mesh::{Corner, Crease, Options, PolyMesh, Topology};
-use crate::scheme::adjustable::Mixed;
 
 use super::plan::RefinePlan;
 use super::plan_patches::{grid_indices, prefetch_next, ring_span, Runs, SharedOut, NOT_OWNED};
-use super::topology::{refine_topology, rot};
+use super::topology::rot;
+use super::uniform::Steps;
 #[cfg(target_arch = "x86_64")]
 use crate::cpu::{has_avx2_fma, has_avx512f};
 use std::collections::HashMap;
@@ -111,6 +111,47 @@ pub(super) struct RingNet {
     pub(super) verts: Vec<u32>,
     /// The mesh faces of the ring, in the key's order.
     faces: Vec<u32>,
+}
+
+impl RingNet {
+    /// A ring of face `f` read from its corner `start`, with no face listed yet.
+    fn new(f: usize, start: usize) -> Self {
+        RingNet {
+            key: Vec::new(),
+            start,
+            verts: Vec::new(),
+            faces: vec![f as u32],
+        }
+    }
+
+    /// Appends a face to the key: its size, then its points, numbered in order of first
+    /// appearance.
+    fn push(&mut self, face: impl ExactSizeIterator<Item = u32>) {
+        self.key.push(face.len() as u32);
+        for v in face {
+            let p = self.verts.iter().position(|&x| x == v).unwrap_or_else(|| {
+                self.verts.push(v);
+                self.verts.len() - 1
+            });
+            self.key.push(p as u32);
+        }
+    }
+}
+
+/// The "ring" of face `f` of `t` under bilinear subdivision: the face alone, on its
+/// corners, read from corner 0 (`None` past [`MAX_POINTS`] corners). Bilinear face,
+/// edge and vertex points are the centroid, the midpoint and the vertex itself whatever
+/// the rule (smooth, crease, corner, boundary, non-manifold: `scheme::bilinear`), so every
+/// vertex that any number of levels put on a face is a fixed combination of its corners:
+/// one matrix per face size, whatever the mesh around it.
+pub(super) fn face_net(t: &Topology, f: usize) -> Option<RingNet> {
+    let fv = t.face_vertices(f);
+    if fv.len() > MAX_POINTS {
+        return None;
+    }
+    let mut ring = RingNet::new(f, 0);
+    ring.push(fv.iter().copied());
+    Some(ring)
 }
 
 /// Whether vertex `v` of `t` can be a corner of a ring patch (module docs): manifold, of
@@ -177,24 +218,8 @@ pub(super) fn ring_net(t: &Topology, f: usize, chaikin: bool) -> Option<RingNet>
 fn read_ring(t: &Topology, f: usize, start: usize) -> Option<RingNet> {
     let fv = t.face_vertices(f);
     let n = fv.len();
-    let mut ring = RingNet {
-        key: Vec::new(),
-        start,
-        verts: Vec::new(),
-        faces: vec![f as u32],
-    };
-    // Appends a face (its size, then its points, numbered in order of first appearance).
-    fn push(ring: &mut RingNet, face: impl ExactSizeIterator<Item = u32>) {
-        ring.key.push(face.len() as u32);
-        for v in face {
-            let p = ring.verts.iter().position(|&x| x == v).unwrap_or_else(|| {
-                ring.verts.push(v);
-                ring.verts.len() - 1
-            });
-            ring.key.push(p as u32);
-        }
-    }
-    push(&mut ring, (0..n).map(|j| fv[(start + j) % n]));
+    let mut ring = RingNet::new(f, start);
+    ring.push((0..n).map(|j| fv[(start + j) % n]));
     for j in 0..n {
         let k = (start + j) % n;
         let v = fv[k] as usize;
@@ -209,7 +234,7 @@ fn read_ring(t: &Topology, f: usize, start: usize) -> Option<RingNet> {
             ring.faces.push(g);
             let gv = t.face_vertices(g as usize);
             let l = locals[(i0 + s) % m] as usize;
-            push(&mut ring, (0..gv.len()).map(|q| gv[(l + q) % gv.len()]));
+            ring.push((0..gv.len()).map(|q| gv[(l + q) % gv.len()]));
         }
         if ring.verts.len() > MAX_POINTS {
             return None;
@@ -295,16 +320,28 @@ fn template(key: &[u32]) -> Option<PolyMesh> {
     Some(mesh)
 }
 
-/// Appends to `out` the vertices that `levels.len()` levels put on the closed face `f`
-/// of `levels[0]`, numbered in the level below the last of `levels`, walking from corner
-/// `start` (module docs), with repetitions; `None` if a child face is not where the
-/// numbering says.
+/// Appends to `out` the vertices that `levels.len()` levels of `steps` put on the closed
+/// face `f` of `levels[0]`, numbered in the level below the last of `levels`, walking from
+/// corner `start` (module docs), with repetitions; `None` if a child face is not where
+/// the numbering says.
 pub(super) fn descendants(
+    steps: Steps,
     levels: &[Topology],
     f: usize,
     start: usize,
     out: &mut Vec<u32>,
 ) -> Option<()> {
+    match steps {
+        Steps::Loop => tri_descendants(levels, f, start, out),
+        Steps::Family(_) | Steps::Bilinear => quad_descendants(levels, f, start, out),
+    }
+}
+
+/// [`descendants`] under the Catmull-Clark split ([`refine_topology`](super::topology::refine_topology)): child quad `k` of
+/// a face holds the child of its corner `k`, at the quad's corner `rot(n, k)`; the last
+/// level lists, from corner `start`, each corner and the child of the edge after it,
+/// then the face's child.
+fn quad_descendants(levels: &[Topology], f: usize, start: usize, out: &mut Vec<u32>) -> Option<()> {
     let t = &levels[0];
     let fv = t.face_vertices(f);
     let n = fv.len();
@@ -326,9 +363,50 @@ pub(super) fn descendants(
         if cv.len() != 4 || cv[r] != fv[k] {
             return None;
         }
-        descendants(&levels[1..], g, r, out)?;
+        quad_descendants(&levels[1..], g, r, out)?;
     }
     Some(())
+}
+
+/// [`descendants`] under Loop's triangle split
+/// ([`refine_tri_topology`](super::tri_topology::refine_tri_topology); no face children): triangle `f = [v₀ v₁ v₂]` with edge children `Eⱼ` (of edge `vⱼvⱼ₊₁`, vertex
+/// `V + eⱼ`) has the corner children `4f + j = [.., vⱼ at corner j, ..]`, read from
+/// corner `j` as `vⱼ, Eⱼ, Eⱼ₋₁`, and the middle one `4f + 3 = [E₁ E₂ E₀]`, which holds
+/// `Eⱼ` at corner `j + 2`. From corner `s` the walk lists the corner children `s`, `s + 1`,
+/// `s + 2`, each from its corner `j`, then the middle one from `Eₛ`: the same list for
+/// every corner `s` read as corner 0, so the template's face 0 from corner 0 and `f`
+/// from `s` list matching vertices in the same order. The last level lists each corner
+/// and the child of the edge after it.
+fn tri_descendants(levels: &[Topology], f: usize, start: usize, out: &mut Vec<u32>) -> Option<()> {
+    let t = &levels[0];
+    let (fv, fe) = (t.face_vertices(f), t.face_edge_list(f));
+    if fv.len() != 3 {
+        return None;
+    }
+    let nv = t.num_vertices() as u32;
+    if levels.len() == 1 {
+        for j in 0..3 {
+            let k = (start + j) % 3;
+            out.extend([fv[k], nv + fe[k]]);
+        }
+        return Some(());
+    }
+    let child = &levels[1];
+    for j in 0..3 {
+        let k = (start + j) % 3;
+        let g = 4 * f + k;
+        let cv = child.face_vertices(g);
+        if cv.len() != 3 || cv[k] != fv[k] {
+            return None;
+        }
+        tri_descendants(&levels[1..], g, k, out)?;
+    }
+    let (g, r) = (4 * f + 3, (start + 2) % 3);
+    let cv = child.face_vertices(g);
+    if cv.len() != 3 || cv[r] != nv + fe[start] {
+        return None;
+    }
+    tri_descendants(&levels[1..], g, r, out)
 }
 
 /// Rows of a ring matrix computed together: enough independent sums to keep the
@@ -363,21 +441,21 @@ pub(super) struct Kernel {
 
 impl Kernel {
     /// The matrix of ring `key` for `depth` levels, refined with `options`, step `s` with
-    /// the masks of `mixed.step(s)` (module docs). `None` if the template cannot be built
+    /// the split and masks of step `s` of `steps` (module docs). `None` if the template cannot be built
     /// or refined as a mesh of its own (the faces are then left to the sparse rows).
-    pub(super) fn new(key: &[u32], depth: u32, options: &Options, mixed: Mixed) -> Option<Kernel> {
+    pub(super) fn new(key: &[u32], depth: u32, options: &Options, steps: Steps) -> Option<Kernel> {
         let mesh = template(key)?;
         let points = mesh.num_vertices();
-        let plan = RefinePlan::build(&mesh, *options, depth, 0, mixed).ok()?;
+        let plan = RefinePlan::build(&mesh, *options, depth, 0, steps).ok()?;
         let (mut level, _) = Topology::from_mesh(&mesh, options).ok()?;
         let mut levels = Vec::with_capacity(depth as usize);
         for _ in 1..depth {
-            let child = refine_topology(&level, options, true);
+            let child = steps.refine(&level, options, true);
             levels.push(std::mem::replace(&mut level, child));
         }
         levels.push(level);
         let mut walk = Vec::new();
-        descendants(&levels, 0, 0, &mut walk)?;
+        descendants(steps, &levels, 0, 0, &mut walk)?;
         let columns: Vec<Vec<[f64; 1]>> = (0..points)
             .map(|s| {
                 let unit: Vec<[f64; 1]> =
@@ -404,7 +482,7 @@ impl Kernel {
                     .fold(0u64, |m, s| m | 1 << s)
             };
             let mut rows = Vec::new();
-            for class in by_owner(&levels, &walk) {
+            for class in by_owner(steps, &levels, &walk) {
                 rows.extend(greedy_groups(
                     class.into_iter().map(|v| (v, support(v))).collect(),
                 ));
@@ -532,7 +610,7 @@ impl Kernel {
 /// its inside, half of its sides and a sixth of its corners on average: 12 of its 19
 /// vertices at depth 2, where its rows in groups by support alone (owned and not owned
 /// mixed) made it compute nearly all.
-fn by_owner(levels: &[Topology], walk: &[u32]) -> Vec<Vec<u32>> {
+fn by_owner(steps: Steps, levels: &[Topology], walk: &[u32]) -> Vec<Vec<u32>> {
     let t = &levels[0];
     let (fv, fe) = (t.face_vertices(0), t.face_edge_list(0));
     // The vertices of the face across each side (empty without one).
@@ -540,7 +618,7 @@ fn by_owner(levels: &[Topology], walk: &[u32]) -> Vec<Vec<u32>> {
         .map(|&e| {
             let mut d = Vec::new();
             if let Some(&g) = t.edge_face_list(e as usize).iter().find(|&&g| g != 0) {
-                if descendants(levels, g as usize, 0, &mut d).is_none() {
+                if descendants(steps, levels, g as usize, 0, &mut d).is_none() {
                     d.clear();
                 }
             }
@@ -589,16 +667,34 @@ fn greedy_groups(mut left: Vec<(u32, u64)>) -> Vec<Option<u32>> {
     rows
 }
 
-/// Most rows of a kernel whose patches get kernels of the rows they own
+/// Most rows of a Catmull-Clark kernel whose patches get kernels of the rows they own
 /// ([`RingGroups`]): 24 at depth 2 on a triangle. Past that (depth 3 and more), packing
 /// a patch's rows saves a smaller share of its groups, and the more numerous matrices
 /// cost more than that saves (`catmark_bishop_l2_tri` at level 3, 6–10 % slower).
 const SUBSET_ROWS: usize = 4 * LANES;
 
+/// [`SUBSET_ROWS`] for Loop's triangles: their kernels at depth 3 (56 rows: 45 vertices
+/// in fours by owners) too. A triangle there owns 32 of its 45 vertices on average,
+/// which its key's groups spread over about five groups of eight and a kernel of its own
+/// packs into four: on the scan-like torus at level 3, 10–20 % less time and a plan of
+/// 19 MiB instead of 26 (BENCHMARKS.md, "Loop and bilinear"). At depth 4 (160 rows)
+/// packing was slower, as for Catmull-Clark at depth 3.
+const LOOP_SUBSET_ROWS: usize = 8 * LANES;
+
+/// The most rows of a kernel whose patches [`RingGroups`] packs into kernels of the rows
+/// they own, with `steps`.
+pub(super) fn subset_rows(steps: Steps) -> usize {
+    match steps {
+        Steps::Loop => LOOP_SUBSET_ROWS,
+        Steps::Family(_) | Steps::Bilinear => SUBSET_ROWS,
+    }
+}
+
 /// The ring patches of a layer as they are claimed, each with its matrix, until they are
-/// laid out ([`RingGroups::finish`]). A patch whose key's kernel is grouped by owners and has at most [`SUBSET_ROWS`] rows goes to the kernel of
-/// the rows it owns ([`Kernel::subset`]), made once per key and set of rows, its grid
-/// those rows' vertices; the others to their key's kernel.
+/// laid out ([`RingGroups::finish`]). A patch whose key's kernel is grouped by owners and
+/// has at most [`subset_rows`] rows goes to the kernel of the rows it owns
+/// ([`Kernel::subset`]), made once per key and set of rows, its grid those rows'
+/// vertices; the others to their key's kernel.
 ///
 /// On an all-triangle mesh at depth 2 a face owns its inside, the sides it claims and the
 /// corners it claims, 12 of its 24 rows on average, which its key's groups of owners
@@ -607,6 +703,8 @@ const SUBSET_ROWS: usize = 4 * LANES;
 pub(super) struct RingGroups<'a> {
     /// The kernel of each key (`None`: the key's faces are left to the rows).
     kernels: &'a [Option<Kernel>],
+    /// The most rows of a kernel whose patches are packed ([`subset_rows`]).
+    subset_rows: usize,
     /// The matrix of each key and set of owned rows (empty: the key's kernel).
     index: HashMap<(usize, Vec<u16>), usize>,
     /// The matrices.
@@ -628,9 +726,12 @@ struct Claimed {
 }
 
 impl<'a> RingGroups<'a> {
-    pub(super) fn new(kernels: &'a [Option<Kernel>]) -> Self {
+    /// The ring patches of matrices `kernels` (by key), those of at most `subset_rows`
+    /// rows packed.
+    pub(super) fn new(kernels: &'a [Option<Kernel>], subset_rows: usize) -> Self {
         RingGroups {
             kernels,
+            subset_rows,
             index: HashMap::new(),
             matrices: Vec::new(),
             patches: Vec::new(),
@@ -644,7 +745,7 @@ impl<'a> RingGroups<'a> {
         let Some(kernel) = &self.kernels[k] else {
             return;
         };
-        let rows: Vec<u16> = if kernel.by_owner() && kernel.rows <= SUBSET_ROWS {
+        let rows: Vec<u16> = if kernel.by_owner() && kernel.rows <= self.subset_rows {
             (0..grid.len() as u16)
                 .filter(|&r| grid[usize::from(r)] != NOT_OWNED)
                 .collect()
@@ -864,8 +965,24 @@ impl Kernel {
 }
 
 /// [`Kernel::apply`] for positions, with AVX2 and FMA (as the regular patches'
-/// `patches_avx`): the control points split by component, and for each group of
-/// [`LANES`] rows six independent sums (two vectors of rows × three components).
+/// `patches_avx`): two patches at a time, so that each term's two vectors of weights
+/// (a group of [`LANES`] rows) are loaded once for both, and twelve independent sums
+/// (two patches × two vectors of rows × three components) keep the multiply-adds busy;
+/// each broadcasts its ring point's components straight from `src`. Where both patches
+/// own rows of one half of the group only (patches of a matrix of the rows they own,
+/// [`RingGroups`], own the same rows), that half of both. A group whose halves the two
+/// patches own differently, and the last patch of an odd number, are computed one patch
+/// at a time ([`ring_group_avx`]). Each row's sum is the same, in the same
+/// order, as with one patch at a time, and as [`ring_patches_avx512`]'s: bit for bit
+/// (test `vector_kernels_agree`).
+///
+/// Why two patches: one patch's group did six multiply-adds per term on six sums, each
+/// waiting on the previous term's; with the two loads of weights and three broadcasts a
+/// term cost about eight cycles. Two patches at once were 10–25 % faster on Loop's
+/// triangles and no slower on Catmull-Clark's ring patches (BENCHMARKS.md, "Loop and
+/// bilinear"). The ring is no longer copied to the stack by component first (a fifth of
+/// the kernel's samples when it was measured; reading it from `src` was faster at depth
+/// 2 and slower at depth 3 for one patch at a time).
 ///
 /// # Safety
 /// As [`Kernel::apply`], with `src` and `out` pointing at `[f64; 3]` values; the
@@ -881,58 +998,143 @@ unsafe fn ring_patches_avx(
 ) {
     use std::arch::x86_64::*;
     let (points, nn) = (k.points, k.rows);
-    let mut local = [[0.0; MAX_POINTS]; 3];
+    let groups = k.starts.len() - 1;
     let mut scratch = [0.0f64; 3];
-    // SAFETY (whole body): the caller's bounds; slots are below `points ≤ MAX_POINTS`.
+    let pairs = ctrl
+        .chunks_exact(2 * points)
+        .zip(grids.chunks_exact(2 * nn));
+    // SAFETY (whole body): the caller's bounds; slots are below `points`.
     unsafe {
-        for (p, (c, g)) in ctrl
-            .chunks_exact(points)
-            .zip(grids.chunks_exact(nn))
-            .enumerate()
-        {
-            prefetch_next::<3>(grids, p, nn, out);
-            for (s, &v) in c.iter().enumerate() {
-                let q = src.add(3 * v as usize);
-                local[0][s] = *q;
-                local[1][s] = *q.add(1);
-                local[2][s] = *q.add(2);
-            }
-            for (group, rows) in g.chunks(LANES).enumerate() {
-                let (low, high) = (any_owned(&rows[..4]), any_owned(&rows[4..]));
-                if !(low || high) {
-                    continue;
-                }
-                let mut acc = [[_mm256_setzero_pd(); 2]; 3];
+        for (p, (c, g)) in pairs.enumerate() {
+            // The two patches of the next pair.
+            prefetch_next::<3>(grids, 2 * p + 1, nn, out);
+            prefetch_next::<3>(grids, 2 * p + 2, nn, out);
+            let (c0, c1) = c.split_at(points);
+            let (g0, g1) = g.split_at(nn);
+            for group in 0..groups {
+                let rows = LANES * group..LANES * (group + 1);
+                let (r0, r1) = (&g0[rows.clone()], &g1[rows]);
+                let owned = [r0, r1].map(|r| [any_owned(&r[..4]), any_owned(&r[4..])]);
                 let terms = k.starts[group] as usize..k.starts[group + 1] as usize;
                 let terms = k.weights[terms.clone()].iter().zip(&k.slots[terms]);
-                if low && high {
-                    for (w, &s) in terms {
-                        let w = [
-                            _mm256_loadu_pd(w.as_ptr()),
-                            _mm256_loadu_pd(w.as_ptr().add(4)),
-                        ];
-                        for (acc, local) in acc.iter_mut().zip(&local) {
-                            let x = _mm256_broadcast_sd(local.get_unchecked(s as usize));
-                            acc[0] = _mm256_fmadd_pd(w[0], x, acc[0]);
-                            acc[1] = _mm256_fmadd_pd(w[1], x, acc[1]);
-                        }
-                    }
-                } else {
-                    // Only one half of the rows is written: half the work.
-                    let h = usize::from(high);
+                if owned[0] != owned[1] || owned[0] == [false; 2] {
+                    // (Rare: patches of one matrix mostly own the same rows.)
+                    ring_group_avx(k, group, src, c0, r0, out, &mut scratch);
+                    ring_group_avx(k, group, src, c1, r1, out, &mut scratch);
+                    continue;
+                }
+                if owned[0] != [true; 2] {
+                    // Both own rows of the same half only: that half of both.
+                    let h = usize::from(owned[0][1]);
+                    let mut acc = [[_mm256_setzero_pd(); 3]; 2];
                     for (w, &s) in terms {
                         let w = _mm256_loadu_pd(w.as_ptr().add(4 * h));
-                        for (acc, local) in acc.iter_mut().zip(&local) {
-                            let x = _mm256_broadcast_sd(local.get_unchecked(s as usize));
-                            acc[h] = _mm256_fmadd_pd(w, x, acc[h]);
+                        let q =
+                            [c0, c1].map(|c| src.add(3 * *c.get_unchecked(s as usize) as usize));
+                        for i in 0..3 {
+                            for (acc, q) in acc.iter_mut().zip(q) {
+                                let x = _mm256_broadcast_sd(&*q.add(i));
+                                acc[i] = _mm256_fmadd_pd(w, x, acc[i]);
+                            }
+                        }
+                    }
+                    for (acc, r) in acc.iter().zip([r0, r1]) {
+                        let [x, y, z] = *acc;
+                        store_four(x, y, z, &r[4 * h..4 * h + 4], out, &mut scratch);
+                    }
+                    continue;
+                }
+                let mut acc = [[[_mm256_setzero_pd(); 2]; 3]; 2];
+                for (w, &s) in terms {
+                    let w = [
+                        _mm256_loadu_pd(w.as_ptr()),
+                        _mm256_loadu_pd(w.as_ptr().add(4)),
+                    ];
+                    let q = [c0, c1].map(|c| src.add(3 * *c.get_unchecked(s as usize) as usize));
+                    for i in 0..3 {
+                        for (acc, q) in acc.iter_mut().zip(q) {
+                            let x = _mm256_broadcast_sd(&*q.add(i));
+                            acc[i][0] = _mm256_fmadd_pd(w[0], x, acc[i][0]);
+                            acc[i][1] = _mm256_fmadd_pd(w[1], x, acc[i][1]);
                         }
                     }
                 }
-                for (half, rows) in rows.chunks(4).enumerate() {
-                    let [x, y, z] = acc.map(|a| a[half]);
-                    store_four(x, y, z, rows, out, &mut scratch);
+                for (acc, r) in acc.iter().zip([r0, r1]) {
+                    for (half, rows) in r.chunks(4).enumerate() {
+                        let [x, y, z] = acc.map(|a| a[half]);
+                        store_four(x, y, z, rows, out, &mut scratch);
+                    }
                 }
             }
+        }
+        let done = ctrl.len() / (2 * points) * 2;
+        if done * points < ctrl.len() {
+            // (Prefetched with the last pair, if any.)
+            let (c, g) = (&ctrl[done * points..], &grids[done * nn..]);
+            for group in 0..groups {
+                let rows = &g[LANES * group..LANES * (group + 1)];
+                ring_group_avx(k, group, src, c, rows, out, &mut scratch);
+            }
+        }
+    }
+}
+
+/// Group `group` of the patch with ring points `c` and output rows `rows` (its
+/// [`LANES`] rows of the grid), for [`ring_patches_avx`]: nothing if the patch owns none
+/// of them, half the work if it owns rows of one half only.
+///
+/// # Safety
+/// As [`ring_patches_avx`].
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+#[inline]
+unsafe fn ring_group_avx(
+    k: &Kernel,
+    group: usize,
+    src: *const f64,
+    c: &[u32],
+    rows: &[u32],
+    out: *mut f64,
+    scratch: &mut [f64; 3],
+) {
+    use std::arch::x86_64::*;
+    let (low, high) = (any_owned(&rows[..4]), any_owned(&rows[4..]));
+    if !(low || high) {
+        return;
+    }
+    let mut acc = [[_mm256_setzero_pd(); 2]; 3];
+    let terms = k.starts[group] as usize..k.starts[group + 1] as usize;
+    let terms = k.weights[terms.clone()].iter().zip(&k.slots[terms]);
+    // SAFETY (whole body): the caller's bounds; slots are below `points`.
+    unsafe {
+        if low && high {
+            for (w, &s) in terms {
+                let w = [
+                    _mm256_loadu_pd(w.as_ptr()),
+                    _mm256_loadu_pd(w.as_ptr().add(4)),
+                ];
+                let q = src.add(3 * *c.get_unchecked(s as usize) as usize);
+                for (i, acc) in acc.iter_mut().enumerate() {
+                    let x = _mm256_broadcast_sd(&*q.add(i));
+                    acc[0] = _mm256_fmadd_pd(w[0], x, acc[0]);
+                    acc[1] = _mm256_fmadd_pd(w[1], x, acc[1]);
+                }
+            }
+        } else {
+            // Only one half of the rows is written: half the work.
+            let h = usize::from(high);
+            for (w, &s) in terms {
+                let w = _mm256_loadu_pd(w.as_ptr().add(4 * h));
+                let q = src.add(3 * *c.get_unchecked(s as usize) as usize);
+                for (i, acc) in acc.iter_mut().enumerate() {
+                    let x = _mm256_broadcast_sd(&*q.add(i));
+                    acc[h] = _mm256_fmadd_pd(w, x, acc[h]);
+                }
+            }
+        }
+        for (half, rows) in rows.chunks(4).enumerate() {
+            let [x, y, z] = acc.map(|a| a[half]);
+            store_four(x, y, z, rows, out, scratch);
         }
     }
 }
@@ -1082,6 +1284,10 @@ unsafe fn ring_patches_avx512(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scheme::adjustable::Mixed;
+
+    /// Catmull-Clark's steps.
+    const CC: Steps = Steps::Family(Mixed::CATMULL_CLARK);
 
     /// The `n + 5` quads of the 1-ring of a quad with one corner of valence `n` (vertex 0)
     /// and three regular ones: the fan `(0, aᵢ, bᵢ, aᵢ₊₁)` with `aᵢ = 1 + 2i`,
@@ -1179,7 +1385,7 @@ mod tests {
             let t = topology(&faces, &options);
             let ring = ring_net(&t, 0, false).unwrap();
             for depth in [2u32, 3, 4] {
-                let k = Kernel::new(&ring.key, depth, &options, Mixed::CATMULL_CLARK).unwrap();
+                let k = Kernel::new(&ring.key, depth, &options, CC).unwrap();
                 assert_eq!(k.points, 2 * n + 8);
                 let side = (1usize << depth) + 1;
                 assert_eq!(k.rows, (side * side).next_multiple_of(LANES));
@@ -1190,11 +1396,11 @@ mod tests {
                 // The patch's own vertices: vertex 0 keeps its index in every level.
                 let mut levels = vec![t.clone()];
                 for _ in 1..depth {
-                    let child = refine_topology(&levels[levels.len() - 1], &options, true);
+                    let child = CC.refine(&levels[levels.len() - 1], &options, true);
                     levels.push(child);
                 }
                 let mut walk = Vec::new();
-                descendants(&levels, 0, ring.start, &mut walk).unwrap();
+                descendants(CC, &levels, 0, ring.start, &mut walk).unwrap();
                 let grid = k.grid(&ring.verts, &walk).unwrap();
                 let row = grid.iter().position(|&g| g == 0).unwrap();
                 let slot = ring.verts.iter().position(|&v| v == 0).unwrap();
@@ -1248,7 +1454,7 @@ mod tests {
         for depth in [2u32, 3, 4] {
             let mut levels = vec![t.clone()];
             while levels.len() < depth as usize + 1 {
-                let child = refine_topology(&levels[levels.len() - 1], options, true);
+                let child = CC.refine(&levels[levels.len() - 1], options, true);
                 levels.push(child);
             }
             let n_out = levels[depth as usize].num_vertices();
@@ -1256,9 +1462,9 @@ mod tests {
                 let Some(ring) = ring_net(t, f, false) else {
                     continue;
                 };
-                let kernel = Kernel::new(&ring.key, depth, options, Mixed::CATMULL_CLARK).unwrap();
+                let kernel = Kernel::new(&ring.key, depth, options, CC).unwrap();
                 let mut walk = Vec::new();
-                descendants(&levels[..depth as usize], f, ring.start, &mut walk).unwrap();
+                descendants(CC, &levels[..depth as usize], f, ring.start, &mut walk).unwrap();
                 if let Some(grid) = kernel.grid(&ring.verts, &walk) {
                     patches.push(TestPatch {
                         depth,
@@ -1322,7 +1528,7 @@ mod tests {
                     }
                 }
                 let kept = part.iter().filter(|&&o| o != NOT_OWNED).count();
-                let mut groups = RingGroups::new(&kernels);
+                let mut groups = RingGroups::new(&kernels, SUBSET_ROWS);
                 groups.push(0, 0, p.ring.verts.clone(), part.clone());
                 let (patches, _) = groups.finish(1);
                 assert_eq!((patches.kernels.len(), patches.len()), (1, 1));
@@ -1444,6 +1650,78 @@ mod tests {
         assert!(patches >= 20, "{patches} ring patches");
     }
 
+    /// The AVX2 kernel computes two patches at a time: three copies of each ring patch of
+    /// a closed mesh of quads and triangles (depths 2 to 4), each reading its own points
+    /// (moved differently) and writing its own vertices, computed together (a pair, then
+    /// the last alone) give bit for bit what each gives alone, with all its rows owned,
+    /// with every third row owned by another face, and with every third half group of
+    /// four rows owned by another face (halves computed for both patches at once).
+    #[test]
+    #[cfg(target_arch = "x86_64")]
+    fn avx_pairs_agree() {
+        if !has_avx2_fma() {
+            return;
+        }
+        let options = Options::default();
+        let t = topology(&cube_with_triangles(), &options);
+        let (nv, copies) = (t.num_vertices(), 3);
+        // Copy `i` reads its ring's vertex `v` at `i nv + v`.
+        let base: Vec<[f64; 3]> = (0..copies * nv)
+            .map(|i| {
+                let x = i as f64;
+                [
+                    (0.7 * x).sin() * 3.1,
+                    (1.3 * x).cos() + 0.1 * x,
+                    1.0 / (1.0 + x),
+                ]
+            })
+            .collect();
+        let bits =
+            |v: &[[f64; 3]]| -> Vec<[u64; 3]> { v.iter().map(|p| p.map(f64::to_bits)).collect() };
+        let mut pairs = 0;
+        for p in ring_patches(&t, &options) {
+            let (points, nn, n_out) = (p.kernel.points, p.kernel.rows, p.n_out);
+            let keep: [&dyn Fn(usize) -> bool; 3] =
+                [&|_| true, &|r| r % 3 != 1, &|r| r / 4 % 3 != 1];
+            for keep in keep {
+                let (mut ctrl, mut grids) = (Vec::new(), Vec::new());
+                for i in 0..copies {
+                    ctrl.extend(p.ring.verts.iter().map(|&v| v + (i * nv) as u32));
+                    grids.extend(p.grid.iter().enumerate().map(|(r, &o)| {
+                        if o == NOT_OWNED || !keep(r) {
+                            NOT_OWNED
+                        } else {
+                            o + (i * n_out) as u32
+                        }
+                    }));
+                }
+                let src = base.as_ptr().cast();
+                let mut together = vec![[f64::NAN; 3]; copies * n_out];
+                let mut alone = together.clone();
+                // SAFETY: every grid index is in bounds of its copy's part of the output,
+                // every ring point of the base; the processor has AVX2 and FMA.
+                unsafe {
+                    ring_patches_avx(&p.kernel, src, &ctrl, &grids, together.as_mut_ptr().cast());
+                    for i in 0..copies {
+                        let (c, g) = (&ctrl[i * points..][..points], &grids[i * nn..][..nn]);
+                        ring_patches_avx(&p.kernel, src, c, g, alone.as_mut_ptr().cast());
+                    }
+                }
+                let (b, a) = (bits(&together), bits(&alone));
+                let differs = (0..a.len()).find(|&i| b[i] != a[i]);
+                let (f, depth) = (p.f, p.depth);
+                assert!(differs.is_none(), "face {f} depth {depth}: {differs:?}");
+                // The copies read different points: their vertices differ.
+                let j = (0..n_out)
+                    .find(|&j| !alone[j][0].is_nan())
+                    .expect("a vertex");
+                assert_ne!(alone[j], alone[n_out + j], "face {f}");
+                pairs += 1;
+            }
+        }
+        assert!(pairs >= 60, "{pairs} pairs");
+    }
+
     /// A triangle's vertices: three child quads of `(2ᵈ⁻¹ + 1)²` points sharing their
     /// sides from the centre, every row a partition of unity; a face with a corner of
     /// valence above [`MAX_VALENCE`] is not a ring patch.
@@ -1454,7 +1732,7 @@ mod tests {
         let ring = ring_net(&t, 0, false).unwrap();
         assert_eq!(ring.verts.len(), 6);
         for depth in [2u32, 3, 4] {
-            let k = Kernel::new(&ring.key, depth, &options, Mixed::CATMULL_CLARK).unwrap();
+            let k = Kernel::new(&ring.key, depth, &options, CC).unwrap();
             let h = 1usize << (depth - 1);
             let rows = 3 * (h + 1) * (h + 1) - 3 * (h + 1) + 1;
             assert_eq!(

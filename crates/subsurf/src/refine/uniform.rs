@@ -51,6 +51,24 @@ impl Steps {
             _ => *options,
         }
     }
+
+    /// The next level of `p`: Loop's triangle split ([`refine_tri_topology`]), else the
+    /// Catmull-Clark split ([`refine_topology`]), `full` as they say.
+    pub(crate) fn refine(self, p: &Topology, options: &Options, full: bool) -> Topology {
+        match self {
+            Self::Loop => refine_tri_topology(p, options, full),
+            _ => refine_topology(p, options, full),
+        }
+    }
+
+    /// The steps that follow the first `k`: the adjusted steps of mixed subdivision count
+    /// down ([`Mixed::after`]); Loop's and bilinear's are the same on every level.
+    pub(crate) fn after(self, k: u32) -> Self {
+        match self {
+            Self::Family(m) => Self::Family(m.after(k)),
+            other => other,
+        }
+    }
 }
 
 /// The last level of a uniform refinement and the positions of its vertices.
@@ -239,9 +257,10 @@ pub(crate) fn refine_uniform(
         // vertices only for the output's creases, which are read from its parent.
         let for_output = l == levels && !complete;
         let child = match steps {
-            Steps::Loop => refine_tri_topology(&level, options, !for_output),
-            _ if for_output => refine_topology_for_output(&level, options),
-            _ => refine_topology(&level, options, true),
+            Steps::Family(_) | Steps::Bilinear if for_output => {
+                refine_topology_for_output(&level, options)
+            }
+            _ => steps.refine(&level, options, !for_output),
         };
         let mut next = vec![[0.0; 3]; child.num_vertices()];
         match steps {

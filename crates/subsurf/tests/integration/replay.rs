@@ -754,3 +754,137 @@ fn loop_and_bilinear_plans_equal_subdivide() {
     assert!(limit_cases >= 2 * 3 * 115, "{limit_cases} limit cases");
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
+
+/// `mesh` with random tags from `seed`: about a third of its edges semi-sharp (0.5 to 3)
+/// or infinitely sharp, three sharp corners and two holes.
+fn with_random_tags(mesh: &PolyMesh, seed: u64) -> PolyMesh {
+    let mut rng = Rng(seed | 1);
+    let mut m = mesh.clone();
+    let mut edges: Vec<[u32; 2]> = (m.faces())
+        .flat_map(|f| (0..f.len()).map(move |k| [f[k], f[(k + 1) % f.len()]]))
+        .map(|[a, b]| [a.min(b), a.max(b)])
+        .collect();
+    edges.sort_unstable();
+    edges.dedup();
+    for [v0, v1] in edges {
+        if rng.next() < 0.35 {
+            // A few values, as modelled creases have (a face's ring matrix is shared
+            // by the faces with the same sharpness around the same shape).
+            let values = [0.5, 1.0, 1.5, 2.0, 3.0, SHARPNESS_INFINITE];
+            let sharpness = values[(rng.next() * values.len() as f64) as usize % values.len()];
+            m.tags
+                .creases
+                .push(subsurf::mesh::Crease { v0, v1, sharpness });
+        }
+    }
+    let (nv, nf) = (m.num_vertices() as f64, m.num_faces() as f64);
+    for sharpness in [0.6, 2.5, SHARPNESS_INFINITE] {
+        let vertex = (rng.next() * nv) as u32;
+        m.tags
+            .corners
+            .push(subsurf::mesh::Corner { vertex, sharpness });
+    }
+    m.tags.holes = vec![(rng.next() * nf) as u32, (rng.next() * nf) as u32];
+    m
+}
+
+/// Loop's ring patches and bilinear's face patches (the last levels of their plans)
+/// re-pose an all-triangle mesh with random semi-sharp and infinitely sharp creases,
+/// corners and holes as `subdivide` refines it, in each boundary mode and with both
+/// crease rules, within `1e-14 ×` the diagonal at levels 1–4; and the kernels are used:
+/// they compute most vertices, and every vertex of a regular all-triangle torus, whose
+/// plan then stores no sparse weight.
+#[test]
+fn loop_and_bilinear_kernels_equal_subdivide_with_random_tags() {
+    let bishop = read_obj(&osd_shapes_dir().join("catmark_bishop.obj")).expect("bishop");
+    let mut tris: Vec<[u32; 3]> = Vec::new();
+    for f in bishop.mesh.faces() {
+        for k in 1..f.len() - 1 {
+            tris.push([f[0], f[k], f[k + 1]]);
+        }
+    }
+    let pos = bishop.mesh.positions();
+    // The triangles below a cut: an open mesh, its boundary along the cut.
+    let open: Vec<[u32; 3]> = (tris.iter().copied())
+        .filter(|t| t.iter().map(|&v| pos[v as usize][2]).sum::<f64>() < 3.0 * 0.6)
+        .collect();
+    let open = PolyMesh::from_faces(pos.to_vec(), &open).expect("open bishop");
+    let mut failures = Vec::new();
+    for (seed, scheme) in [(5, Scheme::Loop), (9, Scheme::Loop), (13, Scheme::Bilinear)] {
+        let mesh = with_random_tags(&open, seed);
+        let tol = REL_TOL * diagonal(mesh.positions());
+        for boundary in ["edge-only", "edge-and-corner", "none"] {
+            for crease_method in ["uniform", "chaikin"] {
+                let options = Options {
+                    boundary: boundary.parse().expect("mode"),
+                    crease_method: crease_method.parse().expect("method"),
+                    ..Options::default()
+                };
+                for levels in 1..=4 {
+                    let plan = RefinePlan::new(&mesh, scheme, options, levels).expect("plan");
+                    let opts = SubdivideOptions {
+                        levels,
+                        options,
+                        scheme,
+                        ..SubdivideOptions::default()
+                    };
+                    let want = subdivide(&mesh, &opts).expect("subdivide");
+                    let got = plan.apply(mesh.positions());
+                    let (d, at) = max_diff(&got, want.mesh.positions());
+                    let case =
+                        format!("{scheme} seed {seed} {boundary} {crease_method} level {levels}");
+                    if d > tol || d.is_nan() {
+                        failures.push(format!("{case}: value {at} differs by {d:e}"));
+                    }
+                    // Kernels from level 3 on; at level 4, most of the output (a sparse
+                    // row has several weights). On the base mesh nearly every ring here
+                    // is unique (a third of the edges carry one of six sharpness values)
+                    // and a ring seen on fewer than four faces is left to the rows.
+                    let rows_only = levels >= 3 && plan.num_patches() == 0;
+                    if rows_only || levels == 4 && plan.num_weights() > got.len() {
+                        failures.push(format!("{case}: {} weights", plan.num_weights()));
+                    }
+                }
+            }
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+
+    // A regular torus: 16 × 12 squares, each cut along the same diagonal.
+    let (n, m) = (16u32, 12u32);
+    let id = |i: u32, j: u32| (i % n) * m + j % m;
+    let torus_pos: Vec<[f64; 3]> = (0..n * m)
+        .map(|k| {
+            let (u, v) = (
+                std::f64::consts::TAU * f64::from(k / m) / f64::from(n),
+                std::f64::consts::TAU * f64::from(k % m) / f64::from(m),
+            );
+            let r = 1.0 + 0.3 * v.cos();
+            [r * u.cos(), r * u.sin(), 0.3 * v.sin()]
+        })
+        .collect();
+    let torus_faces: Vec<[u32; 3]> = (0..n * m)
+        .flat_map(|k| {
+            let (i, j) = (k / m, k % m);
+            let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
+            [[a, b, c], [a, c, d]]
+        })
+        .collect();
+    let torus = PolyMesh::from_faces(torus_pos, &torus_faces).expect("torus");
+    for levels in 2..=3 {
+        let plan = RefinePlan::new(&torus, Scheme::Loop, Options::default(), levels).expect("plan");
+        assert_eq!(plan.num_weights(), 0, "level {levels}");
+        assert_eq!(plan.num_patches(), torus_faces.len(), "level {levels}");
+        let opts = SubdivideOptions {
+            levels,
+            scheme: Scheme::Loop,
+            ..SubdivideOptions::default()
+        };
+        let want = subdivide(&torus, &opts).expect("subdivide");
+        let (d, at) = max_diff(&plan.apply(torus.positions()), want.mesh.positions());
+        assert!(
+            d <= REL_TOL * diagonal(torus.positions()),
+            "level {levels}: value {at} differs by {d:e}"
+        );
+    }
+}
