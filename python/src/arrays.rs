@@ -16,22 +16,34 @@ pub(crate) fn asarray<'py>(
     }
 }
 
+/// `obj` as a numpy array whose dtype kind (numpy's one-letter `dtype.kind`) is one of
+/// `kinds`; an empty array of any dtype passes. `what` names the kinds in the error.
+fn checked_array<'py>(
+    obj: &Bound<'py, PyAny>,
+    name: &str,
+    kinds: &str,
+    what: &str,
+) -> PyResult<Bound<'py, PyAny>> {
+    let a = asarray(obj, None)?;
+    let kind: String = a.getattr("dtype")?.getattr("kind")?.extract()?;
+    let size: usize = a.getattr("size")?.extract()?;
+    if size > 0 && !(kind.len() == 1 && kinds.contains(kind.as_str())) {
+        return Err(PyTypeError::new_err(format!(
+            "{name} must hold {what}, not dtype {}",
+            a.getattr("dtype")?.str()?
+        )));
+    }
+    Ok(a)
+}
+
 /// `obj` as rows of `N` floats: an `(n, N)` array-like of numbers (any real dtype).
 pub(crate) fn float_rows<const N: usize>(
     obj: &Bound<'_, PyAny>,
     name: &str,
 ) -> PyResult<Vec<[f64; N]>> {
-    let a = asarray(obj, None)?;
-    let kind: String = a.getattr("dtype")?.getattr("kind")?.extract()?;
-    let size: usize = a.getattr("size")?.extract()?;
-    if size > 0 && !matches!(kind.as_str(), "f" | "i" | "u") {
-        return Err(PyTypeError::new_err(format!(
-            "{name} must hold real numbers, not dtype {}",
-            a.getattr("dtype")?.str()?
-        )));
-    }
+    let a = checked_array(obj, name, "fiu", "real numbers")?;
     let shape: Vec<usize> = a.getattr("shape")?.extract()?;
-    let a = if size == 0 && shape.len() == 1 {
+    let a = if shape == [0] {
         a.call_method1("reshape", (0, N))?
     } else {
         a
@@ -61,15 +73,7 @@ pub(crate) fn float_rows<const N: usize>(
 
 /// `obj` as a flat array of floats (any real dtype, any shape flattened).
 pub(crate) fn float_array(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Vec<f64>> {
-    let a = asarray(obj, None)?;
-    let kind: String = a.getattr("dtype")?.getattr("kind")?.extract()?;
-    let size: usize = a.getattr("size")?.extract()?;
-    if size > 0 && !matches!(kind.as_str(), "f" | "i" | "u") {
-        return Err(PyTypeError::new_err(format!(
-            "{name} must hold real numbers, not dtype {}",
-            a.getattr("dtype")?.str()?
-        )));
-    }
+    let a = checked_array(obj, name, "fiu", "real numbers")?;
     let a = asarray(&a.call_method0("ravel")?, Some("float64"))?;
     let a: PyReadonlyArray1<'_, f64> = a.extract()?;
     Ok(a.as_slice()?.to_vec())
@@ -77,15 +81,7 @@ pub(crate) fn float_array(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Vec<f6
 
 /// `obj` as a flat array of indices (integers from 0 to `u32::MAX - 1`; any integer dtype).
 pub(crate) fn index_array(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Vec<u32>> {
-    let a = asarray(obj, None)?;
-    let kind: String = a.getattr("dtype")?.getattr("kind")?.extract()?;
-    let size: usize = a.getattr("size")?.extract()?;
-    if size > 0 && !matches!(kind.as_str(), "i" | "u") {
-        return Err(PyTypeError::new_err(format!(
-            "{name} must hold integers, not dtype {}",
-            a.getattr("dtype")?.str()?
-        )));
-    }
+    let a = checked_array(obj, name, "iu", "integers")?;
     let a = asarray(&a.call_method0("ravel")?, Some("int64"))?;
     let a: PyReadonlyArray1<'_, i64> = a.extract()?;
     a.as_slice()?
