@@ -48,7 +48,9 @@ use std::ops::Range;
 use rayon::prelude::*;
 
 use super::primvar::{edge_mask_at, vertex_mask_at};
-use super::topology::{chunk_ranges, collect, extend, filled, parallel, rot, run, split_pieces};
+use super::topology::{
+    append_pieces, chunk_ranges, collect, extend, rot, run, split_pieces, Appender,
+};
 use crate::mesh::sharpness as sharp;
 use crate::mesh::{
     BoundaryInterpolation, FaceVarying, FaceVaryingInterpolation, Options, Topology,
@@ -668,19 +670,26 @@ impl FvarLevel {
         let ranges = chunk_ranges(ne);
         let counts = map_ranges(&ranges, |r| r.map(values).sum::<u32>());
         let mut at = faces0 + nf as u32;
-        let starts = counts.iter().map(|&n| {
-            at += n;
-            at - n
-        });
-        let items: Vec<_> = ranges.iter().cloned().zip(starts).collect();
-        offsets.resize(nv + nf + ne + 1, 0);
-        let pieces = split_pieces(&mut offsets[nv + nf + 1..], &ranges, |e| e);
-        run(
-            items.into_iter().zip(pieces).collect(),
-            |((r, mut at), out)| {
-                for (e, o) in r.zip(out) {
+        let starts: Vec<u32> = counts
+            .iter()
+            .map(|&n| {
+                at += n;
+                at - n
+            })
+            .collect();
+        append_pieces(
+            &mut offsets,
+            ne,
+            ne,
+            |e| e,
+            |r, out| {
+                // `r` is one of `ranges` (the same cut of `0..ne`).
+                let i = ranges.partition_point(|q| q.start < r.start);
+                debug_assert_eq!(ranges[i], r);
+                let mut at = starts[i];
+                for e in r {
                     at += values(e);
-                    *o = at;
+                    out.push(at);
                 }
             },
         );
@@ -763,16 +772,19 @@ impl FvarLevel {
     /// The values of the child faces (`offsets` the child's first slots), in parallel over
     /// ranges of parent faces ([`fill_child_faces`](Self::fill_child_faces)).
     fn child_face_values(&self, p: &Topology, triangles: bool, offsets: &[u32]) -> Vec<u32> {
-        let mut values = filled(4 * p.face_verts.len(), 0);
+        let mut values = Vec::new();
         let start = |f: usize| 4 * p.face_offsets[f] as usize;
-        for_pieces(p.num_faces(), &mut values, start, |r, out| {
-            self.fill_child_faces(p, triangles, offsets, r, out)
-        });
+        append_pieces(
+            &mut values,
+            start(p.num_faces()),
+            p.num_faces(),
+            start,
+            |r, out| self.fill_child_faces(p, triangles, offsets, r, out),
+        );
         values
     }
 
-    /// The values of the children of the parent faces `range` into `out` (from the first
-    /// child face-vertex of `range.start` on). With the quad split the child of face `f` at
+    /// The values of the children of the parent faces `range`, appended to `out`. With the quad split the child of face `f` at
     /// corner `j` is the quad `[child of vertex j, child of edge j, child of f, child of
     /// edge j-1]` (rotated for quads, as [`super::topology`] lays it out); with the
     /// triangle split (`triangles`) triangle `[v₀ v₁ v₂]` with edge children `E₀ E₁ E₂`
@@ -786,11 +798,10 @@ impl FvarLevel {
         triangles: bool,
         offsets: &[u32],
         range: Range<usize>,
-        out: &mut [u32],
+        out: &mut Appender<'_, u32>,
     ) {
         let nv = p.num_vertices();
         let edge0 = nv + face_children(p, triangles);
-        let base = 4 * p.face_offsets[range.start] as usize;
         let edge_child = |e: u32, f: usize| -> u32 {
             let cv = edge0 + e as usize;
             let first = offsets[cv];
@@ -811,7 +822,6 @@ impl FvarLevel {
                 None => self.face_values[o + j],
             };
             let edge = |j: usize| edge_child(fe[j], f);
-            let out = &mut out[4 * o - base..];
             if triangles {
                 let (e0, e1, e2) = (edge(0), edge(1), edge(2));
                 let corners = [
@@ -828,7 +838,7 @@ impl FvarLevel {
                     e2,
                     e0,
                 ];
-                out[..12].copy_from_slice(&corners);
+                out.push_slice(&corners);
                 continue;
             }
             let n = fv.len();
@@ -838,10 +848,9 @@ impl FvarLevel {
                 let after = edge(j);
                 let corners = [vert(j), after, centre, before];
                 before = after;
-                let r = rot(n, j);
-                for (k, c) in corners.into_iter().enumerate() {
-                    out[4 * j + (k + r) % 4] = c;
-                }
+                // Corner `k` goes to `(k + rot) % 4`.
+                let r = 4 - rot(n, j);
+                out.push_slice(&[0, 1, 2, 3].map(|i| corners[(i + r) % 4]));
             }
         }
     }
@@ -1113,10 +1122,11 @@ impl<R: Rules, const D: usize> FvarPass<'_, R, D> {
         &self.src[d * i as usize..][..d]
     }
 
-    /// The child values: the face points, then the edge and the vertex points (at the same
-    /// time when the level is large). The vertex children of a linear channel below the
-    /// base level keep their parent's values, slot for slot: those are copied as they are
-    /// written into the new array, before its other values are zeroed.
+    /// The child values, in their order: the vertex points, the face points and the edge
+    /// points, each appended as it is computed ([`append_pieces`]: no array is zeroed
+    /// first). The others read the face points (unless the channel is linear), which are
+    /// then computed first, aside. The vertex children of a linear channel below the base
+    /// level keep their parent's values, slot for slot, and are copied.
     fn run(&self) -> Vec<f64> {
         let (p, pf, d) = (self.p, self.pf, self.d());
         let offsets = &self.cf.vert_offsets;
@@ -1125,71 +1135,80 @@ impl<R: Rules, const D: usize> FvarPass<'_, R, D> {
         let face0 = offsets[nv] as usize;
         let edge0 = offsets[nv + nf] as usize;
         let total = d * self.cf.num_slots();
+        let face_points = |out: &mut Vec<f64>| {
+            append_pieces(
+                out,
+                d * nf,
+                nf,
+                |f| d * f,
+                |r, out| self.face_points(r, out),
+            )
+        };
+        let linear = pf.mode.linear;
+        let mut faces = Vec::new();
+        if !linear {
+            face_points(&mut faces);
+        }
         let mut dst = Vec::with_capacity(total);
-        let kept = pf.mode.linear && pf.slot_values.is_none();
-        if kept {
+        if linear && pf.slot_values.is_none() {
             debug_assert_eq!(pf.num_slots(), face0);
-            extend(&mut dst, d * face0, |i| self.src[i]);
-        }
-        let rest = total - dst.len();
-        extend(&mut dst, rest, |_| 0.0);
-        let (vert_out, rest) = dst.split_at_mut(d * face0);
-        let (face_out, edge_out) = rest.split_at_mut(d * (edge0 - face0));
-        for_pieces(nf, face_out, |f| d * f, |r, out| self.face_points(r, out));
-        let face_out: &[f64] = face_out;
-        let mut edges = move || {
-            let start = |e: usize| d * offsets[nv + nf + e] as usize;
-            for_pieces(ne, edge_out, start, |r, out| {
-                self.edge_points(face_out, r, out)
-            })
-        };
-        let mut verts = move || {
-            if kept {
-                return;
-            }
-            let start = |v: usize| d * offsets[v] as usize;
-            for_pieces(nv, vert_out, start, |r, out| {
-                self.vertex_points(face_out, r, out)
-            })
-        };
-        if parallel(ne.max(nv)) {
-            rayon::join(edges, verts);
+            dst.extend_from_slice(&self.src[..d * face0]);
         } else {
-            edges();
-            verts();
+            let start = |v: usize| d * offsets[v] as usize;
+            append_pieces(&mut dst, d * face0, nv, start, |r, out| {
+                self.vertex_points(&faces, r, out)
+            });
         }
+        if linear {
+            face_points(&mut dst);
+        } else {
+            dst.extend_from_slice(&faces);
+        }
+        let start = |e: usize| d * offsets[nv + nf + e] as usize;
+        append_pieces(&mut dst, total - d * edge0, ne, start, |r, out| {
+            self.edge_points(&faces, r, out)
+        });
         dst
     }
 
-    /// The child values of the parent faces `range` (`out`, one per face; none with the
-    /// triangle split): the average of the face's values.
-    fn face_points(&self, range: Range<usize>, out: &mut [f64]) {
+    /// An accumulator of one value (`d` numbers, the first `d` of `buf`, whose length is
+    /// then known to the compiler when `D` is).
+    #[inline(always)]
+    fn acc<'b>(&self, buf: &'b mut Vec<f64>) -> &'b mut [f64] {
+        buf.resize(self.d(), 0.0);
+        &mut buf[..self.d()]
+    }
+
+    /// The child values of the parent faces `range` (one per face; none with the triangle
+    /// split), appended to `out`: the average of the face's values.
+    fn face_points(&self, range: Range<usize>, out: &mut Appender<'_, f64>) {
         let p = self.p;
-        for (f, out) in range.zip(out.chunks_exact_mut(self.d())) {
-            out.fill(0.0);
+        let mut buf = Vec::new();
+        let acc = self.acc(&mut buf);
+        for f in range {
+            acc.fill(0.0);
             let w = catmark::face_point_weight(p.face_vertices(f).len());
             let o = p.face_offsets[f] as usize..p.face_offsets[f + 1] as usize;
             for &x in &self.pf.face_values[o] {
-                axpy(out, 1.0, self.val(x));
+                axpy(acc, 1.0, self.val(x));
             }
-            out.iter_mut().for_each(|x| *x *= w);
+            acc.iter_mut().for_each(|x| *x *= w);
+            out.push_slice(acc);
         }
     }
 
-    /// The child values of the parent edges `range` (`out`, from the first value of the
-    /// child of `range.start` on), given the face points `face_out`: the edge mask where
-    /// the edge's values match across it, else (and for linear channels) each side's
-    /// midpoint. The mask's face weights weigh the face points, or with the triangle split
-    /// each triangle's value opposite the edge.
-    fn edge_points(&self, face_out: &[f64], range: Range<usize>, out: &mut [f64]) {
+    /// The child values of the parent edges `range`, appended to `out`, given the face
+    /// points `face_out`: the edge mask where the edge's values match across it, else
+    /// (and for linear channels) each side's midpoint. The mask's face weights weigh the
+    /// face points, or with the triangle split each triangle's value opposite the edge.
+    fn edge_points(&self, face_out: &[f64], range: Range<usize>, out: &mut Appender<'_, f64>) {
         let (p, pf, d) = (self.p, self.pf, self.d());
         let triangles = self.rules.splits_triangles();
         let child0 = p.num_vertices() + face_children(p, triangles);
-        let first = self.cf.vert_offsets[child0 + range.start] as usize;
         let face_pt = |f: u32| &face_out[d * f as usize..][..d];
+        let mut buf = Vec::new();
+        let acc = self.acc(&mut buf);
         for e in range {
-            let slots = self.cf.slots(child0 + e);
-            let out = &mut out[d * (slots.start - first)..d * (slots.end - first)];
             // The child's values are split (`refine`'s tags).
             let et = pf.edge_tags[e];
             if et.mismatch || et.linear {
@@ -1199,90 +1218,97 @@ impl<R: Rules, const D: usize> FvarPass<'_, R, D> {
                         a + b > 2
                     }
                 );
-                for (i, out) in out.chunks_exact_mut(d).enumerate() {
-                    out.fill(0.0);
+                for i in 0..self.cf.count(child0 + e) {
                     let [a, b] = if et.mismatch {
                         pf.face_edge_values(p, e, i)
                     } else {
                         pf.edge_face_values(p, e, i)
                     };
-                    axpy(out, 0.5, self.val(a));
-                    axpy(out, 0.5, self.val(b));
+                    acc.fill(0.0);
+                    axpy(acc, 0.5, self.val(a));
+                    axpy(acc, 0.5, self.val(b));
+                    out.push_slice(acc);
                 }
                 continue;
             }
             // A continuous edge's child has one value.
-            let out = &mut out[..d];
-            out.fill(0.0);
+            acc.fill(0.0);
             let [a, b] = pf.edge_face_values(p, e, 0);
             if pf.mode.linear {
-                axpy(out, 0.5, self.val(a));
-                axpy(out, 0.5, self.val(b));
+                axpy(acc, 0.5, self.val(a));
+                axpy(acc, 0.5, self.val(b));
+                out.push_slice(acc);
                 continue;
             }
             let m = edge_mask_at(p, self.c, self.options, self.rules, e);
-            axpy(out, m.vertex, self.val(a));
-            axpy(out, m.vertex, self.val(b));
+            axpy(acc, m.vertex, self.val(a));
+            axpy(acc, m.vertex, self.val(b));
             if !m.is_crease() {
                 for (j, &f) in p.edge_face_list(e).iter().enumerate() {
                     let w = if j < 2 { m.faces[j] } else { m.other_faces };
                     if triangles {
-                        axpy(out, w, self.val(pf.opposite_value(p, f as usize, e)));
+                        axpy(acc, w, self.val(pf.opposite_value(p, f as usize, e)));
                     } else {
-                        axpy(out, w, face_pt(f));
+                        axpy(acc, w, face_pt(f));
                     }
                 }
             }
+            out.push_slice(acc);
         }
     }
 
-    /// The child values of the parent vertices `range` (`out`, from the first value of
-    /// `range.start` on), given the face points `face_out`: the vertex mask where the
-    /// vertex's values match around it, else
-    /// [`split_vertex_points`](Self::split_vertex_points).
-    fn vertex_points(&self, face_out: &[f64], range: Range<usize>, out: &mut [f64]) {
-        let (p, pf, cf, d) = (self.p, self.pf, self.cf, self.d());
+    /// The child values of the parent vertices `range`, appended to `out`, given the face
+    /// points `face_out`: the vertex mask where the vertex's values match around it (one
+    /// value), else [`split_vertex_points`](Self::split_vertex_points).
+    fn vertex_points(&self, face_out: &[f64], range: Range<usize>, out: &mut Appender<'_, f64>) {
+        let (p, pf, d) = (self.p, self.pf, self.d());
         let face_pt = |f: u32| &face_out[d * f as usize..][..d];
-        let first = cf.vert_offsets[range.start] as usize;
         let (mut mask, mut cmask) = (VertexMask::default(), VertexMask::default());
         let (mut pe, mut ce) = (Vec::new(), Vec::new());
         let mut scratch = SplitScratch::default();
+        let mut buf = Vec::new();
+        let acc = self.acc(&mut buf);
         for v in range {
-            let cs = cf.slots(v);
-            let out_all = &mut out[d * (cs.start - first)..d * (cs.end - first)];
             // The child of a vertex has its parent's values and their tags' `mismatch`.
             if pf.tags[pf.vert_offsets[v] as usize].mismatch {
-                self.split_vertex_points(v, out_all, &mut scratch);
+                self.split_vertex_points(v, acc, out, &mut scratch);
                 continue;
             }
-            let out = &mut out_all[..d];
-            out.fill(0.0);
             let pv = self.val(pf.slot_value(pf.slots(v).start));
             if pf.mode.linear || p.vertex_edges(v).is_empty() {
-                out.copy_from_slice(pv);
+                out.push_slice(pv);
                 continue;
             }
+            acc.fill(0.0);
             let scratch = (&mut pe, &mut ce, &mut cmask);
             vertex_mask_at(p, self.c, self.options, self.rules, v, &mut mask, scratch);
             // Loop's vertex masks have no face weights (zero if set), and no face points.
             if mask.has_faces && !self.rules.splits_triangles() {
                 for (&f, &w) in p.vertex_faces(v).iter().zip(&mask.faces) {
-                    axpy(out, w, face_pt(f));
+                    axpy(acc, w, face_pt(f));
                 }
             }
             if mask.has_edges {
                 for (i, &w) in mask.edges.iter().enumerate() {
-                    axpy(out, w, self.val(pf.vertex_edge_value(p, v, i)));
+                    axpy(acc, w, self.val(pf.vertex_edge_value(p, v, i)));
                 }
             }
-            axpy(out, mask.vertex, pv);
+            axpy(acc, mask.vertex, pv);
+            out.push_slice(acc);
         }
     }
 
-    /// The child values of vertex `v`, whose values differ around it (`out`, one per
-    /// value): each value a corner (kept) or a crease point between the values at the ends
-    /// of its crease, semi-sharp ones blended toward the corner by the fractional weight.
-    fn split_vertex_points(&self, v: usize, out: &mut [f64], scratch: &mut SplitScratch) {
+    /// The child values of vertex `v`, whose values differ around it (one per value,
+    /// appended to `out`; `acc` holds one value): each value a corner (kept) or a crease
+    /// point between the values at the ends of its crease, semi-sharp ones blended toward
+    /// the corner by the fractional weight.
+    fn split_vertex_points(
+        &self,
+        v: usize,
+        acc: &mut [f64],
+        out: &mut Appender<'_, f64>,
+        scratch: &mut SplitScratch,
+    ) {
         let (p, pf) = (self.p, self.pf);
         let ps = pf.slots(v);
         let [end_w, centre_w, _] = self.rules.crease_vertex_weights();
@@ -1291,12 +1317,10 @@ impl<R: Rules, const D: usize> FvarPass<'_, R, D> {
             child_tags.resize(ps.len(), ValueTag::default());
             pf.child_vertex_tags(p, self.c, v, child_tags);
         }
-        for (k, out) in out.chunks_exact_mut(self.d()).enumerate() {
-            let pslot = ps.start + k;
+        for (k, pslot) in ps.clone().enumerate() {
             let pv = self.val(pf.slot_value(pslot));
-            out.fill(0.0);
             if pf.mode.linear || child_tags[k].is_corner() {
-                out.copy_from_slice(pv);
+                out.push_slice(pv);
                 continue;
             }
             let [a, b] = pf.crease_end_values(p, v, k);
@@ -1314,9 +1338,11 @@ impl<R: Rules, const D: usize> FvarPass<'_, R, D> {
                 vw = (1.0 - corner) * centre_w + corner;
                 ew = (1.0 - corner) * end_w;
             }
-            axpy(out, ew, self.val(a));
-            axpy(out, ew, self.val(b));
-            axpy(out, vw, pv);
+            acc.fill(0.0);
+            axpy(acc, ew, self.val(a));
+            axpy(acc, ew, self.val(b));
+            axpy(acc, vw, pv);
+            out.push_slice(acc);
         }
     }
 }

@@ -14,6 +14,7 @@
 //! - edges: `face_offsets[f] + j` joins the children of `f` and of its edge `j`;
 //!   `S + 2e + k` joins the children of edge `e` and of its end `k`.
 
+use std::mem::MaybeUninit;
 use std::ops::Range;
 
 use rayon::prelude::*;
@@ -100,6 +101,61 @@ pub(super) fn split_pieces<'a, T>(
     }
     pieces.push(rest);
     pieces
+}
+
+/// Uninitialised storage that a pass writes front to back, one element after the other
+/// (the pieces of [`append_pieces`]): what is before its cursor is written, so that a
+/// piece whose cursor reaches its end is written whole.
+pub(super) struct Appender<'a, T> {
+    buf: &'a mut [MaybeUninit<T>],
+    len: usize,
+}
+
+impl<T: Copy> Appender<'_, T> {
+    /// Writes `x` at the cursor, which moves on by one.
+    #[inline(always)]
+    pub(super) fn push(&mut self, x: T) {
+        self.buf[self.len].write(x);
+        self.len += 1;
+    }
+
+    /// Writes `xs` at the cursor, which moves on by their number.
+    #[inline(always)]
+    pub(super) fn push_slice(&mut self, xs: &[T]) {
+        let out = &mut self.buf[self.len..self.len + xs.len()];
+        for (o, &x) in out.iter_mut().zip(xs) {
+            o.write(x);
+        }
+        self.len += xs.len();
+    }
+}
+
+/// Appends `len` elements to `v` without zeroing them first: the new elements are cut into
+/// the pieces of the ranges of `0..n` ([`split_pieces`]: the piece of `range` from
+/// `start(range.start) - start(0)` on), and `f(range, piece)` writes each piece front to
+/// back, in parallel when large. A piece left short is a bug in `f`, which panics here
+/// before `v` takes the new elements. (Zeroing an array that is written right after is a
+/// pass over memory as long as the writing one.)
+pub(super) fn append_pieces<T: Copy + Send>(
+    v: &mut Vec<T>,
+    len: usize,
+    n: usize,
+    start: impl Fn(usize) -> usize,
+    f: impl Fn(Range<usize>, &mut Appender<'_, T>) + Sync + Send,
+) {
+    v.reserve(len);
+    let ranges = chunk_ranges(n);
+    let pieces = split_pieces(&mut v.spare_capacity_mut()[..len], &ranges, start);
+    run(ranges.into_iter().zip(pieces).collect(), |(r, buf)| {
+        let mut out = Appender { buf, len: 0 };
+        f(r, &mut out);
+        assert_eq!(out.len, out.buf.len(), "a piece of a pass was left short");
+    });
+    // SAFETY: the pieces are consecutive and cover the `len` elements after the end of `v`
+    // (`split_pieces`: from its first offset, the last piece running to the end), and each
+    // was written whole, which the assertion above checked of its cursor: all `len` are
+    // initialised, within the capacity reserved.
+    unsafe { v.set_len(v.len() + len) };
 }
 
 /// `n` empty pieces (for an output array that is not built).
