@@ -16,6 +16,7 @@
 
 use std::mem::MaybeUninit;
 use std::ops::Range;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 use rayon::prelude::*;
 
@@ -103,12 +104,107 @@ pub(super) fn split_pieces<'a, T>(
     pieces
 }
 
-/// Uninitialised storage that a pass writes front to back, one element after the other
-/// (the pieces of [`append_pieces`]): what is before its cursor is written, so that a
-/// piece whose cursor reaches its end is written whole.
+/// The next `len` elements of a vector, written in parallel pieces without being zeroed
+/// first (zeroing an array that is written right after is a pass over memory as long as
+/// the writing one) and then taken by the vector ([`finish`](Self::finish)).
+///
+/// The new elements are handed out once ([`all`](Self::all) or
+/// [`split_at`](Self::split_at)) as [`Part`]s, each cut into [`Appender`]s
+/// ([`Part::pieces`]), which pass the elements front to back. An appender dropped with its
+/// piece written whole counts its length as written, so all `len` are written when the
+/// count reaches `len`, which `finish` checks: a piece left short is a bug in the pass,
+/// which panics there before the vector takes any new element.
+pub(super) struct Fresh<T> {
+    v: Vec<T>,
+    len: usize,
+    written: AtomicUsize,
+    handed_out: bool,
+}
+
+/// A part of the elements of a [`Fresh`] vector.
+pub(super) struct Part<'a, T> {
+    buf: &'a mut [MaybeUninit<T>],
+    written: &'a AtomicUsize,
+}
+
+/// A piece of a [`Part`], written front to back, one element after the other: what is
+/// before its cursor is written.
 pub(super) struct Appender<'a, T> {
     buf: &'a mut [MaybeUninit<T>],
     len: usize,
+    written: &'a AtomicUsize,
+}
+
+impl<T: Copy> Fresh<T> {
+    /// `len` new elements after those of `v`.
+    pub(super) fn after(mut v: Vec<T>, len: usize) -> Self {
+        v.reserve(len);
+        Self {
+            v,
+            len,
+            written: AtomicUsize::new(0),
+            handed_out: false,
+        }
+    }
+
+    /// `len` elements of a new vector.
+    pub(super) fn new(len: usize) -> Self {
+        Self::after(Vec::new(), len)
+    }
+
+    /// The new elements, all of them.
+    pub(super) fn all(&mut self) -> Part<'_, T> {
+        assert!(!self.handed_out, "the elements are handed out once");
+        self.handed_out = true;
+        Part {
+            buf: &mut self.v.spare_capacity_mut()[..self.len],
+            written: &self.written,
+        }
+    }
+
+    /// The new elements, cut at `mid`.
+    pub(super) fn split_at(&mut self, mid: usize) -> (Part<'_, T>, Part<'_, T>) {
+        let Part { buf, written } = self.all();
+        let (a, b) = buf.split_at_mut(mid);
+        (Part { buf: a, written }, Part { buf: b, written })
+    }
+
+    /// The vector with its new elements, every piece of every part having been written
+    /// whole.
+    pub(super) fn finish(mut self) -> Vec<T> {
+        assert_eq!(
+            *self.written.get_mut(),
+            self.len,
+            "a piece of a pass was left short"
+        );
+        // SAFETY: the parts are disjoint (one `all` or `split_at` of the `len` elements
+        // after the end of `v`, within the capacity reserved), their pieces disjoint
+        // (`Part::pieces` consumes the part), and each piece added its length to `written`
+        // only once written whole: a sum of `len` means all `len` are initialised.
+        unsafe { self.v.set_len(self.v.len() + self.len) };
+        self.v
+    }
+}
+
+impl<'a, T> Part<'a, T> {
+    /// The part cut into consecutive pieces, one per range ([`split_pieces`]: the piece
+    /// of `ranges[i]` from `start(ranges[i].start) - start(ranges[0].start)` on, the last
+    /// one to the end of the part).
+    pub(super) fn pieces(
+        self,
+        ranges: &[Range<usize>],
+        start: impl Fn(usize) -> usize,
+    ) -> Vec<Appender<'a, T>> {
+        let written = self.written;
+        split_pieces(self.buf, ranges, start)
+            .into_iter()
+            .map(|buf| Appender {
+                buf,
+                len: 0,
+                written,
+            })
+            .collect()
+    }
 }
 
 impl<T: Copy> Appender<'_, T> {
@@ -130,37 +226,31 @@ impl<T: Copy> Appender<'_, T> {
     }
 }
 
-/// Appends `len` elements to `v` without zeroing them first: the new elements are cut into
-/// the pieces of the ranges of `0..n` ([`split_pieces`]: the piece of `range` from
-/// `start(range.start) - start(0)` on), and `f(range, piece)` writes each piece front to
-/// back, in parallel when large. A piece left short is a bug in `f`, which panics here
-/// before `v` takes the new elements. (Zeroing an array that is written right after is a
-/// pass over memory as long as the writing one.)
-pub(super) fn append_pieces<T: Copy + Send>(
+impl<T> Drop for Appender<'_, T> {
+    fn drop(&mut self) {
+        if self.len == self.buf.len() {
+            self.written.fetch_add(self.len, Ordering::Relaxed);
+        }
+    }
+}
+
+/// Appends `len` elements to `v` ([`Fresh`]): cut into the pieces of the ranges of `0..n`
+/// ([`Part::pieces`] with `start`), each written by `f(range, piece)`, in parallel when
+/// large.
+pub(super) fn append_pieces<T: Copy + Send + Sync>(
     v: &mut Vec<T>,
     len: usize,
     n: usize,
     start: impl Fn(usize) -> usize,
     f: impl Fn(Range<usize>, &mut Appender<'_, T>) + Sync + Send,
 ) {
-    v.reserve(len);
+    let mut fresh = Fresh::after(std::mem::take(v), len);
     let ranges = chunk_ranges(n);
-    let pieces = split_pieces(&mut v.spare_capacity_mut()[..len], &ranges, start);
-    run(ranges.into_iter().zip(pieces).collect(), |(r, buf)| {
-        let mut out = Appender { buf, len: 0 };
-        f(r, &mut out);
-        assert_eq!(out.len, out.buf.len(), "a piece of a pass was left short");
+    let pieces = fresh.all().pieces(&ranges, start);
+    run(ranges.into_iter().zip(pieces).collect(), |(r, mut out)| {
+        f(r, &mut out)
     });
-    // SAFETY: the pieces are consecutive and cover the `len` elements after the end of `v`
-    // (`split_pieces`: from its first offset, the last piece running to the end), and each
-    // was written whole, which the assertion above checked of its cursor: all `len` are
-    // initialised, within the capacity reserved.
-    unsafe { v.set_len(v.len() + len) };
-}
-
-/// `n` empty pieces (for an output array that is not built).
-fn no_pieces<'a, T>(n: usize) -> Vec<&'a mut [T]> {
-    (0..n).map(|_| <&mut [T]>::default()).collect()
+    *v = fresh.finish();
 }
 
 /// Runs `f` on every item, in parallel when there is more than one.
@@ -304,30 +394,20 @@ fn child_faces(p: &Topology, full: bool, with_edge_verts: bool) -> ChildFaces {
     let s = p.face_verts.len();
     let cne = s + 2 * p.num_edges();
     let fo = |f: usize| p.face_offsets[f] as usize;
+    // An array that is not built has empty pieces.
+    let fo_if = |built: bool| move |f: usize| if built { fo(f) } else { 0 };
 
     let face_offsets = collect(s + 1, |i| 4 * i as u32);
-    let mut face_verts = vec![0u32; 4 * s];
-    let mut face_edges = if full { vec![0u32; 4 * s] } else { Vec::new() };
-    let mut face_holes = vec![false; s];
-    let mut edge_verts = if with_edge_verts {
-        vec![[0u32; 2]; cne]
-    } else {
-        Vec::new()
-    };
-    let (ev_faces, ev_edges) = edge_verts.split_at_mut(if with_edge_verts { s } else { 0 });
+    let mut face_verts = Fresh::new(4 * s);
+    let mut face_edges = Fresh::new(if full { 4 * s } else { 0 });
+    let mut face_holes = Fresh::new(s);
+    let mut edge_verts = Fresh::new(if with_edge_verts { cne } else { 0 });
+    let (ev_faces, ev_edges) = edge_verts.split_at(if with_edge_verts { s } else { 0 });
     let ranges = chunk_ranges(nf);
-    let fv = split_pieces(&mut face_verts, &ranges, |f| 4 * fo(f));
-    let fe = if full {
-        split_pieces(&mut face_edges, &ranges, |f| 4 * fo(f))
-    } else {
-        no_pieces(ranges.len())
-    };
-    let fh = split_pieces(&mut face_holes, &ranges, fo);
-    let ev = if with_edge_verts {
-        split_pieces(ev_faces, &ranges, fo)
-    } else {
-        no_pieces(ranges.len())
-    };
+    let fv = face_verts.all().pieces(&ranges, |f| 4 * fo(f));
+    let fe = face_edges.all().pieces(&ranges, |f| 4 * fo_if(full)(f));
+    let fh = face_holes.all().pieces(&ranges, fo);
+    let ev = ev_faces.pieces(&ranges, fo_if(with_edge_verts));
     let items: Vec<_> = ranges
         .into_iter()
         .zip(fv)
@@ -348,42 +428,39 @@ fn child_faces(p: &Topology, full: bool, with_edge_verts: bool) -> ChildFaces {
         fill_face_children(p, range, out, full, with_edge_verts)
     });
     if with_edge_verts {
-        fill_edge_halves(p, (p.num_vertices() + nf) as u32, ev_edges);
+        append_edge_halves(p, (p.num_vertices() + nf) as u32, ev_edges);
     }
     ChildFaces {
         face_offsets,
-        face_verts,
-        face_edges,
-        face_holes,
-        edge_verts,
+        face_verts: face_verts.finish(),
+        face_edges: face_edges.finish(),
+        face_holes: face_holes.finish(),
+        edge_verts: edge_verts.finish(),
     }
 }
 
-/// The piece of the child's face arrays that one range of parent faces writes.
+/// The pieces of the child's face arrays that one range of parent faces writes.
 struct FacePiece<'a> {
-    verts: &'a mut [u32],
-    edges: &'a mut [u32],
-    holes: &'a mut [bool],
-    edge_verts: &'a mut [[u32; 2]],
+    verts: Appender<'a, u32>,
+    edges: Appender<'a, u32>,
+    holes: Appender<'a, bool>,
+    edge_verts: Appender<'a, [u32; 2]>,
 }
 
 /// The child quads of the parent faces `range` (vertices, edges when `full`, holes) and the
-/// child edges inside them (edge → vertices when `with_edge_verts`), written into `out`,
-/// which starts at the first child of `range.start`.
+/// child edges inside them (edge → vertices when `with_edge_verts`), appended to `out`.
 fn fill_face_children(
     p: &Topology,
     range: Range<usize>,
-    out: FacePiece<'_>,
+    mut out: FacePiece<'_>,
     full: bool,
     with_edge_verts: bool,
 ) {
     let s = p.face_verts.len();
     let nv = p.num_vertices();
     let (fc0, ec0) = (nv as u32, (nv + p.num_faces()) as u32);
-    let fo = |f: usize| p.face_offsets[f] as usize;
-    let base = fo(range.start);
     for f in range {
-        let o = fo(f);
+        let o = p.face_offsets[f] as usize;
         let pfv = p.face_vertices(f);
         let pfe = p.face_edge_list(f);
         let n = pfv.len();
@@ -391,12 +468,11 @@ fn fill_face_children(
         for j in 0..n {
             let jp = if j == 0 { n - 1 } else { j - 1 };
             let v = pfv[j];
-            let l = o + j - base;
-            let r = rot(n, j);
+            // Corner `k` goes to `(k + rot) % 4`.
+            let r = 4 - rot(n, j);
             let verts = [v, ec0 + pfe[j], fc0 + f as u32, ec0 + pfe[jp]];
-            for k in 0..4 {
-                out.verts[4 * l + (k + r) % 4] = verts[k];
-            }
+            out.verts
+                .push_slice(&[0, 1, 2, 3].map(|i| verts[(i + r) % 4]));
             if full {
                 let edges = [
                     edge_child_at(p, s as u32, pfe[j], v, true),
@@ -404,13 +480,12 @@ fn fill_face_children(
                     (o + jp) as u32,
                     edge_child_at(p, s as u32, pfe[jp], v, false),
                 ];
-                for k in 0..4 {
-                    out.edges[4 * l + (k + r) % 4] = edges[k];
-                }
+                out.edges
+                    .push_slice(&[0, 1, 2, 3].map(|i| edges[(i + r) % 4]));
             }
-            out.holes[l] = hole;
+            out.holes.push(hole);
             if with_edge_verts {
-                out.edge_verts[l] = [fc0 + f as u32, ec0 + pfe[j]];
+                out.edge_verts.push([fc0 + f as u32, ec0 + pfe[j]]);
             }
         }
     }
@@ -419,16 +494,18 @@ fn fill_face_children(
 /// Edge → vertices of the two halves of every parent edge `e` (child edges `S + 2e + k`,
 /// joining the child of `e`, numbered `ec0 + e`, and the child of its end `k`), written into
 /// `out` (`2E` entries).
-pub(super) fn fill_edge_halves(p: &Topology, ec0: u32, out: &mut [[u32; 2]]) {
+pub(super) fn append_edge_halves(p: &Topology, ec0: u32, out: Part<'_, [u32; 2]>) {
     let ranges = chunk_ranges(p.num_edges());
-    let pieces = split_pieces(out, &ranges, |e| 2 * e);
-    run(ranges.into_iter().zip(pieces).collect(), |(range, out)| {
-        for (e, o) in range.zip(out.chunks_exact_mut(2)) {
-            let [a, b] = p.edge_verts[e];
-            o[0] = [ec0 + e as u32, a];
-            o[1] = [ec0 + e as u32, b];
-        }
-    });
+    let pieces = out.pieces(&ranges, |e| 2 * e);
+    run(
+        ranges.into_iter().zip(pieces).collect(),
+        |(range, mut out)| {
+            for e in range {
+                let [a, b] = p.edge_verts[e];
+                out.push_slice(&[[ec0 + e as u32, a], [ec0 + e as u32, b]]);
+            }
+        },
+    );
 }
 
 /// Tags and sharpness of the child edges (OpenSubdiv's `propagateComponentTags` and
@@ -1004,4 +1081,63 @@ fn child_max_valence(p: &Topology) -> u32 {
     p.max_valence
         .max(max_face as u32)
         .max(max_edge_valence as u32)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Pieces of two parts written front to back give the vector the values written, with
+    /// one thread or several (the pieces are then written in parallel).
+    #[test]
+    fn fresh_elements_are_the_ones_written() {
+        for threads in [1, 2] {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .expect("a thread pool");
+            let v = pool.install(|| {
+                let n = 3 * PAR_MIN;
+                let mut fresh = Fresh::after(vec![7u32], 2 * n);
+                let (a, b) = fresh.split_at(n);
+                let ranges = chunk_ranges(n);
+                for (part, offset) in [(a, 0), (b, n)] {
+                    let pieces = part.pieces(&ranges, |i| i);
+                    run(
+                        ranges.iter().cloned().zip(pieces).collect(),
+                        |(r, mut out)| {
+                            for i in r {
+                                out.push((offset + i) as u32);
+                            }
+                        },
+                    );
+                }
+                fresh.finish()
+            });
+            assert_eq!(v.len(), 1 + 6 * PAR_MIN);
+            assert_eq!(v[0], 7);
+            assert!(v[1..].iter().enumerate().all(|(i, &x)| x == i as u32));
+        }
+    }
+
+    /// A piece left short is caught before the vector takes the new elements.
+    #[test]
+    #[should_panic(expected = "left short")]
+    fn fresh_refuses_a_piece_left_short() {
+        let mut fresh = Fresh::<f64>::new(4);
+        let mut pieces = fresh.all().pieces(&[0..2, 2..4], |i| i);
+        pieces[0].push_slice(&[1.0, 2.0]);
+        pieces[1].push(3.0);
+        drop(pieces);
+        fresh.finish();
+    }
+
+    /// A part handed out twice would let one piece be counted twice.
+    #[test]
+    #[should_panic(expected = "handed out once")]
+    fn fresh_hands_its_elements_out_once() {
+        let mut fresh = Fresh::<u8>::new(2);
+        drop(fresh.all());
+        let _ = fresh.split_at(1);
+    }
 }

@@ -21,8 +21,9 @@
 use std::ops::Range;
 
 use super::topology::{
-    child_edge_face_offset, child_topology, chunk_ranges, collect, edge_child_at, extend,
-    fill_edge_halves, filled, half_at_start, run, split_pieces, ChildFaces, VertexRelations,
+    append_edge_halves, child_edge_face_offset, child_topology, chunk_ranges, collect,
+    edge_child_at, extend, filled, half_at_start, run, split_pieces, Appender, ChildFaces, Fresh,
+    VertexRelations,
 };
 use crate::mesh::{Options, Topology};
 
@@ -51,58 +52,56 @@ pub(crate) fn refine_tri_topology(p: &Topology, options: &Options, full: bool) -
 fn child_faces(p: &Topology) -> ChildFaces {
     let nf = p.num_faces();
     let s = 3 * nf;
-    let mut face_verts = filled(12 * nf, 0u32);
-    let mut face_edges = filled(12 * nf, 0u32);
-    let mut face_holes = filled(4 * nf, false);
-    let mut edge_verts = filled(s + 2 * p.num_edges(), [0u32; 2]);
-    let (inner, halves) = edge_verts.split_at_mut(s);
+    let mut face_verts = Fresh::new(12 * nf);
+    let mut face_edges = Fresh::new(12 * nf);
+    let mut face_holes = Fresh::new(4 * nf);
+    let mut edge_verts = Fresh::new(s + 2 * p.num_edges());
+    let (inner, halves) = edge_verts.split_at(s);
     let ranges = chunk_ranges(nf);
-    let fv = split_pieces(&mut face_verts, &ranges, |f| 12 * f);
-    let fe = split_pieces(&mut face_edges, &ranges, |f| 12 * f);
-    let fh = split_pieces(&mut face_holes, &ranges, |f| 4 * f);
-    let ev = split_pieces(inner, &ranges, |f| 3 * f);
+    let fv = face_verts.all().pieces(&ranges, |f| 12 * f);
+    let fe = face_edges.all().pieces(&ranges, |f| 12 * f);
+    let fh = face_holes.all().pieces(&ranges, |f| 4 * f);
+    let ev = inner.pieces(&ranges, |f| 3 * f);
     let items = (ranges.into_iter().zip(fv).zip(fe).zip(fh).zip(ev))
         .map(|((((r, fv), fe), fh), ev)| (r, [fv, fe], fh, ev))
         .collect();
-    run(items, |(range, [fv, fe], fh, ev)| {
-        fill_faces(p, range, [fv, fe], fh, ev)
+    run(items, |(range, [mut fv, mut fe], mut fh, mut ev)| {
+        fill_faces(p, range, [&mut fv, &mut fe], &mut fh, &mut ev)
     });
-    fill_edge_halves(p, p.num_vertices() as u32, halves);
+    append_edge_halves(p, p.num_vertices() as u32, halves);
     ChildFaces {
         face_offsets: collect(4 * nf + 1, |i| 3 * i as u32),
-        face_verts,
-        face_edges,
-        face_holes,
-        edge_verts,
+        face_verts: face_verts.finish(),
+        face_edges: face_edges.finish(),
+        face_holes: face_holes.finish(),
+        edge_verts: edge_verts.finish(),
     }
 }
 
 /// The child faces of the parent triangles `range` (their vertices and edges, 12 each per
-/// parent), their holes (4 per parent) and the edges inside them (3 per parent), written
-/// into slices that start at the first of them.
+/// parent), their holes (4 per parent) and the edges inside them (3 per parent), appended
+/// to the pieces of the range.
 fn fill_faces(
     p: &Topology,
     range: Range<usize>,
-    [fv_out, fe_out]: [&mut [u32]; 2],
-    holes: &mut [bool],
-    inner_edges: &mut [[u32; 2]],
+    [fv_out, fe_out]: [&mut Appender<'_, u32>; 2],
+    holes: &mut Appender<'_, bool>,
+    inner_edges: &mut Appender<'_, [u32; 2]>,
 ) {
     let su = 3 * p.num_faces() as u32;
     let ec0 = p.num_vertices() as u32;
-    let first = range.start;
     for f in range {
         let v = p.face_vertices(f);
         let pe = p.face_edge_list(f);
         let ce = [ec0 + pe[0], ec0 + pe[1], ec0 + pe[2]];
-        let at = f - first;
-        fv_out[12 * at..12 * at + 12].copy_from_slice(&[
+        fv_out.push_slice(&[
             v[0], ce[0], ce[2], ce[0], v[1], ce[1], ce[2], ce[1], v[2], ce[1], ce[2], ce[0],
         ]);
         // Halves of edge j at its start (corner j) and at its end (corner j + 1).
         let start = |j: usize| edge_child_at(p, su, pe[j], v[j], true);
         let end = |j: usize| edge_child_at(p, su, pe[j], v[(j + 1) % 3], false);
         let inner = |j: usize| (3 * f + j) as u32;
-        fe_out[12 * at..12 * at + 12].copy_from_slice(&[
+        fe_out.push_slice(&[
             start(0),
             inner(0),
             end(2),
@@ -116,12 +115,8 @@ fn fill_faces(
             inner(0),
             inner(1),
         ]);
-        holes[4 * at..4 * at + 4].fill(p.face_holes[f]);
-        inner_edges[3 * at..3 * at + 3].copy_from_slice(&[
-            [ce[0], ce[2]],
-            [ce[1], ce[0]],
-            [ce[2], ce[1]],
-        ]);
+        holes.push_slice(&[p.face_holes[f]; 4]);
+        inner_edges.push_slice(&[[ce[0], ce[2]], [ce[1], ce[0]], [ce[2], ce[1]]]);
     }
 }
 
