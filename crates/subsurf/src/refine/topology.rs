@@ -1137,7 +1137,7 @@ mod tests {
     #[should_panic(expected = "handed out once")]
     fn fresh_hands_its_elements_out_once() {
         let mut fresh = Fresh::<u8>::new(2);
-        drop(fresh.all());
+        let _ = fresh.all();
         let _ = fresh.split_at(1);
     }
 }
