@@ -39,8 +39,9 @@ fn knot_vector(
     KnotVector::new(degree, knots).map_err(|e| error(format!("{at}: {field}: {e}")))
 }
 
-/// The points of an item: `(shape without the last axis, points)`, `(x, y, z)` or
-/// homogeneous `(w x, w y, w z, w)` by the last axis (`axes` before it).
+/// The control points of an item, `axes` axes of `(x, y, z)` or homogeneous
+/// `(w x, w y, w z, w)` rows: the shape without its last axis, the values, and the length
+/// of the last axis (3 or 4).
 fn net(
     points: &Bound<'_, PyAny>,
     at: &str,
