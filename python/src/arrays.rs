@@ -71,6 +71,33 @@ pub(crate) fn float_rows<const N: usize>(
     Ok(rows)
 }
 
+/// `obj` as an array of real numbers of any shape (any real dtype): its shape and its
+/// values in row-major order, every one finite.
+pub(crate) fn float_grid(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<(Vec<usize>, Vec<f64>)> {
+    let a = checked_array(obj, name, "fiu", "real numbers")?;
+    let shape: Vec<usize> = a.getattr("shape")?.extract()?;
+    let a = asarray(&a.call_method0("ravel")?, Some("float64"))?;
+    let a: PyReadonlyArray1<'_, f64> = a.extract()?;
+    let values = a.as_slice()?.to_vec();
+    if let Some(i) = values.iter().position(|x| !x.is_finite()) {
+        // The index of the first row (all axes but the last) holding the value.
+        let mut rest = i / shape.last().copied().unwrap_or(1).max(1);
+        let mut at = Vec::new();
+        for &n in shape.iter().rev().skip(1) {
+            at.push(rest % n.max(1));
+            rest /= n.max(1);
+        }
+        at.reverse();
+        let at: Vec<String> = at.iter().map(ToString::to_string).collect();
+        return Err(PyValueError::new_err(format!(
+            "{name}[{}] has a value that is not finite ({})",
+            at.join(", "),
+            values[i]
+        )));
+    }
+    Ok((shape, values))
+}
+
 /// `obj` as a flat array of floats (any real dtype, any shape flattened).
 pub(crate) fn float_array(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Vec<f64>> {
     let a = checked_array(obj, name, "fiu", "real numbers")?;

@@ -18,17 +18,35 @@ The mesh speaks USD's vocabulary (``UsdGeomMesh``'s attribute names and tokens):
     pos, du, dv = surface.evaluate([0, 1], [0.5, 0.25], [0.5, 0.75])
     tessellation = cube.tessellate(rate=8)  # watertight, with limit normals
 
+The paper methods work on meshes (``Mesh.g2_surface``, ``Mesh.spline_surface``,
+``Mesh.regularity``) and on curves and patches (``interpolate_curves``, ``blend``,
+``fill``).
+
 Every call releases the interpreter lock and runs on the library's own threads.
 """
 
-from ._subsurf import Mesh, Reposer, SubsurfError, Surface, __version__, interpolate_curves, read
+from ._subsurf import (
+    BlendResult,
+    Mesh,
+    Reposer,
+    SubsurfError,
+    Surface,
+    __version__,
+    blend,
+    fill,
+    interpolate_curves,
+    read,
+)
 
 __all__ = [
+    "BlendResult",
     "Mesh",
     "Reposer",
     "SubsurfError",
     "Surface",
     "__version__",
+    "blend",
+    "fill",
     "interpolate_curves",
     "read",
 ]

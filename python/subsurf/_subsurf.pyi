@@ -1,7 +1,7 @@
 """Type stubs of the extension module `subsurf._subsurf` (see `subsurf/__init__.py`)."""
 
 from os import PathLike
-from typing import Literal, Optional, Tuple, Union
+from typing import Any, Dict, List, Literal, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -15,6 +15,10 @@ Floats = npt.NDArray[np.float64]
 Ints = npt.NDArray[np.int32]
 ArrayLike = npt.ArrayLike
 Path = Union[str, PathLike]
+# A curve (points (n, 3) or homogeneous (n, 4), knots) or a patch (points (m, n, 3) or
+# homogeneous (m, n, 4), knots_u, knots_v); homogeneous points are (w x, w y, w z, w).
+CurveArrays = Tuple[ArrayLike, ArrayLike]
+PatchArrays = Tuple[ArrayLike, ArrayLike, ArrayLike]
 
 class SubsurfError(ValueError):
     """A mesh, its tags or an evaluation request that subsurf refuses; the message names the
@@ -118,6 +122,30 @@ class Mesh:
     def tessellate(self, rate: int = 8, *, triangles: bool = False) -> Mesh:
         """A watertight tessellation of the limit surface, with limit normals and texture
         coordinates; its scheme is "bilinear"."""
+    def regularity(
+        self,
+        *,
+        local: bool = False,
+        sample: int = 9,
+        planar: bool = False,
+        plot: Optional[Path] = None,
+    ) -> Dict[str, Any]:
+        """The regularity certificate of the Catmull-Clark limit surface (Wang, Lin, Wang
+        and Lu 2016) as `subsurf regularity --json` reports it (`file` is None):
+        `certified`, `counts`, the global cones per component and each face's verdict.
+        `local`: per face's patch neighbourhood instead of one cone pair per component;
+        `sample`: `sample x sample` limit samples per face (0: none, else 2 to 1024);
+        `planar`: treat the net as planar (x, y); `plot`: draw the net and its difference
+        fans to an .svg or .png file.
+
+        >>> import subsurf
+        >>> strip = subsurf.Mesh([[0, 0, 0], [1, 0, 0], [2, 0, 0], [0, 1, 0], [1, 1, 0], [2, 1, 0]],
+        ...                      [4, 4], [0, 1, 4, 3, 1, 2, 5, 4],
+        ...                      interpolate_boundary="edgeAndCorner")
+        >>> report = strip.regularity()
+        >>> report["certified"], report["counts"]["certified"]
+        (True, 2)
+        """
     def write(self, path: Path) -> None:
         """Write OBJ (`.obj`) or PLY (`.ply`); the file appears only once complete."""
     @staticmethod
@@ -168,14 +196,83 @@ class Reposer:
 
     def __init__(self, mesh: Mesh, levels: int, *, limit: bool = False) -> None: ...
     def pose(self, points: ArrayLike) -> Floats:
-        """The refined points of the base mesh's points moved to `points`; equal to
-        `Mesh.subdivide` of the moved mesh."""
+        """The refined points `(m, 3)` of the base mesh's points moved to `points` `(n, 3)`;
+        equal to `Mesh.subdivide` of the moved mesh. Many frames at once: `(frames, n, 3)`
+        gives `(frames, m, 3)`, each frame as if posed alone (`mesh` and `normals` are then
+        the last frame's)."""
     @property
     def mesh(self) -> Mesh:
         """The refined mesh in the last pose."""
     @property
     def normals(self) -> Optional[Floats]:
         """The limit normals of the last pose (`limit=True`), or None."""
+
+class BlendResult:
+    """A blend or fill (`blend`, `fill`): the surface, the base patches and boundary
+    curves around it, and the control mesh."""
+
+    @property
+    def method(self) -> Literal["blend", "fill"]: ...
+    @property
+    def surface(self) -> Mesh:
+        """The blend or fill surface (scheme "bilinear")."""
+    @property
+    def control(self) -> Mesh:
+        """The control mesh (scheme "nurss", with its knot intervals; the outer ring is the
+        extension layer)."""
+    @property
+    def patches(self) -> List[Mesh]:
+        """The base patches tessellated at `samples` segments per knot span."""
+    @property
+    def curves(self) -> List[Floats]:
+        """Fill: the boundary curves as `(k, 3)` polylines; blend: empty."""
+    @property
+    def comment(self) -> str:
+        """A one-line description of the job."""
+    def write(self, path: Path) -> None:
+        """Write the OBJ file of `subsurf blend` / `subsurf fill`: groups `patch_1`, ...,
+        `blend` or `fill`, and the polylines `curve_1`, ...."""
+
+def blend(
+    patches: Union[Path, Sequence[PatchArrays]],
+    *,
+    levels: int = 5,
+    samples: int = 8,
+) -> BlendResult:
+    """Join N >= 2 bicubic B-spline or NURBS patches C2 with a non-uniform Catmull-Clark
+    surface refined `levels` times with skirt removal (Jiang et al.), as `subsurf blend`
+    does. `patches`: a JSON or OBJ free-form file, or `(points, knots_u, knots_v)` tuples
+    in order around the region (each blended along its first row); `samples`: segments per
+    knot span of the tessellated base patches.
+
+    >>> import subsurf
+    >>> b = subsurf.blend("examples/patches/blend3.json", levels=3)  # doctest: +SKIP
+    >>> b.surface.num_faces, [p.num_faces for p in b.patches]  # doctest: +SKIP
+    (3024, [128, 128, 128])
+    """
+
+def fill(
+    boundary: Union[Path, Sequence[Union[CurveArrays, PatchArrays]]],
+    *,
+    levels: int = 5,
+    bulge: float = 0.0,
+    g1: bool = False,
+    samples: int = 8,
+) -> BlendResult:
+    """Fill the hole bounded by 3 to 8 cubic curves or bicubic patches (their first-row
+    boundary) with a corner-interpolating non-uniform Catmull-Clark surface (Jiang et al.,
+    Algorithm 1), as `subsurf fill` does; `bulge` moves the inner points along the normal by
+    `bulge` times the hole's radius; `g1` (patches only, Algorithm 2) meets the patches with
+    a continuous normal.
+
+    >>> import numpy as np, subsurf
+    >>> corners = [np.array([np.cos(a), np.sin(a), 0.0]) for a in np.arange(3) * 2 * np.pi / 3]
+    >>> sides = [(np.linspace(corners[k], corners[(k + 1) % 3], 4), [0, 0, 0, 0, 1, 1, 1, 1])
+    ...          for k in range(3)]
+    >>> f = subsurf.fill(sides, levels=2)
+    >>> f.method, len(f.curves), f.patches
+    ('fill', 3, [])
+    """
 
 def read(
     path: Path, *, scheme: Scheme = "catmullClark", c: float = 0.5, adjust_steps: int = 1

@@ -10,6 +10,8 @@ import pytest
 
 import subsurf
 
+REPO = Path(__file__).resolve().parents[2]
+
 CUBE_POINTS = np.array(
     [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [0, 0, 1], [1, 0, 1], [1, 1, 1], [0, 1, 1]],
     float,
@@ -286,16 +288,59 @@ def test_trimesh_interop():
     assert back.scheme == "loop" and back.num_faces == len(tri.faces)
 
 
-def test_long_calls_release_the_interpreter_lock():
-    """While one thread refines, another runs Python code. With the thread switch interval
-    at an hour, the lock changes hands only when a thread gives it up: the counter can move
-    during the refinement only if `subdivide` released it."""
+def long_subdivide():
     big = cube()
+    return lambda: big.subdivide(7)
+
+
+def long_pose():
+    reposer = subsurf.Reposer(cube(), 5)
+    frames = np.tile(CUBE_POINTS, (200, 1, 1))
+    return lambda: reposer.pose(frames)
+
+
+def patch_arrays(name):
+    """The patches of a bundled example as arrays (so that no file is read in the call)."""
+    docs = __import__("json").loads((REPO / "examples/patches" / name).read_text())
+    return [(np.array(d["points"]), d["knots_u"], d["knots_v"]) for d in docs]
+
+
+def long_blend():
+    patches = patch_arrays("blend5.json")
+    return lambda: subsurf.blend(patches, levels=6)
+
+
+def long_fill():
+    patches = patch_arrays("hole5.json")
+    return lambda: subsurf.fill(patches, levels=7)
+
+
+def long_regularity():
+    net = subsurf.read(str(REPO / "examples/meshes/regularity-gear.obj")).subdivide(2)
+    return lambda: net.regularity(sample=17)
+
+
+# Each prepares its arguments and returns the call to watch.
+LONG_CALLS = {
+    "subdivide": long_subdivide,
+    "blend": long_blend,
+    "fill": long_fill,
+    "pose": long_pose,
+    "regularity": long_regularity,
+}
+
+
+@pytest.mark.parametrize("name", sorted(LONG_CALLS))
+def test_long_calls_release_the_interpreter_lock(name):
+    """While one thread computes, another runs Python code. With the thread switch interval
+    at an hour, the lock changes hands only when a thread gives it up: the counter can move
+    during the call only if the call released it."""
+    call = LONG_CALLS[name]()
     in_call, done, seen = threading.Event(), threading.Event(), []
 
-    def refine():
+    def work():
         in_call.set()
-        big.subdivide(7)
+        call()
         in_call.clear()
         done.set()
 
@@ -311,10 +356,10 @@ def test_long_calls_release_the_interpreter_lock():
     try:
         counter = threading.Thread(target=count)
         counter.start()
-        worker = threading.Thread(target=refine)
+        worker = threading.Thread(target=work)
         worker.start()
         worker.join()
         counter.join()
     finally:
         sys.setswitchinterval(old)
-    assert seen, "no Python code ran while subdivide() ran"
+    assert seen, f"no Python code ran while {name} ran"

@@ -1,6 +1,7 @@
 //! A compact JSON writer (RFC 8259) for the library's documents: NURBS curves and surfaces
-//! ([`nurbs`](crate::nurbs)) and the Bézier patches of a G2 surface
-//! ([`g2cap::patches_json`](crate::g2cap::patches_json)).
+//! ([`nurbs`](crate::nurbs)), the Bézier patches of a G2 surface
+//! ([`g2cap::patches_json`](crate::g2cap::patches_json)) and the regularity report
+//! ([`RegularityReport::to_json`](crate::regularity::RegularityReport::to_json)).
 //!
 //! The text is what `serde_json::to_string` writes for the same document, byte for byte:
 //! no whitespace; numbers as the shortest decimal that reads back as the same `f64`, by the

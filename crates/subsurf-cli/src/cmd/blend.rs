@@ -3,16 +3,12 @@
 
 use std::path::{Path, PathBuf};
 
-use anyhow::{bail, Context, Result};
+use anyhow::Result;
 use clap::Args;
-use subsurf::blend::BlendError;
-use subsurf::blend::{blend, blend_control_mesh};
+use subsurf::blend::{BlendJob, BlendJobOptions, MethodOutput};
 use subsurf::io::read_geometry;
-use subsurf::io::write_groups_obj;
+use subsurf::io::write_method_obj;
 use subsurf::io::{write_obj, WriteOptions};
-use subsurf::mesh::PolyMesh;
-use subsurf::nurbs::SourcedGeometry;
-use subsurf::nurbs::{Geometry, Surface};
 
 use crate::output::Output;
 
@@ -65,98 +61,19 @@ pub fn input_name(path: &Path) -> String {
     }
 }
 
-/// The surfaces of `items` (polynomial or rational), or an error naming the item that is a
-/// curve.
-pub fn patches(items: &[SourcedGeometry]) -> Result<Vec<Surface>> {
-    items
-        .iter()
-        .map(|g| match &g.geometry {
-            Geometry::Surface(s) => Ok(s.clone()),
-            Geometry::Curve(_) => bail!("{}: a curve; blending takes patches", g.label()),
-        })
-        .collect()
-}
-
-/// A library error, prefixed with the file position and name of the input item it is about
-/// (the library numbers items from 0, as the JSON `[i]` positions do), or else with the
-/// input's name.
-pub fn explain(e: BlendError, items: &[SourcedGeometry], name: &str) -> anyhow::Error {
-    match e.input_index().and_then(|i| items.get(i)) {
-        Some(item) => anyhow::anyhow!("{}: {e}", item.label()),
-        None => anyhow::anyhow!("{name}: {e}"),
+/// Writes the output of `subsurf blend` or `subsurf fill`: the groups and polylines of
+/// `result` to `out`, its control mesh to `control_out` when given.
+pub fn write(result: &MethodOutput, out: &Output, control_out: Option<Output>) -> Result<()> {
+    out.write(|w| write_method_obj(w, result))?;
+    if let Some(c) = control_out {
+        let comment = result.control_comment();
+        let opts = WriteOptions {
+            comment: Some(&comment),
+            ..Default::default()
+        };
+        c.write(|mut w| write_obj(&mut w, &result.control, &opts))?;
     }
-}
-
-/// Peak bytes per face of the last refined level's bound, output included (measured on
-/// the bundled examples at levels 5–7, peak RSS of a release build: 144–189; see
-/// RELIABILITY.md).
-const BYTES_PER_REFINED_FACE: u64 = 256;
-
-/// Peak bytes per sample of the tessellated base patches and curves, output included
-/// (measured: 52 between `--samples 128` and `256`).
-const BYTES_PER_SAMPLE: u64 = 96;
-
-/// The process's own memory besides the job (code, threads, allocator), charged once.
-const BASE_BYTES: u64 = 8 << 20;
-
-/// The samples of the tessellated `patches` at `per_span` segments per knot span (the
-/// `--samples` of `blend` and `fill`): `(s_u N + 1)(s_v N + 1)` per patch, `s` its spans.
-pub fn sample_points(patches: &[Surface], per_span: u32) -> u64 {
-    let n = u64::from(per_span);
-    let along = |k: &subsurf::nurbs::KnotVector| {
-        let (a, b) = k.domain();
-        let mut spans = 0u64;
-        let t = k.as_slice();
-        for w in t.windows(2) {
-            if w[0] < w[1] && w[0] >= a && w[1] <= b {
-                spans += 1;
-            }
-        }
-        spans.max(1).saturating_mul(n).saturating_add(1)
-    };
-    patches
-        .iter()
-        .map(|s| {
-            let (ku, kv) = match s {
-                Surface::BSpline(s) => (s.knots_u(), s.knots_v()),
-                Surface::Nurbs(s) => (s.knots_u(), s.knots_v()),
-            };
-            along(ku).saturating_mul(along(kv))
-        })
-        .fold(0, u64::saturating_add)
-}
-
-/// Refuses a `blend` or `fill` (`what`) whose refinement of `control` to `levels` plus
-/// `samples` tessellation samples would exceed `max` (`--max-memory`, else the memory
-/// available): the last level has at most `S · 4^(L−1)` faces (`S` the control mesh's
-/// face corners, one quad each after a step; skirt removal only drops faces), charged at
-/// [`BYTES_PER_REFINED_FACE`] each, every sample at [`BYTES_PER_SAMPLE`], plus
-/// [`BASE_BYTES`].
-pub fn check_memory(
-    name: &str,
-    what: &str,
-    control: &PolyMesh,
-    levels: u32,
-    samples: u64,
-    max: Option<u64>,
-) -> Result<()> {
-    let corners = control.face_verts().len() as u64;
-    let faces = if levels == 0 {
-        control.num_faces() as u64
-    } else {
-        corners.saturating_mul(4u64.saturating_pow(levels - 1))
-    };
-    let estimate = faces
-        .saturating_mul(BYTES_PER_REFINED_FACE)
-        .saturating_add(samples.saturating_mul(BYTES_PER_SAMPLE))
-        .saturating_add(BASE_BYTES);
-    crate::memory::check(
-        name,
-        &format!("{what} with {levels} levels"),
-        estimate,
-        max,
-        "use fewer --levels or --samples",
-    )
+    Ok(())
 }
 
 /// Runs `subsurf blend`.
@@ -169,41 +86,20 @@ pub fn run(args: &BlendArgs) -> Result<()> {
     }
     let name = input_name(&args.input);
     let items = read_geometry(&args.input)?;
-    let patches = patches(&items)?;
-    let control = blend_control_mesh(&patches).map_err(|e| explain(e, &items, &name))?;
-    check_memory(
+    let options = BlendJobOptions {
+        levels: args.levels,
+        samples: args.samples,
+    };
+    let job = BlendJob::new(&items, &name, &options)?;
+    crate::memory::check(
         &name,
-        "blending",
-        &control.mesh,
-        args.levels,
-        sample_points(&patches, args.samples),
+        &format!("blending with {} levels", args.levels),
+        job.estimate_memory(),
         args.max_memory,
+        MEMORY_HINT,
     )?;
-    let b = blend(&patches, args.levels).map_err(|e| explain(e, &items, &name))?;
-    let surface = b.surface().map_err(|e| explain(e, &items, &name))?;
-    let tessellated = patches
-        .iter()
-        .map(|s| s.grid(args.samples as usize))
-        .collect::<Result<Vec<PolyMesh>, _>>()
-        .with_context(|| name.clone())?;
-    let mut groups: Vec<(String, &PolyMesh)> = tessellated
-        .iter()
-        .enumerate()
-        .map(|(k, m)| (format!("patch_{}", k + 1), m))
-        .collect();
-    groups.push(("blend".to_string(), &surface));
-    let comment = format!(
-        "subsurf blend: {} patches, {} skirt-removal levels",
-        patches.len(),
-        args.levels
-    );
-    out.write(|w| write_groups_obj(w, Some(&comment), &groups, &[]))?;
-    if let Some(c) = control_out {
-        let opts = WriteOptions {
-            comment: Some("subsurf blend: control mesh (outer ring: extension layer)"),
-            ..Default::default()
-        };
-        c.write(|mut w| write_obj(&mut w, &b.control.mesh, &opts))?;
-    }
-    Ok(())
+    write(&job.run()?, &out, control_out)
 }
+
+/// What to do about a blend or fill too large for the memory.
+pub const MEMORY_HINT: &str = "use fewer --levels or --samples";

@@ -3,17 +3,12 @@
 
 use std::path::PathBuf;
 
-use anyhow::{bail, Context, Result};
+use anyhow::Result;
 use clap::Args;
-use subsurf::blend::fill_g1;
-use subsurf::blend::{fill, surface_boundary, FillOptions};
+use subsurf::blend::{FillJob, FillJobOptions, FillOptions};
 use subsurf::io::read_geometry;
-use subsurf::io::write_groups_obj;
-use subsurf::io::{write_obj, WriteOptions};
-use subsurf::mesh::PolyMesh;
-use subsurf::nurbs::{sample_parameters, Curve, Geometry, Surface};
 
-use super::blend::{check_memory, explain, input_name, sample_points};
+use super::blend::{input_name, write, MEMORY_HINT};
 use crate::output::Output;
 
 /// Examples shown by `subsurf fill --help`.
@@ -89,88 +84,23 @@ pub fn run(args: &FillArgs) -> Result<()> {
     }
     let name = input_name(&args.input);
     let items = read_geometry(&args.input)?;
-    let mut curves: Vec<Curve> = Vec::with_capacity(items.len());
-    let mut surfaces: Vec<Surface> = Vec::new();
-    for (k, g) in items.iter().enumerate() {
-        match &g.geometry {
-            Geometry::Curve(_) if args.g1 => bail!(
-                "{}: a curve; --g1 needs the patches around the hole (their normals)",
-                g.label()
-            ),
-            Geometry::Curve(c) => curves.push(c.clone()),
-            Geometry::Surface(s) => {
-                curves.push(surface_boundary(s, k).map_err(|e| explain(e, &items, &name))?);
-                surfaces.push(s.clone());
-            }
-        }
-    }
-    let opts = FillOptions {
-        bulge: args.bulge,
-        ..Default::default()
-    };
-    let fail = |e| explain(e, &items, &name);
-    // The control mesh first (no refinement): its size bounds the job's memory.
-    let control = if args.g1 {
-        fill_g1(&surfaces, 0, &opts).map_err(fail)?.control
-    } else {
-        fill(&curves, 0, &opts).map_err(fail)?.control
-    };
-    let samples = sample_points(&surfaces, args.samples).saturating_add(
-        curves
-            .iter()
-            .map(|c| sample_parameters(c.knots(), args.samples as usize).len() as u64)
-            .sum(),
-    );
-    check_memory(
-        &name,
-        "filling",
-        &control,
-        args.levels,
-        samples,
-        args.max_memory,
-    )?;
-    let (surface, boundary, control) = if args.g1 {
-        let f = fill_g1(&surfaces, args.levels, &opts).map_err(fail)?;
-        let curves = f.curves.iter().cloned().map(Curve::BSpline).collect();
-        (f.surface().map_err(fail)?, curves, f.control)
-    } else {
-        let f = fill(&curves, args.levels, &opts).map_err(fail)?;
-        (f.surface().map_err(fail)?, f.curves, f.control)
-    };
-    let tessellated = surfaces
-        .iter()
-        .map(|s| s.grid(args.samples as usize))
-        .collect::<Result<Vec<PolyMesh>, _>>()
-        .with_context(|| name.clone())?;
-    let mut groups: Vec<(String, &PolyMesh)> = tessellated
-        .iter()
-        .enumerate()
-        .map(|(k, m)| (format!("patch_{}", k + 1), m))
-        .collect();
-    groups.push(("fill".to_string(), &surface));
-    let polylines = boundary
-        .iter()
-        .enumerate()
-        .map(|(k, c)| {
-            c.polyline(args.samples as usize)
-                .map(|p| (format!("curve_{}", k + 1), p))
-        })
-        .collect::<Result<Vec<_>, _>>()
-        .with_context(|| name.clone())?;
-    let comment = format!(
-        "subsurf fill: {}-sided hole{}, {} skirt-removal levels, bulge {}",
-        curves.len(),
-        if args.g1 { " (G1)" } else { "" },
-        args.levels,
-        args.bulge
-    );
-    out.write(|w| write_groups_obj(w, Some(&comment), &groups, &polylines))?;
-    if let Some(c) = control_out {
-        let wopts = WriteOptions {
-            comment: Some("subsurf fill: control mesh (outer ring: extension layer)"),
+    let options = FillJobOptions {
+        levels: args.levels,
+        samples: args.samples,
+        fill: FillOptions {
+            bulge: args.bulge,
             ..Default::default()
-        };
-        c.write(|mut w| write_obj(&mut w, &control, &wopts))?;
-    }
-    Ok(())
+        },
+        g1: args.g1,
+    };
+    // The control mesh first (no refinement): its size bounds the job's memory.
+    let job = FillJob::new(&items, &name, &options)?;
+    crate::memory::check(
+        &name,
+        &format!("filling with {} levels", args.levels),
+        job.estimate_memory(),
+        args.max_memory,
+        MEMORY_HINT,
+    )?;
+    write(&job.run()?, &out, control_out)
 }

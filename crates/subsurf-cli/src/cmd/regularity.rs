@@ -4,14 +4,13 @@
 //!
 //! Exit status: 0 when every face is certified, 3 when not, 1 on bad input.
 
-use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result};
 use subsurf::mesh::Options;
 use subsurf::regularity::{
-    check_regularity_with, plot_image, plot_svg, Certificate, Class, ConeTest, Dimension, Mode,
-    RegularityOptions, RegularityReport, Sign, PLOT_HEIGHT, PLOT_WIDTH,
+    check_regularity_with, plot_image, plot_svg, Dimension, Mode, RegularityOptions, PLOT_HEIGHT,
+    PLOT_WIDTH,
 };
 
 use crate::input::Input;
@@ -174,9 +173,11 @@ pub fn run(args: &RegularityArgs) -> Result<()> {
         Mode::Global
     };
     let text = if args.json {
-        format!("{}\n", json(&input.name, &report, mode))
+        let json = Json::parse(&report.to_json(Some(&input.name), mode))
+            .map_err(|e| anyhow::anyhow!("the report's JSON: {e}"))?;
+        format!("{json}\n")
     } else {
-        summary(&input.name, &report, mode)
+        report.summary(&input.name, mode)
     };
     Output::new(Path::new("-")).write(|w| w.write_all(text.as_bytes()))?;
     if let (Some(out), Some(path)) = (&plot_out, &args.plot) {
@@ -191,273 +192,9 @@ pub fn run(args: &RegularityArgs) -> Result<()> {
             out.write(|w| w.write_all(svg.as_bytes()))?;
         }
     }
-    if report.certified(mode) && report.counts(mode).contradictions == 0 {
+    if report.regular(mode) {
         Ok(())
     } else {
         Err(NotCertified.into())
     }
-}
-
-fn mode_name(mode: Mode) -> &'static str {
-    match mode {
-        Mode::Global => "global",
-        Mode::Local => "local",
-    }
-}
-
-fn class_name(c: Class) -> &'static str {
-    match c {
-        Class::Certified => "certified",
-        Class::RegularNotCertified => "regular-not-certified",
-        Class::NotRegular => "not-regular",
-        Class::Unsampled => "unsampled",
-        Class::Contradiction => "contradiction",
-    }
-}
-
-fn short(c: &Certificate) -> &'static str {
-    match c {
-        Certificate::Certified(_) => "certified",
-        Certificate::Refused(_) => "refused",
-        Certificate::NotApplicable(_) => "not-applicable",
-    }
-}
-
-fn reason(c: &Certificate) -> Json {
-    match c {
-        Certificate::Certified(_) => Json::Null,
-        Certificate::Refused(r) => Json::str(r.to_string()),
-        Certificate::NotApplicable(i) => Json::str(i.to_string()),
-    }
-}
-
-fn dimension_name(r: &RegularityReport) -> &'static str {
-    match r.dimension {
-        Dimension::Planar => "planar",
-        Dimension::Spatial => "spatial",
-    }
-}
-
-/// The human-readable report.
-/// The text report of `subsurf regularity` on the net `name`: the net, both certificates'
-/// verdicts, the global cones, the counts of `mode`'s certificate and of the samples, the
-/// faces that fail, and the verdict.
-fn summary(name: &str, r: &RegularityReport, mode: Mode) -> String {
-    let mut s = String::new();
-    let c = r.counts(mode);
-    let orient = match (r.dimension, r.orientation) {
-        (Dimension::Planar, Sign::Negative) => ", clockwise",
-        (Dimension::Planar, _) => ", counter-clockwise",
-        _ => "",
-    };
-    let _ = writeln!(
-        s,
-        "{name}: {} net{orient}, {} faces",
-        dimension_name(r),
-        r.faces.len()
-    );
-    let yes = |b: bool| if b { "certified" } else { "not certified" };
-    let _ = writeln!(
-        s,
-        "global certificate (one cone pair per component): {}; local certificate (per face): {}",
-        yes(r.certified(Mode::Global)),
-        yes(r.certified(Mode::Local))
-    );
-    global_cones(&mut s, r);
-    let _ = writeln!(
-        s,
-        "{} certificate: {} certified, {} refused, {} not applicable",
-        mode_name(mode),
-        c.certified,
-        c.refused,
-        c.not_applicable
-    );
-    if r.samples > 0 {
-        let _ = writeln!(
-            s,
-            "limit surface sampled {n}x{n} per face: {} certified, {} regular but not certified, {} not regular",
-            c.certified - c.contradictions,
-            c.regular_not_certified,
-            c.not_regular,
-            n = r.samples
-        );
-        if c.contradictions > 0 {
-            let _ = writeln!(
-                s,
-                "WARNING: {} certified faces have a sample at the singularity tolerance",
-                c.contradictions
-            );
-        }
-    }
-    let _ = writeln!(
-        s,
-        "local certificate succeeds where the global one fails: {} faces",
-        r.local_only()
-    );
-    failing_faces(&mut s, r, mode);
-    let _ = writeln!(
-        s,
-        "verdict ({} certificate): {}",
-        mode_name(mode),
-        if r.certified(mode) && c.contradictions == 0 {
-            "the limit surface is regular"
-        } else {
-            "not certified"
-        }
-    );
-    s
-}
-
-/// The global cones' lines of the report: one per component with its difference counts
-/// and whether its cones are disjoint (or why there are none).
-fn global_cones(s: &mut String, r: &RegularityReport) {
-    match &r.frames {
-        Err(e) => {
-            let _ = writeln!(s, "global cones: none ({e})");
-        }
-        Ok(_) => {
-            for (i, comp) in r.components.iter().enumerate() {
-                let verdict = match comp.test {
-                    ConeTest::Disjoint(_) => "disjoint".to_owned(),
-                    ConeTest::Meet(o) => o.to_string(),
-                };
-                let _ = writeln!(
-                    s,
-                    "global cones, component {i}: {} u-differences, {} v-differences: {verdict}",
-                    comp.u.len(),
-                    comp.v.len()
-                );
-            }
-        }
-    }
-}
-
-/// The report's lines on the faces that `mode`'s certificate fails or that a sample
-/// contradicts: the first 20, each with its certificate and its worst sample.
-fn failing_faces(s: &mut String, r: &RegularityReport, mode: Mode) {
-    let bad: Vec<usize> = (0..r.faces.len())
-        .filter(|&f| {
-            !r.certificate(f, mode).is_certified()
-                || matches!(r.class(f, mode), Class::Contradiction)
-        })
-        .collect();
-    const SHOWN: usize = 20;
-    for &f in bad.iter().take(SHOWN) {
-        let mut line = format!("  face {f}: {}", r.certificate(f, mode));
-        if let Some(sm) = r.faces[f].sampled {
-            let w = sm.worst();
-            let what = if sm.is_regular() {
-                "sampled regular, least"
-            } else {
-                "sampled NOT regular"
-            };
-            let _ = write!(
-                line,
-                "; {what}: sine {:.3e} at (u, v) = ({}, {})",
-                w.value, w.u, w.v
-            );
-        }
-        let _ = writeln!(s, "{line}");
-    }
-    if bad.len() > SHOWN {
-        let _ = writeln!(s, "  … and {} more faces", bad.len() - SHOWN);
-    }
-}
-
-/// The JSON report (fields documented in `docs/regularity.md`).
-fn json(name: &str, r: &RegularityReport, mode: Mode) -> Json {
-    let c = r.counts(mode);
-    let components = r
-        .components
-        .iter()
-        .map(|comp| {
-            Json::obj([
-                ("u_differences", Json::count(comp.u.len())),
-                ("v_differences", Json::count(comp.v.len())),
-                (
-                    "disjoint",
-                    Json::Bool(matches!(comp.test, ConeTest::Disjoint(_))),
-                ),
-                (
-                    "reason",
-                    match comp.test {
-                        ConeTest::Disjoint(_) => Json::Null,
-                        ConeTest::Meet(o) => Json::str(o.to_string()),
-                    },
-                ),
-            ])
-        })
-        .collect();
-    let faces = r
-        .faces
-        .iter()
-        .enumerate()
-        .map(|(f, fr)| {
-            let worst = fr.sampled.map_or(Json::Null, |sm| {
-                let w = sm.worst();
-                Json::obj([
-                    ("u", Json::Num(w.u)),
-                    ("v", Json::Num(w.v)),
-                    ("value", Json::Num(w.value)),
-                ])
-            });
-            Json::obj([
-                ("face", Json::count(f)),
-                ("local", Json::str(short(&fr.local))),
-                ("local_reason", reason(&fr.local)),
-                ("global", Json::str(short(&fr.global))),
-                ("global_reason", reason(&fr.global)),
-                ("class", Json::str(class_name(r.class(f, mode)))),
-                ("worst_sample", worst),
-            ])
-        })
-        .collect();
-    Json::obj([
-        ("file", Json::str(name)),
-        ("dimension", Json::str(dimension_name(r))),
-        (
-            "orientation",
-            match r.dimension {
-                Dimension::Planar => Json::Int(if r.orientation == Sign::Negative {
-                    -1
-                } else {
-                    1
-                }),
-                Dimension::Spatial => Json::Null,
-            },
-        ),
-        ("mode", Json::str(mode_name(mode))),
-        (
-            "certified",
-            Json::Bool(r.certified(mode) && c.contradictions == 0),
-        ),
-        ("global_certified", Json::Bool(r.certified(Mode::Global))),
-        ("local_certified", Json::Bool(r.certified(Mode::Local))),
-        ("local_only_faces", Json::count(r.local_only())),
-        ("samples", Json::count(r.samples)),
-        (
-            "counts",
-            Json::obj([
-                ("faces", Json::count(r.faces.len())),
-                ("certified", Json::count(c.certified)),
-                ("refused", Json::count(c.refused)),
-                ("not_applicable", Json::count(c.not_applicable)),
-                (
-                    "regular_not_certified",
-                    Json::count(c.regular_not_certified),
-                ),
-                ("not_regular", Json::count(c.not_regular)),
-                ("contradictions", Json::count(c.contradictions)),
-            ]),
-        ),
-        (
-            "labelling",
-            match &r.frames {
-                Ok(_) => Json::Null,
-                Err(e) => Json::str(e.to_string()),
-            },
-        ),
-        ("components", Json::Arr(components)),
-        ("faces", Json::Arr(faces)),
-    ])
 }

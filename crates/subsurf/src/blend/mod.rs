@@ -12,6 +12,9 @@
 //! - `join`: C2 blending of N bicubic patches ([`blend()`]).
 //! - `fill`: N-sided hole filling (Algorithm 1, corner interpolating).
 //! - `g1`: N-sided hole filling, G1 (Algorithm 2).
+//! - `job`: blending and filling the patches and curves of a file as `subsurf blend` and
+//!   `subsurf fill` do ([`BlendJob`], [`FillJob`]: the input checked, the memory estimated,
+//!   the output assembled).
 //!
 //! Patches and curves may be rational (NURBS): the methods run on their homogeneous
 //! B-splines, which non-uniform Catmull-Clark refines as it refines rational meshes
@@ -24,6 +27,7 @@ pub(crate) mod fill;
 pub(crate) mod g1;
 pub(crate) mod grid;
 pub(crate) mod homogeneous;
+pub(crate) mod job;
 pub(crate) mod join;
 pub(crate) mod patch;
 pub(crate) mod skirt;
@@ -34,6 +38,10 @@ pub use fill::{patch_boundary, reversed, reweight_ends, surface_boundary};
 pub use g1::fill_g1;
 pub use grid::grid_mesh;
 pub use homogeneous::{BoundaryCurve, Patch};
+pub use job::{
+    BlendJob, BlendJobOptions, FillJob, FillJobOptions, JobError, MethodOutput, MAX_LEVELS,
+    MAX_SAMPLES,
+};
 pub use join::{blend, blend_control_mesh, Blend, BlendMesh};
 pub use patch::corner_interpolating_mesh;
 pub use skirt::{

@@ -39,8 +39,9 @@ pub use gltf::{face_edges, to_gltf_frame, write_glb, GlbLines, GlbMesh, CHUNK_BI
 pub use gltf_read::{from_gltf_frame, parse_gltf, GltfError, GltfFile};
 pub use input::{parse_mesh, read_mesh, read_mesh_from, MeshFormat, ReadMeshError, BLOCK};
 pub use obj::{
-    parse_obj, parse_obj_freeform, read_obj, write_groups_obj, write_obj, write_obj_freeform,
-    FileOptions, FreeFormElement, ObjError, ObjFile, UnsupportedTag, WriteOptions,
+    parse_obj, parse_obj_freeform, read_obj, write_groups_obj, write_method_obj, write_obj,
+    write_obj_freeform, FileOptions, FreeFormElement, ObjError, ObjFile, UnsupportedTag,
+    WriteOptions,
 };
 pub use ply::{parse_ply, read_ply, write_ply, PlyEncoding, PlyError, PlyFile, MAX_HEADER};
 pub use stl::{read_stl, write_stl};

@@ -61,7 +61,7 @@ mod read;
 mod write;
 
 pub use freeform::{parse_obj_freeform, write_obj_freeform, FreeFormElement};
-pub use groups::write_groups_obj;
+pub use groups::{write_groups_obj, write_method_obj};
 pub(crate) use read::{first_non_text, non_text_message, parse_obj_within, PhysicalLines, Refusal};
 pub use read::{parse_obj, read_obj};
 pub use write::write_obj;

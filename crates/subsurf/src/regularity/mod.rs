@@ -96,6 +96,7 @@ pub(crate) mod separation;
 
 mod error;
 mod report;
+mod summary;
 
 pub use cone::{ConeTest, Difference, Dimension, Direction, Obstruction, Witness};
 pub use error::RegularityError;

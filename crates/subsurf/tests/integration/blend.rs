@@ -507,3 +507,95 @@ fn a_g1_filled_three_sided_hole_has_the_base_normals_along_the_boundary() {
 fn a_g1_filled_five_sided_hole_has_the_base_normals_along_the_boundary() {
     check_g1(5, 3);
 }
+
+#[test]
+fn jobs_run_the_methods_on_a_files_items_and_name_the_item_at_fault() {
+    use subsurf::blend::{BlendJob, BlendJobOptions, FillJob, FillJobOptions, JobError};
+    use subsurf::nurbs::{Curve, Geometry, SourcedGeometry, Surface};
+    let item = |k: usize, geometry: Geometry| SourcedGeometry {
+        geometry,
+        name: (k == 1).then(|| "rim".to_owned()),
+        origin: format!("in.json[{k}]"),
+    };
+    let curves = hole_curves(4);
+    let items: Vec<_> = curves
+        .iter()
+        .enumerate()
+        .map(|(k, c)| item(k, Geometry::Curve(Curve::BSpline(c.clone()))))
+        .collect();
+    let opts = FillJobOptions {
+        levels: 2,
+        samples: 3,
+        ..FillJobOptions::default()
+    };
+    let job = FillJob::new(&items, "in.json", &opts).unwrap();
+    assert_eq!(job.sides(), 4);
+    let out = job.run().unwrap();
+    // The job's surface is the method's.
+    let direct = fill(&curves, 2, &FillOptions::default()).unwrap();
+    assert_eq!(out.surface, direct.surface().unwrap());
+    assert_eq!(&out.control, job.control());
+    let names: Vec<String> = out.groups().into_iter().map(|(n, _)| n).collect();
+    assert_eq!(names, ["fill"]);
+    let lines: Vec<String> = out.polylines().into_iter().map(|(n, _)| n).collect();
+    assert_eq!(lines, ["curve_1", "curve_2", "curve_3", "curve_4"]);
+    assert_eq!(
+        out.comment,
+        "subsurf fill: 4-sided hole, 2 skirt-removal levels, bulge 0"
+    );
+    // More levels, more memory.
+    let deeper = FillJob::new(&items, "in.json", &FillJobOptions { levels: 4, ..opts }).unwrap();
+    assert!(deeper.estimate_memory() > job.estimate_memory());
+    // Errors name the item (its label) or the input.
+    let e = BlendJob::new(&items, "in.json", &BlendJobOptions::default()).unwrap_err();
+    assert_eq!(e.to_string(), "in.json[0]: a curve; blending takes patches");
+    let g1 = FillJobOptions { g1: true, ..opts };
+    let e = FillJob::new(&items, "in.json", &g1).unwrap_err();
+    assert!(matches!(e, JobError::CurveToG1 { .. }), "{e}");
+    let e = FillJob::new(&items[..2], "in.json", &opts).unwrap_err();
+    assert!(
+        e.to_string()
+            .starts_with("in.json: sides of the hole: got 2"),
+        "{e}"
+    );
+    let mut moved = items.clone();
+    if let Geometry::Curve(Curve::BSpline(c)) = &mut moved[1].geometry {
+        let mut pts = c.points().to_vec();
+        let last = pts.len() - 1;
+        pts[last][2] += 0.5;
+        *c = BSplineCurve::new(c.knots().clone(), pts).unwrap();
+    }
+    let e = FillJob::new(&moved, "in.json", &opts).unwrap_err();
+    assert!(
+        e.to_string()
+            .starts_with("in.json[1] (\"rim\"): curve 1 does not share"),
+        "{e}"
+    );
+    let e = FillJob::new(&items, "in.json", &FillJobOptions { levels: 9, ..opts }).unwrap_err();
+    assert!(matches!(e, JobError::Option(_)), "{e}");
+    let e = FillJob::new(&items, "in.json", &FillJobOptions { samples: 0, ..opts }).unwrap_err();
+    assert!(matches!(e, JobError::Option(_)), "{e}");
+    // A blend of patches: the base patches tessellated, then the blend surface.
+    let patches = ring_of_patches(3);
+    let items: Vec<_> = patches
+        .iter()
+        .enumerate()
+        .map(|(k, s)| item(k, Geometry::Surface(Surface::BSpline(s.clone()))))
+        .collect();
+    let opts = BlendJobOptions {
+        levels: 2,
+        samples: 2,
+    };
+    let out = BlendJob::new(&items, "in.json", &opts)
+        .unwrap()
+        .run()
+        .unwrap();
+    assert_eq!(out.surface, blend(&patches, 2).unwrap().surface().unwrap());
+    let names: Vec<String> = out.groups().into_iter().map(|(n, _)| n).collect();
+    assert_eq!(names, ["patch_1", "patch_2", "patch_3", "blend"]);
+    assert!(out.curves.is_empty());
+    assert_eq!(
+        out.control_comment(),
+        "subsurf blend: control mesh (outer ring: extension layer)"
+    );
+}

@@ -645,3 +645,58 @@ fn a_planar_face_folded_against_the_nets_orientation_is_refused() {
     }
     assert_eq!(r.frames.as_ref().map(|f| f.num_components), Ok(2));
 }
+
+#[test]
+fn the_json_report_and_the_summary_read_the_report_in_one_mode() {
+    // The folded net: faces refused and sampled not regular, so every field has content.
+    let xs = [0.0, 1.0, 3.5, 2.5, 4.0, 5.0];
+    let mesh = grid(5, 2, |i, j| [xs[i], j as f64, 0.0]);
+    let r = check_regularity(&mesh, &opts(corners(), 9)).expect("check");
+    for mode in [Mode::Global, Mode::Local] {
+        let j: serde_json::Value =
+            serde_json::from_str(&r.to_json(Some("net \"1\".obj"), mode)).expect("JSON");
+        assert_eq!(j["file"], "net \"1\".obj");
+        assert_eq!(j["mode"], mode.name());
+        assert_eq!(j["dimension"], "planar");
+        assert_eq!(j["orientation"], 1);
+        assert_eq!(j["certified"], r.regular(mode));
+        let c = r.counts(mode);
+        assert_eq!(j["counts"]["refused"], c.refused);
+        assert_eq!(j["counts"]["not_regular"], c.not_regular);
+        assert_eq!(j["faces"].as_array().map(Vec::len), Some(r.faces.len()));
+        for (f, face) in j["faces"].as_array().expect("faces").iter().enumerate() {
+            let cert = r.certificate(f, mode);
+            assert_eq!(face["face"], f);
+            assert_eq!(face[mode.name()], cert.name());
+            assert_eq!(
+                face[format!("{}_reason", mode.name())].as_str(),
+                cert.reason().as_deref()
+            );
+            assert_eq!(face["class"], r.class(f, mode).name());
+            let worst = r.faces[f].sampled.expect("sampled").worst();
+            assert_eq!(face["worst_sample"]["value"].as_f64(), Some(worst.value));
+        }
+        let failing = r.failing_faces(mode);
+        assert!(!failing.is_empty());
+        let text = r.summary("net.obj", mode);
+        assert!(
+            text.starts_with("net.obj: planar net, counter-clockwise, 10 faces\n"),
+            "{text}"
+        );
+        assert_eq!(
+            text.lines().filter(|l| l.starts_with("  face ")).count(),
+            failing.len()
+        );
+        assert!(text.ends_with(&format!(
+            "verdict ({} certificate): not certified\n",
+            mode.name()
+        )));
+    }
+    let spatial = grid(2, 2, |i, j| [i as f64, j as f64, (i * j) as f64]);
+    let r = check_regularity(&spatial, &opts(corners(), 0)).expect("check");
+    let j: serde_json::Value = serde_json::from_str(&r.to_json(None, Mode::Local)).expect("JSON");
+    assert!(j["file"].is_null() && j["orientation"].is_null());
+    assert_eq!(j["samples"], 0);
+    assert!(j["faces"][0]["worst_sample"].is_null());
+    assert_eq!(j["certified"], r.regular(Mode::Local));
+}

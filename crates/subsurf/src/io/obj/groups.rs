@@ -4,6 +4,7 @@
 
 use std::io::{self, Write};
 
+use crate::blend::MethodOutput;
 use crate::io::push_decimal;
 use crate::mesh::PolyMesh;
 
@@ -65,6 +66,21 @@ pub fn write_groups_obj(
         base += pts.len();
     }
     Ok(())
+}
+
+/// Writes a blend or fill ([`MethodOutput`]) as `subsurf blend` and `subsurf fill` do: its
+/// comment, the base patches (`patch_1`, …), the surface (`blend` or `fill`) and the
+/// boundary polylines (`curve_1`, …), by [`write_groups_obj`].
+///
+/// # Errors
+/// Those of `w`.
+pub fn write_method_obj(w: &mut dyn Write, output: &MethodOutput) -> io::Result<()> {
+    write_groups_obj(
+        w,
+        Some(&output.comment),
+        &output.groups(),
+        &output.polylines(),
+    )
 }
 
 #[cfg(test)]
