@@ -178,11 +178,34 @@ const BYTES_PER_FACE: u64 = 160;
 /// adjacency and three more position-sized buffers.
 const LIMIT_BYTES_PER_FACE: u64 = 200;
 
-/// Estimated peak memory in bytes of refining `mesh` `levels` times with `steps`, and of
-/// moving the last level to the limit with `limit`,
+/// Bytes per face of the last level for each number of a face-varying channel's values:
+/// up to one value per face corner (a UV island per face, the worst layout) in the
+/// output, a quarter as many in the parent level. Measured: 45 B per face for texture
+/// coordinates (two numbers) at level 5 of `catmark_pawn`, whose every face is an island
+/// of its own, 32 B with Loop on the all-triangle `catmark_bishop`; the estimate errs high.
+const FVAR_BYTES_PER_FACE_PER_NUMBER: u64 = 32;
+/// Bytes per face of the last level for each face-varying channel's indices: the child
+/// faces' values (four per quad) and the child offsets.
+const FVAR_INDEX_BYTES_PER_FACE: u64 = 16;
+/// Extra bytes per face and number of a face-varying channel when the values are moved to
+/// their limit (59 B per face measured on `catmark_pawn` level 5 with `--limit`, against
+/// 45 B without).
+const FVAR_LIMIT_BYTES_PER_FACE_PER_NUMBER: u64 = 16;
+
+/// Estimated peak memory in bytes of refining `mesh` `levels` times with `steps`, its
+/// face-varying channels with it, and of moving the last level to the limit with `limit`,
 /// saturating at `u64::MAX`.
 pub(crate) fn estimate_uniform(mesh: &PolyMesh, steps: Steps, levels: u32, limit: bool) -> u64 {
-    let per_face = BYTES_PER_FACE + if limit { LIMIT_BYTES_PER_FACE } else { 0 };
+    let fvar_per_number = FVAR_BYTES_PER_FACE_PER_NUMBER
+        + if limit {
+            FVAR_LIMIT_BYTES_PER_FACE_PER_NUMBER
+        } else {
+            0
+        };
+    let fvar: u64 = (mesh.face_varying.iter())
+        .map(|c| FVAR_INDEX_BYTES_PER_FACE + c.dim() as u64 * fvar_per_number)
+        .sum();
+    let per_face = BYTES_PER_FACE + if limit { LIMIT_BYTES_PER_FACE } else { 0 } + fvar;
     refined_faces(mesh, steps, levels)
         .saturating_mul(per_face)
         .saturating_add(mesh.num_vertices() as u64 * 64)

@@ -157,3 +157,44 @@ fn face_varying_refinement_gives_the_same_bits_with_one_or_two_threads(
     }
     Ok(())
 }
+
+/// `estimate_memory` counts the face-varying channels: the estimate with a channel exceeds
+/// the one without by more than the refined channel's own arrays (its values and their
+/// indices), for the layout with the most values, a UV island per face.
+#[test]
+fn memory_estimate_counts_the_face_varying_channels() {
+    let mut rng = Lcg(7);
+    for (scheme, triangles) in [(Scheme::CatmullClark, false), (Scheme::Loop, true)] {
+        let textured = textured_grid(12, triangles, &mut rng);
+        // Every face corner its own value.
+        let corners = textured.face_verts().len();
+        let islands = FaceVarying::new(
+            "uv",
+            2,
+            (0..2 * corners).map(|i| i as f64).collect(),
+            (0..corners as u32).collect(),
+        )
+        .expect("finite values");
+        let mut mesh = textured.clone();
+        mesh.face_varying = vec![islands];
+        let mut plain = textured;
+        plain.face_varying.clear();
+        for limit in [false, true] {
+            let opts = SubdivideOptions {
+                levels: 3,
+                scheme,
+                limit,
+                ..SubdivideOptions::default()
+            };
+            let out = subdivide(&mesh, &opts).expect("the grid refines").mesh;
+            let uv = &out.face_varying[0];
+            let arrays = 8 * uv.values().len() + 4 * uv.indices().len();
+            let extra =
+                subsurf::estimate_memory(&mesh, &opts) - subsurf::estimate_memory(&plain, &opts);
+            assert!(
+                extra > arrays as u64,
+                "{scheme:?}, limit {limit}: {extra} <= {arrays}"
+            );
+        }
+    }
+}
