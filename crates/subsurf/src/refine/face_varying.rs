@@ -784,11 +784,12 @@ impl FvarLevel {
         values
     }
 
-    /// The values of the children of the parent faces `range`, appended to `out`. With the quad split the child of face `f` at
-    /// corner `j` is the quad `[child of vertex j, child of edge j, child of f, child of
-    /// edge j-1]` (rotated for quads, as [`super::topology`] lays it out); with the
-    /// triangle split (`triangles`) triangle `[v₀ v₁ v₂]` with edge children `E₀ E₁ E₂`
-    /// gives `[v₀ E₀ E₂]`, `[E₀ v₁ E₁]`, `[E₂ E₁ v₂]`, `[E₁ E₂ E₀]` ([`super::tri_topology`]).
+    /// The values of the children of the parent faces `range`, appended to `out`. With
+    /// the quad split the child of face `f` at corner `j` is the quad `[child of vertex j,
+    /// child of edge j, child of f, child of edge j-1]` (rotated for quads, as
+    /// [`super::topology`] lays it out); with the triangle split (`triangles`) triangle
+    /// `[v₀ v₁ v₂]` with edge children `E₀ E₁ E₂` gives `[v₀ E₀ E₂]`, `[E₀ v₁ E₁]`,
+    /// `[E₂ E₁ v₂]`, `[E₁ E₂ E₀]` ([`super::tri_topology`]).
     /// A vertex's child takes the sibling of its parent in `f`, an edge's child with one
     /// value per face the position of `f` among the edge's faces (the last, if `f` is
     /// there twice, as OpenSubdiv's `populateChildValuesForEdgeVertex` finds it).
