@@ -3,7 +3,9 @@
 
 use crate::limit;
 use crate::mesh::{Options, PolyMesh, Topology, TopologyWarning};
-use crate::refine::uniform::{estimate_uniform, groups_of_refined, refine_uniform, Steps};
+use crate::refine::uniform::{
+    estimate_face_varying, estimate_uniform, groups_of_refined, refine_uniform, Steps,
+};
 use crate::refine::Error;
 use crate::refine::{interpolate_with, refine_topology};
 use crate::scheme::adjustable::Mixed;
@@ -49,13 +51,15 @@ pub struct Subdivision {
 }
 
 /// Estimated peak memory in bytes of [`subdivide`] with `opts` (the scheme, the levels,
-/// and whether limit positions are computed), saturating at `u64::MAX`. NURSS keeps every
-/// level complete (with its knot intervals) and refines homogeneous points: twice
-/// Catmull-Clark's estimate, and twice more for each face-varying channel (refined as a
-/// value mesh of its own, a level like the mesh's).
+/// and whether limit positions are computed), saturating at `u64::MAX`; face-varying
+/// channels add their values and indices per output face (up to a value per face corner).
+/// NURSS keeps every level complete (with its knot intervals) and refines homogeneous
+/// points: twice Catmull-Clark's estimate, and twice more for each face-varying channel
+/// (refined as a value mesh of its own, a level like the mesh's).
 pub fn estimate_memory(mesh: &PolyMesh, opts: &SubdivideOptions) -> u64 {
     match Steps::of(opts.scheme) {
-        Some(steps) => estimate_uniform(mesh, steps, opts.levels, opts.limit),
+        Some(steps) => estimate_uniform(mesh, steps, opts.levels, opts.limit)
+            .saturating_add(estimate_face_varying(mesh, steps, opts.levels, opts.limit)),
         None => estimate_uniform(
             mesh,
             Steps::Family(Mixed::CATMULL_CLARK),

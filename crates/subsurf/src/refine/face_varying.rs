@@ -49,7 +49,7 @@ use rayon::prelude::*;
 
 use super::primvar::{edge_mask_at, vertex_mask_at};
 use super::topology::{
-    append_pieces, chunk_ranges, collect, extend, rot, run, split_pieces, Appender,
+    append_pieces, chunk_ranges, collect, extend, rot, run, split_pieces, Appender, Fresh,
 };
 use crate::mesh::sharpness as sharp;
 use crate::mesh::{
@@ -670,30 +670,20 @@ impl FvarLevel {
         let ranges = chunk_ranges(ne);
         let counts = map_ranges(&ranges, |r| r.map(values).sum::<u32>());
         let mut at = faces0 + nf as u32;
-        let starts: Vec<u32> = counts
-            .iter()
-            .map(|&n| {
-                at += n;
-                at - n
-            })
-            .collect();
-        append_pieces(
-            &mut offsets,
-            ne,
-            ne,
-            |e| e,
-            |r, out| {
-                // `r` is one of `ranges` (the same cut of `0..ne`).
-                let i = ranges.partition_point(|q| q.start < r.start);
-                debug_assert_eq!(ranges[i], r);
-                let mut at = starts[i];
-                for e in r {
-                    at += values(e);
-                    out.push(at);
-                }
-            },
-        );
-        offsets
+        let starts = counts.iter().map(|&n| {
+            at += n;
+            at - n
+        });
+        let mut fresh = Fresh::after(offsets, ne);
+        let pieces = fresh.all().pieces(&ranges, |e| e);
+        let items = ranges.iter().cloned().zip(starts).zip(pieces);
+        run(items.collect(), |((r, mut at), mut out)| {
+            for e in r {
+                at += values(e);
+                out.push(at);
+            }
+        });
+        fresh.finish()
     }
 
     /// The tags and crease ends of the child's values (`offsets` its first slots) when

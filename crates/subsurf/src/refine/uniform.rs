@@ -192,23 +192,34 @@ const FVAR_INDEX_BYTES_PER_FACE: u64 = 16;
 /// 45 B without).
 const FVAR_LIMIT_BYTES_PER_FACE_PER_NUMBER: u64 = 16;
 
-/// Estimated peak memory in bytes of refining `mesh` `levels` times with `steps`, its
-/// face-varying channels with it, and of moving the last level to the limit with `limit`,
-/// saturating at `u64::MAX`.
+/// Estimated peak memory in bytes of refining `mesh` `levels` times with `steps`, and of
+/// moving the last level to the limit with `limit`, saturating at `u64::MAX`; its
+/// face-varying channels are [`estimate_face_varying`]'s.
 pub(crate) fn estimate_uniform(mesh: &PolyMesh, steps: Steps, levels: u32, limit: bool) -> u64 {
-    let fvar_per_number = FVAR_BYTES_PER_FACE_PER_NUMBER
+    let per_face = BYTES_PER_FACE + if limit { LIMIT_BYTES_PER_FACE } else { 0 };
+    refined_faces(mesh, steps, levels)
+        .saturating_mul(per_face)
+        .saturating_add(mesh.num_vertices() as u64 * 64)
+}
+
+/// Estimated memory in bytes that refining the face-varying channels of `mesh` with it
+/// adds to [`estimate_uniform`]'s, saturating at `u64::MAX`.
+pub(crate) fn estimate_face_varying(
+    mesh: &PolyMesh,
+    steps: Steps,
+    levels: u32,
+    limit: bool,
+) -> u64 {
+    let per_number = FVAR_BYTES_PER_FACE_PER_NUMBER
         + if limit {
             FVAR_LIMIT_BYTES_PER_FACE_PER_NUMBER
         } else {
             0
         };
-    let fvar: u64 = (mesh.face_varying.iter())
-        .map(|c| FVAR_INDEX_BYTES_PER_FACE + c.dim() as u64 * fvar_per_number)
+    let per_face: u64 = (mesh.face_varying.iter())
+        .map(|c| FVAR_INDEX_BYTES_PER_FACE + c.dim() as u64 * per_number)
         .sum();
-    let per_face = BYTES_PER_FACE + if limit { LIMIT_BYTES_PER_FACE } else { 0 } + fvar;
-    refined_faces(mesh, steps, levels)
-        .saturating_mul(per_face)
-        .saturating_add(mesh.num_vertices() as u64 * 64)
+    refined_faces(mesh, steps, levels).saturating_mul(per_face)
 }
 
 /// Number of faces after `levels` uniform steps of `steps`: the first step makes the
