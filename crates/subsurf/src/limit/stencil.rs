@@ -239,6 +239,7 @@ fn face_stencils(
                         pos: unit,
                         topo: base,
                         sectors: &shared.sectors,
+                        trees: &shared.trees,
                     };
                     let mut d = Derivatives::default();
                     if eval_node(n, p.u, p.v, ctx, &mut d) {

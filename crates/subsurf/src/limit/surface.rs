@@ -817,6 +817,7 @@ impl LimitSurface {
             pos: &self.pos,
             topo: &self.base,
             sectors: &self.shared.sectors,
+            trees: &self.shared.trees,
         }
     }
 
@@ -1169,7 +1170,7 @@ impl PatchNet {
             let net = Net::new(cells);
             return Some(PatchNet { net, crease: None });
         }
-        if shared.trees.no_crease_patches {
+        if shared.trees.no_crease_patches() {
             return None;
         }
         let (cells, side, s) = single_crease(t, f, options)?;

@@ -40,7 +40,7 @@ use crate::refine::patch::{regular_patch_cells, Cell, Net};
 use crate::refine::refine_topology;
 use std::collections::HashMap;
 use std::hash::{BuildHasherDefault, Hash, Hasher};
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, OnceLock};
 
 /// A child of a tree node, on its parent's refined points ([`Kids::rows`]).
@@ -53,9 +53,19 @@ pub(super) enum Kid {
     /// A single-crease patch ([`CreasePatch`]): its net on the refined points, its crease
     /// side and basis.
     Crease(KidNet, u8, Arc<CreaseBasis>),
-    /// Irregular: the child's cut-out, whose points are some of the refined points, built
-    /// when a point first reaches the child (see [`TNode::kids`]).
-    Irregular(OnceLock<Box<TNode>>),
+    /// Irregular: the configuration of the child's cut-out and where its points are among
+    /// the refined points, found when a point first reaches the child (see
+    /// [`Tree::kids`]).
+    Irregular(OnceLock<Sub>),
+}
+
+/// An irregular child: the tree of its cut-out's configuration, shared with every node
+/// and face whose cut-out has the same (in canonical form, [`Topology::subset_canonical`]),
+/// and where each of its cut-out's vertices is among its parent's refined points.
+#[derive(Debug)]
+pub(super) struct Sub {
+    tree: Arc<Tree>,
+    cols: Cols,
 }
 
 /// The net of a patch child: 8-bit indices of its parent's refined points, unless there
@@ -185,39 +195,10 @@ fn slot_of(needed: &[u32], v: u32) -> u32 {
     }
 }
 
-/// A node: face 0 of a cut-out, irregular.
-#[derive(Debug)]
-pub(super) struct TNode {
-    /// The cut-out of a node below the root until its children are built; after that
-    /// it is made again from its parent's when needed ([`Way`]): for a child that a point
-    /// reaches later or a corner analysed later, neither of which a re-posed grid meets.
-    /// Kept, the cut-outs were half of the heap of a surface whose faces nearly all have
-    /// configurations of their own (a grid with creases on a tenth of its edges). The
-    /// root's is [`Tree::topo`].
-    topo: Mutex<Option<Box<Topology>>>,
-    /// Where each vertex of the cut-out is in the points the node is evaluated on: the root's
-    /// are its cut-out's points in order, a child's are some of its parent's refined
-    /// points ([`Kids`]).
-    cols: Cols,
-    /// Whether single-crease children are [`Kid::Crease`] (else refined further).
-    crease: bool,
-    /// Corners where the limit comes from [`corner_limit`] ([`is_limit_corner`]).
-    stop: [bool; 4],
-    kids: OnceLock<Kids>,
-    /// Made when a corner is first analysed: most nodes never analyse one (only points
-    /// exactly at a corner where the limit is taken do). Inline, the four took 640 of a
-    /// node's 1,160 bytes (11 % of the surface on irregular triangulations, when nearly
-    /// every triangle had a tree of its own); each boxed, still 64 of 136.
-    corners: OnceLock<Box<[OnceLock<CornerRows>; 4]>>,
-}
-
-/// [`TNode::cols`]: the identity at the root; below, 16-bit positions when they fit (with
-/// 32-bit ones they were a tenth of the heap of a grid with creases on a tenth of its
-/// edges).
+/// [`Sub::cols`]: 16-bit positions when they fit (with 32-bit ones they were a tenth of
+/// the heap of a grid with creases on a tenth of its edges).
 #[derive(Debug)]
 enum Cols {
-    /// Vertex `i` at `i`, for this many vertices.
-    Identity(u32),
     Narrow(Box<[u16]>),
     Wide(Box<[u32]>),
 }
@@ -231,18 +212,26 @@ impl Cols {
     }
 
     /// Where vertex `i` is.
+    #[cfg(test)]
     fn get(&self, i: u32) -> u32 {
-        debug_assert!((i as usize) < self.len(), "a vertex past the cut-out");
         match self {
-            Cols::Identity(_) => i,
             Cols::Narrow(c) => u32::from(c[i as usize]),
             Cols::Wide(c) => c[i as usize],
         }
     }
 
+    /// The points at these positions of `refined`, into `out`.
+    fn gather(&self, refined: &[[f64; 3]], out: &mut Vec<[f64; 3]>) {
+        out.clear();
+        match self {
+            Cols::Narrow(c) => out.extend(c.iter().map(|&i| refined[usize::from(i)])),
+            Cols::Wide(c) => out.extend(c.iter().map(|&i| refined[i as usize])),
+        }
+    }
+
+    #[cfg(test)]
     fn len(&self) -> usize {
         match self {
-            Cols::Identity(n) => *n as usize,
             Cols::Narrow(c) => c.len(),
             Cols::Wide(c) => c.len(),
         }
@@ -279,17 +268,31 @@ impl CornerRows {
     }
 }
 
-/// The tree of one configuration: its root is face 0 of cut-out `topo`.
+/// The tree of one configuration: face 0 of cut-out `topo`, irregular, evaluated on the
+/// cut-out's points in order. Its irregular children are trees too, shared with every
+/// node and face whose cut-out has the same configuration ([`TreeCache`]): the nodes along
+/// a semi-sharp crease that ends at an extraordinary vertex, say, are the same few
+/// configurations for every face around that vertex, however its other corners look.
 #[derive(Debug)]
 pub(super) struct Tree {
-    /// The root's cut-out, packed: the configuration's key, unpacked when the root is
-    /// refined (its children built, a corner analysed, a child's cut-out made again). As
-    /// a [`Topology`], the roots' cut-outs were 30 % of the heap of a grid with creases on
+    /// The cut-out, packed: the configuration's key, unpacked when the node is refined
+    /// (its children built, a corner analysed, a child built after its siblings). As a
+    /// [`Topology`], the roots' cut-outs were 30 % of the heap of a grid with creases on
     /// a tenth of its edges (6,800 configurations); packed, they take a fifth of that.
     topo: PackedTopology,
-    root: TNode,
+    /// Corners where the limit comes from [`corner_limit`] ([`is_limit_corner`]).
+    stop: [bool; 4],
+    kids: OnceLock<Kids>,
+    /// Made when a corner is first analysed: most nodes never analyse one (only points
+    /// exactly at a corner where the limit is taken do). Inline, the four took 640 of a
+    /// node's 1,160 bytes (11 % of the surface on irregular triangulations, when nearly
+    /// every triangle had a tree of its own); each boxed, still 64 of 136.
+    corners: OnceLock<Box<[OnceLock<CornerRows>; 4]>>,
     /// What it shares with the other trees of its surface.
     pools: Arc<Pools>,
+    /// Whether a face has this configuration (else only nodes below faces' configurations
+    /// do): [`TreeCache::len`] counts the faces' configurations.
+    face: AtomicBool,
 }
 
 /// What the trees of one surface share.
@@ -301,85 +304,21 @@ pub(super) struct Pools {
     pub bases: CreaseBases,
     /// The weights of the nodes' rows.
     weights: WeightPool,
+    /// Refine single-crease faces further instead of using [`CreasePatch`] (tests compare).
+    pub no_crease_patches: bool,
 }
 
-/// How a node's cut-out is found: the tree's root cut-out, or the cut-out of child `j` of
-/// a node found so, in that node's refinement.
-#[derive(Clone, Copy, Debug)]
-pub(super) enum Way<'a> {
-    Root(&'a Tree),
-    Child {
-        parent: &'a TNode,
-        up: &'a Way<'a>,
-        j: usize,
-    },
-}
-
-impl Way<'_> {
-    /// Runs `f` on the cut-out of the node this way leads to (`node`), made again from
-    /// the way up if the node no longer keeps it.
-    fn with_topology<R>(
-        &self,
-        node: &TNode,
-        options: &Options,
-        f: impl FnOnce(&Topology) -> R,
-    ) -> R {
-        match *self {
-            Way::Root(tree) => f(&tree.topo.unpack()),
-            Way::Child { .. } => match lock(&node.topo).as_deref() {
-                Some(t) => f(t),
-                None => f(&self.remade(options)),
-            },
-        }
-    }
-
-    /// The cut-out of `node`, owned: unpacked at the root, made again from the way up if
-    /// the node no longer keeps it (no copy of a cut-out made for the call).
-    fn topology(&self, node: &TNode, options: &Options) -> Topology {
-        match *self {
-            Way::Root(tree) => tree.topo.unpack(),
-            Way::Child { .. } => match lock(&node.topo).as_deref() {
-                Some(t) => t.clone(),
-                None => self.remade(options),
-            },
-        }
-    }
-
-    /// The tree the way starts from.
-    fn tree(&self) -> &Tree {
-        match *self {
-            Way::Root(tree) => tree,
-            Way::Child { up, .. } => up.tree(),
-        }
-    }
-
-    /// The cut-out of the node a [`Way::Child`] leads to, made from its parent's.
-    #[cold]
-    #[inline(never)]
-    fn remade(&self, options: &Options) -> Topology {
-        let Way::Child { parent, up, j } = *self else {
-            unreachable!("the root's cut-out is kept")
-        };
-        up.with_topology(parent, options, |pt| {
-            let (child, faces) = TNode::child_cut_out(pt, j, options);
-            child.subset(&faces).0
-        })
-    }
-}
-
-/// Trees by a hash of their root's packed cut-out, each bucket compared cut-out by
-/// cut-out.
+/// Trees by a hash of their packed cut-out, each bucket compared cut-out by cut-out.
 type TreeMap = HashMap<u64, Vec<Arc<Tree>>, BuildHasherDefault<FxHasher>>;
 
-/// Configurations of one surface, by their roots' cut-outs (packed).
+/// Configurations of one surface, by their cut-outs (packed): the faces' trees and the
+/// nodes below them.
 #[derive(Debug, Default)]
 pub(super) struct TreeCache {
     trees: Mutex<TreeMap>,
-    /// Number of trees in `trees` (read without the lock while a surface is built, to stop
-    /// a build over its memory limit).
+    /// Number of faces' configurations, distinct (read without the lock while a surface is built, to
+    /// stop a build over its memory limit).
     count: AtomicUsize,
-    /// Refine single-crease faces further instead of using [`CreasePatch`] (tests compare).
-    pub no_crease_patches: bool,
     /// What the trees share (the surface's faces use its crease bases too).
     pub pools: Arc<Pools>,
 }
@@ -389,14 +328,27 @@ impl TreeCache {
     /// further like any irregular face instead of becoming [`CreasePatch`]es.
     pub(super) fn new(crease_patches: bool) -> Self {
         TreeCache {
-            no_crease_patches: !crease_patches,
+            pools: Arc::new(Pools {
+                no_crease_patches: !crease_patches,
+                ..Pools::default()
+            }),
             ..TreeCache::default()
         }
     }
 
-    /// The tree of the configuration whose root cut-out is `topo` (face 0), built the
-    /// first time.
+    /// Whether single-crease faces are refined further ([`TreeCache::new`]).
+    pub(super) fn no_crease_patches(&self) -> bool {
+        self.pools.no_crease_patches
+    }
+
+    /// The tree of the configuration whose cut-out is `topo` (face 0), found by a face,
+    /// built the first time.
     pub(super) fn get(&self, topo: Topology) -> Arc<Tree> {
+        self.find(topo, true)
+    }
+
+    /// The tree of `topo`, counted as a face's configuration if `face`.
+    fn find(&self, topo: Topology, face: bool) -> Arc<Tree> {
         let packed = PackedTopology::new(&topo);
         debug_assert!(
             {
@@ -414,17 +366,17 @@ impl TreeCache {
         };
         let mut map = lock(&self.trees);
         let bucket = map.entry(hash).or_default();
-        if let Some(tree) = bucket.iter().find(|t| t.topo == packed) {
-            return tree.clone();
+        let tree = match bucket.iter().find(|t| t.topo == packed) {
+            Some(tree) => tree.clone(),
+            None => {
+                let tree = Arc::new(Tree::new(&topo, packed, self.pools.clone()));
+                bucket.push(tree.clone());
+                tree
+            }
+        };
+        if face && !tree.face.swap(true, Ordering::Relaxed) {
+            self.count.fetch_add(1, Ordering::Relaxed);
         }
-        let root = TNode::root(&topo, !self.no_crease_patches);
-        let tree = Arc::new(Tree {
-            topo: packed,
-            root,
-            pools: self.pools.clone(),
-        });
-        bucket.push(tree.clone());
-        self.count.fetch_add(1, Ordering::Relaxed);
         tree
     }
 
@@ -449,6 +401,8 @@ pub(super) struct Ctx<'a> {
     pub topo: &'a Topology,
     /// The surface's eigen-analyses of corner sectors.
     pub sectors: &'a SectorCache,
+    /// The surface's configurations, where a node finds its irregular children's.
+    pub trees: &'a TreeCache,
 }
 
 /// One point to evaluate: its parameter in the current node, and where its result goes.
@@ -468,6 +422,9 @@ pub(super) struct Query {
 pub(super) struct Scratch {
     /// The refined points of the node at each depth.
     levels: Vec<Vec<[f64; 3]>>,
+    /// The points of the irregular child at each depth, gathered from its parent's
+    /// refined points.
+    gathered: Vec<Vec<[f64; 3]>>,
     /// The refined points of an `n`-gon root (whose sub-faces start at depth 0).
     root: Vec<[f64; 3]>,
     /// The points of a base face's cut-out.
@@ -478,15 +435,21 @@ impl Scratch {
     /// The buffer of the refined points at `depth`, taken out (put it back with
     /// [`put`](Self::put)).
     fn take(&mut self, depth: u32) -> Vec<[f64; 3]> {
-        let d = depth as usize;
-        if self.levels.len() <= d {
-            self.levels.resize_with(d + 1, Vec::new);
-        }
-        std::mem::take(&mut self.levels[d])
+        take_at(&mut self.levels, depth)
     }
 
     fn put(&mut self, depth: u32, buffer: Vec<[f64; 3]>) {
         self.levels[depth as usize] = buffer;
+    }
+
+    /// The buffer of an irregular child's points at `depth`, taken out (put it back with
+    /// [`put_gathered`](Self::put_gathered)).
+    fn take_gathered(&mut self, depth: u32) -> Vec<[f64; 3]> {
+        take_at(&mut self.gathered, depth)
+    }
+
+    fn put_gathered(&mut self, depth: u32, buffer: Vec<[f64; 3]>) {
+        self.gathered[depth as usize] = buffer;
     }
 
     /// The buffer of a cut-out's points, taken out (put it back with
@@ -501,11 +464,20 @@ impl Scratch {
     }
 }
 
+/// Buffer `depth` of `buffers`, taken out (made if there is none yet).
+fn take_at(buffers: &mut Vec<Vec<[f64; 3]>>, depth: u32) -> Vec<[f64; 3]> {
+    let d = depth as usize;
+    if buffers.len() <= d {
+        buffers.resize_with(d + 1, Vec::new);
+    }
+    std::mem::take(&mut buffers[d])
+}
+
 impl Tree {
-    /// The root's children (sub-faces of an `n`-gon root; quadrants of a quad), which
-    /// read the refined points of its cut-out ([`Kids::refine`]).
+    /// The children (sub-faces of an `n`-gon; quadrants of a quad), which read the
+    /// refined points of the cut-out ([`Kids::refine`]); irregular ones found later.
     pub(super) fn root_kids(&self, options: &Options) -> &Kids {
-        self.root.kids(options, |_| false, &Way::Root(self))
+        self.kids(options, |_| false, None)
     }
 
     /// Evaluates `queries` on the face whose cut-out points are `pos` — on sub-face `sub`
@@ -523,15 +495,14 @@ impl Tree {
         ctx: Ctx<'_>,
         sink: &mut impl Sink,
     ) {
-        let way = &Way::Root(self);
         match sub {
-            None => descend(&self.root, way, pos, queries, depth, scratch, ctx, sink),
+            None => descend(self, pos, queries, depth, scratch, ctx, sink),
             Some(j) => {
-                let kids = self.root.kids(ctx.options, |k| k == j, way);
+                let kids = self.kids(ctx.options, |k| k == j, Some(ctx.trees));
                 let mut refined = std::mem::take(&mut scratch.root);
                 kids.refine_into(pos, &mut refined);
                 // The sub-face is its own parameter domain: depth 0, no rescaling.
-                let kid = kids.kids.get(j).map(|kid| (kid, &self.root, way, j));
+                let kid = kids.kids.get(j).map(|kid| (kid, self, j));
                 kid_eval(kid, &refined, queries, 0, scratch, ctx, sink);
                 scratch.root = refined;
             }
@@ -567,11 +538,9 @@ impl<S: Sink> bspline::Batch for Leaf<'_, S> {
     }
 }
 
-/// Evaluates `qs` on `node` (at `depth`, evaluated on points `pos`; found by `way`).
-#[allow(clippy::too_many_arguments)]
+/// Evaluates `qs` on `node` (at `depth`, evaluated on points `pos`).
 fn descend(
-    node: &TNode,
-    way: &Way<'_>,
+    node: &Tree,
     pos: &[[f64; 3]],
     qs: &mut [Query],
     depth: u32,
@@ -585,7 +554,7 @@ fn descend(
         depth,
         |k| node.stop[k],
         |k, out| {
-            let corner = node.corner(k, ctx.options, ctx.sectors, way);
+            let corner = node.corner(k, ctx.options, ctx.sectors);
             *sink.slot(out) = corner.eval(pos);
         },
     );
@@ -594,12 +563,13 @@ fn descend(
         return;
     }
     let quadrants = by_quadrant(qs);
-    let kids = node.kids(ctx.options, |k| !quadrants[k].is_empty(), way);
+    let wanted = |k: usize| !quadrants[k].is_empty();
+    let kids = node.kids(ctx.options, wanted, Some(ctx.trees));
     let mut refined = scratch.take(depth);
     kids.refine_into(pos, &mut refined);
     for (k, qs) in quadrants.into_iter().enumerate() {
         if !qs.is_empty() {
-            let kid = kids.kids.get(k).map(|kid| (kid, node, way, k));
+            let kid = kids.kids.get(k).map(|kid| (kid, node, k));
             kid_eval(kid, &refined, qs, depth + 1, scratch, ctx, sink);
         }
     }
@@ -675,10 +645,10 @@ fn partition<T>(s: &mut [T], first: impl Fn(&T) -> bool) -> usize {
 }
 
 /// Evaluates `qs` (parameters already in the kid's domain) on `kid`, a child at `depth`
-/// of a node whose refined points are `refined`: `(kid, its parent, the parent's way,
-/// the kid's index there)`.
+/// of a node whose refined points are `refined`: `(kid, its parent, the kid's index
+/// there)`.
 fn kid_eval(
-    kid: Option<(&Kid, &TNode, &Way<'_>, usize)>,
+    kid: Option<(&Kid, &Tree, usize)>,
     refined: &[[f64; 3]],
     qs: &mut [Query],
     depth: u32,
@@ -701,10 +671,12 @@ fn kid_eval(
                 patch.eval_batch(ctx.order, scale, &mut Leaf { qs, sink });
             }
         }
-        Some((Kid::Irregular(sub), parent, up, j)) => {
-            let node = sub.get_or_init(|| parent.build_sub(j, ctx.options, up));
-            let way = Way::Child { parent, up, j };
-            descend(node, &way, refined, qs, depth, scratch, ctx, sink);
+        Some((Kid::Irregular(sub), parent, j)) => {
+            let sub = sub.get_or_init(|| parent.build_sub(j, ctx.options, ctx.trees));
+            let mut pos = scratch.take_gathered(depth);
+            sub.cols.gather(refined, &mut pos);
+            descend(&sub.tree, &pos, qs, depth, scratch, ctx, sink);
+            scratch.put_gathered(depth, pos);
         }
     }
 }
@@ -728,45 +700,35 @@ enum Found {
     Irregular(Vec<u32>),
 }
 
-impl TNode {
-    /// Face 0 of `topo`, evaluated on points where its vertices are at `cols` (the
-    /// cut-out not kept: see [`TNode::topo`]).
-    fn new(topo: &Topology, crease: bool, cols: Cols) -> Self {
+impl Tree {
+    /// The tree of face 0 of `topo`, packed as `packed`.
+    fn new(topo: &Topology, packed: PackedTopology, pools: Arc<Pools>) -> Self {
         let stop = std::array::from_fn(|k| {
             topo.face_vertices(0).len() == 4 && is_limit_corner(topo, 0, k)
         });
-        TNode {
-            topo: Mutex::new(None),
-            cols,
-            crease,
+        Tree {
+            topo: packed,
             stop,
             kids: OnceLock::new(),
             corners: Default::default(),
+            pools,
+            face: AtomicBool::new(false),
         }
     }
 
-    /// The root of a tree: face 0 of cut-out `topo` (which the tree keeps packed),
-    /// evaluated on its points in order.
-    fn root(topo: &Topology, crease: bool) -> Self {
-        TNode::new(topo, crease, Cols::Identity(topo.num_vertices() as u32))
-    }
-
     /// The children (built the first time). Of the irregular ones, only those for which
-    /// `wanted(k)` holds get their node now, the others when a point first reaches
-    /// them ([`Self::build_sub`], which refines this node again): a grid's points
+    /// `wanted(k)` holds are found now (in `trees`), the others when a point first
+    /// reaches them ([`Self::build_sub`], which refines this node again): a grid's points
     /// reach the quadrants they reach every time, and on a face with an irregular corner
     /// the deepest corner child holds none of them (its corner's point is the parent's).
-    /// Building it anyway took a fifth of the memory of the trees of meshes whose faces
-    /// nearly all have configurations of their own.
-    fn kids(&self, options: &Options, wanted: impl Fn(usize) -> bool, way: &Way<'_>) -> &Kids {
-        self.kids.get_or_init(|| {
-            let kids = way.with_topology(self, options, |t| {
-                self.build_kids(t, options, wanted, &way.tree().pools)
-            });
-            // Built: the cut-out is made again if ever needed (see `topo`).
-            *lock(&self.topo) = None;
-            kids
-        })
+    fn kids(
+        &self,
+        options: &Options,
+        wanted: impl Fn(usize) -> bool,
+        trees: Option<&TreeCache>,
+    ) -> &Kids {
+        self.kids
+            .get_or_init(|| self.build_kids(&self.topo.unpack(), options, wanted, trees))
     }
 
     /// Whether sharp rules reach as far as Chaikin's rule lets them (the cut-outs of
@@ -775,37 +737,28 @@ impl TNode {
         Reach::new(options).chaikin
     }
 
-    /// The node of irregular child `j`, built after its siblings (refines this node
-    /// again, and finds again the refined points its children read).
+    /// Irregular child `j`, found after its siblings were built (refines this node again,
+    /// and finds again the refined points its children read).
     #[cold]
     #[inline(never)]
-    fn build_sub(&self, j: usize, options: &Options, way: &Way<'_>) -> Box<TNode> {
-        way.with_topology(self, options, |t| {
-            let child = refine_topology(t, options, true);
-            let (found, needed) = self.find_kids(t, &child, options);
-            match &found[j] {
-                Found::Irregular(faces) => self.sub_node(&child, faces, &needed),
-                _ => unreachable!("child {j} was irregular when its siblings were built"),
-            }
-        })
+    fn build_sub(&self, j: usize, options: &Options, trees: &TreeCache) -> Sub {
+        let t = self.topo.unpack();
+        let child = refine_topology(&t, options, true);
+        let (found, needed) = self.find_kids(&t, &child, options);
+        match &found[j] {
+            Found::Irregular(faces) => Self::sub(&child, faces, &needed, trees),
+            _ => unreachable!("child {j} was irregular when its siblings were built"),
+        }
     }
 
-    /// The refinement of cut-out `t` and the cut-out of its child `j` there (faces of the
-    /// refinement): how a child's cut-out is made again ([`Way`]).
-    fn child_cut_out(t: &Topology, j: usize, options: &Options) -> (Topology, Vec<u32>) {
-        let child = refine_topology(t, options, true);
-        let faces = cut_out_unbounded(&child, j, Self::chaikin(options));
-        (child, faces)
-    }
-
-    /// The node of the cut-out `faces` of `child`, this node's refinement, whose points
-    /// are the refined vertices `needed`.
-    fn sub_node(&self, child: &Topology, faces: &[u32], needed: &[u32]) -> Box<TNode> {
-        let (sub, verts) = child.subset(faces);
-        let cols = Cols::new(verts.iter().map(|&v| slot_of(needed, v)).collect());
-        let mut node = TNode::new(&sub, self.crease, cols);
-        node.topo = Mutex::new(Some(Box::new(sub)));
-        Box::new(node)
+    /// The child whose cut-out is `faces` of `child`, this node's refinement, whose
+    /// points are the refined vertices `needed`.
+    fn sub(child: &Topology, faces: &[u32], needed: &[u32], trees: &TreeCache) -> Sub {
+        let (sub, verts) = child.subset_canonical(faces);
+        Sub {
+            tree: trees.find(sub, false),
+            cols: Cols::new(verts.iter().map(|&v| slot_of(needed, v)).collect()),
+        }
     }
 
     /// What each child of this node (face 0 of cut-out `t`) is in `t`'s refinement
@@ -819,6 +772,7 @@ impl TNode {
     ) -> (Vec<Found>, Vec<u32>) {
         // Face 0's children are the first faces of its refinement.
         let size = t.face_vertices(0).len();
+        let crease = !self.pools.no_crease_patches;
         let found: Vec<Found> = (0..size)
             .map(|f| {
                 if child.is_hole(f) {
@@ -826,7 +780,7 @@ impl TNode {
                 } else if let Some(cells) = regular_patch_cells(child, f) {
                     Found::Patch(cells, None)
                 } else if let Some((cells, side, s)) =
-                    single_crease(child, f, options).filter(|_| self.crease)
+                    single_crease(child, f, options).filter(|_| crease)
                 {
                     Found::Patch(cells, Some((side, s)))
                 } else {
@@ -851,18 +805,19 @@ impl TNode {
         (found, needed)
     }
 
-    /// The children of this node, whose cut-out is `t`.
+    /// The children of this node, whose cut-out is `t`; the irregular ones for which
+    /// `wanted` holds found in `trees` (if given).
     fn build_kids(
         &self,
         t: &Topology,
         options: &Options,
         wanted: impl Fn(usize) -> bool,
-        pools: &Pools,
+        trees: Option<&TreeCache>,
     ) -> Kids {
         let child = refine_topology(t, options, true);
         let (found, needed) = self.find_kids(t, &child, options);
-        let cols = |c| self.cols.get(c);
-        let rows = NodeRows::refinement(t, &child, options, &needed, cols, &pools.weights);
+        let pools = &self.pools;
+        let rows = NodeRows::refinement(t, &child, options, &needed, |c| c, &pools.weights);
         let kids = (found.into_iter().enumerate())
             .map(|(j, kid)| {
                 // The net on the refined points.
@@ -883,8 +838,8 @@ impl TNode {
                     }
                     Found::Irregular(faces) => {
                         let sub = OnceLock::new();
-                        if wanted(j) {
-                            let _ = sub.set(self.sub_node(&child, &faces, &needed));
+                        if let Some(trees) = trees.filter(|_| wanted(j)) {
+                            let _ = sub.set(Self::sub(&child, &faces, &needed, trees));
                         }
                         Kid::Irregular(sub)
                     }
@@ -895,19 +850,13 @@ impl TNode {
     }
 
     /// The corner analysis at corner `k` as weights (computed the first time).
-    fn corner(
-        &self,
-        k: usize,
-        options: &Options,
-        sectors: &SectorCache,
-        way: &Way<'_>,
-    ) -> &CornerRows {
+    fn corner(&self, k: usize, options: &Options, sectors: &SectorCache) -> &CornerRows {
         self.corners.get_or_init(Box::default)[k].get_or_init(|| {
             // Three unit control points at a time, one per coordinate: coordinate `c` of
             // each output vector is the weight of the point set to `e_c`.
             // The probes share one shape, which analyses the corner's sector (and refines
             // it, where that takes further levels) once for all of them.
-            let topo = way.topology(self, options);
+            let topo = self.topo.unpack();
             let n = topo.num_vertices();
             let shape = Shape::probed(topo);
             let mut weights = vec![[0.0; 5]; n];
@@ -930,7 +879,6 @@ impl TNode {
             let (cols, weights): (Vec<u32>, Vec<[f64; 5]>) = (0..n as u32)
                 .zip(weights)
                 .filter(|(_, w)| w.iter().any(|&w| w != 0.0))
-                .map(|(i, w)| (self.cols.get(i), w))
                 .unzip();
             CornerRows {
                 limit,
@@ -971,8 +919,7 @@ mod tests {
     /// face of a grid with creases that end inside it or change sharpness (patches, crease
     /// patches and irregular children) and on a cube (irregular children only), two
     /// levels down: every refined point is computed once (`needed` increasing) and read
-    /// by some child, no child reads past them, and a node's cut-out, dropped once its
-    /// children are built, is made again as it was.
+    /// by some child, and no child reads past them.
     #[test]
     fn children_read_each_refined_point_of_their_node() {
         let options = Options::default();
@@ -985,17 +932,17 @@ mod tests {
                     unreachable!("no high valence here");
                 };
                 let tree = trees.get(t.subset_canonical(&faces).0);
-                check_node(&tree.root, &Way::Root(&tree), 2, &options, &mut checked);
+                check_node(&tree, 2, &options, &trees, &mut checked);
             }
         }
         let [patches, creases, irregular] = checked;
         assert!(patches > 0 && creases > 0 && irregular > 0, "{checked:?}");
     }
 
-    /// A child whose node is built after its siblings (by a point that reaches it later)
-    /// is the node built with them: the same points read from its parent's refined points,
-    /// the same corners where the limit is known, and the same children below. On every
-    /// face of a grid with creases that end inside it or change sharpness, and of a cube.
+    /// A child found after its siblings were built (by a point that reaches it later) is
+    /// the child found with them: the same configuration, on the same refined points. On
+    /// every face of a grid with creases that end inside it or change sharpness, and of a
+    /// cube.
     #[test]
     fn children_built_later_are_those_built_with_their_siblings() {
         let options = Options::default();
@@ -1013,9 +960,8 @@ mod tests {
                 if !seen.insert(Arc::as_ptr(&b)) {
                     continue; // A configuration met before.
                 }
-                let (way_a, way_b) = (Way::Root(&a), Way::Root(&b));
-                let kids_a = a.root.kids(&options, |_| true, &way_a);
-                let kids_b = b.root.kids(&options, |_| false, &way_b);
+                let kids_a = a.kids(&options, |_| true, Some(&now));
+                let kids_b = b.kids(&options, |_| false, Some(&later));
                 for (j, (ka, kb)) in kids_a.kids().iter().zip(kids_b.kids()).enumerate() {
                     let (Kid::Irregular(sa), Kid::Irregular(sb)) = (ka, kb) else {
                         continue;
@@ -1025,35 +971,55 @@ mod tests {
                         "face {f}: child {j} built with its siblings"
                     );
                     let na = sa.get().expect("built with its siblings");
-                    let nb = sb.get_or_init(|| b.root.build_sub(j, &options, &way_b));
-                    let cols = |n: &TNode| {
+                    let nb = sb.get_or_init(|| b.build_sub(j, &options, &later));
+                    let cols = |n: &Sub| {
                         (0..n.cols.len() as u32)
                             .map(|i| n.cols.get(i))
                             .collect::<Vec<_>>()
                     };
                     assert_eq!(cols(na), cols(nb), "face {f}, child {j}");
-                    assert_eq!(na.stop, nb.stop, "face {f}, child {j}");
-                    let up_a = Way::Child {
-                        parent: &a.root,
-                        up: &way_a,
-                        j,
-                    };
-                    let up_b = Way::Child {
-                        parent: &b.root,
-                        up: &way_b,
-                        j,
-                    };
-                    let (ga, gb) = (
-                        na.kids(&options, |_| true, &up_a),
-                        nb.kids(&options, |_| true, &up_b),
-                    );
-                    assert_eq!(ga.rows.len(), gb.rows.len(), "face {f}, child {j}");
-                    assert_eq!(format!("{:?}", ga.kids()), format!("{:?}", gb.kids()));
+                    assert!(na.tree.topo == nb.tree.topo, "face {f}, child {j}");
+                    assert_eq!(na.tree.stop, nb.tree.stop, "face {f}, child {j}");
                     compared += 1;
                 }
             }
         }
         assert!(compared >= 10, "{compared} children compared");
+    }
+
+    /// Nodes below the faces' configurations are shared: around the creases of a grid,
+    /// that end inside it or change sharpness, the faces' trees two levels deep hold
+    /// fewer distinct nodes than they reach, and each node found twice is one tree.
+    #[test]
+    fn nodes_with_the_same_cut_out_are_one_tree() {
+        let options = Options::default();
+        let trees = TreeCache::new(true);
+        let [grid, _] = creased_grid_and_cube();
+        let t = Topology::from_mesh(&grid, &options).expect("topology").0;
+        let mut reached = 0;
+        let mut distinct = std::collections::HashSet::new();
+        for f in 0..t.num_faces() {
+            let faces = super::super::local::cut_out(&t, f, Reach::new(&options))
+                .expect("no high valence here");
+            let root = trees.get(t.subset_canonical(&faces).0);
+            let mut level = vec![root];
+            for _ in 0..2 {
+                let mut next = Vec::new();
+                for node in &level {
+                    for kid in node.kids(&options, |_| true, Some(&trees)).kids() {
+                        if let Kid::Irregular(sub) = kid {
+                            let sub = sub.get().expect("wanted");
+                            reached += 1;
+                            distinct.insert(Arc::as_ptr(&sub.tree));
+                            next.push(sub.tree.clone());
+                        }
+                    }
+                }
+                level = next;
+            }
+        }
+        assert!(reached > 0);
+        assert!(distinct.len() < reached, "{} of {reached}", distinct.len());
     }
 
     /// A node of a grid keeps rows with 8-bit indices, and nodes with the same classes
@@ -1108,31 +1074,25 @@ mod tests {
     }
 
     fn check_node(
-        node: &TNode,
-        way: &Way<'_>,
+        node: &Tree,
         levels: u32,
         options: &Options,
+        trees: &TreeCache,
         checked: &mut [usize; 3],
     ) {
-        let kids = node.kids(options, |_| true, way);
-        // Its children built, a node keeps no cut-out; made again, it is the one the
-        // node was built from: as many points, the same corners where the limit is known.
-        assert!(lock(&node.topo).is_none());
-        way.with_topology(node, options, |t| {
-            assert_eq!(t.num_vertices(), node.cols.len());
-            let quad = t.face_vertices(0).len() == 4;
-            for k in 0..4 {
-                assert_eq!(quad && is_limit_corner(t, 0, k), node.stop[k]);
-            }
-        });
-        let needed = way.with_topology(node, options, |t| {
-            node.find_kids(t, &refine_topology(t, options, true), options)
-                .1
-        });
+        let kids = node.kids(options, |_| true, Some(trees));
+        let t = node.topo.unpack();
+        let quad = t.face_vertices(0).len() == 4;
+        for k in 0..4 {
+            assert_eq!(quad && is_limit_corner(&t, 0, k), node.stop[k]);
+        }
+        let needed = node
+            .find_kids(&t, &refine_topology(&t, options, true), options)
+            .1;
         assert!(needed.windows(2).all(|w| w[0] < w[1]));
         assert_eq!(kids.rows.len(), needed.len());
         let mut read = vec![false; needed.len()];
-        for (j, kid) in kids.kids().iter().enumerate() {
+        for kid in kids.kids() {
             let slots: Vec<u32> = match kid {
                 Kid::Hole => Vec::new(),
                 Kid::Regular(net) | Kid::Crease(net, ..) => {
@@ -1144,13 +1104,9 @@ mod tests {
                 Kid::Irregular(sub) => {
                     checked[2] += 1;
                     let sub = sub.get().expect("built, as every child was wanted");
+                    assert_eq!(sub.tree.topo.unpack().num_vertices(), sub.cols.len());
                     if levels > 1 {
-                        let way = Way::Child {
-                            parent: node,
-                            up: way,
-                            j,
-                        };
-                        check_node(sub, &way, levels - 1, options, checked);
+                        check_node(&sub.tree, levels - 1, options, trees, checked);
                     }
                     (0..sub.cols.len() as u32)
                         .map(|i| sub.cols.get(i))

@@ -122,8 +122,13 @@ fn array(w: &mut Vec<u8>, xs: impl Iterator<Item = u32> + Clone) {
         _ => (3, 4),
     };
     varint(w, len * 4 + code);
-    if bytes > 0 {
-        xs.for_each(|x| w.extend_from_slice(&x.to_le_bytes()[..bytes]));
+    w.reserve(len as usize * bytes);
+    // One arm per width, so that each entry is a store of known size.
+    match bytes {
+        0 => {}
+        1 => xs.for_each(|x| w.push(x as u8)),
+        2 => xs.for_each(|x| w.extend_from_slice(&(x as u16).to_le_bytes())),
+        _ => xs.for_each(|x| w.extend_from_slice(&x.to_le_bytes())),
     }
 }
 

@@ -1589,11 +1589,14 @@ impl<'a> Subset<'a> {
         let n = faces.len();
         let corners =
             || (faces.iter().zip(&rotations)).flat_map(|(&f, &r)| rotated_corners(level, f, r));
+        let m = (faces.iter())
+            .map(|&f| level.face_vertices(f as usize).len())
+            .sum();
         let (vmap, verts) =
-            SubsetMap::numbering(corners().map(|(v, _)| v), level.num_vertices(), n);
+            SubsetMap::numbering(corners().map(|(v, _)| v), m, level.num_vertices(), n);
         let (emap, edges) =
-            SubsetMap::numbering(corners().map(|(_, e)| e), level.edge_verts.len(), n);
-        let (fmap, _) = SubsetMap::numbering(faces.iter().copied(), level.num_faces(), n);
+            SubsetMap::numbering(corners().map(|(_, e)| e), m, level.edge_verts.len(), n);
+        let (fmap, _) = SubsetMap::numbering(faces.iter().copied(), n, level.num_faces(), n);
         Subset {
             level,
             faces,
@@ -1838,32 +1841,40 @@ fn rim_corners(
 
 /// Indices of a level numbered in a subset ([`Topology::subset`]): a table over the
 /// level's indices when the level is not much larger than the subset (the refinement of a
-/// cut-out, which the configuration trees subset at every node), else sorted pairs
-/// searched by bisection (a base mesh, of which a cut-out is a few dozen faces). The
-/// table is the faster where it is small enough to fill.
+/// cut-out, which the configuration trees subset at every node), else a small hash table
+/// of the subset's own (a base mesh, of which a cut-out is a few dozen faces, cut out for
+/// every irregular face). The table over the level is the faster where it is small enough
+/// to fill.
 enum SubsetMap {
     /// `table[x]` is `x`'s number, `u32::MAX` if `x` is not in the subset.
     Table(Vec<u32>),
-    /// `(x, number)` by `x`.
-    Sorted(Vec<(u32, u32)>),
+    /// Open addressing with linear probing: `(x, number)` at the first free slot from
+    /// `x`'s hash on, `x = u32::MAX` in a free slot; at most half the slots are taken.
+    Hashed(Vec<(u32, u32)>),
 }
 
 impl SubsetMap {
-    /// The numbering of `items` (indices below `size`, of a subset of `faces` faces) in
-    /// order of first appearance, and the distinct items in that order: by a table if
-    /// `size` is at most 64 times `faces` (a tree node's level has about ten times as
-    /// many elements as its cut-out has faces).
-    fn numbering(items: impl Iterator<Item = u32>, size: usize, faces: usize) -> (Self, Vec<u32>) {
-        Self::numbering_by(items, size, size <= 64 * faces)
+    /// The numbering of `items` (`count` of them at most, indices below `size`, of a
+    /// subset of `faces` faces) in order of first appearance, and the distinct items in
+    /// that order: by a table if `size` is at most 64 times `faces` (a tree node's level
+    /// has about ten times as many elements as its cut-out has faces).
+    fn numbering(
+        items: impl Iterator<Item = u32>,
+        count: usize,
+        size: usize,
+        faces: usize,
+    ) -> (Self, Vec<u32>) {
+        Self::numbering_by(items, count, size, size <= 64 * faces)
     }
 
-    /// [`numbering`](Self::numbering) by a table or by sorted pairs.
+    /// [`numbering`](Self::numbering) by a table over the level or by hashing.
     fn numbering_by(
         items: impl Iterator<Item = u32>,
+        count: usize,
         size: usize,
         table: bool,
     ) -> (Self, Vec<u32>) {
-        let mut distinct = Vec::new();
+        let mut distinct = Vec::with_capacity(count);
         if table {
             let mut table = vec![u32::MAX; size];
             for x in items {
@@ -1875,16 +1886,31 @@ impl SubsetMap {
             }
             return (SubsetMap::Table(table), distinct);
         }
-        let mut seen: Vec<(u32, usize)> = items.enumerate().map(|(i, x)| (x, i)).collect();
-        seen.sort_unstable();
-        seen.dedup_by_key(|p| p.0);
-        seen.sort_unstable_by_key(|p| p.1);
-        distinct.extend(seen.iter().map(|p| p.0));
-        let mut pairs: Vec<(u32, u32)> = (distinct.iter().enumerate())
-            .map(|(i, &x)| (x, i as u32))
-            .collect();
-        pairs.sort_unstable();
-        (SubsetMap::Sorted(pairs), distinct)
+        let mut slots = vec![(u32::MAX, 0); (2 * count).next_power_of_two().max(8)];
+        for x in items {
+            let i = Self::probe(&slots, x);
+            if slots[i].0 == u32::MAX {
+                slots[i] = (x, distinct.len() as u32);
+                distinct.push(x);
+            }
+        }
+        (SubsetMap::Hashed(slots), distinct)
+    }
+
+    /// The slot of `x` in `slots`, or the free one where it would go (Fibonacci hashing:
+    /// the high bits of `x` times 2³²/φ pick the first slot).
+    #[inline]
+    fn probe(slots: &[(u32, u32)], x: u32) -> usize {
+        let mask = slots.len() - 1;
+        // `slots.len()` is a power of two, 2^k with 3 <= k <= 32: the top k bits.
+        let mut i = (x.wrapping_mul(0x9E37_79B9) >> (32 - slots.len().trailing_zeros())) as usize;
+        loop {
+            let k = slots[i].0;
+            if k == x || k == u32::MAX {
+                return i;
+            }
+            i = (i + 1) & mask;
+        }
     }
 
     /// The number of `x`, if it is in the subset.
@@ -1892,10 +1918,10 @@ impl SubsetMap {
     fn get(&self, x: u32) -> Option<u32> {
         match self {
             SubsetMap::Table(table) => Some(table[x as usize]).filter(|&n| n != u32::MAX),
-            SubsetMap::Sorted(pairs) => pairs
-                .binary_search_by_key(&x, |&(k, _)| k)
-                .ok()
-                .map(|i| pairs[i].1),
+            SubsetMap::Hashed(slots) => {
+                let (k, n) = slots[Self::probe(slots, x)];
+                (k == x).then_some(n)
+            }
         }
     }
 }
@@ -1904,20 +1930,26 @@ impl SubsetMap {
 mod tests {
     use super::*;
 
-    /// A subset numbers a level's indices the same by a table and by sorted pairs: in
-    /// order of first appearance, absent ones absent.
+    /// A subset numbers a level's indices the same by a table and by hashing: in order
+    /// of first appearance, absent ones absent; also when many collide in the hash.
     #[test]
     fn subset_maps_number_alike() {
-        let items = [7u32, 3, 7, 0, 9, 3, 12, 0, 5];
-        let (table, a) = SubsetMap::numbering_by(items.iter().copied(), 13, true);
-        let (sorted, b) = SubsetMap::numbering_by(items.iter().copied(), 13, false);
-        assert_eq!(a, [7, 3, 0, 9, 12, 5]);
-        assert_eq!(a, b);
-        for x in 0..13 {
-            let want = a.iter().position(|&y| y == x).map(|i| i as u32);
-            assert_eq!(table.get(x), want);
-            assert_eq!(sorted.get(x), want);
+        let colliding: Vec<u32> = (0..40).map(|k| k << 12).chain([3, 1 << 12, 5]).collect();
+        let few = vec![7u32, 3, 7, 0, 9, 3, 12, 0, 5];
+        for items in [few, colliding] {
+            let size = *items.iter().max().unwrap() as usize + 2;
+            let n = items.len();
+            let (table, a) = SubsetMap::numbering_by(items.iter().copied(), n, size, true);
+            let (hashed, b) = SubsetMap::numbering_by(items.iter().copied(), n, size, false);
+            assert_eq!(a, b);
+            for x in (0..size as u32).filter(|x| x % 4096 == 0 || *x < 20) {
+                let want = a.iter().position(|&y| y == x).map(|i| i as u32);
+                assert_eq!(table.get(x), want, "{x}");
+                assert_eq!(hashed.get(x), want, "{x}");
+            }
         }
+        let (_, a) = SubsetMap::numbering_by([7u32, 3, 7, 0, 9].into_iter(), 5, 10, false);
+        assert_eq!(a, [7, 3, 0, 9]);
     }
 
     /// On every vertex of `t` where the order follows from the corners ([`order_corners`],
