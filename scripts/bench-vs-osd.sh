@@ -28,9 +28,11 @@
 #   LARGE_TRI_LEVELS="2 3"  levels of the re-posing table for the large input with every quad
 #                       split into two triangles (30 k triangles; empty: skip those rows)
 #   LIMIT_GRID=8        N of the limit-evaluation table: an N x N grid of limit points (position
-#                       and first derivatives) on every quad of catmark_bishop, catmark_pawn and
-#                       the extra meshes, `osd-oracle benchlimit IN N REPS` against
-#                       `subsurf bench IN --limit-grid N` (empty: skip that table)
+#                       and first derivatives) on every quad of catmark_bishop, catmark_pawn, the
+#                       extra meshes and the large input, and with Loop on every triangle of
+#                       catmark_bishop split into triangles: `osd-oracle benchlimit IN N 1`
+#                       (one-shot) and `IN N REPS` (its cache kept) against `subsurf bench IN
+#                       --limit-grid N` (cold and warm; empty: skip that table)
 #   OSD_ORACLE=PATH     use this osd-oracle binary instead of building one
 #   OSD_STENCIL_BENCH=PATH  use this osd-stencil-bench binary (tools/osd-stencil-bench, for
 #                       the re-posing table) instead of building one
@@ -58,7 +60,7 @@ LARGE_TRI_LEVELS="${LARGE_TRI_LEVELS-2 3}"
 LIMIT_GRID="${LIMIT_GRID-8}"
 
 case "${1:-}" in
-  -h|--help) sed -n '2,41p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+  -h|--help) sed -n '2,44p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
 esac
 for extra in "$@"; do
   [ -r "$extra" ] || { echo "bench-vs-osd: cannot read $extra" >&2; exit 1; }
@@ -265,26 +267,43 @@ if [ -n "$REPLAY_LEVELS" ]; then
   done
 fi
 if [ -n "$LIMIT_GRID" ]; then
-  printf '\nLimit evaluation: a %sx%s grid (position, first derivatives) on every quad face,\n' "$LIMIT_GRID" "$LIMIT_GRID"
-  printf '`osd-oracle benchlimit` (Bfr, its factory and cache kept across repetitions) against\n'
-  printf '`subsurf bench --limit-grid` (LimitSurface kept; each repetition re-poses and evaluates),\n'
-  printf 'interleaved as above; cold = the first build plus evaluation of subsurf (one process);\n'
-  printf 'peak memory of one run of each with one repetition (subsurf on one thread).\n\n'
-  printf '| mesh | points | OSD median s | subsurf 1T median s | 1T/OSD | subsurf 2T median s | 2T/OSD | subsurf cold 1T s | configurations | OSD peak MiB | subsurf peak MiB |\n'
-  printf '|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n'
-  # And the large input: mostly regular faces, the bulk of a refined or modelled mesh.
+  printf '\nLimit evaluation: a %sx%s grid (position, first derivatives) on every quad face (with Loop,\n' "$LIMIT_GRID" "$LIMIT_GRID"
+  printf 'a grid of %s points a side on every triangle), interleaved as above.\n' "$LIMIT_GRID"
+  printf -- '- One-shot, what a run that evaluates once waits for: Bfr = `osd-oracle benchlimit IN N 1` (the\n'
+  printf '  factory with its cache empty, then every face), subsurf cold = `cold_s` of `subsurf bench IN\n'
+  printf '  --limit-grid N` (the surface built, then every face); best of %s rounds.\n' "$ROUNDS"
+  printf -- '- Bfr cached pass = the median of `osd-oracle benchlimit IN N %s`: its factory and cache of\n' "$REPS"
+  printf '  irregular patches are kept across repetitions, so every pass but the first finds them built\n'
+  printf '  (each face is still initialised and its patch points prepared); subsurf warm = the median of\n'
+  printf '  its repetitions (the surface kept, re-posed and evaluated again); medians of %s rounds.\n' "$ROUNDS"
+  printf -- '- × = Bfr time / subsurf time (> 1: subsurf faster). Peak memory: one one-shot run of each\n'
+  printf '  (subsurf on one thread).\n\n'
+  printf '| mesh | points | Bfr one-shot s | subsurf cold 1T s | × | subsurf cold 2T s | × | Bfr cached pass s | cold 1T × | subsurf warm 1T s | × | subsurf warm 2T s | × | configurations | OSD peak MiB | subsurf peak MiB |\n'
+  printf '|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n'
+  # best X...: the smallest of the numbers X.
+  best() { printf '%s\n' "$@" | sort -g | head -n 1; }
+  # And the large input: mostly regular faces, the bulk of a refined or modelled mesh; and
+  # the all-triangle bishop with Loop.
+  limit_runs=()
   for run in "${small_runs[@]}" "$large|catmark_bishop_l2 (large)"; do
-    IFS='|' read -r path label <<<"$run"
+    limit_runs+=("$run|catmark")
+  done
+  limit_runs+=("$all_tri|catmark_bishop_tri (Loop)|loop")
+  for run in "${limit_runs[@]}"; do
+    IFS='|' read -r path label scheme <<<"$run"
     log "$label limit grid $LIMIT_GRID"
-    osd_t=() t1_t=() t2_t=() cold_t=()
+    sub_scheme=(); osd_scheme=()
+    if [ "$scheme" = loop ]; then sub_scheme=(--scheme loop); osd_scheme=(--scheme loop); fi
+    one_t=() osd_t=() c1_t=() c2_t=() w1_t=() w2_t=()
     for _ in $(seq "$ROUNDS"); do
-      osd_line="$("$oracle" benchlimit "$path" "$LIMIT_GRID" "$REPS")"
-      t1_line="$("$subsurf" bench "$path" --limit-grid "$LIMIT_GRID" --reps "$REPS" --threads 1)"
-      t2_line="$("$subsurf" bench "$path" --limit-grid "$LIMIT_GRID" --reps "$REPS" --threads 2)"
+      one_line="$("$oracle" benchlimit "$path" "$LIMIT_GRID" 1 "${osd_scheme[@]}")"
+      osd_line="$("$oracle" benchlimit "$path" "$LIMIT_GRID" "$REPS" "${osd_scheme[@]}")"
+      t1_line="$("$subsurf" bench "$path" "${sub_scheme[@]}" --limit-grid "$LIMIT_GRID" --reps "$REPS" --threads 1)"
+      t2_line="$("$subsurf" bench "$path" "${sub_scheme[@]}" --limit-grid "$LIMIT_GRID" --reps "$REPS" --threads 2)"
+      one_t+=("$(field median_s "$one_line")")
       osd_t+=("$(field median_s "$osd_line")")
-      t1_t+=("$(field median_s "$t1_line")")
-      t2_t+=("$(field median_s "$t2_line")")
-      cold_t+=("$(field cold_s "$t1_line")")
+      c1_t+=("$(field cold_s "$t1_line")"); c2_t+=("$(field cold_s "$t2_line")")
+      w1_t+=("$(field median_s "$t1_line")"); w2_t+=("$(field median_s "$t2_line")")
     done
     points="$(field points "$t1_line")"
     osd_points="$(field points "$osd_line")"
@@ -294,16 +313,18 @@ if [ -n "$LIMIT_GRID" ]; then
       status=1
     fi
     if [ "$points" = 0 ]; then
-      # No quad faces (an all-triangle mesh, say): both tools time an empty evaluation.
-      printf '| %s | 0 (no quads) | — | — | — | — | — | — | — | — | — |\n' "$label"
+      # No faces of the scheme's kind: both tools time an empty evaluation.
+      printf '| %s | 0 | — | — | — | — | — | — | — | — | — | — | — | — | — | — |\n' "$label"
       continue
     fi
-    osd_s="$(median "${osd_t[@]}")"; t1_s="$(median "${t1_t[@]}")"; t2_s="$(median "${t2_t[@]}")"
-    osd_rss="$(maxrss_mib "$oracle" benchlimit "$path" "$LIMIT_GRID" 1)"
-    sub_rss="$(maxrss_mib "$subsurf" bench "$path" --limit-grid "$LIMIT_GRID" --reps 1 --threads 1)"
-    printf '| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |\n' "$label" "$points" "$osd_s" \
-      "$t1_s" "$(ratio "$t1_s" "$osd_s")" "$t2_s" "$(ratio "$t2_s" "$osd_s")" \
-      "$(median "${cold_t[@]}")" "$(field configurations "$t1_line")" "$osd_rss" "$sub_rss"
+    one_s="$(best "${one_t[@]}")"; c1_s="$(best "${c1_t[@]}")"; c2_s="$(best "${c2_t[@]}")"
+    osd_s="$(median "${osd_t[@]}")"; w1_s="$(median "${w1_t[@]}")"; w2_s="$(median "${w2_t[@]}")"
+    osd_rss="$(maxrss_mib "$oracle" benchlimit "$path" "$LIMIT_GRID" 1 "${osd_scheme[@]}")"
+    sub_rss="$(maxrss_mib "$subsurf" bench "$path" "${sub_scheme[@]}" --limit-grid "$LIMIT_GRID" --reps 1 --threads 1)"
+    printf '| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |\n' \
+      "$label" "$points" "$one_s" "$c1_s" "$(ratio "$one_s" "$c1_s")" "$c2_s" "$(ratio "$one_s" "$c2_s")" \
+      "$osd_s" "$(ratio "$osd_s" "$c1_s")" "$w1_s" "$(ratio "$osd_s" "$w1_s")" "$w2_s" "$(ratio "$osd_s" "$w2_s")" \
+      "$(field configurations "$t1_line")" "$osd_rss" "$sub_rss"
   done
 fi
 exit "$status"

@@ -455,7 +455,10 @@ pub struct BenchArgs {
     #[arg(long, value_name = "R", default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..))]
     pub reps: u32,
     /// Time limit evaluation instead: build the exact limit surface and evaluate an N×N
-    /// grid on every quad face (as `osd-oracle benchlimit IN N REPS`).
+    /// grid on every quad face, or with `--scheme loop` a grid of N points a side on every
+    /// triangle (as `osd-oracle benchlimit IN N REPS`). Prints the first build plus
+    /// evaluation (`cold_s`) and the repetitions on the built surface (`median_s`,
+    /// `min_s`).
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=4096))]
     pub limit_grid: Option<u32>,
     /// Time re-posing instead: build a refinement plan once (its build time is printed,

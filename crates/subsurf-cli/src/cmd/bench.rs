@@ -7,7 +7,9 @@
 use std::time::Instant;
 
 use anyhow::{Context, Result};
-use subsurf::limit::{Derivatives, EvalError, LimitSurface, Order, SurfacePoint};
+use subsurf::limit::{
+    Derivatives, EvalError, LimitSurface, LoopSurface, Order, Surface, SurfacePoint,
+};
 use subsurf::mesh::{Options, PolyMesh};
 use subsurf::refine::{PlanScratch, RefinePlan};
 use subsurf::{subdivide, Scheme, SubdivideOptions};
@@ -26,8 +28,8 @@ pub fn run(args: &BenchArgs, threads: usize) -> Result<()> {
             "bench times OpenSubdiv's schemes: --scheme catmull-clark, loop or bilinear",
         ),
     };
-    if args.limit_grid.is_some() && scheme != Scheme::CatmullClark {
-        usage_error("--limit-grid times the Catmull-Clark limit surface only");
+    if args.limit_grid.is_some() && scheme == Scheme::Bilinear {
+        usage_error("--limit-grid times the Catmull-Clark and Loop limit surfaces");
     }
     let input = Input::read_surface(&args.input, args.max_memory)?;
     if !args.quiet {
@@ -73,6 +75,11 @@ pub fn run(args: &BenchArgs, threads: usize) -> Result<()> {
         let blocks = (u64::from(n) * u64::from(n))
             .saturating_mul(POINT_BYTES * FACES_PER_BLOCK as u64)
             .saturating_mul(pool.current_num_threads() as u64);
+        if scheme == Scheme::Loop {
+            return bench_limit(input, opts.options, n, reps, &pool, |mesh, options| {
+                LoopSurface::new(&mesh, options).with_context(|| name.clone())
+            });
+        }
         return bench_limit(input, opts.options, n, reps, &pool, |mesh, options| {
             guard.limit_surface(mesh, options, n, blocks)
         });
@@ -186,14 +193,17 @@ thread_local! {
     static BLOCK: std::cell::RefCell<Block> = const { std::cell::RefCell::new((Vec::new(), Vec::new())) };
 }
 
-/// Times evaluating an `n`×`n` grid on every quad face, as `osd-oracle benchlimit` times
-/// OpenSubdiv's `Bfr`: the surface of the quads is built once (as `Bfr`'s factory and its
+/// Times evaluating an `n`×`n` grid on every quad face (a triangular grid of `n` points a
+/// side on every triangle of a Loop surface), as `osd-oracle benchlimit` times OpenSubdiv's
+/// `Bfr`: the surface of the quads is built once (as `Bfr`'s factory and its
 /// cache of irregular configurations are; other faces are not evaluated, so not built), and each repetition re-poses it and evaluates every
 /// point's position and first derivatives
 /// ([`LimitSurface::update_positions`](subsurf::limit::LimitSurface::update_positions),
 /// [`LimitSurface::eval_many_into`](subsurf::limit::LimitSurface::eval_many_into) with
 /// [`Order::First`](subsurf::limit::Order::First), as `Bfr::Surface::Evaluate`). The first build
-/// plus evaluation (nothing cached) is reported as `cold_s`.
+/// plus evaluation (nothing cached) is reported as `cold_s`. A [`LoopSurface`] keeps only
+/// the control points (each face's refinement is made for its points and dropped), so
+/// its repetitions cost what its first evaluation does.
 ///
 /// Like `benchlimit`, which evaluates point after point and keeps only a running sum, the
 /// points are streamed: blocks of [`FACES_PER_BLOCK`] faces are listed and evaluated into
@@ -201,13 +211,13 @@ thread_local! {
 /// a point). The surface keeps the control points and is re-posed in place, so the mesh is
 /// dropped once it is built: the job's memory is the surface's, the list of quads and one
 /// block per thread. `build` builds the surface (within the job's memory limit).
-fn bench_limit(
+fn bench_limit<S: Timed>(
     input: Input,
     options: Options,
     n: u32,
     reps: usize,
     pool: &rayon::ThreadPool,
-    build: impl FnOnce(PolyMesh, Options) -> Result<LimitSurface> + Send,
+    build: impl FnOnce(PolyMesh, Options) -> Result<S> + Send,
 ) -> Result<()> {
     use rayon::prelude::*;
     let Input { name, obj, .. } = input;
@@ -215,20 +225,22 @@ fn bench_limit(
     let n = n as usize;
     // The sum of the `x` of every point evaluated on `faces` (so that nothing is optimised
     // away).
-    let eval_all = |surface: &LimitSurface, faces: &[u32]| -> f64 {
+    let eval_all = |surface: &S, faces: &[u32]| -> f64 {
         faces
             .par_chunks(FACES_PER_BLOCK)
             .map(|block| {
                 BLOCK.with_borrow_mut(|(points, out)| {
                     points.clear();
-                    points.extend(block.iter().flat_map(|&face| super::limit::grid(face, n)));
+                    points.extend(block.iter().flat_map(|&face| {
+                        super::limit::grid(face, n, surface.domain(face as usize))
+                    }));
                     // Kept at the largest block's size (the last block is smaller).
                     if out.len() < points.len() {
                         out.resize(points.len(), Ok(Derivatives::default()));
                     }
                     let out = &mut out[..points.len()];
                     // Position and first derivatives, as `Bfr::Surface::Evaluate(uv, P, Du, Dv)`.
-                    surface.eval_many_to(points, Order::First, out);
+                    surface.evaluate_many(points, Order::First, out);
                     out.iter()
                         .filter_map(|r| r.as_ref().ok())
                         .map(|d| d.p[0])
@@ -246,6 +258,9 @@ fn bench_limit(
         anyhow::Ok((surface, faces, sink))
     })?;
     let cold = t0.elapsed().as_secs_f64();
+    let points = (faces.iter())
+        .map(|&f| super::limit::grid(f, n, surface.domain(f as usize)).count() as u64)
+        .sum::<u64>();
     // Built: from here on each repetition frees and allocates the same blocks again (the
     // nodes of faces in the shared regions of high-valence vertices, rebuilt when
     // re-posed), which kept memory serves without faulting pages in again, at the same
@@ -254,21 +269,50 @@ fn bench_limit(
     let times = time_reps(pool, reps, || {
         // Re-posed in place, to the same points (as an animation writing its next frame
         // into the surface would).
-        surface
-            .update_positions(|_| {})
-            .with_context(|| name.clone())?;
+        surface.repose().with_context(|| name.clone())?;
         sink += eval_all(&surface, &faces);
         Ok(())
     })?;
     crate::output::print(&format!("{}\n", format_args!(
         "subsurf limit points={} threads={} median_s={:.6} min_s={:.6} cold_s={cold:.6} configurations={} (sink {sink:.3})",
-        faces.len() as u64 * (n * n) as u64,
+        points,
         pool.current_num_threads(),
         times[times.len() / 2],
         times[0],
-        surface.num_configurations(),
+        surface.configurations(),
     )))?;
     Ok(())
+}
+
+/// A surface `bench --limit-grid` times: built once, then re-posed in place and evaluated
+/// again each repetition.
+trait Timed: Surface + Send {
+    /// Sets the control points again, to the same points (as an animation writing its
+    /// next frame into the surface would).
+    fn repose(&mut self) -> Result<()>;
+    /// The number of distinct irregular neighbourhoods built (0 if the surface keeps none).
+    fn configurations(&self) -> usize;
+}
+
+impl Timed for LimitSurface {
+    fn repose(&mut self) -> Result<()> {
+        Ok(self.update_positions(|_| {})?)
+    }
+
+    fn configurations(&self) -> usize {
+        self.num_configurations()
+    }
+}
+
+impl Timed for LoopSurface {
+    fn repose(&mut self) -> Result<()> {
+        let pos = self.positions().to_vec();
+        Ok(self.set_positions(&pos)?)
+    }
+
+    fn configurations(&self) -> usize {
+        0
+    }
 }
 
 /// The seconds of `reps` runs of `rep`, sorted, each result dropped after its time is

@@ -10,8 +10,8 @@
 
 use anyhow::{Context, Result};
 use subsurf::limit::{
-    BilinearSurface, ChannelValues, Derivatives, FaceVaryingSurface, LimitSurface, LoopSurface,
-    Order, Parameterization, Surface, SurfacePoint,
+    BilinearSurface, ChannelValues, Derivatives, Domain, FaceVaryingSurface, LimitSurface,
+    LoopSurface, Order, Parameterization, Surface, SurfacePoint,
 };
 use subsurf::mesh::{Options, PolyMesh};
 use subsurf::nonuniform::NurssSurface;
@@ -33,20 +33,24 @@ const MIN_BYTES_PER_ROW: u64 = 24;
 /// `catmark_pawn` with `--grid 5` peak at 9.9 MiB (`osd-oracle limit`: 6.6).
 const POINTS_PER_BLOCK: usize = 4096;
 
-/// The faces a grid is sampled on, in order: every quad with a surface (not a hole), as
-/// `osd-oracle limit` and `benchlimit` sample (`bench --limit-grid`, which times against
-/// them).
-pub fn grid_faces(surface: &LimitSurface) -> Vec<u32> {
+/// The faces a grid is sampled on, in order: every quad (every triangle of a surface on
+/// triangles, [`Domain::Triangle`]) with a surface (not a hole), as `osd-oracle limit` and
+/// `benchlimit` sample (`bench --limit-grid`, which times against them).
+pub fn grid_faces(surface: &impl Surface) -> Vec<u32> {
     (0..surface.num_faces())
         .filter(|&f| surface.num_subfaces(f) == 1 && surface.has_surface(f))
         .map(|f| f as u32)
         .collect()
 }
 
-/// The `n`×`n` grid on quad `face`, in `osd-oracle limit`'s order: `u = i / (n − 1)` outer,
-/// `v = j / (n − 1)` inner (the centre for `n = 1`).
-pub fn grid(face: u32, n: usize) -> impl Iterator<Item = SurfacePoint> {
-    subface_grid(face, 0, n)
+/// The grid of `n` samples per side on `face` of a surface whose faces have domain
+/// `domain`: the `n`×`n` grid on a quad, the triangular grid on a triangle, in `osd-oracle
+/// limit`'s order ([`subface_grid`], [`triangle_grid`]).
+pub fn grid(face: u32, n: usize, domain: Domain) -> Box<dyn Iterator<Item = SurfacePoint>> {
+    match domain {
+        Domain::Quad => Box::new(subface_grid(face, 0, n)),
+        Domain::Triangle => Box::new(triangle_grid(face, n)),
+    }
 }
 
 /// The `n`×`n` grid on sub-face `subface` of `face` (the face itself for a quad), in its own

@@ -302,3 +302,48 @@ fn bench_times_the_scheme_it_names() {
         stderr(&o)
     );
 }
+
+/// `bench --scheme loop --limit-grid N` times the Loop limit surface on the triangular
+/// grid of `N` points a side on every triangle (as `osd-oracle benchlimit --scheme loop`):
+/// `N (N + 1) / 2` points a face, cold and warm times; bilinear has no limit to time.
+#[test]
+fn bench_times_the_loop_limit_on_triangular_grids() {
+    let dir = dir_with(&[("tri.obj", TRIANGLES)]);
+    let faces = count_records(TRIANGLES, "f");
+    let o = run_in(
+        dir.path(),
+        &[
+            "bench",
+            "tri.obj",
+            "--scheme",
+            "loop",
+            "--limit-grid",
+            "4",
+            "--reps",
+            "2",
+        ],
+    );
+    assert_code(&o, 0);
+    let out = stdout(&o);
+    assert!(out.contains(&format!("points={} ", faces * 10)), "{out}");
+    for field in ["cold_s=", "median_s=", "min_s="] {
+        assert!(out.contains(field), "{out}");
+    }
+    let o = run_in(
+        dir.path(),
+        &[
+            "bench",
+            "tri.obj",
+            "--scheme",
+            "bilinear",
+            "--limit-grid",
+            "4",
+        ],
+    );
+    assert_code(&o, 2);
+    assert!(
+        stderr(&o).contains("Catmull-Clark and Loop"),
+        "{}",
+        stderr(&o)
+    );
+}
