@@ -201,9 +201,8 @@ thread_local! {
 /// ([`LimitSurface::update_positions`](subsurf::limit::LimitSurface::update_positions),
 /// [`LimitSurface::eval_many_into`](subsurf::limit::LimitSurface::eval_many_into) with
 /// [`Order::First`](subsurf::limit::Order::First), as `Bfr::Surface::Evaluate`). The first build
-/// plus evaluation (nothing cached) is reported as `cold_s`. A [`LoopSurface`] keeps only
-/// the control points (each face's refinement is made for its points and dropped), so
-/// its repetitions cost what its first evaluation does.
+/// plus evaluation (nothing cached) is reported as `cold_s`. A [`LoopSurface`] builds its
+/// configurations as its faces are first evaluated, and keeps them.
 ///
 /// Like `benchlimit`, which evaluates point after point and keeps only a running sum, the
 /// points are streamed: blocks of [`FACES_PER_BLOCK`] faces are listed and evaluated into
@@ -290,7 +289,7 @@ trait Timed: Surface + Send {
     /// Sets the control points again, to the same points (as an animation writing its
     /// next frame into the surface would).
     fn repose(&mut self) -> Result<()>;
-    /// The number of distinct irregular neighbourhoods built (0 if the surface keeps none).
+    /// The number of distinct irregular neighbourhoods built.
     fn configurations(&self) -> usize;
 }
 
@@ -311,7 +310,7 @@ impl Timed for LoopSurface {
     }
 
     fn configurations(&self) -> usize {
-        0
+        self.num_configurations()
     }
 }
 

@@ -57,6 +57,7 @@
 //! extrapolation is exact for every affine function. The tests check the result against the
 //! limit of Loop refinement.
 
+use super::Derivatives;
 use crate::mesh::{Rule, Topology};
 use crate::scheme::crease::is_infinite;
 
@@ -119,7 +120,8 @@ const EXPONENTS: [(i32, i32); 15] = [
 ];
 
 /// The twelve basis functions at `(u, v)` and their partial derivatives:
-/// `[B, B_u, B_v, B_uu, B_uv, B_vv]`.
+/// `[B, B_u, B_v, B_uu, B_uv, B_vv]` (the tests' reference for [`BoxPoly`]).
+#[cfg(test)]
 pub(super) fn basis(u: f64, v: f64) -> [[f64; 12]; 6] {
     // Powers 0..=4 of u and v.
     let mut pu = [1.0; 5];
@@ -146,6 +148,77 @@ pub(super) fn basis(u: f64, v: f64) -> [[f64; 12]; 6] {
         }
     }
     out
+}
+
+/// A box-spline patch as its polynomial: `S(u, v) = Σₖ aₖ Mₖ(u, v)` over the fifteen
+/// monomials of [`EXPONENTS`], `aₖ = (1/12) Σᵢ C[i][k] Pᵢ` (module docs). Evaluating it
+/// costs the monomials and their derivatives once per point, where computing the twelve
+/// basis functions first and combining the points with them takes about five times the
+/// arithmetic: a patch evaluated at many points is converted once.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct BoxPoly([[f64; 3]; 15]);
+
+impl BoxPoly {
+    /// The polynomial of the patch with control points `cp`.
+    pub(super) fn new(cp: &[[f64; 3]; 12]) -> Self {
+        let mut a = [[0.0; 3]; 15];
+        for (row, p) in COEFFICIENTS.iter().zip(cp) {
+            for (ak, &c) in a.iter_mut().zip(row) {
+                if c != 0 {
+                    let c = f64::from(c);
+                    (0..3).for_each(|d| ak[d] += c * p[d]);
+                }
+            }
+        }
+        a.iter_mut()
+            .for_each(|ak| ak.iter_mut().for_each(|x| *x /= 12.0));
+        BoxPoly(a)
+    }
+
+    /// Position and first and second derivatives at `(u, v)`.
+    pub(super) fn eval(&self, u: f64, v: f64) -> Derivatives {
+        // Powers 0..=4 of u and v.
+        let mut pu = [1.0; 5];
+        let mut pv = [1.0; 5];
+        for k in 1..5 {
+            pu[k] = pu[k - 1] * u;
+            pv[k] = pv[k - 1] * v;
+        }
+        let mut out = [[0.0; 3]; 6];
+        for (ak, &(a, b)) in self.0.iter().zip(&EXPONENTS) {
+            let (a, b) = (a as usize, b as usize);
+            // `∂ᵢ/∂uⁱ ∂ʲ/∂vʲ uᵃ vᵇ` for the six orders, falling factorials times lower
+            // powers (zero where an exponent would go below zero).
+            let d = |n: usize, k: usize, p: &[f64; 5]| -> f64 {
+                match k {
+                    0 => p[n],
+                    1 if n >= 1 => n as f64 * p[n - 1],
+                    2 if n >= 2 => (n * (n - 1)) as f64 * p[n - 2],
+                    _ => 0.0,
+                }
+            };
+            let m = [
+                d(a, 0, &pu) * d(b, 0, &pv),
+                d(a, 1, &pu) * d(b, 0, &pv),
+                d(a, 0, &pu) * d(b, 1, &pv),
+                d(a, 2, &pu) * d(b, 0, &pv),
+                d(a, 1, &pu) * d(b, 1, &pv),
+                d(a, 0, &pu) * d(b, 2, &pv),
+            ];
+            for (o, &w) in out.iter_mut().zip(&m) {
+                (0..3).for_each(|i| o[i] += w * ak[i]);
+            }
+        }
+        let [p, du, dv, duu, duv, dvv] = out;
+        Derivatives {
+            p,
+            du,
+            dv,
+            duu,
+            duv,
+            dvv,
+        }
+    }
 }
 
 /// One control point of a box-spline net: a point of the level, or a phantom point
@@ -335,6 +408,31 @@ fn walk(t: &Topology, f: usize, c: u32, e: u32, x: u32) -> Option<(Vec<u32>, boo
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The polynomial form of a patch gives the position and derivatives of its basis
+    /// functions combined with its control points, to rounding, across the triangle.
+    #[test]
+    fn polynomial_form_equals_the_basis() {
+        let cp: [[f64; 3]; 12] = std::array::from_fn(|i| {
+            let x = i as f64;
+            [x.sin() * 3.0 + 1.0, (0.7 * x).cos() - 2.0, 0.1 * x * x]
+        });
+        let poly = BoxPoly::new(&cp);
+        for i in 0..=10 {
+            for j in 0..=(10 - i) {
+                let (u, v) = (f64::from(i) / 10.0, f64::from(j) / 10.0);
+                let b = basis(u, v);
+                let d = poly.eval(u, v);
+                let got = [d.p, d.du, d.dv, d.duu, d.duv, d.dvv];
+                for (o, g) in got.iter().enumerate() {
+                    for k in 0..3 {
+                        let want: f64 = (0..12).map(|p| b[o][p] * cp[p][k]).sum();
+                        assert!((g[k] - want).abs() < 1e-12, "({u}, {v}) order {o}: {g:?}");
+                    }
+                }
+            }
+        }
+    }
 
     #[test]
     fn partition_of_unity_and_linear_precision() {

@@ -15,11 +15,15 @@
 //!   semi-sharp feature at a corner) is evaluated in closed form on its twelve control points.
 //! - Any other triangle is refined: its 1-ring is cut out ([`super::local::cut_out_unbounded`],
 //!   with the far ends of semi-sharp edges under Chaikin's rule and only the face's sectors at
-//!   infinitely sharp vertices) as a [`Topology::subset`], whose tags, sharpness and rules are
-//!   the level's, and refined one Loop step by the project's own refinement
-//!   ([`refine_tri_topology`], [`interpolate_loop`]), so creases decay, boundaries, corners
-//!   and non-manifold vertices behave exactly as in [`subdivide`](fn@crate::subdivide). Its
-//!   four children (OpenSubdiv's numbering: child `j < 3` at corner `j`, `(u, v) = (s, t)/2`
+//!   infinitely sharp vertices) as a [`Topology::subset_canonical`], whose tags, sharpness and
+//!   rules are the level's, and refined one Loop step by the project's own refinement
+//!   ([`refine_tri_topology`](crate::refine::refine_tri_topology) and the rows of its masks,
+//!   which [`interpolate_loop`](crate::refine::interpolate_loop) applies), so creases decay,
+//!   boundaries, corners and non-manifold vertices behave exactly as in
+//!   [`subdivide`](fn@crate::subdivide). That refinement depends on the cut-out's topology
+//!   alone: it is done once per configuration ([`super::loop_tree`]) and shared by every face
+//!   and node with the same, whose points flow through its rows. Its four children
+//!   (OpenSubdiv's numbering: child `j < 3` at corner `j`, `(u, v) = (s, t)/2`
 //!   shifted to that corner; the middle child `3 = [E₁ E₂ E₀]` turned by half a turn,
 //!   `(u, v) = ((1, 1) − (s, t))/2`) are patches or refined again. A point on an edge
 //!   shared by children is taken in a patch child if there is one, else in the middle one,
@@ -56,20 +60,25 @@
 //!
 //! # Cost
 //! Building the surface analyses nothing; a face that is one patch costs a walk around its
-//! corners per evaluation. [`LoopSurface::eval_many`] evaluates the points of each face
-//! together (list them face by face): the face's tree of refined cut-outs is built once for
-//! them, as deep as they need, and dropped after them, so memory holds one tree per thread.
+//! corners per evaluation. An irregular face costs its cut-out in canonical form and a look-up
+//! of its configuration, built the first time (its refinement's rows and children, as deep
+//! as points need) and kept by the surface (at most 8,192 of them; past that a face's
+//! configurations are built for it and dropped after it). [`LoopSurface::eval_many`]
+//! evaluates the points of each face together (list them face by face): the points of the
+//! face's nodes are computed once for them and dropped after them.
 
 use std::cell::OnceCell;
+use std::sync::Arc;
 
 use rayon::prelude::*;
 
-use super::box_spline::{basis, box_net, NetPoint};
+use super::box_spline::{box_net, BoxPoly};
 use super::local::cut_out_unbounded;
+use super::loop_tree::{cut_out_topology, LoopKid, LoopTree, LoopTrees};
 use super::{copy_positions, Derivatives, EvalError, Order, SurfacePoint, VertexMasks, MAX_DEPTH};
 use crate::geom;
 use crate::mesh::{CreaseMethod, MeshError, Options, PolyMesh, Rule, Topology};
-use crate::refine::{check_triangles, interpolate_loop, refine_tri_topology};
+use crate::refine::check_triangles;
 use crate::scheme::loop_::Loop;
 
 /// The exact Loop limit surface of a triangle mesh (see the module docs).
@@ -91,6 +100,9 @@ pub struct LoopSurface {
     topo: Topology,
     options: Options,
     pos: Vec<[f64; 3]>,
+    /// The configurations of the irregular faces met so far (see the module docs), shared
+    /// by clones (they depend on the topology only).
+    trees: Arc<LoopTrees>,
 }
 
 impl LoopSurface {
@@ -108,12 +120,19 @@ impl LoopSurface {
             topo,
             options,
             pos: mesh.positions().to_vec(),
+            trees: Arc::default(),
         })
     }
 
     /// Number of faces of the control mesh.
     pub fn num_faces(&self) -> usize {
         self.topo.num_faces()
+    }
+
+    /// Number of configuration trees built so far and kept (distinct cut-outs of the
+    /// irregular faces evaluated and of the nodes below them; see the module docs).
+    pub fn num_configurations(&self) -> usize {
+        self.trees.len()
     }
 
     /// Whether face `f` exists and has a surface (is not a hole, nor made one by
@@ -244,22 +263,25 @@ pub(super) fn in_triangle(u: f64, v: f64) -> bool {
     u.is_finite() && v.is_finite() && u >= 0.0 && v >= 0.0 && u + v <= 1.0 + 4.0 * f64::EPSILON
 }
 
-/// The evaluation of one base face: a patch, or the root of its tree of refined cut-outs.
+/// The evaluation of one base face: a patch, or the root of its configuration's tree with
+/// the face's points.
 #[allow(clippy::large_enum_variant)] // one per face being evaluated, on the stack
 enum FaceEval<'a> {
-    Patch([[f64; 3]; 12]),
+    Patch(BoxPoly),
     Tree(Box<Node<'a>>),
 }
 
 impl<'a> FaceEval<'a> {
     fn new(s: &'a LoopSurface, f: usize) -> Self {
         match box_net(&s.topo, f) {
-            Some(net) => FaceEval::Patch(net.map(|p| p.at(&s.pos))),
+            Some(net) => FaceEval::Patch(BoxPoly::new(&net.map(|p| p.at(&s.pos)))),
             None => {
                 let chaikin = s.options.crease_method == CreaseMethod::Chaikin;
-                let origin = [0.0; 3];
-                let node = Node::cut(&s.topo, &s.pos, f, &s.options, chaikin, origin);
-                FaceEval::Tree(Box::new(node))
+                let faces = cut_out_unbounded(&s.topo, f, chaikin);
+                let (sub, verts) = cut_out_topology(&s.topo, &faces);
+                let tree = s.trees.get(sub);
+                let pos: Vec<[f64; 3]> = verts.iter().map(|&v| s.pos[v as usize]).collect();
+                FaceEval::Tree(Box::new(Node::new(s, tree, pos, [0.0; 3])))
             }
         }
     }
@@ -269,101 +291,65 @@ impl<'a> FaceEval<'a> {
         let excess = (u + v - 1.0).max(0.0);
         let (u, v) = (u - 0.5 * excess, v - 0.5 * excess);
         match self {
-            FaceEval::Patch(cp) => eval_patch(cp, u, v),
+            FaceEval::Patch(poly) => poly.eval(u, v),
             FaceEval::Tree(n) => n.eval(u, v, 0),
         }
     }
 }
 
-/// The box-spline patch with control points `cp` at `(u, v)`.
-fn eval_patch(cp: &[[f64; 3]; 12], u: f64, v: f64) -> Derivatives {
-    let b = basis(u, v);
-    let combine = |w: &[f64; 12]| -> [f64; 3] {
-        let mut acc = [0.0; 3];
-        for (p, &x) in cp.iter().zip(w) {
-            for k in 0..3 {
-                acc[k] += x * p[k];
-            }
-        }
-        acc
-    };
-    Derivatives {
-        p: combine(&b[0]),
-        du: combine(&b[1]),
-        dv: combine(&b[2]),
-        duu: combine(&b[3]),
-        duv: combine(&b[4]),
-        dvv: combine(&b[5]),
-    }
-}
-
-/// An irregular face of a level, with its cut-out (the face is `face` there) and, built when
-/// first needed, its four children and the limits at its corners. The cut-out's points are
-/// kept relative to `origin` (the face's first corner as cut out), so that deep in the tree,
-/// where they lie within `2^-depth` of the size of each other, their differences (tangents,
-/// masks that sum to zero) keep all their digits: subdivision commutes with translation.
+/// An irregular face of a level: its configuration's tree (the face is face 0 of the
+/// tree's cut-out), the cut-out's points, and, built when first needed, its four children.
+/// The points are kept relative to `origin` (the face's first corner), so that deep in the
+/// tree, where they lie within `2^-depth` of the size of each other, their differences
+/// (tangents, masks that sum to zero) keep all their digits: subdivision commutes with
+/// translation (every row's weights sum to one).
 struct Node<'a> {
-    topo: Topology,
+    surface: &'a LoopSurface,
+    tree: Arc<LoopTree>,
     pos: Vec<[f64; 3]>,
     origin: [f64; 3],
-    face: usize,
-    options: &'a Options,
-    chaikin: bool,
     children: OnceCell<Box<[Child<'a>; 4]>>,
 }
 
 /// A child of an irregular face: a patch or irregular again.
 #[allow(clippy::large_enum_variant)] // patches are most children; a box each would cost more
 enum Child<'a> {
-    Patch([[f64; 3]; 12]),
+    Patch(BoxPoly),
     Node(Box<Node<'a>>),
 }
 
 impl<'a> Node<'a> {
-    /// Face `f` of the level `t` (points `pos`, relative to `origin`), cut out with its 1-ring.
-    fn cut(
-        t: &Topology,
-        pos: &[[f64; 3]],
-        f: usize,
-        options: &'a Options,
-        chaikin: bool,
+    /// The face of configuration `tree` whose cut-out's points are `pos` (relative to
+    /// `origin`), its points moved to be relative to its first corner.
+    fn new(
+        surface: &'a LoopSurface,
+        tree: Arc<LoopTree>,
+        mut pos: Vec<[f64; 3]>,
         origin: [f64; 3],
     ) -> Self {
-        let faces = cut_out_unbounded(t, f, chaikin);
-        let (topo, verts) = t.subset(&faces);
-        let o = pos[t.face_vertices(f)[0] as usize];
+        let o = pos[tree.topo.face_vertices(0)[0] as usize];
+        pos.iter_mut().for_each(|p| *p = geom::sub(p, &o));
         Node {
-            pos: verts
-                .iter()
-                .map(|&v| geom::sub(&pos[v as usize], &o))
-                .collect(),
+            surface,
+            tree,
+            pos,
             origin: geom::add(&origin, &o),
-            topo,
-            face: 0,
-            options,
-            chaikin,
             children: OnceCell::new(),
         }
     }
 
-    /// The four children, refined from the cut-out.
+    /// The four children, from the refined points of the cut-out.
     fn children(&self) -> &[Child<'a>; 4] {
         self.children.get_or_init(|| {
-            let child = refine_tri_topology(&self.topo, self.options, true);
-            let mut cpos = vec![[0.0; 3]; child.num_vertices()];
-            interpolate_loop(&self.topo, &child, self.options, &self.pos, &mut cpos);
-            Box::new(std::array::from_fn(|j| {
-                let f = 4 * self.face + j;
-                match box_net(&child, f) {
-                    Some(net) => Child::Patch(net.map(|p: NetPoint| p.at(&cpos))),
-                    None => Child::Node(Box::new(Node::cut(
-                        &child,
-                        &cpos,
-                        f,
-                        self.options,
-                        self.chaikin,
-                        self.origin,
-                    ))),
+            let s = self.surface;
+            let kids = self.tree.kids(&s.options, &s.trees);
+            let mut refined = Vec::new();
+            kids.refine_into(&self.pos, &mut refined);
+            Box::new(std::array::from_fn(|j| match &kids.kids[j] {
+                LoopKid::Patch(net) => Child::Patch(BoxPoly::new(&net.map(|p| p.at(&refined)))),
+                LoopKid::Node(tree, cols) => {
+                    let pos = cols.iter().map(|&c| refined[c as usize]).collect();
+                    Child::Node(Box::new(Node::new(s, tree.clone(), pos, self.origin)))
                 }
             }))
         })
@@ -378,16 +364,31 @@ impl<'a> Node<'a> {
             _ if depth >= MAX_DEPTH => Some(nearest_corner(u, v)),
             _ => None,
         };
+        if std::env::var("SSDBG").is_ok() {
+            eprintln!("d={depth} u={u} v={v} corner={corner:?}");
+        }
         if let Some(k) = corner {
             let settled = depth >= MAX_DEPTH || self.corner_is_final(k);
+            if std::env::var("SSDBG").is_ok() {
+                eprintln!(
+                    "  settled={settled} patch={}",
+                    matches!(self.children()[k], Child::Patch(_))
+                );
+            }
             if settled && !matches!(self.children()[k], Child::Patch(_)) {
                 return self.corner_limit(k);
             }
         }
         let (j, s, t) = self.pick_child(u, v);
+        if std::env::var("SSDBG").is_ok() {
+            eprintln!(
+                "  j={j} s={s} t={t} patch={}",
+                matches!(self.children()[j], Child::Patch(_))
+            );
+        }
         let d = match &self.children()[j] {
-            Child::Patch(cp) => {
-                let mut d = eval_patch(cp, s, t);
+            Child::Patch(poly) => {
+                let mut d = poly.eval(s, t);
                 d.p = geom::add(&d.p, &self.origin);
                 d
             }
@@ -431,20 +432,21 @@ impl<'a> Node<'a> {
     /// are exact: smooth of valence ≥ 3 (manifold, interior), a crease in a sector of three
     /// faces, or a corner, with no semi-sharp vertex or edge.
     fn corner_is_final(&self, k: usize) -> bool {
-        let c = self.topo.face_vertices(self.face)[k] as usize;
-        let tag = self.topo.vertex_tag(c);
+        let topo = &self.tree.topo;
+        let c = topo.face_vertices(0)[k] as usize;
+        let tag = topo.vertex_tag(c);
         if tag.semi_sharp || tag.semi_sharp_edges {
             return false;
         }
         match tag.rule {
             Rule::Smooth => {
-                let n = self.topo.vertex_faces(c).len();
-                !tag.boundary && !tag.non_manifold && n >= 3 && self.topo.vertex_edges(c).len() == n
+                let n = topo.vertex_faces(c).len();
+                !tag.boundary && !tag.non_manifold && n >= 3 && topo.vertex_edges(c).len() == n
             }
             // A crease's limit tangent masks span the tangent plane only in a regular
             // sector of three faces; elsewhere the corner is refined down to MAX_DEPTH,
             // where the masks' error has decayed with the sector's subdominant eigenvalues.
-            Rule::Crease => self.topo.vertex_faces(c).len() == 3,
+            Rule::Crease => topo.vertex_faces(c).len() == 3,
             Rule::Corner => true,
             Rule::Dart => false,
         }
@@ -453,12 +455,12 @@ impl<'a> Node<'a> {
     /// The limit at corner `k` from the level's masks (module docs): the position, and the
     /// tangents along the face's sides mapped to `du`, `dv`.
     fn corner_limit(&self, k: usize) -> Derivatives {
-        let fv = self.topo.face_vertices(self.face);
+        let t = &self.tree.topo;
+        let fv = t.face_vertices(0);
         let (c, next, prev) = (fv[k] as usize, fv[(k + 1) % 3], fv[(k + 2) % 3]);
-        let t = &self.topo;
         let pos = &self.pos;
         let mut masks = VertexMasks::default();
-        let loaded = masks.load_for_face(Loop, t, c, true, Some(self.face));
+        let loaded = masks.load_for_face(Loop, t, c, true, Some(0));
         let (p, toward): ([f64; 3], [[f64; 3]; 2]) = if !loaded {
             (
                 pos[c],
@@ -474,6 +476,9 @@ impl<'a> Node<'a> {
                 }
             });
             let [p, t1, t2] = acc;
+            if std::env::var("SSDBG").is_ok() {
+                eprintln!("  corner c={c} next={next} prev={prev} p={p:?} t1={t1:?} t2={t2:?} pos_next={:?} origin={:?} nv={}", pos[next as usize], self.origin, pos.len());
+            }
             (p, side_tangents(t, pos, c, [next, prev], p, [t1, t2]))
         };
         // `toward` = tangents toward the next and the previous corner; the face's `(u, v)`
@@ -527,10 +532,16 @@ fn side_tangents(
         };
         return toward.map(along);
     }
-    let normal = geom::normalize_or_zero(geom::cross(&t1, &t2));
-    if tag.rule == Rule::Corner || normal == [0.0; 3] {
+    // Parallel tangents (one of them zero, as across a sector of one face at a
+    // non-manifold edge) span no plane: their cross product is rounding noise, whose
+    // direction is arbitrary, so it is taken as zero below a relative threshold.
+    let cross = geom::cross(&t1, &t2);
+    let scale = geom::dot(&t1, &t1) + geom::dot(&t2, &t2);
+    let spans = geom::dot(&cross, &cross).sqrt() > 1e-10 * scale;
+    if tag.rule == Rule::Corner || !spans {
         return toward.map(chord);
     }
+    let normal = geom::normalize_or_zero(cross);
     toward.map(|x| {
         let d = geom::sub(&pos[x as usize], &p);
         let h = geom::dot(&d, &normal);

@@ -17,6 +17,7 @@ use super::Index;
 use crate::hash::FxHasher;
 use crate::mesh::{Options, Topology};
 use crate::refine::refinement_rows;
+use crate::scheme::Rules;
 use std::collections::HashMap;
 use std::hash::{BuildHasherDefault, Hasher};
 use std::sync::{Arc, Mutex};
@@ -65,14 +66,15 @@ pub(super) struct RowsOf<I> {
 }
 
 impl NodeRows {
-    /// The rows of the refinement of `t` into `child` (its `refine_topology`) for the
-    /// child vertices `verts`, with each column `c` (a vertex of `t`) mapped to `cols(c)`,
-    /// the point the node is evaluated on; zero weights left out. The weights are
-    /// interned in `pool`.
-    pub(super) fn refinement(
+    /// The rows of the refinement of `t` into `child` by `rules` (see
+    /// [`refinement_rows`]) for the child vertices `verts`, with each column `c` (a vertex
+    /// of `t`) mapped to `cols(c)`, the point the node is evaluated on; zero weights left
+    /// out. The weights are interned in `pool`.
+    pub(super) fn refinement<R: Rules>(
         t: &Topology,
         child: &Topology,
         options: &Options,
+        rules: R,
         verts: &[u32],
         cols: impl Fn(u32) -> u32,
         pool: &WeightPool,
@@ -84,7 +86,7 @@ impl NodeRows {
         let mut found: Vec<f64> = Vec::new();
         let mut classes: Vec<(u32, u32)> = Vec::new();
         let mut row = Vec::new();
-        refinement_rows(t, child, options, verts.iter().copied(), |cs, ws| {
+        refinement_rows(t, child, options, rules, verts.iter().copied(), |cs, ws| {
             row.clear();
             for (&c, &w) in cs.iter().zip(ws).filter(|&(_, &w)| w != 0.0) {
                 all_cols.push(cols(c));

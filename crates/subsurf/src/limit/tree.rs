@@ -28,20 +28,19 @@
 //! allocated per point.
 
 use super::bspline::{self, Derivatives, Order};
+use super::configs::{Configs, Keyed};
 use super::corner::{corner_limit, is_limit_corner, CornerLimit, SectorCache};
 use super::crease_patch::{single_crease, CreaseBases, CreaseBasis, CreasePatch};
 use super::local::{cut_out_unbounded, Local, Reach, Region, Shape};
 use super::rows::{NodeRows, WeightPool};
 use super::surface::{quadrant, MAX_DEPTH};
-use super::{lock, Index};
-use crate::hash::FxHasher;
+use super::Index;
 use crate::mesh::{Options, PackedTopology, Topology};
 use crate::refine::patch::{regular_patch_cells, Cell, Net};
 use crate::refine::refine_topology;
-use std::collections::HashMap;
-use std::hash::{BuildHasherDefault, Hash, Hasher};
+use crate::scheme::adjustable::Adjustable;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
-use std::sync::{Arc, Mutex, OnceLock};
+use std::sync::{Arc, OnceLock};
 
 /// A child of a tree node, on its parent's refined points ([`Kids::rows`]).
 #[derive(Debug)]
@@ -308,19 +307,22 @@ pub(super) struct Pools {
     pub no_crease_patches: bool,
 }
 
-/// Trees by a hash of their packed cut-out, each bucket compared cut-out by cut-out.
-type TreeMap = HashMap<u64, Vec<Arc<Tree>>, BuildHasherDefault<FxHasher>>;
-
 /// Configurations of one surface, by their cut-outs (packed): the faces' trees and the
 /// nodes below them.
 #[derive(Debug, Default)]
 pub(super) struct TreeCache {
-    trees: Mutex<TreeMap>,
-    /// Number of faces' configurations, distinct (read without the lock while a surface is built, to
-    /// stop a build over its memory limit).
+    trees: Configs<Tree>,
+    /// Number of faces' configurations, distinct (read while a surface is built, to stop
+    /// a build over its memory limit).
     count: AtomicUsize,
     /// What the trees share (the surface's faces use its crease bases too).
     pub pools: Arc<Pools>,
+}
+
+impl Keyed for Tree {
+    fn key(&self) -> &PackedTopology {
+        &self.topo
+    }
 }
 
 impl TreeCache {
@@ -349,31 +351,9 @@ impl TreeCache {
 
     /// The tree of `topo`, counted as a face's configuration if `face`.
     fn find(&self, topo: Topology, face: bool) -> Arc<Tree> {
-        let packed = PackedTopology::new(&topo);
-        debug_assert!(
-            {
-                let (mut a, mut b) = (Vec::new(), Vec::new());
-                topo.structure_key(&mut a);
-                packed.unpack().structure_key(&mut b);
-                a == b
-            },
-            "a packed cut-out unpacks to another topology"
-        );
-        let hash = {
-            let mut h = FxHasher::default();
-            packed.as_bytes().hash(&mut h);
-            h.finish()
-        };
-        let mut map = lock(&self.trees);
-        let bucket = map.entry(hash).or_default();
-        let tree = match bucket.iter().find(|t| t.topo == packed) {
-            Some(tree) => tree.clone(),
-            None => {
-                let tree = Arc::new(Tree::new(&topo, packed, self.pools.clone()));
-                bucket.push(tree.clone());
-                tree
-            }
-        };
+        let tree = self
+            .trees
+            .find(topo, |t, packed| Tree::new(t, packed, self.pools.clone()));
         if face && !tree.face.swap(true, Ordering::Relaxed) {
             self.count.fetch_add(1, Ordering::Relaxed);
         }
@@ -817,7 +797,8 @@ impl Tree {
         let child = refine_topology(t, options, true);
         let (found, needed) = self.find_kids(t, &child, options);
         let pools = &self.pools;
-        let rows = NodeRows::refinement(t, &child, options, &needed, |c| c, &pools.weights);
+        let cc = Adjustable::CATMULL_CLARK;
+        let rows = NodeRows::refinement(t, &child, options, cc, &needed, |c| c, &pools.weights);
         let kids = (found.into_iter().enumerate())
             .map(|(j, kid)| {
                 // The net on the refined points.

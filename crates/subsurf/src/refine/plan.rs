@@ -100,7 +100,6 @@ use super::Error;
 use crate::mesh::{
     MeshError, Options, PolyMesh, Rule, Topology, TopologyWarning, TriangleSubdivision,
 };
-use crate::scheme::adjustable::Adjustable;
 use crate::scheme::adjustable::Mixed;
 use crate::scheme::catmark::{self, VertexContext, VertexMask};
 use crate::scheme::loop_::Loop;
@@ -703,7 +702,7 @@ impl Step {
 
     /// The weights of the vertices `only` of `c` (the refinement of `p`; all of them when
     /// `None`) on the vertices of `p`, one row per vertex in that order, with the masks of
-    /// `rules` (Catmull-Clark's when it is [`Adjustable::CATMULL_CLARK`]; Loop's on the
+    /// `rules` (Catmull-Clark's when it is [`Adjustable::CATMULL_CLARK`](crate::scheme::adjustable::Adjustable::CATMULL_CLARK); Loop's on the
     /// triangle split).
     fn build<R: Rules>(
         p: &Topology,
@@ -935,17 +934,22 @@ struct RowScratch {
     ce: Vec<f32>,
 }
 
-/// Rows of the refinement of `p` into `c` (its [`refine_topology`]) as sparse weights: for
-/// each vertex of `verts` (vertices of `c`) in order, `row(cols, weights)` with its weights
-/// on the vertices of `p`, each vertex once, zero weights included. These are the masks
-/// [`interpolate`](super::interpolate) applies (each weight summed with its rounding error
-/// carried, as [`RefinePlan`] does), so applying them gives `interpolate`'s values to
+/// Rows of the refinement of `p` into `c` by `rules` (`c` is [`refine_topology`]'s
+/// refinement of `p` for the Catmull-Clark family, [`refine_tri_topology`]'s triangle split
+/// for Loop) as sparse weights: for each vertex of `verts` (vertices of `c`) in order,
+/// `row(cols, weights)` with its weights on the vertices of `p`, each vertex once, zero
+/// weights included. These are the masks [`interpolate`](super::interpolate) (with Loop,
+/// [`interpolate_loop`](super::interpolate_loop)) applies (each weight summed with its
+/// rounding error carried, as [`RefinePlan`] does), so applying them gives its values to
 /// rounding, in `O(weights)` time where interpolating unit vectors would take
 /// `O(vertices²)`.
-pub(crate) fn refinement_rows(
+///
+/// [`refine_tri_topology`]: super::refine_tri_topology
+pub(crate) fn refinement_rows<R: Rules>(
     p: &Topology,
     c: &Topology,
     options: &Options,
+    rules: R,
     verts: impl IntoIterator<Item = u32>,
     mut row: impl FnMut(&[u32], &[f64]),
 ) {
@@ -953,14 +957,7 @@ pub(crate) fn refinement_rows(
     let mut weights = Vec::new();
     for cv in verts {
         scratch.row.clear();
-        stencil(
-            p,
-            c,
-            options,
-            Adjustable::CATMULL_CLARK,
-            cv as usize,
-            &mut scratch,
-        );
+        stencil(p, c, options, rules, cv as usize, &mut scratch);
         let r = &scratch.row;
         weights.clear();
         weights.extend((0..r.cols.len()).map(|i| r.weight(i)));
@@ -969,7 +966,7 @@ pub(crate) fn refinement_rows(
 }
 
 /// The row of child vertex `cv`: the masks of [`interpolate_with`](super::interpolate_with)
-/// with `rules` ([`Adjustable::CATMULL_CLARK`]'s are Catmull-Clark's bit for bit), with
+/// with `rules` ([`Adjustable::CATMULL_CLARK`](crate::scheme::adjustable::Adjustable::CATMULL_CLARK)'s are Catmull-Clark's bit for bit), with
 /// face points expanded into their vertices; with a scheme that splits triangles (Loop,
 /// `c` the triangle split of `p`), those of `interpolate_loop`: no face points, an edge
 /// point's face weights on the vertices opposite the edge.
