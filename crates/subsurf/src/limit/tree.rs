@@ -147,20 +147,19 @@ impl Kid {
 /// The points of the node's refinement that any child reads (the vertices of a patch's
 /// net, of an irregular child's cut-out) are computed once per evaluation, as sparse rows
 /// on the node's points; the children read them by index (a patch's cells) or as they are
-/// (a cut-out's points). Composing each child's rows with the refinement instead, as
-/// this did before, repeated the refinement of the points that neighbouring children
-/// share: about twice the weights to keep and to apply (see `BENCHMARKS.md`, "Meshes with
-/// many creases").
+/// (an irregular child's points gathered through [`Sub::cols`]). Composing each child's
+/// rows with the refinement instead would repeat the refinement of the points that
+/// neighbouring children share: about twice the weights to keep and to apply (see
+/// `BENCHMARKS.md`, "Meshes with many creases").
 ///
 /// The vertices of the node's refinement that the children read (`needed`, increasing:
-/// [`TNode::find_kids`]) are not kept: a child reads its `k`th refined point as slot `k`,
-/// and a child built later finds them again as it refines the node again
-/// ([`TNode::build_sub`]). Kept, they were 8 % of the heap of a grid with creases on a
+/// [`Tree::find_kids`]) are not kept: a child reads its `k`th refined point as slot `k`,
+/// and a child found later finds them again as it refines the node again
+/// ([`Tree::build_sub`]). Kept, they were 8 % of the heap of a grid with creases on a
 /// tenth of its edges.
 #[derive(Debug)]
 pub(super) struct Kids {
-    /// Row `k`: refined vertex `needed[k]` as weights on the points the node is evaluated
-    /// on (its vertices through [`TNode::cols`]).
+    /// Row `k`: refined vertex `needed[k]` as weights on the node's cut-out's points.
     rows: NodeRows,
     /// The children, by sub-face.
     kids: Box<[Kid]>,
@@ -245,7 +244,7 @@ impl Cols {
 #[derive(Debug)]
 struct CornerRows {
     limit: CornerLimit,
-    /// The points read ([`TNode::cols`] of the vertices with a nonzero weight).
+    /// The points read (the cut-out's vertices with a nonzero weight).
     cols: Box<[u32]>,
     /// Their weights in the five vectors.
     weights: Box<[[f64; 5]]>,
@@ -669,7 +668,7 @@ pub(super) fn scale_at(depth: u32) -> f64 {
     (1u64 << depth) as f64
 }
 
-/// What [`TNode::build_kids`] found a child to be, before the refined points are chosen
+/// What [`Tree::build_kids`] found a child to be, before the refined points are chosen
 /// (a few at a time, while a node is built: not worth boxing the cells).
 #[allow(clippy::large_enum_variant)]
 enum Found {
