@@ -364,28 +364,13 @@ impl<'a> Node<'a> {
             _ if depth >= MAX_DEPTH => Some(nearest_corner(u, v)),
             _ => None,
         };
-        if std::env::var("SSDBG").is_ok() {
-            eprintln!("d={depth} u={u} v={v} corner={corner:?}");
-        }
         if let Some(k) = corner {
             let settled = depth >= MAX_DEPTH || self.corner_is_final(k);
-            if std::env::var("SSDBG").is_ok() {
-                eprintln!(
-                    "  settled={settled} patch={}",
-                    matches!(self.children()[k], Child::Patch(_))
-                );
-            }
             if settled && !matches!(self.children()[k], Child::Patch(_)) {
                 return self.corner_limit(k);
             }
         }
         let (j, s, t) = self.pick_child(u, v);
-        if std::env::var("SSDBG").is_ok() {
-            eprintln!(
-                "  j={j} s={s} t={t} patch={}",
-                matches!(self.children()[j], Child::Patch(_))
-            );
-        }
         let d = match &self.children()[j] {
             Child::Patch(poly) => {
                 let mut d = poly.eval(s, t);
@@ -476,9 +461,6 @@ impl<'a> Node<'a> {
                 }
             });
             let [p, t1, t2] = acc;
-            if std::env::var("SSDBG").is_ok() {
-                eprintln!("  corner c={c} next={next} prev={prev} p={p:?} t1={t1:?} t2={t2:?} pos_next={:?} origin={:?} nv={}", pos[next as usize], self.origin, pos.len());
-            }
             (p, side_tangents(t, pos, c, [next, prev], p, [t1, t2]))
         };
         // `toward` = tangents toward the next and the previous corner; the face's `(u, v)`
