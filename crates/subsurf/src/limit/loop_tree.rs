@@ -45,7 +45,8 @@ impl Default for LoopTrees {
 }
 
 impl LoopTrees {
-    /// The tree of the cut-out `topo` (in canonical form; its face 0 the triangle).
+    /// The tree of the cut-out `topo` (as [`cut_out_topology`] makes it; its face 0 the
+    /// triangle).
     pub(super) fn get(&self, topo: Topology) -> Arc<LoopTree> {
         self.trees.find(topo, |t, key| LoopTree {
             key,
