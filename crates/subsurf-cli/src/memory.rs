@@ -295,13 +295,14 @@ impl SurfaceGuard<'_> {
         Ok(surface)
     }
 
-    /// A Loop or bilinear limit surface of `mesh` (`build`), for a job that needs
-    /// `reserved` bytes of its own besides. Such a surface keeps the topology and the points
-    /// (estimated as the Catmull-Clark surface's build); Loop's refinement of a face lives
-    /// only while its points are evaluated.
+    /// A Loop or bilinear limit surface (`build`) whose estimated memory is `surface`
+    /// bytes ([`LoopSurface::estimate_memory`](subsurf::limit::LoopSurface::estimate_memory):
+    /// the topology, the points and the configuration trees it may keep; for bilinear, the
+    /// topology and the points, [`LimitSurface::estimate_build_memory`]), for a job that
+    /// needs `reserved` bytes of its own besides.
     pub fn local_surface<S, E>(
         &self,
-        mesh: &PolyMesh,
+        surface: u64,
         reserved: u64,
         build: impl FnOnce() -> Result<S, E>,
     ) -> anyhow::Result<S>
@@ -309,7 +310,7 @@ impl SurfaceGuard<'_> {
         E: std::error::Error + Send + Sync + 'static,
     {
         use anyhow::Context as _;
-        let estimate = LimitSurface::estimate_build_memory(mesh).saturating_add(reserved);
+        let estimate = surface.saturating_add(reserved);
         check(self.name, &self.what, estimate, self.max, self.hint)?;
         build().with_context(|| self.name.to_owned())
     }

@@ -46,11 +46,12 @@ pub fn grid_faces(surface: &impl Surface) -> Vec<u32> {
 /// The grid of `n` samples per side on `face` of a surface whose faces have domain
 /// `domain`: the `n`×`n` grid on a quad, the triangular grid on a triangle, in `osd-oracle
 /// limit`'s order ([`subface_grid`], [`triangle_grid`]).
-pub fn grid(face: u32, n: usize, domain: Domain) -> Box<dyn Iterator<Item = SurfacePoint>> {
-    match domain {
-        Domain::Quad => Box::new(subface_grid(face, 0, n)),
-        Domain::Triangle => Box::new(triangle_grid(face, n)),
-    }
+pub fn grid(face: u32, n: usize, domain: Domain) -> impl Iterator<Item = SurfacePoint> {
+    let quad = (domain == Domain::Quad).then(|| subface_grid(face, 0, n));
+    let triangle = (domain == Domain::Triangle).then(|| triangle_grid(face, n));
+    quad.into_iter()
+        .flatten()
+        .chain(triangle.into_iter().flatten())
 }
 
 /// The `n`×`n` grid on sub-face `subface` of `face` (the face itself for a quad), in its own
@@ -269,11 +270,15 @@ pub fn run(args: &LimitArgs) -> Result<()> {
             (Sampler::Mixed(Box::new(mixed)), uv)
         }
         (SchemeKind::Loop, _) => {
-            let s = guard.local_surface(mesh, held, || LoopSurface::new(mesh, options))?;
+            let s = guard.local_surface(LoopSurface::estimate_memory(mesh), held, || {
+                LoopSurface::new(mesh, options)
+            })?;
             (Sampler::Loop(Box::new(s)), uv_surface(mesh, Scheme::Loop)?)
         }
         (SchemeKind::Bilinear, _) => {
-            let s = guard.local_surface(mesh, held, || BilinearSurface::new(mesh))?;
+            let s = guard.local_surface(LimitSurface::estimate_build_memory(mesh), held, || {
+                BilinearSurface::new(mesh)
+            })?;
             (Sampler::Bilinear(s), uv_surface(mesh, Scheme::Bilinear)?)
         }
         (_, None) => (

@@ -128,11 +128,16 @@ pub fn run(args: &TessellateArgs) -> Result<()> {
     let m = surface_mesh;
     let (surface, scheme): (Box<dyn Surface>, _) = match kind {
         SchemeKind::Loop => {
-            let s = guard.local_surface(m, reserved, || LoopSurface::new(m, options))?;
+            let s = guard.local_surface(LoopSurface::estimate_memory(m), reserved, || {
+                LoopSurface::new(m, options)
+            })?;
             (Box::new(s), Scheme::Loop)
         }
         SchemeKind::Bilinear => {
-            let s = guard.local_surface(m, reserved, || BilinearSurface::new(m))?;
+            let s =
+                guard.local_surface(LimitSurface::estimate_build_memory(m), reserved, || {
+                    BilinearSurface::new(m)
+                })?;
             (Box::new(s), Scheme::Bilinear)
         }
         _ => {

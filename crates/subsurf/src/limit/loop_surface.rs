@@ -62,8 +62,8 @@
 //! Building the surface analyses nothing; a face that is one patch costs a walk around its
 //! corners per evaluation. An irregular face costs its cut-out in canonical form and a look-up
 //! of its configuration, built the first time (its refinement's rows and children, as deep
-//! as points need) and kept by the surface (at most 8,192 of them; past that a face's
-//! configurations are built for it and dropped after it). [`LoopSurface::eval_many`]
+//! as points need) and kept by the surface (at most 8,192 of them, and four per face of the
+//! mesh plus 64; past that a face's configurations are built for it and dropped after it). [`LoopSurface::eval_many`]
 //! evaluates the points of each face together (list them face by face): the points of the
 //! face's nodes are computed once for them and dropped after them.
 
@@ -117,16 +117,26 @@ impl LoopSurface {
         check_triangles(mesh)?;
         let (topo, _) = Topology::from_mesh(mesh, &options)?;
         Ok(Self {
+            trees: Arc::new(LoopTrees::for_faces(topo.num_faces())),
             topo,
             options,
             pos: mesh.positions().to_vec(),
-            trees: Arc::default(),
         })
     }
 
     /// Number of faces of the control mesh.
     pub fn num_faces(&self) -> usize {
         self.topo.num_faces()
+    }
+
+    /// Estimated peak bytes of the surface of `mesh`: what
+    /// [`LimitSurface::estimate_build_memory`](super::LimitSurface::estimate_build_memory)
+    /// charges for the mesh's topology and points, plus the configuration trees it may keep
+    /// (at most `min(8192, 4 × faces + 64)`, 8 KiB each; see the module docs).
+    pub fn estimate_memory(mesh: &PolyMesh) -> u64 {
+        let trees = LoopTrees::cap(mesh.num_faces()) as u64;
+        super::LimitSurface::estimate_build_memory(mesh)
+            .saturating_add(trees.saturating_mul(super::loop_tree::TREE_BYTES))
     }
 
     /// Number of configuration trees built so far and kept (distinct cut-outs of the

@@ -22,11 +22,16 @@ use crate::mesh::{Options, PackedTopology, Topology};
 use crate::refine::refine_tri_topology;
 use crate::scheme::loop_::Loop;
 
-/// Configurations kept per surface at most (each about 4 to 8 KiB: its cut-out, packed and
-/// unpacked, and its children's rows); past them, new configurations are built for the
-/// face evaluated and dropped with it, as a surface whose faces nearly all differ (a
-/// scan's irregular triangulation) would otherwise keep one tree per face.
+/// Configurations kept per surface at most (and at most four per face of the mesh plus
+/// 64, [`LoopTrees::for_faces`]); past them, new configurations are built for the face
+/// evaluated and dropped with it, as a surface whose faces nearly all differ (a scan's
+/// irregular triangulation) would otherwise keep one tree per face.
 const MAX_TREES: usize = 8192;
+
+/// Bytes of a kept configuration, as estimated: its cut-out packed and unpacked and its
+/// children's rows (5.5 KiB on average on `catmark_bishop` split into triangles, 1,319
+/// trees: peak memory 9 → 16 MiB).
+pub(super) const TREE_BYTES: u64 = 8 << 10;
 
 /// The configurations of one Loop surface and the weights their rows share.
 #[derive(Debug)]
@@ -37,14 +42,25 @@ pub(super) struct LoopTrees {
 
 impl Default for LoopTrees {
     fn default() -> Self {
-        LoopTrees {
-            trees: Configs::with_cap(MAX_TREES),
-            weights: WeightPool::default(),
-        }
+        LoopTrees::for_faces(usize::MAX)
     }
 }
 
 impl LoopTrees {
+    /// The most trees a surface of `faces` faces keeps: [`MAX_TREES`], and no more than
+    /// four per face plus 64.
+    pub(super) fn cap(faces: usize) -> usize {
+        MAX_TREES.min(faces.saturating_mul(4).saturating_add(64))
+    }
+
+    /// An empty cache for a surface of `faces` faces (keeping at most [`Self::cap`]).
+    pub(super) fn for_faces(faces: usize) -> Self {
+        LoopTrees {
+            trees: Configs::with_cap(Self::cap(faces)),
+            weights: WeightPool::default(),
+        }
+    }
+
     /// The tree of the cut-out `topo` (as [`cut_out_topology`] makes it; its face 0 the
     /// triangle).
     pub(super) fn get(&self, topo: Topology) -> Arc<LoopTree> {

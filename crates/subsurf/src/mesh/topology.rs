@@ -1902,8 +1902,7 @@ impl SubsetMap {
     #[inline]
     fn probe(slots: &[(u32, u32)], x: u32) -> usize {
         let mask = slots.len() - 1;
-        // `slots.len()` is a power of two, 2^k with 3 <= k <= 32: the top k bits.
-        let mut i = (x.wrapping_mul(0x9E37_79B9) >> (32 - slots.len().trailing_zeros())) as usize;
+        let mut i = Self::home(x, slots.len());
         loop {
             let k = slots[i].0;
             if k == x || k == u32::MAX {
@@ -1911,6 +1910,13 @@ impl SubsetMap {
             }
             i = (i + 1) & mask;
         }
+    }
+
+    /// The first slot tried for `x` in `len` slots (a power of two, `2^k` with
+    /// `3 ≤ k ≤ 32`): the top `k` bits of `x` times `2³²/φ`.
+    #[inline]
+    fn home(x: u32, len: usize) -> usize {
+        (x.wrapping_mul(0x9E37_79B9) >> (32 - len.trailing_zeros())) as usize
     }
 
     /// The number of `x`, if it is in the subset.
@@ -1931,10 +1937,20 @@ mod tests {
     use super::*;
 
     /// A subset numbers a level's indices the same by a table and by hashing: in order
-    /// of first appearance, absent ones absent; also when many collide in the hash.
+    /// of first appearance, absent ones absent; also when they all start at one slot of
+    /// the hash table (40 distinct items, 43 with repeats: 128 slots).
     #[test]
     fn subset_maps_number_alike() {
-        let colliding: Vec<u32> = (0..40).map(|k| k << 12).chain([3, 1 << 12, 5]).collect();
+        let same_home: Vec<u32> = (1..)
+            .filter(|&x| SubsetMap::home(x, 128) == SubsetMap::home(1, 128))
+            .take(40)
+            .collect();
+        assert_eq!((2 * 43usize).next_power_of_two(), 128);
+        let colliding: Vec<u32> = same_home
+            .iter()
+            .copied()
+            .chain([same_home[3], 1, 7])
+            .collect();
         let few = vec![7u32, 3, 7, 0, 9, 3, 12, 0, 5];
         for items in [few, colliding] {
             let size = *items.iter().max().unwrap() as usize + 2;
@@ -1942,7 +1958,9 @@ mod tests {
             let (table, a) = SubsetMap::numbering_by(items.iter().copied(), n, size, true);
             let (hashed, b) = SubsetMap::numbering_by(items.iter().copied(), n, size, false);
             assert_eq!(a, b);
-            for x in (0..size as u32).filter(|x| x % 4096 == 0 || *x < 20) {
+            // Every item, and others of the level around them that are absent.
+            let probes = items.iter().flat_map(|&x| [x, x + 1]).chain(0..size as u32);
+            for x in probes.filter(|&x| (x as usize) < size) {
                 let want = a.iter().position(|&y| y == x).map(|i| i as u32);
                 assert_eq!(table.get(x), want, "{x}");
                 assert_eq!(hashed.get(x), want, "{x}");
